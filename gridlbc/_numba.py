@@ -1,0 +1,18 @@
+"""The one place that sets numba's options for every kernel in the library.
+
+Kernels are cached on disk (``cache=True``) so a second process does not pay the compile time, and
+never use ``fastmath``: reassociation would break the bitwise reproducibility that the
+superposition checks rely on.
+"""
+
+from __future__ import annotations
+
+import numba
+
+jit = numba.njit(cache=True, nogil=True)
+"""Decorator for serial kernels."""
+
+jit_parallel = numba.njit(cache=True, nogil=True, parallel=True)
+"""Decorator for kernels whose outer loop is a ``numba.prange`` over independent work."""
+
+prange = numba.prange

@@ -1,0 +1,108 @@
+"""State and terminal costs.
+
+A cost is any callable ``c(x)`` taking states ``(N, d)`` and returning ``(N,)``. The library's own
+:class:`Quadratic`
+
+    g(x) = (x − c)ᵀ W (x − c)
+
+is wrap-aware: on a periodic axis the difference x − c is taken to the nearest image, in
+``[−P/2, P/2)`` for period P, so an angle cost is continuous across the seam. Its exponential
+h = exp(−g/λ) is the Gaussian exp(−½ (x − c)ᵀ A (x − c)) with A = 2W/λ, whose inner products
+:func:`gridlbc.project` evaluates in closed form.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True, eq=False)
+class Quadratic:
+    """g(x) = (x − c)ᵀ W (x − c), wrap-aware on periodic axes.
+
+    Parameters
+    ----------
+    center : array_like, shape (d,)
+        c, the minimiser (angles in radians from the upright).
+    weights : array_like, shape (d,) or (d, d)
+        W: a vector is the diagonal; a matrix must be symmetric positive semi-definite.
+    periods : array_like, shape (d,), optional
+        Period of each coordinate (``inf`` for none). Left ``None``, a :class:`gridlbc.Problem`
+        fills it in from its grid's periodic axes.
+    """
+
+    center: np.ndarray
+    weights: np.ndarray
+    periods: np.ndarray | None = None
+
+    def __post_init__(self):
+        c = np.atleast_1d(np.asarray(self.center, dtype=float))
+        if c.ndim != 1 or not np.all(np.isfinite(c)):
+            raise ValueError(f"Quadratic center must be a finite vector, got {self.center!r}")
+        d = c.size
+        W = np.asarray(self.weights, dtype=float)
+        if W.ndim <= 1:
+            W = np.diag(np.broadcast_to(W, (d,)))
+        if W.shape != (d, d):
+            raise ValueError(
+                f"Quadratic weights must have shape ({d},) or ({d}, {d}) to match the center, "
+                f"got shape {np.shape(self.weights)}"
+            )
+        if not np.all(np.isfinite(W)) or not np.allclose(W, W.T, rtol=1e-12, atol=0):
+            raise ValueError("Quadratic weights must be a finite symmetric matrix")
+        if np.linalg.eigvalsh(W).min() < -1e-12 * max(1.0, np.abs(W).max()):
+            raise ValueError("Quadratic weights must be positive semi-definite (a cost, not a reward)")
+        object.__setattr__(self, "center", c)
+        object.__setattr__(self, "weights", W)
+        if self.periods is not None:
+            P = np.asarray(self.periods, dtype=float).reshape(-1)
+            if P.shape != (d,) or np.any(P <= 0):
+                raise ValueError(f"Quadratic periods must be {d} positive numbers (inf for none)")
+            object.__setattr__(self, "periods", P)
+
+    @property
+    def dim(self) -> int:
+        return self.center.size
+
+    def with_periods(self, periods) -> Quadratic:
+        """The same cost, wrap-aware with the given periods (``inf`` where not periodic)."""
+        return Quadratic(self.center, self.weights, periods)
+
+    def difference(self, x) -> np.ndarray:
+        """x − c, to the nearest periodic image on periodic coordinates, shape ``(N, d)``."""
+        x = np.asarray(x, dtype=float)
+        if x.ndim == 1:
+            x = x[None, :]
+        if x.ndim != 2 or x.shape[1] != self.dim:
+            raise ValueError(f"cost argument must have shape (N, {self.dim}), got {x.shape}")
+        diff = x - self.center
+        if self.periods is not None:
+            for k in np.flatnonzero(np.isfinite(self.periods)):
+                P = self.periods[k]
+                diff[:, k] = np.mod(diff[:, k] + 0.5 * P, P) - 0.5 * P
+        return diff
+
+    def __call__(self, x) -> np.ndarray:
+        diff = self.difference(x)
+        return np.einsum("ni,ij,nj->n", diff, self.weights, diff)
+
+    def __repr__(self):
+        w = np.diag(self.weights) if np.count_nonzero(self.weights - np.diag(np.diag(self.weights))) == 0 \
+            else self.weights
+        return f"Quadratic(center={self.center.tolist()}, weights={np.asarray(w).tolist()})"
+
+
+def evaluate_cost(cost, x: np.ndarray, name: str) -> np.ndarray:
+    """Evaluate a cost callable on states ``(N, d)`` and check the result is finite, shape ``(N,)``."""
+    values = np.asarray(cost(x), dtype=float)
+    if values.shape == ():
+        values = np.full(x.shape[0], float(values))
+    if values.shape != (x.shape[0],):
+        raise ValueError(
+            f"{name} must return one value per state, shape ({x.shape[0]},), got shape {values.shape}"
+        )
+    if not np.all(np.isfinite(values)):
+        raise ValueError(f"{name} returned a non-finite value (NaN or inf) at some states")
+    return values

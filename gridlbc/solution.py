@@ -1,0 +1,210 @@
+"""Solved desirability on a grid, evaluated anywhere in state and time.
+
+A :class:`Solution` stores time slices of the desirability in log-scaled form,
+
+    z(x_node, t_j) = Z[j, node] · exp(ℓ_j),      max_node Z[j] = 1,
+
+so that z may span far more than float64's range without underflowing as a whole. At any state x
+and time t ∈ [t_j, t_{j+1}] (θ = (t − t_j)/(t_{j+1} − t_j)):
+
+    z(x, t)      = (1 − θ) I[z_j](x) + θ I[z_{j+1}](x)          (I: barycentric interpolation)
+    v(x, t)      = −λ log z(x, t)
+    u*(x, t)     = λ R⁻¹ I[Bᵀ∇z](x, t) / z(x, t)
+
+with ∇z by finite differences at the simplex vertices. All three interpolants are linear in the
+nodal z, so combinations of solutions evaluate exactly as the solution of the combined problem.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .interpolate import barycentric, node_gradient
+from .problem import Problem
+
+
+class UnderflowWarning(RuntimeWarning):
+    """Desirability underflowed to zero at some query states: value +inf, policy undefined (NaN)."""
+
+
+@dataclass(frozen=True)
+class SolveDiagnostics:
+    """What a solve did and cost.
+
+    Attributes: ``method``; ``dt``; ``steps``; ``store_every`` (every k-th step kept);
+    ``wall_time`` and ``setup_time`` in seconds; ``underflow_nodes``: nodes whose desirability is
+    zero at t = 0 (value +inf there); ``stored_bytes`` of the kept slices; ``operator_bytes`` of
+    the step operator; ``courant``: max_k max|a_k| Δt / h_k; ``iterations``: per-step iteration
+    counts of an iterative solve (empty for direct and splitting steps).
+    """
+
+    method: str
+    dt: float
+    steps: int
+    store_every: int
+    wall_time: float
+    setup_time: float
+    underflow_nodes: int
+    stored_bytes: int
+    operator_bytes: int
+    courant: float
+    iterations: tuple[int, ...] = ()
+
+
+@dataclass(frozen=True, eq=False)
+class Solution:
+    """The solved desirability of a :class:`gridlbc.Problem` (one terminal cost).
+
+    Attributes
+    ----------
+    problem : Problem
+    times : ndarray (S,)
+        Times of the stored slices, increasing from 0 to T.
+    slices : ndarray (S, N)
+        Scaled nodal desirability Z (max 1 per slice), float64 or float32.
+    log_scales : ndarray (S,)
+        ℓ_j, so that z = Z · exp(ℓ_j).
+    diagnostics : SolveDiagnostics
+    """
+
+    problem: Problem
+    times: np.ndarray
+    slices: np.ndarray
+    log_scales: np.ndarray
+    diagnostics: SolveDiagnostics
+    _B_cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @property
+    def grid(self):
+        return self.problem.grid
+
+    @property
+    def temperature(self) -> float:
+        return self.problem.temperature
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes held by the stored slices and their scales."""
+        return int(self.slices.nbytes + self.log_scales.nbytes + self.times.nbytes)
+
+    # -- nodal access ---------------------------------------------------------------------------
+
+    def log_desirability_nodes(self, j: int = 0) -> np.ndarray:
+        """log z at every node of stored slice ``j`` (−inf where it underflowed), shape ``(N,)``."""
+        with np.errstate(divide="ignore"):
+            return np.log(self.slices[j].astype(float)) + self.log_scales[j]
+
+    def value_nodes(self, j: int = 0) -> np.ndarray:
+        """v = −λ log z at every node of stored slice ``j`` (+inf where z underflowed)."""
+        return -self.temperature * self.log_desirability_nodes(j)
+
+    # -- evaluation anywhere --------------------------------------------------------------------
+
+    def _check_time(self, t) -> float:
+        try:
+            t = float(t)
+        except (TypeError, ValueError):
+            raise TypeError(f"t must be a single time (float), got {t!r}") from None
+        T = self.problem.horizon
+        tol = 1e-9 * T
+        if not (np.isfinite(t) and -tol <= t <= T + tol):
+            raise ValueError(f"t must lie in [0, T] = [0, {T:g}], got {t!r}")
+        return min(max(t, 0.0), T)
+
+    def _bracket(self, t: float) -> tuple[int, float]:
+        j = int(np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 2))
+        theta = (t - self.times[j]) / (self.times[j + 1] - self.times[j])
+        return j, float(np.clip(theta, 0.0, 1.0))
+
+    def _time_weights(self, t) -> tuple[list[int], np.ndarray, float]:
+        """Slices, their weights (1−θ)·e^{ℓ−L}, θ·e^{ℓ−L}, and the common log-scale L."""
+        j, theta = self._bracket(self._check_time(t))
+        js = [j, j + 1]
+        scales = self.log_scales[js]
+        L = float(scales.max())
+        w = np.array([1.0 - theta, theta]) * np.exp(scales - L)
+        return js, w, L
+
+    def _input_matrix_at(self, nodes: np.ndarray) -> np.ndarray:
+        system = self.problem.system
+        if system.linear_matrices() is not None:  # constant B: evaluate once
+            B = self._B_cache.get("constant")
+            if B is None:
+                B = np.asarray(system.input_matrix(self.grid.nodes()[:1]), dtype=float)[0]
+                self._B_cache["constant"] = B
+            return np.broadcast_to(B, nodes.shape + B.shape)
+        coords = self.grid.node_coordinates(nodes.ravel())
+        B = np.asarray(system.input_matrix(coords), dtype=float)
+        return B.reshape(nodes.shape + B.shape[1:])
+
+    def scaled_fields(self, x, t, gradient: bool = True):
+        """Interpolated z and Bᵀ∇z at states ``x``, time ``t``, up to a common factor e^L.
+
+        Returns ``(L, z, g)`` with z(x, t) = z · e^L of shape ``(N,)`` and Bᵀ∇z(x, t) = g · e^L of
+        shape ``(N, m)`` (``g`` is ``None`` when ``gradient`` is false). The building block of
+        every evaluation here and of :func:`gridlbc.combine`.
+        """
+        grid = self.grid
+        x = grid.check_states(x)
+        js, tw, L = self._time_weights(t)
+        idx, bw = barycentric(grid, x)
+        Z = self.slices[js]  # (2, N)
+        z = np.einsum("s,snv,nv->n", tw, Z[:, idx], bw)
+        if not gradient:
+            return L, z, None
+        B = self._input_matrix_at(idx)  # (N, d+1, d, m)
+        g = np.zeros((x.shape[0], self.problem.system.control_dim))
+        for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
+            dz = node_gradient(grid, Z, idx.ravel(), k).reshape((2,) + idx.shape)
+            dz = np.einsum("s,snv->nv", tw, dz)  # ∂_k z at the vertices, time-interpolated
+            g += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], dz)
+        return L, z, g
+
+    def log_desirability(self, x, t) -> np.ndarray:
+        """log z(x, t), shape ``(N,)`` (−inf where z underflowed, with an UnderflowWarning)."""
+        L, z, _ = self.scaled_fields(x, t, gradient=False)
+        return _log_checked(z) + L
+
+    def desirability(self, x, t) -> np.ndarray:
+        """z(x, t) = exp(−v/λ), shape ``(N,)``. May underflow to 0 far from the goal: use
+        :meth:`log_desirability` or :meth:`value` for the full range."""
+        L, z, _ = self.scaled_fields(x, t, gradient=False)
+        with np.errstate(under="ignore", over="ignore"):
+            return z * np.exp(L)
+
+    def value(self, x, t) -> np.ndarray:
+        """Optimal cost-to-go v(x, t) = −λ log z(x, t), shape ``(N,)``."""
+        return -self.temperature * self.log_desirability(x, t)
+
+    def policy(self, x, t) -> np.ndarray:
+        """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z, shape ``(N, m)``."""
+        L, z, g = self.scaled_fields(x, t)
+        return policy_from_fields(self.problem, z, g)
+
+
+def _log_checked(z: np.ndarray) -> np.ndarray:
+    bad = ~(z > 0)
+    if np.any(bad):
+        warnings.warn(
+            f"desirability underflowed at {int(bad.sum())} of {z.size} query states: value is +inf "
+            "there and the policy undefined (NaN). Shrink the box, raise the temperature, or "
+            "rescale the costs (see README, 'Underflow').",
+            UnderflowWarning,
+            stacklevel=3,
+        )
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, z)))
+
+
+def policy_from_fields(problem: Problem, z: np.ndarray, g: np.ndarray) -> np.ndarray:
+    """u = λ R⁻¹ g / z for interpolated z ``(N,)`` and Bᵀ∇z ``(N, m)`` sharing one scale."""
+    bad = ~(z > 0)
+    if np.any(bad):
+        _log_checked(z)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = problem.temperature * (g @ problem.R_inv.T) / z[:, None]
+    u[bad] = np.nan
+    return u

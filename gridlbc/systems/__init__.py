@@ -1,0 +1,7 @@
+"""Control-affine systems: the built-ins of SPEC §5 and the base class for your own."""
+
+from .base import ControlAffineSystem, LinearSystem
+from .mechanical import Acrobot, Pendulum, PointMass, SingleIntegrator
+
+__all__ = ["ControlAffineSystem", "LinearSystem", "SingleIntegrator", "PointMass", "Pendulum",
+           "Acrobot"]

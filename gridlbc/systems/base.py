@@ -1,0 +1,117 @@
+"""Control-affine stochastic systems, the base class for built-in and user systems.
+
+A system is the pair (a, B) of
+
+    dx = (a(x) + B(x) u) dt + dξ,     Cov[dξ] = λ B(x) R⁻¹ B(x)ᵀ dt
+
+(SPEC §1): the noise enters through the control channels, which is what makes the Bellman equation
+linear in the desirability z = exp(−v/λ). The grid solvers further need B R⁻¹ Bᵀ to be diagonal in
+the state coordinates (each control drives its own axis).
+
+To add your own system, subclass :class:`ControlAffineSystem`, set ``state_dim``, ``control_dim``,
+``state_names`` and ``angle_axes`` (which coordinates are angles, wrapped with period 2π on a
+periodic grid axis) and implement :meth:`drift` and :meth:`input_matrix`, both vectorised over
+``(N, d)`` arrays of states.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+class ControlAffineSystem:
+    """Base class: ``a(x)`` by :meth:`drift`, ``B(x)`` by :meth:`input_matrix`.
+
+    Attributes
+    ----------
+    state_dim : int
+        d, the number of state coordinates.
+    control_dim : int
+        m, the number of controls.
+    state_names : tuple of str
+        A label per coordinate (plots and messages).
+    angle_axes : tuple of int
+        The coordinates that are angles (radians, measured from the upright).
+    """
+
+    state_dim: int = 0
+    control_dim: int = 0
+    state_names: tuple[str, ...] = ()
+    angle_axes: tuple[int, ...] = ()
+
+    def drift(self, x) -> np.ndarray:
+        """Passive dynamics a(x), shape ``(N, d)`` for states ``(N, d)``."""
+        raise NotImplementedError
+
+    def input_matrix(self, x) -> np.ndarray:
+        """Control matrix B(x), shape ``(N, d, m)`` for states ``(N, d)``."""
+        raise NotImplementedError
+
+    def dynamics(self, x, u) -> np.ndarray:
+        """Deterministic velocity a(x) + B(x) u for states ``(N, d)`` and controls ``(N, m)``."""
+        x = self._states(x)
+        u = np.asarray(u, dtype=float).reshape(x.shape[0], self.control_dim)
+        return self.drift(x) + np.einsum("ndm,nm->nd", self.input_matrix(x), u)
+
+    def linear_matrices(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """``(A, B)`` when a(x) = A x and B is constant, else ``None`` (the default)."""
+        return None
+
+    def parameters(self) -> dict:
+        """Constructor arguments, for saving and describing a system."""
+        return {}
+
+    def _states(self, x) -> np.ndarray:
+        """Validate and return states as a float ``(N, d)`` array."""
+        arr = np.asarray(x, dtype=float)
+        if arr.ndim == 1:
+            arr = arr[None, :]
+        if arr.ndim != 2 or arr.shape[1] != self.state_dim:
+            raise ValueError(
+                f"{type(self).__name__} states must have shape (N, {self.state_dim}), "
+                f"got shape {np.shape(x)}"
+            )
+        return arr
+
+    def __repr__(self):
+        args = ", ".join(f"{k}={v!r}" for k, v in self.parameters().items())
+        return f"{type(self).__name__}({args})"
+
+    def __eq__(self, other):
+        return type(self) is type(other) and self.parameters() == other.parameters()
+
+    def __hash__(self):
+        return hash((type(self).__name__, tuple(sorted(self.parameters().items()))))
+
+
+class LinearSystem(ControlAffineSystem):
+    """dx = (A x + B u) dt + noise, with constant A (d×d) and B (d×m)."""
+
+    def __init__(self, A, B, state_names=None):
+        A = np.atleast_2d(np.asarray(A, dtype=float))
+        B = np.asarray(B, dtype=float)
+        if B.ndim == 1:
+            B = B[:, None]
+        d = A.shape[0]
+        if A.shape != (d, d):
+            raise ValueError(f"A must be square, got shape {A.shape}")
+        if B.ndim != 2 or B.shape[0] != d:
+            raise ValueError(f"B must have shape ({d}, m) to match A, got shape {B.shape}")
+        if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B))):
+            raise ValueError("A and B must be finite")
+        self.A, self.B = A, B
+        self.state_dim, self.control_dim = d, B.shape[1]
+        self.state_names = tuple(state_names) if state_names else tuple(f"x{k}" for k in range(d))
+
+    def drift(self, x):
+        return self._states(x) @ self.A.T
+
+    def input_matrix(self, x):
+        x = self._states(x)
+        return np.broadcast_to(self.B, (x.shape[0],) + self.B.shape)
+
+    def linear_matrices(self):
+        return self.A.copy(), self.B.copy()
+
+    def parameters(self):
+        return {"A": self.A.tolist(), "B": self.B.tolist()}
