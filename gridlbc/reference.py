@@ -1,0 +1,97 @@
+"""Exact and independent references for checking the grid solvers.
+
+:func:`lq_solution` is the closed-form optimum of a linear system with quadratic costs (SPEC §6):
+v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward from T,
+
+    −Ṗ  = AᵀP + P A − P S P + 2 W_q                    P(T)  = 2 W_T
+    −ṗ  = (A − S P)ᵀ p − 2 W_q c_q                     p(T)  = −2 W_T c_T
+    −ċ₀ = −½ pᵀ S p + (λ/2) tr(S P) + c_qᵀ W_q c_q      c₀(T) = c_Tᵀ W_T c_T
+
+and u*(x, t) = −R⁻¹ Bᵀ (P x + p). The ODEs are integrated to near machine precision (DOP853).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .costs import Quadratic
+from .problem import Problem
+
+
+@dataclass(frozen=True, eq=False)
+class LQSolution:
+    """The exact value and policy of a linear-quadratic problem at any (x, t)."""
+
+    problem: Problem
+    _dense: object
+
+    def coefficients(self, t: float) -> tuple[np.ndarray, np.ndarray, float]:
+        """(P(t), p(t), c₀(t))."""
+        T = self.problem.horizon
+        t = float(t)
+        if not (-1e-9 * T <= t <= T * (1 + 1e-9)):
+            raise ValueError(f"t must lie in [0, T] = [0, {T:g}], got {t}")
+        y = self._dense(T - min(max(t, 0.0), T))
+        d = self.problem.grid.ndim
+        return y[: d * d].reshape(d, d), y[d * d : d * d + d], float(y[-1])
+
+    def value(self, x, t) -> np.ndarray:
+        """v(x, t), shape ``(N,)``."""
+        x = self.problem.grid.check_states(x)
+        P, p, c0 = self.coefficients(t)
+        return 0.5 * np.einsum("ni,ij,nj->n", x, P, x) + x @ p + c0
+
+    def policy(self, x, t) -> np.ndarray:
+        """u*(x, t) = −R⁻¹ Bᵀ (P x + p), shape ``(N, m)``."""
+        x = self.problem.grid.check_states(x)
+        P, p, _ = self.coefficients(t)
+        _, B = self.problem.system.linear_matrices()
+        return -(x @ P + p) @ B @ self.problem.R_inv.T
+
+
+def _quadratic_terms(cost, name: str, d: int) -> tuple[np.ndarray, np.ndarray]:
+    if cost is None:
+        return np.zeros((d, d)), np.zeros(d)
+    if not isinstance(cost, Quadratic):
+        raise TypeError(f"lq_solution needs {name} to be a gridlbc.costs.Quadratic (or None)")
+    return cost.weights, cost.center
+
+
+def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
+    """The exact solution of SPEC §6 for a linear system with quadratic costs.
+
+    Requires ``problem.system.linear_matrices()`` (a(x) = A x, constant B), Quadratic terminal and
+    state costs, and no periodic grid axis (the closed form lives on all of Rᵈ).
+    """
+    matrices = problem.system.linear_matrices()
+    if matrices is None:
+        raise TypeError(
+            f"lq_solution needs a linear system (a(x) = A x, constant B); "
+            f"{type(problem.system).__name__} is not: use reference.solve_hjb instead"
+        )
+    if np.any(problem.grid.periodic):
+        raise ValueError("lq_solution is the solution on all of Rᵈ: the grid must have no periodic axis")
+    A, B = matrices
+    d = A.shape[0]
+    S = B @ problem.R_inv @ B.T
+    WT, cT = _quadratic_terms(problem.terminal_cost, "terminal_cost", d)
+    Wq, cq = _quadratic_terms(problem.state_cost, "state_cost", d)
+    lam = problem.temperature
+
+    def rhs(_tau, y):  # d/dτ with τ = T − t
+        P = y[: d * d].reshape(d, d)
+        p = y[d * d : d * d + d]
+        dP = A.T @ P + P @ A - P @ S @ P + 2 * Wq
+        dp = (A - S @ P).T @ p - 2 * Wq @ cq
+        dc = -0.5 * p @ S @ p + 0.5 * lam * np.trace(S @ P) + cq @ Wq @ cq
+        return np.concatenate([dP.ravel(), dp, [dc]])
+
+    y0 = np.concatenate([(2 * WT).ravel(), -2 * WT @ cT, [cT @ WT @ cT]])
+    sol = solve_ivp(rhs, (0.0, problem.horizon), y0, method="DOP853", rtol=rtol, atol=1e-14,
+                    dense_output=True)
+    if not sol.success:
+        raise RuntimeError(f"Riccati integration failed: {sol.message}")
+    return LQSolution(problem, sol.sol)
