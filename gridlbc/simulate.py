@@ -1,0 +1,241 @@
+"""Monte-Carlo rollouts of a policy on the problem's SDE (SPEC §1).
+
+Euler–Maruyama with step Δt = T/K on the Itô SDE
+
+    dx = (a(x) + B(x) u) dt + √λ B(x) R^{−1/2} dW,      Cov[dξ] = λ B R⁻¹ Bᵀ dt,
+
+i.e. x_{k+1} = x_k + (a(x_k) + B(x_k) u_k) Δt + √(λ Δt) B(x_k) C ε_k with C Cᵀ = R⁻¹ (Cholesky)
+and ε_k ~ N(0, I_m), periodic coordinates wrapped into the box after each step. Each sample's
+cost is the rectangle rule of the running cost plus the terminal cost,
+
+    J = Σ_k ( q(x_k) + ½ u_kᵀ R u_k ) Δt + g(x_K),
+
+whose sample mean estimates E[J]; for the optimal policy that is v(x₀, 0) = −λ log z(x₀, 0), up to
+the O(Δt) bias of the scheme and the standard error σ/√n of the mean.
+
+The policy and the drift are evaluated once per step for all samples (vectorised callables); the
+per-sample update of state and cost is one numba kernel over the samples.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._numba import jit_parallel, prange
+from .costs import evaluate_cost
+from .problem import Problem
+
+DEFAULT_STEPS = 300
+"""Euler–Maruyama steps over the horizon when ``dt`` is not given."""
+
+
+@jit_parallel
+def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost):
+    """x_out = x + (a + B u) dt + B (noise ε); cost += ½ uᵀ R u dt, for every sample."""
+    n, d = x.shape
+    m = u.shape[1]
+    for s in prange(n):
+        kick = np.zeros(m)  # √(λ dt) C ε
+        control = 0.0
+        for i in range(m):
+            for j in range(m):
+                kick[i] += noise[i, j] * eps[s, j]
+                control += u[s, i] * R[i, j] * u[s, j]
+        cost[s] += 0.5 * control * dt
+        for k in range(d):
+            v = drift[s, k]
+            w = 0.0
+            for i in range(m):
+                v += B[s, k, i] * u[s, i]
+                w += B[s, k, i] * kick[i]
+            x_out[s, k] = x[s, k] + v * dt + w
+
+
+def em_step_reference(x, drift, B, u, eps, noise, R, dt):
+    """Plain-numpy version of the Euler–Maruyama kernel: (new states, ½ uᵀRu dt per sample)."""
+    kick = eps @ noise.T
+    x_new = x + (drift + np.einsum("ndm,nm->nd", B, u)) * dt + np.einsum("ndm,nm->nd", B, kick)
+    return x_new, 0.5 * np.einsum("ni,ij,nj->n", u, R, u) * dt
+
+
+@dataclass(frozen=True, eq=False)
+class Rollouts:
+    """Sampled trajectories of one policy and their costs.
+
+    Attributes
+    ----------
+    times : ndarray (k,)
+        0, Δt, …, T.
+    states : ndarray (n, k, d)
+        States at those times (periodic coordinates wrapped into the box).
+    controls : ndarray (n, k − 1, m)
+        The control applied on each step.
+    costs : ndarray (n,)
+        Realised cost per sample: Σ (q + ½ uᵀRu) Δt + g(x_T).
+    terminal_costs : ndarray (n,)
+        g(x_T) per sample (part of ``costs``).
+    left_box : ndarray (n,) of bool
+        Samples that left the grid's box on a non-periodic axis at some step (the SDE lives on
+        Rᵈ, so they keep going; a grid solution is clamped to the box there).
+    seed : int or None
+    """
+
+    times: np.ndarray
+    states: np.ndarray
+    controls: np.ndarray
+    costs: np.ndarray
+    terminal_costs: np.ndarray
+    left_box: np.ndarray
+    seed: int | None
+
+    @property
+    def n_samples(self) -> int:
+        return self.costs.shape[0]
+
+    @property
+    def dt(self) -> float:
+        return float(self.times[1] - self.times[0])
+
+    @property
+    def final_states(self) -> np.ndarray:
+        """x_T per sample, shape ``(n, d)``."""
+        return self.states[:, -1]
+
+    @property
+    def mean_cost(self) -> float:
+        """The Monte-Carlo estimate of E[J]."""
+        return float(self.costs.mean())
+
+    @property
+    def standard_error(self) -> float:
+        """σ̂/√n of :attr:`mean_cost` (NaN for a single sample)."""
+        n = self.n_samples
+        return float(self.costs.std(ddof=1) / math.sqrt(n)) if n > 1 else math.nan
+
+    @property
+    def n_left_box(self) -> int:
+        return int(self.left_box.sum())
+
+    def summary(self) -> str:
+        return (f"cost {self.mean_cost:.4g} ± {self.standard_error:.2g} (SE) over "
+                f"{self.n_samples} samples, Δt = {self.dt:.3g}, {self.n_left_box} left the box")
+
+
+def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
+    if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)):
+        raise TypeError(f"n_samples must be an integer, got {n_samples!r}")
+    if n_samples < 1:
+        raise ValueError(f"n_samples must be at least 1, got {n_samples}")
+    x0 = problem.grid.check_states(x0, "x0")
+    if x0.shape[0] == 1:
+        return np.repeat(x0, n_samples, axis=0)
+    if x0.shape[0] != n_samples:
+        raise ValueError(
+            f"x0 has {x0.shape[0]} rows but n_samples = {n_samples}: give one start state (d,) "
+            f"or one per sample (n_samples, d)"
+        )
+    return x0.copy()
+
+
+def _step_count(horizon: float, dt) -> int:
+    if dt is None:
+        return DEFAULT_STEPS
+    try:
+        dt = float(dt)
+    except (TypeError, ValueError):
+        raise TypeError(f"dt must be a number, got {dt!r}") from None
+    if not (np.isfinite(dt) and 0 < dt <= horizon):
+        raise ValueError(f"dt must lie in (0, T] = (0, {horizon:g}], got {dt}")
+    return math.ceil(horizon / dt - 1e-9)
+
+
+def _controls(policy, x: np.ndarray, t: float, m: int, step: int) -> np.ndarray:
+    u = np.asarray(policy(x, t), dtype=float)
+    if u.shape != (x.shape[0], m):
+        raise ValueError(
+            f"policy(x, t) must return controls of shape (N, m) = ({x.shape[0]}, {m}) for states "
+            f"x of shape {x.shape}, got shape {u.shape}"
+        )
+    bad = ~np.all(np.isfinite(u), axis=1)
+    if np.any(bad):
+        raise ValueError(
+            f"policy returned non-finite controls for {int(bad.sum())} of {x.shape[0]} samples at "
+            f"t = {t:g} (step {step}), first at x = {x[np.argmax(bad)]}: a grid policy is undefined "
+            "where the desirability underflowed (see UnderflowWarning)"
+        )
+    return u
+
+
+def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None = None,
+             seed: int | None = None, noise: bool = True) -> Rollouts:
+    """Roll out ``policy`` on the SDE of ``problem`` and accumulate each sample's cost.
+
+    Parameters
+    ----------
+    problem : Problem
+        Dynamics, costs (q, R, g), temperature λ (the noise level) and horizon T.
+    policy : callable
+        ``policy(x, t)`` → controls ``(N, m)`` for states ``(N, d)``: a Solution's or combination's
+        ``.policy``, or any controller of your own.
+    x0 : array_like (d,) or (n_samples, d)
+        Start state(s).
+    n_samples : int
+        Number of independent samples.
+    dt : float, optional
+        Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`):
+        the scheme's weak error is O(Δt), a bias in the mean cost of order 1/300 relative for
+        smooth problems.
+    seed : int, optional
+        Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
+    noise : bool
+        False: the deterministic closed loop (ε = 0).
+
+    Returns
+    -------
+    Rollouts
+    """
+    if not isinstance(problem, Problem):
+        raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
+    if not callable(policy):
+        raise TypeError("policy must be callable as policy(x, t) -> (N, m), e.g. solution.policy")
+    x = _initial_states(problem, x0, n_samples)
+    T = problem.horizon
+    K = _step_count(T, dt)
+    step = T / K
+    grid, system = problem.grid, problem.system
+    n, d, m = x.shape[0], system.state_dim, system.control_dim
+    rng = np.random.default_rng(seed)
+    R = np.ascontiguousarray(problem.R)
+    root = np.linalg.cholesky(problem.R_inv) * math.sqrt(problem.temperature * step)
+    outside_mask = ~grid.periodic
+    lo, hi = grid.lo, grid.hi
+
+    states = np.empty((n, K + 1, d))
+    controls = np.empty((n, K, m))
+    costs = np.zeros(n)
+    left = np.zeros(n, dtype=bool)
+    x = grid.wrap(x)
+    states[:, 0] = x
+    eps = np.zeros((n, m))
+    for k in range(K):
+        t = k * step
+        u = _controls(policy, x, t, m, k)
+        drift = np.ascontiguousarray(system.drift(x), dtype=float)
+        B = np.ascontiguousarray(system.input_matrix(x), dtype=float)
+        if problem.state_cost is not None:
+            costs += problem.state_cost_values(x) * step
+        if noise:
+            eps = rng.standard_normal((n, m))
+        x_new = np.empty_like(x)
+        _em_kernel(x, drift, B, u, eps, root, R, step, x_new, costs)
+        x = grid.wrap(x_new)
+        left |= np.any(((x < lo) | (x > hi)) & outside_mask, axis=1)
+        states[:, k + 1] = x
+        controls[:, k] = u
+    terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")
+    times = np.arange(K + 1) * step
+    times[-1] = T
+    return Rollouts(times, states, controls, costs + terminal, terminal, left, seed)
