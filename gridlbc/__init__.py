@@ -6,10 +6,13 @@ and solutions for different terminal costs superpose into new optimal controller
 """
 
 from . import costs, systems
+from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .problem import Problem
+from .project import Projection, ProjectionWarning, project, projection
 from .solution import Solution, SolveDiagnostics, UnderflowWarning
+from .simulate import Rollouts, simulate
 from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
 
 __version__ = "0.1.0"
@@ -17,4 +20,6 @@ __version__ = "0.1.0"
 __all__ = [
     "Axis", "Grid", "Problem", "Quadratic", "Solution", "SolveDiagnostics", "SolverSettings",
     "UnderflowWarning", "METHODS", "PRESETS", "costs", "solve", "solve_many", "systems",
+    "CombinedSolution", "NaiveBlend", "combine", "naive_blend",
+    "Projection", "ProjectionWarning", "project", "projection", "Rollouts", "simulate",
 ]
