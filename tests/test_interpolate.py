@@ -1,0 +1,110 @@
+"""Kuhn-simplex barycentric interpolation (SPEC §4): exact for affine functions (to rounding)."""
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gridlbc import Axis, Grid
+from gridlbc.interpolate import barycentric, barycentric_reference, interpolate, node_gradient
+
+GRIDS = {
+    1: Grid([Axis(-1.0, 2.0, 7)]),
+    2: Grid([Axis(-np.pi, np.pi, 9, periodic=True), Axis(-2.0, 3.0, 6)]),
+    3: Grid([Axis(0.0, 1.0, 4), Axis(-1.0, 1.0, 5, periodic=True), Axis(2.0, 5.0, 3)]),
+    4: Grid([Axis(-np.pi, np.pi, 6, periodic=True), Axis(-np.pi, np.pi, 5, periodic=True),
+             Axis(-3.0, 3.0, 4), Axis(-1.0, 1.0, 5)]),
+}
+
+
+def _affine_nodal(grid, slope, cut):
+    """Nodal values of an affine function; on periodic axes affine in the coordinate unwrapped
+    from ``cut`` (a point away from the query cells), so it is affine across the seam cell."""
+    x = grid.nodes().copy()
+    for k, ax in enumerate(grid.axes):
+        if ax.periodic:
+            x[:, k] = cut[k] + np.mod(x[:, k] - cut[k], ax.period)
+    return x @ slope + 0.7, x
+
+
+def _affine_at(grid, slope, cut, pts):
+    y = pts.copy()
+    for k, ax in enumerate(grid.axes):
+        if ax.periodic:
+            y[:, k] = cut[k] + np.mod(y[:, k] - cut[k], ax.period)
+    return y @ slope + 0.7
+
+
+@pytest.mark.parametrize("d", [1, 2, 3, 4])
+def test_affine_functions_reproduced_to_rounding(d, rng):
+    grid = GRIDS[d]
+    slope = rng.normal(size=d)
+    # Cut each periodic axis in the middle of its interior so that the seam cell (between the
+    # last node and lo + period) lies inside one affine branch; sample only away from the cut.
+    cut = np.array([ax.lo + 0.5 * ax.period if ax.periodic else 0.0 for ax in grid.axes])
+    values, _ = _affine_nodal(grid, slope, cut)
+    pts = rng.uniform(grid.lo, grid.hi, size=(500, d))
+    for k, ax in enumerate(grid.axes):
+        if ax.periodic:  # keep away from the cut: within a quarter period of the seam
+            pts[:, k] = ax.lo + np.mod(rng.uniform(-0.25, 0.25, 500) * ax.period, ax.period)
+    got = interpolate(grid, values, pts)
+    expected = _affine_at(grid, slope, cut, pts)
+    # Rounding: a sum of d+1 products of O(|f|) values; allow 64 ulps of the largest value.
+    np.testing.assert_allclose(got, expected, rtol=0, atol=64 * np.finfo(float).eps * np.abs(values).max())
+
+
+@pytest.mark.parametrize("d", [1, 2, 3, 4])
+def test_weights_nonnegative_sum_to_one_and_match_numpy_reference(d, rng):
+    grid = GRIDS[d]
+    span = grid.hi - grid.lo
+    pts = rng.uniform(grid.lo - 0.3 * span, grid.hi + 0.3 * span, size=(400, d))  # incl. outside
+    pts[:50] = grid.nodes()[rng.integers(0, grid.size, 50)]  # exactly on nodes
+    idx, w = barycentric(grid, pts)
+    ref_idx, ref_w = barycentric_reference(grid, pts)
+    assert np.all(w >= 0)
+    np.testing.assert_allclose(w.sum(axis=1), 1.0, atol=1e-14)
+    assert idx.min() >= 0 and idx.max() < grid.size
+    # Same interpolant; vertices with zero weight may legitimately differ on ties.
+    f = rng.normal(size=grid.size)
+    np.testing.assert_allclose((f[idx] * w).sum(1), (f[ref_idx] * ref_w).sum(1), atol=1e-13)
+    np.testing.assert_allclose(np.sort(w, axis=1), np.sort(ref_w, axis=1), atol=1e-14)
+
+
+def test_periodic_seam_interpolates_between_last_and_first_node():
+    grid = Grid([Axis(0.0, 1.0, 4, periodic=True)])  # nodes 0, .25, .5, .75; period 1
+    values = np.array([10.0, 0.0, 0.0, 2.0])
+    got = interpolate(grid, values, [[0.875], [1.875], [-0.125], [0.0], [1.0]])
+    np.testing.assert_allclose(got, [6.0, 6.0, 6.0, 10.0, 10.0], atol=1e-12)
+
+
+def test_points_outside_closed_box_are_clamped():
+    grid = Grid([Axis(0.0, 1.0, 3)])
+    np.testing.assert_allclose(interpolate(grid, [1.0, 2.0, 5.0], [[-7.0], [0.25], [9.0]]),
+                               [1.0, 1.5, 5.0])
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.lists(st.floats(-10, 10), min_size=3, max_size=3))
+def test_hypothesis_points_give_convex_weights(point):
+    grid = GRIDS[3]
+    _, w = barycentric(grid, np.array(point))
+    assert np.all(w >= 0) and abs(w.sum() - 1) < 1e-14
+
+
+def test_node_gradient_exact_for_affine_and_one_sided_at_ends(rng):
+    grid = Grid([Axis(-1.0, 1.0, 6), Axis(0.0, 2.0, 5, periodic=True)])
+    x = grid.nodes()
+    values = (3.0 * x[:, 0] - 0.5 * x[:, 0] ** 2)[None, :]
+    nodes = np.arange(grid.size)
+    d0 = node_gradient(grid, values, nodes, 0)[0]
+    h = grid.spacing[0]
+    i = np.unravel_index(nodes, grid.shape)[0]
+    interior = (i > 0) & (i < 5)
+    # central differences are exact for quadratics; one-sided ones are off by h/2·|f''|.
+    np.testing.assert_allclose(d0[interior], 3.0 - x[interior, 0], atol=1e-12)
+    np.testing.assert_allclose(d0[~interior], 3.0 - x[~interior, 0] + np.where(i[~interior] == 0, -1, 1) * 0.5 * h, atol=1e-12)
+    periodic_values = np.sin(np.pi * x[:, 1])[None, :]
+    d1 = node_gradient(grid, periodic_values, nodes, 1)[0]
+    h1 = grid.spacing[1]
+    expected = (np.sin(np.pi * (x[:, 1] + h1)) - np.sin(np.pi * (x[:, 1] - h1))) / (2 * h1)
+    np.testing.assert_allclose(d1, expected, atol=1e-12)

@@ -1,0 +1,190 @@
+"""The two schemes of SPEC §3: linear in the terminal data, positive, convergent, validated."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import gridlbc
+from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.systems import Pendulum, PointMass, SingleIntegrator
+
+METHODS = ["splitting", "implicit"]
+
+
+def _pendulum_problem(n=33, T=1.0, **kw):
+    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-6.0, 6.0, n)])
+    return Problem(Pendulum(), grid, T, Quadratic([0.0, 0.0], [2.0, 0.2]), **kw)
+
+
+def _nodal_z(solution, j):
+    return solution.slices[j].astype(float) * np.exp(solution.log_scales[j])
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_linear_in_terminal_data(method):
+    problem = _pendulum_problem(state_cost=Quadratic([0.0, 0.0], [0.1, 0.01]))
+    lam = problem.temperature
+    g1 = Quadratic([0.5, 0.0], [2.0, 0.2])
+    g2 = Quadratic([-2.0, 1.0], [1.0, 0.5])
+
+    def g_sum(x):  # terminal cost whose desirability is h1 + 2 h2
+        return -lam * np.logaddexp(-g1.with_periods(problem.grid.periods)(x) / lam,
+                                   np.log(2.0) - g2.with_periods(problem.grid.periods)(x) / lam)
+
+    s1, s2, s12 = gridlbc.solve_many(problem, [g1, g2, g_sum], method=method)
+    for j in (0, len(s1.times) // 2):
+        combined = _nodal_z(s1, j) + 2 * _nodal_z(s2, j)
+        direct = _nodal_z(s12, j)
+        # A linear map applied in floating point: agreement to a few hundred ulps relative
+        # (the LU solve / Thomas sweeps have condition numbers O(1) for these M-matrices).
+        np.testing.assert_allclose(direct, combined, rtol=1e-11, atol=0)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_positive_and_bounded_by_max_principle(method):
+    problem = _pendulum_problem()
+    sol = gridlbc.solve(problem, method=method)
+    assert np.all(sol.slices >= 0)
+    # With q = 0 the step is a Markov transition: max z never grows backward in time.
+    z_max = [np.log(sol.slices[j].max()) + sol.log_scales[j] for j in range(len(sol.times))]
+    assert np.all(np.diff(z_max) >= -1e-12)
+
+
+@pytest.mark.parametrize("method", METHODS)
+def test_constants_preserved_without_state_cost(method):
+    grid = Grid([Axis(-np.pi, np.pi, 17, periodic=True), Axis(-4.0, 4.0, 17)])
+    problem = Problem(Pendulum(), grid, 0.5, lambda x: np.full(len(x), 3.0))
+    sol = gridlbc.solve(problem, method=method)
+    np.testing.assert_allclose(sol.value_nodes(0), 3.0, atol=1e-12)
+
+
+def _mild_pendulum(n, **kw):
+    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-4.0, 4.0, n)])
+    return Problem(Pendulum(gravity=2.0), grid, 1.0, Quadratic([0.0, 0.0], [1.0, 0.1]), **kw)
+
+
+def test_schemes_converge_to_the_same_value():
+    x0 = np.array([[1.0, 0.5], [-0.5, -1.0], [0.2, 0.0]])
+    values = {m: [gridlbc.solve(_mild_pendulum(n), method=m).value(x0, 0.0)
+                  for n in (33, 65, 129, 257)] for m in METHODS}
+    limits = {}
+    for m, v in values.items():
+        steps = [np.abs(b - a).max() for a, b in zip(v, v[1:])]
+        # First-order schemes: successive changes shrink under refinement (Cauchy) ...
+        assert steps[2] < steps[1] < steps[0], (m, steps)
+        # ... and the first-order Richardson estimate 2 v_h/2 − v_h approximates the limit.
+        limits[m] = 2 * v[3] - v[2]
+    # Both schemes approximate the same PDE: their extrapolated limits agree to within the
+    # size of the last refinement step of either (here ≈ 0.15).
+    tol = max(np.abs(values[m][3] - values[m][2]).max() for m in METHODS)
+    np.testing.assert_allclose(limits["splitting"], limits["implicit"], atol=0.5 * tol)
+
+
+def test_times_and_diagnostics():
+    problem = _pendulum_problem(T=0.9)
+    sol = gridlbc.solve(problem, dt=0.1, store_every=4)
+    np.testing.assert_allclose(sol.times, [0.0, 0.4, 0.8, 0.9])
+    d = sol.diagnostics
+    assert d.method == "splitting" and d.steps == 9 and d.dt == pytest.approx(0.1)
+    assert d.stored_bytes == sol.slices.nbytes and d.underflow_nodes == 0
+    assert d.courant > 0 and d.wall_time > 0
+
+
+def test_time_interpolation_is_linear_between_slices():
+    problem = _pendulum_problem(T=1.0)
+    sol = gridlbc.solve(problem, dt=0.1)
+    x = np.array([[0.3, 0.2]])
+    z_a, z_b = sol.desirability(x, 0.2), sol.desirability(x, 0.3)
+    np.testing.assert_allclose(sol.desirability(x, 0.23), 0.7 * z_a + 0.3 * z_b, rtol=1e-13)
+
+
+def test_policy_matches_value_gradient():
+    """u* = −R⁻¹Bᵀ∇v: compare with a finite difference of the interpolated value."""
+    sol = gridlbc.solve(_mild_pendulum(129, control_cost=2.0))
+    x = np.array([[0.3, 0.7], [-1.0, -0.4]])
+    eps = 1e-3
+    dv = (sol.value(x + [0, eps], 0.0) - sol.value(x - [0, eps], 0.0)) / (2 * eps)
+    expected = -(1 / 2.0) * dv  # B = (0, 1) for a unit pendulum
+    # Both are first-order approximations of ∂v/∂ω (the interpolant's slope within one simplex
+    # vs. vertex central differences): they differ by O(h |∂²v|), here about 10 %.
+    np.testing.assert_allclose(sol.policy(x, 0.0)[:, 0], expected, rtol=0.15)
+
+
+def test_underflow_is_reported_not_nan():
+    grid = Grid([Axis(-10.0, 10.0, 41)])
+    # exp(−q Δt/λ) = exp(−2·10⁴) is zero in float64 where the state cost is huge.
+    problem = Problem(SingleIntegrator(), grid, 0.01, Quadratic([0.0], [1.0]), temperature=0.05,
+                      state_cost=lambda x: np.where(x[:, 0] > 5.0, 1e5, 0.0))
+    sol = gridlbc.solve(problem, dt=0.01)
+    assert sol.diagnostics.underflow_nodes == np.count_nonzero(grid.nodes()[:, 0] > 5.0)
+    with pytest.warns(gridlbc.UnderflowWarning):
+        v = sol.value([[9.9], [0.0]], 0.0)
+    assert v[0] == np.inf and np.isfinite(v[1])
+    with pytest.warns(gridlbc.UnderflowWarning):
+        u = sol.policy([[9.9]], 0.0)
+    assert np.isnan(u).all()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sol.value([[0.1]], 0.0)
+
+
+def _pm_grid():
+    return Grid([Axis(-1, 1, 5), Axis(-1, 1, 5)])
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        (dict(temperature=0.0), ValueError, "temperature"),
+        (dict(temperature=-1.0), ValueError, "temperature"),
+        (dict(horizon=0.0), ValueError, "horizon"),
+        (dict(horizon="long"), TypeError, "horizon"),
+        (dict(control_cost=-1.0), ValueError, "positive definite"),
+        (dict(control_cost=[1.0, 2.0]), ValueError, "control_cost"),
+        (dict(terminal_cost=Quadratic([0, 0, 0], [1, 1, 1])), ValueError, "center has 3"),
+        (dict(terminal_cost=3.0), TypeError, "callable"),
+        (dict(grid=Grid([Axis(0, 1, 4)])), ValueError, "one Axis per state coordinate"),
+    ],
+)
+def test_problem_rejects_bad_input(kwargs, error, match):
+    args = dict(system=PointMass(), grid=_pm_grid(), horizon=1.0,
+                terminal_cost=Quadratic([0, 0], [1, 1]))
+    args.update(kwargs)
+    with pytest.raises(error, match=match):
+        Problem(**args)
+
+
+@pytest.mark.parametrize(
+    "state_cost, match",
+    [
+        (lambda x: np.full(len(x), np.nan), "non-finite"),
+        (lambda x: -np.ones(len(x)), "non-negative"),
+        (lambda x: np.ones(3), "one value per state"),
+    ],
+)
+def test_bad_state_cost(state_cost, match):
+    problem = Problem(PointMass(), _pm_grid(), 1.0, Quadratic([0, 0], [1, 1]), state_cost=state_cost)
+    with pytest.raises(ValueError, match=match):
+        gridlbc.solve(problem)
+
+
+def test_bad_solve_options_and_queries():
+    problem = Problem(PointMass(), _pm_grid(), 1.0, Quadratic([0, 0], [1, 1]))
+    with pytest.raises(ValueError, match="dt must be positive"):
+        gridlbc.solve(problem, dt=-0.1)
+    with pytest.raises(ValueError, match="exceeds the horizon"):
+        gridlbc.solve(problem, dt=2.0)
+    with pytest.raises(ValueError, match="unknown method 'euler': choose one of implicit, splitting"):
+        gridlbc.solve(problem, method="euler")
+    with pytest.raises(TypeError, match="unknown solve option"):
+        gridlbc.solve(problem, tolerance=1.0)
+    with pytest.raises(ValueError, match="unknown settings preset"):
+        gridlbc.solve(problem, settings="quick")
+    sol = gridlbc.solve(problem)
+    with pytest.raises(ValueError, match=r"t must lie in \[0, T\]"):
+        sol.value([0.0, 0.0], 1.5)
+    with pytest.raises(ValueError, match=r"shape \(N, 2\)"):
+        sol.value([0.0, 0.0, 0.0], 0.0)
+    with pytest.raises(ValueError, match="non-finite"):
+        sol.policy([np.inf, 0.0], 0.0)
