@@ -116,7 +116,7 @@ def test_components_with_scales_1e300_apart_combine_exactly(rng):
     # the unshifted component would, and nothing overflows or underflows on the way.
     problem = _line_problem()
     near, far = g.Quadratic([-1], [2]), g.Quadratic([1], [2])
-    shifted = lambda x: far(x) + 700.0  # noqa: E731
+    shifted = lambda x: far(x) + 700.0
     plain = g.solve_many(problem, [near, far], dt=0.01)
     scaled = g.solve_many(problem, [near, shifted], dt=0.01)
     x = rng.uniform(-3, 3, (100, 1))
@@ -183,11 +183,11 @@ def line_solution():
 
 
 @pytest.mark.parametrize("change, match", [
-    (dict(grid=g.Grid([g.Axis(-3, 3, 23)])), "grid"),
-    (dict(horizon=0.4), "horizon"),
-    (dict(temperature=2.0), "temperature"),
-    (dict(control_cost=3.0), "control cost R"),
-    (dict(state_cost=g.Quadratic([0], [1])), "state cost"),
+    ({"grid": g.Grid([g.Axis(-3, 3, 23)])}, "grid"),
+    ({"horizon": 0.4}, "horizon"),
+    ({"temperature": 2.0}, "temperature"),
+    ({"control_cost": 3.0}, "control cost R"),
+    ({"state_cost": g.Quadratic([0], [1])}, "state cost"),
 ])
 def test_mismatched_problems_are_named(line_solution, change, match):
     problem, sol = line_solution

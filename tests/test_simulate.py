@@ -109,19 +109,19 @@ def test_grid_policy_cost_matches_riccati():
 
 
 @pytest.mark.parametrize("kwargs, error, match", [
-    (dict(x0=[np.nan]), ValueError, "x0 has a non-finite"),
-    (dict(x0=[0.0, 1.0]), ValueError, "x0 must have shape"),
-    (dict(x0=[[0.0], [1.0]], n_samples=3), ValueError, "2 rows but n_samples = 3"),
-    (dict(n_samples=0), ValueError, "at least 1"),
-    (dict(n_samples=2.5), TypeError, "integer"),
-    (dict(dt=-0.1), ValueError, "dt must lie"),
-    (dict(dt=5.0), ValueError, "dt must lie"),
-    (dict(policy=lambda x, t: np.zeros(x.shape[0])), ValueError, r"shape \(N, m\) = \(1, 1\)"),
-    (dict(policy=lambda x, t: np.full((x.shape[0], 1), np.nan)), ValueError, "non-finite"),
-    (dict(policy="u"), TypeError, "callable"),
+    ({"x0": [np.nan]}, ValueError, "x0 has a non-finite"),
+    ({"x0": [0.0, 1.0]}, ValueError, "x0 must have shape"),
+    ({"x0": [[0.0], [1.0]], "n_samples": 3}, ValueError, "2 rows but n_samples = 3"),
+    ({"n_samples": 0}, ValueError, "at least 1"),
+    ({"n_samples": 2.5}, TypeError, "integer"),
+    ({"dt": -0.1}, ValueError, "dt must lie"),
+    ({"dt": 5.0}, ValueError, "dt must lie"),
+    ({"policy": lambda x, t: np.zeros(x.shape[0])}, ValueError, r"shape \(N, m\) = \(1, 1\)"),
+    ({"policy": lambda x, t: np.full((x.shape[0], 1), np.nan)}, ValueError, "non-finite"),
+    ({"policy": "u"}, TypeError, "callable"),
 ])
 def test_bad_input(kwargs, error, match):
-    args = dict(problem=_line(), policy=_zero, x0=[0.0])
+    args = {"problem": _line(), "policy": _zero, "x0": [0.0]}
     args.update(kwargs)
     with pytest.raises(error, match=match):
         g.simulate(**args)
