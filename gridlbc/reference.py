@@ -8,6 +8,10 @@ v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward
     −ċ₀ = −½ pᵀ S p + (λ/2) tr(S P) + c_qᵀ W_q c_q      c₀(T) = c_Tᵀ W_T c_T
 
 and u*(x, t) = −R⁻¹ Bᵀ (P x + p). The ODEs are integrated to near machine precision (DOP853).
+
+:func:`solve_hjb` (from :mod:`gridlbc.hjb`) solves the nonlinear HJB directly in value space by a
+Markov-chain approximation sharing no code with the z-space solvers: the check for nonlinear
+systems, where no closed form exists.
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from .costs import Quadratic
+from .hjb import solve_hjb  # noqa: F401 (re-exported: gridlbc.reference.solve_hjb, SPEC §7)
 from .problem import Problem
 
 

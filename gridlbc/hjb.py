@@ -1,0 +1,395 @@
+"""An independent check: the nonlinear HJB solved directly in value space (Kushner–Dupuis).
+
+The optimal cost-to-go v of SPEC §1 solves the nonlinear Hamilton–Jacobi–Bellman equation
+
+    −∂ₜv = q + min_u [ ½ uᵀR u + (a + B u)ᵀ∇v ] + ½ tr(Σ ∇²v),   Σ = λ B R⁻¹ Bᵀ,   v(·, T) = g,
+
+which the linear solvers only reach through z = exp(−v/λ). Here it is discretised without z and
+without any of their code (no splitting, no implicit generator, no Kuhn interpolation): an explicit
+Markov-chain approximation with upwinding of the controlled drift b = a + B u. With one-sided
+differences δ⁺_k v = (v_{i+e_k} − v_i)/h_k, δ⁻_k v = (v_i − v_{i−e_k})/h_k and D_k = ½ Σ_kk,
+
+    v(t) = v(t + Δt) + Δt H[v(t + Δt)],
+    H[v] = q + Σ_k D_k (δ⁺_k v − δ⁻_k v)/h_k + min_u [ ½ uᵀR u + Σ_k (b_k⁺ δ⁺_k v − b_k⁻ δ⁻_k v) ],
+
+b⁺ = max(b, 0), b⁻ = max(−b, 0). Read as transition probabilities, the step moves from node i to
+i ± e_k with probability Δt (b_k^± / h_k + D_k / h_k²) and stays with the rest: a monotone scheme
+(and convergent, Barles–Souganidis) as long as that rest is non-negative,
+
+    Δt · max_i ρ_i ≤ 1,   ρ_i = Σ_k (|b_k| / h_k + 2 D_k / h_k²)   (CFL, with the minimising u).
+
+Every step picks Δt from the current policy so that Δt max ρ ≤ ``courant`` ≤ 1. The scheme is first
+order in h (the upwinding) and in Δt ∝ h.
+
+The minimum over u is exact: each control u_j drives one axis k (R diagonal, B_kj its only
+nonzero in column j, as for every built-in system), so it is a one-dimensional minimisation of
+the convex-or-not piecewise quadratic ½ r_j u² + b_k⁺ δ⁺ − b_k⁻ δ⁻ with b_k = a_k + B_kj u: the
+minimum lies at the unconstrained minimiser of the branch b ≥ 0 (u = −B_kj δ⁺/r_j) or of the
+branch b ≤ 0 (u = −B_kj δ⁻/r_j) when that branch's sign condition holds, or at the kink b = 0.
+
+Boundaries follow SPEC §3: periodic axes wrap; on a closed axis the transitions out of the box are
+suppressed (δ⁻ = 0 at the lower end, δ⁺ = 0 at the upper end: a reflecting state constraint).
+
+Evaluation anywhere: v by multilinear (tensor-product) interpolation of the nodal values, linear
+in time between stored slices; the policy u* = −R⁻¹ B(x)ᵀ ∇v from nodal central differences of v
+(one-sided at the ends of a closed axis), interpolated the same way.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ._numba import jit
+from .grid import Grid
+from .problem import Problem
+
+
+@jit
+def _hamiltonian_kernel(v, drift, gain, control_axis, r, diffusion, q, shape, strides, spacing,
+                        periodic, out, rate, control):
+    """H[v] and the jump rate ρ at every node, and the minimising control (see module docstring).
+
+    ``gain[i, j]`` is B_kj at node i for the axis k = ``control_axis[j]``; axes without a control
+    (``control_of_axis`` −1) are advected by the passive drift alone.
+    """
+    n_nodes, d = drift.shape
+    m = gain.shape[1]
+    control_of_axis = np.full(d, -1)
+    for j in range(m):
+        control_of_axis[control_axis[j]] = j
+    for p in range(n_nodes):
+        total = q[p]
+        rho = 0.0
+        for k in range(d):
+            n = shape[k]
+            s = strides[k]
+            h = spacing[k]
+            i = (p // s) % n
+            if periodic[k]:
+                up = p + s if i < n - 1 else p - (n - 1) * s
+                down = p - s if i > 0 else p + (n - 1) * s
+                forward = (v[up] - v[p]) / h
+                backward = (v[p] - v[down]) / h
+            else:
+                forward = (v[p + s] - v[p]) / h if i < n - 1 else 0.0
+                backward = (v[p] - v[p - s]) / h if i > 0 else 0.0
+            total += diffusion[p, k] * (forward - backward) / h
+            rho += 2.0 * diffusion[p, k] / (h * h)
+            a = drift[p, k]
+            j = control_of_axis[k]
+            beta = gain[p, j] if j >= 0 else 0.0
+            if beta == 0.0:
+                if j >= 0:
+                    control[p, j] = 0.0
+                b = a
+                best = max(b, 0.0) * forward - max(-b, 0.0) * backward
+            else:
+                u_best = -a / beta  # the kink b = 0
+                best = 0.5 * r[j] * u_best * u_best
+                u_up = -beta * forward / r[j]
+                if a + beta * u_up >= 0.0:
+                    f = 0.5 * r[j] * u_up * u_up + (a + beta * u_up) * forward
+                    if f < best:
+                        best, u_best = f, u_up
+                u_down = -beta * backward / r[j]
+                if a + beta * u_down <= 0.0:
+                    f = 0.5 * r[j] * u_down * u_down + (a + beta * u_down) * backward
+                    if f < best:
+                        best, u_best = f, u_down
+                control[p, j] = u_best
+                b = a + beta * u_best
+            total += best
+            rho += abs(b) / h
+        out[p] = total
+        rate[p] = rho
+
+
+@jit
+def _multilinear_kernel(values, x, lo, spacing, shape, strides, periodic, out):
+    """Tensor-product linear interpolation of nodal ``values`` (K, N) at states ``x`` (P, d)."""
+    n_points, d = x.shape
+    n_rows = values.shape[0]
+    for p in range(n_points):
+        low = np.empty(d, dtype=np.int64)
+        high = np.empty(d, dtype=np.int64)
+        frac = np.empty(d)
+        for k in range(d):
+            n = shape[k]
+            s = (x[p, k] - lo[k]) / spacing[k]
+            if periodic[k]:
+                s = s - n * np.floor(s / n)
+                i = min(int(np.floor(s)), n - 1)
+                low[k] = i
+                high[k] = i + 1 if i < n - 1 else 0
+            else:
+                s = min(max(s, 0.0), n - 1.0)
+                i = min(int(np.floor(s)), n - 2)
+                low[k] = i
+                high[k] = i + 1
+            frac[k] = s - i
+        for r_ in range(n_rows):
+            out[r_, p] = 0.0
+        for corner in range(1 << d):
+            w = 1.0
+            node = 0
+            for k in range(d):
+                if (corner >> k) & 1:
+                    w *= frac[k]
+                    node += high[k] * strides[k]
+                else:
+                    w *= 1.0 - frac[k]
+                    node += low[k] * strides[k]
+            if w != 0.0:
+                for r_ in range(n_rows):
+                    out[r_, p] += w * values[r_, node]
+
+
+def _grid_arrays(grid: Grid):
+    return (np.array(grid.shape, dtype=np.int64), grid.strides, grid.spacing, grid.periodic)
+
+
+def multilinear(grid: Grid, values, x) -> np.ndarray:
+    """Multilinear interpolation of nodal ``values`` ``(K, size)`` at states ``x`` ``(P, d)``.
+
+    Periodic axes wrap, closed axes clamp the state to the box. Returns ``(K, P)``.
+    """
+    x = grid.check_states(x)
+    values = np.ascontiguousarray(np.atleast_2d(values), dtype=float)
+    if values.shape[-1] != grid.size:
+        raise ValueError(f"values must have {grid.size} nodal entries, got shape {values.shape}")
+    shape, strides, spacing, periodic = _grid_arrays(grid)
+    out = np.empty((values.shape[0], x.shape[0]))
+    _multilinear_kernel(values, np.ascontiguousarray(x), grid.lo, spacing, shape, strides,
+                        periodic, out)
+    return out
+
+
+def nodal_gradient(grid: Grid, values: np.ndarray) -> np.ndarray:
+    """∇v at every node, shape ``(d, size)``: central differences, wrapped on periodic axes and
+    one-sided at the ends of closed axes."""
+    field = grid.reshape(np.asarray(values, dtype=float))
+    grads = []
+    for k, ax in enumerate(grid.axes):
+        h = ax.spacing
+        if ax.periodic:
+            grads.append((np.roll(field, -1, axis=k) - np.roll(field, 1, axis=k)) / (2 * h))
+        else:
+            grads.append(np.gradient(field, h, axis=k, edge_order=1))
+    return np.stack([g.ravel() for g in grads])
+
+
+@dataclass(frozen=True)
+class ControlStructure:
+    """Which axis each control drives and its gain B_kj at the nodes, for the exact minimisation."""
+
+    axis: np.ndarray  # (m,) int
+    gain: np.ndarray  # (N, m)
+    r: np.ndarray  # (m,) diagonal of R
+
+
+def control_structure(problem: Problem, x: np.ndarray) -> ControlStructure:
+    """Check that each control drives its own axis with a diagonal R, and return the structure."""
+    R = problem.R
+    if np.any(R != np.diag(np.diag(R))):
+        raise ValueError(
+            "solve_hjb minimises over each control separately and needs a diagonal control_cost R; "
+            "rotate the controls to diagonalise R"
+        )
+    B = np.asarray(problem.system.input_matrix(x), dtype=float)
+    used = np.any(B != 0, axis=0)  # (d, m)
+    axis = np.argmax(used, axis=0)
+    if np.any(used.sum(axis=0) > 1) or len(set(axis.tolist())) < axis.size:
+        raise ValueError(
+            "solve_hjb needs each control to drive its own state axis (B with one nonzero row per "
+            "column, distinct rows), as every built-in system does; change coordinates so that it "
+            "does (e.g. canonical momenta)"
+        )
+    gain = np.ascontiguousarray(B[:, axis, np.arange(axis.size)])
+    return ControlStructure(axis.astype(np.int64), gain, np.ascontiguousarray(np.diag(R)))
+
+
+def hamiltonian_reference(problem: Problem, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Plain-numpy H[v] and ρ of the module docstring, for testing the compiled kernel.
+
+    Minimises over each control by brute force on the union of the three candidate points.
+    """
+    grid = problem.grid
+    x = grid.nodes()
+    drift = np.asarray(problem.system.drift(x), dtype=float)
+    diffusion = 0.5 * problem.noise_diagonal(x)
+    structure = control_structure(problem, x)
+    field = grid.reshape(v)
+    H = problem.state_cost_values(x).copy()
+    rate = np.zeros(grid.size)
+    for k, ax in enumerate(grid.axes):
+        h = ax.spacing
+        if ax.periodic:
+            forward = (np.roll(field, -1, axis=k) - field) / h
+            backward = (field - np.roll(field, 1, axis=k)) / h
+        else:
+            forward = np.diff(field, axis=k, append=np.take(field, [-1], axis=k)) / h
+            backward = np.diff(field, axis=k, prepend=np.take(field, [0], axis=k)) / h
+        forward, backward = forward.ravel(), backward.ravel()
+        H += diffusion[:, k] * (forward - backward) / h
+        rate += 2 * diffusion[:, k] / h**2
+        a = drift[:, k]
+        controls = np.flatnonzero(structure.axis == k)
+        if controls.size == 0:
+            candidates = np.zeros((1, grid.size))
+            beta, r = np.zeros(grid.size), 1.0
+        else:
+            j = controls[0]
+            beta, r = structure.gain[:, j], structure.r[j]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                kink = np.where(beta != 0, -a / beta, 0.0)
+            candidates = np.stack([kink, -beta * forward / r, -beta * backward / r])
+        b = a + beta * candidates
+        f = 0.5 * r * candidates**2 + np.maximum(b, 0) * forward - np.maximum(-b, 0) * backward
+        best = np.argmin(f, axis=0)
+        H += np.take_along_axis(f, best[None], axis=0)[0]
+        rate += np.abs(np.take_along_axis(b, best[None], axis=0)[0]) / h
+    return H, rate
+
+
+@dataclass(frozen=True)
+class HJBDiagnostics:
+    """What :func:`solve_hjb` did: ``method``; ``dt`` the mean step T/steps; ``min_step`` and
+    ``max_step``; ``steps``; ``courant`` the bound on Δt·max ρ; ``wall_time`` in seconds."""
+
+    method: str
+    dt: float
+    min_step: float
+    max_step: float
+    steps: int
+    courant: float
+    wall_time: float
+
+
+@dataclass(frozen=True, eq=False)
+class HJBSolution:
+    """The value-space solution of a :class:`gridlbc.Problem`: v at stored times, anywhere in x.
+
+    Attributes
+    ----------
+    problem : Problem
+    times : ndarray (S,)
+        Stored times, increasing from 0 to T.
+    values : ndarray (S, N)
+        Nodal v at those times.
+    diagnostics : HJBDiagnostics
+    """
+
+    problem: Problem
+    times: np.ndarray
+    values: np.ndarray
+    diagnostics: HJBDiagnostics
+
+    @property
+    def grid(self) -> Grid:
+        return self.problem.grid
+
+    def _bracket(self, t) -> tuple[int, float]:
+        try:
+            t = float(t)
+        except (TypeError, ValueError):
+            raise TypeError(f"t must be a single time (float), got {t!r}") from None
+        T = self.problem.horizon
+        if not (np.isfinite(t) and -1e-9 * T <= t <= T * (1 + 1e-9)):
+            raise ValueError(f"t must lie in [0, T] = [0, {T:g}], got {t!r}")
+        j = int(np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 2))
+        theta = (t - self.times[j]) / (self.times[j + 1] - self.times[j])
+        return j, float(np.clip(theta, 0.0, 1.0))
+
+    def _nodal_at(self, t) -> np.ndarray:
+        j, theta = self._bracket(t)
+        return (1 - theta) * self.values[j] + theta * self.values[j + 1]
+
+    def value(self, x, t) -> np.ndarray:
+        """v(x, t), shape ``(N,)``."""
+        return multilinear(self.grid, self._nodal_at(t), x)[0]
+
+    def gradient(self, x, t) -> np.ndarray:
+        """∇v(x, t) from interpolated nodal central differences, shape ``(N, d)``."""
+        return multilinear(self.grid, nodal_gradient(self.grid, self._nodal_at(t)), x).T
+
+    def policy(self, x, t) -> np.ndarray:
+        """u*(x, t) = −R⁻¹ B(x)ᵀ ∇v(x, t), shape ``(N, m)``."""
+        x = self.grid.check_states(x)
+        B = np.asarray(self.problem.system.input_matrix(self.grid.clamp(x)), dtype=float)
+        return -np.einsum("nkm,nk->nm", B, self.gradient(x, t)) @ self.problem.R_inv.T
+
+
+def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9,
+              slices: int = 50) -> HJBSolution:
+    """Solve the nonlinear HJB of ``problem`` in value space, backward from v(T) = g.
+
+    Parameters
+    ----------
+    problem : Problem
+        Any problem whose controls each drive their own axis with a diagonal R (all built-in
+        systems); the same grid and boundary conventions as :func:`gridlbc.solve`.
+    dt : float, optional
+        Largest time step. Each explicit step is further limited by the CFL condition
+        Δt max ρ ≤ ``courant`` of the current policy, so ``None`` means "as the CFL allows".
+    courant : float
+        In (0, 1]: the fraction of the monotonicity limit used.
+    slices : int
+        Number of stored time intervals (uniform in t, values linear in t between them).
+
+    Returns
+    -------
+    HJBSolution
+        ``value(x, t)``, ``policy(x, t)``, ``times``, ``diagnostics``.
+    """
+    if not isinstance(problem, Problem):
+        raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
+    if dt is not None and not (np.isfinite(dt) and dt > 0):
+        raise ValueError(f"dt must be positive and finite (or None for the CFL limit), got {dt}")
+    if not 0 < courant <= 1:
+        raise ValueError(f"courant must lie in (0, 1] for a monotone scheme, got {courant}")
+    if isinstance(slices, bool) or not isinstance(slices, (int, np.integer)) or slices < 1:
+        raise ValueError(f"slices must be a positive integer, got {slices!r}")
+    started = time.perf_counter()
+    grid = problem.grid
+    x = grid.nodes()
+    drift = np.ascontiguousarray(problem.system.drift(x), dtype=float)
+    diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
+    structure = control_structure(problem, x)
+    q = problem.state_cost_values(x)
+    shape, strides, spacing, periodic = _grid_arrays(grid)
+    T = problem.horizon
+    max_step = T if dt is None else min(float(dt), T)
+
+    v = problem.terminal_values(x).copy()
+    values = np.empty((slices + 1, grid.size))
+    values[slices] = v
+    H = np.empty(grid.size)
+    rate = np.empty(grid.size)
+    control = np.empty((grid.size, structure.axis.size))
+    steps, smallest, largest = 0, math.inf, 0.0
+    interval = T / slices
+    for j in range(slices - 1, -1, -1):
+        remaining = interval
+        while remaining > 1e-12 * interval:
+            _hamiltonian_kernel(v, drift, structure.gain, structure.axis, structure.r, diffusion,
+                                q, shape, strides, spacing, periodic, H, rate, control)
+            limit = min(max_step, courant / max(rate.max(), 1e-300))
+            n_sub = max(1, math.ceil(remaining / limit - 1e-9))
+            step = remaining / n_sub
+            v += step * H
+            remaining -= step
+            steps += 1
+            smallest, largest = min(smallest, step), max(largest, step)
+        if not np.all(np.isfinite(v)):
+            raise FloatingPointError(f"the HJB value became non-finite at t = {j * interval:g}")
+        values[j] = v
+    diagnostics = HJBDiagnostics(
+        method="markov-chain", dt=T / steps, min_step=smallest, max_step=largest, steps=steps,
+        courant=courant, wall_time=time.perf_counter() - started,
+    )
+    times = np.linspace(0.0, T, slices + 1)
+    return HJBSolution(problem, times, values, diagnostics)
