@@ -9,6 +9,7 @@ from . import costs, systems
 from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
+from .io import load, save
 from .problem import Problem
 from .project import Projection, ProjectionWarning, project, projection
 from .solution import Solution, SolveDiagnostics, UnderflowWarning
@@ -18,7 +19,7 @@ from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
 __version__ = "0.1.0"
 
 __all__ = [
-    "Axis", "Grid", "Problem", "Quadratic", "Solution", "SolveDiagnostics", "SolverSettings",
+    "Axis", "Grid", "save", "load", "Problem", "Quadratic", "Solution", "SolveDiagnostics", "SolverSettings",
     "UnderflowWarning", "METHODS", "PRESETS", "costs", "solve", "solve_many", "systems",
     "CombinedSolution", "NaiveBlend", "combine", "naive_blend",
     "Projection", "ProjectionWarning", "project", "projection", "Rollouts", "simulate",

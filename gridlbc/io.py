@@ -1,0 +1,163 @@
+"""Saving and loading solutions: :func:`save` and :func:`load` (exact round trip).
+
+File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
+
+- ``times`` (S,), ``slices`` (S, N) float64 or float32, ``log_scales`` (S,): the solution, bit
+  for bit;
+- ``metadata``: a JSON document (a 0-d unicode array) with ``format`` (``"gridlbc-solution"``),
+  ``format_version``, ``library_version``, the grid (axes), the system (import path and
+  constructor parameters), horizon, temperature, control cost R, the terminal and state costs,
+  the solver diagnostics, and ``sha256``: a digest of the three arrays, checked on load;
+- ``terminal_nodes``, ``state_cost_nodes``: a cost that is not a :class:`gridlbc.Quadratic` (an
+  arbitrary callable) is stored by its values at the nodes and comes back as a
+  :class:`GridCost`, which interpolates them (exact at the nodes).
+
+Loading refuses a different ``format_version`` and a truncated or corrupted file with a clear
+message.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib
+import json
+import zipfile
+from dataclasses import asdict
+from pathlib import Path
+
+import numpy as np
+
+from .costs import Quadratic
+from .grid import Axis, Grid
+from .interpolate import interpolate
+from .problem import Problem
+from .solution import SolveDiagnostics, Solution
+
+FORMAT = "gridlbc-solution"
+FORMAT_VERSION = 1
+
+
+class GridCost:
+    """A cost known at the grid nodes, interpolated barycentrically elsewhere."""
+
+    def __init__(self, grid: Grid, values):
+        values = np.asarray(values, dtype=float)
+        if values.shape != (grid.size,):
+            raise ValueError(f"GridCost values must have shape ({grid.size},), got {values.shape}")
+        self.grid, self.values = grid, values
+
+    def __call__(self, x) -> np.ndarray:
+        return interpolate(self.grid, self.values, x)
+
+
+def _digest(*arrays) -> str:
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(str(a.dtype).encode())
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
+
+
+def _cost_record(cost, name: str, problem: Problem, arrays: dict):
+    if cost is None:
+        return None
+    if isinstance(cost, Quadratic):
+        periods = None if cost.periods is None else [float(p) for p in cost.periods]
+        return {"kind": "quadratic", "center": cost.center.tolist(),
+                "weights": cost.weights.tolist(), "periods": periods}
+    arrays[f"{name}_nodes"] = np.asarray(cost(problem.grid.nodes()), dtype=float)
+    return {"kind": "nodes", "type": f"{type(cost).__module__}.{type(cost).__qualname__}"}
+
+
+def _cost_from_record(record, name: str, grid: Grid, data):
+    if record is None:
+        return None
+    if record["kind"] == "quadratic":
+        periods = record["periods"]
+        return Quadratic(record["center"], record["weights"],
+                         None if periods is None else np.array(periods, dtype=float))
+    return GridCost(grid, data[f"{name}_nodes"])
+
+
+def save(solution: Solution, path) -> Path:
+    """Write ``solution`` to ``path`` (``.npz`` appended if missing); returns the path written."""
+    if not isinstance(solution, Solution):
+        raise TypeError(f"save expects a gridlbc.Solution, got {type(solution).__name__}")
+    from . import __version__
+
+    path = Path(path)
+    if path.suffix != ".npz":
+        path = path.with_name(path.name + ".npz")
+    problem = solution.problem
+    system = problem.system
+    arrays = {"times": solution.times, "slices": solution.slices,
+              "log_scales": solution.log_scales}
+    meta = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "library_version": __version__,
+        "grid": [{"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": a.name}
+                 for a in problem.grid.axes],
+        "system": {"class": f"{type(system).__module__}.{type(system).__qualname__}",
+                   "parameters": system.parameters()},
+        "horizon": problem.horizon,
+        "temperature": problem.temperature,
+        "control_cost": problem.control_cost.tolist(),
+        "terminal_cost": _cost_record(problem.terminal_cost, "terminal", problem, arrays),
+        "state_cost": _cost_record(problem.state_cost, "state_cost", problem, arrays),
+        "diagnostics": asdict(solution.diagnostics),
+        "sha256": _digest(solution.times, solution.slices, solution.log_scales),
+    }
+    arrays["metadata"] = np.array(json.dumps(meta))
+    with open(path, "wb") as f:
+        np.savez(f, **arrays)
+    return path
+
+
+def _system_from_record(record):
+    module_name, _, qualname = record["class"].rpartition(".")
+    try:
+        cls = getattr(importlib.import_module(module_name), qualname)
+    except (ImportError, AttributeError):
+        raise ValueError(
+            f"the saved solution's system {record['class']} cannot be imported: import the module "
+            "that defines it (it must be importable by that name) before loading"
+        ) from None
+    return cls(**record["parameters"])
+
+
+def load(path) -> Solution:
+    """Read a Solution written by :func:`save`; the arrays come back bit for bit."""
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"no saved solution at {str(path)!r}")
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            meta = json.loads(str(data["metadata"]))
+            contents = {k: data[k] for k in data.files if k != "metadata"}
+    except (zipfile.BadZipFile, OSError, ValueError, KeyError, EOFError) as exc:
+        raise ValueError(
+            f"{str(path)!r} is not a readable gridlbc solution (truncated or corrupted?): {exc}"
+        ) from None
+    if meta.get("format") != FORMAT:
+        raise ValueError(f"{str(path)!r} is not a gridlbc solution file")
+    if meta.get("format_version") != FORMAT_VERSION:
+        raise ValueError(
+            f"{str(path)!r} has format version {meta.get('format_version')}, this gridlbc "
+            f"reads version {FORMAT_VERSION}: load it with gridlbc {meta.get('library_version')}"
+        )
+    times, slices, scales = contents["times"], contents["slices"], contents["log_scales"]
+    if _digest(times, slices, scales) != meta["sha256"]:
+        raise ValueError(f"{str(path)!r} is corrupted: its arrays do not match their checksum")
+    grid = Grid([Axis(**a) for a in meta["grid"]])
+    problem = Problem(
+        _system_from_record(meta["system"]), grid, meta["horizon"],
+        _cost_from_record(meta["terminal_cost"], "terminal", grid, contents),
+        state_cost=_cost_from_record(meta["state_cost"], "state_cost", grid, contents),
+        control_cost=np.array(meta["control_cost"]), temperature=meta["temperature"],
+    )
+    diag = dict(meta["diagnostics"])
+    diag["iterations"] = tuple(diag.get("iterations", ()))
+    known = SolveDiagnostics.__dataclass_fields__
+    return Solution(problem, times, slices, scales,
+                    SolveDiagnostics(**{k: v for k, v in diag.items() if k in known}))

@@ -1,0 +1,82 @@
+import numpy as np
+import pytest
+
+import gridlbc
+from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.systems import Pendulum, PointMass
+
+
+@pytest.fixture
+def pendulum_solution():
+    grid = Grid([Axis(-np.pi, np.pi, 16, periodic=True), Axis(-4.0, 4.0, 17)])
+    problem = Problem(Pendulum(damping=0.1), grid, 1.0, Quadratic([0.0, 0.0], [2.0, 0.2]),
+                      state_cost=lambda x: 0.1 * x[:, 1] ** 2, control_cost=0.5,
+                      temperature=0.8)
+    return gridlbc.solve(problem, dt=0.1)
+
+
+def test_round_trip_is_exact(tmp_path, pendulum_solution, rng):
+    sol = pendulum_solution
+    path = gridlbc.save(sol, tmp_path / "pendulum")
+    assert path.suffix == ".npz"
+    back = gridlbc.load(path)
+    np.testing.assert_array_equal(back.slices, sol.slices)
+    np.testing.assert_array_equal(back.log_scales, sol.log_scales)
+    np.testing.assert_array_equal(back.times, sol.times)
+    assert back.problem.system == sol.problem.system
+    assert back.problem.grid == sol.problem.grid
+    assert back.diagnostics == sol.diagnostics
+    x = np.column_stack([rng.uniform(-4, 4, 50), rng.uniform(-4, 4, 50)])
+    for t in (0.0, 0.37, 1.0):
+        np.testing.assert_array_equal(back.value(x, t), sol.value(x, t))
+        np.testing.assert_array_equal(back.policy(x, t), sol.policy(x, t))
+    # The callable state cost comes back exact at the nodes.
+    nodes = sol.grid.nodes()
+    np.testing.assert_allclose(back.problem.state_cost_values(nodes),
+                               sol.problem.state_cost_values(nodes), rtol=1e-15)
+
+
+def test_float32_linear_system_round_trip(tmp_path):
+    grid = Grid([Axis(-2, 2, 9), Axis(-3, 3, 9)])
+    problem = Problem(PointMass(2.0), grid, 0.5, Quadratic([1.0, 0.0], [1.0, 1.0]))
+    sol = gridlbc.solve(problem, dtype="float32", store_every=3)
+    back = gridlbc.load(gridlbc.save(sol, tmp_path / "pm.npz"))
+    assert back.slices.dtype == np.float32
+    np.testing.assert_array_equal(back.slices, sol.slices)
+
+
+def test_refuses_corrupted_truncated_and_foreign_files(tmp_path, pendulum_solution):
+    path = gridlbc.save(pendulum_solution, tmp_path / "s.npz")
+    raw = path.read_bytes()
+    truncated = tmp_path / "truncated.npz"
+    truncated.write_bytes(raw[: len(raw) // 2])
+    with pytest.raises(ValueError, match="truncated or corrupted"):
+        gridlbc.load(truncated)
+    # Flip bytes inside the stored slices (uncompressed npz: the array data is in the file).
+    data = dict(np.load(path))
+    data["slices"] = data["slices"].copy()
+    data["slices"][0, 3] += 1e-3
+    tampered = tmp_path / "tampered.npz"
+    np.savez(tampered, **data)
+    with pytest.raises(ValueError, match="checksum"):
+        gridlbc.load(tampered)
+    foreign = tmp_path / "foreign.npz"
+    np.savez(foreign, a=np.zeros(3))
+    with pytest.raises(ValueError, match="not a readable gridlbc solution|not a gridlbc"):
+        gridlbc.load(foreign)
+    with pytest.raises(FileNotFoundError):
+        gridlbc.load(tmp_path / "missing.npz")
+
+
+def test_refuses_other_format_version(tmp_path, pendulum_solution):
+    import json
+
+    path = gridlbc.save(pendulum_solution, tmp_path / "s.npz")
+    data = dict(np.load(path))
+    meta = json.loads(str(data["metadata"]))
+    meta["format_version"] = 99
+    data["metadata"] = np.array(json.dumps(meta))
+    newer = tmp_path / "newer.npz"
+    np.savez(newer, **data)
+    with pytest.raises(ValueError, match="format version 99"):
+        gridlbc.load(newer)
