@@ -6,21 +6,23 @@ its minimum (far tails, where no one steers, are excluded):
 
 * **PointMass** (linear, quadratic costs): every solver against the exact Riccati solution
   (:func:`gridlbc.reference.lq_solution`, SPEC §6);
-* **Pendulum** (nonlinear, no closed form): each solver against its own Richardson estimate from
-  its two finest grids, v_R = 2 v_{h} − v_{2h} (first-order schemes), against the other solver's
-  Richardson estimate, and the two solvers against each other on the same grid.
+* **Pendulum** (nonlinear, no closed form): each solver against its own Richardson estimate from its two
+  finest grids, v_R = v_h + (v_h − v_{2h}) / (2^p − 1) with p observed from three grids, against
+  the other solver's Richardson estimate, and the two solvers against each other on the same grid.
 
 Observed orders are p = log(e_coarse / e_fine) / log(h_coarse / h_fine) between successive rows.
 
 Richardson extrapolation *in z* (``"splitting+richardson"``), z_R = 2 z_h − z_{2h}, keeps exact
 linearity in the terminal data (it is a fixed linear combination of two linear solves) but not
-monotonicity: z_R may be negative in far tails, where its value is reported as +inf (counted in
-``ConvergenceRow.negative``).
+monotonicity: z_R ≤ 0 wherever the coarse z exceeds twice the fine one, i.e. wherever the value
+error is above λ log 2. Those points have no value; they are counted in ``ConvergenceRow.negative``
+and left out of that row's errors.
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -30,6 +32,7 @@ from .grid import Axis, Grid
 from .hjb import solve_hjb
 from .problem import Problem
 from .reference import lq_solution
+from .solution import UnderflowWarning
 from .solver import solve
 from .systems import Pendulum, PointMass
 
@@ -49,7 +52,8 @@ class ConvergenceRow:
     are the max / mean of |v − v_ref|, ``policy_max`` the max of |u − u_ref|; the orders compare
     with the previous row of the same case, solver and reference (NaN on the first);
     ``wall_time`` is the solve time in seconds (both solves for Richardson rows); ``negative`` the
-    number of evaluation points where an extrapolated z was ≤ 0.
+    number of evaluation points of the region where an extrapolated z was ≤ 0 (excluded from the
+    errors).
     """
 
     case: str
@@ -75,6 +79,7 @@ class ConvergenceTable:
     rows: tuple[ConvergenceRow, ...]
     points: int
     band: float
+    notes: tuple[str, ...] = ()
 
     def select(self, case: str, solver: str, reference: str) -> tuple[ConvergenceRow, ...]:
         """The rows of one case, solver and reference, coarse to fine."""
@@ -97,9 +102,9 @@ class ConvergenceTable:
                 f"{r.case:<9} {r.solver:<20} {r.reference:<21} {grid:>9} {r.h:7.4f} {r.dt:8.5f} "
                 f"{r.value_max:8.4f} {r.value_mean:8.4f} {r.policy_max:8.4f} "
                 f"{r.value_order:5.2f} {r.policy_order:5.2f} {r.wall_time:7.2f}"
-                + (f"  ({r.negative} points with z ≤ 0)" if r.negative else "")
+                + (f"  ({r.negative} points with z ≤ 0 left out)" if r.negative else "")
             )
-        return "\n".join(lines)
+        return "\n".join(lines + list(self.notes))
 
 
 # -- the two test problems -----------------------------------------------------------------------
@@ -156,7 +161,7 @@ class _Run:
     value: np.ndarray
     policy: np.ndarray
     wall_time: float
-    negative: int = 0
+    valid: np.ndarray | None = None  # where the value exists (None: everywhere)
 
 
 def _run(solver: str, problem: Problem, points: np.ndarray):
@@ -168,7 +173,7 @@ def _run(solver: str, problem: Problem, points: np.ndarray):
 
 
 def richardson_z(fine, coarse, x, t: float = 0.0):
-    """Value, policy and the count of z ≤ 0 of z_R = 2 z_fine − z_coarse at states ``x``.
+    """Value, policy and the mask z_R > 0 of z_R = 2 z_fine − z_coarse at states ``x``.
 
     Linear in the nodal z of both solutions: v_R = −λ log z_R, u_R = λ R⁻¹ Bᵀ∇z_R / z_R.
     """
@@ -184,33 +189,35 @@ def richardson_z(fine, coarse, x, t: float = 0.0):
         value = np.where(bad, np.inf, -problem.temperature * (np.log(np.where(bad, 1.0, z)) + L))
         policy = problem.temperature * (g @ problem.R_inv.T) / z[:, None]
     policy[bad] = np.nan
-    return value, policy, int(bad.sum())
+    return value, policy, ~bad
 
 
 def _rows(case, solver, reference, runs, ref_values, ref_policies, mask):
     """Table rows of successive runs against per-run reference fields, with observed orders."""
     rows, previous = [], None
     for run, v_ref, u_ref in zip(runs, ref_values, ref_policies):
-        dv = np.abs(run.value - v_ref)[mask]
-        du = np.abs(run.policy - u_ref)[mask]
-        errors = (float(dv.max()), float(dv.mean()), float(du.max()))
+        keep = mask if run.valid is None else mask & run.valid
+        dv = np.abs(run.value - v_ref)[keep]
+        du = np.abs(run.policy - u_ref)[keep]
+        errors = (float(dv.max()), float(dv.mean()), float(du.max())) if dv.size else (math.nan,) * 3
         orders = (math.nan, math.nan)
         if previous is not None:
             ratio = math.log(previous[0].h / run.h)
             orders = tuple(math.log(a / b) / ratio if a > 0 and b > 0 else math.nan
                            for a, b in ((previous[1][0], errors[0]), (previous[1][2], errors[2])))
         rows.append(ConvergenceRow(case, solver, reference, run.shape, run.h, run.dt, *errors,
-                                   *orders, run.wall_time, run.negative))
+                                   *orders, run.wall_time, int(mask.sum() - keep.sum())))
         previous = (run, errors)
     return rows
 
 
 def pointmass_study(spacings=(1 / 4, 1 / 8, 1 / 16, 1 / 32),
                     solvers=("splitting", "implicit", "hjb"), band: float = 5.0,
-                    richardson: bool = True) -> ConvergenceTable:
+                    richardson=("splitting", "implicit")) -> ConvergenceTable:
     """Every solver against the Riccati solution on PointMass, over grid spacings ``spacings``.
 
-    With ``richardson`` also the splitting scheme's z extrapolated across successive grids.
+    For the z-space solvers named in ``richardson`` also their z extrapolated across successive
+    grids (rows ``"<solver>+richardson"``, see :func:`richardson_z`).
     The evaluation region: the lattice of :func:`pointmass_points` where v < min v + ``band``.
     """
     points = pointmass_points()
@@ -222,35 +229,60 @@ def pointmass_study(spacings=(1 / 4, 1 / 8, 1 / 16, 1 / 32),
         runs, solutions = zip(*(_run(solver, pointmass_problem(h), points) for h in spacings))
         rows += _rows("pointmass", solver, "riccati", runs, [v_exact] * len(runs),
                       [u_exact] * len(runs), mask)
-        if richardson and solver == "splitting" and len(runs) > 1:
+        if solver in richardson and len(runs) > 1:
             extrapolated = []
             for k in range(1, len(runs)):
-                value, policy, negative = richardson_z(solutions[k], solutions[k - 1], points)
+                value, policy, valid = richardson_z(solutions[k], solutions[k - 1], points)
                 extrapolated.append(_Run(runs[k].shape, runs[k].h, runs[k].dt, value, policy,
-                                         runs[k].wall_time + runs[k - 1].wall_time, negative))
-            rows += _rows("pointmass", "splitting+richardson", "riccati", extrapolated,
+                                         runs[k].wall_time + runs[k - 1].wall_time, valid))
+            rows += _rows("pointmass", f"{solver}+richardson", "riccati", extrapolated,
                           [v_exact] * len(extrapolated), [u_exact] * len(extrapolated), mask)
     return ConvergenceTable(tuple(rows), int(mask.sum()), band)
+
+
+def richardson_estimate(fields, mask, order=None) -> tuple[np.ndarray, float]:
+    """Richardson estimate f_R = f_n + (f_n − f_{n−1}) / (2^p − 1) from fields on grids with h
+    halved each time (the last entries of ``fields``), and the order p used.
+
+    Without ``order``, p is observed from the last three fields over ``mask``:
+    p = log₂(max|f_{n−1} − f_{n−2}| / max|f_n − f_{n−1}|), clipped to [0.25, 2]; with only two
+    fields p = 1 (the schemes' formal order).
+    """
+    if order is None:
+        order = 1.0
+        if len(fields) >= 3:
+            coarse = np.abs(fields[-2] - fields[-3])[mask].max()
+            fine = np.abs(fields[-1] - fields[-2])[mask].max()
+            if fine > 0 and coarse > 0:
+                order = float(np.clip(math.log2(coarse / fine), 0.25, 2.0))
+    return fields[-1] + (fields[-1] - fields[-2]) / (2.0**order - 1.0), order
 
 
 def pendulum_study(sizes=(64, 128, 256), solvers=("splitting", "hjb"), band: float = 5.0,
                    **problem_options) -> ConvergenceTable:
     """The z-space and HJB solvers on the pendulum (:func:`pendulum_problem`), ``sizes`` nodes per
-    angle, against Richardson estimates v_R = 2 v_finest − v_next (first order) and each other.
+    angle (doubling), against Richardson estimates (:func:`richardson_estimate`, order observed
+    from the last three grids) and each other.
 
     References, per solver: ``"own richardson"``; ``"<other> richardson"`` for each other solver;
     and ``"<other> same grid"`` for the other solvers on the same grid. The evaluation region: the
-    lattice of :func:`pendulum_points` where the first solver's Richardson v < min + ``band``.
+    lattice of :func:`pendulum_points` where the first solver's finest v < min + ``band``. The
+    Richardson orders used are listed in the table's ``notes``.
     """
     if len(sizes) < 2:
         raise ValueError("pendulum_study needs at least two grid sizes for a Richardson estimate")
     points = pendulum_points()
     runs = {s: [_run(s, pendulum_problem(n, **problem_options), points)[0] for n in sizes]
             for s in solvers}
-    estimate = {s: (2 * r[-1].value - r[-2].value, 2 * r[-1].policy - r[-2].policy)
-                for s, r in runs.items()}
-    first = estimate[solvers[0]][0]
-    mask = first < first.min() + band
+    finest = runs[solvers[0]][-1].value
+    mask = finest < finest.min() + band
+    estimate, notes = {}, []
+    for s, r in runs.items():
+        v_R, p_v = richardson_estimate([run.value for run in r], mask)
+        u_R, p_u = richardson_estimate([run.policy for run in r], mask)
+        estimate[s] = (v_R, u_R)
+        notes.append(f"{s} Richardson estimate with observed order p(v) = {p_v:.2f}, "
+                     f"p(u) = {p_u:.2f}")
     rows = []
     for s in solvers:
         count = len(runs[s])
@@ -263,7 +295,7 @@ def pendulum_study(sizes=(64, 128, 256), solvers=("splitting", "hjb"), band: flo
                 rows += _rows("pendulum", s, f"{other} same grid", runs[s],
                               [r.value for r in runs[other]], [r.policy for r in runs[other]],
                               mask)
-    return ConvergenceTable(tuple(rows), int(mask.sum()), band)
+    return ConvergenceTable(tuple(rows), int(mask.sum()), band, tuple(notes))
 
 
 def plot_convergence(tables, path=None):
@@ -294,6 +326,104 @@ def plot_convergence(tables, path=None):
         ax.set_title(f"{table.rows[0].case}: {table.points} points, v < min v + {table.band:g}")
         ax.legend(fontsize=7)
         ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=120)
+    return fig
+
+
+# -- the deterministic limit λ → 0 ---------------------------------------------------------------
+
+UNDERFLOW_SPAN = -math.log(np.finfo(float).smallest_subnormal)
+"""≈ 744.4: a node's z = Z e^ℓ (max Z = 1 per slice) is zero in float64 once v − min v > 744.4 λ."""
+
+
+@dataclass(frozen=True)
+class TemperatureStudy:
+    """The pendulum's value and policy along ω = 0 at t = 0 as the temperature λ decreases.
+
+    Attributes: ``temperatures`` (K,); ``theta`` (P,) the angles sampled; ``value_z``,
+    ``policy_z`` (K, P) from the z-space splitting solver (+inf / NaN where z underflowed) and
+    ``value_hjb``, ``policy_hjb`` (K, P) from the HJB solver; ``underflow_nodes`` (K,) from the
+    z solver's diagnostics (nodes with z = 0 at t = 0); ``value_span`` and ``value_span_z`` (K,)
+    max v − min v over the grid at t = 0 of the HJB and of the z solver (where finite), to compare
+    with ``UNDERFLOW_SPAN · λ``; ``grid_size``.
+    """
+
+    temperatures: np.ndarray
+    theta: np.ndarray
+    value_z: np.ndarray
+    policy_z: np.ndarray
+    value_hjb: np.ndarray
+    policy_hjb: np.ndarray
+    underflow_nodes: np.ndarray
+    value_span: np.ndarray
+    value_span_z: np.ndarray
+    grid_size: int
+
+    def format(self) -> str:
+        """One line per temperature: span of v in units of λ and the underflowed nodes."""
+        head = (f"{'λ':>6} {'span(v_hjb)/λ':>14} {'span(v_z)/λ':>12} {'underflowed nodes':>18} "
+                f"{'max|v_z − v_hjb| at ω = 0':>26}")
+        lines = [head]
+        for k, lam in enumerate(self.temperatures):
+            finite = np.isfinite(self.value_z[k])
+            gap = np.abs(self.value_z[k] - self.value_hjb[k])[finite]
+            lines.append(f"{lam:6.3g} {self.value_span[k] / lam:14.1f} "
+                         f"{self.value_span_z[k] / lam:12.1f} "
+                         f"{self.underflow_nodes[k]:>8d} of {self.grid_size:<7d} "
+                         f"{gap.max() if gap.size else math.nan:26.3f}")
+        return "\n".join(lines)
+
+
+def temperature_study(temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), n: int = 128,
+                      **problem_options) -> TemperatureStudy:
+    """Solve :func:`pendulum_problem` (``n`` nodes per angle) at each temperature with the
+    splitting z solver and the HJB solver, and sample both along ω = 0 at t = 0."""
+    theta = np.linspace(-math.pi, math.pi, 361)[:-1]
+    x = np.column_stack([theta, np.zeros_like(theta)])
+    fields = {key: [] for key in ("value_z", "policy_z", "value_hjb", "policy_hjb")}
+    underflow, span, span_z = [], [], []
+    for lam in temperatures:
+        problem = pendulum_problem(n, temperature=lam, **problem_options)
+        linear = solve(problem)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnderflowWarning)  # counted, and +inf/NaN in the data
+            fields["value_z"].append(linear.value(x, 0.0))
+            fields["policy_z"].append(linear.policy(x, 0.0)[:, 0])
+        nonlinear = solve_hjb(problem)
+        fields["value_hjb"].append(nonlinear.value(x, 0.0))
+        fields["policy_hjb"].append(nonlinear.policy(x, 0.0)[:, 0])
+        underflow.append(linear.diagnostics.underflow_nodes)
+        span.append(float(np.ptp(nonlinear.values[0])))
+        value_z = linear.value_nodes(0)
+        span_z.append(float(np.ptp(value_z[np.isfinite(value_z)])))
+    return TemperatureStudy(np.array(temperatures, dtype=float), theta,
+                            **{k: np.array(v) for k, v in fields.items()},
+                            underflow_nodes=np.array(underflow), value_span=np.array(span),
+                            value_span_z=np.array(span_z), grid_size=pendulum_problem(n).grid.size)
+
+
+def plot_temperature(study: TemperatureStudy, path=None):
+    """v(θ, 0, 0) and u(θ, 0, 0) per temperature: z solver solid (gaps where z underflowed), HJB
+    dashed. Returns the figure; saved to ``path`` when given."""
+    import matplotlib.pyplot as plt
+
+    fig, (ax_v, ax_u) = plt.subplots(1, 2, figsize=(13, 5))
+    for k, lam in enumerate(study.temperatures):
+        color = f"C{k % 10}"
+        value_z = np.where(np.isfinite(study.value_z[k]), study.value_z[k], np.nan)
+        label = f"λ = {lam:g}" + (f" ({study.underflow_nodes[k]} nodes underflow)"
+                                  if study.underflow_nodes[k] else "")
+        ax_v.plot(study.theta, value_z, "-", color=color, label=label)
+        ax_v.plot(study.theta, study.value_hjb[k], "--", color=color)
+        ax_u.plot(study.theta, study.policy_z[k], "-", color=color, label=f"λ = {lam:g}")
+        ax_u.plot(study.theta, study.policy_hjb[k], "--", color=color)
+    for ax, name in ((ax_v, "value v(θ, ω = 0, t = 0)"), (ax_u, "policy u(θ, ω = 0, t = 0)")):
+        ax.set_xlabel("θ (rad from upright)")
+        ax.set_title(f"{name}: z solver solid, HJB dashed")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=120)

@@ -356,9 +356,9 @@ def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9
     started = time.perf_counter()
     grid = problem.grid
     x = grid.nodes()
+    structure = control_structure(problem, x)
     drift = np.ascontiguousarray(problem.system.drift(x), dtype=float)
     diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
-    structure = control_structure(problem, x)
     q = problem.state_cost_values(x)
     shape, strides, spacing, periodic = _grid_arrays(grid)
     T = problem.horizon

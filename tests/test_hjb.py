@@ -1,0 +1,180 @@
+"""The value-space HJB solver: kernels against plain numpy, scheme properties, Riccati convergence."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.interpolate import RegularGridInterpolator
+
+from gridlbc import Axis, Grid, Problem
+from gridlbc.convergence import pointmass_points, pointmass_problem
+from gridlbc.costs import Quadratic
+from gridlbc.hjb import (
+    _grid_arrays,
+    _hamiltonian_kernel,
+    control_structure,
+    hamiltonian_reference,
+    multilinear,
+    nodal_gradient,
+)
+from gridlbc.reference import lq_solution, solve_hjb
+from gridlbc.systems import Pendulum
+from gridlbc.systems.base import LinearSystem
+
+
+def _pendulum(n=16, temperature=1.0, horizon=0.5):
+    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True), Axis(-6.0, 6.0, n + 1)])
+    return Problem(Pendulum(), grid, horizon, Quadratic([0.0, 0.0], [2.0, 0.2]),
+                   temperature=temperature)
+
+
+def _kernel_hamiltonian(problem, v):
+    grid = problem.grid
+    x = grid.nodes()
+    s = control_structure(problem, x)
+    H, rate = np.empty(grid.size), np.empty(grid.size)
+    control = np.empty((grid.size, s.axis.size))
+    _hamiltonian_kernel(v, np.ascontiguousarray(problem.system.drift(x)), s.gain, s.axis, s.r,
+                        np.ascontiguousarray(0.5 * problem.noise_diagonal(x)),
+                        problem.state_cost_values(x), *_grid_arrays(grid), H, rate, control)
+    return H, rate, control
+
+
+@pytest.mark.parametrize("make", [lambda: pointmass_problem(1.0), lambda: _pendulum(12)])
+def test_hamiltonian_kernel_matches_numpy_reference(make, rng):
+    # The kernel picks among feasible branch minimisers; the reference evaluates the exact
+    # piecewise objective at all three candidates. Same arithmetic up to summation order.
+    problem = make()
+    v = rng.normal(scale=3.0, size=problem.grid.size)
+    H, rate, _ = _kernel_hamiltonian(problem, v)
+    H_ref, rate_ref = hamiltonian_reference(problem, v)
+    scale = np.abs(H_ref).max()
+    np.testing.assert_allclose(H, H_ref, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(rate, rate_ref, rtol=1e-12)
+
+
+def test_minimising_control_beats_a_dense_search(rng):
+    # min_u [½ r u² + b⁺δ⁺ − b⁻δ⁻], b = a + β u: no control on a fine grid of u does better.
+    problem = _pendulum(10)
+    v = rng.normal(scale=5.0, size=problem.grid.size)
+    _, _, control = _kernel_hamiltonian(problem, v)
+    grid = problem.grid
+    field = grid.reshape(v)
+    h = grid.spacing[1]
+    forward = (np.diff(field, axis=1, append=field[:, -1:]) / h).ravel()
+    backward = (np.diff(field, axis=1, prepend=field[:, :1]) / h).ravel()
+    a = problem.system.drift(grid.nodes())[:, 1]
+    beta = problem.system.input_matrix(grid.nodes())[:, 1, 0]
+
+    def objective(u):
+        b = a[:, None] + beta[:, None] * u
+        return 0.5 * u**2 + np.maximum(b, 0) * forward[:, None] - np.maximum(-b, 0) * backward[:, None]
+
+    searched = objective(np.linspace(-60, 60, 24001)[None, :]).min(axis=1)
+    found = objective(control[:, :1])[:, 0]
+    assert np.all(found <= searched + 1e-12 * np.abs(searched).max())
+
+
+def test_multilinear_matches_scipy_on_closed_and_periodic_axes(rng):
+    grid = Grid([Axis(-math.pi, math.pi, 9, periodic=True), Axis(-1.0, 2.0, 7)])
+    values = rng.normal(size=grid.size)
+    x = np.column_stack([rng.uniform(-3 * math.pi, 3 * math.pi, 200), rng.uniform(-1, 2, 200)])
+    # Periodic axis: append the wrapped first node so scipy sees the full period.
+    theta = np.append(grid.axes[0].points(), math.pi)
+    table = grid.reshape(values)
+    table = np.concatenate([table, table[:1]], axis=0)
+    expected = RegularGridInterpolator((theta, grid.axes[1].points()), table)(grid.wrap(x))
+    np.testing.assert_allclose(multilinear(grid, values, x)[0], expected, rtol=0, atol=1e-13)
+
+
+def test_multilinear_reproduces_bilinear_functions_and_clamps_outside():
+    grid = Grid([Axis(-1.0, 1.0, 5), Axis(0.0, 3.0, 4)])
+    f = lambda x: (1 + 2 * x[:, 0]) * (3 - x[:, 1]) + x[:, 1]
+    x = np.array([[0.3, 1.7], [-0.99, 2.5], [5.0, -2.0]])
+    got = multilinear(grid, f(grid.nodes()), x)[0]
+    np.testing.assert_allclose(got, f(grid.clamp(x)), rtol=1e-14)
+
+
+def test_nodal_gradient_is_exact_for_quadratics_inside_and_wraps_periodic():
+    grid = Grid([Axis(-math.pi, math.pi, 16, periodic=True), Axis(-1.0, 1.0, 9)])
+    x = grid.nodes()
+    grad = nodal_gradient(grid, np.sin(x[:, 0]) + x[:, 1] ** 2)
+    h = grid.spacing
+    # central differences: sin → cos · sin(h)/h exactly, x² → 2x exactly (one-sided at the ends)
+    np.testing.assert_allclose(grad[0], np.cos(x[:, 0]) * math.sin(h[0]) / h[0], atol=1e-14)
+    inside = np.abs(x[:, 1]) < 1 - 1e-9
+    np.testing.assert_allclose(grad[1][inside], 2 * x[inside, 1], atol=1e-13)
+
+
+def test_terminal_slice_is_g_and_constant_cost_stays_constant():
+    problem = _pendulum(12).replace(terminal_cost=lambda x: np.full(x.shape[0], 3.5))
+    solution = solve_hjb(problem)
+    # constant v: every difference vanishes, H = q = 0, the optimal control is u = 0
+    np.testing.assert_array_equal(solution.values, 3.5)
+    np.testing.assert_array_equal(solution.policy(problem.grid.nodes(), 0.0), 0.0)
+    np.testing.assert_array_equal(solve_hjb(_pendulum(12)).values[-1],
+                                  _pendulum(12).terminal_values())
+
+
+def test_discrete_maximum_principle():
+    # Monotone scheme, transition probabilities ≥ 0 summing to one, running cost ≥ 0:
+    # min g ≤ v(t) ≤ max g + (T − t) max q (q = 0 here, so v stays within [min g, max g]).
+    problem = _pendulum(16)
+    g = problem.terminal_values()
+    values = solve_hjb(problem).values
+    assert values.min() >= g.min() - 1e-12 * g.max()
+    assert values.max() <= g.max() * (1 + 1e-12)
+
+
+def test_point_symmetry_across_the_periodic_seam():
+    # a(−x) = −a(x), g(−x) = g(x), and the node set is symmetric under x → −x mod 2π:
+    # v(θ, ω) = v(−θ, −ω) at the nodes, which pairs nodes across the θ = ±π seam.
+    problem = _pendulum(16)
+    grid = problem.grid
+    x = grid.nodes()
+    solution = solve_hjb(problem)
+    v = solution.values[0]
+    np.testing.assert_allclose(solution.value(-x, 0.0), v, rtol=1e-12)
+    np.testing.assert_allclose(solution.value(x + [2 * math.pi, 0.0], 0.0), v, rtol=1e-12)
+
+
+def test_pointmass_converges_to_riccati_at_first_order():
+    # Upwind Markov-chain approximation with Δt ∝ h: error C h + o(h). The observed order
+    # between successive halvings of h must be 1 ± 0.2 for the value and the policy, and the
+    # errors must shrink by at least 2^0.8 per halving.
+    points = pointmass_points()
+    exact = lq_solution(pointmass_problem(0.25))
+    v_exact, u_exact = exact.value(points, 0.0), exact.policy(points, 0.0)
+    region = v_exact < v_exact.min() + 5.0
+    errors = []
+    for h in (1 / 4, 1 / 8, 1 / 16):
+        solution = solve_hjb(pointmass_problem(h))
+        errors.append((np.abs(solution.value(points, 0.0) - v_exact)[region].max(),
+                       np.abs(solution.policy(points, 0.0) - u_exact)[region].max()))
+    errors = np.array(errors)
+    orders = np.log2(errors[:-1] / errors[1:])
+    assert np.all((orders > 0.8) & (orders < 1.2)), orders
+
+
+def test_bad_inputs_raise_with_the_argument_named():
+    problem = _pendulum(8)
+    with pytest.raises(TypeError, match="problem"):
+        solve_hjb("pendulum")
+    with pytest.raises(ValueError, match="dt"):
+        solve_hjb(problem, dt=-0.1)
+    with pytest.raises(ValueError, match="courant"):
+        solve_hjb(problem, courant=1.5)
+    with pytest.raises(ValueError, match="slices"):
+        solve_hjb(problem, slices=0)
+    with pytest.raises(ValueError, match="t must lie"):
+        solve_hjb(problem).value([0.0, 0.0], 2.0)
+    grid = Grid([Axis(-1, 1, 5), Axis(-1, 1, 5)])
+    two_controls = LinearSystem(np.zeros((2, 2)), np.eye(2))
+    coupled = Problem(two_controls, grid, 1.0, Quadratic([0, 0], [1, 1]),
+                      control_cost=[[2.0, 0.0], [0.0, 1.0]])
+    with pytest.raises(ValueError, match="diagonal control_cost"):
+        solve_hjb(coupled.replace(control_cost=[[2.0, 0.5], [0.5, 1.0]]))
+    same_axis = Problem(LinearSystem(np.zeros((2, 2)), [[0.0, 0.0], [1.0, 1.0]]), grid, 1.0,
+                        Quadratic([0, 0], [1, 1]))
+    with pytest.raises(ValueError, match="own state axis"):
+        solve_hjb(same_axis)
