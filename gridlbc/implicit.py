@@ -92,11 +92,17 @@ class ImplicitStep:
                          for m in (self._lu.L, self._lu.U))
         return int(total)
 
-    def __call__(self, z: np.ndarray) -> np.ndarray:
-        """Solve the step for every row of ``z`` ``(K, N)``; returns a new ``(K, N)`` array."""
+    @staticmethod
+    def estimate_bytes(grid) -> int:
+        """Memory of the operator for ``grid`` (matrix; the LU fill-in is not predictable)."""
+        return grid.size * (2 * grid.ndim + 1) * 12 * 3
+
+    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray) -> np.ndarray:
+        """out = A⁻¹ (scale · z) for every row of ``z`` ``(K, N)``; returns the row maxima."""
+        z = z * scale[:, None]
         if self.direct:
-            return np.ascontiguousarray(self._lu.solve(np.ascontiguousarray(z.T)).T)
-        out = np.empty_like(z)
+            out[...] = self._lu.solve(np.ascontiguousarray(z.T)).T
+            return out.max(axis=1)
         for r in range(z.shape[0]):
             count = [0]
 
@@ -109,4 +115,4 @@ class ImplicitStep:
                 raise RuntimeError(f"BiCGSTAB did not converge in the implicit step (info={info})")
             self.iterations.append(count[0])
             out[r] = sol
-        return out
+        return out.max(axis=1)

@@ -38,7 +38,10 @@ class SolveDiagnostics:
     ``wall_time`` and ``setup_time`` in seconds; ``underflow_nodes``: nodes whose desirability is
     zero at t = 0 (value +inf there); ``stored_bytes`` of the kept slices; ``operator_bytes`` of
     the step operator; ``courant``: max_k max|a_k| Δt / h_k; ``iterations``: per-step iteration
-    counts of an iterative solve (empty for direct and splitting steps).
+    counts of an iterative solve (empty for direct and splitting steps); ``flushed_values``:
+    stored values that were positive in the float64 time stepping but rounded to zero by float32
+    storage (below ~1e-45 of their slice's maximum; value +inf there); ``memory_estimate``: the
+    bytes of memory the solve was estimated to need (checked before allocating).
     """
 
     method: str
@@ -52,6 +55,8 @@ class SolveDiagnostics:
     operator_bytes: int
     courant: float
     iterations: tuple[int, ...] = ()
+    flushed_values: int = 0
+    memory_estimate: int = 0
 
 
 @dataclass(frozen=True, eq=False)

@@ -14,12 +14,15 @@ from __future__ import annotations
 
 import math
 import os
+import shutil
 import sys
+import tempfile
 import time
 from dataclasses import dataclass
 
 import numpy as np
 
+from ._numba import jit_parallel, prange
 from .implicit import ImplicitStep
 from .problem import Problem
 from .solution import SolveDiagnostics, Solution
@@ -43,7 +46,11 @@ class SolverSettings:
         (max |a_k| Δt / h_k) of ``courant`` for the splitting scheme, and 1 for the implicit one,
         with at least ``min_steps`` steps.
     courant : float
-        Target Courant number for the default dt of the splitting scheme.
+        Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
+        error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
+        small steps *add* numerical diffusion: on the pendulum swing-up at 128²–256² the most
+        accurate Δt (predicted value closest to the Monte-Carlo cost of the policy) has a Courant
+        number of 4–12 (``benchmarks/swingup_accuracy.py``); the default is 6.
     min_steps : int
         At least this many steps over the horizon.
     store_every : int
@@ -51,17 +58,23 @@ class SolverSettings:
         in time.
     dtype : str
         ``"float64"`` or ``"float32"`` for the stored slices (the time stepping is float64).
+        Slices are max-normalised, so float32 keeps 7 significant digits down to 1e-38 of each
+        slice's maximum and flushes only values below ~1e-45 of it to zero (value +inf there);
+        how many were flushed is reported in ``diagnostics.flushed_values``.
     progress : bool
-        Print a progress bar to stderr.
+        Print a progress bar (steps, elapsed, ETA, node-steps/s) to stderr.
+    mmap_dir : str, optional
+        Keep the slices in an (unlinked) memory-mapped file in this directory instead of RAM.
     """
 
     method: str = "splitting"
     dt: float | None = None
-    courant: float = 2.0
+    courant: float = 6.0
     min_steps: int = 50
     store_every: int = 1
     dtype: str = "float64"
     progress: bool = False
+    mmap_dir: str | None = None
 
     def __post_init__(self):
         if self.method not in METHODS:
@@ -76,12 +89,14 @@ class SolverSettings:
             raise ValueError("min_steps and store_every must be at least 1")
         if self.dtype not in ("float64", "float32"):
             raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
+        if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
+            raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
 
 
 PRESETS = {
     "default": SolverSettings(),
     "reference": SolverSettings(method="implicit", courant=1.0),
-    "fast": SolverSettings(method="splitting", courant=4.0, min_steps=20),
+    "fast": SolverSettings(method="splitting", courant=10.0, min_steps=20),
 }
 """Named settings; pass ``settings="fast"`` etc. to :func:`solve`."""
 
@@ -127,36 +142,107 @@ def time_grid(problem: Problem, settings: SolverSettings, rate: float) -> tuple[
     return T / n, n
 
 
-def _check_memory(n_bytes: int, what: str):
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (MemAvailable on Linux), or None."""
     try:
-        available = os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):
-        return
-    if n_bytes > 0.8 * available:
+        return None
+
+
+def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
+                    n_rhs: int = 1) -> dict[str, int]:
+    """Bytes a solve will hold: stored slices, working arrays (two float64 copies of z and the
+    terminal data) and the step operator; ``"ram"`` sums what must fit in memory (the slices
+    live on disk when ``mmap_dir`` is set)."""
+    grid = problem.grid
+    stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
+    working = (3 * n_rhs + grid.ndim) * grid.size * 8
+    operator = METHODS[settings.method].estimate_bytes(grid)
+    ram = working + operator + (0 if settings.mmap_dir else stored)
+    return {"stored": stored, "working": working, "operator": operator, "ram": ram}
+
+
+def _check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
+    available = available_memory()
+    gib = lambda b: f"{b / 2**30:.2f} GiB"  # noqa: E731
+    detail = ", ".join(f"{k} {gib(v)}" for k, v in estimate.items() if k != "ram")
+    if available is not None and estimate["ram"] > 0.9 * available:
         raise MemoryError(
-            f"{what} needs about {n_bytes / 2**30:.1f} GiB but only {available / 2**30:.1f} GiB "
-            "is free: keep fewer slices (store_every), store float32, or use a coarser grid"
+            f"{what} needs about {gib(estimate['ram'])} of memory ({detail}) but only "
+            f"{gib(available)} is available: keep fewer slices (store_every), store float32, "
+            "put the slices in a memory-mapped file (mmap_dir), or use a coarser grid"
         )
+    if mmap_dir is not None:
+        free = shutil.disk_usage(mmap_dir).free
+        if estimate["stored"] > 0.95 * free:
+            raise MemoryError(
+                f"{what} needs {gib(estimate['stored'])} of disk in {mmap_dir!r} for the slices but "
+                f"only {gib(free)} is free: keep fewer slices (store_every) or store float32"
+            )
 
 
 class _Progress:
-    def __init__(self, total: int, enabled: bool, label: str):
-        self.total, self.enabled, self.label = total, enabled, label
+    """A one-line progress bar on stderr: steps, elapsed time, ETA and node-steps per second."""
+
+    def __init__(self, total: int, enabled: bool, label: str, nodes: int):
+        self.total, self.enabled, self.label, self.nodes = total, enabled, label, nodes
         self.start = time.perf_counter()
-        self.shown = -1
+        self.last = -math.inf
 
     def update(self, done: int):
         if not self.enabled:
             return
-        percent = int(100 * done / self.total)
-        if percent != self.shown:
-            self.shown = percent
-            bar = "#" * (percent // 4)
-            elapsed = time.perf_counter() - self.start
-            sys.stderr.write(f"\r{self.label} [{bar:<25}] {percent:3d}% {elapsed:6.1f}s")
-            if done == self.total:
-                sys.stderr.write("\n")
-            sys.stderr.flush()
+        now = time.perf_counter()
+        if now - self.last < 0.5 and done != self.total:
+            return
+        self.last = now
+        elapsed = now - self.start
+        fraction = done / self.total
+        bar = "#" * int(25 * fraction)
+        eta = elapsed * (1 - fraction) / fraction if done else math.nan
+        rate = done * self.nodes / elapsed / 1e6 if elapsed > 0 else math.nan
+        sys.stderr.write(
+            f"\r{self.label} [{bar:<25}] {done}/{self.total} steps {elapsed:6.1f}s "
+            f"ETA {eta:6.1f}s {rate:7.1f} M node-steps/s"
+        )
+        if done == self.total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+@jit_parallel
+def _store_kernel(Z, scale, out):
+    """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
+    to zero (float32 storage of values below ~1e-45 of the slice maximum)."""
+    n_rhs, n_nodes = Z.shape
+    n_blocks = min(n_nodes, 256)
+    flushed = np.zeros(n_blocks, dtype=np.int64)
+    for b in prange(n_blocks):
+        count = 0
+        for r in range(n_rhs):
+            for p in range(b * n_nodes // n_blocks, (b + 1) * n_nodes // n_blocks):
+                value = Z[r, p] * scale[r]
+                out[r, p] = value
+                if value > 0.0 and out[r, p] == 0.0:
+                    count += 1
+        flushed[b] = count
+    return flushed.sum()
+
+
+def _slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None) -> np.ndarray:
+    if mmap_dir is None:
+        return np.empty(shape, dtype=dtype)
+    # An unlinked temporary file: its disk space is returned when the Solution is released.
+    handle = tempfile.TemporaryFile(dir=mmap_dir)
+    return np.memmap(handle, dtype=dtype, mode="w+", shape=shape)
 
 
 def _terminal_data(problem: Problem, terminal_costs) -> tuple[np.ndarray, np.ndarray]:
@@ -191,47 +277,53 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     rate = max_courant_rate(problem)
     dt, n_steps = time_grid(problem, s, rate)
     kept = sorted(set(range(0, n_steps + 1, s.store_every)) | {n_steps})
-    dtype = np.dtype(s.dtype)
     K = len(terminal_costs)
-    stored_bytes = len(kept) * K * grid.size * dtype.itemsize
-    _check_memory(stored_bytes + 4 * K * grid.size * 8, f"solving on {grid.describe()}")
+    estimate = memory_estimate(problem, s, len(kept), K)
+    _check_memory(estimate, f"solving on {grid.describe()}", s.mmap_dir)
 
     Z, log_scale = _terminal_data(problem, terminal_costs)
     step = METHODS[s.method](problem, dt)
     setup_time = time.perf_counter() - started
 
-    slices = np.empty((len(kept), K, grid.size), dtype=dtype)
+    slices = _slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty((len(kept), K))
     slot = len(kept) - 1
-    slices[slot], scales[slot] = Z, log_scale
-    progress = _Progress(n_steps, s.progress, f"{s.method} {grid.describe()}")
+    flushed = _store_kernel(Z, np.ones(K), slices[:, slot])
+    scales[slot] = log_scale
+    buffer = np.empty_like(Z)
+    scale = np.ones(K)
+    progress = _Progress(n_steps, s.progress, f"{s.method} {grid.describe()}", grid.size)
     for n in range(n_steps - 1, -1, -1):  # step n+1 → n, t_n = n Δt
-        Z = step(Z)
-        peak = Z.max(axis=1)
+        peak = step(Z, buffer, scale)  # buffer = S(scale · Z), its row maxima
+        Z, buffer = buffer, Z
         if not np.all(peak > 0) or not np.all(np.isfinite(peak)):
             raise FloatingPointError(
                 f"desirability vanished or overflowed everywhere at t = {n * dt:g}: the costs are "
                 "too large for this temperature (rescale them or raise the temperature)"
             )
-        Z /= peak[:, None]
+        # z = Z e^ℓ; renormalise lazily: the next step and the storage multiply by 1/peak.
         log_scale = log_scale + np.log(peak)
+        scale = 1.0 / peak
         if n == kept[slot - 1]:
             slot -= 1
-            slices[slot], scales[slot] = Z, log_scale
+            flushed += _store_kernel(Z, scale, slices[:, slot])
+            scales[slot] = log_scale
         progress.update(n_steps - n)
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
+    iterations = tuple(getattr(step, "iterations", ()))
     out = []
     for r, cost in enumerate(terminal_costs):
         diagnostics = SolveDiagnostics(
             method=s.method, dt=dt, steps=n_steps, store_every=s.store_every, wall_time=wall,
-            setup_time=setup_time, underflow_nodes=int(np.count_nonzero(slices[0, r] <= 0)),
-            stored_bytes=int(slices[:, r].nbytes), operator_bytes=step.nbytes,
-            courant=rate * dt, iterations=tuple(getattr(step, "iterations", ())),
+            setup_time=setup_time, underflow_nodes=int(np.count_nonzero(slices[r, 0] <= 0)),
+            stored_bytes=int(slices[r].nbytes), operator_bytes=step.nbytes,
+            courant=rate * dt, iterations=iterations, flushed_values=int(flushed),
+            memory_estimate=estimate["ram"],
         )
-        out.append(Solution(problem.replace(terminal_cost=cost), times,
-                            np.ascontiguousarray(slices[:, r]), scales[:, r].copy(), diagnostics))
+        out.append(Solution(problem.replace(terminal_cost=cost), times, slices[r],
+                            scales[:, r].copy(), diagnostics))
     return out
 
 

@@ -1,35 +1,146 @@
 """Semi-Lagrangian operator splitting for the linear Bellman PDE (SPEC §3).
 
-One backward step from t + Δt to t applies three linear, monotone operators to z(·, t + Δt):
+One backward step from t + Δt to t applies linear, monotone operators to z(·, t + Δt):
 
 1. drift along characteristics: z*(x) = z(X(x)) with the second-order (midpoint) foot
-   X(x) = x + Δt a(x + ½Δt a(x)), evaluated by barycentric interpolation (weights ≥ 0, sum 1);
+   X(x) = x + Δt a(x + ½Δt a(x)) evaluated by barycentric interpolation (weights ≥ 0, sum 1);
    feet are wrapped on periodic axes and clamped to the box on the others;
 2. diffusion, implicitly, one noise axis k at a time:
-   (I − Δt D_k(x) δ²_k) z** = z*,  D_k = ½ (λ B R⁻¹ Bᵀ)_kk, δ²_k the three-point second difference;
-   each line is a tridiagonal M-matrix (cyclic on a periodic axis; on a closed axis the jumps out
-   of the box are suppressed, a reflecting state constraint);
+   (I − Δt D_k(x) δ²_k) z(·, t) = z*,  D_k = ½ (λ B R⁻¹ Bᵀ)_kk, δ²_k the three-point second
+   difference; each line is a tridiagonal M-matrix (cyclic on a periodic axis; on a closed axis the
+   jumps out of the box are suppressed, a reflecting state constraint);
 3. the state cost exactly: z(·, t) = exp(−q Δt/λ) z**.
 
 Every stage maps non-negative z to non-negative z and constants to constants (before the cost),
-so the step is the transition of a Markov chain, and it is unconditionally stable: Δt is limited
-by accuracy, not by a CFL condition. Numerical diffusion is O(h²/Δt) from the interpolation plus
-O(Δt) from the splitting and the foot, far less than the O(|a| h) of first-order upwinding.
+so the step is the transition of a Markov chain (with killing at rate q/λ), and it is
+unconditionally stable: Δt is limited by accuracy, not by a CFL condition. Its error is
+O(h²/Δt) from the interpolation (a numerical diffusion of at most h²/(8Δt) per axis) plus O(Δt)
+from the splitting and O(Δt²) from the foot; the first term *falls* as Δt grows, so unlike an
+upwind scheme the splitting wants large Courant numbers.
+
+Large grids. The feet are computed once per solve, in chunks, and stored compactly
+(:data:`FEET_LAYOUTS`): ``"compact"`` keeps per node the base corner (int32), the index (uint16) of its
+simplex's shape (axis order and periodic seams; a small table holds the d+1 vertex offsets of
+each shape) and the sorted fractional coordinates quantised to 1/65535 of a cell (uint16):
+6 + 2d bytes per node, decoded inside the kernel. The quantisation
+moves each foot by at most 1/131070 of a cell (far below the O(h²) interpolation error) and keeps
+the weights exactly non-negative and summing to one, so linearity and monotonicity are exact.
+``"table"`` stores the d+1 vertex indices (int32) and weights (float32) explicitly: 8(d+1) bytes.
+The kernels run over all cores, allocate nothing per line or node, fold the renormalisation of
+the previous slice into the drift pass and the slice maximum into the cost pass (or, without a
+state cost, into the last diffusion pass), so a step streams z through memory about twice.
 """
 
 from __future__ import annotations
 
 import numpy as np
+import numba
 
 from ._numba import jit_parallel, prange
+from .grid import Grid
 from .interpolate import barycentric
 from .problem import Problem
 
-_CHUNK = 64  # lines solved side by side in one task of the tridiagonal kernel
+FEET_LAYOUTS = ("compact", "table")
+"""How the characteristic feet are stored (see the module docstring)."""
+
+_Q = 65535  # quantisation of the fractional coordinates in the compact layout
+_MAX_COMPACT_DIM = 8  # the packed simplex shape holds 4 bits per walk step
+_FEET_CHUNK = 1 << 20  # nodes per chunk when computing feet (bounds the setup memory)
+
+
+def _blocks(n_items: int) -> int:
+    """Number of parallel work blocks: a few per thread, so that the load balances."""
+    return max(1, min(n_items, 8 * numba.get_num_threads()))
+
+
+# -- feet ---------------------------------------------------------------------------------------
+
+
+def _flat_chunks(size: int):
+    """Consecutive ranges of flat node indices, ``_FEET_CHUNK`` at a time."""
+    for start in range(0, size, _FEET_CHUNK):
+        yield np.arange(start, min(start + _FEET_CHUNK, size))
+
+
+def _foot_chunks(problem: Problem, dt: float):
+    """Feet X(x) = x + Δt a(x + ½Δt a(x)) of the nodes, wrapped and clamped, in chunks."""
+    grid, system = problem.grid, problem.system
+    for flat in _flat_chunks(grid.size):
+        x = grid.node_coordinates(flat)
+        midpoint = grid.clamp(x + 0.5 * dt * np.asarray(system.drift(x), dtype=float))
+        yield flat, grid.clamp(x + dt * np.asarray(system.drift(midpoint), dtype=float))
+
+
+def _compact_feet(grid: Grid, idx: np.ndarray, weights: np.ndarray):
+    """Compact form of barycentric vertices and weights ``(M, d+1)`` (see the module docstring).
+
+    Returns the base corners (int32), the packed simplex shapes (uint32: for each walk step j the
+    position in :func:`_walk_steps` of its flat offset, 4 bits each) and the sorted fractional
+    coordinates f_j = Σ_{i>j} w_i quantised to 1/65535 (uint16, non-increasing in j).
+    """
+    steps = np.searchsorted(_walk_steps(grid), np.diff(idx, axis=1))
+    shape = np.zeros(idx.shape[0], dtype=np.uint32)
+    for j in range(grid.ndim):
+        shape |= steps[:, j].astype(np.uint32) << np.uint32(4 * j)
+    tail = np.cumsum(weights[:, :0:-1], axis=1)[:, ::-1]  # f_j = w_{j+1} + … + w_d
+    frac = np.rint(np.clip(tail[:, : grid.ndim], 0.0, 1.0) * _Q).astype(np.uint16)
+    return idx[:, 0].astype(np.int32), shape, frac
+
+
+def _walk_steps(grid: Grid) -> np.ndarray:
+    """The flat offsets of one step of the Kuhn walk, sorted: +s_k, or −(n_k − 1) s_k across the
+    seam of a periodic axis."""
+    strides = grid.strides
+    wraps = [-(ax.n - 1) * strides[k] for k, ax in enumerate(grid.axes) if ax.periodic]
+    return np.sort(np.concatenate([strides, np.array(wraps, dtype=np.int64)]))
+
+
+def _vertex_offsets(grid: Grid, shapes: np.ndarray) -> np.ndarray:
+    """Offsets of the d+1 simplex vertices from the base corner per packed shape, ``(S, d+1)``."""
+    walk = _walk_steps(grid)
+    offsets = np.zeros((shapes.size, grid.ndim + 1), dtype=np.int64)
+    for j in range(grid.ndim):
+        offsets[:, j + 1] = offsets[:, j] + walk[(shapes.astype(np.int64) >> (4 * j)) & 15]
+    return offsets
+
+
+def characteristic_feet(problem: Problem, dt: float) -> np.ndarray:
+    """Feet of all nodes, ``(N, d)`` (plain numpy, for tests and plots)."""
+    return np.concatenate([feet for _, feet in _foot_chunks(problem, dt)])
+
+
+def feet_bytes_per_node(ndim: int, layout: str) -> int:
+    """Memory of the stored feet per node for a layout (see :data:`FEET_LAYOUTS`)."""
+    return 6 + 2 * ndim if layout == "compact" else 8 * (ndim + 1)
+
+
+# -- drift pass ---------------------------------------------------------------------------------
 
 
 @jit_parallel
-def _advect_kernel(z, idx, weights, out):
+def _advect_compact_kernel(z, base, code, frac, offsets, scale, out):
+    """out[r, p] = scale[r] · Σ_j w_j z[r, base[p] + offsets[code[p], j]] with
+    w_j = (f_{j−1} − f_j)/Q from the sorted quantised fractions (f_{−1} = Q, f_d = 0)."""
+    n_rhs, n_nodes = z.shape
+    d = frac.shape[1]
+    for p in prange(n_nodes):
+        node = np.int64(base[p])
+        c = code[p]
+        for r in range(n_rhs):
+            previous = _Q
+            acc = 0.0
+            for j in range(d):
+                f = np.int64(frac[p, j])
+                acc += (previous - f) * z[r, node + offsets[c, j]]
+                previous = f
+            acc += previous * z[r, node + offsets[c, d]]
+            out[r, p] = acc * (scale[r] * (1.0 / _Q))
+
+
+@jit_parallel
+def _advect_table_kernel(z, idx, weights, scale, out):
+    """out[r, p] = scale[r] · Σ_j weights[p, j] z[r, idx[p, j]]."""
     n_rhs, n_nodes = z.shape
     n_vertices = idx.shape[1]
     for p in prange(n_nodes):
@@ -37,45 +148,96 @@ def _advect_kernel(z, idx, weights, out):
             acc = 0.0
             for j in range(n_vertices):
                 acc += weights[p, j] * z[r, idx[p, j]]
-            out[r, p] = acc
+            out[r, p] = acc * scale[r]
+
+
+# -- diffusion pass -----------------------------------------------------------------------------
+
+
+def tridiagonal_factors(ratio: np.ndarray, n: int) -> np.ndarray:
+    """LU factors of (1 + 2r_i) z_i − r_i (z_{i−1} + z_{i+1}) on closed lines of length n.
+
+    ``ratio`` holds r = Δt D / h² along the lines (shape ``(..., n)``, the line index last); the
+    out-of-box neighbour is dropped at both ends (row 0: (1 + r_0) z_0 − r_0 z_1). Returns
+    ``(3, ..., n)``: 1/m_i, r_i/m_i and c_i = −r_i/m_i (c_{n−1} = 0) of the Thomas recursion
+    y_i = (b_i + r_i y_{i−1})/m_i, z_i = y_i − c_i z_{i+1}.
+    """
+    ratio = np.asarray(ratio, dtype=float)
+    lower = ratio.copy()
+    lower[..., 0] = 0.0
+    upper = ratio.copy()
+    upper[..., n - 1] = 0.0
+    diag = 1.0 + lower + upper
+    out = np.empty((3,) + ratio.shape)
+    c_prev = np.zeros(ratio.shape[:-1])
+    for i in range(n):
+        m = diag[..., i] + lower[..., i] * c_prev
+        out[0, ..., i] = 1.0 / m
+        out[1, ..., i] = lower[..., i] / m
+        c_prev = -upper[..., i] / m
+        out[2, ..., i] = c_prev
+    return out
 
 
 @jit_parallel
-def _diffuse_closed_kernel(z, ratio, n, stride, chunk):
-    """Solve (1 + 2r_i) z_i − r_i (z_{i−1} + z_{i+1}) = rhs_i on every line of one closed axis.
+def _diffuse_closed_kernel(z, factors, uniform, n, stride, chunk, block_max):
+    """Solve every line of one closed axis in place with precomputed Thomas factors.
 
-    ``ratio`` is r = Δt D / h² per node; at the two ends the out-of-box neighbour is dropped
-    (row 0: (1 + r_0) z_0 − r_0 z_1). Thomas algorithm, in place, ``chunk`` lines side by side
-    so that memory is read contiguously whatever the axis.
+    ``factors`` is ``(3, n)`` when the coefficients are the same on every line (``uniform``),
+    else ``(3, N)`` per node. Lines are taken ``chunk`` at a time side by side so that memory is
+    read contiguously whatever the axis. When ``block_max`` has columns, the maximum of each row
+    over each block of lines is written there (fusing the slice maximum into this pass).
     """
     n_rhs, n_nodes = z.shape
     n_outer = n_nodes // (n * stride)
     n_chunks = (stride + chunk - 1) // chunk
-    for task in prange(n_rhs * n_outer * n_chunks):
-        r_idx = task // (n_outer * n_chunks)
-        rest = task % (n_outer * n_chunks)
-        base = (rest // n_chunks) * n * stride
-        j0 = (rest % n_chunks) * chunk
-        width = min(stride, j0 + chunk) - j0
-        cp = np.empty((n, width))
-        for i in range(n):
-            for jj in range(width):
-                node = base + i * stride + j0 + jj
-                r = ratio[node]
-                lower = -r if i > 0 else 0.0
-                upper = -r if i < n - 1 else 0.0
-                diag = 1.0 - lower - upper
-                if i == 0:
-                    m = diag
-                    z[r_idx, node] = z[r_idx, node] / m
-                else:
-                    m = diag - lower * cp[i - 1, jj]
-                    z[r_idx, node] = (z[r_idx, node] - lower * z[r_idx, node - stride]) / m
-                cp[i, jj] = upper / m
-        for i in range(n - 2, -1, -1):
-            for jj in range(width):
-                node = base + i * stride + j0 + jj
-                z[r_idx, node] -= cp[i, jj] * z[r_idx, node + stride]
+    n_tasks = n_outer * n_chunks
+    n_blocks = block_max.shape[1] if block_max.shape[1] > 0 else min(n_tasks, 256)
+    track = block_max.shape[1] > 0
+    for b in prange(n_blocks):
+        for r in range(n_rhs):
+            peak = 0.0
+            for task in range(b * n_tasks // n_blocks, (b + 1) * n_tasks // n_blocks):
+                if stride == 1:  # contiguous lines: the common last-axis case, kept simple
+                    start = task * n
+                    y = z[r, start] * factors[0, 0 if uniform else start]
+                    z[r, start] = y
+                    for node in range(start + 1, start + n):
+                        f = node - start if uniform else node
+                        y = z[r, node] * factors[0, f] + factors[1, f] * y
+                        z[r, node] = y
+                    peak = max(peak, y)
+                    for node in range(start + n - 2, start - 1, -1):
+                        f = node - start if uniform else node
+                        y = z[r, node] - factors[2, f] * y
+                        z[r, node] = y
+                        peak = max(peak, y)
+                    continue
+                start = (task // n_chunks) * n * stride
+                j0 = (task % n_chunks) * chunk
+                j1 = min(stride, j0 + chunk)
+                for i in range(n):
+                    row = start + i * stride
+                    for node in range(row + j0, row + j1):
+                        f = i if uniform else node
+                        if i == 0:
+                            z[r, node] = z[r, node] * factors[0, f]
+                        else:
+                            z[r, node] = (z[r, node] * factors[0, f]
+                                          + factors[1, f] * z[r, node - stride])
+                if track:
+                    row = start + (n - 1) * stride
+                    for node in range(row + j0, row + j1):
+                        peak = max(peak, z[r, node])
+                for i in range(n - 2, -1, -1):
+                    row = start + i * stride
+                    for node in range(row + j0, row + j1):
+                        f = i if uniform else node
+                        z[r, node] -= factors[2, f] * z[r, node + stride]
+                        if track:
+                            peak = max(peak, z[r, node])
+            if track:
+                block_max[r, b] = peak
 
 
 @jit_parallel
@@ -83,86 +245,174 @@ def _diffuse_periodic_kernel(z, ratio, n, stride):
     """The cyclic version of :func:`_diffuse_closed_kernel`, by Sherman–Morrison per line."""
     n_rhs, n_nodes = z.shape
     n_outer = n_nodes // (n * stride)
-    for task in prange(n_rhs * n_outer * stride):
-        r_idx = task // (n_outer * stride)
-        rest = task % (n_outer * stride)
-        base = (rest // stride) * n * stride + rest % stride
+    n_tasks = n_rhs * n_outer * stride
+    n_blocks = min(n_tasks, 256)
+    for blk in prange(n_blocks):
         a = np.empty(n)
-        b = np.empty(n)
+        bb = np.empty(n)
         y = np.empty(n)
-        q = np.zeros(n)
-        for i in range(n):
-            rr = ratio[base + i * stride]
-            a[i] = -rr
-            b[i] = 1.0 + 2.0 * rr
-            y[i] = z[r_idx, base + i * stride]
-        # A = T + u vᵀ with T tridiagonal: u = (γ, 0…0, c_{n−1}), v = (1, 0…0, a_0/γ).
-        gamma = -b[0]
-        corner_low = a[0]  # A[0, n−1]
-        corner_up = a[n - 1]  # A[n−1, 0] (symmetric stencil: c_{n−1} = a_{n−1})
-        bb = b.copy()
-        bb[0] -= gamma
-        bb[n - 1] -= corner_up * corner_low / gamma
-        q[0] = gamma
-        q[n - 1] = corner_up
+        q = np.empty(n)
         cp = np.empty(n)
-        # Thomas on T for y and q together (sub- and super-diagonal both equal a[i] / a[i+1]).
-        cp[0] = a[0] / bb[0]
-        y[0] /= bb[0]
-        q[0] /= bb[0]
-        for i in range(1, n):
-            m = bb[i] - a[i] * cp[i - 1]
-            cp[i] = (a[i] if i < n - 1 else 0.0) / m
-            y[i] = (y[i] - a[i] * y[i - 1]) / m
-            q[i] = (q[i] - a[i] * q[i - 1]) / m
-        for i in range(n - 2, -1, -1):
-            y[i] -= cp[i] * y[i + 1]
-            q[i] -= cp[i] * q[i + 1]
-        factor = (y[0] + corner_low / gamma * y[n - 1]) / (1.0 + q[0] + corner_low / gamma * q[n - 1])
-        for i in range(n):
-            z[r_idx, base + i * stride] = y[i] - factor * q[i]
+        for task in range(blk * n_tasks // n_blocks, (blk + 1) * n_tasks // n_blocks):
+            r_idx = task // (n_outer * stride)
+            rest = task % (n_outer * stride)
+            base = (rest // stride) * n * stride + rest % stride
+            for i in range(n):
+                rr = ratio[base + i * stride]
+                a[i] = -rr
+                bb[i] = 1.0 + 2.0 * rr
+                y[i] = z[r_idx, base + i * stride]
+                q[i] = 0.0
+            # A = T + u vᵀ with T tridiagonal: u = (γ, 0…0, c_{n−1}), v = (1, 0…0, a_0/γ).
+            gamma = -bb[0]
+            corner_low = a[0]  # A[0, n−1]
+            corner_up = a[n - 1]  # A[n−1, 0] (symmetric stencil: c_{n−1} = a_{n−1})
+            bb[0] -= gamma
+            bb[n - 1] -= corner_up * corner_low / gamma
+            q[0] = gamma
+            q[n - 1] = corner_up
+            # Thomas on T for y and q together (sub- and super-diagonal a[i] / a[i+1]).
+            cp[0] = a[0] / bb[0]
+            y[0] /= bb[0]
+            q[0] /= bb[0]
+            for i in range(1, n):
+                m = bb[i] - a[i] * cp[i - 1]
+                cp[i] = (a[i] if i < n - 1 else 0.0) / m
+                y[i] = (y[i] - a[i] * y[i - 1]) / m
+                q[i] = (q[i] - a[i] * q[i - 1]) / m
+            for i in range(n - 2, -1, -1):
+                y[i] -= cp[i] * y[i + 1]
+                q[i] -= cp[i] * q[i + 1]
+            factor = ((y[0] + corner_low / gamma * y[n - 1])
+                      / (1.0 + q[0] + corner_low / gamma * q[n - 1]))
+            for i in range(n):
+                z[r_idx, base + i * stride] = y[i] - factor * q[i]
 
 
-def characteristic_feet(problem: Problem, dt: float) -> np.ndarray:
-    """Feet X(x) = x + Δt a(x + ½Δt a(x)) of all nodes, wrapped and clamped to the box."""
-    grid, system = problem.grid, problem.system
-    x = grid.nodes()
-    midpoint = grid.clamp(x + 0.5 * dt * system.drift(x))
-    return grid.clamp(x + dt * system.drift(midpoint))
+@jit_parallel
+def _cost_max_kernel(z, cost, block_max):
+    """z[r] *= cost (when ``cost`` is not empty); block_max[r, b] = max of z[r] over block b."""
+    n_rhs, n_nodes = z.shape
+    n_blocks = block_max.shape[1]
+    use_cost = cost.size > 0
+    for b in prange(n_blocks):
+        for r in range(n_rhs):
+            peak = 0.0
+            for p in range(b * n_nodes // n_blocks, (b + 1) * n_nodes // n_blocks):
+                if use_cost:
+                    z[r, p] *= cost[p]
+                peak = max(peak, z[r, p])
+            block_max[r, b] = peak
 
 
 class SplittingStep:
-    """The splitting step operator of a problem and time step, built once per solve."""
+    """The splitting step operator of a problem and time step, built once per solve.
+
+    Call ``step(z, out, scale)``: writes ``out = S(scale · z)`` for ``z`` ``(K, N)`` and the
+    per-row factors ``scale`` ``(K,)``, and returns the per-row maximum of ``out``.
+    """
 
     name = "splitting"
 
-    def __init__(self, problem: Problem, dt: float):
+    def __init__(self, problem: Problem, dt: float, feet: str = "compact"):
+        if feet not in FEET_LAYOUTS:
+            raise ValueError(f"feet must be one of {FEET_LAYOUTS}, got {feet!r}")
         grid = problem.grid
-        self.grid = grid
-        self.idx, self.weights = barycentric(grid, characteristic_feet(problem, dt))
-        diffusion = 0.5 * problem.noise_diagonal(grid.nodes())  # D_k = ½ Σ_kk
-        self.noise_axes = [k for k in range(grid.ndim) if np.any(diffusion[:, k] > 0)]
-        self.ratios = {k: dt * diffusion[:, k] / grid.spacing[k] ** 2 for k in self.noise_axes}
-        self.cost_factor = np.exp(-problem.state_cost_values() * dt / problem.temperature)
-        self.has_cost = bool(np.any(self.cost_factor != 1.0))
-        self._buffer = None
+        if feet == "compact" and grid.ndim > _MAX_COMPACT_DIM:
+            feet = "table"
+        if grid.size >= 2**31:
+            raise ValueError(f"grid {grid.describe()} has ≥ 2³¹ nodes: int32 indices overflow")
+        self.grid, self.layout = grid, feet
+        self._encode_feet(problem, dt)
+        self._setup_diffusion(problem, dt)
+        q = problem.state_cost_values()
+        self.cost_factor = (np.exp(-q * dt / problem.temperature) if np.any(q != 0)
+                            else np.empty(0))
+        self._buffers = {}
+
+    @staticmethod
+    def estimate_bytes(grid: Grid, feet: str = "compact") -> int:
+        """Memory of the operator for ``grid``, without building it (for the memory check)."""
+        return grid.size * (feet_bytes_per_node(grid.ndim, feet) + 8) + _FEET_CHUNK * grid.ndim * 64
+
+    def _encode_feet(self, problem: Problem, dt: float):
+        grid, N, d = self.grid, self.grid.size, self.grid.ndim
+        if self.layout == "compact":
+            self.base = np.empty(N, dtype=np.int32)
+            shapes = np.empty(N, dtype=np.uint32)
+            self.frac = np.empty((N, d), dtype=np.uint16)
+        else:
+            self.idx = np.empty((N, d + 1), dtype=np.int32)
+            self.weights = np.empty((N, d + 1), dtype=np.float32)
+        for flat, feet in _foot_chunks(problem, dt):
+            rows = slice(flat[0], flat[-1] + 1)
+            idx, weights = barycentric(grid, feet)
+            if self.layout == "compact":
+                self.base[rows], shapes[rows], self.frac[rows] = _compact_feet(grid, idx, weights)
+            else:
+                self.idx[rows], self.weights[rows] = idx, weights
+        if self.layout == "compact":
+            distinct, ids = np.unique(shapes, return_inverse=True)
+            self.code = ids.astype(np.uint16 if distinct.size <= 2**16 else np.uint32)
+            self.offsets = _vertex_offsets(grid, distinct)
+            self.arrays = [self.base, self.code, self.frac, self.offsets]
+        else:
+            self.arrays = [self.idx, self.weights]
+
+    def _setup_diffusion(self, problem: Problem, dt: float):
+        grid = self.grid
+        self.noise = []  # (axis, periodic, data, uniform)
+        for k, ax in enumerate(grid.axes):
+            diffusion = np.concatenate([
+                0.5 * problem.noise_diagonal(grid.node_coordinates(flat))[:, k]
+                for flat in _flat_chunks(grid.size)
+            ])
+            if not np.any(diffusion > 0):
+                continue
+            ratio = dt * diffusion / ax.spacing**2
+            if ax.periodic:
+                self.noise.append((k, True, ratio, False))
+                continue
+            lines = np.moveaxis(grid.reshape(ratio), k, -1)
+            uniform = bool(np.all(lines == lines.reshape(-1, ax.n)[0]))
+            if uniform:
+                factors = tridiagonal_factors(lines.reshape(-1, ax.n)[0], ax.n)
+            else:
+                factors = np.moveaxis(tridiagonal_factors(lines, ax.n), -1, k + 1)
+                factors = factors.reshape(3, grid.size)
+            self.noise.append((k, False, np.ascontiguousarray(factors), uniform))
 
     @property
     def nbytes(self) -> int:
-        arrays = [self.idx, self.weights, self.cost_factor, *self.ratios.values()]
+        arrays = [*self.arrays, self.cost_factor, *(data for _, _, data, _ in self.noise)]
         return int(sum(a.nbytes for a in arrays))
 
-    def __call__(self, z: np.ndarray) -> np.ndarray:
-        """One backward step of nodal values ``z`` ``(K, N)``; returns a new ``(K, N)`` array."""
-        out = np.empty_like(z)
-        _advect_kernel(z, self.idx, self.weights, out)
-        for k in self.noise_axes:
-            ax = self.grid.axes[k]
-            stride = int(self.grid.strides[k])
-            if ax.periodic:
-                _diffuse_periodic_kernel(out, self.ratios[k], ax.n, stride)
-            else:
-                _diffuse_closed_kernel(out, self.ratios[k], ax.n, stride, _CHUNK)
-        if self.has_cost:
-            out *= self.cost_factor
-        return out
+    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray) -> np.ndarray:
+        K = z.shape[0]
+        if self.layout == "compact":
+            _advect_compact_kernel(z, self.base, self.code, self.frac, self.offsets, scale, out)
+        else:
+            _advect_table_kernel(z, self.idx, self.weights, scale, out)
+        block_max = None
+        for position, (k, periodic, data, uniform) in enumerate(self.noise):
+            ax, stride = self.grid.axes[k], int(self.grid.strides[k])
+            if periodic:
+                _diffuse_periodic_kernel(out, data, ax.n, stride)
+                continue
+            chunk = min(stride, 64)
+            if position == len(self.noise) - 1 and self.cost_factor.size == 0:
+                # no state cost: fuse the slice maximum into the last diffusion pass
+                n_tasks = self.grid.size // (ax.n * stride) * ((stride + chunk - 1) // chunk)
+                block_max = self._buffer(K, _blocks(n_tasks))
+            _diffuse_closed_kernel(out, data, uniform, ax.n, stride, chunk,
+                                   block_max if block_max is not None else self._buffer(K, 0))
+        if block_max is None:
+            block_max = self._buffer(K, _blocks(self.grid.size))
+            _cost_max_kernel(out, self.cost_factor, block_max)
+        return block_max.max(axis=1)
+
+    def _buffer(self, K: int, n_blocks: int) -> np.ndarray:
+        key = (K, n_blocks)
+        if key not in self._buffers:
+            self._buffers[key] = np.zeros(key)
+        return self._buffers[key]
