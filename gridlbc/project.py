@@ -40,8 +40,9 @@ NEGATIVE_TOLERANCE = 1e-6
 SUM_TOLERANCE = 0.25
 """|Σ w − 1| above this counts as far from one."""
 
-RESIDUAL_TOLERANCE = 0.25
-"""A relative residual above this counts as a poor representation of the target."""
+RESIDUAL_TOLERANCE = 0.5
+"""A relative residual above this (more than half of ‖h̄‖ unexplained) counts as a poor
+representation of the target. Two Gaussians one width either side of a third leave ≈ 0.35."""
 
 CONDITION_LIMIT = 1e10
 """A normalised Gram condition number above this makes the weights unreliable."""
