@@ -19,6 +19,21 @@ def _cmd_demo(args) -> int:
     return 0
 
 
+def _cmd_verify(args) -> int:
+    """Exit status 0 when every check passes, 1 when one fails (the table says which)."""
+    from .verify import run_verification
+
+    report = run_verification(grid_size=args.grid, samples=args.samples, seed=args.seed,
+                              progress=not args.quiet)
+    print(report.table())
+    if args.json:
+        report.to_json(Path(args.json))
+        print(f"wrote {args.json}")
+    print(f"{'all checks passed' if report.passed else 'SOME CHECKS FAILED'} "
+          f"({report.wall_time:.0f} s)")
+    return 0 if report.passed else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="gridlbc",
@@ -37,6 +52,21 @@ def build_parser() -> argparse.ArgumentParser:
                       help="nodes per axis of the pendulum grid (default: 201)")
     demo.add_argument("--quiet", action="store_true", help="no progress output")
     demo.set_defaults(func=_cmd_demo)
+
+    verify = sub.add_parser(
+        "verify",
+        help="check superposition, optimality, interpolation and coordination; print a table",
+        description="Check the linear Bellman combination claims against exact answers "
+        "(direct solves, Riccati, Monte Carlo) and print a table. Exit status 1 if a check fails.",
+    )
+    verify.add_argument("--grid", type=int, default=256,
+                        help="θ nodes of the pendulum swing-up grid (default: 256)")
+    verify.add_argument("--samples", type=int, default=8000,
+                        help="Monte-Carlo samples of the swing-up (default: 8000)")
+    verify.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
+    verify.add_argument("--json", metavar="PATH", help="also write the results as JSON")
+    verify.add_argument("--quiet", action="store_true", help="no progress output")
+    verify.set_defaults(func=_cmd_verify)
     return parser
 
 
