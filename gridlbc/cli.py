@@ -24,7 +24,7 @@ def _cmd_verify(args) -> int:
     from .verify import run_verification
 
     report = run_verification(grid_size=args.grid, samples=args.samples, seed=args.seed,
-                              progress=not args.quiet)
+                              quick=args.quick, progress=not args.quiet)
     print(report.table())
     if args.json:
         report.to_json(Path(args.json))
@@ -65,6 +65,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="Monte-Carlo samples of the swing-up (default: 8000)")
     verify.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     verify.add_argument("--json", metavar="PATH", help="also write the results as JSON")
+    verify.add_argument("--quick", action="store_true",
+                        help="smoke-test sizes (bounds not expected to hold; use with small "
+                        "--grid and --samples)")
     verify.add_argument("--quiet", action="store_true", help="no progress output")
     verify.set_defaults(func=_cmd_verify)
     return parser

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numba import jit_parallel, prange
+from ._numba import jit
 from .costs import evaluate_cost
 from .problem import Problem
 
@@ -32,12 +32,12 @@ DEFAULT_STEPS = 300
 """Euler–Maruyama steps over the horizon when ``dt`` is not given."""
 
 
-@jit_parallel
+@jit
 def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost):
     """x_out = x + (a + B u) dt + B (noise ε); cost += ½ uᵀ R u dt, for every sample."""
     n, d = x.shape
     m = u.shape[1]
-    for s in prange(n):
+    for s in range(n):  # serial: a few flops per sample, threads would cost more
         kick = np.zeros(m)  # √(λ dt) C ε
         control = 0.0
         for i in range(m):
