@@ -44,9 +44,10 @@ def main(argv=None) -> None:
         for K in args.counts:
             costs = [g.Quadratic([c, 0], [10, 0.5]) for c in np.linspace(-1, 1, K)]
             t_sep, separate = _best_time(
-                lambda: [g.solve(problem.replace(terminal_cost=c), dt=args.dt) for c in costs],
+                lambda p=problem, cs=costs: [g.solve(p.replace(terminal_cost=c), dt=args.dt)
+                                             for c in cs],
                 args.repeat)
-            t_many, many = _best_time(lambda: g.solve_many(problem, costs, dt=args.dt),
+            t_many, many = _best_time(lambda p=problem, cs=costs: g.solve_many(p, cs, dt=args.dt),
                                       args.repeat)
             diff = max(np.max(np.abs(a.log_desirability_nodes(0) - b.log_desirability_nodes(0)))
                        for a, b in zip(separate, many))
