@@ -1,0 +1,251 @@
+"""Problem descriptions in TOML: what ``gridlbc solve --config FILE`` reads.
+
+A file names a system, a grid, the horizon T, the temperature λ, the control cost R and
+quadratic costs g(x) = (x − c)ᵀW(x − c) (terminal) and q(x) = (x − c)ᵀW(x − c) (state), and
+optionally solver settings. Angles are in radians from the upright; a number may be written as a
+multiple of π in a string (``"pi"``, ``"-pi"``, ``"pi/2"``, ``"2*pi"``)::
+
+    horizon = 3.0            # T
+    temperature = 1.0        # λ
+    control_cost = 1.0       # R: a number, one per control, or a matrix
+
+    [system]
+    name = "Pendulum"        # a class of gridlbc.systems, or "package.module.Class"
+    parameters = { damping = 0.1 }
+
+    [grid]                   # either node counts with the system's default box ...
+    n = [101, 101]
+    # ... or explicit axes, one table per state coordinate:
+    # [[grid.axes]]
+    # lo = "-pi"
+    # hi = "pi"
+    # n = 101
+    # periodic = true
+
+    [terminal_cost]
+    center = [0, 0]
+    weights = [10, 0.5]      # the diagonal of W, or the full matrix
+
+    [state_cost]             # optional
+    center = [0, 0]
+    weights = [0.1, 0.0]
+
+    [solver]                 # optional: any gridlbc.SolverSettings field
+    method = "splitting"
+    dt = 0.02
+
+Every key is checked: an unknown, missing or ill-typed one raises ``ValueError`` naming the key.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+import re
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+
+from . import systems
+from .costs import Quadratic
+from .grid import Axis, Grid
+from .problem import Problem
+from .solver import SolverSettings
+
+TOP_KEYS = ("system", "grid", "horizon", "temperature", "control_cost", "terminal_cost",
+            "state_cost", "solver")
+REQUIRED_KEYS = ("system", "grid", "horizon", "terminal_cost")
+
+DEFAULT_BOUNDS = {
+    "SingleIntegrator": [(-4.0, 4.0)],
+    "PointMass": [(-4.0, 4.0), (-6.0, 6.0)],
+    "Pendulum": [None, (-10.0, 10.0)],
+    "Acrobot": [None, None, (-16.0, 16.0), (-9.0, 9.0)],
+}
+"""The box used with ``grid.n``: ``None`` is an angle, periodic on [−π, π); a pair is (lo, hi)
+of a non-periodic axis. The acrobot's momentum box is the gymnast study's (gridlbc.gymnast)."""
+
+_PI = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)?)\s*\*?\s*pi\s*(?:/\s*(\d+(?:\.\d*)?))?\s*$")
+
+
+@dataclass(frozen=True)
+class ProblemConfig:
+    """A problem read from a description, and how to solve it."""
+
+    problem: Problem
+    settings: SolverSettings
+
+
+def number(value, key: str) -> float:
+    """A finite float from a TOML number or a multiple of π written as a string."""
+    if isinstance(value, bool):
+        raise ValueError(f"{key} must be a number, got {value!r}")
+    if isinstance(value, (int, float)):
+        result = float(value)
+    elif isinstance(value, str) and (match := _PI.match(value.lower())):
+        coefficient = {"": 1.0, "+": 1.0, "-": -1.0}.get(match[1])
+        coefficient = float(match[1]) if coefficient is None else coefficient
+        result = coefficient * math.pi / (float(match[2]) if match[2] else 1.0)
+    else:
+        raise ValueError(f"{key} must be a number (or a multiple of pi such as \"-pi\", "
+                         f"\"pi/2\"), got {value!r}")
+    if not math.isfinite(result):
+        raise ValueError(f"{key} must be finite, got {value!r}")
+    return result
+
+
+def numbers(value, key: str) -> list:
+    """A number or a (nested) list of numbers, each as :func:`number`."""
+    if isinstance(value, list):
+        return [numbers(v, f"{key}[{i}]") for i, v in enumerate(value)]
+    return number(value, key)
+
+
+def _table(data, key: str, allowed, required=()) -> dict:
+    if not isinstance(data, dict):
+        raise ValueError(f"{key} must be a table (section), got {type(data).__name__}")
+    unknown = sorted(set(data) - set(allowed))
+    if unknown:
+        raise ValueError(f"unknown key {'.'.join(filter(None, (key, unknown[0])))!r}: valid keys "
+                         f"{'in ' + key + ' ' if key else ''}are {', '.join(allowed)}")
+    missing = [k for k in required if k not in data]
+    if missing:
+        raise ValueError(f"missing key {'.'.join(filter(None, (key, missing[0])))!r}")
+    return data
+
+
+def system_from_name(name, parameters=None):
+    """A system by class name in :mod:`gridlbc.systems` (case-insensitive) or by import path."""
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"system.name must be a class name such as \"Pendulum\", got {name!r}")
+    parameters = {} if parameters is None else dict(parameters)
+    builtin = {n.lower(): getattr(systems, n) for n in systems.__all__
+               if n not in ("ControlAffineSystem", "LinearSystem")}
+    if "." in name:
+        module_name, _, qualname = name.rpartition(".")
+        try:
+            cls = getattr(importlib.import_module(module_name), qualname)
+        except (ImportError, AttributeError):
+            raise ValueError(f"system.name {name!r} cannot be imported: give a class of "
+                             "gridlbc.systems or an importable \"package.module.Class\"") from None
+    elif name.lower() in builtin:
+        cls = builtin[name.lower()]
+    else:
+        raise ValueError(f"unknown system.name {name!r}: choose one of "
+                         f"{', '.join(cls.__name__ for cls in builtin.values())} or give "
+                         "\"package.module.Class\"")
+    try:
+        return cls(**parameters)
+    except TypeError as exc:
+        raise ValueError(f"system.parameters do not fit {cls.__name__}: {exc}") from None
+
+
+def default_axes(system, counts) -> list[Axis]:
+    """Axes over the system's default box (:data:`DEFAULT_BOUNDS`) with ``counts`` nodes."""
+    name = type(system).__name__
+    if name not in DEFAULT_BOUNDS:
+        raise ValueError(f"{name} has no default box: give grid.axes (lo, hi, n per coordinate)")
+    bounds = DEFAULT_BOUNDS[name]
+    if len(counts) == 1:
+        counts = counts * len(bounds)
+    if len(counts) != len(bounds):
+        raise ValueError(f"grid.n must be one node count or {len(bounds)} (one per state "
+                         f"coordinate of {name}), got {len(counts)}")
+    names = system.state_names or (None,) * len(bounds)
+    return [Axis(-math.pi, math.pi, n, periodic=True, name=label) if box is None
+            else Axis(box[0], box[1], n, name=label)
+            for box, n, label in zip(bounds, counts, names)]
+
+
+def _count(value, key: str) -> int:
+    if isinstance(value, bool) or not isinstance(value, int):
+        raise ValueError(f"{key} must be an integer number of nodes, got {value!r}")
+    return value
+
+
+def _grid(data, system) -> Grid:
+    data = _table(data, "grid", ("n", "axes"))
+    if ("n" in data) == ("axes" in data):
+        raise ValueError("grid needs exactly one of grid.n (node counts with the system's default "
+                         "box) or grid.axes (a table per coordinate with lo, hi, n, periodic)")
+    if "n" in data:
+        counts = data["n"] if isinstance(data["n"], list) else [data["n"]]
+        return Grid(default_axes(system, [_count(n, f"grid.n[{i}]") for i, n in enumerate(counts)]))
+    if not isinstance(data["axes"], list) or not data["axes"]:
+        raise ValueError("grid.axes must be a list of tables ([[grid.axes]] in TOML)")
+    axes = []
+    for i, axis in enumerate(data["axes"]):
+        key = f"grid.axes[{i}]"
+        axis = _table(axis, key, ("lo", "hi", "n", "periodic", "name"), ("lo", "hi", "n"))
+        periodic = axis.get("periodic", False)
+        if not isinstance(periodic, bool):
+            raise ValueError(f"{key}.periodic must be true or false, got {periodic!r}")
+        try:
+            axes.append(Axis(number(axis["lo"], f"{key}.lo"), number(axis["hi"], f"{key}.hi"),
+                             _count(axis["n"], f"{key}.n"), periodic, axis.get("name")))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{key}: {exc}") from None
+    return Grid(axes)
+
+
+def _quadratic(data, key: str):
+    if data is None:
+        return None
+    data = _table(data, key, ("center", "weights"), ("center", "weights"))
+    try:
+        return Quadratic(numbers(data["center"], f"{key}.center"),
+                         numbers(data["weights"], f"{key}.weights"))
+    except ValueError as exc:
+        raise ValueError(f"{key}: {exc}") from None
+
+
+def _settings(data) -> SolverSettings:
+    fields = tuple(SolverSettings.__dataclass_fields__)
+    data = _table(data or {}, "solver", fields)
+    try:
+        return SolverSettings(**data)
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"solver: {exc}") from None
+
+
+def problem_from_dict(data: dict) -> ProblemConfig:
+    """Build the problem and solver settings from a parsed description (see the module doc)."""
+    data = _table(data, "", TOP_KEYS, REQUIRED_KEYS)
+    system_data = _table(data["system"], "system", ("name", "parameters"), ("name",))
+    parameters = system_data.get("parameters", {})
+    if not isinstance(parameters, dict):
+        raise ValueError("system.parameters must be a table of constructor arguments")
+    system = system_from_name(system_data["name"], parameters)
+    grid = _grid(data["grid"], system)
+    control_cost = numbers(data.get("control_cost", 1.0), "control_cost")
+    try:
+        problem = Problem(system, grid, number(data["horizon"], "horizon"),
+                          _quadratic(data["terminal_cost"], "terminal_cost"),
+                          state_cost=_quadratic(data.get("state_cost"), "state_cost"),
+                          control_cost=control_cost,
+                          temperature=number(data.get("temperature", 1.0), "temperature"))
+    except TypeError as exc:
+        raise ValueError(str(exc)) from None
+    return ProblemConfig(problem, _settings(data.get("solver")))
+
+
+def read_description(path) -> dict:
+    """The parsed TOML of ``path``; a syntax error becomes a ``ValueError`` with the line."""
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"no problem description at {str(path)!r}")
+    try:
+        with open(path, "rb") as f:
+            return tomllib.load(f)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{path}: invalid TOML: {exc}") from None
+
+
+def load_config(path) -> ProblemConfig:
+    """Read a TOML problem description (see the module doc); errors name the file and the key."""
+    try:
+        return problem_from_dict(read_description(path))
+    except ValueError as exc:
+        message = str(exc)
+        raise ValueError(message if message.startswith(str(path)) else f"{path}: {message}") \
+            from None
