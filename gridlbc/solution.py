@@ -156,7 +156,7 @@ class Solution:
         x = grid.check_states(x)
         js, tw, L = self._time_weights(t)
         idx, bw = barycentric(grid, x)
-        Z = self.slices[js]  # (2, N)
+        Z = self.slices[js[0]: js[0] + 2]  # (2, N), a view: no copy of the stored slices
         z = np.einsum("s,snv,nv->n", tw, Z[:, idx], bw)
         if not gradient:
             return L, z, None

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._numba import jit_parallel, prange
-from .implicit import ImplicitStep
+from .implicit import LINEAR_SOLVERS, ImplicitStep
 from .problem import Problem
 from .solution import SolveDiagnostics, Solution
 from .splitting import SplittingStep
@@ -65,16 +65,20 @@ class SolverSettings:
         Print a progress bar (steps, elapsed, ETA, node-steps/s) to stderr.
     mmap_dir : str, optional
         Keep the slices in an (unlinked) memory-mapped file in this directory instead of RAM.
+    linear_solver : str
+        For ``method="implicit"``: one of :data:`gridlbc.implicit.LINEAR_SOLVERS` (``"auto"``:
+        sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
     """
 
     method: str = "splitting"
     dt: float | None = None
     courant: float = 6.0
-    min_steps: int = 50
+    min_steps: int = 10
     store_every: int = 1
     dtype: str = "float64"
     progress: bool = False
     mmap_dir: str | None = None
+    linear_solver: str = "auto"
 
     def __post_init__(self):
         if self.method not in METHODS:
@@ -89,6 +93,9 @@ class SolverSettings:
             raise ValueError("min_steps and store_every must be at least 1")
         if self.dtype not in ("float64", "float32"):
             raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
+        if self.linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
+                             f"got {self.linear_solver!r}")
         if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
             raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
 
@@ -282,7 +289,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     _check_memory(estimate, f"solving on {grid.describe()}", s.mmap_dir)
 
     Z, log_scale = _terminal_data(problem, terminal_costs)
-    step = METHODS[s.method](problem, dt)
+    options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
+    step = METHODS[s.method](problem, dt, **options)
     setup_time = time.perf_counter() - started
 
     slices = _slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)

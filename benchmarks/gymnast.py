@@ -1,0 +1,131 @@
+"""The gymnast (acrobot) swing-up: grid-optimal controller vs the deterministic optimum.
+
+Problem: see :mod:`gridlbc.gymnast` (T = 3, λ = 1, R = 1, q = 0, g = xᵀdiag(10, 10, ½, ½)x).
+For each grid size, method and time step: solve (float32 slices), then roll the grid-optimal
+policy out from (−105°, −15°, at rest) without noise and with noise (gridlbc.simulate, Euler–
+Maruyama at Δt = 2 ms). The slices are stored in float64 (every k-th, "kept" in the table, to
+fit --memory). Reported: the solver's prediction v(x₀, 0) = −λ log z(x₀, 0), the
+noise-free rollout cost and final angle distance from the handstand, the noisy mean cost ± its
+standard error, and the wall time of the solve: the accuracy-per-second frontier. The
+deterministic optimum (gridlbc.trajopt, multistart RK4 single shooting) is the reference.
+
+    python benchmarks/gymnast.py --sizes 21 31 41 51 --methods splitting --dts 0.01 0.03
+    python benchmarks/gymnast.py --figures figures     # also figures/gymnast_swingup.png, .gif
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import time
+from pathlib import Path
+
+import numpy as np
+
+import gridlbc
+from gridlbc.gymnast import (
+    GYMNAST_START,
+    angle_distance,
+    animate_swingup,
+    gymnast_problem,
+    plot_swingup,
+)
+from gridlbc.simulate import simulate
+from gridlbc.trajopt import optimize_trajectory
+
+
+def deterministic_optimum(problem):
+    system = problem.system
+    return optimize_trajectory(system.drift, system.input_matrix, GYMNAST_START,
+                               problem.horizon, problem.terminal_cost, n_intervals=300)
+
+
+def policy_of(solution):
+    def policy(x, t):
+        return solution.policy(x, min(t, solution.problem.horizon))
+    return policy
+
+
+def study_row(n, method, dt, bounds, n_noisy, rollout_dt, memory, seed=0):
+    problem = gymnast_problem(n, bounds)
+    # float64 slices: noisy rollouts visit states whose z is below float32's range relative to
+    # the slice maximum (v − min v > 103 λ), where a float32 policy is undefined. Keep every
+    # k-th slice so that the slices fit in ``memory`` bytes (linear interpolation in time).
+    n_slices = int(round(problem.horizon / dt)) + 1
+    store_every = max(1, int(np.ceil(n_slices * problem.grid.size * 8 / memory)))
+    started = time.perf_counter()
+    solution = gridlbc.solve(problem, dt=dt, method=method, store_every=store_every)
+    wall = time.perf_counter() - started
+    predicted = float(solution.value(GYMNAST_START, 0.0)[0])
+    clean = simulate(problem, policy_of(solution), GYMNAST_START, 1, dt=rollout_dt, noise=False)
+    noisy = simulate(problem, policy_of(solution), GYMNAST_START, n_noisy, dt=rollout_dt,
+                     seed=seed, noise=True)
+    row = dict(grid=f"{n}^4", method=method, dt=solution.diagnostics.dt, bounds=bounds,
+               store_every=store_every,
+               wall=wall, predicted=predicted, clean_cost=float(clean.costs[0]),
+               clean_distance=float(angle_distance(clean.final_states)[0]),
+               noisy_cost=noisy.mean_cost, noisy_se=noisy.standard_error,
+               noisy_distance=float(np.median(angle_distance(noisy.final_states))),
+               )
+    return row, solution, clean
+
+
+def zero_torque_cost(problem, rollout_dt):
+    zero = simulate(problem, lambda x, t: np.zeros((len(x), 1)), GYMNAST_START, 1,
+                    dt=rollout_dt, noise=False)
+    return float(zero.costs[0]), float(angle_distance(zero.final_states)[0])
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[21, 31, 41, 51])
+    parser.add_argument("--methods", nargs="+", default=["splitting"])
+    parser.add_argument("--dts", type=float, nargs="+", default=[0.01, 0.03])
+    parser.add_argument("--bounds", type=float, nargs=2, default=[16.0, 9.0],
+                        metavar=("P1", "P2"), help="momentum box ±P1 × ±P2 (default 16 9)")
+    parser.add_argument("--noisy-samples", type=int, default=100)
+    parser.add_argument("--rollout-dt", type=float, default=0.002)
+    parser.add_argument("--memory", type=float, default=6.0,
+                        help="GiB for the stored float64 slices (default 6)")
+    parser.add_argument("--figures", default=None, help="folder for the swing-up plot and GIF")
+    args = parser.parse_args(argv)
+
+    reference = deterministic_optimum(gymnast_problem(11, args.bounds))
+    ref_distance = float(angle_distance(reference.states[-1:])[0])
+    zero_cost, zero_distance = zero_torque_cost(gymnast_problem(11, args.bounds), args.rollout_dt)
+    print(f"deterministic optimum (trajopt): cost {reference.cost:.2f}, final angle distance "
+          f"{ref_distance:.2f} rad, max |p1| {np.abs(reference.states[:, 2]).max():.1f}, "
+          f"max |p2| {np.abs(reference.states[:, 3]).max():.1f}")
+    print(f"zero torque: cost {zero_cost:.2f}, final angle distance {zero_distance:.2f} rad")
+    print(f"target: noise-free rollout cost ≤ {1.25 * reference.cost:.2f} (+25 %) and final "
+          "distance < 1 rad")
+    header = (f"{'grid':>6} {'method':>9} {'dt':>6} {'box':>8} {'wall s':>7} {'v(x0)':>6} "
+              f"{'cost':>6} {'dist':>5} {'noisy cost':>13} {'dist':>5} {'kept':>4}")
+    print(header)
+    best = None
+    for n, method, dt in itertools.product(args.sizes, args.methods, args.dts):
+        row, solution, clean = study_row(n, method, dt, tuple(args.bounds), args.noisy_samples,
+                                         args.rollout_dt, args.memory * 2**30)
+        print(f"{row['grid']:>6} {method:>9} {row['dt']:6.3f} "
+              f"{args.bounds[0]:>3g}×{args.bounds[1]:<4g} {row['wall']:7.1f} "
+              f"{row['predicted']:6.2f} {row['clean_cost']:6.2f} {row['clean_distance']:5.2f} "
+              f"{row['noisy_cost']:7.2f} ± {row['noisy_se']:4.2f} {row['noisy_distance']:5.2f} "
+              f"{row['store_every']:4d}", flush=True)
+        if best is None or row["clean_cost"] < best[0]["clean_cost"]:
+            best = (row, clean)
+        del solution
+    if args.figures and best is not None:
+        row, clean = best
+        out = Path(args.figures)
+        out.mkdir(exist_ok=True)
+        label = f"grid {row['grid']} {row['method']} Δt={row['dt']:.3f}"
+        plot_swingup(clean.times, {label: (clean.states[0], clean.controls[0])},
+                     out / "gymnast_swingup.png",
+                     reference=(reference.times, reference.states, reference.controls))
+        animate_swingup(clean.times, clean.states[0], out / "gymnast.gif",
+                        title=f"gymnast, {row['grid']}")
+        print(f"wrote {out / 'gymnast_swingup.png'} and {out / 'gymnast.gif'}")
+
+
+if __name__ == "__main__":
+    main()

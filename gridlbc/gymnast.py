@@ -1,0 +1,132 @@
+"""The paper's gymnast (acrobot) swing-up study: the problem, its test state and its figures.
+
+Problem (paper §6.2, SPEC §5): the :class:`gridlbc.systems.Acrobot` in canonical momenta,
+T = 3 s, λ = 1, R = 1, q = 0 and the terminal cost
+
+    g(x) = xᵀ diag(10, 10, 0.5, 0.5) x        (angles wrapped to the nearest image of 0),
+
+on the box θ1, θ2 ∈ [−π, π) (periodic) × |p1| ≤ P1 × |p2| ≤ P2, from the test state
+(θ1, θ2) = (−105°, −15°) at rest. The deterministic optimum swing-up reaches |p1| ≈ 13 and
+|p2| ≈ 7; the default box P1 = 16, P2 = 9 leaves a margin of about 20 % around it (the box edge
+is a reflecting state constraint, which must not bend optimal paths) while spending as few nodes
+as possible on momenta the swing-up never uses: a wider box costs resolution h = 2P/(n − 1),
+and numerical diffusion grows with h.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .costs import Quadratic
+from .grid import Axis, Grid
+from .problem import Problem
+from .systems import Acrobot
+
+GYMNAST_START = np.array([np.radians(-105.0), np.radians(-15.0), 0.0, 0.0])
+"""The paper's swing-up test state (θ1, θ2, p1, p2): (−105°, −15°) at rest."""
+
+GYMNAST_WEIGHTS = (10.0, 10.0, 0.5, 0.5)
+"""diag W of the terminal cost g(x) = xᵀ W x."""
+
+
+def gymnast_problem(n=31, momentum_bounds=(16.0, 9.0), horizon: float = 3.0,
+                    temperature: float = 1.0) -> Problem:
+    """The swing-up problem on an n⁴ grid (or ``n`` = (n1, n2, n3, n4)) and box ±P1 × ±P2."""
+    shape = (n,) * 4 if np.isscalar(n) else tuple(n)
+    if len(shape) != 4:
+        raise ValueError(f"n must be one node count or four, got {n!r}")
+    p1, p2 = (float(b) for b in momentum_bounds)
+    if not (p1 > 0 and p2 > 0):
+        raise ValueError(f"momentum_bounds must be two positive numbers, got {momentum_bounds!r}")
+    grid = Grid([
+        Axis(-np.pi, np.pi, shape[0], periodic=True, name="theta1"),
+        Axis(-np.pi, np.pi, shape[1], periodic=True, name="theta2"),
+        Axis(-p1, p1, shape[2], name="p1"),
+        Axis(-p2, p2, shape[3], name="p2"),
+    ])
+    return Problem(Acrobot(), grid, horizon, Quadratic(np.zeros(4), GYMNAST_WEIGHTS),
+                   temperature=temperature)
+
+
+def angle_distance(states) -> np.ndarray:
+    """Distance of (θ1, θ2) from the handstand (0, 0), angles wrapped to [−π, π): ``(N,)``."""
+    x = np.atleast_2d(np.asarray(states, dtype=float))
+    wrapped = np.mod(x[:, :2] + np.pi, 2 * np.pi) - np.pi
+    return np.linalg.norm(wrapped, axis=1)
+
+
+def _link_points(system: Acrobot, states: np.ndarray) -> np.ndarray:
+    """Hand, hip and foot positions (x right, y up) for states ``(k, 4)``: ``(k, 3, 2)``."""
+    t1, t2 = states[:, 0], states[:, 1]
+    hip = system.l1 * np.stack([-np.sin(t1), np.cos(t1)], axis=1)
+    foot = hip + system.l2 * np.stack([-np.sin(t1 + t2), np.cos(t1 + t2)], axis=1)
+    return np.stack([np.zeros_like(hip), hip, foot], axis=1)
+
+
+def plot_swingup(times, runs: dict, path=None, reference=None):
+    """Angles, momenta and torque against time for labelled runs, plus stick-figure snapshots.
+
+    ``runs`` maps a label to ``(states (k, 4), controls (k − 1,))`` on ``times``; ``reference``
+    optionally gives ``(times, states, controls)`` of the deterministic optimum, drawn dashed.
+    Returns the figure (saved to ``path`` when given).
+    """
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7))
+    (ax_angle, ax_mom), (ax_u, ax_stick) = axes
+    curves = dict(runs)
+    if reference is not None:
+        curves = {"deterministic optimum": reference[1:], **curves}
+    for label, (states, controls) in curves.items():
+        t = reference[0] if label == "deterministic optimum" else times
+        style = "--" if label == "deterministic optimum" else "-"
+        wrapped = np.mod(states[:, :2] + np.pi, 2 * np.pi) - np.pi
+        line, = ax_angle.plot(t, np.degrees(wrapped[:, 0]), style, label=f"θ1 {label}")
+        ax_angle.plot(t, np.degrees(wrapped[:, 1]), style, color=line.get_color(), alpha=0.5)
+        ax_mom.plot(t, states[:, 2], style, color=line.get_color(), label=f"p1 {label}")
+        ax_mom.plot(t, states[:, 3], style, color=line.get_color(), alpha=0.5)
+        ax_u.step(t[:-1], np.ravel(controls), style, where="post", color=line.get_color(),
+                  label=label)
+    ax_angle.set(xlabel="t [s]", ylabel="θ1 (dark), θ2 (light) [deg]", title="angles from upright")
+    ax_mom.set(xlabel="t [s]", ylabel="p1 (dark), p2 (light)", title="canonical momenta")
+    ax_u.set(xlabel="t [s]", ylabel="hip torque u", title="control")
+    ax_u.legend(fontsize=8)
+    label, (states, _) = next(iter(runs.items()))
+    points = _link_points(Acrobot(), states)
+    for k in np.linspace(0, len(states) - 1, 12).astype(int):
+        shade = 0.2 + 0.8 * k / (len(states) - 1)
+        ax_stick.plot(points[k, :, 0], points[k, :, 1], "-o", color=(0.1, 0.2, 0.6, shade), ms=3)
+    ax_stick.plot(points[:, 2, 0], points[:, 2, 1], ":", color="grey", lw=0.8)
+    ax_stick.set(aspect="equal", xlim=(-2.2, 2.2), ylim=(-2.2, 2.2),
+                 title=f"swing-up ({label}), light to dark in time")
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
+
+
+def animate_swingup(times, states, path, fps: int = 25, title: str = "gymnast swing-up"):
+    """Write an animated GIF of the gymnast following ``states`` ``(k, 4)`` on ``times``."""
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FuncAnimation, PillowWriter
+
+    times, states = np.asarray(times), np.asarray(states)
+    frames = np.searchsorted(times, np.arange(0.0, times[-1] + 1e-9, 1.0 / fps))
+    frames = np.minimum(frames, len(times) - 1)
+    points = _link_points(Acrobot(), states)
+    fig, ax = plt.subplots(figsize=(4, 4))
+    ax.set(aspect="equal", xlim=(-2.2, 2.2), ylim=(-2.2, 2.2), xticks=[], yticks=[])
+    ax.plot([-0.3, 0.3], [0, 0], color="k", lw=3)
+    body, = ax.plot([], [], "-o", color="tab:blue", lw=3, ms=6)
+    trail, = ax.plot([], [], ":", color="grey", lw=0.8)
+    label = ax.set_title(title)
+
+    def draw(k):
+        body.set_data(points[k, :, 0], points[k, :, 1])
+        trail.set_data(points[: k + 1, 2, 0], points[: k + 1, 2, 1])
+        label.set_text(f"{title}  t = {times[k]:.2f} s")
+        return body, trail, label
+
+    animation = FuncAnimation(fig, draw, frames=frames, blit=False)
+    animation.save(path, writer=PillowWriter(fps=fps))
+    plt.close(fig)
