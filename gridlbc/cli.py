@@ -26,6 +26,15 @@ def _cmd_verify(args) -> int:
     report = run_verification(grid_size=args.grid, samples=args.samples, seed=args.seed,
                               quick=args.quick, progress=not args.quiet)
     print(report.table())
+    if args.convergence:
+        from .convergence import pendulum_study, pointmass_study
+
+        spacings, sizes = ((1 / 4, 1 / 8, 1 / 16), (32, 64, 128)) if args.quick else \
+            ((1 / 4, 1 / 8, 1 / 16, 1 / 32), (64, 128, 256))
+        for name, table in (("PointMass vs Riccati", pointmass_study(spacings)),
+                            ("Pendulum: z-space vs value-space HJB", pendulum_study(sizes))):
+            print(f"\n{name} ({table.points} points, v < min v + {table.band:g})")
+            print(table.format())
     if args.json:
         report.to_json(Path(args.json))
         print(f"wrote {args.json}")
@@ -69,6 +78,9 @@ def build_parser() -> argparse.ArgumentParser:
                         help="smoke-test sizes (bounds not expected to hold; use with small "
                         "--grid and --samples)")
     verify.add_argument("--quiet", action="store_true", help="no progress output")
+    verify.add_argument("--convergence", action="store_true",
+                        help="also run the convergence study: both z-space schemes and the "
+                        "value-space HJB solver under grid refinement (a few minutes)")
     verify.set_defaults(func=_cmd_verify)
     return parser
 

@@ -73,7 +73,7 @@ class SolverSettings:
     method: str = "splitting"
     dt: float | None = None
     courant: float = 6.0
-    min_steps: int = 10
+    min_steps: int = 50
     store_every: int = 1
     dtype: str = "float64"
     progress: bool = False
