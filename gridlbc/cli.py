@@ -43,6 +43,231 @@ def _cmd_verify(args) -> int:
     return 0 if report.passed else 1
 
 
+def _vector(text: str, flag: str) -> list[float]:
+    """Comma-separated numbers (multiples of pi allowed) from a flag's value."""
+    from .config import number
+
+    return [number(item.strip(), flag) for item in text.split(",")]
+
+
+def _description_from_flags(data: dict, args) -> dict:
+    """The TOML description ``data`` with the command-line flags of ``solve`` laid over it."""
+    data = dict(data)
+    if args.system is not None:
+        data["system"] = {"name": args.system}
+    if args.param:
+        system = dict(data.get("system", {}))
+        parameters = dict(system.get("parameters", {}))
+        for item in args.param:
+            key, sep, value = item.partition("=")
+            if not sep or not key:
+                raise ValueError(f"--param expects KEY=VALUE, got {item!r}")
+            parameters[key.strip()] = _vector(value, f"--param {key}")[0]
+        data["system"] = {**system, "parameters": parameters}
+    if args.grid is not None and args.axis:
+        raise ValueError("give either --grid (node counts, default box) or --axis, not both")
+    if args.grid is not None:
+        counts = args.grid.split(",")
+        if not all(c.strip().isdigit() for c in counts):
+            raise ValueError(f"--grid expects node counts such as 101 or 101,81, got {args.grid!r}")
+        data["grid"] = {"n": [int(c) for c in counts]}
+    if args.axis:
+        axes = []
+        for item in args.axis:
+            parts = [p.strip() for p in item.split(",")]
+            periodic = parts[-1] == "periodic"
+            parts = parts[:-1] if periodic else parts
+            if len(parts) != 3 or not parts[2].isdigit():
+                raise ValueError(f"--axis expects LO,HI,N[,periodic] (e.g. --axis=-pi,pi,101,"
+                                 f"periodic), got {item!r}")
+            axes.append({"lo": parts[0], "hi": parts[1], "n": int(parts[2]),
+                         "periodic": periodic})
+        data["grid"] = {"axes": axes}
+    for key in ("horizon", "temperature"):
+        if getattr(args, key) is not None:
+            data[key] = _vector(getattr(args, key), f"--{key}")[0]
+    if args.control_cost is not None:
+        values = _vector(args.control_cost, "--control-cost")
+        data["control_cost"] = values[0] if len(values) == 1 else values
+    for cost in ("terminal", "state"):
+        table = dict(data.get(f"{cost}_cost") or {})
+        for part in ("center", "weights"):
+            value = getattr(args, f"{cost}_{part}")
+            if value is not None:
+                table[part] = _vector(value, f"--{cost}-{part}")
+        if table:
+            data[f"{cost}_cost"] = table
+    solver = dict(data.get("solver", {}))
+    for key in ("method", "dt", "store_every", "dtype"):
+        if getattr(args, key) is not None:
+            solver[key] = getattr(args, key)
+    if solver:
+        data["solver"] = solver
+    return data
+
+
+def _cmd_solve(args) -> int:
+    from .config import problem_from_dict, read_description
+    from .io import save
+    from .solver import solve
+
+    data = read_description(args.config) if args.config else {}
+    try:
+        config = problem_from_dict(_description_from_flags(data, args))
+    except (TypeError, ValueError) as exc:
+        message = str(exc)
+        for key, flags in (("'system'", "--system"), ("'grid'", "--grid or --axis"),
+                           ("'horizon'", "--horizon"),
+                           ("'terminal_cost'", "--terminal-center and --terminal-weights")):
+            if message == f"missing key {key}":
+                message += f": give {flags} or a --config file"
+        from_file = args.config and not message.startswith("--")
+        raise type(exc)(f"{args.config}: {message}" if from_file else message) from None
+    problem = config.problem
+    if not args.quiet:
+        print(f"solving {problem.describe()}", flush=True)
+    solution = solve(problem, settings=config.settings,
+                     progress=not args.quiet or config.settings.progress)
+    d = solution.diagnostics
+    path = save(solution, args.out)
+    print(f"wrote {path}: {d.method}, {d.steps} steps of dt = {d.dt:.4g} in {d.wall_time:.1f} s"
+          + (f", {d.underflow_nodes} nodes underflowed" if d.underflow_nodes else ""))
+    return 0
+
+
+def _cmd_combine(args) -> int:
+    import numpy as np
+
+    from .combine import combine
+    from .costs import Quadratic
+    from .io import load
+    from .project import projection
+
+    solutions = [load(p) for p in args.solutions]
+    grid = solutions[0].grid
+    weights = None
+    if args.weights is not None and args.project is not None:
+        raise ValueError("give either --weights or --project TARGET, not both")
+    if args.weights is not None:
+        weights = _vector(args.weights, "--weights")
+    if args.project is not None:
+        costs = [s.problem.terminal_cost for s in solutions]
+        if args.project_weights is not None:
+            target_weights = _vector(args.project_weights, "--project-weights")
+        elif isinstance(costs[0], Quadratic):
+            target_weights = costs[0].weights
+        else:
+            raise ValueError("--project needs --project-weights: the first solution's terminal "
+                             "cost is not a quadratic to copy W from")
+        target = Quadratic(_vector(args.project, "--project"), target_weights)
+        target = target.with_periods(grid.periods)
+        result = projection(target, costs, grid, temperature=solutions[0].temperature)
+        weights = result.weights
+        print(f"projected weights {np.round(weights, 6).tolist()} (sum {result.weight_sum:.4g}, "
+              f"residual {result.residual:.3g}, {result.method})")
+        for message in result.messages:
+            print(f"warning: {message}", file=sys.stderr)
+    combined = combine(solutions, weights)
+    if weights is None:
+        print(f"coordination: weights {combined.weights.tolist()}")
+    if args.at:
+        states = np.array([_vector(x, "--at") for x in args.at])
+        states = grid.check_states(states, "--at")
+    elif args.table:
+        states = grid.nodes()
+    else:
+        return 0
+    t = args.time
+    value = combined.value(states, t)
+    policy = combined.policy(states, t)
+    alpha = combined.blend_weights(states, t)
+    names = [a.name or f"x{k}" for k, a in enumerate(grid.axes)]
+    header = names + ["value"] + [f"u{k}" for k in range(policy.shape[1])] + \
+        [f"alpha{i}" for i in range(alpha.shape[1])]
+    rows = np.column_stack([states, value, policy, alpha])
+    if args.table:
+        np.savetxt(args.table, rows, delimiter=",", header=",".join(header), comments="")
+        print(f"wrote {args.table}: {len(rows)} states at t = {t:g}")
+    if args.at:
+        print(" ".join(f"{h:>11}" for h in header))
+        for row in rows:
+            print(" ".join(f"{v:11.5g}" for v in row))
+    return 0
+
+
+def _cmd_figures(args) -> int:
+    from .figures import make_all
+
+    written = make_all(Path(args.out), quick=args.quick, only=args.only, progress=not args.quiet)
+    print(f"wrote {len(written)} files to {args.out}")
+    return 0
+
+
+def _add_workflow_parsers(sub):
+    solve = sub.add_parser(
+        "solve", help="solve a problem from flags or a TOML file and save the Solution",
+        description="Solve the linear Bellman PDE of a problem given by a TOML description "
+        "(--config, see gridlbc.config) and/or flags (flags win) and save it with gridlbc.save. "
+        "Negative numbers need '=': --axis=-pi,pi,101,periodic; multiples of pi are allowed.",
+    )
+    solve.add_argument("--config", metavar="TOML", help="problem description file")
+    solve.add_argument("--system", help="SingleIntegrator, PointMass, Pendulum, Acrobot or "
+                       "package.module.Class")
+    solve.add_argument("--param", action="append", metavar="KEY=VALUE",
+                       help="system constructor parameter (repeatable), e.g. damping=0.1")
+    solve.add_argument("--grid", metavar="N[,N...]",
+                       help="nodes per axis on the system's default box")
+    solve.add_argument("--axis", action="append", metavar="LO,HI,N[,periodic]",
+                       help="one axis per state coordinate, in order (repeatable)")
+    solve.add_argument("--horizon", metavar="T", help="horizon T in seconds")
+    solve.add_argument("--temperature", metavar="LAMBDA", help="temperature λ (default 1)")
+    solve.add_argument("--control-cost", metavar="R", help="R: a number or one per control")
+    for cost, what in (("terminal", "terminal cost g"), ("state", "state cost q")):
+        solve.add_argument(f"--{cost}-center", metavar="C", help=f"centre c of the {what}, "
+                           "comma-separated")
+        solve.add_argument(f"--{cost}-weights", metavar="W", help=f"diagonal of W of the {what}")
+    solve.add_argument("--method", help="splitting (default) or implicit")
+    solve.add_argument("--dt", type=float, help="time step (default from the Courant number)")
+    solve.add_argument("--store-every", type=int, help="keep every k-th time slice")
+    solve.add_argument("--dtype", help="float64 (default) or float32 storage")
+    solve.add_argument("--out", required=True, help="where to save the Solution (.npz)")
+    solve.add_argument("--quiet", action="store_true", help="no progress output")
+    solve.set_defaults(func=_cmd_solve)
+
+    combine = sub.add_parser(
+        "combine", help="combine saved solutions and evaluate value, policy and blend weights",
+        description="Linear Bellman combination z = Σ w_i z_i of saved solutions (same problem, "
+        "different terminal costs). Weights: all ones (coordination), --weights, or --project "
+        "TARGET (the centre of a quadratic target cost; weights from gridlbc.project). States: "
+        "--at=-1,0 (repeatable) prints a table; --table PATH writes CSV (all grid nodes "
+        "without --at).",
+    )
+    combine.add_argument("solutions", nargs="+", help="solution files written by gridlbc solve")
+    combine.add_argument("--weights", metavar="W1,W2,...", help="fixed weights w_i")
+    combine.add_argument("--project", metavar="CENTER", help="target cost centre, e.g. 0.2,0")
+    combine.add_argument("--project-weights", metavar="W",
+                         help="diagonal of the target's W (default: the first solution's)")
+    combine.add_argument("--at", action="append", metavar="STATE",
+                         help="evaluate at this state (comma-separated, repeatable)")
+    combine.add_argument("--time", type=float, default=0.0, help="time t (default 0)")
+    combine.add_argument("--table", metavar="CSV", help="write the evaluations as CSV")
+    combine.set_defaults(func=_cmd_combine)
+
+    from .figures import FIGURES
+
+    figures = sub.add_parser(
+        "figures", help="regenerate the figure gallery",
+        description="Write every figure of the gallery (gridlbc.figures) to a folder. The full "
+        "sizes take several minutes; --quick runs small grids in about a minute.",
+    )
+    figures.add_argument("--out", default="figures", help="folder (default: figures)")
+    figures.add_argument("--quick", action="store_true", help="small grids and sample counts")
+    figures.add_argument("--only", action="append", choices=list(FIGURES), metavar="NAME",
+                         help=f"only this figure (repeatable): {', '.join(FIGURES)}")
+    figures.add_argument("--quiet", action="store_true", help="no progress output")
+    figures.set_defaults(func=_cmd_figures)
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="gridlbc",
@@ -82,6 +307,7 @@ def build_parser() -> argparse.ArgumentParser:
                         help="also run the convergence study: both z-space schemes and the "
                         "value-space HJB solver under grid refinement (a few minutes)")
     verify.set_defaults(func=_cmd_verify)
+    _add_workflow_parsers(sub)
     return parser
 
 

@@ -34,7 +34,8 @@ multiple of π in a string (``"pi"``, ``"-pi"``, ``"pi/2"``, ``"2*pi"``)::
     method = "splitting"
     dt = 0.02
 
-Every key is checked: an unknown, missing or ill-typed one raises ``ValueError`` naming the key.
+Every key is checked: an unknown or missing key or a bad value raises ``ValueError``, a value of
+the wrong type ``TypeError``, each naming the key.
 """
 
 from __future__ import annotations
@@ -76,11 +77,21 @@ class ProblemConfig:
     settings: SolverSettings
 
 
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def number(value, key: str) -> float:
     """A finite float from a TOML number or a multiple of π written as a string."""
     if isinstance(value, bool):
-        raise ValueError(f"{key} must be a number, got {value!r}")
+        raise TypeError(f"{key} must be a number, got {value!r}")
     if isinstance(value, (int, float)):
+        result = float(value)
+    elif isinstance(value, str) and _is_float(value):
         result = float(value)
     elif isinstance(value, str) and (match := _PI.match(value.lower())):
         coefficient = {"": 1.0, "+": 1.0, "-": -1.0}.get(match[1])
@@ -103,7 +114,7 @@ def numbers(value, key: str) -> list:
 
 def _table(data, key: str, allowed, required=()) -> dict:
     if not isinstance(data, dict):
-        raise ValueError(f"{key} must be a table (section), got {type(data).__name__}")
+        raise TypeError(f"{key} must be a table (section), got {type(data).__name__}")
     unknown = sorted(set(data) - set(allowed))
     if unknown:
         raise ValueError(f"unknown key {'.'.join(filter(None, (key, unknown[0])))!r}: valid keys "
@@ -159,7 +170,7 @@ def default_axes(system, counts) -> list[Axis]:
 
 def _count(value, key: str) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
-        raise ValueError(f"{key} must be an integer number of nodes, got {value!r}")
+        raise TypeError(f"{key} must be an integer number of nodes, got {value!r}")
     return value
 
 
@@ -179,7 +190,7 @@ def _grid(data, system) -> Grid:
         axis = _table(axis, key, ("lo", "hi", "n", "periodic", "name"), ("lo", "hi", "n"))
         periodic = axis.get("periodic", False)
         if not isinstance(periodic, bool):
-            raise ValueError(f"{key}.periodic must be true or false, got {periodic!r}")
+            raise TypeError(f"{key}.periodic must be true or false, got {periodic!r}")
         try:
             axes.append(Axis(number(axis["lo"], f"{key}.lo"), number(axis["hi"], f"{key}.hi"),
                              _count(axis["n"], f"{key}.n"), periodic, axis.get("name")))
@@ -214,7 +225,7 @@ def problem_from_dict(data: dict) -> ProblemConfig:
     system_data = _table(data["system"], "system", ("name", "parameters"), ("name",))
     parameters = system_data.get("parameters", {})
     if not isinstance(parameters, dict):
-        raise ValueError("system.parameters must be a table of constructor arguments")
+        raise TypeError("system.parameters must be a table of constructor arguments")
     system = system_from_name(system_data["name"], parameters)
     grid = _grid(data["grid"], system)
     control_cost = numbers(data.get("control_cost", 1.0), "control_cost")
@@ -245,7 +256,7 @@ def load_config(path) -> ProblemConfig:
     """Read a TOML problem description (see the module doc); errors name the file and the key."""
     try:
         return problem_from_dict(read_description(path))
-    except ValueError as exc:
+    except (TypeError, ValueError) as exc:
         message = str(exc)
-        raise ValueError(message if message.startswith(str(path)) else f"{path}: {message}") \
+        raise type(exc)(message if message.startswith(str(path)) else f"{path}: {message}") \
             from None

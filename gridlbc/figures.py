@@ -274,8 +274,8 @@ def coordination(out, n: int = 81, samples: int = 12, seed: int = 0) -> list[Pat
     for label, (times, states) in runs.items():
         alpha = np.stack([combined.blend_weights(states[:, k], min(t, problem.horizon))[:, 1]
                           for k, t in enumerate(times)], axis=1)
-        style = dict(color="C0", lw=2.5) if label == "noise-free" else dict(color="C1", lw=0.7,
-                                                                            alpha=0.6)
+        style = ({"color": "C0", "lw": 2.5} if label == "noise-free"
+                 else {"color": "C1", "lw": 0.7, "alpha": 0.6})
         for s in range(states.shape[0]):
             name = label if s == 0 else None
             ax_alpha.plot(times, alpha[s], label=name, **style)
