@@ -281,12 +281,15 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     s = _settings(settings, options)
     grid = problem.grid
     started = time.perf_counter()
+    K = len(terminal_costs)
+    what = f"solving on {grid.describe()}"
+    # Before touching the grid: the first and last slices and the working arrays must fit.
+    _check_memory(memory_estimate(problem, s, 2, K), what, s.mmap_dir)
     rate = max_courant_rate(problem)
     dt, n_steps = time_grid(problem, s, rate)
     kept = sorted(set(range(0, n_steps + 1, s.store_every)) | {n_steps})
-    K = len(terminal_costs)
     estimate = memory_estimate(problem, s, len(kept), K)
-    _check_memory(estimate, f"solving on {grid.describe()}", s.mmap_dir)
+    _check_memory(estimate, what, s.mmap_dir)
 
     Z, log_scale = _terminal_data(problem, terminal_costs)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
