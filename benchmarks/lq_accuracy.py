@@ -87,6 +87,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[101, 201, 401, 801])
     parser.add_argument("--no-baseline", action="store_true")
+    parser.add_argument("--max-implicit", type=int, default=401,
+                        help="largest n for the implicit scheme (its Courant-1 default is slow)")
     args = parser.parse_args(argv)
 
     gridlbc.solve(problem(21))  # compile the kernels outside the timings
@@ -102,7 +104,12 @@ def main(argv=None):
         mask = region(prob, exact)
         x = prob.grid.nodes()[mask]
         v_exact, u_exact = exact.value(x, 0.0), exact.policy(x, 0.0)
-        runs = [(m, lambda m=m: gridlbc.solve(prob, method=m)) for m in ("splitting", "implicit")]
+        # The splitting scheme at its default Courant number (6, tuned for fast drift) and at 2,
+        # which suits this slow-drift problem better (its O(Δt) splitting error dominates).
+        runs = [("splitting", lambda: gridlbc.solve(prob)),
+                ("splitting C=2", lambda: gridlbc.solve(prob, courant=2.0)),
+                ("implicit", lambda: gridlbc.solve(prob, method="implicit"))][
+            : 3 if n <= args.max_implicit else 2]
         if not args.no_baseline and n <= 401:
             runs.append(("scipy baseline", lambda: scipy_baseline(n)))
         for name, run in runs:
@@ -123,14 +130,14 @@ def main(argv=None):
         b = base[-1]
         print(f"\nEqual-accuracy speed-up against the scipy baseline at {b[1]}² "
               f"(max|Δv| = {b[3]:.3f}, mean = {b[4]:.4f}, {b[2]:.2f} s):")
-        for name in ("splitting", "implicit"):
+        for name in ("splitting", "splitting C=2", "implicit"):
             good = [r for r in rows if r[0] == name and r[3] <= b[3] * 1.05 and r[4] <= b[4] * 1.05]
             if good:
                 r = min(good, key=lambda r: r[2])
-                print(f"  {name:<10} at {r[1]}²: {r[2]:.2f} s → {b[2] / r[2]:.1f}× faster "
+                print(f"  {name:<14} at {r[1]}²: {r[2]:.2f} s → {b[2] / r[2]:.1f}× faster "
                       f"(max|Δv| = {r[3]:.3f}, mean = {r[4]:.4f})")
             else:
-                print(f"  {name:<10}: no size reached the baseline's accuracy")
+                print(f"  {name:<14}: no size reached the baseline's accuracy")
 
 
 if __name__ == "__main__":
