@@ -66,11 +66,11 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
     problem = problem.replace(horizon=steps * dt)
     if method == "scipy":
         linear_solver = "direct" if problem.grid.ndim == 2 else "bicgstab"
-        options = dict(method="implicit", linear_solver=linear_solver, dtype="float32")
+        options = {"method": "implicit", "linear_solver": linear_solver, "dtype": "float32"}
     elif method == "implicit":
-        options = dict(method="implicit", linear_solver="gauss-seidel", dtype="float32")
+        options = {"method": "implicit", "linear_solver": "gauss-seidel", "dtype": "float32"}
     else:
-        options = dict(method="splitting", dtype="float32")
+        options = {"method": "splitting", "dtype": "float32"}
     # warm the numba caches and the page allocator on a tiny grid of the same kind
     small = problem_for(system, 11 if system == "acrobot" else 21)
     gridlbc.solve(small.replace(horizon=2 * dt), dt=dt, **options)
@@ -80,14 +80,35 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
     diag = solution.diagnostics
     stepping = diag.wall_time - diag.setup_time
     iterations = float(np.mean(diag.iterations)) if diag.iterations else 0.0
-    return dict(
-        system=system, n=n, nodes=problem.grid.size, method=method,
-        solver=options.get("linear_solver", "splitting"), steps=steps, wall=wall,
-        setup=diag.setup_time, node_steps=problem.grid.size * steps / stepping,
-        iterations=iterations,
-        bytes=bytes_per_node_step(problem, options["method"], iterations, 4),
-        peak_rss=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
-    )
+    return {
+        "system": system, "n": n, "nodes": problem.grid.size, "method": method,
+        "solver": options.get("linear_solver", "splitting"), "steps": steps, "wall": wall,
+        "setup": diag.setup_time, "node_steps": problem.grid.size * steps / stepping,
+        "iterations": iterations,
+        "bytes": bytes_per_node_step(problem, options["method"], iterations, 4),
+        "peak_rss": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+    }
+
+
+def layout_comparison(n: int, steps: int, bandwidth: float):
+    """ms per splitting step on the n⁴ gymnast with each feet layout (same process, warmed up)."""
+    from gridlbc.splitting import FEET_LAYOUTS, SplittingStep
+
+    problem = gymnast_problem(n)
+    z = np.exp(-problem.terminal_values()[None, :])
+    out = np.empty_like(z)
+    scale = np.ones(1)
+    for layout in FEET_LAYOUTS:
+        step = SplittingStep(problem, 0.01, feet=layout)
+        step(z, out, scale)
+        started = time.perf_counter()
+        for _ in range(steps):
+            step(z, out, scale)
+        per_step = (time.perf_counter() - started) / steps
+        streamed = (feet_bytes_per_node(4, layout) + 16 + 16) * problem.grid.size
+        print(f"  feet layout {layout:>7} on {n}^4: {1e3 * per_step:6.1f} ms/step, "
+              f"{feet_bytes_per_node(4, layout)} B/node of feet, "
+              f"{100 * streamed / per_step / bandwidth:4.0f}% of bandwidth", flush=True)
 
 
 def in_subprocess(system: str, n: int, method: str, steps: int, full_steps: int) -> dict:
@@ -95,7 +116,7 @@ def in_subprocess(system: str, n: int, method: str, steps: int, full_steps: int)
                           str(full_steps)],
                          capture_output=True, text=True, check=False)
     if out.returncode != 0:
-        return dict(system=system, n=n, method=method, error=out.stderr.strip().splitlines()[-1])
+        return {"system": system, "n": n, "method": method, "error": out.stderr.strip().splitlines()[-1]}
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -108,6 +129,8 @@ def main(argv=None):
                         help="steps for the slow methods on 4D grids (extrapolated)")
     parser.add_argument("--implicit-max-nodes", type=int, default=3_000_000,
                         help="skip the implicit and scipy methods above this many nodes")
+    parser.add_argument("--layout-grid", type=int, default=41,
+                        help="n⁴ gymnast grid for the feet layout comparison (0: skip)")
     parser.add_argument("--bandwidth", type=float, default=27e9, help="bytes/s (default 27e9)")
     parser.add_argument("--case", nargs=5, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
@@ -117,6 +140,8 @@ def main(argv=None):
         return
 
     print(f"load average at start: {os.getloadavg()[0]:.2f} (2 cores shared: timings vary)")
+    if args.layout_grid:
+        layout_comparison(args.layout_grid, 20, args.bandwidth)
     print(f"{'case':>14} {'nodes':>9} {'method':>9} {'steps':>6} {'wall s':>8} "
           f"{'Mnode-steps/s':>14} {'it/step':>7} {'peak RSS GiB':>12} {'B/node-step':>11} "
           f"{'% bandwidth':>11}")

@@ -182,7 +182,7 @@ class ImplicitStep:
         for r in range(b.shape[0]):
             count = [0]
 
-            def _count(_):
+            def _count(_, count=count):
                 count[0] += 1
 
             sol, info = spla.bicgstab(self.matrix, b[r], x0=b[r], rtol=self.tol, atol=0.0,

@@ -186,7 +186,7 @@ class Solution:
 
     def policy(self, x, t) -> np.ndarray:
         """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z, shape ``(N, m)``."""
-        L, z, g = self.scaled_fields(x, t)
+        _L, z, g = self.scaled_fields(x, t)
         return policy_from_fields(self.problem, z, g)
 
 

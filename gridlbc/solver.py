@@ -25,12 +25,21 @@ import numpy as np
 from ._numba import jit_parallel, prange
 from .implicit import LINEAR_SOLVERS, ImplicitStep
 from .problem import Problem
-from .solution import SolveDiagnostics, Solution
+from .solution import Solution, SolveDiagnostics
 from .splitting import SplittingStep
 
 METHODS = {"splitting": SplittingStep, "implicit": ImplicitStep}
-"""Step schemes by name. ``"splitting"`` is the default (far less numerical diffusion per second;
-see ``benchmarks/swingup_accuracy.py``); ``"implicit"`` is the backward-Euler reference."""
+"""Step schemes by name; both are linear in z and monotone (z ≥ 0, discrete maximum principle).
+
+- ``"splitting"`` (default): semi-Lagrangian drift + implicit tridiagonal diffusion + exact cost
+  (:mod:`gridlbc.splitting`). Error O(h²/Δt + Δt); unconditionally stable; O(N) work per step
+  with parallel, allocation-free kernels and compact feet (14 B/node in 4D). Exactly linear
+  (superposition to rounding).
+- ``"implicit"``: upwind + backward Euler, error O(h + Δt) (:mod:`gridlbc.implicit`), the
+  reference. Its linear system is solved by sparse LU on small 2D grids (exact to rounding) and
+  by Gauss–Seidel sweeps otherwise (non-negative iterates, stopped at a max-norm change of
+  ``1e-10`` of max z: linear and monotone up to that tolerance); ``linear_solver`` overrides.
+"""
 
 
 @dataclass(frozen=True)
@@ -179,7 +188,7 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
 
 def _check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
     available = available_memory()
-    gib = lambda b: f"{b / 2**30:.2f} GiB"  # noqa: E731
+    gib = lambda b: f"{b / 2**30:.2f} GiB"
     detail = ", ".join(f"{k} {gib(v)}" for k, v in estimate.items() if k != "ram")
     if available is not None and estimate["ram"] > 0.9 * available:
         raise MemoryError(
@@ -248,7 +257,7 @@ def _slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None
     if mmap_dir is None:
         return np.empty(shape, dtype=dtype)
     # An unlinked temporary file: its disk space is returned when the Solution is released.
-    handle = tempfile.TemporaryFile(dir=mmap_dir)
+    handle = tempfile.TemporaryFile(dir=mmap_dir)  # noqa: SIM115 (the memmap owns it)
     return np.memmap(handle, dtype=dtype, mode="w+", shape=shape)
 
 

@@ -33,8 +33,8 @@ state cost, into the last diffusion pass), so a step streams z through memory ab
 
 from __future__ import annotations
 
-import numpy as np
 import numba
+import numpy as np
 
 from ._numba import jit_parallel, prange
 from .grid import Grid

@@ -33,7 +33,7 @@ def test_controller_beats_zero_torque_by_a_wide_margin(small_solution):
     def zero(x, t):
         return np.zeros((len(x), 1))
 
-    kw = dict(n_samples=200, dt=0.005, seed=11, noise=True)
+    kw = {"n_samples": 200, "dt": 0.005, "seed": 11, "noise": True}
     controlled = simulate(problem, policy, GYMNAST_START, **kw)
     passive = simulate(problem, zero, GYMNAST_START, **kw)
     difference = controlled.costs - passive.costs

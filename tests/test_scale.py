@@ -178,12 +178,12 @@ def _superposition_case():
 
 
 @pytest.mark.parametrize("options", [
-    dict(method="splitting"),
-    dict(method="splitting", dtype="float32"),
-    dict(method="splitting", store_every=3),
-    dict(method="implicit", linear_solver="direct"),
-    dict(method="implicit", linear_solver="direct", dtype="float32"),
-    dict(method="implicit", linear_solver="gauss-seidel"),
+    {"method": "splitting"},
+    {"method": "splitting", "dtype": "float32"},
+    {"method": "splitting", "store_every": 3},
+    {"method": "implicit", "linear_solver": "direct"},
+    {"method": "implicit", "linear_solver": "direct", "dtype": "float32"},
+    {"method": "implicit", "linear_solver": "gauss-seidel"},
 ], ids=["split64", "split32", "split-every3", "direct64", "direct32", "gauss-seidel"])
 def test_superposition_on_every_path(options, tmp_path):
     """z for h1 + h2 equals z1 + z2 at every stored time. The stepping is linear, so the only
