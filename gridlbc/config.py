@@ -89,9 +89,7 @@ def number(value, key: str) -> float:
     """A finite float from a TOML number or a multiple of π written as a string."""
     if isinstance(value, bool):
         raise TypeError(f"{key} must be a number, got {value!r}")
-    if isinstance(value, (int, float)):
-        result = float(value)
-    elif isinstance(value, str) and _is_float(value):
+    if isinstance(value, (int, float)) or (isinstance(value, str) and _is_float(value)):
         result = float(value)
     elif isinstance(value, str) and (match := _PI.match(value.lower())):
         coefficient = {"": 1.0, "+": 1.0, "-": -1.0}.get(match[1])
@@ -149,6 +147,8 @@ def system_from_name(name, parameters=None):
         return cls(**parameters)
     except TypeError as exc:
         raise ValueError(f"system.parameters do not fit {cls.__name__}: {exc}") from None
+    except ValueError as exc:
+        raise ValueError(f"system.parameters: {exc}") from None
 
 
 def default_axes(system, counts) -> list[Axis]:

@@ -74,7 +74,7 @@ def cost_reward_space(out, n: int = 201) -> list[Path]:
     path.parent.mkdir(parents=True, exist_ok=True)
     plot_fields(solution, path, f"Pendulum swing-up, cost space vs reward space "
                 f"({problem.grid.describe()}, T = {problem.horizon:g}, λ = "
-                f"{problem.temperature:g}, g = θ² 10 + ω² 0.5): t = 0")
+                f"{problem.temperature:g}, g = 10θ² + 0.5ω²): t = 0")
     return [path]
 
 
@@ -239,7 +239,8 @@ def simulate_with_push(problem: Problem, policy, x0, push_time: float, kick, n_s
 
     Two :func:`gridlbc.simulate` calls: on [0, t_p] (the problem with horizon t_p), then from the
     pushed states on [t_p, T] (horizon T − t_p, the policy's clock shifted by t_p). Returns
-    ``(times, states (n, k, d))`` on the joined time grid.
+    ``(times, states (n, k, d))`` on the joined time grid, where t_p appears twice: the state just
+    before the kick, then just after it.
     """
     if not 0 < push_time < problem.horizon:
         raise ValueError(f"push_time must lie in (0, T = {problem.horizon:g}), got {push_time}")
@@ -319,7 +320,7 @@ def gymnast(out, n: int = 31, dt: float = 0.03, reference: bool = True) -> list[
         ref = (optimum.times, optimum.states, optimum.controls)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    label = f"grid {problem.grid.describe()}, cost {run.costs[0]:.1f}"
+    label = f"{n}⁴ grid, noise-free cost {run.costs[0]:.1f}"
     fig = plot_swingup(run.times, {label: (run.states[0], run.controls[0])}, reference=ref)
     still = _save(fig, out, "gymnast_swingup.png")
     gif = out / "gymnast.gif"

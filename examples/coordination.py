@@ -1,0 +1,16 @@
+"""Blend weights over time of a two-goal point mass pushed mid-way (paper Fig. 9 idea).
+
+Writes the figure with gridlbc.figures.coordination (see its docstring for the experiment).
+
+    python examples/coordination.py [--out figures] [--quick]
+"""
+
+import argparse
+
+from gridlbc.figures import make_all
+
+parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+parser.add_argument("--out", default="figures", help="output folder (default: figures)")
+parser.add_argument("--quick", action="store_true", help="small grid, for a look in seconds")
+args = parser.parse_args()
+make_all(args.out, quick=args.quick, only=["coordination"])
