@@ -134,19 +134,20 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
 # -- 3. interpolation -------------------------------------------------------------------------------
 
 
-def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0) -> list[Path]:
+def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: float = 0.5,
+                  target_theta: float = 0.0, weights=(2.0, 0.5)) -> list[Path]:
     """Pendulum swing-up to an intermediate goal: LBC vs naive blend vs direct optimum.
 
-    Components: upright leaning θ = −a and θ = +a; target θ̄ between them. The weights come from
-    projecting h̄ onto {h_1, h_2}; LBC uses u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j, the
-    naive blend u = Σ w_i u_i / Σ w_i. All are rolled out from the same start with the same noise
-    (same seed) and charged the *target* task's cost.
+    Components: upright leaning θ = −a and θ = +a; target θ̄ between them; all with
+    g = (x − c)ᵀdiag(weights)(x − c). The weights come from projecting h̄ onto {h_1, h_2}; LBC
+    uses u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j, the naive blend u = Σ w_i u_i / Σ w_i.
+    All are rolled out from the same start with the same noise (same seed) and charged the
+    *target* task's cost. The defaults are those of ``gridlbc verify``'s interpolation check.
     """
     from .demo import START, swingup_problem
 
     plt = _pyplot()
-    weights = [10.0, 0.5]
-    a, target_theta = 0.25, 0.1
+    weights = list(weights)
     components = [Quadratic([-a, 0.0], weights), Quadratic([a, 0.0], weights)]
     target = Quadratic([target_theta, 0.0], weights)
     problem = swingup_problem(n).replace(terminal_cost=target)
@@ -190,7 +191,7 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0) -> list
              title=f"noise-free closed loop from θ = {START[0]:g}, ω = 0")
     ax_t.legend(fontsize=8)
 
-    bins = np.linspace(-1.5, 1.5, 41)
+    bins = np.linspace(-np.pi, np.pi, 61)
     for (label, run), color in list(zip(noisy.items(), colors))[2:]:
         ax_hist.hist(_wrap(run.final_states[:, 0]), bins=bins, histtype="step", lw=2, color=color,
                      label=f"{label}: median |θ_T − θ̄| = "
@@ -215,7 +216,7 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0) -> list
                 title="expected cost J = E[ḡ(x_T) + ∫½u² dt]")
     ax_cost.legend(fontsize=8, loc="lower right")
     fig.suptitle(f"Interpolating an intermediate goal on the pendulum ({problem.grid.describe()}, "
-                 f"T = {problem.horizon:g}, g = 10(θ − c)² + 0.5ω²)")
+                 f"T = {problem.horizon:g}, g = {weights[0]:g}(θ − c)² + {weights[1]:g}ω²)")
     return [_save(fig, out, "interpolation.png")]
 
 
