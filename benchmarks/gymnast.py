@@ -51,7 +51,7 @@ def study_row(n, method, dt, bounds, n_noisy, rollout_dt, memory, seed=0):
     # float64 slices: noisy rollouts visit states whose z is below float32's range relative to
     # the slice maximum (v − min v > 103 λ), where a float32 policy is undefined. Keep every
     # k-th slice so that the slices fit in ``memory`` bytes (linear interpolation in time).
-    n_slices = int(round(problem.horizon / dt)) + 1
+    n_slices = round(problem.horizon / dt) + 1
     store_every = max(1, int(np.ceil(n_slices * problem.grid.size * 8 / memory)))
     started = time.perf_counter()
     solution = gridlbc.solve(problem, dt=dt, method=method, store_every=store_every)
@@ -60,13 +60,13 @@ def study_row(n, method, dt, bounds, n_noisy, rollout_dt, memory, seed=0):
     clean = simulate(problem, policy_of(solution), GYMNAST_START, 1, dt=rollout_dt, noise=False)
     noisy = simulate(problem, policy_of(solution), GYMNAST_START, n_noisy, dt=rollout_dt,
                      seed=seed, noise=True)
-    row = dict(grid=f"{n}^4", method=method, dt=solution.diagnostics.dt, bounds=bounds,
-               store_every=store_every,
-               wall=wall, predicted=predicted, clean_cost=float(clean.costs[0]),
-               clean_distance=float(angle_distance(clean.final_states)[0]),
-               noisy_cost=noisy.mean_cost, noisy_se=noisy.standard_error,
-               noisy_distance=float(np.median(angle_distance(noisy.final_states))),
-               )
+    row = {"grid": f"{n}^4", "method": method, "dt": solution.diagnostics.dt, "bounds": bounds,
+               "store_every": store_every,
+               "wall": wall, "predicted": predicted, "clean_cost": float(clean.costs[0]),
+               "clean_distance": float(angle_distance(clean.final_states)[0]),
+               "noisy_cost": noisy.mean_cost, "noisy_se": noisy.standard_error,
+               "noisy_distance": float(np.median(angle_distance(noisy.final_states))),
+               }
     return row, solution, clean
 
 
