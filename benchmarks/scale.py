@@ -2,7 +2,7 @@
 
 Cases (T = 3 s, λ = 1): the pendulum swing-up (θ periodic × ω ∈ [−10, 10], g = xᵀdiag(10, ½)x) on
 n × (n+1) grids and the gymnast (:func:`gridlbc.gymnast.gymnast_problem`, box ±16 × ±9) on n⁴
-grids. Each case runs in its own subprocess so that its peak RSS (getrusage) is its own. Per case
+grids. Each case runs in its own subprocess so that its peak RSS (VmHWM) is its own. Per case
 and method: wall time of the solve (setup included; numba kernels are cached on disk and warmed
 up by a tiny solve first), node-steps per second (stepping only), iterations per step, peak RSS,
 and the fraction of the memory bandwidth the stepping streams (a byte count per node-step from
