@@ -85,9 +85,23 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
         "solver": options.get("linear_solver", "splitting"), "steps": steps, "wall": wall,
         "setup": diag.setup_time, "node_steps": problem.grid.size * steps / stepping,
         "iterations": iterations,
-        "bytes": bytes_per_node_step(problem, options["method"], iterations, 4),
-        "peak_rss": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024,
+        "bytes": (float("nan") if options.get("linear_solver") == "direct"
+                  else bytes_per_node_step(problem, options["method"], iterations, 4)),
+        "peak_rss": peak_rss(),
     }
+
+
+def peak_rss() -> int:
+    """This process's peak resident set (VmHWM: unlike getrusage's ru_maxrss it starts afresh at
+    exec, so it does not inherit a large parent's high-water mark)."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("VmHWM:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024
 
 
 def layout_comparison(n: int, steps: int, bandwidth: float):
