@@ -116,9 +116,9 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
     say(f"   blend weights α at θ = +1.5: {alpha[0].round(3)}, at θ = −1.5: {alpha[1].round(3)}")
     results.update(superposition_value=errs["value"], superposition_policy=errs["policy"])
 
-    plot_fields(sol, out / "pendulum_fields.png",
+    plot_fields(sol, out / "demo_swingup.png",
                 f"Pendulum swing-up ({problem.grid.describe()}, {d.method}): t = 0")
-    plot_fields(combined, out / "pendulum_combined.png",
+    plot_fields(combined, out / "demo_combined.png",
                 "Linear Bellman combination of two goals θ = ±0.6 (w = 1, 1): t = 0")
-    say(f"4. figures written to {out}/pendulum_fields.png and pendulum_combined.png")
+    say(f"4. figures written to {out}/demo_swingup.png and demo_combined.png")
     return results
