@@ -106,12 +106,12 @@ def main(argv=None):
         v_exact, u_exact = exact.value(x, 0.0), exact.policy(x, 0.0)
         # The splitting scheme at its default Courant number (6, tuned for fast drift) and at 2,
         # which suits this slow-drift problem better (its O(Δt) splitting error dominates).
-        runs = [("splitting", lambda: gridlbc.solve(prob)),
-                ("splitting C=2", lambda: gridlbc.solve(prob, courant=2.0)),
-                ("implicit", lambda: gridlbc.solve(prob, method="implicit"))][
+        runs = [("splitting", lambda prob=prob: gridlbc.solve(prob)),
+                ("splitting C=2", lambda prob=prob: gridlbc.solve(prob, courant=2.0)),
+                ("implicit", lambda prob=prob: gridlbc.solve(prob, method="implicit"))][
             : 3 if n <= args.max_implicit else 2]
         if not args.no_baseline and n <= 401:
-            runs.append(("scipy baseline", lambda: scipy_baseline(n)))
+            runs.append(("scipy baseline", lambda n=n: scipy_baseline(n)))
         for name, run in runs:
             out, wall, peak = measure(run)
             if isinstance(out, np.ndarray):

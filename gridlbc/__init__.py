@@ -12,15 +12,37 @@ from .grid import Axis, Grid
 from .io import load, save
 from .problem import Problem
 from .project import Projection, ProjectionWarning, project, projection
-from .solution import Solution, SolveDiagnostics, UnderflowWarning
 from .simulate import Rollouts, simulate
+from .solution import Solution, SolveDiagnostics, UnderflowWarning
 from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
 
 __version__ = "0.1.0"
 
 __all__ = [
-    "Axis", "Grid", "save", "load", "Problem", "Quadratic", "Solution", "SolveDiagnostics", "SolverSettings",
-    "UnderflowWarning", "METHODS", "PRESETS", "costs", "solve", "solve_many", "systems",
-    "CombinedSolution", "NaiveBlend", "combine", "naive_blend",
-    "Projection", "ProjectionWarning", "project", "projection", "Rollouts", "simulate",
+    "METHODS",
+    "PRESETS",
+    "Axis",
+    "CombinedSolution",
+    "Grid",
+    "NaiveBlend",
+    "Problem",
+    "Projection",
+    "ProjectionWarning",
+    "Quadratic",
+    "Rollouts",
+    "Solution",
+    "SolveDiagnostics",
+    "SolverSettings",
+    "UnderflowWarning",
+    "combine",
+    "costs",
+    "load",
+    "naive_blend",
+    "project",
+    "projection",
+    "save",
+    "simulate",
+    "solve",
+    "solve_many",
+    "systems",
 ]

@@ -31,7 +31,7 @@ from .costs import Quadratic
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
-from .solution import SolveDiagnostics, Solution
+from .solution import Solution, SolveDiagnostics
 
 FORMAT = "gridlbc-solution"
 FORMAT_VERSION = 1

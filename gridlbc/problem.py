@@ -95,7 +95,7 @@ class Problem:
                 f"grid has {grid.ndim} axes but the {type(sys).__name__} state has "
                 f"{sys.state_dim} coordinates: give one Axis per state coordinate"
             )
-        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass)
+        set_ = lambda k, v: object.__setattr__(self, k, v)
         set_("horizon", _positive_float("horizon", self.horizon))
         set_("temperature", _positive_float("temperature", self.temperature))
         set_("control_cost", _control_cost_matrix(self.control_cost, sys.control_dim))

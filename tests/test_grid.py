@@ -16,10 +16,10 @@ def test_axis_spacing_periodic_has_no_duplicate_end_node():
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        (dict(lo=1.0, hi=1.0, n=5), "lo < hi"),
-        (dict(lo=2.0, hi=1.0, n=5), "lo < hi"),
-        (dict(lo=0.0, hi=1.0, n=2), "at least 3"),
-        (dict(lo=0.0, hi=np.inf, n=5), "finite"),
+        ({"lo": 1.0, "hi": 1.0, "n": 5}, "lo < hi"),
+        ({"lo": 2.0, "hi": 1.0, "n": 5}, "lo < hi"),
+        ({"lo": 0.0, "hi": 1.0, "n": 2}, "at least 3"),
+        ({"lo": 0.0, "hi": np.inf, "n": 5}, "finite"),
     ],
 )
 def test_axis_rejects_bad_input(kwargs, match):

@@ -1,5 +1,6 @@
 """The two schemes of SPEC §3: linear in the terminal data, positive, convergent, validated."""
 
+import itertools
 import warnings
 
 import numpy as np
@@ -72,7 +73,7 @@ def test_schemes_converge_to_the_same_value():
                   .value(x0, 0.0) for n in (33, 65, 129, 257)] for m in METHODS}
     limits = {}
     for m, v in values.items():
-        steps = [np.abs(b - a).max() for a, b in zip(v, v[1:])]
+        steps = [np.abs(b - a).max() for a, b in itertools.pairwise(v)]
         # First-order schemes: successive changes shrink under refinement (Cauchy) ...
         assert steps[2] < steps[1] < steps[0], (m, steps)
         # ... and the first-order Richardson estimate 2 v_h/2 − v_h approximates the limit.
@@ -138,20 +139,20 @@ def _pm_grid():
 @pytest.mark.parametrize(
     "kwargs, error, match",
     [
-        (dict(temperature=0.0), ValueError, "temperature"),
-        (dict(temperature=-1.0), ValueError, "temperature"),
-        (dict(horizon=0.0), ValueError, "horizon"),
-        (dict(horizon="long"), TypeError, "horizon"),
-        (dict(control_cost=-1.0), ValueError, "positive definite"),
-        (dict(control_cost=[1.0, 2.0]), ValueError, "control_cost"),
-        (dict(terminal_cost=Quadratic([0, 0, 0], [1, 1, 1])), ValueError, "center has 3"),
-        (dict(terminal_cost=3.0), TypeError, "callable"),
-        (dict(grid=Grid([Axis(0, 1, 4)])), ValueError, "one Axis per state coordinate"),
+        ({"temperature": 0.0}, ValueError, "temperature"),
+        ({"temperature": -1.0}, ValueError, "temperature"),
+        ({"horizon": 0.0}, ValueError, "horizon"),
+        ({"horizon": "long"}, TypeError, "horizon"),
+        ({"control_cost": -1.0}, ValueError, "positive definite"),
+        ({"control_cost": [1.0, 2.0]}, ValueError, "control_cost"),
+        ({"terminal_cost": Quadratic([0, 0, 0], [1, 1, 1])}, ValueError, "center has 3"),
+        ({"terminal_cost": 3.0}, TypeError, "callable"),
+        ({"grid": Grid([Axis(0, 1, 4)])}, ValueError, "one Axis per state coordinate"),
     ],
 )
 def test_problem_rejects_bad_input(kwargs, error, match):
-    args = dict(system=PointMass(), grid=_pm_grid(), horizon=1.0,
-                terminal_cost=Quadratic([0, 0], [1, 1]))
+    args = {"system": PointMass(), "grid": _pm_grid(), "horizon": 1.0,
+                "terminal_cost": Quadratic([0, 0], [1, 1])}
     args.update(kwargs)
     with pytest.raises(error, match=match):
         Problem(**args)

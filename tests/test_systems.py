@@ -44,7 +44,7 @@ def test_acrobot_conserves_energy_without_control(rng):
     # RK4 energy drift over a fixed time is O(dt⁴): halving dt must cut it ~16×.
     errs = []
     for dt in (2e-3, 1e-3):
-        x = _rk4(acro.drift, x0, dt, int(round(1.0 / dt)))
+        x = _rk4(acro.drift, x0, dt, round(1.0 / dt))
         errs.append(np.abs(acro.energy(x) - H0).max())
     assert errs[1] < 1e-6 * np.abs(H0).max() + 1e-9
     assert errs[1] < errs[0] / 8

@@ -3,5 +3,11 @@
 from .base import ControlAffineSystem, LinearSystem
 from .mechanical import Acrobot, Pendulum, PointMass, SingleIntegrator
 
-__all__ = ["ControlAffineSystem", "LinearSystem", "SingleIntegrator", "PointMass", "Pendulum",
-           "Acrobot"]
+__all__ = [
+           "Acrobot",
+           "ControlAffineSystem",
+           "LinearSystem",
+           "Pendulum",
+           "PointMass",
+           "SingleIntegrator",
+]
