@@ -33,7 +33,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .problem import Problem
-from .solution import Solution, _log_checked
+from .solution import Solution, warn_underflow
 
 
 def check_weights(weights, n: int) -> np.ndarray:
@@ -178,8 +178,7 @@ class CombinedSolution:
         _, z, _ = self._component_fields(x, t, gradient=False)
         total = z.sum(axis=0)
         bad = ~(total > 0)
-        if np.any(bad):
-            _log_checked(total)
+        warn_underflow(bad)
         with np.errstate(divide="ignore", invalid="ignore"):
             alpha = (z / np.where(bad, 1.0, total)).T
         alpha[bad] = np.nan

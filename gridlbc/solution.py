@@ -190,16 +190,22 @@ class Solution:
         return policy_from_fields(self.problem, z, g)
 
 
-def _log_checked(z: np.ndarray) -> np.ndarray:
-    bad = ~(z > 0)
+def warn_underflow(bad: np.ndarray) -> None:
+    """Raise an :class:`UnderflowWarning` if any query state's desirability underflowed."""
     if np.any(bad):
         warnings.warn(
-            f"desirability underflowed at {int(bad.sum())} of {z.size} query states: value is +inf "
-            "there and the policy undefined (NaN). Shrink the box, raise the temperature, or "
-            "rescale the costs (see README, 'Underflow').",
+            f"desirability underflowed at {int(bad.sum())} of {bad.size} query states: value is "
+            "+inf there and the policy undefined (NaN). Shrink the box, or raise the temperature "
+            "relative to the costs (see README, 'Limitations').",
             UnderflowWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
+
+
+def _log_checked(z: np.ndarray) -> np.ndarray:
+    """log z, −inf (with a warning) where z underflowed to zero."""
+    bad = ~(z > 0)
+    warn_underflow(bad)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, z)))
 
@@ -207,8 +213,7 @@ def _log_checked(z: np.ndarray) -> np.ndarray:
 def policy_from_fields(problem: Problem, z: np.ndarray, g: np.ndarray) -> np.ndarray:
     """u = λ R⁻¹ g / z for interpolated z ``(N,)`` and Bᵀ∇z ``(N, m)`` sharing one scale."""
     bad = ~(z > 0)
-    if np.any(bad):
-        _log_checked(z)
+    warn_underflow(bad)
     with np.errstate(divide="ignore", invalid="ignore"):
         u = problem.temperature * (g @ problem.R_inv.T) / z[:, None]
     u[bad] = np.nan
