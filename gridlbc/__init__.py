@@ -5,7 +5,7 @@ solves a linear PDE (SPEC §1); solved on a grid, it gives the optimal value and
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 
-from . import costs, systems
+from . import costs, reference, systems
 from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
@@ -40,6 +40,7 @@ __all__ = [
     "naive_blend",
     "project",
     "projection",
+    "reference",
     "save",
     "simulate",
     "solve",

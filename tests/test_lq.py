@@ -99,3 +99,9 @@ def test_single_integrator_converges_to_riccati(method):
     orders = _orders(errs)
     assert np.all(np.diff(errs, axis=0) < 0), errs
     assert np.all(orders > 0.8), orders
+
+
+def test_reference_is_reachable_as_an_attribute():
+    """SPEC §7 call form: ``gridlbc.reference.lq_solution`` after a plain ``import gridlbc``."""
+    assert gridlbc.reference.lq_solution is lq_solution
+    assert callable(gridlbc.reference.solve_hjb)
