@@ -50,8 +50,9 @@ def bytes_per_node_step(problem: Problem, method: str, iterations: float, store:
     d = problem.grid.ndim
     if method == "splitting":
         noise_axes = 1  # both systems: noise on the last momentum only
-        # feet + read z + write z*, tridiagonal read/write, renormalised store (read z, write).
-        return feet_bytes_per_node(d, "compact") + 16 + 16 * noise_axes + (8 + store)
+        # feet + read z + write z*, two half-step tridiagonal read/writes (before and after the
+        # drift), renormalised store (read z, write).
+        return feet_bytes_per_node(d, "compact") + 16 + 2 * 16 * noise_axes + (8 + store)
     if method == "implicit":
         # per sweep: off-diagonal CSR (value 8 + column 4 per entry, 2d entries), row pointer,
         # inverse diagonal, b and x (read and written).
@@ -119,7 +120,7 @@ def layout_comparison(n: int, steps: int, bandwidth: float):
         for _ in range(steps):
             step(z, out, scale)
         per_step = (time.perf_counter() - started) / steps
-        streamed = (feet_bytes_per_node(4, layout) + 16 + 16) * problem.grid.size
+        streamed = (feet_bytes_per_node(4, layout) + 16 + 2 * 16) * problem.grid.size
         print(f"  feet layout {layout:>7} on {n}^4: {1e3 * per_step:6.1f} ms/step, "
               f"{feet_bytes_per_node(4, layout)} B/node of feet, "
               f"{100 * streamed / per_step / bandwidth:4.0f}% of bandwidth", flush=True)
