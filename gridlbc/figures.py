@@ -300,11 +300,13 @@ def coordination(out, n: int = 81, samples: int = 12, seed: int = 0) -> list[Pat
 # -- 5. the gymnast ---------------------------------------------------------------------------------
 
 
-def gymnast(out, n: int = 31, dt: float = 0.03, reference: bool = True) -> list[Path]:
+def gymnast(out, n: int = 51, dt: float = 0.1, reference: bool = True) -> list[Path]:
     """The acrobot swing-up from (−105°, −15°) at rest on an n⁴ grid: still frames and a GIF.
 
     The grid-optimal policy is rolled out without noise; ``reference`` adds the deterministic
-    optimum (:func:`gridlbc.trajopt.optimize_trajectory`) dashed.
+    optimum (:func:`gridlbc.trajopt.optimize_trajectory`) dashed. The defaults are the best
+    setting measured by ``benchmarks/gymnast.py`` (51⁴, Δt = 0.1: noise-free cost 25.6, ending
+    1.09 rad from the handstand, against the optimum's 7.89); the solve needs about 8 GiB.
     """
     from .gymnast import GYMNAST_START, animate_swingup, gymnast_problem, plot_swingup
 

@@ -98,7 +98,7 @@ def plot_swingup(times, runs: dict, path=None, reference=None):
         ax_stick.plot(points[k, :, 0], points[k, :, 1], "-o", color=(0.1, 0.2, 0.6, shade), ms=3)
     ax_stick.plot(points[:, 2, 0], points[:, 2, 1], ":", color="grey", lw=0.8)
     ax_stick.set(aspect="equal", xlim=(-2.2, 2.2), ylim=(-2.2, 2.2),
-                 title=f"swing-up ({label}), light to dark in time")
+                 title=f"{label}\n(light to dark in time)")
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=110)
