@@ -30,19 +30,14 @@ import time
 import numpy as np
 
 import gridlbc
-from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc import Problem
 from gridlbc.gymnast import gymnast_problem
 from gridlbc.splitting import feet_bytes_per_node
-from gridlbc.systems import Pendulum
-
-
-def pendulum_problem(n: int) -> Problem:
-    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-10.0, 10.0, n + 1)])
-    return Problem(Pendulum(), grid, 3.0, Quadratic([0.0, 0.0], [10.0, 0.5]))
+from gridlbc.verify import swingup_problem
 
 
 def problem_for(system: str, n: int) -> Problem:
-    return pendulum_problem(n) if system == "pendulum" else gymnast_problem(n)
+    return swingup_problem(n) if system == "pendulum" else gymnast_problem(n)
 
 
 def bytes_per_node_step(problem: Problem, method: str, iterations: float, store: int) -> float:

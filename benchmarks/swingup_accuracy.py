@@ -19,15 +19,9 @@ import time
 import numpy as np
 
 import gridlbc
-from gridlbc import Axis, Grid, Problem, Quadratic
-from gridlbc.systems import Pendulum
+from gridlbc.verify import swingup_problem as problem
 
 START = np.array([2.8, 0.0])
-
-
-def problem(n: int) -> Problem:
-    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-10.0, 10.0, n + 1)])
-    return Problem(Pendulum(), grid, 3.0, Quadratic([0.0, 0.0], [10.0, 0.5]))
 
 
 def main(argv=None):

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import CompositeCost, combine
+from .combine import combine
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .problem import Problem
@@ -98,11 +98,8 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
                    mc_standard_error=rollouts.standard_error, relative_gap=gap)
 
     goals = [Quadratic([-0.6, 0.0], [10.0, 0.5]), Quadratic([0.6, 0.0], [10.0, 0.5])]
-    composite = CompositeCost(tuple(problem.replace(terminal_cost=g).terminal_cost for g in goals),
-                              np.ones(2), problem.temperature)
-    solutions = solve_many(problem, goals + [composite])
-    combined = combine(solutions[:2])
-    direct = solutions[2]
+    combined = combine(solve_many(problem, goals))
+    direct = solve(combined.problem)  # the composite terminal cost g = −λ log Σ exp(−g_i/λ)
     rng = np.random.default_rng(seed)
     X = np.column_stack([rng.uniform(-np.pi, np.pi, 2000), rng.uniform(-8, 8, 2000)])
     errs = {}

@@ -133,11 +133,6 @@ class Grid:
         shape = self.shape
         return np.array([math.prod(shape[k + 1 :]) for k in range(self.ndim)], dtype=np.int64)
 
-    @property
-    def cell_volume(self) -> float:
-        """Product of the spacings (the quadrature weight of one node)."""
-        return float(np.prod(self.spacing))
-
     def points(self) -> list[np.ndarray]:
         """Node coordinates per axis."""
         return [a.points() for a in self.axes]

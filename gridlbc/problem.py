@@ -148,15 +148,6 @@ class Problem:
 
     def noise_covariance(self, x) -> np.ndarray:
         """Σ(x) = λ B R⁻¹ Bᵀ, shape ``(N, d, d)``."""
-        B = np.asarray(self.system.input_matrix(self.grid.check_states(x)), dtype=float)
-        return self.temperature * np.einsum("nim,mk,njk->nij", B, self.R_inv, B)
-
-    def noise_diagonal(self, x) -> np.ndarray:
-        """The diagonal of Σ(x) = λ B R⁻¹ Bᵀ, shape ``(N, d)``; raises if Σ is not diagonal.
-
-        The grid solvers need noise that is diagonal in the grid's coordinates (no cross
-        derivatives ∂²z/∂x_i∂x_j).
-        """
         x = self.grid.check_states(x)
         d, m = self.system.state_dim, self.system.control_dim
         B = np.asarray(self.system.input_matrix(x), dtype=float)
@@ -165,7 +156,16 @@ class Problem:
                 f"{type(self.system).__name__}.input_matrix returned shape {B.shape}, "
                 f"expected (N, d, m) = ({x.shape[0]}, {d}, {m})"
             )
-        sigma = self.temperature * np.einsum("nim,mk,njk->nij", B, self.R_inv, B)
+        return self.temperature * np.einsum("nim,mk,njk->nij", B, self.R_inv, B)
+
+    def noise_diagonal(self, x) -> np.ndarray:
+        """The diagonal of Σ(x) = λ B R⁻¹ Bᵀ, shape ``(N, d)``; raises if Σ is not diagonal.
+
+        The grid solvers need noise that is diagonal in the grid's coordinates (no cross
+        derivatives ∂²z/∂x_i∂x_j).
+        """
+        sigma = self.noise_covariance(x)
+        d = sigma.shape[1]
         diag = np.einsum("nii->ni", sigma)
         off = sigma - diag[:, :, None] * np.eye(d)
         scale = max(np.abs(diag).max(), np.finfo(float).tiny)
