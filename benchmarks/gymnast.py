@@ -1,16 +1,17 @@
 """The gymnast (acrobot) swing-up: grid-optimal controller vs the deterministic optimum.
 
-Problem: see :mod:`gridlbc.gymnast` (T = 3, λ = 1, R = 1, q = 0, g = xᵀdiag(10, 10, ½, ½)x).
-For each grid size, method and time step: solve (float32 slices), then roll the grid-optimal
-policy out from (−105°, −15°, at rest) without noise and with noise (gridlbc.simulate, Euler–
-Maruyama at Δt = 2 ms). The slices are stored in float64 (every k-th, "kept" in the table, to
-fit --memory). Reported: the solver's prediction v(x₀, 0) = −λ log z(x₀, 0), the
+Problem: see :mod:`gridlbc.gymnast` (T = 3, λ = 1, R = 1, q = 0, g = xᵀdiag(10, 10, ½, ½)x;
+hip stops at ±180°, or a free hip with --hip free). For each grid size, method (``fitted``: the
+splitting scheme fitted to the terminal cost, ``fitting="terminal"``) and time step:
+solve, then roll the grid-optimal policy out from (−105°, −15°, at rest) without noise and
+with noise (gridlbc.simulate, Euler–Maruyama at Δt = 2 ms). The slices are stored in float64
+(every k-th, "kept" in the table, to fit --memory). Reported: the solver's prediction v(x₀, 0) = −λ log z(x₀, 0), the
 noise-free rollout cost and final angle distance from the handstand, the noisy mean cost ± its
 standard error, and the wall time of the solve: the accuracy-per-second frontier. The
 deterministic optimum (gridlbc.trajopt, multistart RK4 single shooting) is the reference.
 
-    python benchmarks/gymnast.py --sizes 21 31 41 51 --methods splitting --dts 0.01 0.03
-    python benchmarks/gymnast.py --figures figures     # also figures/gymnast_swingup.png, .gif
+    python benchmarks/gymnast.py --sizes 31 41 51 61 71 --dts 0.05 0.1
+    python benchmarks/gymnast.py --sizes 61 --methods fitted --dts 0.05 --figures figures
 """
 
 from __future__ import annotations
@@ -46,15 +47,17 @@ def policy_of(solution):
     return policy
 
 
-def study_row(n, method, dt, bounds, n_noisy, rollout_dt, memory, seed=0):
-    problem = gymnast_problem(n, bounds)
+def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
+    problem = gymnast_problem(n, bounds, hip)
     # float64 slices: noisy rollouts visit states whose z is below float32's range relative to
     # the slice maximum (v − min v > 103 λ), where a float32 policy is undefined. Keep every
     # k-th slice so that the slices fit in ``memory`` bytes (linear interpolation in time).
     n_slices = round(problem.horizon / dt) + 1
     store_every = max(1, int(np.ceil(n_slices * problem.grid.size * 8 / memory)))
     started = time.perf_counter()
-    solution = gridlbc.solve(problem, dt=dt, method=method, store_every=store_every)
+    options = ({"method": "splitting", "fitting": "terminal"} if method == "fitted"
+               else {"method": method})
+    solution = gridlbc.solve(problem, dt=dt, store_every=store_every, **options)
     wall = time.perf_counter() - started
     predicted = float(solution.value(GYMNAST_START, 0.0)[0])
     clean = simulate(problem, policy_of(solution), GYMNAST_START, 1, dt=rollout_dt, noise=False)
@@ -78,21 +81,26 @@ def zero_torque_cost(problem, rollout_dt):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--sizes", type=int, nargs="+", default=[21, 31, 41, 51])
-    parser.add_argument("--methods", nargs="+", default=["splitting"])
-    parser.add_argument("--dts", type=float, nargs="+", default=[0.01, 0.03])
+    parser.add_argument("--sizes", type=int, nargs="+", default=[31, 41, 51])
+    parser.add_argument("--methods", nargs="+", default=["fitted", "splitting"],
+                        help="splitting, fitted (splitting with fitting='terminal'), implicit")
+    parser.add_argument("--dts", type=float, nargs="+", default=[0.05, 0.1])
     parser.add_argument("--bounds", type=float, nargs=2, default=[16.0, 9.0],
                         metavar=("P1", "P2"), help="momentum box ±P1 × ±P2 (default 16 9)")
+    parser.add_argument("--hip", default="stops", choices=["stops", "free"],
+                        help="hip stops at ±180° (default, the issue's problem) or a free hip")
     parser.add_argument("--noisy-samples", type=int, default=100)
     parser.add_argument("--rollout-dt", type=float, default=0.002)
     parser.add_argument("--memory", type=float, default=6.0,
                         help="GiB for the stored float64 slices (default 6)")
     parser.add_argument("--figures", default=None, help="folder for the swing-up plot and GIF")
     args = parser.parse_args(argv)
+    hip = np.pi if args.hip == "stops" else None
 
-    reference = deterministic_optimum(gymnast_problem(11, args.bounds))
+    reference = deterministic_optimum(gymnast_problem(11, args.bounds, hip))
     ref_distance = float(angle_distance(reference.states[-1:])[0])
-    zero_cost, zero_distance = zero_torque_cost(gymnast_problem(11, args.bounds), args.rollout_dt)
+    zero_cost, zero_distance = zero_torque_cost(gymnast_problem(11, args.bounds, hip),
+                                              args.rollout_dt)
     print(f"deterministic optimum (trajopt): cost {reference.cost:.2f}, final angle distance "
           f"{ref_distance:.2f} rad, max |p1| {np.abs(reference.states[:, 2]).max():.1f}, "
           f"max |p2| {np.abs(reference.states[:, 3]).max():.1f}")
@@ -104,8 +112,8 @@ def main(argv=None):
     print(header)
     best = None
     for n, method, dt in itertools.product(args.sizes, args.methods, args.dts):
-        row, solution, clean = study_row(n, method, dt, tuple(args.bounds), args.noisy_samples,
-                                         args.rollout_dt, args.memory * 2**30)
+        row, solution, clean = study_row(n, method, dt, tuple(args.bounds), hip,
+                                         args.noisy_samples, args.rollout_dt, args.memory * 2**30)
         print(f"{row['grid']:>6} {method:>9} {row['dt']:6.3f} "
               f"{args.bounds[0]:>3g}×{args.bounds[1]:<4g} {row['wall']:7.1f} "
               f"{row['predicted']:6.2f} {row['clean_cost']:6.2f} {row['clean_distance']:5.2f} "

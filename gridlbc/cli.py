@@ -98,7 +98,7 @@ def _description_from_flags(data: dict, args) -> dict:
         if table:
             data[f"{cost}_cost"] = table
     solver = dict(data.get("solver", {}))
-    for key in ("method", "dt", "store_every", "dtype"):
+    for key in ("method", "dt", "store_every", "dtype", "fitting"):
         if getattr(args, key) is not None:
             solver[key] = getattr(args, key)
     if solver:
@@ -230,6 +230,9 @@ def _add_workflow_parsers(sub):
     solve.add_argument("--dt", type=float, help="time step (default from the Courant number)")
     solve.add_argument("--store-every", type=int, help="keep every k-th time slice")
     solve.add_argument("--dtype", help="float64 (default) or float32 storage")
+    solve.add_argument("--fitting", choices=["terminal"],
+                       help="fit the drift's interpolation to the terminal cost (splitting only: "
+                       "far less numerical diffusion where v is steep; see README)")
     solve.add_argument("--out", required=True, help="where to save the Solution (.npz)")
     solve.add_argument("--quiet", action="store_true", help="no progress output")
     solve.set_defaults(func=_cmd_solve)

@@ -97,6 +97,11 @@ def _check_components(solutions) -> tuple[Solution, ...]:
                            "different times: solve all with the same dt and store_every)")
         if s.diagnostics.method != ref.diagnostics.method:
             differs.append(f"solver method ({ref.diagnostics.method} vs {s.diagnostics.method})")
+        if s.diagnostics.fitting != ref.diagnostics.fitting:
+            differs.append(f"fitting reference ({ref.diagnostics.fitting} vs "
+                           f"{s.diagnostics.fitting}: solve them together with "
+                           "solve_many(..., fitting='terminal'), or pass one shared reference "
+                           "cost as fitting=)")
         if differs:
             raise ValueError(
                 f"solutions[{i}] and solutions[0] must solve the same PDE to combine, but differ "

@@ -61,10 +61,11 @@ DEFAULT_BOUNDS = {
     "SingleIntegrator": [(-4.0, 4.0)],
     "PointMass": [(-4.0, 4.0), (-6.0, 6.0)],
     "Pendulum": [None, (-10.0, 10.0)],
-    "Acrobot": [None, None, (-16.0, 16.0), (-9.0, 9.0)],
+    "Acrobot": [None, (-math.pi, math.pi), (-16.0, 16.0), (-9.0, 9.0)],
 }
 """The box used with ``grid.n``: ``None`` is an angle, periodic on [−π, π); a pair is (lo, hi)
-of a non-periodic axis. The acrobot's momentum box is the gymnast study's (gridlbc.gymnast)."""
+of a non-periodic axis. The acrobot's box is the gymnast study's (:mod:`gridlbc.gymnast`: hip
+stops at ±π, momenta ±16 × ±9)."""
 
 _PI = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)?)\s*\*?\s*pi\s*(?:/\s*(\d+(?:\.\d*)?))?\s*$")
 

@@ -41,7 +41,9 @@ class SolveDiagnostics:
     counts of an iterative solve (empty for direct and splitting steps); ``flushed_values``:
     stored values that were positive in the float64 time stepping but rounded to zero by float32
     storage (below ~1e-45 of their slice's maximum; value +inf there); ``memory_estimate``: the
-    bytes of memory the solve was estimated to need (checked before allocating).
+    bytes of memory the solve was estimated to need (checked before allocating); ``fitting``:
+    ``"none"``, or a fingerprint of the reference the drift was fitted to (solutions combine
+    exactly only when it matches).
     """
 
     method: str
@@ -57,6 +59,7 @@ class SolveDiagnostics:
     iterations: tuple[int, ...] = ()
     flushed_values: int = 0
     memory_estimate: int = 0
+    fitting: str = "none"
 
 
 @dataclass(frozen=True, eq=False)

@@ -12,6 +12,7 @@ Nodes whose Z underflows to zero are counted in the diagnostics (their value is 
 
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import shutil
@@ -77,6 +78,15 @@ class SolverSettings:
     linear_solver : str
         For ``method="implicit"``: one of :data:`gridlbc.implicit.LINEAR_SOLVERS` (``"auto"``:
         sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
+    fitting : None, "terminal" or a terminal cost
+        For ``method="splitting"``: fit the drift's interpolation to a reference desirability
+        φ = exp(−g_ref/λ) (:mod:`gridlbc.splitting`, "Exponential fitting"): exact where z ∝ φ,
+        far less numerical diffusion where v is steep. ``None``: plain barycentric
+        interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
+        :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
+        that cost. The step stays linear in z for a fixed reference, so superposition is exact
+        among solutions that share it; :func:`gridlbc.combine` refuses solutions fitted to
+        different references.
     """
 
     method: str = "splitting"
@@ -88,6 +98,7 @@ class SolverSettings:
     progress: bool = False
     mmap_dir: str | None = None
     linear_solver: str = "auto"
+    fitting: object = None
 
     def __post_init__(self):
         if self.method not in METHODS:
@@ -105,6 +116,12 @@ class SolverSettings:
         if self.linear_solver not in LINEAR_SOLVERS:
             raise ValueError(f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
                              f"got {self.linear_solver!r}")
+        if not (self.fitting is None or self.fitting == "terminal" or callable(self.fitting)):
+            raise ValueError(f"fitting must be None, 'terminal' or a terminal cost g(x), got "
+                             f"{self.fitting!r}")
+        if self.fitting is not None and self.method != "splitting":
+            raise ValueError(f"fitting applies to method='splitting', not {self.method!r}: "
+                             "drop fitting or use the splitting method")
         if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
             raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
 
@@ -180,7 +197,8 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     live on disk when ``mmap_dir`` is set)."""
     grid = problem.grid
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
-    working = (3 * n_rhs + grid.ndim) * grid.size * 8
+    rows = n_rhs if settings.fitting is None else n_rhs + 1  # a reference row, log φ and 1/φ
+    working = (3 * rows + grid.ndim + (0 if settings.fitting is None else 2)) * grid.size * 8
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)
     return {"stored": stored, "working": working, "operator": operator, "ram": ram}
@@ -276,6 +294,30 @@ def _terminal_data(problem: Problem, terminal_costs) -> tuple[np.ndarray, np.nda
     return Z, scales
 
 
+def _with_reference(problem: Problem, fitting, Z: np.ndarray, log_scale: np.ndarray):
+    """Add the fitting reference φ to the terminal data ``Z`` (K, N) as row K, or point at row 0
+    when a single terminal cost is its own reference. Returns ``(Z, ℓ, row, fingerprint)``:
+    ``row`` is None without fitting, and the fingerprint (a digest of the scaled φ at the nodes,
+    which fixes the operator) is what :func:`gridlbc.combine` compares."""
+    if fitting is None:
+        return Z, log_scale, None, "none"
+    K = Z.shape[0]
+    if fitting == "terminal" and K == 1:
+        return Z, log_scale, 0, _fingerprint(Z[0])
+    if fitting == "terminal":  # the composite h = Σ_i h_i
+        top = log_scale.max()
+        phi = np.exp(log_scale - top) @ Z
+        peak = phi.max()
+        phi, phi_scale = phi / peak, top + np.log(peak)
+    else:
+        phi, phi_scale = (a[0] for a in _terminal_data(problem, [fitting]))
+    return np.vstack([Z, phi]), np.append(log_scale, phi_scale), K, _fingerprint(phi)
+
+
+def _fingerprint(phi: np.ndarray) -> str:
+    return "sha256:" + hashlib.sha256(np.ascontiguousarray(phi, dtype=float).tobytes()).hexdigest()[:16]
+
+
 def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> list[Solution]:
     """Solve one problem for several terminal costs at once (one operator, many right-hand sides).
 
@@ -301,6 +343,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     _check_memory(estimate, what, s.mmap_dir)
 
     Z, log_scale = _terminal_data(problem, terminal_costs)
+    Z, log_scale, reference, fingerprint = _with_reference(problem, s.fitting, Z, log_scale)
+    fit = () if reference is None else (reference,)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
     step = METHODS[s.method](problem, dt, **options)
     setup_time = time.perf_counter() - started
@@ -308,13 +352,13 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     slices = _slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty((len(kept), K))
     slot = len(kept) - 1
-    flushed = _store_kernel(Z, np.ones(K), slices[:, slot])
-    scales[slot] = log_scale
+    flushed = _store_kernel(Z[:K], np.ones(K), slices[:, slot])
+    scales[slot] = log_scale[:K]
     buffer = np.empty_like(Z)
-    scale = np.ones(K)
+    scale = np.ones(Z.shape[0])
     progress = _Progress(n_steps, s.progress, f"{s.method} {grid.describe()}", grid.size)
     for n in range(n_steps - 1, -1, -1):  # step n+1 → n, t_n = n Δt
-        peak = step(Z, buffer, scale)  # buffer = S(scale · Z), its row maxima
+        peak = step(Z, buffer, scale, *fit)  # buffer = S(scale · Z), its row maxima
         Z, buffer = buffer, Z
         if not np.all(peak > 0) or not np.all(np.isfinite(peak)):
             raise FloatingPointError(
@@ -326,8 +370,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
         scale = 1.0 / peak
         if n == kept[slot - 1]:
             slot -= 1
-            flushed += _store_kernel(Z, scale, slices[:, slot])
-            scales[slot] = log_scale
+            flushed += _store_kernel(Z[:K], scale[:K], slices[:, slot])
+            scales[slot] = log_scale[:K]
         progress.update(n_steps - n)
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
@@ -340,7 +384,7 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
             setup_time=setup_time, underflow_nodes=int(np.count_nonzero(slices[r, 0] <= 0)),
             stored_bytes=int(slices[r].nbytes), operator_bytes=step.nbytes,
             courant=rate * dt, iterations=iterations, flushed_values=int(flushed),
-            memory_estimate=estimate["ram"],
+            memory_estimate=estimate["ram"], fitting=fingerprint,
         )
         out.append(Solution(problem.replace(terminal_cost=cost), times, slices[r],
                             scales[:, r].copy(), diagnostics))
