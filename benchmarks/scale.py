@@ -8,7 +8,8 @@ up by a tiny solve first), node-steps per second (stepping only), iterations per
 and the fraction of the memory bandwidth the stepping streams (a byte count per node-step from
 the arrays each pass reads and writes, divided by --bandwidth, default 27 GB/s measured here).
 
-Methods: ``splitting`` (compact feet, float32 slices), ``implicit`` (Gauss–Seidel sweeps) and
+Methods: ``splitting`` (compact feet, float32 slices), ``fitted`` (the same with the drift fitted
+to the terminal cost, ``fitting="terminal"``), ``implicit`` (Gauss–Seidel sweeps) and
 the plain-scipy baseline (scipy splu where the grid is 2D, else scipy BiCGSTAB with a Jacobi
 preconditioner). Slow methods run fewer steps (--baseline-steps) and their node-steps per second
 is extrapolated to the full run: marked ``*`` in the table.
@@ -43,11 +44,14 @@ def problem_for(system: str, n: int) -> Problem:
 def bytes_per_node_step(problem: Problem, method: str, iterations: float, store: int) -> float:
     """Bytes streamed per node and step (a lower bound: gathers counted once)."""
     d = problem.grid.ndim
-    if method == "splitting":
+    if method in ("splitting", "fitted"):
         noise_axes = 1  # both systems: noise on the last momentum only
         # feet + read z + write z*, two half-step tridiagonal read/writes (before and after the
-        # drift), renormalised store (read z, write).
-        return feet_bytes_per_node(d, "compact") + 16 + 2 * 16 * noise_axes + (8 + store)
+        # drift), renormalised store (read z, write); fitted: log φ and 1/φ written by the
+        # fitting pass and read by the drift.
+        fitting = 32 if method == "fitted" else 0
+        return (feet_bytes_per_node(d, "compact") + 16 + 2 * 16 * noise_axes + (8 + store)
+                + fitting)
     if method == "implicit":
         # per sweep: off-diagonal CSR (value 8 + column 4 per entry, 2d entries), row pointer,
         # inverse diagonal, b and x (read and written).
@@ -67,6 +71,8 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
         options = {"method": "implicit", "linear_solver": "gauss-seidel", "dtype": "float32"}
     else:
         options = {"method": "splitting", "dtype": "float32"}
+        if method == "fitted":
+            options["fitting"] = "terminal"
     # warm the numba caches and the page allocator on a tiny grid of the same kind
     small = problem_for(system, 11 if system == "acrobot" else 21)
     gridlbc.solve(small.replace(horizon=2 * dt), dt=dt, **options)
@@ -82,7 +88,8 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
         "setup": diag.setup_time, "node_steps": problem.grid.size * steps / stepping,
         "iterations": iterations,
         "bytes": (float("nan") if options.get("linear_solver") == "direct"
-                  else bytes_per_node_step(problem, options["method"], iterations, 4)),
+                  else bytes_per_node_step(problem, "implicit" if method == "scipy" else method,
+                                           iterations, 4)),
         "peak_rss": peak_rss(),
     }
 
@@ -159,10 +166,11 @@ def main(argv=None):
     for system, n in cases:
         rows = {}
         nodes = n * (n + 1) if system == "pendulum" else n**4
-        for method in ("splitting", "implicit", "scipy"):
-            if method != "splitting" and nodes > args.implicit_max_nodes:
+        for method in ("splitting", "fitted", "implicit", "scipy"):
+            fast = method in ("splitting", "fitted")
+            if not fast and nodes > args.implicit_max_nodes:
                 continue
-            slow = method != "splitting" and system == "acrobot"
+            slow = not fast and system == "acrobot"
             steps = args.baseline_steps if slow else args.steps
             rows[method] = row = in_subprocess(system, n, method, steps, args.steps)
             if "error" in row:
@@ -177,7 +185,7 @@ def main(argv=None):
                   f"{row['peak_rss'] / 2**30:12.2f} {row['bytes']:11.0f} {bandwidth:10.0f}%", flush=True)
         base = rows.get("scipy")
         if base and "error" not in base:
-            for method in ("splitting", "implicit"):
+            for method in ("splitting", "fitted", "implicit"):
                 if method in rows and "error" not in rows[method]:
                     print(f"{'':>14} {method} / scipy node-steps per second: "
                           f"{rows[method]['node_steps'] / base['node_steps']:.1f}×")

@@ -29,6 +29,9 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512])
     parser.add_argument("--samples", type=int, default=400)
+    parser.add_argument("--rollout-dt", type=float, default=0.002,
+                        help="Euler–Maruyama step of the rollouts (default 0.002: at 0.01 the "
+                        "scheme's O(Δt) bias lowers this problem's mean cost by about 1)")
     parser.add_argument("--max-implicit", type=int, default=256,
                         help="largest n for the implicit scheme at its default dt (slow)")
     args = parser.parse_args(argv)
@@ -53,7 +56,8 @@ def main(argv=None):
             sol = gridlbc.solve(prob, dt=dt, **options)
             wall = time.perf_counter() - started
             predicted = float(sol.value(START, 0.0)[0])
-            mc = gridlbc.simulate(prob, sol.policy, START, n_samples=args.samples, seed=0)
+            mc = gridlbc.simulate(prob, sol.policy, START, n_samples=args.samples,
+                                  dt=args.rollout_dt, seed=0)
             gap = (mc.mean_cost - predicted) / mc.mean_cost
             d = sol.diagnostics
             label = f"{n}×{n + 1}"

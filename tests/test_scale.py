@@ -122,18 +122,20 @@ def test_tridiagonal_factors_solve_the_line_system(rng):
 
 @pytest.mark.parametrize("d, sizes, half_width", [(2, (33, 65), 3.0), (3, (17, 33), 3.0),
                                                 (4, (9, 17), 2.0)])
-@pytest.mark.parametrize("method", ["splitting", "implicit"])
+@pytest.mark.parametrize("method", ["splitting", "fitted", "implicit"])
 def test_methods_converge_to_the_exact_lq_value(d, sizes, half_width, method):
-    """Both schemes are first order in h with Δt ∝ h (upwind: O(h + Δt); semi-Lagrangian:
-    O(h²/Δt + Δt)): halving h and Δt must halve the max error near the goal. Measured ratios are
-    1.8–2.4; the check asks for ≥ 1.6 (observed order ≥ 0.68) to allow for the coarse grids."""
+    """All schemes are first order in h with Δt ∝ h (upwind: O(h + Δt); semi-Lagrangian, plain
+    or fitted: O(h²/Δt + Δt)): halving h and Δt must halve the max error near the goal. Measured
+    ratios are 1.8–2.4; the check asks for ≥ 1.6 (observed order ≥ 0.68) to allow for the coarse
+    grids."""
+    options = {"fitting": "terminal"} if method == "fitted" else {"method": method}
     x = np.random.default_rng(3).uniform(-0.5, 0.5, (40, d)) + 0.3
     errors = []
     for n in sizes:
         problem = _lq_problem(d, n, half_width=half_width)
         h = problem.grid.spacing[0]
         exact = lq_solution(problem).value(x, 0.0)
-        solution = gridlbc.solve(problem, dt=h / 2, method=method)
+        solution = gridlbc.solve(problem, dt=h / 2, **options)
         errors.append(np.abs(solution.value(x, 0.0) - exact).max())
     assert errors[0] / errors[1] > 1.6, errors
 
