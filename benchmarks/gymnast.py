@@ -5,12 +5,13 @@ hip stops at ±180°, or a free hip with --hip free). For each grid size, method
 splitting scheme fitted to the terminal cost, ``fitting="terminal"``) and time step:
 solve, then roll the grid-optimal policy out from (−105°, −15°, at rest) without noise and
 with noise (gridlbc.simulate, Euler–Maruyama at Δt = 2 ms). The slices are stored in float64
-(every k-th, "kept" in the table, to fit --memory). Reported: the solver's prediction v(x₀, 0) = −λ log z(x₀, 0), the
-noise-free rollout cost and final angle distance from the handstand, the noisy mean cost ± its
-standard error, and the wall time of the solve: the accuracy-per-second frontier. The
-deterministic optimum (gridlbc.trajopt, multistart RK4 single shooting) is the reference.
+(every k-th, "kept" in the table, to fit --memory). Reported: the solver's prediction
+v(x₀, 0) = −λ log z(x₀, 0), the noise-free rollout cost and final angle distance from the
+handstand, the noisy mean cost ± its standard error, and the wall time of the solve: the
+accuracy-per-second frontier. The deterministic optimum (gridlbc.trajopt, multistart RK4
+single shooting) is the reference.
 
-    python benchmarks/gymnast.py --sizes 31 41 51 61 71 --dts 0.05 0.1
+    python benchmarks/gymnast.py --sizes 31 41 51 61 71 81 --dts 0.05 0.1   # ≈ 20 min, 8 GiB
     python benchmarks/gymnast.py --sizes 61 --methods fitted --dts 0.05 --figures figures
 """
 
