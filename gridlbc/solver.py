@@ -315,7 +315,8 @@ def _with_reference(problem: Problem, fitting, Z: np.ndarray, log_scale: np.ndar
 
 
 def _fingerprint(phi: np.ndarray) -> str:
-    return "sha256:" + hashlib.sha256(np.ascontiguousarray(phi, dtype=float).tobytes()).hexdigest()[:16]
+    digest = hashlib.sha256(np.ascontiguousarray(phi, dtype=float).tobytes())
+    return "sha256:" + digest.hexdigest()[:16]
 
 
 def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> list[Solution]:
