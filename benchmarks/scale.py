@@ -47,9 +47,10 @@ def bytes_per_node_step(problem: Problem, method: str, iterations: float, store:
     if method in ("splitting", "fitted"):
         noise_axes = 1  # both systems: noise on the last momentum only
         # feet + read z + write z*, two half-step tridiagonal read/writes (before and after the
-        # drift), renormalised store (read z, write); fitted: log φ and 1/φ written by the
-        # fitting pass and read by the drift.
-        fitting = 32 if method == "fitted" else 0
+        # drift), renormalised store (read z, write); fitted: the fitting pass reads z and
+        # writes z/φ and log φ (the drift then reads log φ instead of z: the reference row,
+        # fitted to itself, needs no gather of z).
+        fitting = 24 if method == "fitted" else 0
         return (feet_bytes_per_node(d, "compact") + 16 + 2 * 16 * noise_axes + (8 + store)
                 + fitting)
     if method == "implicit":

@@ -197,8 +197,8 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     live on disk when ``mmap_dir`` is set)."""
     grid = problem.grid
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
-    rows = n_rhs if settings.fitting is None else n_rhs + 1  # a reference row, log φ and 1/φ
-    working = (3 * rows + grid.ndim + (0 if settings.fitting is None else 2)) * grid.size * 8
+    rows = n_rhs if settings.fitting is None else n_rhs + 1  # a reference row, and log φ
+    working = (3 * rows + grid.ndim + (0 if settings.fitting is None else 1)) * grid.size * 8
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)
     return {"stored": stored, "working": working, "operator": operator, "ram": ram}

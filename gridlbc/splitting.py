@@ -147,11 +147,13 @@ def feet_bytes_per_node(ndim: int, layout: str) -> int:
 
 
 @jit_parallel
-def _advect_compact_kernel(z, base, code, frac, offsets, scale, ell, inv, out):
-    """out[r, p] = scale[r] · Σ_j w_j c_j z[r, v_j] over the foot's simplex vertices
+def _advect_compact_kernel(z, base, code, frac, offsets, scale, ell, ones_row, out):
+    """out[r, p] = scale[r] · F_p · Σ_j w_j z[r, v_j] over the foot's simplex vertices
     v_j = base[p] + offsets[code[p], j] with w_j = (f_{j−1} − f_j)/Q from the sorted quantised
-    fractions (f_{−1} = Q, f_d = 0). Fitting factors c_j = exp(Σ_i w_i ell[v_i]) · inv[v_j] when
-    ``ell`` is given (see :func:`_fitting_kernel`), c_j = 1 when it is empty."""
+    fractions (f_{−1} = Q, f_d = 0). Fitted (``ell`` = log φ given, ``z`` already divided by φ
+    by :func:`_fitting_kernel`): F_p = exp(Σ_j w_j ell[v_j]) = φ̄, the reference's geometric mean
+    over the simplex; F_p = 1 when ``ell`` is empty. Row ``ones_row`` (−1: none) is known to be
+    all ones, so its gather is skipped: Σ_j w_j · 1 = 1 exactly."""
     n_rhs, n_nodes = z.shape
     d = frac.shape[1]
     fitted = ell.size > 0
@@ -168,45 +170,62 @@ def _advect_compact_kernel(z, base, code, frac, offsets, scale, ell, inv, out):
                 previous = f
             fit = np.exp(mean * (1.0 / _Q))
         for r in range(n_rhs):
-            previous = _Q
-            acc = 0.0
-            for j in range(d + 1):
-                f = np.int64(frac[p, j]) if j < d else np.int64(0)
-                v = node + offsets[c, j]
-                acc += (previous - f) * (z[r, v] * inv[v] if fitted else z[r, v])
-                previous = f
+            if r == ones_row:  # the integer weights telescope to Q: the same number, exactly
+                acc = float(_Q)
+            else:
+                previous = _Q
+                acc = 0.0
+                for j in range(d):
+                    f = np.int64(frac[p, j])
+                    acc += (previous - f) * z[r, node + offsets[c, j]]
+                    previous = f
+                acc += previous * z[r, node + offsets[c, d]]
             out[r, p] = acc * (fit * scale[r] * (1.0 / _Q))
 
 
 @jit_parallel
-def _advect_table_kernel(z, idx, weights, scale, ell, inv, out):
-    """out[r, p] = scale[r] · Σ_j weights[p, j] c_j z[r, idx[p, j]], fitting factors c_j as in
-    :func:`_advect_compact_kernel`."""
+def _advect_table_kernel(z, idx, weights, scale, ell, ones_row, out):
+    """out[r, p] = scale[r] · F_p · Σ_j weights[p, j] z[r, idx[p, j]], the fitting factor F_p and
+    ``ones_row`` as in :func:`_advect_compact_kernel`."""
     n_rhs, n_nodes = z.shape
     n_vertices = idx.shape[1]
     fitted = ell.size > 0
     for p in prange(n_nodes):
         fit = 1.0
+        total = 0.0
         if fitted:
             mean = 0.0
             for j in range(n_vertices):
                 mean += weights[p, j] * ell[idx[p, j]]
+                total += weights[p, j]
             fit = np.exp(mean)
         for r in range(n_rhs):
-            acc = 0.0
-            for j in range(n_vertices):
-                v = idx[p, j]
-                acc += weights[p, j] * (z[r, v] * inv[v] if fitted else z[r, v])
+            if r == ones_row:
+                acc = total
+            else:
+                acc = 0.0
+                for j in range(n_vertices):
+                    acc += weights[p, j] * z[r, idx[p, j]]
             out[r, p] = acc * (fit * scale[r])
 
 
 @jit_parallel
-def _fitting_kernel(reference, ell, inv):
-    """ell = log φ and inv = 1/φ of the reference desirability φ = max(reference, TINY)."""
-    for p in prange(reference.size):
-        phi = max(reference[p], _TINY)
+def _fitting_kernel(z, reference, ell):
+    """With φ = max(z[reference], TINY): ell = log φ, and every row of ``z`` divided by φ in
+    place, so that the drift's gather Σ_j w_j z(y_j)/φ(y_j) times φ̄ is the fitted P_φ z.
+    Returns the number of nodes where φ was floored: where it is zero, the reference row is
+    all ones (x/x = 1 exactly in floating point)."""
+    n_rhs, n_nodes = z.shape
+    floored = 0
+    for p in prange(n_nodes):
+        phi = z[reference, p]
+        if phi < _TINY:
+            phi = _TINY
+            floored += 1
         ell[p] = np.log(phi)
-        inv[p] = 1.0 / phi
+        for r in range(n_rhs):
+            z[r, p] /= phi
+    return floored
 
 
 # -- diffusion pass -----------------------------------------------------------------------------
@@ -387,7 +406,7 @@ class SplittingStep:
         self.cost_factor = (np.exp(-q * (0.5 * dt) / problem.temperature) if np.any(q != 0)
                             else np.empty(0))
         self._buffers = {}
-        self._fitting = None  # log φ and 1/φ of the fitting reference, allocated on first use
+        self._fitting = None  # log φ of the fitting reference, allocated on first use
 
     @staticmethod
     def estimate_bytes(grid: Grid, feet: str = "compact") -> int:
@@ -472,19 +491,22 @@ class SplittingStep:
     def drift(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
               reference: int | None = None):
         """out = P (scale · z): the semi-Lagrangian drift alone, fitted to row ``reference`` of
-        ``z`` when it is given."""
+        ``z`` when it is given (``z`` is then consumed: divided by that row in place). The
+        reference row fitted to itself needs no gather of z, only of log φ: P_φ φ = φ̄."""
+        ones_row = -1
         if reference is None:
-            ell = inv = np.empty(0)
+            ell = np.empty(0)
         else:
             if self._fitting is None:
-                self._fitting = np.empty((2, self.grid.size))
-            ell, inv = self._fitting
-            _fitting_kernel(z[reference], ell, inv)
+                self._fitting = np.empty(self.grid.size)
+            ell = self._fitting
+            if _fitting_kernel(z, reference, ell) == 0:
+                ones_row = reference
         if self.layout == "compact":
             _advect_compact_kernel(z, self.base, self.code, self.frac, self.offsets, scale, ell,
-                                   inv, out)
+                                   ones_row, out)
         else:
-            _advect_table_kernel(z, self.idx, self.weights, scale, ell, inv, out)
+            _advect_table_kernel(z, self.idx, self.weights, scale, ell, ones_row, out)
 
     def _half_diffusion(self, z: np.ndarray, block_max: np.ndarray | None):
         """D½ in place on every noise axis; the last pass also records row maxima per block in

@@ -47,6 +47,26 @@ def test_fitted_drift_is_exact_for_desirabilities_proportional_to_the_reference(
     assert np.max(np.abs(plain / expected - 1)) > 100 * tol
 
 
+@pytest.mark.parametrize("feet", ["compact", "table"])
+@pytest.mark.parametrize("underflow", [False, True])
+def test_reference_row_shortcut_is_the_gathered_number(feet, underflow, rng):
+    """The reference row fitted to itself skips its gather (z/φ = 1 exactly, so the result is
+    φ̄ times the weights' sum): a copy of that row, gathered, must give the same bits. Where φ
+    is floored at TINY (zeros, ``underflow``), the shortcut is off and both rows are gathered;
+    the output stays finite and non-negative."""
+    problem = _pendulum()
+    step = SplittingStep(problem, 0.1, feet=feet)
+    phi = np.exp(-problem.terminal_values(problem.grid.nodes())) * rng.uniform(0.5, 1.5)
+    if underflow:
+        phi[rng.random(phi.size) < 0.2] = 0.0
+    rows = np.stack([phi, phi, rng.random(phi.size)])
+    out = np.empty_like(rows)
+    step.drift(rows.copy(), out, np.ones(3), reference=0)
+    np.testing.assert_array_equal(out[0], out[1])
+    assert np.all(np.isfinite(out)) and np.all(out >= 0)
+    assert np.count_nonzero(out[0] == 0) == 0 or underflow
+
+
 def test_fitted_step_is_linear_and_positive(rng):
     problem = _pendulum()
     step = SplittingStep(problem, 0.1)
