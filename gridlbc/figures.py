@@ -308,7 +308,7 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     optimum (:func:`gridlbc.trajopt.optimize_trajectory`) dashed. The defaults are the best
     setting measured by ``benchmarks/gymnast.py`` (71⁴, Δt = 0.05, drift fitted to the terminal
     cost: noise-free cost 15.9, ending 0.75 rad from the handstand, against the optimum's 13.18);
-    the solve takes about 2 minutes and 9 GiB.
+    the solve takes about 1.5 minutes and 7 GiB.
     """
     from .gymnast import GYMNAST_START, animate_swingup, gymnast_problem, plot_swingup
 
