@@ -25,7 +25,8 @@ x0 = np.array([2.8, 0.0])                        # near hanging down, at rest
 print("v(x0) =", solution.value(x0, 0.0), " u*(x0) =", solution.policy(x0, 0.0))
 
 # Is the prediction honest? Roll the policy out on the SDE.
-rollouts = gridlbc.simulate(problem, solution.policy, x0, n_samples=samples, seed=0)
+rollouts = gridlbc.simulate(problem, solution.policy, x0, n_samples=samples, dt=0.002,
+                            seed=0)
 print(rollouts.summary())
 
 # Two goals, one operator (fitted to both); combine them (w = 1) without solving again.

@@ -185,9 +185,11 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
     n_samples : int
         Number of independent samples.
     dt : float, optional
-        Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`):
-        the scheme's weak error is O(Δt), a bias in the mean cost of order 1/300 relative for
-        smooth problems.
+        Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`).
+        The scheme's weak error is O(Δt) with a problem-dependent constant: on the pendulum
+        swing-up (T = 3, fast dynamics near the bottom) the default Δt = 0.01 reads the mean
+        cost about 6 % below Δt = 0.002. Pass a smaller ``dt`` when a cost must be checked to
+        a few percent.
     seed : int, optional
         Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
     noise : bool
