@@ -201,8 +201,10 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     live on disk when ``mmap_dir`` is set)."""
     grid = problem.grid
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
-    rows = n_rhs if settings.fitting is None else n_rhs + 1  # a reference row, and log φ
-    working = (3 * rows + grid.ndim + (0 if settings.fitting is None else 1)) * grid.size * 8
+    fitted = settings.fitting is not None
+    own_reference = settings.fitting == "terminal" and n_rhs == 1  # no extra row (_with_reference)
+    rows = n_rhs + (1 if fitted and not own_reference else 0)
+    working = (3 * rows + grid.ndim + (1 if fitted else 0)) * grid.size * 8  # + log φ
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)
     return {"stored": stored, "working": working, "operator": operator, "ram": ram}
