@@ -12,7 +12,8 @@ Methods: ``splitting`` (compact feet, float32 slices), ``fitted`` (the same with
 to the terminal cost, ``fitting="terminal"``), ``implicit`` (Gauss–Seidel sweeps) and
 the plain-scipy baseline (scipy splu where the grid is 2D, else scipy BiCGSTAB with a Jacobi
 preconditioner). Slow methods run fewer steps (--baseline-steps) and their node-steps per second
-is extrapolated to the full run: marked ``*`` in the table.
+is extrapolated to the full run: marked ``*`` in the table. The gymnast's accuracy per second
+(rollout cost against solve time, per grid, method and Δt) is ``benchmarks/gymnast.py``.
 
     python benchmarks/scale.py                          # the full table (≈ 10 min on 2 cores)
     python benchmarks/scale.py --pendulum 201 --acrobot 21 --steps 300
