@@ -86,16 +86,17 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
     problem = swingup_problem(grid_size)
     say(f"1. swing-up: {problem.describe()}")
     labels = {None: "plain ", "terminal": "fitted"}
-    solutions = {}
+    solutions, predictions = {}, {}
     for fitting, label in labels.items():
         sol = solutions[fitting] = solve(problem, progress=progress, fitting=fitting)
+        predictions[fitting] = float(sol.value(START, 0.0)[0])
         d = sol.diagnostics
         say(f"   {label} {d.method}: {d.steps} steps of dt = {d.dt:.4f} in {d.wall_time:.2f} s; "
-            f"predicted v(x0) = {sol.value(START, 0.0)[0]:.3f}")
+            f"predicted v(x0) = {predictions[fitting]:.3f}")
     say("2. Monte Carlo of each policy (the prediction should be what the policy costs):")
     for fitting, sol in solutions.items():
         started = time.perf_counter()
-        predicted = float(sol.value(START, 0.0)[0])
+        predicted = predictions[fitting]
         rollouts = simulate(problem, sol.policy, START, n_samples=n_samples,
                             dt=SWINGUP_ROLLOUT_DT, seed=seed)
         gap = (rollouts.mean_cost - predicted) / rollouts.mean_cost

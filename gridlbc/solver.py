@@ -202,8 +202,7 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     grid = problem.grid
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
     fitted = settings.fitting is not None
-    own_reference = settings.fitting == "terminal" and n_rhs == 1  # no extra row (_with_reference)
-    rows = n_rhs + (1 if fitted and not own_reference else 0)
+    rows = n_rhs + (1 if fitted and not _is_own_reference(settings.fitting, n_rhs) else 0)
     working = (3 * rows + grid.ndim + (1 if fitted else 0)) * grid.size * 8  # + log φ
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)
@@ -300,6 +299,11 @@ def _terminal_data(problem: Problem, terminal_costs) -> tuple[np.ndarray, np.nda
     return Z, scales
 
 
+def _is_own_reference(fitting, n_rhs: int) -> bool:
+    """A single terminal cost fitted to itself is its own reference: no extra row is solved."""
+    return fitting == "terminal" and n_rhs == 1
+
+
 def _with_reference(problem: Problem, fitting, Z: np.ndarray, log_scale: np.ndarray):
     """Add the fitting reference φ to the terminal data ``Z`` (K, N) as row K, or point at row 0
     when a single terminal cost is its own reference. Returns ``(Z, ℓ, row, fingerprint)``:
@@ -308,7 +312,7 @@ def _with_reference(problem: Problem, fitting, Z: np.ndarray, log_scale: np.ndar
     if fitting is None:
         return Z, log_scale, None, "none"
     K = Z.shape[0]
-    if fitting == "terminal" and K == 1:
+    if _is_own_reference(fitting, K):
         return Z, log_scale, 0, _fingerprint(Z[0])
     if fitting == "terminal":  # the composite h = Σ_i h_i
         top = log_scale.max()

@@ -42,8 +42,9 @@ its own terminal cost therefore has the accuracy of interpolating v rather than 
 terminal costs solved with the same reference share one linear operator, so superposition stays
 exact among them. Measured on the pendulum swing-up (``benchmarks/swingup_accuracy.py``): at
 128², Δt = 0.029 the plain scheme predicts 12.00 for a policy that costs 15.65 ± 0.34, the
-fitted one 14.50 for a policy that costs 14.49 ± 0.27. Where v is curved rather than steep, interpolating v
-overestimates it by about h² v''/8 per step: the fitted value errs on the pessimistic side.
+fitted one 14.50 for a policy that costs 14.49 ± 0.27. Where v is curved rather than steep,
+interpolating v overestimates it by about h² v''/8 per step: the fitted value errs on the
+pessimistic side.
 
 Large grids. The feet are computed once per solve, in chunks, and stored compactly
 (:data:`FEET_LAYOUTS`): ``"compact"`` keeps per node the base corner (int32), the index (uint16) of its
@@ -406,7 +407,6 @@ class SplittingStep:
         self.cost_factor = (np.exp(-q * (0.5 * dt) / problem.temperature) if np.any(q != 0)
                             else np.empty(0))
         self._buffers = {}
-        self._fitting = None  # log φ of the fitting reference, allocated on first use
 
     @staticmethod
     def estimate_bytes(grid: Grid, feet: str = "compact") -> int:
@@ -497,9 +497,7 @@ class SplittingStep:
         if reference is None:
             ell = np.empty(0)
         else:
-            if self._fitting is None:
-                self._fitting = np.empty(self.grid.size)
-            ell = self._fitting
+            ell = self._buffer(1, self.grid.size)[0]  # log φ of the reference
             if _fitting_kernel(z, reference, ell) == 0:
                 ones_row = reference
         if self.layout == "compact":
@@ -521,8 +519,9 @@ class SplittingStep:
             _diffuse_closed_kernel(z, data, uniform, ax.n, stride, min(stride, 64),
                                    block_max if last else self._buffer(K, 0))
 
-    def _buffer(self, K: int, n_blocks: int) -> np.ndarray:
-        key = (K, n_blocks)
+    def _buffer(self, rows: int, columns: int) -> np.ndarray:
+        """A scratch array of this shape, allocated (zeroed) once and reused by later steps."""
+        key = (rows, columns)
         if key not in self._buffers:
             self._buffers[key] = np.zeros(key)
         return self._buffers[key]
