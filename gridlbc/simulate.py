@@ -243,6 +243,7 @@ class _Path:
     times: np.ndarray
     start: np.ndarray  # x₀ wrapped into the box, (n, d)
     running_cost: np.ndarray  # Σ (q + ½ uᵀRu) Δt
+    final_states: np.ndarray  # x_K, (n, d)
     terminal_cost: np.ndarray  # g(x_K)
     ito: np.ndarray  # Σ uᵀR dε
     left_box: np.ndarray
@@ -287,4 +288,4 @@ def _euler_maruyama(problem: Problem, policy, x: np.ndarray, n_steps: int, rng, 
     terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")
     times = np.arange(n_steps + 1) * step
     times[-1] = T
-    return _Path(times, start, running, terminal, ito, left)
+    return _Path(times, start, running, x, terminal, ito, left)
