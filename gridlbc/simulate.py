@@ -54,7 +54,7 @@ def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost):
             x_out[s, k] = x[s, k] + v * dt + w
 
 
-def em_step_reference(x, drift, B, u, eps, noise, R, dt):
+def em_step_numpy(x, drift, B, u, eps, noise, R, dt):
     """Plain-numpy version of the Euler–Maruyama kernel: (new states, ½ uᵀRu dt per sample)."""
     kick = eps @ noise.T
     x_new = x + (drift + np.einsum("ndm,nm->nd", B, u)) * dt + np.einsum("ndm,nm->nd", B, kick)
