@@ -177,3 +177,14 @@ def test_cli_sweep_mistakes(extra, message, tmp_path, capsys):
     assert main(base + extra) == 2
     err = capsys.readouterr().err
     assert err.startswith("gridlbc sweep: error: ") and message in err, err
+
+
+def test_worker_warnings_reach_the_caller(tmp_path, client):
+    """A warning raised on a worker (here: z flushed to zero by float32 storage at the queried
+    state, so v = +inf) is kept on the member and issued again by sweep."""
+    problem = pendulum(temperature=0.005, horizon=0.05)
+    with pytest.warns(gridlbc.UnderflowWarning, match="sweep member 0: "):
+        [member] = gridlbc.sweep([problem], tmp_path, states=[-math.pi, -8.0], client=client,
+                                 progress=False, dtype="float32")
+    assert member.values[0] == math.inf and member.error is None
+    assert len(member.warnings) == 1 and "underflow" in member.warnings[0]
