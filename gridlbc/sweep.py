@@ -302,7 +302,7 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
             submitted.add(key)
             try:
                 future = c.submit(_run_member, problem, s, None if points is None else points[i],
-                                  str(path), key, numba_threads, pure=False,
+                                  str(path), key, numba_threads,
                                   key=f"gridlbc-sweep-{key[:32]}-{state_tag}")
             except Exception as exc:  # noqa: BLE001 (e.g. a problem that cannot be pickled)
                 outcomes[key] = _Outcome(None, None, f"{type(exc).__name__}: {exc}", False, ())
