@@ -7,6 +7,7 @@ result is independent of the thread count). The cluster tests start 2-worker loc
 """
 
 import math
+import pickle
 import shutil
 import subprocess
 import sys
@@ -39,6 +40,26 @@ def client():
                                   dashboard_address=":0") as cluster, \
             distributed.Client(cluster) as c:
         yield c
+
+
+@pytest.mark.parametrize("system", [systems.SingleIntegrator(), systems.PointMass(mass=2.0),
+                                    systems.Pendulum(damping=0.1), systems.Acrobot()])
+def test_problems_pickle_for_the_workers(system):
+    """Plain pickle (what any cluster can ship) round-trips a problem with a built-in system and
+    quadratic costs to the same dynamics and costs, bit for bit."""
+    from gridlbc.config import default_axes
+
+    d = system.state_dim
+    problem = Problem(system, Grid(default_axes(system, [5])), 1.5, Quadratic(np.ones(d), 2.0),
+                      state_cost=Quadratic(np.zeros(d), 0.1), control_cost=0.5, temperature=0.7)
+    copy = pickle.loads(pickle.dumps(problem))
+    x = problem.grid.nodes()
+    np.testing.assert_array_equal(copy.system.drift(x), problem.system.drift(x))
+    np.testing.assert_array_equal(copy.system.input_matrix(x), problem.system.input_matrix(x))
+    np.testing.assert_array_equal(copy.terminal_cost(x), problem.terminal_cost(x))
+    np.testing.assert_array_equal(copy.state_cost(x), problem.state_cost(x))
+    assert member_key(copy, gridlbc.SolverSettings()) == \
+        member_key(problem, gridlbc.SolverSettings())
 
 
 def test_member_key_is_the_content():
