@@ -203,6 +203,38 @@ def _cmd_figures(args) -> int:
     return 0
 
 
+def _cmd_interactive(args) -> int:
+    from . import interactive
+    from .io import load
+
+    options = {}
+    if args.solutions:
+        solutions = [load(p) for p in args.solutions]
+    else:
+        if not args.quiet:
+            print(f"solving the built-in pendulum demo on {args.demo_grid}² for "
+                  f"{len(interactive.DEMO_GOALS)} goals ...", flush=True)
+        solutions = interactive.demo_solutions(args.demo_grid)
+        options = {"weights": interactive.DEMO_WEIGHTS, "state": interactive.DEMO_START,
+                   "labels": interactive.DEMO_LABELS,
+                   "title": "Linear Bellman combination, live: pendulum swing-up"}
+    if args.weights is not None:
+        options["weights"] = _vector(args.weights, "--weights")
+    if args.state is not None:
+        options["state"] = _vector(args.state, "--state")
+    nodes = None
+    if args.nodes is not None:
+        nodes = [c.strip() for c in args.nodes.split(",")]
+        if not all(c.isdigit() for c in nodes):
+            raise ValueError(f"--nodes expects node counts such as 61 or 61,41, got {args.nodes!r}")
+        nodes = [int(c) for c in nodes]
+    report = interactive.write_page(solutions, args.out, nodes=nodes, n_times=args.times,
+                                    max_bytes=int(args.max_mb * 1e6), dtype=args.dtype,
+                                    **options)
+    print(report.summary())
+    return 0
+
+
 def _add_workflow_parsers(sub):
     solve = sub.add_parser(
         "solve", help="solve a problem from flags or a TOML file and save the Solution",
@@ -255,6 +287,39 @@ def _add_workflow_parsers(sub):
     combine.add_argument("--time", type=float, default=0.0, help="time t (default 0)")
     combine.add_argument("--table", metavar="CSV", help="write the evaluations as CSV")
     combine.set_defaults(func=_cmd_combine)
+
+    interactive = sub.add_parser(
+        "interactive", help="write a self-contained web page that recombines solutions live",
+        description="Write one HTML file (nothing loaded from the network) that recombines saved "
+        "solutions in the browser: drag weights, pick a goal (weights by projection), click a "
+        "state to roll out the combined controller on the value and policy maps. Without files "
+        "it solves a built-in pendulum demo (three goals, about 15 s). Supported: 2-D Pendulum "
+        "and PointMass solutions. Solutions larger than --max-mb are decimated (every k-th "
+        "stored slice, a coarser grid evaluated from the solution itself); the page then "
+        "computes exactly what gridlbc.combine computes on the decimated solutions, and the "
+        "output says how far those are from the originals. PAGE.html?weights=1,0.5&state=2.8,0"
+        "&time=0 writes {value, policy, alpha} as JSON into the element #probe.",
+    )
+    interactive.add_argument("solutions", nargs="*", help="solution files (gridlbc solve)")
+    interactive.add_argument("--out", required=True, help="the page to write (.html)")
+    interactive.add_argument("--weights", metavar="W1,W2,...",
+                             help="initial weights (default: all ones)")
+    interactive.add_argument("--state", metavar="X", help="initial rollout start state")
+    interactive.add_argument("--max-mb", type=float, default=4.0,
+                             help="embed the solutions whole up to this many MB of slices, "
+                             "else decimate to fit (default: 4)")
+    interactive.add_argument("--nodes", metavar="N[,N]",
+                             help="decimate to this many nodes per axis")
+    interactive.add_argument("--times", type=int, metavar="K",
+                             help="decimate to at most K stored time slices, denser towards "
+                             "T (default 41 when decimating)")
+    interactive.add_argument("--dtype", choices=["float32", "float64"], default="float32",
+                             help="precision of decimated slices (default float32: half the "
+                             "bytes; float64 keeps z below 1e-45 of each slice's maximum)")
+    interactive.add_argument("--demo-grid", type=int, default=101,
+                             help="nodes per axis of the built-in demo's solve (default: 101)")
+    interactive.add_argument("--quiet", action="store_true", help="no progress output")
+    interactive.set_defaults(func=_cmd_interactive)
 
     from .figures import FIGURES
 
