@@ -13,7 +13,7 @@ from pathlib import Path
 
 
 def _cmd_demo(args) -> int:
-    from .demo import run_demo
+    from .studies.demo import run_demo
 
     run_demo(Path(args.out), grid_size=args.grid, progress=not args.quiet)
     return 0
@@ -21,13 +21,13 @@ def _cmd_demo(args) -> int:
 
 def _cmd_verify(args) -> int:
     """Exit status 0 when every check passes, 1 when one fails (the table says which)."""
-    from .verify import run_verification
+    from .studies.verify import run_verification
 
     report = run_verification(grid_size=args.grid, samples=args.samples, seed=args.seed,
                               quick=args.quick, progress=not args.quiet)
     print(report.table())
     if args.convergence:
-        from .convergence import pendulum_study, pointmass_study
+        from .studies.convergence import pendulum_study, pointmass_study
 
         spacings, sizes = ((1 / 4, 1 / 8, 1 / 16), (32, 64, 128)) if args.quick else \
             ((1 / 4, 1 / 8, 1 / 16, 1 / 32), (64, 128, 256))
@@ -196,7 +196,7 @@ def _cmd_combine(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from .figures import make_all
+    from .studies.figures import make_all
 
     written = make_all(Path(args.out), quick=args.quick, only=args.only, progress=not args.quiet)
     print(f"wrote {len(written)} files to {args.out}")
@@ -204,33 +204,28 @@ def _cmd_figures(args) -> int:
 
 
 def _cmd_interactive(args) -> int:
-    from . import interactive
+    from .interactive import write_page
     from .io import load
 
-    options = {}
-    if args.solutions:
-        solutions = [load(p) for p in args.solutions]
-    else:
-        if not args.quiet:
-            print(f"solving the built-in pendulum demo on {args.demo_grid}² for "
-                  f"{len(interactive.DEMO_GOALS)} goals ...", flush=True)
-        solutions = interactive.demo_solutions(args.demo_grid)
-        options = {"weights": interactive.DEMO_WEIGHTS, "state": interactive.DEMO_START,
-                   "labels": interactive.DEMO_LABELS,
-                   "title": "Linear Bellman combination, live: pendulum swing-up"}
-    if args.weights is not None:
-        options["weights"] = _vector(args.weights, "--weights")
-    if args.state is not None:
-        options["state"] = _vector(args.state, "--state")
-    nodes = None
+    options = {"max_bytes": int(args.max_mb * 1e6), "dtype": args.dtype, "n_times": args.times}
     if args.nodes is not None:
         nodes = [c.strip() for c in args.nodes.split(",")]
         if not all(c.isdigit() for c in nodes):
             raise ValueError(f"--nodes expects node counts such as 61 or 61,41, got {args.nodes!r}")
-        nodes = [int(c) for c in nodes]
-    report = interactive.write_page(solutions, args.out, nodes=nodes, n_times=args.times,
-                                    max_bytes=int(args.max_mb * 1e6), dtype=args.dtype,
-                                    **options)
+        options["nodes"] = [int(c) for c in nodes]
+    if args.weights is not None:
+        options["weights"] = _vector(args.weights, "--weights")
+    if args.state is not None:
+        options["state"] = _vector(args.state, "--state")
+    if args.solutions:
+        report = write_page([load(p) for p in args.solutions], args.out, **options)
+    else:
+        from .studies.demo import interactive_demo
+
+        if not args.quiet:
+            print(f"solving the built-in pendulum demo (three goals) on {args.demo_grid} θ "
+                  "nodes ...", flush=True)
+        report = interactive_demo(args.out, args.demo_grid, progress=not args.quiet, **options)
     print(report.summary())
     return 0
 
@@ -293,12 +288,14 @@ def _add_workflow_parsers(sub):
         description="Write one HTML file (nothing loaded from the network) that recombines saved "
         "solutions in the browser: drag weights, pick a goal (weights by projection), click a "
         "state to roll out the combined controller on the value and policy maps. Without files "
-        "it solves a built-in pendulum demo (three goals, about 15 s). Supported: 2-D Pendulum "
-        "and PointMass solutions. Solutions larger than --max-mb are decimated (every k-th "
-        "stored slice, a coarser grid evaluated from the solution itself); the page then "
-        "computes exactly what gridlbc.combine computes on the decimated solutions, and the "
-        "output says how far those are from the originals. PAGE.html?weights=1,0.5&state=2.8,0"
-        "&time=0 writes {value, policy, alpha} as JSON into the element #probe.",
+        "it solves a built-in pendulum swing-up with three goals on 101² (well under a "
+        "minute). Supported: 2-D Pendulum and PointMass solutions. Solutions larger than "
+        "--max-mb are decimated (a subset of the stored slices, denser towards T, and a "
+        "coarser grid, both evaluated from the solution itself); the page then computes "
+        "exactly what gridlbc.combine computes on the decimated solutions, and the output says "
+        "how far those are from the originals. PAGE.html?weights=1,0.5&state=2.8,0&time=0 "
+        "writes {value, policy, alpha} as JSON into the element #probe (goal=c1,c2 instead of "
+        "weights: weights by projection).",
     )
     interactive.add_argument("solutions", nargs="*", help="solution files (gridlbc solve)")
     interactive.add_argument("--out", required=True, help="the page to write (.html)")
@@ -321,11 +318,11 @@ def _add_workflow_parsers(sub):
     interactive.add_argument("--quiet", action="store_true", help="no progress output")
     interactive.set_defaults(func=_cmd_interactive)
 
-    from .figures import FIGURES
+    from .studies.figures import FIGURES
 
     figures = sub.add_parser(
         "figures", help="regenerate the figure gallery",
-        description="Write every figure of the gallery (gridlbc.figures) to a folder. The full "
+        description="Write every figure of the gallery (gridlbc.studies.figures) to a folder. The full "
         "sizes take several minutes; --quick runs small grids in about a minute.",
     )
     figures.add_argument("--out", default="figures", help="folder (default: figures)")

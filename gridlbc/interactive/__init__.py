@@ -380,35 +380,3 @@ def write_page(solutions, path, *, weights=None, state=None, nodes=None, n_times
     path.write_text(html, encoding="utf-8")
     error, median, spread = _decimation_error(solutions, embedding, w)
     return PageReport(path, len(html.encode("utf-8")), embedding, error, median, spread)
-
-
-DEMO_GOALS = ((-0.4, 0.0), (0.4, 0.0), (math.pi, 0.0))
-"""The built-in demo's goals (θ, ω): upright leaning left, leaning right, hanging down."""
-
-DEMO_WEIGHTS = (1.0, 1.0, 0.0)
-"""Initial weights of the demo: swing up to either upright goal, the hanging one switched off."""
-
-DEMO_START = (2.8, 0.0)
-"""Near hanging down, at rest (the start state of ``gridlbc demo``)."""
-
-
-DEMO_HORIZON = 5.0
-"""Long enough for the noise-free closed loop from :data:`DEMO_START` to reach a goal (in the
-3 s of ``gridlbc demo`` it ends about 0.5 rad short)."""
-
-
-def demo_solutions(n: int = 101) -> list[Solution]:
-    """The pendulum swing-up of ``gridlbc demo`` (λ = 1, R = 1) over :data:`DEMO_HORIZON`,
-    solved on n² for the three :data:`DEMO_GOALS` with g = (x − c)ᵀ diag(4, 0.5) (x − c) (wide
-    enough that projection interpolates between the upright goals: residual 0.42 for θ̄ = 0)
-    and one operator fitted to Σ_i h_i, so that they combine exactly."""
-    from ..demo import swingup_problem
-    from ..solver import solve_many
-
-    problem = swingup_problem(n, horizon=DEMO_HORIZON)
-    goals = [Quadratic(list(c), [4.0, 0.5]) for c in DEMO_GOALS]
-    return solve_many(problem, goals, fitting="terminal")
-
-
-DEMO_LABELS = ("upright, leaning left (θ = −0.4)", "upright, leaning right (θ = +0.4)",
-               "hanging down (θ = π)")
