@@ -169,6 +169,16 @@ def test_decimate_evaluates_the_solution_itself(pendulum_files):
     assert embed([sol], max_bytes=20_000).decimated
 
 
+def test_page_loads_nothing_from_the_network(pendulum_files, tmp_path):
+    report = write_page([gridlbc.load(p) for p in pendulum_files], tmp_path / "p.html")
+    html = report.path.read_text(encoding="utf-8")
+    assert report.size == len(html.encode("utf-8"))
+    for reference in ("http://", "https://", "//cdn", " src=", "<link", "import(", "fetch(",
+                      "XMLHttpRequest", "url("):
+        assert reference not in html, reference
+    assert html.count("<script") == 2  # the data (JSON) and the inline script
+
+
 def test_unsupported_system_is_a_clear_error(tmp_path, capsys):
     grid = Grid([Axis(-1.0, 1.0, 11)])
     sol = gridlbc.solve(Problem(SingleIntegrator(), grid, 0.5, Quadratic([0], [1])), dt=0.1)
