@@ -169,6 +169,44 @@ def test_decimate_evaluates_the_solution_itself(pendulum_files):
     assert embed([sol], max_bytes=20_000).decimated
 
 
+# Appended to a copy of the page: drives its controls as a user would, then reports.
+USER_SCRIPT = """<script>
+(function () {
+  const out = {};
+  const sliders = document.querySelectorAll("#weights input[type=range]");
+  sliders[2].value = "2"; sliders[2].dispatchEvent(new Event("input"));
+  out.after_weight = document.getElementById("readout").textContent;
+  const map = document.getElementById("value-map"), r = map.getBoundingClientRect();
+  const click = (fx, fy) => map.dispatchEvent(new MouseEvent("click", {bubbles: true,
+    clientX: r.left + fx * r.width, clientY: r.top + fy * r.height}));
+  click(0.5, 0.5);
+  out.after_click = document.getElementById("readout").textContent;
+  const goal = document.querySelector("input[name=mode][value=goal]");
+  goal.checked = true; goal.dispatchEvent(new Event("change"));
+  click(0.55, 0.5);
+  out.projection = document.getElementById("projection").textContent;
+  out.weights = Array.from(document.querySelectorAll("#weights input[type=number]"), (b) => Number(b.value));
+  document.getElementById("timing").textContent = JSON.stringify(out);
+})();
+</script></body>"""
+
+
+@needs_chromium
+def test_controls_drive_the_page(pendulum_files, tmp_path):
+    """Slider, click and goal mode change what the page shows (the wiring, not the numbers)."""
+    page = write_page([gridlbc.load(p) for p in pendulum_files], tmp_path / "p.html",
+                      weights=(1, 1, 0), state=(2.8, 0.0)).path
+    page.write_text(page.read_text(encoding="utf-8").replace("</body>", USER_SCRIPT))
+    out = _dump(page, "")["timing"]
+    # the third goal (θ = 3, near the start) now dominates the blend at the start state
+    alpha3 = float(re.search(r"α3([-0-9.]+)", out["after_weight"]).group(1))
+    assert alpha3 > 0.9, out["after_weight"]
+    assert "state x(2.800, 0.000)" in out["after_weight"]
+    assert "state x(2.800" not in out["after_click"]  # the click moved the start state
+    assert out["projection"].startswith("goal (")
+    assert out["weights"] != [1.0, 1.0, 2.0]  # projection replaced the slider weights
+
+
 def test_page_loads_nothing_from_the_network(pendulum_files, tmp_path):
     report = write_page([gridlbc.load(p) for p in pendulum_files], tmp_path / "p.html")
     html = report.path.read_text(encoding="utf-8")
