@@ -207,7 +207,9 @@ def _cmd_interactive(args) -> int:
     from .interactive import write_page
     from .io import load
 
-    options = {"max_bytes": int(args.max_mb * 1e6), "dtype": args.dtype, "n_times": args.times}
+    options = {"dtype": args.dtype, "n_times": args.times}
+    if args.max_mb is not None:
+        options["max_bytes"] = int(args.max_mb * 1e6)
     if args.nodes is not None:
         nodes = [c.strip() for c in args.nodes.split(",")]
         if not all(c.isdigit() for c in nodes):
@@ -302,9 +304,9 @@ def _add_workflow_parsers(sub):
     interactive.add_argument("--weights", metavar="W1,W2,...",
                              help="initial weights (default: all ones)")
     interactive.add_argument("--state", metavar="X", help="initial rollout start state")
-    interactive.add_argument("--max-mb", type=float, default=4.0,
+    interactive.add_argument("--max-mb", type=float,
                              help="embed the solutions whole up to this many MB of slices, "
-                             "else decimate to fit (default: 4)")
+                             "else decimate to fit (default: 16; the built-in demo: 4)")
     interactive.add_argument("--nodes", metavar="N[,N]",
                              help="decimate to this many nodes per axis")
     interactive.add_argument("--times", type=int, metavar="K",

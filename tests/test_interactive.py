@@ -17,6 +17,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+import numba
 import numpy as np
 import pytest
 
@@ -99,7 +100,12 @@ def test_page_equals_combine_on_saved_solutions(pendulum_files, tmp_path):
         out = _dump(page, _query(weights, state, t))
         _assert_probe(out["probe"], combined, weights, state, t)
         if t == 0.0:  # the rollout drawn on the maps: gridlbc.simulate's noise-free closed loop
-            rollout = gridlbc.simulate(combined.problem, combined.policy, state, noise=False)
+            threads = numba.get_num_threads()
+            numba.set_num_threads(1)  # one state per step: a thread launch costs more than it
+            try:                      # computes (≈ 100× on a loaded 2-core machine)
+                rollout = gridlbc.simulate(combined.problem, combined.policy, state, noise=False)
+            finally:
+                numba.set_num_threads(threads)
             details = out["probe-details"]["rollout"]
             assert details["steps"] == rollout.controls.shape[1]
             np.testing.assert_allclose(details["final_state"], rollout.final_states[0],

@@ -44,8 +44,9 @@ from ..systems import Pendulum, PointMass
 SUPPORTED_SYSTEMS = (Pendulum, PointMass)
 """Systems whose drift the page implements (for the rollout)."""
 
-DEFAULT_MAX_BYTES = 4_000_000
-"""Budget for the embedded slices (before base64, which adds a third)."""
+DEFAULT_MAX_BYTES = 16_000_000
+"""Budget for the embedded slices (before base64, which adds a third): solutions up to this size
+are embedded whole, so that the page computes exactly what ``gridlbc.combine`` computes on them."""
 
 DEFAULT_TIMES = 41
 """Stored time slices kept per component when a solution is too large to embed whole."""
@@ -99,7 +100,12 @@ def decimate(solution: Solution, nodes=None, n_times: int | None = None,
         interpolant (:meth:`Solution.scaled_fields`), on the coarse grid at the kept times.
     """
     grid = solution.grid
-    shape = grid.shape if nodes is None else tuple(np.broadcast_to(nodes, (grid.ndim,)))
+    shape = grid.shape if nodes is None else tuple(np.atleast_1d(np.asarray(nodes, dtype=int)))
+    if len(shape) == 1:
+        shape = shape * grid.ndim
+    if len(shape) != grid.ndim:
+        raise ValueError(f"nodes must be one count or {grid.ndim} (one per axis), got "
+                         f"{list(shape)}")
     if any(int(n) < 3 for n in shape):
         raise ValueError(f"nodes must be at least 3 per axis, got {list(shape)}")
     coarse = Grid([Axis(a.lo, a.hi, min(int(n), a.n), a.periodic, a.name)
