@@ -15,6 +15,7 @@ from .project import Projection, ProjectionWarning, project, projection
 from .simulate import Rollouts, simulate
 from .solution import Solution, SolveDiagnostics, UnderflowWarning
 from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
+from .sweep import SweepMember, sweep  # imports Dask only when a sweep runs
 
 __version__ = "0.1.0"
 
@@ -33,6 +34,7 @@ __all__ = [
     "Solution",
     "SolveDiagnostics",
     "SolverSettings",
+    "SweepMember",
     "UnderflowWarning",
     "combine",
     "costs",
@@ -45,5 +47,6 @@ __all__ = [
     "simulate",
     "solve",
     "solve_many",
+    "sweep",
     "systems",
 ]

@@ -30,7 +30,7 @@ def one_line_error(result, *fragments):
         assert fragment in lines[0], lines[0]
 
 
-@pytest.mark.parametrize("command", ["", "demo", "verify", "solve", "combine", "figures"])
+@pytest.mark.parametrize("command", ["", "demo", "verify", "solve", "combine", "figures", "sweep"])
 def test_help_everywhere(command):
     result = run(*([command] if command else []), "--help")
     assert result.returncode == 0
