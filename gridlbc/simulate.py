@@ -5,7 +5,8 @@ Euler–Maruyama with step Δt = T/K on the Itô SDE
     dx = (a(x) + B(x) u) dt + √λ B(x) R^{−1/2} dW,      Cov[dξ] = λ B R⁻¹ Bᵀ dt,
 
 i.e. x_{k+1} = x_k + (a(x_k) + B(x_k) u_k) Δt + √(λ Δt) B(x_k) C ε_k with C Cᵀ = R⁻¹ (Cholesky)
-and ε_k ~ N(0, I_m), periodic coordinates wrapped into the box after each step. Each sample's
+and ε_k ~ N(0, I_m), periodic coordinates wrapped after each step (into the grid's box, or into
+[−π, π) for a grid-free problem). The noise B C ε needs no diagonal B R⁻¹ Bᵀ. Each sample's
 cost is the rectangle rule of the running cost plus the terminal cost,
 
     J = Σ_k ( q(x_k) + ½ u_kᵀ R u_k ) Δt + g(x_K),
@@ -79,7 +80,8 @@ class Rollouts:
         g(x_T) per sample (part of ``costs``).
     left_box : ndarray (n,) of bool
         Samples that left the grid's box on a non-periodic axis at some step (the SDE lives on
-        Rᵈ, so they keep going; a grid solution is clamped to the box there).
+        Rᵈ, so they keep going; a grid solution is clamped to the box there). All False for a
+        grid-free problem (no box).
     seed : int or None
     """
 
@@ -129,7 +131,7 @@ def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
         raise TypeError(f"n_samples must be an integer, got {n_samples!r}")
     if n_samples < 1:
         raise ValueError(f"n_samples must be at least 1, got {n_samples}")
-    x0 = problem.grid.check_states(x0, "x0")
+    x0 = problem.check_states(x0, "x0")
     if x0.shape[0] == 1:
         return np.repeat(x0, n_samples, axis=0)
     if x0.shape[0] != n_samples:
@@ -212,14 +214,12 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
     rng = np.random.default_rng(seed)
     R = np.ascontiguousarray(problem.R)
     root = np.linalg.cholesky(problem.R_inv) * math.sqrt(problem.temperature * step)
-    outside_mask = ~grid.periodic
-    lo, hi = grid.lo, grid.hi
 
     states = np.empty((n, K + 1, d))
     controls = np.empty((n, K, m))
     costs = np.zeros(n)
     left = np.zeros(n, dtype=bool)
-    x = grid.wrap(x)
+    x = problem.wrap(x)
     states[:, 0] = x
     eps = np.zeros((n, m))
     for k in range(K):
@@ -233,8 +233,9 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
             eps = rng.standard_normal((n, m))
         x_new = np.empty_like(x)
         _em_kernel(x, drift, B, u, eps, root, R, step, x_new, costs)
-        x = grid.wrap(x_new)
-        left |= np.any(((x < lo) | (x > hi)) & outside_mask, axis=1)
+        x = problem.wrap(x_new)
+        if grid is not None:
+            left |= np.any(((x < grid.lo) | (x > grid.hi)) & ~grid.periodic, axis=1)
         states[:, k + 1] = x
         controls[:, k] = u
     terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")
