@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from gridlbc import Axis, Grid, Problem, Quadratic, certify, reference, simulate, solve
+from gridlbc.certify import CertificateWarning
 from gridlbc.reference import lq_solution
 from gridlbc.systems import Pendulum, PlanarChain, PointMass
 
@@ -62,7 +63,9 @@ def test_rollouts_without_a_grid_equal_those_on_a_grid():
     np.testing.assert_array_equal(a.costs, b.costs)
     assert a.n_left_box > 0 and b.n_left_box == 0  # velocities beyond ±1 leave the grid's box
     assert np.all((b.states[..., 0] >= -np.pi) & (b.states[..., 0] < np.pi))
-    c, d = (certify(p, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02) for p in (on_grid, free))
+    with pytest.warns(CertificateWarning):  # a poor proposal: only the equality matters here
+        c, d = (certify(p, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02)
+                for p in (on_grid, free))
     assert c.optimal_value == d.optimal_value and c.policy_cost == d.policy_cost
     assert c.left_box_fraction > 0 and d.left_box_fraction == 0
 
