@@ -20,7 +20,7 @@ import time
 import numpy as np
 
 import gridlbc
-from gridlbc.verify import swingup_problem as problem
+from gridlbc.studies.verify import swingup_problem as problem
 
 START = np.array([2.8, 0.0])
 

@@ -1,13 +1,13 @@
 """Convergence of the solvers under grid refinement, and the small-temperature study.
 
-Writes the figure with gridlbc.figures.convergence (see its docstring for the experiment).
+Writes the figure with gridlbc.studies.figures.convergence (see its docstring for the experiment).
 
     python examples/convergence.py [--out figures] [--quick]
 """
 
 import argparse
 
-from gridlbc.figures import make_all
+from gridlbc.studies.figures import make_all
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", default="figures", help="output folder (default: figures)")

@@ -1,13 +1,13 @@
 """The gymnast (acrobot) swing-up from the paper's test state: still frames and a GIF.
 
-Writes the figure with gridlbc.figures.gymnast (see its docstring for the experiment).
+Writes the figure with gridlbc.studies.figures.gymnast (see its docstring for the experiment).
 
     python examples/gymnast.py [--out figures] [--quick]
 """
 
 import argparse
 
-from gridlbc.figures import make_all
+from gridlbc.studies.figures import make_all
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", default="figures", help="output folder (default: figures)")

@@ -64,7 +64,7 @@ DEFAULT_BOUNDS = {
     "Acrobot": [None, (-math.pi, math.pi), (-16.0, 16.0), (-9.0, 9.0)],
 }
 """The box used with ``grid.n``: ``None`` is an angle, periodic on [−π, π); a pair is (lo, hi)
-of a non-periodic axis. The acrobot's box is the gymnast study's (:mod:`gridlbc.gymnast`: hip
+of a non-periodic axis. The acrobot's box is the gymnast study's (:mod:`gridlbc.studies.gymnast`: hip
 stops at ±π, momenta ±16 × ±9)."""
 
 _PI = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)?)\s*\*?\s*pi\s*(?:/\s*(\d+(?:\.\d*)?))?\s*$")

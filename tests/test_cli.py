@@ -216,7 +216,7 @@ def test_demo_runs_small_and_checks_what_it_claims(tmp_path):
     """The demo job on a 61² grid: superposition of the fitted combination to rounding, and the
     fitted prediction closer to its Monte-Carlo cost than the plain one (measured at 61²: plain
     gap about 50 %, fitted under 10 %)."""
-    from gridlbc.demo import run_demo
+    from gridlbc.studies.demo import run_demo
 
     results = run_demo(tmp_path, grid_size=61, progress=False, n_samples=100)
     assert results["superposition_value"] < 1e-10 and results["superposition_policy"] < 1e-8

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import gridlbc
-from gridlbc.convergence import (
+from gridlbc.studies.convergence import (
     ConvergenceTable,
     pendulum_problem,
     pendulum_study,

@@ -4,7 +4,8 @@ against one uninterrupted rollout."""
 import numpy as np
 import pytest
 
-from gridlbc import figures, simulate
+from gridlbc import simulate
+from gridlbc.studies import figures
 
 PNG = b"\x89PNG\r\n\x1a\n"
 

@@ -1,4 +1,4 @@
-"""The exponentially fitted drift of the splitting scheme (gridlbc.splitting, "Exponential
+"""The exponentially fitted drift of the splitting scheme (gridlbc.schemes.splitting, "Exponential
 fitting"): exact for desirabilities proportional to the reference, linear and positive for any
 other, exactly superposable among solutions that share the reference, and far more honest than
 plain interpolation where v is steep."""
@@ -9,9 +9,9 @@ import pytest
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.simulate import simulate
-from gridlbc.splitting import SplittingStep, characteristic_feet
+from gridlbc.schemes.splitting import SplittingStep, characteristic_feet
 from gridlbc.systems import Pendulum
-from gridlbc.verify import SWINGUP_START, swingup_problem
+from gridlbc.studies.verify import SWINGUP_START, swingup_problem
 
 
 def _pendulum(n=24):

@@ -1,11 +1,11 @@
 """The gymnast study on a small grid: the grid-optimal controllers (plain and fitted) against
-zero torque and each other, and the problem and figure helpers of gridlbc.gymnast."""
+zero torque and each other, and the problem and figure helpers of gridlbc.studies.gymnast."""
 
 import numpy as np
 import pytest
 
 import gridlbc
-from gridlbc.gymnast import (
+from gridlbc.studies.gymnast import (
     GYMNAST_START,
     angle_distance,
     animate_swingup,

@@ -7,9 +7,9 @@ import pytest
 from scipy.interpolate import RegularGridInterpolator
 
 from gridlbc import Axis, Grid, Problem
-from gridlbc.convergence import pointmass_points, pointmass_problem
+from gridlbc.studies.convergence import pointmass_points, pointmass_problem
 from gridlbc.costs import Quadratic
-from gridlbc.hjb import (
+from gridlbc.reference.hjb import (
     _grid_arrays,
     _hamiltonian_kernel,
     control_structure,

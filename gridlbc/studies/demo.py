@@ -17,13 +17,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import combine
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import Pendulum
+from ..combine import combine
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..problem import Problem
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from ..systems import Pendulum
 from .verify import SWINGUP_ROLLOUT_DT
 
 START = np.array([2.8, 0.0])

@@ -27,14 +27,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .hjb import solve_hjb
-from .problem import Problem
-from .reference import lq_solution
-from .solution import UnderflowWarning
-from .solver import solve
-from .systems import Pendulum, PointMass
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..reference.hjb import solve_hjb
+from ..problem import Problem
+from ..reference import lq_solution
+from ..solution import UnderflowWarning
+from ..solver import solve
+from ..systems import Pendulum, PointMass
 
 SOLVERS = {
     "splitting": lambda problem: solve(problem, method="splitting"),

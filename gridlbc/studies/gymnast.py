@@ -26,10 +26,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .systems import Acrobot
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..problem import Problem
+from ..systems import Acrobot
 
 GYMNAST_START = np.array([np.radians(-105.0), np.radians(-15.0), 0.0, 0.0])
 """The paper's swing-up test state (θ1, θ2, p1, p2): (−105°, −15°) at rest."""

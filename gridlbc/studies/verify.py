@@ -32,15 +32,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import combine, naive_blend
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .project import ProjectionWarning, projection
-from .reference import lq_solution
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import Pendulum, PointMass
+from ..combine import combine, naive_blend
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..problem import Problem
+from ..project import ProjectionWarning, projection
+from ..reference import lq_solution
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from ..systems import Pendulum, PointMass
 
 SUPERPOSITION_BOUND = 1e-10
 SWINGUP_GAP = 0.10

@@ -61,13 +61,12 @@ state cost, into the last diffusion pass), so a step streams z through memory ab
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 
-from ._numba import jit_parallel, prange
-from .grid import Grid
-from .interpolate import barycentric
-from .problem import Problem
+from .._numba import jit_parallel, prange, work_blocks
+from ..grid import Grid
+from ..interpolate import barycentric
+from ..problem import Problem
 
 FEET_LAYOUTS = ("compact", "table")
 """How the characteristic feet are stored (see the module docstring)."""
@@ -76,11 +75,6 @@ _Q = 65535  # quantisation of the fractional coordinates in the compact layout
 _MAX_COMPACT_DIM = 8  # the packed simplex shape holds 4 bits per walk step
 _FEET_CHUNK = 1 << 20  # nodes per chunk when computing feet (bounds the setup memory)
 _TINY = 1e-300  # floor of the fitting reference: 1/φ and the factors stay finite
-
-
-def _blocks(n_items: int) -> int:
-    """Number of parallel work blocks: a few per thread, so that the load balances."""
-    return max(1, min(n_items, 8 * numba.get_num_threads()))
 
 
 # -- feet ---------------------------------------------------------------------------------------
@@ -391,6 +385,7 @@ class SplittingStep:
     """
 
     name = "splitting"
+    supports_fitting = True
 
     def __init__(self, problem: Problem, dt: float, feet: str = "compact"):
         if feet not in FEET_LAYOUTS:
@@ -407,6 +402,7 @@ class SplittingStep:
         self.cost_factor = (np.exp(-q * (0.5 * dt) / problem.temperature) if np.any(q != 0)
                             else np.empty(0))
         self._buffers = {}
+        self.iterations: list[int] = []  # direct tridiagonal solves: no iterations
 
     @staticmethod
     def estimate_bytes(grid: Grid, feet: str = "compact") -> int:
@@ -481,10 +477,10 @@ class SplittingStep:
             k, stride = self.noise[-1][0], int(self.grid.strides[self.noise[-1][0]])
             chunk = min(stride, 64)
             n_tasks = self.grid.size // (self.grid.axes[k].n * stride) * ((stride + chunk - 1) // chunk)
-            block_max = self._buffer(K, _blocks(n_tasks))
+            block_max = self._buffer(K, work_blocks(n_tasks))
         self._half_diffusion(out, block_max)
         if block_max is None:
-            block_max = self._buffer(K, _blocks(self.grid.size))
+            block_max = self._buffer(K, work_blocks(self.grid.size))
             _cost_max_kernel(out, self.cost_factor, block_max)
         return block_max.max(axis=1)
 

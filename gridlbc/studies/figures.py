@@ -12,9 +12,9 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 - :func:`coordination` — blend weights α over time for a two-goal point mass pushed mid-way
   (Fig. 9 idea).
 - :func:`gymnast` — the acrobot swing-up from the paper's test state (Fig. 7 setting), a still
-  and a GIF (the study of :mod:`gridlbc.gymnast`).
+  and a GIF (the study of :mod:`gridlbc.studies.gymnast`).
 - :func:`convergence` — error against grid spacing and the small-temperature study
-  (:mod:`gridlbc.convergence`).
+  (:mod:`gridlbc.studies.convergence`).
 """
 
 from __future__ import annotations
@@ -26,15 +26,15 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import CompositeCost, combine, naive_blend
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .project import ProjectionWarning
-from .project import projection as project_weights
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import PointMass
+from ..combine import CompositeCost, combine, naive_blend
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..problem import Problem
+from ..project import ProjectionWarning
+from ..project import projection as project_weights
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from ..systems import PointMass
 
 DPI = 100
 
@@ -317,7 +317,7 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     run = simulate(problem, solution.policy, GYMNAST_START, 1, dt=0.002, noise=False)
     ref = None
     if reference:
-        from .trajopt import optimize_trajectory
+        from ..trajopt import optimize_trajectory
 
         optimum = optimize_trajectory(problem.system.drift, problem.system.input_matrix,
                                       GYMNAST_START, problem.horizon, problem.terminal_cost,
@@ -340,7 +340,7 @@ def convergence(out, spacings=(4, 8, 16, 32), sizes=(64, 128, 256),
                 temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), temperature_grid: int = 128
                 ) -> list[Path]:
     """Error against h for the z-space and HJB solvers, and v, u as λ → 0
-    (:mod:`gridlbc.convergence`; ``benchmarks/convergence.py`` prints the tables)."""
+    (:mod:`gridlbc.studies.convergence`; ``benchmarks/convergence.py`` prints the tables)."""
     from .convergence import (
         pendulum_study,
         plot_convergence,

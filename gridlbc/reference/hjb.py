@@ -43,9 +43,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numba import jit
-from .grid import Grid
-from .problem import Problem
+from .._numba import jit
+from ..grid import Grid
+from ..problem import Problem
 
 
 @jit
