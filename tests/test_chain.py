@@ -89,9 +89,10 @@ def test_mass_matrix_is_the_kinetic_energy_of_the_positions(chain, rng):
     # Central differences: O(eps²) relative error, far below 1e-8.
     np.testing.assert_allclose(0.5 * np.einsum("ni,nij,nj->n", s_dot, M, s_dot), kinetic,
                                rtol=1e-8)
-    # Angular momentum (x right, y up; clockwise angles) about the bar or the centre of mass.
-    spin = np.einsum("k,nk,nk->n", m, bodies_r[..., 1], bodies_v[..., 0]) - np.einsum(
-        "k,nk,nk->n", m, bodies_r[..., 0], bodies_v[..., 1]) + psi_dot @ inertia
+    # Angular momentum r × v (x right, y up, counterclockwise angles) about the bar or the
+    # centre of mass.
+    spin = np.einsum("k,nk,nk->n", m, bodies_r[..., 0], bodies_v[..., 1]) - np.einsum(
+        "k,nk,nk->n", m, bodies_r[..., 1], bodies_v[..., 0]) + psi_dot @ inertia
     p = chain.from_velocities(np.column_stack([s, s_dot]))
     np.testing.assert_allclose(chain.angular_momentum(p), spin, rtol=1e-8)
 

@@ -3,8 +3,8 @@
 Coordinates. s = (θ1, θ2, …, θn): θ1 is link 1's absolute angle from the upward vertical, θk
 (k ≥ 2) the joint angle of link k relative to link k − 1, so link k's absolute angle is
 ψk = θ1 + … + θk, i.e. ψ = L s with L the lower-triangular matrix of ones. A link at absolute
-angle ψ points along e(ψ) = (sin ψ, cos ψ) (x to the right, y up; positive angles tip to the
-right). The state is x = (s, p) with the canonical momenta p = M(s) ṡ.
+angle ψ points along e(ψ) = (−sin ψ, cos ψ) (x to the right, y up; angles counterclockwise, as
+drawn for the gymnast). The state is x = (s, p) with the canonical momenta p = M(s) ṡ.
 
 Kinetic and potential energy. Both mass models below give, with constants G (n×n, symmetric),
 J (n) and h (n),
@@ -39,7 +39,7 @@ the centre of mass, D_kj = l_j ([j < k] + ½[j = k]) − Σ_i (m_i/m) l_j ([j < 
     G_ij = Σ_k m_k D_ki D_kj,   J_k = m_k l_k²/12,   h = 0.
 
 T does not depend on θ1 (turning the whole body changes no energy), so ṗ1 = Σ_i f_i = 0: the
-momentum conjugate to θ1, the total angular momentum about the centre of mass (clockwise
+momentum conjugate to θ1, the total angular momentum about the centre of mass (counterclockwise
 positive), is conserved. The equations set ṗ1 = 0 exactly (the sum cancels pairwise, to rounding),
 and B has no row for p1, so rollouts conserve it to the bit.
 """
@@ -139,7 +139,7 @@ class PlanarChain(ControlAffineSystem):
         Pinned: relative to the bar (point 0 is the bar). Free: relative to the centre of mass.
         """
         psi = self.absolute_angles(x)
-        steps = np.array(self.lengths)[:, None] * np.stack([np.sin(psi), np.cos(psi)], axis=-1)
+        steps = np.array(self.lengths)[:, None] * np.stack([-np.sin(psi), np.cos(psi)], axis=-1)
         points = np.concatenate([np.zeros((psi.shape[0], 1, 2)), np.cumsum(steps, axis=1)], axis=1)
         if not self.pinned:
             m = np.array(self.masses)
@@ -182,7 +182,7 @@ class PlanarChain(ControlAffineSystem):
 
     def angular_momentum(self, x) -> np.ndarray:
         """p1: the angular momentum about the bar (pinned) or the centre of mass (free),
-        clockwise positive; conserved in free flight. Shape ``(N,)``."""
+        counterclockwise positive; conserved in free flight. Shape ``(N,)``."""
         return self._states(x)[:, self.n_links]
 
     def from_velocities(self, x) -> np.ndarray:
