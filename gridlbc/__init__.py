@@ -5,8 +5,8 @@ solves a linear PDE (SPEC §1); solved on a grid, it gives the optimal value and
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 
-from . import costs, reference, systems
-from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
+from . import costs, reference, systems, trajectory
+from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .io import load, save
@@ -22,6 +22,7 @@ __all__ = [
     "METHODS",
     "PRESETS",
     "Axis",
+    "Combination",
     "CombinedSolution",
     "Grid",
     "NaiveBlend",
@@ -46,4 +47,5 @@ __all__ = [
     "solve",
     "solve_many",
     "systems",
+    "trajectory",
 ]

@@ -228,7 +228,7 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
         drift = np.ascontiguousarray(system.drift(x), dtype=float)
         B = np.ascontiguousarray(system.input_matrix(x), dtype=float)
         if problem.state_cost is not None:
-            costs += problem.state_cost_values(x) * step
+            costs += problem.state_cost_values(x, t) * step
         if noise:
             eps = rng.standard_normal((n, m))
         x_new = np.empty_like(x)
