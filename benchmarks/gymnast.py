@@ -8,8 +8,8 @@ with noise (gridlbc.simulate, Euler–Maruyama at Δt = 2 ms). The slices are st
 (every k-th, "kept" in the table, to fit --memory). Reported: the solver's prediction
 v(x₀, 0) = −λ log z(x₀, 0), the noise-free rollout cost and final angle distance from the
 handstand, the noisy mean cost ± its standard error, and the wall time of the solve: the
-accuracy-per-second frontier. The deterministic optimum (gridlbc.trajopt, multistart RK4
-single shooting) is the reference.
+accuracy-per-second frontier. The deterministic optimum (gridlbc.trajectory.optimize,
+multistart RK4 single shooting polished by iLQR) is the reference.
 
     python benchmarks/gymnast.py --sizes 31 41 51 61 71 81 --dts 0.05 0.1   # ≈ 20 min, 8 GiB
     python benchmarks/gymnast.py --sizes 61 --methods fitted --dts 0.05 --figures figures
@@ -33,13 +33,11 @@ from gridlbc.studies.gymnast import (
     plot_swingup,
 )
 from gridlbc.simulate import simulate
-from gridlbc.trajopt import optimize_trajectory
+from gridlbc.trajectory import optimize
 
 
 def deterministic_optimum(problem):
-    system = problem.system
-    return optimize_trajectory(system.drift, system.input_matrix, GYMNAST_START,
-                               problem.horizon, problem.terminal_cost, n_intervals=300)
+    return optimize(problem, GYMNAST_START, n_intervals=300)
 
 
 def policy_of(solution):
@@ -102,7 +100,7 @@ def main(argv=None):
     ref_distance = float(angle_distance(reference.states[-1:])[0])
     zero_cost, zero_distance = zero_torque_cost(gymnast_problem(11, args.bounds, hip),
                                               args.rollout_dt)
-    print(f"deterministic optimum (trajopt): cost {reference.cost:.2f}, final angle distance "
+    print(f"deterministic optimum (trajectory.optimize): cost {reference.cost:.2f}, final angle distance "
           f"{ref_distance:.2f} rad, max |p1| {np.abs(reference.states[:, 2]).max():.1f}, "
           f"max |p2| {np.abs(reference.states[:, 3]).max():.1f}")
     print(f"zero torque: cost {zero_cost:.2f}, final angle distance {zero_distance:.2f} rad")

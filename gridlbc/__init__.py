@@ -5,9 +5,9 @@ solves a linear PDE (SPEC §1); solved on a grid, it gives the optimal value and
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 
-from . import costs, reference, systems
+from . import costs, reference, systems, trajectory
 from .certify import Certificate, CertificateWarning, certify
-from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
+from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .io import load, save
@@ -25,6 +25,7 @@ __all__ = [
     "Axis",
     "Certificate",
     "CertificateWarning",
+    "Combination",
     "CombinedSolution",
     "Grid",
     "NaiveBlend",
@@ -50,4 +51,5 @@ __all__ = [
     "solve",
     "solve_many",
     "systems",
+    "trajectory",
 ]

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic, evaluate_cost
+from .costs import Quadratic, Tracking, evaluate_cost
 from .grid import Grid, check_states
 from .systems.base import ControlAffineSystem
 
@@ -71,7 +71,9 @@ class Problem:
         g(x) on ``(N, d)`` states, e.g. :class:`gridlbc.costs.Quadratic`. Quadratic costs are made
         wrap-aware on the periodic axes.
     state_cost : callable, optional
-        q(x) ≥ 0 on ``(N, d)`` states; zero when omitted.
+        q(x) ≥ 0 on ``(N, d)`` states; zero when omitted. A cost with ``time_dependent = True``
+        (:class:`gridlbc.costs.Tracking`) is q(x, t): trajectory methods and
+        :func:`gridlbc.simulate` accept it, the grid solvers do not.
     control_cost : float, (m,) or (m, m)
         R, symmetric positive definite (a scalar means R = r I).
     temperature : float
@@ -186,7 +188,10 @@ class Problem:
     def _bind_cost(self, cost, name):
         if not callable(cost):
             raise TypeError(f"{name} must be callable on (N, d) states, e.g. gridlbc.costs.Quadratic")
-        if isinstance(cost, Quadratic):
+        if getattr(cost, "time_dependent", False) and name == "terminal_cost":
+            raise TypeError("terminal_cost must be a function of the state alone, g(x): a "
+                            "time-dependent cost (costs.Tracking) can only be a state_cost")
+        if isinstance(cost, (Quadratic, Tracking)):
             if cost.dim != self.state_dim:
                 raise ValueError(
                     f"{name} center has {cost.dim} coordinates but the state has {self.state_dim}"
@@ -213,12 +218,24 @@ class Problem:
         x = self.require_grid("terminal_values()").nodes() if x is None else self.check_states(x)
         return evaluate_cost(self.terminal_cost, x, "terminal_cost")
 
-    def state_cost_values(self, x=None) -> np.ndarray:
-        """q at states (default: the grid nodes), checked finite and non-negative."""
+    def state_cost_values(self, x=None, t=None) -> np.ndarray:
+        """q at states (default: the grid nodes) and time ``t``, checked finite and non-negative.
+
+        ``t`` is needed only by a time-dependent state cost (:class:`gridlbc.costs.Tracking`).
+        """
         x = self.require_grid("state_cost_values()").nodes() if x is None else self.check_states(x)
         if self.state_cost is None:
             return np.zeros(x.shape[0])
-        q = evaluate_cost(self.state_cost, x, "state_cost")
+        cost = self.state_cost
+        if getattr(cost, "time_dependent", False):
+            if t is None:
+                raise ValueError(
+                    "state_cost depends on time (q(x, t), e.g. costs.Tracking): the grid solvers "
+                    "need q(x) alone; use gridlbc.trajectory for a tracking cost"
+                )
+            q = evaluate_cost(lambda y: cost(y, t), x, "state_cost")
+        else:
+            q = evaluate_cost(cost, x, "state_cost")
         if np.any(q < 0):
             raise ValueError(
                 f"state_cost must be non-negative (min {q.min():.3g}): add a constant to it; "

@@ -275,7 +275,7 @@ def _euler_maruyama(problem: Problem, policy, x: np.ndarray, n_steps: int, rng, 
         drift = np.ascontiguousarray(system.drift(x), dtype=float)
         B = np.ascontiguousarray(system.input_matrix(x), dtype=float)
         if problem.state_cost is not None:
-            running += problem.state_cost_values(x) * step
+            running += problem.state_cost_values(x, t) * step
         if noise:
             eps = rng.standard_normal((n, m))
         x_new = np.empty_like(x)
