@@ -26,8 +26,14 @@ from pathlib import Path
 
 import numpy as np
 
-from gridlbc import trajectory
-from gridlbc.studies.diver import animate_dives, plot_study, run_coordination, run_interpolation
+from gridlbc.studies.diver import (
+    animate_dives,
+    composite_profile,
+    plot_study,
+    run_coordination,
+    run_interpolation,
+)
+from gridlbc.studies.problems import DIVER_TEMPERATURE
 
 
 def _certified(run) -> str:
@@ -43,17 +49,25 @@ def main(argv=None):
     parser.add_argument("--offset", type=float, default=0.25,
                         help="δ: the components enter at ∓δ rad from vertical")
     parser.add_argument("--restarts", type=int, default=8, help="trajectory optimisation starts")
+    parser.add_argument("--intervals", type=int, default=100, help="control intervals per dive")
     parser.add_argument("--dt", type=float, default=0.005, help="rollout step (s)")
     parser.add_argument("--certify", type=int, default=0, help="noisy samples per certificate")
     parser.add_argument("--tests", type=int, default=8, help="test κ values in [0.8, 1.2]")
     parser.add_argument("--figures", default=None, help="folder for diver.png and diver.gif")
     args = parser.parse_args(argv)
 
+    options = {"restarts": args.restarts, "n_intervals": args.intervals,
+               "screen_intervals": min(50, args.intervals)}
     started = time.perf_counter()
-    fit, runs = run_interpolation(trajectory.optimize, trajectory.expand, args.offset, args.dt,
-                                  args.certify, args.restarts)
+    fit, runs = run_interpolation(args.offset, args.dt, args.certify, **options)
     print(f"## Interpolation (Fig. 6): components entering at ∓{args.offset:g} rad, "
           f"projected weights {np.round(fit.weights, 4).tolist()} (residual {fit.residual:.2f})\n")
+    angles = np.array([-1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5]) * args.offset
+    profile = composite_profile(args.offset, DIVER_TEMPERATURE, angles)
+    print("composite entry cost −λ log Σ w_i exp(−g_i/λ), body straight, against θ1 (rad):")
+    print("| θ1 | " + " | ".join(f"{a:+.3f}" for a in angles) + " |")
+    print("|---" * (len(angles) + 1) + "|")
+    print("| g | " + " | ".join(f"{v:.4f}" for v in profile) + " |\n")
     print("| controller | noise-free J | entry error (°) | shape error (°) | noisy J(u) | "
           "certified v* | ESS |")
     print("|---|---|---|---|---|---|---|")
@@ -64,9 +78,8 @@ def main(argv=None):
 
     started = time.perf_counter()
     tests = np.linspace(0.8, 1.2, args.tests)
-    coordination = run_coordination(trajectory.optimize, trajectory.expand, tests=tests,
-                                    dt=args.dt, certify_samples=args.certify,
-                                    restarts=args.restarts)
+    coordination = run_coordination(tests=tests, dt=args.dt, certify_samples=args.certify,
+                                    **options)
     print("## Coordination (Fig. 8): components from κ = 0.85, 1, 1.15\n")
     print("| κ | controller | noise-free J | J / optimum | entry error (°) | noisy J(u) | "
           "certified v* | ESS |")

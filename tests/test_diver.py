@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from gridlbc.studies.diver import interpolation_weights
+from gridlbc.studies.diver import composite_profile, interpolation_weights
 from gridlbc.studies.problems import DIVER_SPIN, diver, diver_problem, diver_start
 
 
@@ -39,3 +39,15 @@ def test_interpolation_weights_are_symmetric_and_match_the_closed_form():
     a = 2 * w1 / lam
     expected = np.exp(-a * delta**2 / 4) / (1 + np.exp(-a * delta**2))
     np.testing.assert_allclose(fit.weights, [expected, expected], rtol=1e-12)
+
+
+def test_composite_entry_cost_is_bimodal_when_components_are_far_apart():
+    """Why LBC misses the vertical entry at δ = 0.25: the combined goal −λ log Σ w_i exp(−g_i/λ)
+    with projected weights has two minima off vertical once 2δ exceeds twice the width
+    σ = √(λ/2W1) ≈ 0.22 of exp(−g/λ) (a mixture of two equal Gaussians is unimodal iff their
+    distance is at most 2σ); closer components give one minimum at 0."""
+    angles = np.linspace(-0.5, 0.5, 201)
+    far = composite_profile(0.25, 1.0, angles)
+    assert abs(angles[np.argmin(far)]) > 0.1 and far[100] > far.min() + 0.02
+    near = composite_profile(0.15, 1.0, angles)
+    assert np.argmin(near) == 100

@@ -15,7 +15,8 @@ value expansion and LQR tracker (:func:`gridlbc.trajectory.expand`). Two experim
 
 Each controller (LBC, the naive blend Σ w_i u_i / Σ w_i, single trackers) is rolled out without
 noise (the paper's setting) and judged by the target problem's cost J, the entry error and the
-deterministic optimum from the same take-off; with the problem's noise, :func:`gridlbc.certify`
+deterministic optimum from the same take-off (rolled out with its own tracker, so that every row
+has the same time stepping); with the problem's noise, :func:`gridlbc.certify`
 gives its cost and the certified optimum v* with the effective sample size.
 """
 
@@ -26,11 +27,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..certify import certify
-from ..combine import combine, naive_blend
+from ..combine import CompositeCost, combine, naive_blend
 from ..costs import Quadratic
 from ..project import projection
 from ..simulate import simulate
-from .problems import DIVER_ENTRY_WEIGHTS, diver_problem, diver_start
+from ..trajectory import expand, optimize
+from .problems import DIVER_ENTRY_WEIGHTS, diver, diver_problem, diver_start
 
 
 @dataclass(frozen=True)
@@ -84,14 +86,6 @@ def dive_run(problem, policy, label, momentum_scale, dt, certify_samples=0, seed
                    float(np.linalg.norm(wrapped(final[1:4]))), certificate)
 
 
-def optimal_run(problem, trajectory, label, momentum_scale) -> DiveRun:
-    """The deterministic optimum as a :class:`DiveRun` (its own tape, no feedback)."""
-    final = trajectory.states[-1]
-    return DiveRun(label, momentum_scale, trajectory.times, trajectory.states, trajectory.controls,
-                   float(trajectory.cost), float(abs(wrapped(final[0]))),
-                   float(np.linalg.norm(wrapped(final[1:4]))))
-
-
 def interpolation_weights(offset: float, temperature: float):
     """The projection of the vertical entry onto entries at ∓``offset`` (θ1 marginals, see the
     module docstring): a :class:`gridlbc.Projection`."""
@@ -113,17 +107,17 @@ class DiverStudy:
     component_scales: tuple[float, ...]
 
 
-def run_interpolation(optimize, expand, offset=0.3, dt=0.005, certify_samples=0, restarts=8,
-                      seed=0, temperature=None):
+def run_interpolation(offset=0.25, dt=0.005, certify_samples=0, seed=0, temperature=None,
+                      **optimize_options):
     """Fig. 6: under- and over-rotating dives combined to enter vertically. Returns
-    (projection, runs)."""
+    (projection, runs). ``optimize_options`` go to :func:`gridlbc.trajectory.optimize`."""
     kwargs = {} if temperature is None else {"temperature": temperature}
     target = diver_problem(0.0, **kwargs)
     x0 = diver_start(1.0)
     parts = []
     for c in (-offset, offset):
         problem = diver_problem(c, **kwargs)
-        trajectory = optimize(problem, x0, restarts=restarts, seed=seed)
+        trajectory = optimize(problem, x0, seed=seed, **optimize_options)
         parts.append((problem, trajectory, expand(problem, trajectory)))
     fit = interpolation_weights(offset, target.temperature)
     w = fit.weights
@@ -134,21 +128,42 @@ def run_interpolation(optimize, expand, offset=0.3, dt=0.005, certify_samples=0,
     for name, (problem, trajectory, component) in zip(("under-rotating", "over-rotating"), parts):
         runs.append(dive_run(target, component.policy, f"{name} tracker", 1.0, dt,
                              certify_samples, seed))
-    best = optimize(target, x0, restarts=restarts, seed=seed)
-    runs.append(optimal_run(target, best, "vertical optimum", 1.0))
+    best = optimize(target, x0, seed=seed, initial_controls=parts[0][1].controls,
+                    **optimize_options)
+    runs.append(dive_run(target, expand(target, best).policy, "vertical optimum", 1.0, dt,
+                         certify_samples, seed))
+    # What LBC aims at: the composite entry cost −λ log Σ w_i exp(−g_i/λ), optimised directly
+    # and costed on the vertical target.
+    composite = target.replace(terminal_cost=CompositeCost(
+        tuple(p[0].terminal_cost for p in parts), w, target.temperature))
+    aimed = optimize(composite, x0, seed=seed, initial_controls=parts[0][1].controls,
+                     **optimize_options)
+    runs.append(dive_run(target, expand(composite, aimed).policy, "composite optimum", 1.0, dt,
+                         certify_samples, seed))
     return fit, runs
 
 
-def run_coordination(optimize, expand, scales=(0.85, 1.0, 1.15), tests=None, dt=0.005,
-                     certify_samples=0, restarts=8, seed=0, temperature=None):
+def composite_profile(offset, temperature, angles):
+    """The composite entry cost −λ log Σ w_i exp(−g_i/λ) of the interpolation, at arms' angles
+    ``angles`` with the body straight: where LBC's combined goal has its minima."""
+    w = interpolation_weights(offset, temperature).weights
+    costs = tuple(diver_problem(c, temperature=temperature).terminal_cost
+                  for c in (-offset, offset))
+    states = np.zeros((len(angles), 8))
+    states[:, 0] = angles
+    return CompositeCost(costs, w, temperature)(states)
+
+
+def run_coordination(scales=(0.85, 1.0, 1.15), tests=None, dt=0.005, certify_samples=0, seed=0,
+                     temperature=None, n_intervals=100, **optimize_options):
     """Fig. 8: vertical dives from κ = ``scales`` combined with w = 1, tested from ``tests``
     (default eight κ from 0.8 to 1.2). Returns the runs."""
     kwargs = {} if temperature is None else {"temperature": temperature}
     problem = diver_problem(0.0, **kwargs)
-    components = []
-    for kappa in scales:
-        trajectory = optimize(problem, diver_start(kappa), restarts=restarts, seed=seed)
-        components.append(expand(problem, trajectory))
+    optimize_options["n_intervals"] = n_intervals
+    trajectories = [optimize(problem, diver_start(kappa), seed=seed, **optimize_options)
+                    for kappa in scales]
+    components = [expand(problem, trajectory) for trajectory in trajectories]
     lbc = combine(components).policy
     naive = naive_blend(components, np.ones(len(components))).policy
     single = components[list(scales).index(1.0)].policy
@@ -156,25 +171,34 @@ def run_coordination(optimize, expand, scales=(0.85, 1.0, 1.15), tests=None, dt=
     runs = []
     for kappa in tests:
         runs.append(dive_run(problem, lbc, "LBC", kappa, dt, certify_samples, seed))
+        lbc_tape = runs[-1].controls
         runs.append(dive_run(problem, naive, "naive blend", kappa, dt, certify_samples, seed))
         runs.append(dive_run(problem, single, "single tracker (κ = 1)", kappa, dt,
                              certify_samples, seed))
-        best = optimize(problem, diver_start(kappa), restarts=restarts, seed=seed)
-        runs.append(optimal_run(problem, best, "optimum", kappa))
+        # Started from LBC's own tape (among the built-in starts), so that the optimum found is
+        # at least as good as LBC's open loop.
+        start = lbc_tape[((np.arange(n_intervals) + 0.5) * len(lbc_tape) / n_intervals).astype(int)]
+        best = optimize(problem, diver_start(kappa), seed=seed, initial_controls=start,
+                        **optimize_options)
+        runs.append(dive_run(problem, expand(problem, best).policy, "optimum", kappa, dt,
+                             certify_samples, seed))
     return runs
 
 
 # -- pictures ---------------------------------------------------------------------------------
 
-_FLIGHT = (1.0, 4.0, 9.81)
+_FLIGHT = (3.0, 4.0, 9.81)
 """Horizontal and initial vertical speed of the centre of mass (m/s) and g, for drawing only: the
 dynamics of the body about its centre of mass do not depend on them."""
+
+_COLORS = {"LBC": "tab:blue", "naive blend": "tab:red", "under-rotating tracker": "tab:olive",
+           "over-rotating tracker": "tab:purple", "vertical optimum": "black",
+           "composite optimum": "tab:green", "single tracker (κ = 1)": "tab:orange",
+           "optimum": "black"}
 
 
 def _world_points(states, times) -> np.ndarray:
     """Joint points ``(k, 5, 2)`` in the world: the body about a centre of mass on its parabola."""
-    from .problems import diver
-
     vx, vy, g = _FLIGHT
     com = np.stack([vx * times, vy * times - 0.5 * g * times**2], axis=1)
     return diver().positions(states) + com[:, None, :]
@@ -183,55 +207,52 @@ def _world_points(states, times) -> np.ndarray:
 def _draw_body(ax, points, color, alpha=1.0, lw=2.5):
     ax.plot(points[:, 0], points[:, 1], "-", color=color, alpha=alpha, lw=lw,
             solid_capstyle="round")
-    ax.plot(points[0, 0], points[0, 1], "o", color=color, alpha=alpha, ms=3)  # the hands
+    ax.plot(points[0, 0], points[0, 1], "o", color=color, alpha=alpha, ms=4)  # the hands
 
 
 def plot_study(interpolation, coordination, path=None):
-    """Fig. 6 and Fig. 8 side by side: strobed dives of the interpolation experiment, and the
-    entry poses over κ for LBC and the single tracker, with costs against κ."""
+    """Fig. 6 and Fig. 8: strobed dives of the interpolation experiment (top), the entry poses
+    over κ for LBC and the single tracker and the costs against κ (bottom)."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5.2))
-    ax6, ax8, axc = axes
-    colors = {"LBC": "tab:blue", "naive blend": "tab:red", "under-rotating tracker": "tab:olive",
-              "over-rotating tracker": "tab:purple", "vertical optimum": "black",
-              "single tracker (κ = 1)": "tab:orange", "optimum": "black"}
-    shown = [r for r in interpolation if r.label in ("LBC", "naive blend")]
-    for offset, run in zip((0.0, 2.2), shown):
+    fig = plt.figure(figsize=(15, 9))
+    grid = fig.add_gridspec(2, 4, height_ratios=[1, 1])
+    shown = [r for r in interpolation if r.label in ("LBC", "naive blend", "vertical optimum",
+                                                     "composite optimum")]
+    for col, run in enumerate(shown):
+        ax = fig.add_subplot(grid[0, col])
         points = _world_points(run.states, run.times)
-        for k in np.linspace(0, len(run.times) - 1, 7).astype(int):
-            _draw_body(ax6, points[k] + [offset, 0], colors[run.label],
-                       alpha=0.25 + 0.75 * k / (len(run.times) - 1))
-        ax6.text(offset + 0.5, 2.4, f"{run.label}\nJ = {run.cost:.3g}, "
-                 f"entry {np.degrees(run.entry_error):.0f}°", ha="center", fontsize=9)
-    ax6.axhline(-1.9, color="tab:cyan", lw=1)
-    ax6.set(aspect="equal", title="interpolation (Fig. 6): aim between under- and over-rotation",
-            xticks=[], yticks=[])
-    labels = ["LBC", "single tracker (κ = 1)"]
+        for k in np.linspace(0, len(run.times) - 1, 8).astype(int):
+            _draw_body(ax, points[k], _COLORS[run.label],
+                       alpha=0.2 + 0.8 * k / (len(run.times) - 1))
+        ax.set(aspect="equal", xticks=[], yticks=[], xlim=(-1.5, 4.5), ylim=(-2.8, 2.4),
+               title=f"{run.label}: J = {run.cost:.3g}\nentry {np.degrees(run.entry_error):.0f}° "
+                     f"from vertical, shape {np.degrees(run.shape_error):.0f}°")
+    fig.text(0.01, 0.97, "Fig. 6, interpolation: under- and over-rotating dives combined to enter "
+             "vertically (hands dotted, light to dark in time)", fontsize=11)
+    ax8 = fig.add_subplot(grid[1, :2])
     kappas = sorted({r.momentum_scale for r in coordination})
-    for row, label in enumerate(labels):
+    for row, label in enumerate(("LBC", "single tracker (κ = 1)")):
         for col, kappa in enumerate(kappas):
             run = next(r for r in coordination if r.label == label and r.momentum_scale == kappa)
-            points = run.states[-1:]
-            from .problems import diver
-
-            body = diver().positions(points)[0] + [col * 0.9, -row * 2.6]
-            _draw_body(ax8, body, colors[label])
-        ax8.text(-0.6, -row * 2.6, label, rotation=90, va="center", ha="right", fontsize=9)
+            _draw_body(ax8, diver().positions(run.states[-1:])[0] + [col * 1.3, -row * 2.8],
+                       _COLORS[label])
+        ax8.text(-0.9, -row * 2.8, label, rotation=90, va="center", ha="right", fontsize=9)
     for col, kappa in enumerate(kappas):
-        ax8.text(col * 0.9, 1.4, f"κ {kappa:.2f}", ha="center", fontsize=8)
-    ax8.set(aspect="equal", title="coordination (Fig. 8): entry poses, hands down is vertical",
-            xticks=[], yticks=[])
+        ax8.text(col * 1.3, 1.5, f"κ = {kappa:.2f}", ha="center", fontsize=8)
+    ax8.set(aspect="equal", xticks=[], yticks=[], ylim=(-4.3, 1.8),
+            title="Fig. 8, coordination: entry poses (vertical: straight, hands down)")
+    axc = fig.add_subplot(grid[1, 2:])
     for label in ("LBC", "naive blend", "single tracker (κ = 1)", "optimum"):
         rows = sorted((r for r in coordination if r.label == label), key=lambda r: r.momentum_scale)
         axc.plot([r.momentum_scale for r in rows], [r.cost for r in rows], "o-",
-                 color=colors[label], label=label, ms=4)
+                 color=_COLORS[label], label=label, ms=4)
     axc.set(xlabel="take-off angular momentum κ (× nominal)", ylabel="noise-free cost J",
             yscale="log", title="coordination: cost against κ (components at 0.85, 1, 1.15)")
     axc.legend(fontsize=8)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.96))
     if path is not None:
-        fig.savefig(path, dpi=110)
+        fig.savefig(path, dpi=100)
     return fig
 
 
