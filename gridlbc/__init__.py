@@ -6,6 +6,7 @@ and solutions for different terminal costs superpose into new optimal controller
 """
 
 from . import costs, reference, systems, trajectory
+from .certify import Certificate, CertificateWarning, certify
 from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
@@ -22,6 +23,8 @@ __all__ = [
     "METHODS",
     "PRESETS",
     "Axis",
+    "Certificate",
+    "CertificateWarning",
     "Combination",
     "CombinedSolution",
     "Grid",
@@ -35,6 +38,7 @@ __all__ = [
     "SolveDiagnostics",
     "SolverSettings",
     "UnderflowWarning",
+    "certify",
     "combine",
     "costs",
     "load",
