@@ -25,14 +25,9 @@ from pathlib import Path
 import numpy as np
 
 import gridlbc
-from gridlbc.studies.gymnast import (
-    GYMNAST_START,
-    angle_distance,
-    animate_swingup,
-    gymnast_problem,
-    plot_swingup,
-)
 from gridlbc.simulate import simulate
+from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
+from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
 from gridlbc.trajectory import optimize
 
 

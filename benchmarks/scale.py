@@ -33,9 +33,8 @@ import numpy as np
 
 import gridlbc
 from gridlbc import Problem
-from gridlbc.studies.gymnast import gymnast_problem
 from gridlbc.schemes.splitting import feet_bytes_per_node
-from gridlbc.studies.verify import swingup_problem
+from gridlbc.studies.problems import gymnast_problem, swingup_problem
 
 
 def problem_for(system: str, n: int) -> Problem:

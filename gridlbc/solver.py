@@ -28,6 +28,7 @@ from .problem import Problem
 from .schemes import LINEAR_SOLVERS, METHODS
 from .solution import Solution, SolveDiagnostics
 
+
 @dataclass(frozen=True)
 class SolverSettings:
     """How to solve: scheme, time step, storage and progress.
@@ -43,16 +44,14 @@ class SolverSettings:
     courant : float
         Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
         error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
-        small steps *add* numerical diffusion: on the pendulum swing-up at 128²–256² the most
-        accurate Δt (predicted value closest to the Monte-Carlo cost of the policy) has a Courant
-        number of 4–12 (``benchmarks/swingup_accuracy.py``); the default is 6.
+        small steps *add* numerical diffusion and the most accurate Δt has a Courant number
+        well above 1 (``benchmarks/swingup_accuracy.py`` measures it); the default is 6.
     min_steps : int
         At least this many steps over the horizon.
     store_every : int
         Keep every k-th slice (and always t = 0 and T); z between them is interpolated linearly
         in time (which keeps superposition exact). This costs policy accuracy where the dynamics
-        are fast: on the gymnast at 51⁴, Δt = 0.05, k = 4 raised the noise-free rollout cost
-        from 18.79 to 20.96 (``benchmarks/gymnast.py --memory``). Prefer ``mmap_dir`` or float32
+        are fast (``benchmarks/gymnast.py --memory`` measures it). Prefer ``mmap_dir`` or float32
         slices when memory is short and the states that matter keep z above 1e-38 of the
         slice maximum.
     dtype : str

@@ -5,14 +5,9 @@ import numpy as np
 import pytest
 
 import gridlbc
-from gridlbc.studies.gymnast import (
-    GYMNAST_START,
-    angle_distance,
-    animate_swingup,
-    gymnast_problem,
-    plot_swingup,
-)
 from gridlbc.simulate import simulate
+from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
+from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
 
 NOISY = {"n_samples": 800, "dt": 0.005, "seed": 11, "noise": True}
 """Rollouts with noise; the same seed gives every controller the same noise (common random

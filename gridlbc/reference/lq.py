@@ -62,7 +62,7 @@ def _quadratic_terms(cost, name: str, d: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
-    """The exact solution of SPEC §6 for a linear system with quadratic costs.
+    """The exact solution for a linear system with quadratic costs.
 
     Requires ``problem.system.linear_matrices()`` (a(x) = A x, constant B), Quadratic terminal and
     state costs, and no periodic axis (the closed form lives on all of Rᵈ); a grid-free Problem

@@ -1,4 +1,4 @@
-"""Implicit upwind scheme for the linear Bellman PDE (SPEC §3): the reference discretisation.
+"""Implicit upwind scheme for the linear Bellman PDE : the reference discretisation.
 
 The generator of a continuous-time Markov chain on the nodes approximates aᵀ∇ + tr(D ∇²),
 D = ½ λ B R⁻¹ Bᵀ (diagonal): from node i along axis k it jumps

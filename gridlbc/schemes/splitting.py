@@ -1,4 +1,4 @@
-"""Semi-Lagrangian operator splitting for the linear Bellman PDE (SPEC §3).
+"""Semi-Lagrangian operator splitting for the linear Bellman PDE.
 
 One backward step from t + Δt to t composes linear, monotone operators, symmetrically (Strang):
 
@@ -19,9 +19,7 @@ unconditionally stable: Δt is limited by accuracy, not by a CFL condition. Its 
 O(h²/Δt) from the interpolation (a numerical diffusion of at most h²/(8Δt) per axis), O(Δt) from
 the backward-Euler diffusion and O(Δt²) from the symmetric splitting and the foot; the first term
 *falls* as Δt grows, so unlike an upwind scheme the splitting wants large Courant numbers. The
-symmetric order matters where the drift is fast: on the pendulum swing-up at 128² and
-Δt = 0.05 the policy's Monte-Carlo cost drops from 16.9 (drift, then diffusion, then cost) to
-14.2 (``benchmarks/swingup_accuracy.py``).
+symmetric order matters where the drift is fast (``benchmarks/swingup_accuracy.py``).
 
 Exponential fitting (``fitting=`` in :func:`gridlbc.solve`). Barycentric interpolation is exact
 for affine z, but z = e^{−v/λ} is exponential wherever v is steep (a swing-up's terminal bowl
@@ -40,9 +38,7 @@ reference is itself advanced by the fitted step, as one more right-hand side (fi
 P_φ φ = φ̄: v(x) ← Σ_j w_j v(y_j), the value-space semi-Lagrangian update). A problem fitted to
 its own terminal cost therefore has the accuracy of interpolating v rather than z, and all
 terminal costs solved with the same reference share one linear operator, so superposition stays
-exact among them. Measured on the pendulum swing-up (``benchmarks/swingup_accuracy.py``): at
-128², Δt = 0.029 the plain scheme predicts 12.00 for a policy that costs 15.65 ± 0.34, the
-fitted one 14.50 for a policy that costs 14.49 ± 0.27. Where v is curved rather than steep,
+exact among them (the README's swing-up tables compare the two). Where v is curved rather than steep,
 interpolating v overestimates it by about h² v''/8 per step: the fitted value errs on the
 pessimistic side.
 
