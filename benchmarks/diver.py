@@ -41,7 +41,8 @@ def _certified(run) -> str:
     if c is None:
         return "| — | — | — "
     return (f"| {c.policy_cost:.3g} ± {c.policy_cost_se:.2g} | {c.optimal_value:.3g} ± "
-            f"{c.optimal_value_se:.2g} | {c.effective_sample_size:.0f} ")
+            f"{c.optimal_value_se:.2g} | {c.effective_sample_size:.0f}"
+            f"{'' if c.trusted else ' (untrusted)'} ")
 
 
 def main(argv=None):
@@ -53,17 +54,34 @@ def main(argv=None):
     parser.add_argument("--dt", type=float, default=0.005, help="rollout step (s)")
     parser.add_argument("--certify", type=int, default=0, help="noisy samples per certificate")
     parser.add_argument("--tests", type=int, default=8, help="test κ values in [0.8, 1.2]")
+    parser.add_argument("--temperature", type=float, default=DIVER_TEMPERATURE,
+                        help="λ (the noise level and the scale of α); the projection needs λ ≈ 1")
+    parser.add_argument("--skip-interpolation", action="store_true",
+                        help="only the coordination experiment")
     parser.add_argument("--figures", default=None, help="folder for diver.png and diver.gif")
     args = parser.parse_args(argv)
 
     options = {"restarts": args.restarts, "n_intervals": args.intervals,
-               "screen_intervals": min(50, args.intervals)}
+               "screen_intervals": min(50, args.intervals), "temperature": args.temperature}
+    if not args.skip_interpolation:
+        runs = interpolation(args, options)
+    coordination = coordination_tables(args, options)
+    if args.figures and not args.skip_interpolation:
+        out = Path(args.figures)
+        out.mkdir(parents=True, exist_ok=True)
+        plot_study(runs, coordination, out / "diver.png")
+        animate_dives([r for r in runs if r.label in ("LBC", "naive blend", "vertical optimum")],
+                      out / "diver.gif")
+        print(f"wrote {out / 'diver.png'} and {out / 'diver.gif'}")
+
+
+def interpolation(args, options):
     started = time.perf_counter()
     fit, runs = run_interpolation(args.offset, args.dt, args.certify, **options)
     print(f"## Interpolation (Fig. 6): components entering at ∓{args.offset:g} rad, "
           f"projected weights {np.round(fit.weights, 4).tolist()} (residual {fit.residual:.2f})\n")
     angles = np.array([-1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5]) * args.offset
-    profile = composite_profile(args.offset, DIVER_TEMPERATURE, angles)
+    profile = composite_profile(args.offset, args.temperature, angles)
     print("composite entry cost −λ log Σ w_i exp(−g_i/λ), body straight, against θ1 (rad):")
     print("| θ1 | " + " | ".join(f"{a:+.3f}" for a in angles) + " |")
     print("|---" * (len(angles) + 1) + "|")
@@ -75,12 +93,15 @@ def main(argv=None):
         print(f"| {r.label} | {r.cost:.4g} | {np.degrees(r.entry_error):.1f} | "
               f"{np.degrees(r.shape_error):.1f} {_certified(r)}|")
     print(f"\n({time.perf_counter() - started:.0f} s)\n")
+    return runs
 
+
+def coordination_tables(args, options):
     started = time.perf_counter()
     tests = np.linspace(0.8, 1.2, args.tests)
     coordination = run_coordination(tests=tests, dt=args.dt, certify_samples=args.certify,
                                     **options)
-    print("## Coordination (Fig. 8): components from κ = 0.85, 1, 1.15\n")
+    print(f"## Coordination (Fig. 8): components from κ = 0.85, 1, 1.15, λ = {args.temperature:g}\n")
     print("| κ | controller | noise-free J | J / optimum | entry error (°) | noisy J(u) | "
           "certified v* | ESS |")
     print("|---|---|---|---|---|---|---|---|")
@@ -103,13 +124,7 @@ def main(argv=None):
         print(f"| {label} | {ratio.mean():.2f} | {ratio.max():.2f} | "
               f"{int(np.sum(winner == i))} of {len(tests)} |")
     print(f"\n({time.perf_counter() - started:.0f} s)")
-
-    if args.figures:
-        out = Path(args.figures)
-        out.mkdir(parents=True, exist_ok=True)
-        plot_study(runs, coordination, out / "diver.png")
-        animate_dives([r for r in runs if r.label in ("LBC", "naive blend")], out / "diver.gif")
-        print(f"wrote {out / 'diver.png'} and {out / 'diver.gif'}")
+    return coordination
 
 
 if __name__ == "__main__":
