@@ -56,17 +56,18 @@ def main(argv=None):
     parser.add_argument("--tests", type=int, default=8, help="test κ values in [0.8, 1.2]")
     parser.add_argument("--temperature", type=float, default=DIVER_TEMPERATURE,
                         help="λ (the noise level and the scale of α); the projection needs λ ≈ 1")
-    parser.add_argument("--skip-interpolation", action="store_true",
-                        help="only the coordination experiment")
+    parser.add_argument("--only", choices=("interpolation", "coordination"), default=None,
+                        help="run one experiment (no figures)")
     parser.add_argument("--figures", default=None, help="folder for diver.png and diver.gif")
     args = parser.parse_args(argv)
 
     options = {"restarts": args.restarts, "n_intervals": args.intervals,
                "screen_intervals": min(50, args.intervals), "temperature": args.temperature}
-    if not args.skip_interpolation:
+    if args.only != "coordination":
         runs = interpolation(args, options)
-    coordination = coordination_tables(args, options)
-    if args.figures and not args.skip_interpolation:
+    if args.only != "interpolation":
+        coordination = coordination_tables(args, options)
+    if args.figures and args.only is None:
         out = Path(args.figures)
         out.mkdir(parents=True, exist_ok=True)
         plot_study(runs, coordination, out / "diver.png")
