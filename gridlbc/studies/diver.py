@@ -7,9 +7,10 @@ value expansion and LQR tracker (:func:`gridlbc.trajectory.expand`). Two experim
 - **Interpolation** (Fig. 6): an under-rotating dive (entry cost centred c = −δ) and an
   over-rotating one (c = +δ), combined to enter vertically (c = 0) with weights w from projecting
   exp(−ḡ/λ) onto the components' exp(−g_i/λ) (:func:`gridlbc.project`). The entry costs differ in
-  θ1 alone, so the Gram matrix of the 8-D Gaussians is that of the θ1 marginals times one common
-  factor, which cancels: the weights are those of the 1-D projection (wrapping is negligible
-  where exp(−g/λ) is narrow against 2π).
+  θ1's centre alone, so every Gram entry is that of the θ1 marginals times the same factor from
+  the other coordinates (on the momenta, which carry no cost, a divergent one: the weights are
+  its limit), and the weights are those of the 1-D projection (wrapping is negligible where
+  exp(−g/λ) is narrow against 2π).
 - **Coordination** (Fig. 8): three vertical dives from take-off angular momenta κ = 0.85, 1 and
   1.15 of nominal, combined with w = 1, tested from κ in between and beyond.
 
@@ -93,18 +94,6 @@ def interpolation_weights(offset: float, temperature: float):
     target = Quadratic([0.0], [w1])
     components = [Quadratic([-offset], [w1]), Quadratic([offset], [w1])]
     return projection(target, components, temperature=temperature)
-
-
-@dataclass(frozen=True)
-class DiverStudy:
-    """Both experiments' runs, grouped by controller label."""
-
-    offset: float
-    weights: np.ndarray
-    projection_residual: float
-    interpolation: tuple[DiveRun, ...]
-    coordination: tuple[DiveRun, ...]
-    component_scales: tuple[float, ...]
 
 
 def run_interpolation(offset=0.25, dt=0.005, certify_samples=0, seed=0, temperature=None,
