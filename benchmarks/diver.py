@@ -71,8 +71,7 @@ def main(argv=None):
         out = Path(args.figures)
         out.mkdir(parents=True, exist_ok=True)
         plot_study(runs, coordination, out / "diver.png")
-        animate_dives([r for r in runs if r.label in ("LBC", "naive blend", "vertical optimum")],
-                      out / "diver.gif")
+        animate_dives([r for r in runs if r.label in ("LBC", "naive blend")], out / "diver.gif")
         print(f"wrote {out / 'diver.png'} and {out / 'diver.gif'}")
 
 
