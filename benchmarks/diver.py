@@ -28,6 +28,7 @@ import numpy as np
 
 from gridlbc.studies.diver import (
     animate_dives,
+    blend_at_start,
     composite_profile,
     plot_study,
     run_coordination,
@@ -99,8 +100,8 @@ def interpolation(args, options):
 def coordination_tables(args, options):
     started = time.perf_counter()
     tests = np.linspace(0.8, 1.2, args.tests)
-    coordination = run_coordination(tests=tests, dt=args.dt, certify_samples=args.certify,
-                                    **options)
+    components, deterministic, coordination = run_coordination(
+        tests=tests, dt=args.dt, certify_samples=args.certify, **options)
     print(f"## Coordination (Fig. 8): components from κ = 0.85, 1, 1.15, λ = {args.temperature:g}\n")
     print("| κ | controller | noise-free J | J / optimum | entry error (°) | noisy J(u) | "
           "certified v* | ESS |")
@@ -111,7 +112,7 @@ def coordination_tables(args, options):
         for r in rows:
             print(f"| {kappa:.3f} | {r.label} | {r.cost:.4g} | {r.cost / best.cost:.2f} | "
                   f"{np.degrees(r.entry_error):.1f} {_certified(r)}|")
-    labels = ("LBC", "naive blend", "single tracker (κ = 1)")
+    labels = ("LBC", "LBC, deterministic v̄", "naive blend", "single tracker (κ = 1)")
     print("\n| controller | mean J / optimum | worst J / optimum | best at (of κ) |")
     print("|---|---|---|---|")
     table = {label: np.array([next(r.cost for r in coordination if r.label == label
@@ -123,6 +124,16 @@ def coordination_tables(args, options):
         ratio = table[label] / optimum
         print(f"| {label} | {ratio.mean():.2f} | {ratio.max():.2f} | "
               f"{int(np.sum(winner == i))} of {len(tests)} |")
+    print("\nWhat α sees at take-off: v̂_i(x0, 0) of the components κ = 0.85, 1, 1.15 (with the "
+          "Itô term (λ/2)∫tr(BR⁻¹BᵀP), and the paper's deterministic v̄) and α_i(x0, 0)\n")
+    print("| κ | v̂ (with Itô term) | α | v̂ (deterministic) | α |")
+    print("|---|---|---|---|---|")
+    for kappa in tests:
+        cells = []
+        for group in (components, deterministic):
+            values, alpha = blend_at_start(group, kappa)
+            cells += [", ".join(f"{v:.3f}" for v in values), ", ".join(f"{a:.2f}" for a in alpha)]
+        print(f"| {kappa:.3f} | " + " | ".join(cells) + " |")
     print(f"\n({time.perf_counter() - started:.0f} s)")
     return coordination
 

@@ -146,14 +146,17 @@ def composite_profile(offset, temperature, angles):
 def run_coordination(scales=(0.85, 1.0, 1.15), tests=None, dt=0.005, certify_samples=0, seed=0,
                      temperature=None, n_intervals=100, **optimize_options):
     """Fig. 8: vertical dives from κ = ``scales`` combined with w = 1, tested from ``tests``
-    (default eight κ from 0.8 to 1.2). Returns the runs."""
+    (default eight κ from 0.8 to 1.2), also with the paper's deterministic v̄ in α. Returns
+    (components, components with deterministic v̄, runs)."""
     kwargs = {} if temperature is None else {"temperature": temperature}
     problem = diver_problem(0.0, **kwargs)
     optimize_options["n_intervals"] = n_intervals
     trajectories = [optimize(problem, diver_start(kappa), seed=seed, **optimize_options)
                     for kappa in scales]
     components = [expand(problem, trajectory) for trajectory in trajectories]
+    deterministic = [expand(problem, trajectory, stochastic=False) for trajectory in trajectories]
     lbc = combine(components).policy
+    lbc_deterministic = combine(deterministic).policy
     naive = naive_blend(components, np.ones(len(components))).policy
     single = components[list(scales).index(1.0)].policy
     tests = np.linspace(0.8, 1.2, 8) if tests is None else tests
@@ -161,6 +164,8 @@ def run_coordination(scales=(0.85, 1.0, 1.15), tests=None, dt=0.005, certify_sam
     for kappa in tests:
         runs.append(dive_run(problem, lbc, "LBC", kappa, dt, certify_samples, seed))
         lbc_tape = runs[-1].controls
+        runs.append(dive_run(problem, lbc_deterministic, "LBC, deterministic v̄", kappa, dt,
+                             certify_samples, seed))
         runs.append(dive_run(problem, naive, "naive blend", kappa, dt, certify_samples, seed))
         runs.append(dive_run(problem, single, "single tracker (κ = 1)", kappa, dt,
                              certify_samples, seed))
@@ -171,7 +176,14 @@ def run_coordination(scales=(0.85, 1.0, 1.15), tests=None, dt=0.005, certify_sam
                         **optimize_options)
         runs.append(dive_run(problem, expand(problem, best).policy, "optimum", kappa, dt,
                              certify_samples, seed))
-    return runs
+    return components, deterministic, runs
+
+
+def blend_at_start(components, momentum_scale):
+    """(v̂_i(x0, 0) per component, α_i(x0, 0) of their w = 1 combination) at take-off κ."""
+    x0 = diver_start(momentum_scale)
+    values = np.array([float(c.value(x0, 0.0)[0]) for c in components])
+    return values, combine(components).blend_weights(x0, 0.0)[0]
 
 
 # -- pictures ---------------------------------------------------------------------------------
@@ -183,7 +195,7 @@ dynamics of the body about its centre of mass do not depend on them."""
 _COLORS = {"LBC": "tab:blue", "naive blend": "tab:red", "under-rotating tracker": "tab:olive",
            "over-rotating tracker": "tab:purple", "vertical optimum": "black",
            "composite optimum": "tab:green", "single tracker (κ = 1)": "tab:orange",
-           "optimum": "black"}
+           "optimum": "black", "LBC, deterministic v̄": "tab:cyan"}
 
 
 def _world_points(states, times) -> np.ndarray:
@@ -232,7 +244,8 @@ def plot_study(interpolation, coordination, path=None):
     ax8.set(aspect="equal", xticks=[], yticks=[], ylim=(-4.3, 1.8),
             title="Fig. 8, coordination: entry poses (vertical: straight, hands down)")
     axc = fig.add_subplot(grid[1, 2:])
-    for label in ("LBC", "naive blend", "single tracker (κ = 1)", "optimum"):
+    for label in ("LBC", "LBC, deterministic v̄", "naive blend", "single tracker (κ = 1)",
+                  "optimum"):
         rows = sorted((r for r in coordination if r.label == label), key=lambda r: r.momentum_scale)
         axc.plot([r.momentum_scale for r in rows], [r.cost for r in rows], "o-",
                  color=_COLORS[label], label=label, ms=4)
