@@ -88,7 +88,7 @@ class Certificate:
     effective_sample_size : float or ndarray (k,)
         (Σw)² / Σw² of the weights w = exp(−S_u/λ), between 1 and ``n_samples``.
     left_box_fraction : float or ndarray (k,)
-        Share of the samples that left the grid's box on a non-periodic axis.
+        Share of the samples that left the grid's box on a non-periodic axis (0 without a grid).
     optimal_left_box_fraction : float or ndarray (k,)
         The same share under the optimal process (weighted by w).
     final_states : ndarray (n, d) or (k, n, d)
@@ -206,7 +206,7 @@ def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | Non
     _check_problem_and_policy(problem, policy)
     n = _check_sample_count(n_samples)
     single = np.ndim(x0) == 1
-    starts = problem.grid.wrap(problem.grid.check_states(x0, "x0"))
+    starts = problem.wrap(problem.check_states(x0, "x0"))
     K = _step_count(problem.horizon, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)

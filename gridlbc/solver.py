@@ -329,7 +329,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     if not terminal_costs:
         raise ValueError("terminal_costs is empty: give at least one terminal cost")
     s = _settings(settings, options)
-    grid = problem.grid
+    grid = problem.require_grid("solve")
+    problem.noise_diagonal(grid.node_coordinates([0]))  # refuse cross-diffusion before any work
     started = time.perf_counter()
     K = len(terminal_costs)
     what = f"solving on {grid.describe()}"
