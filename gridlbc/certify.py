@@ -86,6 +86,8 @@ class Certificate:
         Share of the samples that left the grid's box on a non-periodic axis.
     optimal_left_box_fraction : float or ndarray (k,)
         The same share under the optimal process (weighted by w).
+    final_states : ndarray (n, d) or (k, n, d)
+        x_T of every sample of the proposal (periodic coordinates wrapped).
     n_samples : int
         Samples per start state.
     dt, temperature : float
@@ -105,6 +107,7 @@ class Certificate:
     effective_sample_size: float | np.ndarray
     left_box_fraction: float | np.ndarray
     optimal_left_box_fraction: float | np.ndarray
+    final_states: np.ndarray
     n_samples: int
     dt: float
     temperature: float
@@ -224,5 +227,6 @@ def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | Non
             CertificateWarning, stacklevel=2,
         )
     fields = [float(c[0]) if single else c for c in columns]
-    return Certificate(starts, *fields, n_samples=n, dt=problem.horizon / K, temperature=lam,
+    final = path.final_states.reshape(k, n, -1)
+    return Certificate(starts, *fields, final_states=final[0] if single else final, n_samples=n, dt=problem.horizon / K, temperature=lam,
                        min_effective_sample_size=float(min_effective_sample_size), seed=seed)

@@ -1,4 +1,4 @@
-"""Monte-Carlo rollouts of a policy on the problem's SDE (SPEC §1).
+"""Monte-Carlo rollouts of a policy on the problem's SDE (paper §3.2).
 
 Euler–Maruyama with step Δt = T/K on the Itô SDE
 
@@ -199,10 +199,9 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
         Number of independent samples.
     dt : float, optional
         Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`).
-        The scheme's weak error is O(Δt) with a problem-dependent constant: on the pendulum
-        swing-up (T = 3, fast dynamics near the bottom) the default Δt = 0.01 reads the mean
-        cost about 6 % below Δt = 0.002. Pass a smaller ``dt`` when a cost must be checked to
-        a few percent.
+        The scheme's weak error is O(Δt) with a problem-dependent constant, large where the
+        dynamics are fast (the README's swing-up tables are rolled out at Δt = 0.002). Pass a
+        smaller ``dt`` when a cost must be checked to a few percent.
     seed : int, optional
         Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
     noise : bool
@@ -243,6 +242,7 @@ class _Path:
     times: np.ndarray
     start: np.ndarray  # x₀ wrapped into the box, (n, d)
     running_cost: np.ndarray  # Σ (q + ½ uᵀRu) Δt
+    final_states: np.ndarray  # x_K, (n, d)
     terminal_cost: np.ndarray  # g(x_K)
     ito: np.ndarray  # Σ uᵀR dε
     left_box: np.ndarray
@@ -287,4 +287,4 @@ def _euler_maruyama(problem: Problem, policy, x: np.ndarray, n_steps: int, rng, 
     terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")
     times = np.arange(n_steps + 1) * step
     times[-1] = T
-    return _Path(times, start, running, terminal, ito, left)
+    return _Path(times, start, running, x, terminal, ito, left)

@@ -178,6 +178,7 @@ def test_box_exits_are_counted_as_simulate_counts_them():
     cert = g.certify(problem, _zero, [0.0], n_samples=400, seed=2)
     rollouts = g.simulate(problem, _zero, [0.0], n_samples=400, seed=2)
     assert cert.left_box_fraction == rollouts.left_box.mean() > 0.5
+    np.testing.assert_array_equal(cert.final_states, rollouts.final_states)
 
 
 def test_progress_bar_on_request(capsys):

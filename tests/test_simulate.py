@@ -6,17 +6,17 @@ is exactly zero for the linear systems used where stated, O(Δt) otherwise.
 
 import numpy as np
 import pytest
+from conftest import line
 
 import gridlbc as g
 from gridlbc.reference import lq_solution
 from gridlbc.simulate import _em_kernel, em_step_reference
-from gridlbc.systems import Pendulum, PointMass, SingleIntegrator
+from gridlbc.systems import Pendulum, PointMass
 
 
 def _line(temperature=1.0, control_cost=1.0, horizon=1.0, state_cost=None, n=41):
-    grid = g.Grid([g.Axis(-3, 3, n)])
-    return g.Problem(SingleIntegrator(), grid, horizon, g.Quadratic([0], [1]),
-                     state_cost=state_cost, control_cost=control_cost, temperature=temperature)
+    return line(n, horizon, state_cost=state_cost, control_cost=control_cost,
+                temperature=temperature)
 
 
 def _zero(x, t):

@@ -1,6 +1,6 @@
 """An independent check: the nonlinear HJB solved directly in value space (Kushner–Dupuis).
 
-The optimal cost-to-go v of SPEC §1 solves the nonlinear Hamilton–Jacobi–Bellman equation
+The optimal cost-to-go v of the control problem (paper §3.2) solves the nonlinear Hamilton–Jacobi–Bellman equation
 
     −∂ₜv = q + min_u [ ½ uᵀR u + (a + B u)ᵀ∇v ] + ½ tr(Σ ∇²v),   Σ = λ B R⁻¹ Bᵀ,   v(·, T) = g,
 
@@ -41,7 +41,7 @@ so with bounds the problem is no longer linearly solvable (no z-space counterpar
 non-diagonal R couples the controls (the box minimiser is then not the clipped one) and is
 refused, bounded or not.
 
-Boundaries follow SPEC §3: periodic axes wrap; on a closed axis the transitions out of the box are
+Boundaries: periodic axes wrap; on a closed axis the transitions out of the box are
 suppressed (δ⁻ = 0 at the lower end, δ⁺ = 0 at the upper end: a reflecting state constraint).
 
 Evaluation anywhere: v by multilinear (tensor-product) interpolation of the nodal values, linear
@@ -57,9 +57,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numba import jit
-from .grid import Grid
-from .problem import Problem
+from .._numba import jit
+from ..grid import Grid
+from ..problem import Problem
 
 
 @jit
