@@ -1,6 +1,6 @@
 """Gymnasium's Pendulum-v1 scored by gym itself: linearly solvable vs bounded-torque HJB policies.
 
-The problem is gym's own (``gridlbc.gym_pendulum``): θ̈ = 15 sin θ + 3u, q = 20θ² + 2ω²,
+The problem is gym's own (``gridlbc.studies.gym_pendulum``): θ̈ = 15 sin θ + 3u, q = 20θ² + 2ω²,
 R = 0.04, 10 s, torque clipped to ±2 by gym. Every policy is run for ``--episodes`` episodes of
 gym's ``Pendulum-v1`` (reset seeds 0, 1, …, the same for every policy, so differences between
 rows are paired) and scored by gym's summed reward: mean ± standard error.
@@ -30,8 +30,9 @@ import time
 import numpy as np
 
 import gridlbc
-from gridlbc.gym_pendulum import pendulum_v1_problem, run_episodes, zero_policy
 from gridlbc.reference import solve_hjb
+from gridlbc.studies.gym_pendulum import run_episodes, zero_policy
+from gridlbc.studies.problems import pendulum_v1_problem
 
 REFERENCES = [  # (name, mean, standard error, source)
     ("dynamic programming on gym's map", -140.4, 1.7, "measured for this project"),

@@ -8,7 +8,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # document this checkout, installed or not
 os.environ.setdefault("MPLBACKEND", "Agg")
 
-import gridlbc  # noqa: E402
+import gridlbc
 
 project = "gridlbc"
 author = "the gridlbc authors"

@@ -13,12 +13,15 @@ import argparse
 from pathlib import Path
 
 import gymnasium
+import matplotlib
+
+matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
 from gridlbc import Axis, Grid, Problem, Quadratic
-from gridlbc.gym_pendulum import run_episodes, state_from_observation
 from gridlbc.reference import solve_hjb
+from gridlbc.studies.gym_pendulum import run_episodes, state_from_observation
 from gridlbc.systems import Pendulum
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -3,15 +3,15 @@
 import numpy as np
 import pytest
 
-from gridlbc.gym_pendulum import (
+from gridlbc.reference import solve_hjb
+from gridlbc.studies.gym_pendulum import (
     DT,
     STEPS,
-    pendulum_v1_problem,
     run_episodes,
     state_from_observation,
     zero_policy,
 )
-from gridlbc.reference import solve_hjb
+from gridlbc.studies.problems import pendulum_v1_problem
 
 gymnasium = pytest.importorskip("gymnasium")
 

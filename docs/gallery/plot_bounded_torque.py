@@ -9,7 +9,7 @@ the bounded torques instead: ``solve_hjb(problem, control_bounds=(-2, 2))``.
 
 Gym's pendulum is ``Pendulum(mass=0.75, length=2/3, gravity=10)`` (θ̈ = 15 sin θ + 3u) and its
 reward per 0.05 s step, −(θ² + 0.1ω² + 0.001u²), is the cost rate q = 20θ² + 2ω², R = 0.04
-(:mod:`gridlbc.gym_pendulum`). Small grids and few episodes here; ``benchmarks/gym_pendulum.py``
+(:mod:`gridlbc.studies.gym_pendulum`). Small grids and few episodes here; ``benchmarks/gym_pendulum.py``
 runs thousands.
 """
 
@@ -17,10 +17,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import gridlbc
-from gridlbc.gym_pendulum import pendulum_v1_problem, run_episodes
 from gridlbc.reference import solve_hjb
+from gridlbc.studies.gym_pendulum import run_episodes
+from gridlbc.studies.problems import pendulum_v1_problem
 
-n, episodes = 61, 40
+n, episodes = 51, 20
 bounded = solve_hjb(pendulum_v1_problem(n, temperature=1e-4), control_bounds=(-2, 2))
 # The linear formulation as a new user would try it: a temperature of 1 and a larger R, so
 # that the unbounded policy asks for less torque.

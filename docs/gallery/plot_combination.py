@@ -15,7 +15,7 @@ import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.systems import PointMass
 
-grid = Grid([Axis(-3, 3, 121), Axis(-4, 4, 121)])
+grid = Grid([Axis(-3, 3, 81), Axis(-4, 4, 81)])
 problem = Problem(PointMass(), grid, horizon=2.0, terminal_cost=Quadratic([1, 0], [4, 1]),
                   temperature=0.5)
 goals = [Quadratic([-1, 0], [4, 1]), Quadratic([1, 0], [4, 1])]

@@ -19,9 +19,10 @@ time discretisation with
 
     q(θ, ω) = 20 θ² + 2 ω²,    R = 0.04   (½ R = 20 · 0.001).
 
-The grid's ω axis is the closed box [−8, 8] (a reflecting state constraint, as gym's velocity
-clip is), and θ is periodic. Gym is deterministic; the library's problems have noise
-λ B R⁻¹ Bᵀ, so a small temperature is the closest match.
+:func:`gridlbc.studies.problems.pendulum_v1_problem` is that problem on a grid: the ω axis is the
+closed box [−8, 8] (a reflecting state constraint, as gym's velocity clip is), θ is periodic.
+Gym is deterministic; the library's problems have noise λ B R⁻¹ Bᵀ, so a small temperature is
+the closest match.
 
 Gym bounds the torque to ±2, which the linearly solvable formulation cannot express (its
 control cost is quadratic and unbounded, and R also sets the noise): its policy, clipped, plans
@@ -36,40 +37,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .systems import Pendulum
+from .problems import PENDULUM_V1_STEP, PENDULUM_V1_STEPS
 
-DT = 0.05
+DT = PENDULUM_V1_STEP
 """Gym's time step (s)."""
-STEPS = 200
+STEPS = PENDULUM_V1_STEPS
 """Steps per episode (gym's TimeLimit): a 10 s horizon."""
-MAX_TORQUE = 2.0
-MAX_SPEED = 8.0
-
-
-def pendulum_v1_system() -> Pendulum:
-    """Gym's pendulum in the library's form: θ̈ = 15 sin θ + 3u."""
-    return Pendulum(mass=0.75, length=2 / 3, gravity=10.0)
-
-
-def _no_terminal_cost(x: np.ndarray) -> np.ndarray:
-    return np.zeros(len(x))
-
-
-def pendulum_v1_problem(n: int = 201, temperature: float = 1e-4,
-                        control_cost: float = 0.04) -> Problem:
-    """Gym's episode as a :class:`~gridlbc.Problem` on an ``n × n`` grid.
-
-    θ periodic on [−π, π), ω on [−8, 8], horizon 10 s, q = 20θ² + 2ω², R = ``control_cost``
-    (gym's is 0.04), no terminal cost (the episode just ends).
-    """
-    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
-                 Axis(-MAX_SPEED, MAX_SPEED, n, name="omega")])
-    return Problem(pendulum_v1_system(), grid, horizon=STEPS * DT,
-                   terminal_cost=_no_terminal_cost, state_cost=Quadratic([0.0, 0.0], [20.0, 2.0]),
-                   control_cost=control_cost, temperature=temperature)
 
 
 def state_from_observation(observation) -> np.ndarray:
