@@ -9,6 +9,7 @@ report, the convergence studies, the figures, the benchmarks and the tests.
 - :func:`gymnast_problem`: the paper's acrobot swing-up (paper §6.2), from :data:`GYMNAST_START`;
 - :func:`diver_problem`: the 4-link diver beyond the grid (paper §6.1–6.2, Figs. 6 and 8), a
   grid-free problem, taking off from :func:`diver_start`.
+- :func:`pendulum_v1_problem`: gymnasium's ``Pendulum-v1`` (see :mod:`gridlbc.studies.gym_pendulum`).
 """
 
 from __future__ import annotations
@@ -192,4 +193,38 @@ def diver_problem(entry_angle: float = 0.0, temperature: float = DIVER_TEMPERATU
                   control_cost: float = DIVER_CONTROL_COST) -> Problem:
     """The grid-free diving problem: T = 1 s, the entry cost :func:`diver_entry_cost`, q = 0."""
     return Problem(diver(), None, DIVER_HORIZON, diver_entry_cost(entry_angle),
+                   control_cost=control_cost, temperature=temperature)
+
+
+# -- gymnasium's Pendulum-v1 -----------------------------------------------------------------------
+
+PENDULUM_V1_STEP = 0.05
+"""Gym's time step (s)."""
+PENDULUM_V1_STEPS = 200
+"""Steps per episode (gym's TimeLimit): a 10 s horizon."""
+PENDULUM_V1_MAX_SPEED = 8.0
+"""Gym clips ω to ± this (rad/s)."""
+
+
+def pendulum_v1_system() -> Pendulum:
+    """Gym's pendulum in the library's form: θ̈ = (3g/2l) sin θ + (3/ml²) u = 15 sin θ + 3u."""
+    return Pendulum(mass=0.75, length=2 / 3, gravity=10.0)
+
+
+def _no_terminal_cost(x: np.ndarray) -> np.ndarray:
+    return np.zeros(len(x))
+
+
+def pendulum_v1_problem(n: int = 201, temperature: float = 1e-4,
+                        control_cost: float = 0.04) -> Problem:
+    """Gym's episode as a :class:`~gridlbc.Problem` on an ``n × n`` grid.
+
+    θ periodic on [−π, π), ω on [−8, 8], horizon 200 × 0.05 s, q = 20θ² + 2ω² (gym's reward per
+    step over its 0.05 s), R = ``control_cost`` (gym's is 0.04), no terminal cost (the episode
+    just ends). Gym is deterministic: hence the small default temperature.
+    """
+    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
+                 Axis(-PENDULUM_V1_MAX_SPEED, PENDULUM_V1_MAX_SPEED, n, name="omega")])
+    return Problem(pendulum_v1_system(), grid, horizon=PENDULUM_V1_STEPS * PENDULUM_V1_STEP,
+                   terminal_cost=_no_terminal_cost, state_cost=Quadratic([0.0, 0.0], [20.0, 2.0]),
                    control_cost=control_cost, temperature=temperature)
