@@ -5,8 +5,9 @@ solves a linear PDE (paper §3.2); solved on a grid, it gives the optimal value 
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 
-from . import costs, reference, systems
-from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
+from . import costs, reference, systems, trajectory
+from .certify import Certificate, CertificateWarning, certify
+from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .io import load, save
@@ -23,6 +24,9 @@ __all__ = [
     "METHODS",
     "PRESETS",
     "Axis",
+    "Certificate",
+    "CertificateWarning",
+    "Combination",
     "CombinedSolution",
     "Grid",
     "NaiveBlend",
@@ -36,6 +40,7 @@ __all__ = [
     "SolverSettings",
     "SweepMember",
     "UnderflowWarning",
+    "certify",
     "combine",
     "costs",
     "load",
@@ -49,4 +54,5 @@ __all__ = [
     "solve_many",
     "sweep",
     "systems",
+    "trajectory",
 ]

@@ -350,7 +350,7 @@ def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9
     if isinstance(slices, bool) or not isinstance(slices, (int, np.integer)) or slices < 1:
         raise ValueError(f"slices must be a positive integer, got {slices!r}")
     started = time.perf_counter()
-    grid = problem.grid
+    grid = problem.require_grid("solve_hjb")
     x = grid.nodes()
     structure = control_structure(problem, x)
     drift = np.ascontiguousarray(problem.system.drift(x), dtype=float)
