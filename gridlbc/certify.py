@@ -46,8 +46,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .problem import Problem
+from .progress import ProgressBar
 from .simulate import _check_problem_and_policy, _check_sample_count, _euler_maruyama, _step_count
-from .solver import _Progress
 
 MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
 """Below this effective sample size the normal approximation behind the standard errors fails and
@@ -210,8 +210,9 @@ def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | Non
     K = _step_count(problem.horizon, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
-    bar = _Progress(K, progress is not False, f"certify {k}×{n} samples", x.shape[0],
-                    unit="sample-steps", delay=PROGRESS_DELAY if progress is None else 0.0)
+    bar = ProgressBar(K, progress is not False, f"certify {k}×{n} samples",
+                      work_per_item=x.shape[0], work_unit="sample-steps",
+                      delay=PROGRESS_DELAY if progress is None else 0.0)
     path = _euler_maruyama(problem, policy, x, K, np.random.default_rng(seed), True,
                            lambda step, x_new, u: bar.update(step + 1))
     lam = problem.temperature

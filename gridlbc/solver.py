@@ -16,7 +16,6 @@ import hashlib
 import math
 import os
 import shutil
-import sys
 import tempfile
 import time
 from dataclasses import dataclass
@@ -25,6 +24,7 @@ import numpy as np
 
 from ._numba import jit_parallel, prange, work_blocks
 from .problem import Problem
+from .progress import ProgressBar
 from .schemes import LINEAR_SOLVERS, METHODS
 from .solution import Solution, SolveDiagnostics
 
@@ -213,38 +213,6 @@ def _check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
             )
 
 
-class _Progress:
-    """A one-line progress bar on stderr: steps, elapsed time, ETA and ``unit`` per second (``nodes``
-    of them per step); with ``delay`` it starts only once the run has taken that many seconds."""
-
-    def __init__(self, total: int, enabled: bool, label: str, nodes: int, unit: str = "node-steps",
-                 delay: float = 0.0):
-        self.total, self.enabled, self.label, self.nodes = total, enabled, label, nodes
-        self.unit, self.delay = unit, delay
-        self.start = time.perf_counter()
-        self.last = -math.inf
-
-    def update(self, done: int):
-        if not self.enabled:
-            return
-        now = time.perf_counter()
-        elapsed = now - self.start
-        if (now - self.last < 0.5 and done != self.total) or elapsed < self.delay:
-            return
-        self.last = now
-        fraction = done / self.total
-        bar = "#" * int(25 * fraction)
-        eta = elapsed * (1 - fraction) / fraction if done else math.nan
-        rate = done * self.nodes / elapsed / 1e6 if elapsed > 0 else math.nan
-        sys.stderr.write(
-            f"\r{self.label} [{bar:<25}] {done}/{self.total} steps {elapsed:6.1f}s "
-            f"ETA {eta:6.1f}s {rate:7.1f} M {self.unit}/s"
-        )
-        if done == self.total:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
-
-
 @jit_parallel
 def _store_kernel(Z, scale, out, flushed):
     """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
@@ -356,7 +324,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     scales[slot] = log_scale[:K]
     buffer = np.empty_like(Z)
     scale = np.ones(Z.shape[0])
-    progress = _Progress(n_steps, s.progress, f"{s.method} {grid.describe()}", grid.size)
+    progress = ProgressBar(n_steps, s.progress, f"{s.method} {grid.describe()}",
+                           work_per_item=grid.size)
     for n in range(n_steps - 1, -1, -1):  # step n+1 → n, t_n = n Δt
         peak = step(Z, buffer, scale, reference)  # buffer = S(scale · Z), its row maxima
         Z, buffer = buffer, Z

@@ -26,7 +26,6 @@ import hashlib
 import json
 import os
 import sys
-import time
 import warnings
 from dataclasses import dataclass
 from pathlib import Path
@@ -35,6 +34,7 @@ import numpy as np
 
 from .io import FORMAT_VERSION, _cost_record, load, problem_record, read_metadata, save
 from .problem import Problem
+from .progress import ProgressBar
 from .solution import SolveDiagnostics
 from .solver import SolverSettings, _settings, solve
 
@@ -214,28 +214,6 @@ def _connect(client, workers, numba_threads):
         yield local
 
 
-class _Progress:
-    """One line on stderr: members done, failed and reused, elapsed time."""
-
-    def __init__(self, total: int, enabled: bool, where: str):
-        self.total, self.enabled = total, enabled
-        self.start = time.perf_counter()
-        if enabled:
-            sys.stderr.write(f"sweep: {total} members on {where}\n")
-
-    def update(self, done: int, failed: int, reused: int):
-        if not self.enabled:
-            return
-        elapsed = time.perf_counter() - self.start
-        bar = "#" * int(25 * done / self.total)
-        eta = f"{elapsed * (self.total - done) / done:6.1f}s" if done else "     ?"
-        sys.stderr.write(f"\rsweep [{bar:<25}] {done}/{self.total} done, {failed} failed, "
-                         f"{reused} reused {elapsed:6.1f}s ETA {eta}")
-        if done == self.total:
-            sys.stderr.write("\n")
-        sys.stderr.flush()
-
-
 def _describe(client) -> str:
     n = len(client.scheduler_info().get("workers", {}))
     return f"{n} worker{'s' * (n != 1)} at {client.scheduler.address}"
@@ -308,10 +286,12 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
                 outcomes[key] = _Outcome(None, None, f"{type(exc).__name__}: {exc}", False, ())
                 continue
             pending[future] = key
-        bar = _Progress(len(set(keys)), progress, _describe(c))
+        if progress:
+            sys.stderr.write(f"sweep: {len(set(keys))} members on {_describe(c)}\n")
+        bar = ProgressBar(len(set(keys)), progress, "sweep", items="done")
         failed = sum(o.error is not None for o in outcomes.values())
         reused = 0
-        bar.update(len(outcomes), failed, reused)
+        bar.update(len(outcomes), f", {failed} failed, {reused} reused")
         distributed = _import_distributed()
         for future in distributed.as_completed(list(pending)):
             try:
@@ -321,7 +301,7 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
             outcomes[pending[future]] = outcome
             failed += outcome.error is not None
             reused += outcome.reused
-            bar.update(len(outcomes), failed, reused)
+            bar.update(len(outcomes), f", {failed} failed, {reused} reused")
             future.release()
     members = []
     for i, (key, path) in enumerate(zip(keys, paths)):
