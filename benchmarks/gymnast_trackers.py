@@ -3,7 +3,9 @@ against the grid optimum and the certified optimum.
 
 Problem: the gymnast of gridlbc.studies.problems (T 3, λ 1, R 1, g = xᵀdiag(10, 10, ½, ½)x, hip
 stops at ±180°). Trackers: gridlbc.trajectory.optimize from each start of TRACKER_STARTS at rest
-(multi-start shooting + iLQR, 300 RK4 intervals), expanded by gridlbc.trajectory.expand.
+(300 RK4 intervals, expanded by gridlbc.trajectory.expand): the paper's two trackers and the
+deterministic optimum from the test state by multi-start shooting + iLQR (--restarts); the four
+further trackers by iLQR alone (search=False) from the cheapest of those three tapes.
 
 (a) Fig. 7: from (−105°, −15°) at rest: tracker 1 (−90°, 0°), tracker 2 (−110°, −20°), the naive
     average and sum, LBC with v̂ including (λ/2)∫tr(SP) (default) and with the paper's
@@ -15,8 +17,8 @@ stops at ±180°). Trackers: gridlbc.trajectory.optimize from each start of TRAC
     sample size.
 (b) v̂ against the grid value and the certified v* (proposal: the grid controller) at the two
     trackers' start states shifted along (θ1, θ2) by 0 … 0.35 rad.
-(c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the deterministic optimum from
-    each (optimize, --coverage-restarts). Share of starts whose noise-free cost is within 25 % of
+(c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the best local optimum from each
+    found by iLQR from the cheapest of the seven tapes (an upper bound on the global optimum). Share of starts whose noise-free cost is within 25 % of
     J*, for LBC of the first K trackers, the best single one of them (an oracle: the cheapest of
     the K rollouts), greedy switching (argmax α) and the grid controller.
 (d) Validity: the noisy LBC of six trackers with the feedback saturated at Mahalanobis radius
@@ -44,20 +46,26 @@ from gridlbc.studies.gymnast import (
     plot_trackers,
 )
 from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
-from gridlbc.trajectory import expand, optimize
+from gridlbc.trajectory import expand, optimize, tape_cost
 
 
-def trajectories(problem, starts, restarts, cache: Path | None, label: str):
-    """optimize from each start (cached by label, start and restarts)."""
+def trajectories(problem, starts, restarts, cache: Path | None, label: str, warm=None):
+    """optimize from each start (cached by label, start and restarts); with ``warm`` (a list of
+    Trajectories), no search: DDP from the warm tape that is cheapest from the start."""
     out = []
     for x0 in starts:
-        key = f"{label}_{restarts}_" + "_".join(f"{v:.4f}" for v in x0) + ".pkl"
+        key = (f"{label}_{'warm' if warm else restarts}_" + "_".join(f"{v:.4f}" for v in x0)
+               + ".pkl")
         path = None if cache is None else cache / key
         if path is not None and path.exists():
             with open(path, "rb") as f:
                 times, states, controls, cost, converged, message = pickle.load(f)
             trajectory = gridlbc.trajectory.Trajectory(times, states, controls, cost, problem,
                                                        converged, message)
+        elif warm:
+            tape = min((t.controls for t in warm), key=lambda U: tape_cost(problem, x0, U)[0])
+            trajectory = optimize(problem, x0, n_intervals=300, initial_controls=tape,
+                                  search=False)
         else:
             trajectory = optimize(problem, x0, restarts=restarts, n_intervals=300)
             if path is not None:
@@ -94,7 +102,6 @@ def main(argv=None):
     parser.add_argument("--grid", type=int, default=51, help="n of the n⁴ grid controller")
     parser.add_argument("--memory", type=float, default=4.0, help="GiB of stored slices")
     parser.add_argument("--restarts", type=int, default=32)
-    parser.add_argument("--coverage-restarts", type=int, default=8)
     parser.add_argument("--dt", type=float, default=0.001, help="noise-free rollout step")
     parser.add_argument("--noisy-dt", type=float, default=0.002)
     parser.add_argument("--samples", type=int, default=300)
@@ -111,8 +118,10 @@ def main(argv=None):
     T = problem.horizon
 
     started = time.perf_counter()
-    trackers = trajectories(problem, at_rest(TRACKER_STARTS), args.restarts, cache, "tracker")
+    first = trajectories(problem, at_rest(TRACKER_STARTS[:2]), args.restarts, cache, "tracker")
     optimum, = trajectories(problem, [GYMNAST_START], args.restarts, cache, "tracker")
+    trackers = first + trajectories(problem, at_rest(TRACKER_STARTS[2:]), args.restarts, cache,
+                                    "tracker", warm=[*first, optimum])
     print(f"trajectories: {time.perf_counter() - started:.0f} s; costs from their own starts: "
           + ", ".join(f"{t.cost:.2f}" for t in trackers)
           + f"; deterministic optimum from the test state {optimum.cost:.3f}", flush=True)
@@ -190,7 +199,7 @@ def main(argv=None):
         th1, th2 = np.meshgrid(np.radians([-120, -110, -100, -90, -80]),
                                np.radians([-30, -15, 0]), indexing="ij")
         starts = at_rest(np.stack([th1.ravel(), th2.ravel()], axis=1))
-        best = trajectories(problem, starts, args.coverage_restarts, cache, "coverage")
+        best = trajectories(problem, starts, None, cache, "coverage", warm=[*trackers, optimum])
         J_star = np.array([t.cost for t in best])
         grid_cost = noise_free(grid_policy, starts).costs
         print(f"\n(c) coverage of {len(starts)} starts θ1 ∈ [−120°, −80°] × θ2 ∈ [−30°, 0°] at "

@@ -63,7 +63,8 @@ class GreedySwitch:
 
 def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
     """The trackers' nominal paths and noise-free rollouts from the test state in the (θ1, θ2)
-    plane, the torques, and the blend weights α_i(t) along the LBC rollout.
+    plane (angles unwrapped: the handstand is any multiple of 360° in θ1), the torques, and the
+    blend weights α_i(t) along the LBC rollout.
 
     ``trackers`` maps a label to a Trajectory; ``runs`` a label to ``(states (k, 4), controls
     (k − 1, 1))`` on ``times``; ``alpha`` is ``(k, n)`` along the rollout labelled "LBC".
@@ -77,12 +78,13 @@ def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
         ax_path.plot(deg[:, 0], deg[:, 1], "--", lw=2.5, alpha=0.5, label=f"{label} (nominal)")
         ax_path.plot(*deg[0], "o", color=ax_path.lines[-1].get_color())
     for label, (states, controls) in runs.items():
-        deg = np.degrees(states[:, :2])
+        deg = np.degrees(np.unwrap(states[:, :2], axis=0))  # rollouts wrap θ1; paths do not
         line, = ax_path.plot(deg[:, 0], deg[:, 1], "-", lw=1.2, label=label)
         ax_u.plot(times[:-1], np.ravel(controls), color=line.get_color(), lw=1, label=label)
     start = np.degrees(next(iter(runs.values()))[0][0, :2])
     ax_path.plot(*start, "k*", ms=12, label="test start")
-    ax_path.plot(0, 0, "kP", ms=10, label="handstand")
+    for turn in (-360, 0):
+        ax_path.plot(turn, 0, "kP", ms=10, label="handstand" if turn == 0 else None)
     ax_path.set(xlabel="θ1 [deg] (0 = upright)", ylabel="θ2 [deg]",
                 title="nominal paths (dashed), noise-free rollouts from (−105°, −15°)")
     ax_path.legend(fontsize=7)
