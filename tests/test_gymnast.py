@@ -98,3 +98,24 @@ def test_figures_are_written(tmp_path):
     animate_swingup(times, states, tmp_path / "swing.gif", fps=10)
     assert (tmp_path / "swing.png").stat().st_size > 0
     assert (tmp_path / "swing.gif").stat().st_size > 0
+
+
+def test_greedy_switch_follows_the_largest_blend_weight():
+    """GreedySwitch uses, at each state, the policy of the component with the largest α."""
+    from gridlbc.studies.gymnast import GreedySwitch, at_rest
+    from gridlbc.trajectory import expand, optimize
+
+    grid = gridlbc.Grid([gridlbc.Axis(-5, 5, 5), gridlbc.Axis(-5, 5, 5)])
+    trackers = []
+    for center in (-1.0, 1.0):
+        problem = gridlbc.Problem(gridlbc.systems.PointMass(), grid, 1.0,
+                                  gridlbc.Quadratic([center, 0.0], [3.0, 0.5]))
+        trackers.append(expand(problem, optimize(problem, np.zeros(2), restarts=1,
+                                                 n_intervals=20)))
+    combination = gridlbc.combine(trackers)
+    np.testing.assert_array_equal(at_rest([0.1, -0.2]), [[0.1, -0.2, 0.0, 0.0]])
+    x = np.array([[-2.0, 0.0], [-0.5, 0.0], [0.4, 0.0], [3.0, 0.0]])
+    best = np.argmax(combination.blend_weights(x, 0.3), axis=1)
+    assert set(best) == {0, 1}
+    expected = np.stack([trackers[b].policy(x[k], 0.3)[0] for k, b in enumerate(best)])
+    np.testing.assert_array_equal(GreedySwitch(combination).policy(x, 0.3), expected)

@@ -231,6 +231,13 @@ def test_initial_controls_are_used():
     again = optimize(problem, x0, n_intervals=20, restarts=1,
                      initial_controls=best.controls[:, 0])
     assert again.cost == pytest.approx(best.cost, rel=1e-9)
+    # search=False: DDP alone from a perturbed tape returns to the same optimum.
+    start = best.controls + 0.3 * np.sin(np.arange(20))[:, None]
+    polished = optimize(problem, x0, n_intervals=20, initial_controls=start, search=False)
+    assert polished.converged, polished.message
+    assert polished.cost == pytest.approx(best.cost, rel=1e-9)
+    with pytest.raises(ValueError, match="initial_controls"):
+        optimize(problem, x0, n_intervals=20, search=False)
 
 
 @pytest.mark.parametrize(

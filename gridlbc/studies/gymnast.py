@@ -1,4 +1,6 @@
-"""The paper's gymnast (acrobot) swing-up study: the problem, its test state and its figures.
+"""The paper's gymnast (acrobot) swing-up study: the problem, its test state and its figures,
+and the trajectory trackers of the paper's Fig. 7 (:data:`TRACKER_STARTS`, :class:`GreedySwitch`,
+:func:`plot_trackers`; the tables come from ``benchmarks/gymnast_trackers.py``).
 
 Problem (paper §6.2): the :class:`gridlbc.systems.Acrobot` in canonical momenta,
 T = 3 s, λ = 1, R = 1, q = 0 and the terminal cost
@@ -27,6 +29,75 @@ from __future__ import annotations
 import numpy as np
 
 from ..systems import Acrobot
+
+TRACKER_STARTS = np.radians([[-90.0, 0.0], [-110.0, -20.0], [-120.0, -5.0], [-80.0, -25.0],
+                             [-100.0, 5.0], [-95.0, -30.0]])
+"""(θ1, θ2) of the trackers' start states, at rest: the paper's two (Fig. 7) first, then four
+more around the test state for the coverage study."""
+
+
+def at_rest(angles) -> np.ndarray:
+    """States (θ1, θ2, 0, 0) for angles ``(N, 2)`` (or one pair): ``(N, 4)``."""
+    angles = np.atleast_2d(np.asarray(angles, dtype=float))
+    return np.concatenate([angles, np.zeros_like(angles)], axis=1)
+
+
+class GreedySwitch:
+    """Switching between components: at each state follow the one with the largest blend weight
+    α_i = w_i z_i / Σ_j w_j z_j of ``combination`` (the discrete choice that the paper's
+    smooth blend replaces)."""
+
+    def __init__(self, combination):
+        self.combination = combination
+
+    def policy(self, x, t) -> np.ndarray:
+        x = np.atleast_2d(x)
+        best = np.argmax(self.combination.blend_weights(x, t), axis=1)
+        u = np.zeros((len(x), self.combination.problem.system.control_dim))
+        for i, c in enumerate(self.combination.components):
+            rows = best == i
+            if np.any(rows):
+                u[rows] = c.policy(x[rows], t)
+        return u
+
+
+def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
+    """The trackers' nominal paths and noise-free rollouts from the test state in the (θ1, θ2)
+    plane (angles unwrapped: the handstand is any multiple of 360° in θ1), the torques, and the
+    blend weights α_i(t) along the LBC rollout.
+
+    ``trackers`` maps a label to a Trajectory; ``runs`` a label to ``(states (k, 4), controls
+    (k − 1, 1))`` on ``times``; ``alpha`` is ``(k, n)`` along the rollout labelled "LBC".
+    Returns the figure (saved to ``path`` when given).
+    """
+    import matplotlib.pyplot as plt
+
+    fig, (ax_path, ax_u, ax_a) = plt.subplots(1, 3, figsize=(15, 4.6))
+    for label, trajectory in trackers.items():
+        deg = np.degrees(trajectory.states[:, :2])
+        ax_path.plot(deg[:, 0], deg[:, 1], "--", lw=2.5, alpha=0.5, label=f"{label} (nominal)")
+        ax_path.plot(*deg[0], "o", color=ax_path.lines[-1].get_color())
+    for label, (states, controls) in runs.items():
+        deg = np.degrees(np.unwrap(states[:, :2], axis=0))  # rollouts wrap θ1; paths do not
+        line, = ax_path.plot(deg[:, 0], deg[:, 1], "-", lw=1.2, label=label)
+        ax_u.plot(times[:-1], np.ravel(controls), color=line.get_color(), lw=1, label=label)
+    start = np.degrees(next(iter(runs.values()))[0][0, :2])
+    ax_path.plot(*start, "k*", ms=12, label="test start")
+    for turn in (-360, 0):
+        ax_path.plot(turn, 0, "kP", ms=10, label="handstand" if turn == 0 else None)
+    ax_path.set(xlabel="θ1 [deg] (0 = upright)", ylabel="θ2 [deg]",
+                title="nominal paths (dashed), noise-free rollouts from (−105°, −15°)")
+    ax_path.legend(fontsize=7)
+    ax_u.set(xlabel="t [s]", ylabel="hip torque u", title="torque")
+    for i in range(alpha.shape[1]):
+        ax_a.plot(times, alpha[:, i], label=f"α{i + 1}")
+    ax_a.set(xlabel="t [s]", ylabel="blend weight", ylim=(-0.05, 1.05),
+             title="LBC blend weights along its rollout")
+    ax_a.legend(fontsize=8)
+    fig.tight_layout()
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
 
 
 def angle_distance(states) -> np.ndarray:

@@ -67,7 +67,7 @@ def shooting_for(problem: Problem, x0: np.ndarray, n_intervals: int) -> Shooting
 
 def optimize(problem: Problem, x0, restarts: int = 128, seed: int | None = 0,
              n_intervals: int = 300, initial_controls=None, screen_intervals: int = 60,
-             polish: bool = True) -> Trajectory:
+             polish: bool = True, search: bool = True) -> Trajectory:
     """Minimise g(x_K) + Σ_k (q(x_k, t_k) + ½ u_kᵀ R u_k) Δt over piecewise-constant tapes.
 
     Parameters
@@ -91,6 +91,10 @@ def optimize(problem: Problem, x0, restarts: int = 128, seed: int | None = 0,
         The tapes are first optimised together on this coarser tape (at most ``n_intervals``).
     polish : bool
         Finish with Gauss–Newton DDP (iLQR) from the best tape (kept only if it is cheaper).
+    search : bool
+        False: skip the multi-start search and only polish ``initial_controls`` by DDP (a local
+        refinement, e.g. from a neighbouring start's optimum; much faster, and only as global as
+        the tape it starts from).
 
     Returns
     -------
@@ -105,13 +109,19 @@ def optimize(problem: Problem, x0, restarts: int = 128, seed: int | None = 0,
     if initial_controls is not None:
         given = check_tape("initial_controls", initial_controls, m, n_intervals)
     fine = shooting_for(problem, x0, n_intervals)
-    coarse = shooting_for(problem, x0, screen_intervals)
-    controls, converged, message = multistart(fine, coarse, restarts,
-                                              np.random.default_rng(seed), given)
+    if search:
+        coarse = shooting_for(problem, x0, screen_intervals)
+        controls, converged, message = multistart(fine, coarse, restarts,
+                                                  np.random.default_rng(seed), given)
+    elif given is None or not polish:
+        raise ValueError("search=False polishes initial_controls by DDP: give initial_controls "
+                         "and keep polish=True")
+    else:
+        controls, converged, message = given, False, "no search (DDP from initial_controls)"
     if polish:
         polished, iterations, ok = ilqr(fine, controls, problem.terminal_cost,
                                         problem.state_cost)
-        if _tape_cost(fine, polished) <= _tape_cost(fine, controls):
+        if not search or _tape_cost(fine, polished) <= _tape_cost(fine, controls):
             controls, converged = polished, ok
             message = (f"DDP polish {'converged' if ok else 'stopped'} after {iterations} "
                        f"iterations (from L-BFGS-B: {message})")
