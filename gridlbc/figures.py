@@ -20,6 +20,7 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 from __future__ import annotations
 
 import math
+import textwrap
 import time
 import warnings
 from pathlib import Path
@@ -30,7 +31,7 @@ from .combine import CompositeCost, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .problem import Problem
-from .project import ProjectionWarning
+from .project import ProjectionWarning, project
 from .project import projection as project_weights
 from .simulate import simulate
 from .solver import solve, solve_many
@@ -82,52 +83,72 @@ def cost_reward_space(out, n: int = 201) -> list[Path]:
 
 
 PROJECTION_CASES = (
-    ("components close enough (paper Fig. 3)", (-0.5, 0.5), 0.5, 0.2),
-    ("components too far apart (paper Fig. 4)", (0.0, 1.0), 25.0, 0.5),
+    ("represented well (paper Fig. 3)", (-0.5, 0.5), 0.5, 0.2),
+    ("target outside the components", (-0.5, 0.5), 0.5, 1.2),
+    ("components too narrow for their spacing (paper Fig. 4)", (0.0, 1.0), 25.0, 0.5),
 )
 """(title, component centres, weight W of g = W (x − c)², target centre ḡ) in one dimension."""
 
 
 def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
-    """Project a 1-D target reward onto two component rewards, in reward and in cost space.
+    """Project a 1-D target reward onto two component rewards: one target the basis represents
+    well, one it must extrapolate (a negative weight), one it cannot reach (Σw far from 1).
 
-    Top: h_i = exp(−g_i/λ), the target h̄ and the reconstruction Σ w_i h_i. Bottom: the costs g_i,
-    ḡ and the cost the combination really optimises, −λ log Σ w_i h_i, with its minima marked.
+    Top: h_i = exp(−g_i/λ), the target h̄ and the reconstruction Σ w_i h_i, with the
+    :class:`gridlbc.ProjectionWarning` messages that :func:`gridlbc.project` issues. Bottom: the
+    costs g_i, ḡ and the cost the combination really optimises, −λ log Σ w_i h_i (+∞ where
+    Σ w_i h_i ≤ 0), with its minima marked.
     """
     plt = _pyplot()
     lam = temperature
     x = np.linspace(-1.5, 2.5, points)[:, None]
-    fig, axes = plt.subplots(2, 2, figsize=(12, 7), sharex=True, constrained_layout=True)
+    fig, axes = plt.subplots(2, len(PROJECTION_CASES), figsize=(17, 8), sharex=True,
+                             constrained_layout=True)
     for col, (title, centres, W, target_centre) in enumerate(PROJECTION_CASES):
         components = [Quadratic([c], [W]) for c in centres]
         target = Quadratic([target_centre], [W])
-        result = project_weights(target, components, temperature=lam)
-        w = result.weights
+        with warnings.catch_warnings(record=True) as issued:
+            warnings.simplefilter("always", ProjectionWarning)
+            w = project(target, components, temperature=lam)
+        said = [str(m.message) for m in issued if issubclass(m.category, ProjectionWarning)]
+        result = project_weights(target, components, temperature=lam)  # for the residual
         h = [np.exp(-c(x) / lam) for c in components]
         blended = CompositeCost(tuple(components), w, lam)(x)
         top, bottom = axes[:, col]
         for i, h_i in enumerate(h):
-            top.plot(x, h_i, color=f"C{i}", label=f"h{i + 1}, w{i + 1} = {w[i]:.3f}")
+            top.plot(x, h_i, color=f"C{i}", label=f"h{i + 1} (c = {centres[i]:g}), "
+                     f"w{i + 1} = {w[i]:+.3f}")
             bottom.plot(x, components[i](x), color=f"C{i}", label=f"g{i + 1}")
-        top.plot(x, np.exp(-target(x) / lam), "k--", label="target h̄")
+        top.plot(x, np.exp(-target(x) / lam), "k--", label=f"target h̄ (c = {target_centre:g})")
         top.plot(x, sum(wi * hi for wi, hi in zip(w, h)), "C3", lw=2, label="Σ wᵢ hᵢ")
+        top.axhline(0, color="0.5", lw=0.5)
         bottom.plot(x, target(x), "k--", label="target ḡ")
         bottom.plot(x, blended, "C3", lw=2, label="−λ log Σ wᵢ hᵢ (what LBC optimises)")
+        finite = np.isfinite(blended)
         minima = np.flatnonzero((blended[1:-1] < blended[:-2]) & (blended[1:-1] < blended[2:])) + 1
         bottom.plot(x[minima, 0], blended[minima], "v", color="C3", ms=9,
                     label=f"its minima: x = {', '.join(f'{v:.2f}' for v in x[minima, 0])}")
-        verdict = (f"{len(result.messages)} ProjectionWarnings" if result.messages
-                   else "no warnings")
-        top.set_title(f"{title}\nΣw = {result.weight_sum:.2f}, residual "
-                      f"‖h̄ − Σwh‖/‖h̄‖ = {result.residual:.2f}; {verdict}", fontsize=10)
+        if not finite.all():
+            bottom.axvspan(x[~finite, 0].min(), x[~finite, 0].max(), color="C3", alpha=0.1,
+                           label="Σ wᵢ hᵢ ≤ 0: cost +∞")
+        top.set_title(f"{title}\nΣw = {w.sum():.2f}, residual ‖h̄ − Σwh‖/‖h̄‖ = "
+                      f"{result.residual:.2f}", fontsize=10)
+        verdict = ("gridlbc.project warns:\n" + "\n".join(
+            "• " + textwrap.fill(m, 52, subsequent_indent="  ") for m in said)
+            if said else "gridlbc.project: no warning")
+        top.text(0.02, 0.97, verdict, transform=top.transAxes, va="top", fontsize=7.5,
+                 color="C3" if said else "0.3",
+                 bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.8"})
         top.set_ylabel("reward h = exp(−g/λ)")
+        top.set_ylim(-0.7 if w.min() < 0 else -0.05, 1.45)
         bottom.set_ylabel("cost g")
         bottom.set_xlabel("state x")
-        bottom.set_ylim(-0.5, 6)
+        bottom.axvline(target_centre, color="k", ls=":", lw=1)
+        bottom.set_ylim(-0.5, 8.5)
         top.legend(fontsize=8, loc="upper right")
-        bottom.legend(fontsize=8, loc="upper right")
-    fig.suptitle(f"Projecting a target terminal reward onto component rewards (λ = {lam:g}, "
-                 "g = W (x − c)²)")
+        bottom.legend(fontsize=8, loc="upper center", ncol=2, framealpha=0.95)
+    fig.suptitle(f"Projecting a target terminal reward onto two component rewards (λ = {lam:g}, "
+                 "g = W (x − c)²): when the basis represents it and when it does not")
     return [_save(fig, out, "projection.png")]
 
 
