@@ -5,7 +5,7 @@ PointMass (mass 1, λ = 0.5, q = xᵀdiag(0.5, 0.05)x, g = (x−(1,0))ᵀdiag(2,
 solvers' Richardson extrapolation in z. Pendulum (θ periodic, ω ∈ [−8, 8], T = 1, λ = 1,
 g = xᵀdiag(10, 0.5)x): splitting vs HJB, each against its own and the other's Richardson estimate
 and against each other on the same grid. Errors at t = 0 on a lattice of states where v < min v + 5
-(see gridlbc.convergence). Then the pendulum along ω = 0 as λ → 0.
+(see gridlbc.studies.convergence). Then the pendulum along ω = 0 as λ → 0.
 
 Writes figures/convergence.png and figures/temperature.png.
 
@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from gridlbc.convergence import (
+from gridlbc.studies.convergence import (
     pendulum_study,
     plot_convergence,
     plot_temperature,

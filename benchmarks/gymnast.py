@@ -1,6 +1,6 @@
 """The gymnast (acrobot) swing-up: grid-optimal controller vs the deterministic optimum.
 
-Problem: see :mod:`gridlbc.gymnast` (T = 3, λ = 1, R = 1, q = 0, g = xᵀdiag(10, 10, ½, ½)x;
+Problem: see :mod:`gridlbc.studies.gymnast` (T = 3, λ = 1, R = 1, q = 0, g = xᵀdiag(10, 10, ½, ½)x;
 hip stops at ±180°, or a free hip with --hip free). For each grid size, method (``fitted``: the
 splitting scheme fitted to the terminal cost, ``fitting="terminal"``) and time step:
 solve, then roll the grid-optimal policy out from (−105°, −15°, at rest) without noise and
@@ -25,14 +25,9 @@ from pathlib import Path
 import numpy as np
 
 import gridlbc
-from gridlbc.gymnast import (
-    GYMNAST_START,
-    angle_distance,
-    animate_swingup,
-    gymnast_problem,
-    plot_swingup,
-)
 from gridlbc.simulate import simulate
+from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
+from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
 from gridlbc.trajopt import optimize_trajectory
 
 

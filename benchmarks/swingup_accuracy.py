@@ -17,12 +17,9 @@ from __future__ import annotations
 import argparse
 import time
 
-import numpy as np
-
 import gridlbc
-from gridlbc.verify import swingup_problem as problem
-
-START = np.array([2.8, 0.0])
+from gridlbc.studies.problems import SWINGUP_START as START
+from gridlbc.studies.problems import swingup_problem as problem
 
 
 def main(argv=None):

@@ -1,7 +1,7 @@
 """gridlbc: linearly solvable stochastic optimal control on grids, and linear Bellman combination.
 
 The desirability z = exp(−v/λ) of a control-affine problem with noise in the control channels
-solves a linear PDE (SPEC §1); solved on a grid, it gives the optimal value and policy anywhere,
+solves a linear PDE (paper §3.2); solved on a grid, it gives the optimal value and policy anywhere,
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 

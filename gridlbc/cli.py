@@ -13,7 +13,7 @@ from pathlib import Path
 
 
 def _cmd_demo(args) -> int:
-    from .demo import run_demo
+    from .studies.demo import run_demo
 
     run_demo(Path(args.out), grid_size=args.grid, progress=not args.quiet)
     return 0
@@ -21,13 +21,13 @@ def _cmd_demo(args) -> int:
 
 def _cmd_verify(args) -> int:
     """Exit status 0 when every check passes, 1 when one fails (the table says which)."""
-    from .verify import run_verification
+    from .studies.verify import run_verification
 
     report = run_verification(grid_size=args.grid, samples=args.samples, seed=args.seed,
                               quick=args.quick, progress=not args.quiet)
     print(report.table())
     if args.convergence:
-        from .convergence import pendulum_study, pointmass_study
+        from .studies.convergence import pendulum_study, pointmass_study
 
         spacings, sizes = ((1 / 4, 1 / 8, 1 / 16), (32, 64, 128)) if args.quick else \
             ((1 / 4, 1 / 8, 1 / 16, 1 / 32), (64, 128, 256))
@@ -196,7 +196,7 @@ def _cmd_combine(args) -> int:
 
 
 def _cmd_figures(args) -> int:
-    from .figures import make_all
+    from .studies.figures import make_all
 
     written = make_all(Path(args.out), quick=args.quick, only=args.only, progress=not args.quiet)
     print(f"wrote {len(written)} files to {args.out}")
@@ -256,11 +256,11 @@ def _add_workflow_parsers(sub):
     combine.add_argument("--table", metavar="CSV", help="write the evaluations as CSV")
     combine.set_defaults(func=_cmd_combine)
 
-    from .figures import FIGURES
+    from .studies.figures import FIGURES
 
     figures = sub.add_parser(
         "figures", help="regenerate the figure gallery",
-        description="Write every figure of the gallery (gridlbc.figures) to a folder. The full "
+        description="Write every figure of the gallery (gridlbc.studies.figures) to a folder. The full "
         "sizes take several minutes; --quick runs small grids in about a minute.",
     )
     figures.add_argument("--out", default="figures", help="folder (default: figures)")

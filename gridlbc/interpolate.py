@@ -1,4 +1,4 @@
-"""Barycentric interpolation on the Kuhn (Freudenthal) triangulation of a grid (SPEC §4).
+"""Barycentric interpolation on the Kuhn (Freudenthal) triangulation of a grid (README, "The maths in brief").
 
 A state x falls in the cell with lower corner i = ⌊(x − lo)/h⌋ and fractional coordinates
 f = (x − lo)/h − i ∈ [0, 1]ᵈ. Sorting f in decreasing order, f_π(1) ≥ … ≥ f_π(d), picks the simplex
@@ -14,7 +14,7 @@ which are non-negative, sum to one and reproduce affine functions exactly. Perio
 (the neighbour of node n−1 is node 0); on other axes points are clamped to the box first.
 
 Interpolation is linear in the nodal values, so anything evaluated from interpolated z and
-interpolated Bᵀ∇z stays linear in z (the superposition guarantee of SPEC §3).
+interpolated Bᵀ∇z stays linear in z (the superposition guarantee of the README's "The maths in brief").
 """
 
 from __future__ import annotations
@@ -68,16 +68,6 @@ def _kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
             weights[p, j + 1] = frac[k] - nxt
 
 
-def _grid_constants(grid: Grid):
-    return (
-        grid.lo,
-        grid.spacing,
-        np.array(grid.shape, dtype=np.int64),
-        grid.strides,
-        grid.periodic,
-    )
-
-
 def barycentric(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     """Simplex vertices and barycentric weights of states ``x`` ``(N, d)`` on ``grid``.
 
@@ -88,7 +78,7 @@ def barycentric(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     n = x.shape[0]
     idx = np.empty((n, grid.ndim + 1), dtype=np.int64)
     weights = np.empty((n, grid.ndim + 1))
-    _kuhn_kernel(np.ascontiguousarray(x), *_grid_constants(grid), idx, weights)
+    _kuhn_kernel(np.ascontiguousarray(x), *grid.kernel_arrays(), idx, weights)
     return idx, weights
 
 
@@ -104,7 +94,7 @@ def interpolate(grid: Grid, values, x) -> np.ndarray:
     return (values[..., idx] * weights).sum(axis=-1)
 
 
-def barycentric_reference(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
+def barycentric_numpy(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     """Plain-numpy version of :func:`barycentric`, for testing the compiled kernel."""
     x = grid.clamp(grid.check_states(x))
     shape = np.array(grid.shape)

@@ -1,4 +1,4 @@
-"""Weights that interpolate a target terminal cost from component costs (SPEC §2, paper §4.1).
+"""Weights that interpolate a target terminal cost from component costs (paper §4.1).
 
 The combination of :func:`gridlbc.combine` solves the terminal reward h = Σ w_i h_i with
 h_i = exp(−g_i/λ). To aim it at a target cost ḡ, project h̄ = exp(−ḡ/λ) onto span{h_i} in
@@ -32,7 +32,7 @@ import numpy as np
 from .costs import Quadratic, evaluate_cost
 from .grid import Grid
 
-METHODS = ("auto", "analytic", "quadrature")
+PROJECTION_METHODS = ("auto", "analytic", "quadrature")
 
 NEGATIVE_TOLERANCE = 1e-6
 """Weights below −NEGATIVE_TOLERANCE · max|w| count as negative."""
@@ -143,8 +143,8 @@ def _quadrature(costs, lam, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _choose_method(method, costs, grid) -> str:
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if method not in PROJECTION_METHODS:
+        raise ValueError(f"method must be one of {', '.join(PROJECTION_METHODS)}, got {method!r}")
     quadratic = all(isinstance(c, Quadratic) for c in costs)
     periodic = (grid is not None and bool(grid.periodic.any())) or any(
         isinstance(c, Quadratic) and c.periods is not None and np.isfinite(c.periods).any()
@@ -230,7 +230,7 @@ def _diagnose(w: np.ndarray, residual: float, condition: float) -> tuple[str, ..
 
 def project(target_cost, component_costs, grid: Grid | None = None, *,
             temperature: float = 1.0, method: str = "auto") -> np.ndarray:
-    """Weights w (n,) with Σ w_i exp(−g_i/λ) the L² projection of exp(−ḡ/λ) (SPEC §2).
+    """Weights w (n,) with Σ w_i exp(−g_i/λ) the L² projection of exp(−ḡ/λ) (paper §3–4).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Monte-Carlo rollouts of a policy on the problem's SDE (SPEC §1).
+"""Monte-Carlo rollouts of a policy on the problem's SDE (paper §3.2).
 
 Euler–Maruyama with step Δt = T/K on the Itô SDE
 
@@ -54,7 +54,7 @@ def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost):
             x_out[s, k] = x[s, k] + v * dt + w
 
 
-def em_step_reference(x, drift, B, u, eps, noise, R, dt):
+def em_step_numpy(x, drift, B, u, eps, noise, R, dt):
     """Plain-numpy version of the Euler–Maruyama kernel: (new states, ½ uᵀRu dt per sample)."""
     kick = eps @ noise.T
     x_new = x + (drift + np.einsum("ndm,nm->nd", B, u)) * dt + np.einsum("ndm,nm->nd", B, kick)
@@ -186,10 +186,9 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
         Number of independent samples.
     dt : float, optional
         Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`).
-        The scheme's weak error is O(Δt) with a problem-dependent constant: on the pendulum
-        swing-up (T = 3, fast dynamics near the bottom) the default Δt = 0.01 reads the mean
-        cost about 6 % below Δt = 0.002. Pass a smaller ``dt`` when a cost must be checked to
-        a few percent.
+        The scheme's weak error is O(Δt) with a problem-dependent constant, large where the
+        dynamics are fast (the README's swing-up tables are rolled out at Δt = 0.002). Pass a
+        smaller ``dt`` when a cost must be checked to a few percent.
     seed : int, optional
         Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
     noise : bool

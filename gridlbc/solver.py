@@ -1,7 +1,7 @@
 """Backward time stepping of the linear Bellman PDE: :func:`solve` and :func:`solve_many`.
 
 From the terminal data z(·, T) = exp(−g/λ) a step operator S (a monotone linear map, see
-:mod:`gridlbc.splitting` and :mod:`gridlbc.implicit`) is applied n = T/Δt times,
+:mod:`gridlbc.schemes.splitting` and :mod:`gridlbc.schemes.implicit`) is applied n = T/Δt times,
 
     z(·, t − Δt) = S z(·, t).
 
@@ -23,24 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numba import jit_parallel, prange
-from .implicit import LINEAR_SOLVERS, ImplicitStep
+from ._numba import jit_parallel, prange, work_blocks
 from .problem import Problem
+from .schemes import LINEAR_SOLVERS, METHODS
 from .solution import Solution, SolveDiagnostics
-from .splitting import SplittingStep
-
-METHODS = {"splitting": SplittingStep, "implicit": ImplicitStep}
-"""Step schemes by name; both are linear in z and monotone (z ≥ 0, discrete maximum principle).
-
-- ``"splitting"`` (default): semi-Lagrangian drift + implicit tridiagonal diffusion + exact cost
-  (:mod:`gridlbc.splitting`). Error O(h²/Δt + Δt); unconditionally stable; O(N) work per step
-  with parallel, allocation-free kernels and compact feet (14 B/node in 4D). Exactly linear
-  (superposition to rounding).
-- ``"implicit"``: upwind + backward Euler, error O(h + Δt) (:mod:`gridlbc.implicit`), the
-  reference. Its linear system is solved by sparse LU on small 2D grids (exact to rounding) and
-  by Gauss–Seidel sweeps otherwise (non-negative iterates, stopped at a max-norm change of
-  ``1e-10`` of max z: linear and monotone up to that tolerance); ``linear_solver`` overrides.
-"""
 
 
 @dataclass(frozen=True)
@@ -58,16 +44,14 @@ class SolverSettings:
     courant : float
         Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
         error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
-        small steps *add* numerical diffusion: on the pendulum swing-up at 128²–256² the most
-        accurate Δt (predicted value closest to the Monte-Carlo cost of the policy) has a Courant
-        number of 4–12 (``benchmarks/swingup_accuracy.py``); the default is 6.
+        small steps *add* numerical diffusion and the most accurate Δt has a Courant number
+        well above 1 (``benchmarks/swingup_accuracy.py`` measures it); the default is 6.
     min_steps : int
         At least this many steps over the horizon.
     store_every : int
         Keep every k-th slice (and always t = 0 and T); z between them is interpolated linearly
         in time (which keeps superposition exact). This costs policy accuracy where the dynamics
-        are fast: on the gymnast at 51⁴, Δt = 0.05, k = 4 raised the noise-free rollout cost
-        from 18.79 to 20.96 (``benchmarks/gymnast.py --memory``). Prefer ``mmap_dir`` or float32
+        are fast (``benchmarks/gymnast.py --memory`` measures it). Prefer ``mmap_dir`` or float32
         slices when memory is short and the states that matter keep z above 1e-38 of the
         slice maximum.
     dtype : str
@@ -80,11 +64,11 @@ class SolverSettings:
     mmap_dir : str, optional
         Keep the slices in an (unlinked) memory-mapped file in this directory instead of RAM.
     linear_solver : str
-        For ``method="implicit"``: one of :data:`gridlbc.implicit.LINEAR_SOLVERS` (``"auto"``:
+        For ``method="implicit"``: one of :data:`gridlbc.schemes.implicit.LINEAR_SOLVERS` (``"auto"``:
         sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
     fitting : None, "terminal" or a terminal cost
         For ``method="splitting"``: fit the drift's interpolation to a reference desirability
-        φ = exp(−g_ref/λ) (:mod:`gridlbc.splitting`, "Exponential fitting"): exact where z ∝ φ,
+        φ = exp(−g_ref/λ) (:mod:`gridlbc.schemes.splitting`, "Exponential fitting"): exact where z ∝ φ,
         far less numerical diffusion where v is steep. ``None``: plain barycentric
         interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
         :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
@@ -123,9 +107,10 @@ class SolverSettings:
         if not (self.fitting is None or self.fitting == "terminal" or callable(self.fitting)):
             raise ValueError(f"fitting must be None, 'terminal' or a terminal cost g(x), got "
                              f"{self.fitting!r}")
-        if self.fitting is not None and self.method != "splitting":
-            raise ValueError(f"fitting applies to method='splitting', not {self.method!r}: "
-                             "drop fitting or use the splitting method")
+        if self.fitting is not None and not METHODS[self.method].supports_fitting:
+            fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
+            raise ValueError(f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
+                             f"{self.method!r}: drop fitting or use one of those methods")
         if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
             raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
 
@@ -258,12 +243,12 @@ class _Progress:
 
 
 @jit_parallel
-def _store_kernel(Z, scale, out):
+def _store_kernel(Z, scale, out, flushed):
     """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
-    to zero (float32 storage of values below ~1e-45 of the slice maximum)."""
+    to zero (float32 storage of values below ~1e-45 of the slice maximum), counted per work
+    block in ``flushed``."""
     n_rhs, n_nodes = Z.shape
-    n_blocks = min(n_nodes, 256)
-    flushed = np.zeros(n_blocks, dtype=np.int64)
+    n_blocks = flushed.shape[0]
     for b in prange(n_blocks):
         count = 0
         for r in range(n_rhs):
@@ -355,7 +340,6 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
 
     Z, log_scale = _terminal_data(problem, terminal_costs)
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.fitting, Z, log_scale)
-    fit = () if reference is None else (reference,)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
     step = METHODS[s.method](problem, dt, **options)
     setup_time = time.perf_counter() - started
@@ -363,13 +347,14 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     slices = _slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty((len(kept), K))
     slot = len(kept) - 1
-    flushed = _store_kernel(Z[:K], np.ones(K), slices[:, slot])
+    blocks = np.zeros(work_blocks(grid.size), dtype=np.int64)
+    flushed = _store_kernel(Z[:K], np.ones(K), slices[:, slot], blocks)
     scales[slot] = log_scale[:K]
     buffer = np.empty_like(Z)
     scale = np.ones(Z.shape[0])
     progress = _Progress(n_steps, s.progress, f"{s.method} {grid.describe()}", grid.size)
     for n in range(n_steps - 1, -1, -1):  # step n+1 → n, t_n = n Δt
-        peak = step(Z, buffer, scale, *fit)  # buffer = S(scale · Z), its row maxima
+        peak = step(Z, buffer, scale, reference)  # buffer = S(scale · Z), its row maxima
         Z, buffer = buffer, Z
         if not np.all(peak > 0) or not np.all(np.isfinite(peak)):
             raise FloatingPointError(
@@ -381,13 +366,13 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
         scale = 1.0 / peak
         if n == kept[slot - 1]:
             slot -= 1
-            flushed += _store_kernel(Z[:K], scale[:K], slices[:, slot])
+            flushed += _store_kernel(Z[:K], scale[:K], slices[:, slot], blocks)
             scales[slot] = log_scale[:K]
         progress.update(n_steps - n)
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
-    iterations = tuple(getattr(step, "iterations", ()))
+    iterations = tuple(step.iterations)
     out = []
     for r, cost in enumerate(terminal_costs):
         diagnostics = SolveDiagnostics(

@@ -7,19 +7,18 @@ import numpy as np
 import pytest
 
 import gridlbc
-from gridlbc.convergence import (
+from gridlbc.studies.convergence import (
     ConvergenceTable,
-    pendulum_problem,
     pendulum_study,
     plot_convergence,
     plot_temperature,
     pointmass_points,
-    pointmass_problem,
     pointmass_study,
     richardson_estimate,
     richardson_z,
     temperature_study,
 )
+from gridlbc.studies.problems import pendulum_problem, pointmass_problem
 
 
 def test_richardson_estimate_recovers_the_limit_of_a_pure_power_law(rng):

@@ -12,9 +12,9 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 - :func:`coordination` — blend weights α over time for a two-goal point mass pushed mid-way
   (Fig. 9 idea).
 - :func:`gymnast` — the acrobot swing-up from the paper's test state (Fig. 7 setting), a still
-  and a GIF (the study of :mod:`gridlbc.gymnast`).
+  and a GIF (the study of :mod:`gridlbc.studies.gymnast`).
 - :func:`convergence` — error against grid spacing and the small-temperature study
-  (:mod:`gridlbc.convergence`).
+  (:mod:`gridlbc.studies.convergence`).
 """
 
 from __future__ import annotations
@@ -27,15 +27,21 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import CompositeCost, combine, naive_blend
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .project import ProjectionWarning, project
-from .project import projection as project_weights
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import PointMass
+from ..combine import CompositeCost, combine, naive_blend
+from ..costs import Quadratic
+from ..problem import Problem
+from ..project import ProjectionWarning, project
+from ..project import projection as project_weights
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from .problems import (
+    GOAL_WEIGHTS,
+    GYMNAST_START,
+    SWINGUP_START,
+    coordination_problem,
+    gymnast_problem,
+    swingup_problem,
+)
 
 DPI = 100
 
@@ -67,7 +73,7 @@ def _wrap(theta):
 
 def cost_reward_space(out, n: int = 201) -> list[Path]:
     """Value, desirability and policy of the pendulum swing-up at t = 0 on an n × n grid."""
-    from .demo import plot_fields, swingup_problem
+    from .demo import plot_fields
 
     problem = swingup_problem(n)
     solution = solve(problem)
@@ -165,7 +171,6 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
     All are rolled out from the same start with the same noise (same seed) and charged the
     *target* task's cost. The defaults are those of ``gridlbc verify``'s interpolation check.
     """
-    from .demo import START, swingup_problem
 
     plt = _pyplot()
     weights = list(weights)
@@ -185,8 +190,8 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
         "direct solve of ḡ": direct.policy,
     }
     colors = ["0.6", "0.75", "C1", "C3", "k"]
-    clean = {k: simulate(problem, p, START, 1, noise=False) for k, p in controllers.items()}
-    noisy = {k: simulate(problem, p, START, samples, seed=seed) for k, p in controllers.items()}
+    clean = {k: simulate(problem, p, SWINGUP_START, 1, noise=False) for k, p in controllers.items()}
+    noisy = {k: simulate(problem, p, SWINGUP_START, samples, seed=seed) for k, p in controllers.items()}
 
     fig, axes = plt.subplots(2, 2, figsize=(13, 8.5), constrained_layout=True)
     (ax_h, ax_t), (ax_hist, ax_cost) = axes
@@ -209,7 +214,7 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
         ax_t.plot(run.times, np.unwrap(run.states[0, :, 0]), color=color, lw=lw, label=label)
     ax_t.axhline(target_theta, color="k", ls=":", lw=1)
     ax_t.set(xlabel="t (s)", ylabel="θ (rad, unwrapped)",
-             title=f"noise-free closed loop from θ = {START[0]:g}, ω = 0")
+             title=f"noise-free closed loop from θ = {SWINGUP_START[0]:g}, ω = 0")
     ax_t.legend(fontsize=8)
 
     bins = np.linspace(-np.pi, np.pi, 61)
@@ -226,7 +231,7 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
     means = [noisy[k].mean_cost for k in names]
     errors = [noisy[k].standard_error for k in names]
     ax_cost.barh(range(len(names)), means, xerr=errors, color=colors, capsize=4)
-    predicted = float(direct.value(START, 0.0)[0])
+    predicted = float(direct.value(SWINGUP_START, 0.0)[0])
     ax_cost.axvline(predicted, color="k", ls="--", lw=1,
                     label=f"direct solve's prediction v(x₀) = {predicted:.2f}")
     for k, (m, e) in enumerate(zip(means, errors)):
@@ -242,17 +247,6 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
 
 
 # -- 4. coordination with a push ----------------------------------------------------------------------
-
-
-GOAL_WEIGHTS = (20.0, 2.0)
-"""W of the goals g = (x − c)ᵀW(x − c), c = (±1, 0)."""
-
-
-def coordination_problem(n: int = 81) -> Problem:
-    """Point mass, two acceptable outcomes: at rest at x = −1 or x = +1 after T = 3 s."""
-    grid = Grid([Axis(-3.0, 3.0, n, name="position"), Axis(-4.0, 4.0, n, name="velocity")])
-    return Problem(PointMass(), grid, 3.0, Quadratic([-1.0, 0.0], GOAL_WEIGHTS),
-                   temperature=0.3)
 
 
 def simulate_with_push(problem: Problem, policy, x0, push_time: float, kick, n_samples: int = 1,
@@ -331,14 +325,14 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     cost: noise-free cost 15.9, ending 0.75 rad from the handstand, against the optimum's 13.18);
     the solve takes about 1.5 minutes and 7 GiB.
     """
-    from .gymnast import GYMNAST_START, animate_swingup, gymnast_problem, plot_swingup
+    from .gymnast import animate_swingup, plot_swingup
 
     problem = gymnast_problem(n)
     solution = solve(problem, dt=dt, dtype="float32", fitting=fitting)
     run = simulate(problem, solution.policy, GYMNAST_START, 1, dt=0.002, noise=False)
     ref = None
     if reference:
-        from .trajopt import optimize_trajectory
+        from ..trajopt import optimize_trajectory
 
         optimum = optimize_trajectory(problem.system.drift, problem.system.input_matrix,
                                       GYMNAST_START, problem.horizon, problem.terminal_cost,
@@ -361,7 +355,7 @@ def convergence(out, spacings=(4, 8, 16, 32), sizes=(64, 128, 256),
                 temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), temperature_grid: int = 128
                 ) -> list[Path]:
     """Error against h for the z-space and HJB solvers, and v, u as λ → 0
-    (:mod:`gridlbc.convergence`; ``benchmarks/convergence.py`` prints the tables)."""
+    (:mod:`gridlbc.studies.convergence`; ``benchmarks/convergence.py`` prints the tables)."""
     from .convergence import (
         pendulum_study,
         plot_convergence,

@@ -1,10 +1,10 @@
 """Checks of the paper's claims, each against an exact or method-independent answer.
 
-a. **Superposition** (SPEC §2–3): :func:`gridlbc.combine` of solutions for g_i equals the direct
+a. **Superposition** (paper §3–4): :func:`gridlbc.combine` of solutions for g_i equals the direct
    solve of g = −λ log Σ w_i exp(−g_i/λ): z, v, u and α on the grid and at random off-grid states,
    to rounding (bound 1e-10 relative).
 b. **Optimality in expectation**: the Monte-Carlo cost of the grid policy from x₀ against the
-   predicted v(x₀, 0) = −λ log z(x₀, 0) and, for the linear PointMass, the Riccati optimum (SPEC §6).
+   predicted v(x₀, 0) = −λ log z(x₀, 0) and, for the linear PointMass, the Riccati optimum (:func:`gridlbc.reference.lq_solution`).
    Bound: 3 standard errors plus the discretisation error |v_grid − v_Riccati| measured at that
    grid (the Riccati policy itself: 3 SE plus an O(Δt) Euler–Maruyama bias). On the pendulum
    swing-up the prediction and the realised cost must agree within 10%: the gap is the solver's
@@ -32,22 +32,22 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import combine, naive_blend
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .project import ProjectionWarning, projection
-from .reference import lq_solution
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import Pendulum, PointMass
+from ..combine import combine, naive_blend
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..problem import Problem
+from ..project import ProjectionWarning, projection
+from ..reference import lq_solution
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from ..systems import Pendulum, PointMass
+from .problems import SWINGUP_START, pendulum_grid, swingup_problem
 
 SUPERPOSITION_BOUND = 1e-10
 SWINGUP_GAP = 0.10
 SWINGUP_ROLLOUT_DT = 0.002
 """Euler–Maruyama step of the swing-up rollouts: at the default 0.01 the scheme's O(Δt) bias
-lowers this problem's mean cost by about 0.9 (6 %), which would flatter an optimistic
-solver."""
+lowers this problem's mean cost noticeably, which would flatter an optimistic solver."""
 
 
 @dataclass(frozen=True)
@@ -125,14 +125,9 @@ def _fmt(x: float) -> str:
 # -- a. superposition -------------------------------------------------------------------------------
 
 
-def _pendulum_grid(n: int, omega_max: float = 10.0) -> Grid:
-    return Grid([Axis(-np.pi, np.pi, n, periodic=True, name="theta"),
-                 Axis(-omega_max, omega_max, n + 1, name="omega")])
-
-
 def check_superposition(n: int = 64, n_states: int = 1000, seed: int = 0) -> list[CheckResult]:
     """combine vs the direct solve of the composite cost on a pendulum, on and off the grid."""
-    grid = _pendulum_grid(n, 8.0)
+    grid = pendulum_grid(n, 8.0)
     problem = Problem(Pendulum(), grid, 1.0, Quadratic([0, 0], [4, 0.5]),
                       state_cost=Quadratic([0, 0], [0.1, 0.01]), control_cost=0.5,
                       temperature=0.7)
@@ -209,25 +204,14 @@ def check_pointmass_optimality(n: int = 61, samples: int = 4000, seed: int = 0
     ]
 
 
-SWINGUP_START = (2.8, 0.0)
-
-
-def swingup_problem(n: int = 256, terminal_cost=None) -> Problem:
-    """Pendulum swing-up of the issue: T = 3, λ = 1, g = xᵀ diag(10, 0.5) x, θ periodic on
-    [−π, π) with ``n`` nodes, ω on [−10, 10] with n + 1."""
-    cost = Quadratic([0, 0], [10, 0.5]) if terminal_cost is None else terminal_cost
-    return Problem(Pendulum(), _pendulum_grid(n), 3.0, cost, temperature=1.0)
-
-
 def check_swingup_optimality(n: int = 256, dt: float | None = 0.02, samples: int = 2000,
                              seed: int = 0, fitting="terminal") -> list[CheckResult]:
     """Pendulum swing-up: predicted −λ log z(x₀, 0) vs the Monte-Carlo cost of the grid policy
     (rollouts at Δt = :data:`SWINGUP_ROLLOUT_DT`). The solve is fitted to the terminal cost by
-    default: the plain splitting scheme is optimistic here by about 10 % at 256²
-    (``benchmarks/swingup_accuracy.py``)."""
+    default: the plain splitting scheme is optimistic here (``benchmarks/swingup_accuracy.py``)."""
     problem = swingup_problem(n)
     sol = solve(problem, dt=dt, fitting=fitting)
-    x0 = np.array(SWINGUP_START)
+    x0 = SWINGUP_START.copy()
     predicted = float(sol.value(x0, 0.0)[0])
     run = simulate(problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed)
     gap = (run.mean_cost - predicted) / run.mean_cost
@@ -266,7 +250,7 @@ def check_interpolation(n: int = 128, dt: float | None = 0.02, samples: int = 10
     controllers = {"LBC": combine(sols[:2], proj.weights).policy,
                    "naive blend": naive_blend(sols[:2], proj.weights).policy,
                    "direct": sols[2].policy}
-    x0 = np.array(SWINGUP_START)
+    x0 = SWINGUP_START.copy()
     runs = {name: simulate(problem, policy, x0, samples, seed=seed)
             for name, policy in controllers.items()}
     direct = runs["direct"]
@@ -366,11 +350,10 @@ def run_verification(grid_size: int = 256, samples: int = 8000, seed: int = 0,
 
     ``grid_size`` is the swing-up grid (θ nodes; ω gets one more; the interpolation check uses
     half of it), ``samples`` the Monte-Carlo samples of the swing-up (the other checks scale from
-    it), ``swingup_dt`` the solver step on the pendulum (0.02 by default, the setting of SPEC §3's
+    it), ``swingup_dt`` the solver step on the pendulum (0.02 by default, the setting of the README's
     measurement); the swing-up is also run at the solver's default step. The superposition,
     PointMass and coordination checks run at fixed small sizes, or smaller with ``quick`` (a smoke
-    test: the statistical and 10% bounds are then not expected to hold). About 10 s of compute at
-    the defaults (more on a loaded machine).
+    test: the statistical and 10% bounds are then not expected to hold).
     """
     started = time.perf_counter()
     small = {"superposition": 24, "pointmass": 21, "coordination": 31} if quick else \

@@ -5,7 +5,7 @@ interpolation is part of what is measured), restricted to where the value is wit
 its minimum (far tails, where no one steers, are excluded):
 
 * **PointMass** (linear, quadratic costs): every solver against the exact Riccati solution
-  (:func:`gridlbc.reference.lq_solution`, SPEC §6);
+  (:func:`gridlbc.reference.lq_solution`);
 * **Pendulum** (nonlinear, no closed form): each solver against its own Richardson estimate from its two
   finest grids, v_R = v_h + (v_h − v_{2h}) / (2^p − 1) with p observed from three grids, against
   the other solver's Richardson estimate, and the two solvers against each other on the same grid.
@@ -27,14 +27,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .hjb import solve_hjb
-from .problem import Problem
-from .reference import lq_solution
-from .solution import UnderflowWarning
-from .solver import solve
-from .systems import Pendulum, PointMass
+from ..problem import Problem
+from ..reference import lq_solution
+from ..reference.hjb import solve_hjb
+from ..solution import UnderflowWarning
+from ..solver import solve
+from .problems import pendulum_problem, pointmass_problem
 
 SOLVERS = {
     "splitting": lambda problem: solve(problem, method="splitting"),
@@ -108,32 +106,6 @@ class ConvergenceTable:
 
 
 # -- the two test problems -----------------------------------------------------------------------
-
-def pointmass_problem(h: float) -> Problem:
-    """PointMass (m = 1), λ = 0.5, q = xᵀdiag(0.5, 0.05)x, g = (x − (1, 0))ᵀdiag(2, 0.5)(x − (1, 0)),
-    T = 2, on [−4, 4] × [−6, 6] with spacing ``h`` on both axes (8/h and 12/h must be integers)."""
-    counts = [8 / h, 12 / h]
-    if not all(abs(c - round(c)) < 1e-9 and c >= 2 for c in counts):
-        raise ValueError(f"h must divide 8 and 12 into at least 2 cells (e.g. 1/4, 1/8), got {h}")
-    grid = Grid([Axis(-4.0, 4.0, round(counts[0]) + 1, name="position"),
-                 Axis(-6.0, 6.0, round(counts[1]) + 1, name="velocity")])
-    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [2.0, 0.5]),
-                   Quadratic([0.0, 0.0], [0.5, 0.05]), control_cost=1.0, temperature=0.5)
-
-
-PENDULUM_WEIGHTS = (10.0, 0.5)
-"""Terminal weights of the pendulum study: g = θ² · 10 + ω² · 0.5 (upright at rest)."""
-
-
-def pendulum_problem(n: int, temperature: float = 1.0, horizon: float = 1.0,
-                     weights=PENDULUM_WEIGHTS) -> Problem:
-    """Pendulum (m = l = 1, g = 9.81), θ periodic on [−π, π) with ``n`` nodes, ω ∈ [−8, 8] with
-    n + 1 nodes (equal spacing 2π/n and 16/n), g = (θ, ω)ᵀdiag(weights)(θ, ω), no state cost."""
-    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
-                 Axis(-8.0, 8.0, n + 1, name="omega")])
-    return Problem(Pendulum(), grid, horizon, Quadratic([0.0, 0.0], list(weights)),
-                   temperature=temperature)
-
 
 def pointmass_points() -> np.ndarray:
     """Evaluation lattice |position| ≤ 2, |velocity| ≤ 3 (41 × 61 points)."""
