@@ -6,6 +6,7 @@ and solutions for different terminal costs superpose into new optimal controller
 """
 
 from . import costs, reference, systems
+from .certify import Certificate, CertificateWarning, certify
 from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
@@ -22,6 +23,8 @@ __all__ = [
     "METHODS",
     "PRESETS",
     "Axis",
+    "Certificate",
+    "CertificateWarning",
     "CombinedSolution",
     "Grid",
     "NaiveBlend",
@@ -34,6 +37,7 @@ __all__ = [
     "SolveDiagnostics",
     "SolverSettings",
     "UnderflowWarning",
+    "certify",
     "combine",
     "costs",
     "load",

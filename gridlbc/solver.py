@@ -214,10 +214,13 @@ def _check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
 
 
 class _Progress:
-    """A one-line progress bar on stderr: steps, elapsed time, ETA and node-steps per second."""
+    """A one-line progress bar on stderr: steps, elapsed time, ETA and ``unit`` per second (``nodes``
+    of them per step); with ``delay`` it starts only once the run has taken that many seconds."""
 
-    def __init__(self, total: int, enabled: bool, label: str, nodes: int):
+    def __init__(self, total: int, enabled: bool, label: str, nodes: int, unit: str = "node-steps",
+                 delay: float = 0.0):
         self.total, self.enabled, self.label, self.nodes = total, enabled, label, nodes
+        self.unit, self.delay = unit, delay
         self.start = time.perf_counter()
         self.last = -math.inf
 
@@ -225,17 +228,17 @@ class _Progress:
         if not self.enabled:
             return
         now = time.perf_counter()
-        if now - self.last < 0.5 and done != self.total:
+        elapsed = now - self.start
+        if (now - self.last < 0.5 and done != self.total) or elapsed < self.delay:
             return
         self.last = now
-        elapsed = now - self.start
         fraction = done / self.total
         bar = "#" * int(25 * fraction)
         eta = elapsed * (1 - fraction) / fraction if done else math.nan
         rate = done * self.nodes / elapsed / 1e6 if elapsed > 0 else math.nan
         sys.stderr.write(
             f"\r{self.label} [{bar:<25}] {done}/{self.total} steps {elapsed:6.1f}s "
-            f"ETA {eta:6.1f}s {rate:7.1f} M node-steps/s"
+            f"ETA {eta:6.1f}s {rate:7.1f} M {self.unit}/s"
         )
         if done == self.total:
             sys.stderr.write("\n")

@@ -30,7 +30,8 @@ def one_line_error(result, *fragments):
         assert fragment in lines[0], lines[0]
 
 
-@pytest.mark.parametrize("command", ["", "demo", "verify", "solve", "combine", "figures"])
+@pytest.mark.parametrize("command", ["", "demo", "verify", "solve", "combine", "certify",
+                                     "figures"])
 def test_help_everywhere(command):
     result = run(*([command] if command else []), "--help")
     assert result.returncode == 0
@@ -82,6 +83,26 @@ def test_combine_project_prints_weights_and_warnings(tmp_path):
                                atol=5e-7)  # printed rounded to 6 decimals
     # components ±1 with W = 4 at λ = 0.5 (width 0.25) are far too narrow for a target at 0.2
     assert "warning: weights sum to" in result.stderr
+
+
+def test_certify_prints_what_gridlbc_certify_computes(tmp_path):
+    """certify on a saved solution: the same numbers as gridlbc.certify with the same seed (the
+    run is deterministic given the seed), beside the solution's prediction."""
+    problem = problem_from_dict(pointmass_description(0.5)).problem
+    solution = gridlbc.solve(problem, dt=0.05)
+    path = gridlbc.save(solution, tmp_path / "s")
+    result = run("certify", str(path), "--state=0.2,-0.3", "--state=0,0", "--samples", "200",
+                 "--seed", "3", "--quiet")
+    assert result.returncode == 0, result.stderr
+    states = np.array([[0.2, -0.3], [0.0, 0.0]])
+    cert = gridlbc.certify(problem, solution.policy, states, n_samples=200, seed=3)
+    rows = np.array([[float(v) for v in line.split()] for line in result.stdout.splitlines()[-2:]])
+    predicted = solution.value(states, 0.0)
+    for column, expected in ((0, predicted), (1, cert.optimal_value), (4, cert.policy_cost),
+                             (5, cert.gap), (6, cert.effective_sample_size)):
+        np.testing.assert_allclose(rows[:, column], expected, rtol=1e-4)  # printed to 5 digits
+    assert "certified optimum v*" in result.stdout and result.stderr == ""
+    one_line_error(run("certify", str(path)), "--state")
 
 
 @pytest.mark.parametrize("args, fragments", [

@@ -30,11 +30,12 @@ def test_kernel_matches_numpy_reference(rng):
     noise = np.tril(rng.normal(size=(m, m)))
     M = rng.normal(size=(m, m))
     R = M @ M.T + np.eye(m)
-    out, cost = np.empty((n, d)), np.full(n, 0.25)
-    _em_kernel(x, drift, B, u, eps, noise, R, 0.01, out, cost)
-    x_ref, c_ref = em_step_numpy(x, drift, B, u, eps, noise, R, 0.01)
+    out, cost, ito = np.empty((n, d)), np.full(n, 0.25), np.full(n, -0.5)
+    _em_kernel(x, drift, B, u, eps, noise, R, 0.01, out, cost, ito)
+    x_ref, c_ref, ito_ref = em_step_numpy(x, drift, B, u, eps, noise, R, 0.01)
     np.testing.assert_allclose(out, x_ref, rtol=1e-13, atol=1e-14)
     np.testing.assert_allclose(cost, 0.25 + c_ref, rtol=1e-13)
+    np.testing.assert_allclose(ito, -0.5 + ito_ref, rtol=1e-12, atol=1e-14)
 
 
 def test_deterministic_constant_control_is_exact():
