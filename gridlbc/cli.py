@@ -471,6 +471,7 @@ def _add_workflow_parsers(sub):
     certify.add_argument("--seed", type=int, help="random seed")
     certify.add_argument("--quiet", action="store_true", help="no progress output")
     certify.set_defaults(func=_cmd_certify)
+
     interactive = sub.add_parser(
         "interactive", help="write a self-contained web page that recombines solutions live",
         description="Write one HTML file (nothing loaded from the network) that recombines saved "

@@ -17,6 +17,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
     ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1}),
     ("coordination", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
     ("gymnast", {"n": 5, "reference": False}),
+    ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),
     ("convergence", {"spacings": (1, 2), "sizes": (16, 32), "temperatures": (1.0,),
                      "temperature_grid": 16}),
 ])

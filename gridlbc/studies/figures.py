@@ -15,6 +15,8 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
   certified costs before and after the push (Fig. 9).
 - :func:`gymnast` — the acrobot swing-up from the paper's test state (Fig. 7 setting), a still
   and a GIF (the study of :mod:`gridlbc.studies.gymnast`).
+- :func:`certified_convergence` — the swing-up's predicted value and its policy's cost against
+  the certified optimum as the grid is refined (:func:`gridlbc.certify`).
 - :func:`convergence` — error against grid spacing and the small-temperature study
   (:mod:`gridlbc.studies.convergence`).
 """
@@ -394,7 +396,7 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     """The acrobot swing-up from (−105°, −15°) at rest on an n⁴ grid: still frames and a GIF.
 
     The grid-optimal policy is rolled out without noise; ``reference`` adds the deterministic
-    optimum (:func:`gridlbc.trajopt.optimize_trajectory`) dashed. The defaults are the best
+    optimum (:func:`gridlbc.trajectory.optimize`) dashed. The defaults are the best
     setting measured by ``benchmarks/gymnast.py`` (71⁴, Δt = 0.05, drift fitted to the terminal
     cost: noise-free cost 15.9, ending 0.75 rad from the handstand, against the optimum's 13.18);
     the solve takes about 1.5 minutes and 7 GiB.
@@ -406,11 +408,9 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     run = simulate(problem, solution.policy, GYMNAST_START, 1, dt=0.002, noise=False)
     ref = None
     if reference:
-        from ..trajopt import optimize_trajectory
+        from ..trajectory import optimize
 
-        optimum = optimize_trajectory(problem.system.drift, problem.system.input_matrix,
-                                      GYMNAST_START, problem.horizon, problem.terminal_cost,
-                                      n_intervals=300)
+        optimum = optimize(problem, GYMNAST_START, n_intervals=300)
         ref = (optimum.times, optimum.states, optimum.controls)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
@@ -446,6 +446,50 @@ def convergence(out, spacings=(4, 8, 16, 32), sizes=(64, 128, 256),
     return paths
 
 
+def plot_certified_convergence(study, labels=None):
+    """Predicted v(x₀, 0) (solid) and the policy's cost J ± SE (dashed) of each configuration of a
+    :class:`~gridlbc.studies.convergence.CertifiedStudy` against n, with the certified optimum
+    v* ± SE (black line, grey band); ``labels`` picks configurations (default: all)."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 4.8), constrained_layout=True)
+    v, se = study.truth.optimal_value, study.truth.optimal_value_se
+    sizes = sorted({r.shape[0] for r in study.rows})
+    ax.axhspan(v - 2 * se, v + 2 * se, color="0.85", label="certified v* ± 2 SE")
+    ax.axhline(v, color="k", lw=1.2)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for color, label in zip(colors, labels or study.labels()):
+        rows = study.select(label)
+        n = [r.shape[0] for r in rows]
+        ax.plot(n, [r.predicted for r in rows], "o-", color=color, label=f"{label}: predicted")
+        ax.errorbar(n, [r.policy_cost for r in rows], [2 * r.policy_cost_se for r in rows],
+                    fmt="s--", color=color, capsize=3, label=f"{label}: its policy's cost J")
+    ax.set_xscale("log", base=2)
+    ax.set_xticks(sizes, [str(k) for k in sizes])
+    ax.set_xlabel("grid nodes per axis n (θ; ω has n + 1)")
+    ax.set_ylabel("cost from x₀")
+    scheme, n_truth, _ = study.proposal
+    ax.set_title(f"Predicted value and policy cost vs the certified optimum v*(x₀) = {v:.2f}\n"
+                 f"(importance sampling, proposal: {scheme} {n_truth}², "
+                 f"ESS {study.truth.effective_sample_size:.0f} of {study.truth.n_samples})",
+                 fontsize=10)
+    ax.legend(fontsize=8, ncol=2)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def certified_convergence(out, sizes=(32, 64, 128, 256), samples: int = 400,
+                          truth_samples: int = 2000, seed: int = 0) -> list[Path]:
+    """The pendulum swing-up from :data:`SWINGUP_START` as the grid is refined: each scheme's
+    predicted value and its policy's cost against the certified optimum (rollouts at Δt = 0.002;
+    ``benchmarks/swingup_accuracy.py`` prints the table)."""
+    from .convergence import certified_study
+
+    study = certified_study(swingup_problem, tuple(sizes), SWINGUP_START,
+                            (("splitting", None), ("fitted", None)), samples=samples,
+                            truth_samples=truth_samples, rollout_dt=0.002, seed=seed)
+    return [_save(plot_certified_convergence(study), out, "certified_convergence.png")]
+
+
 # -- all --------------------------------------------------------------------------------------------
 
 
@@ -456,6 +500,8 @@ FIGURES = {
                                           "dt": 0.05}),
     "coordination": (coordination, {}, {"n": 41, "samples": 200, "traces": 4, "dt": 0.02}),
     "gymnast": (gymnast, {}, {"n": 13, "reference": False}),
+    "certified_convergence": (certified_convergence, {},
+                              {"sizes": (16, 32), "samples": 40, "truth_samples": 80}),
     "convergence": (convergence, {}, {"spacings": (2, 4), "sizes": (32, 64),
                                       "temperatures": (1.0, 0.1), "temperature_grid": 48}),
 }

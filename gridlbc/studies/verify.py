@@ -215,7 +215,7 @@ def check_pointmass_optimality(n: int = 61, samples: int = 4000, seed: int = 0
     sol = solve(problem)
     v_grid = float(sol.value(x0, 0.0)[0])
     discretisation = abs(v_grid - v_exact)
-    cert = certify(problem, sol.policy, x0, samples, seed=seed)
+    cert = certify(problem, sol.policy, x0, samples, seed=seed, progress=False)
     exact_run = simulate(problem, exact.policy, x0, samples, seed=seed + 1)
     bias = 2 * exact_run.dt * abs(v_exact)
     case = f"PointMass {_shape(grid)}"
@@ -245,7 +245,8 @@ def check_swingup_optimality(n: int = 256, dt: float | None = 0.02, samples: int
     sol = solve(problem, dt=dt, fitting=fitting)
     x0 = SWINGUP_START.copy()
     predicted = float(sol.value(x0, 0.0)[0])
-    cert = certify(problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed)
+    cert = certify(problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed,
+                   progress=False)
     step = (f"dt={sol.diagnostics.dt:.3g}" + ("" if dt is not None else " (default)")
             + (", fitted" if fitting else ", plain"))
     error = (predicted - cert.optimal_value) / cert.optimal_value
@@ -288,7 +289,7 @@ def check_interpolation(n: int = 128, dt: float | None = 0.02, samples: int = 10
     for name, policy in controllers.items():
         # Certified under the target task, each controller its own proposal (all estimate the
         # same v*), with the same seed; the final-state errors are those of its rollouts.
-        cert = certify(problem, policy, x0, samples, seed=seed)
+        cert = certify(problem, policy, x0, samples, seed=seed, progress=False)
         predicted = float(predictions[name](x0, 0.0)[0]) if name in predictions else math.nan
         rows += _certificate_rows("interpolation", f"{case}: {name}", cert, predicted,
                                   note="under the target task")
@@ -357,7 +358,8 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
     v_exact = float(exact_value(x0, 0.0)[0])
     v_grid = float(combined.value(x0, 0.0)[0])
     case = f"start x=0, {_shape(grid)}"
-    cert = certify(combined.problem, combined.policy, x0, 4 * samples, seed=seed + len(starts))
+    cert = certify(combined.problem, combined.policy, x0, 4 * samples, seed=seed + len(starts),
+                   progress=False)
     exact_run = simulate(combined.problem, exact_policy, x0, 4 * samples,
                          seed=seed + len(starts) + 1)
     bias = 2 * exact_run.dt * abs(v_exact)
