@@ -45,6 +45,7 @@ from .problems import (
     ROTOR_GOALS,
     ROTOR_START,
     ROTOR_WEIGHTS,
+    SWINGUP_START,
     coordination_problem,
     gymnast_problem,
     rotor_problem,
