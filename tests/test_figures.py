@@ -14,8 +14,8 @@ PNG = b"\x89PNG\r\n\x1a\n"
 @pytest.mark.parametrize("name, options", [
     ("cost_reward_space", {"n": 21}),
     ("projection", {"points": 101}),
-    ("interpolation", {"n": 21, "samples": 8}),
-    ("coordination", {"n": 21, "samples": 2}),
+    ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1}),
+    ("coordination", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
     ("gymnast", {"n": 5, "reference": False}),
     ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),
     ("convergence", {"spacings": (1, 2), "sizes": (16, 32), "temperatures": (1.0,),
@@ -60,3 +60,12 @@ def test_push_rejects_time_outside_horizon():
     problem = coordination_problem(21)
     with pytest.raises(ValueError, match="push_time must lie in"):
         figures.simulate_with_push(problem, lambda x, t: 0 * x[:, :1], [0, 0], 3.0, [0, 0])
+
+
+def test_remaining_task_shifts_horizon_and_clock():
+    """The task left at t_s: horizon T − t_s, the same costs, and the policy read at t + t_s."""
+    problem = coordination_problem(21)
+    task, shifted = figures.remaining_task(problem, lambda x, t: np.full((len(x), 1), t), 1.25)
+    assert task.horizon == problem.horizon - 1.25
+    assert task.terminal_cost is problem.terminal_cost
+    np.testing.assert_array_equal(shifted(np.zeros((3, 2)), 0.5), np.full((3, 1), 1.75))

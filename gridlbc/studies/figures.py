@@ -6,11 +6,13 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 
 - :func:`cost_reward_space` — v = −λ log z, z and u* of the pendulum swing-up (paper Fig. 2).
 - :func:`projection` — projecting a target reward h̄ = exp(−ḡ/λ) onto component rewards
-  h_i = exp(−g_i/λ), when it works (Fig. 3) and when the components are too far apart (Fig. 4).
-- :func:`interpolation` — an intermediate goal on the pendulum: linear Bellman combination with
-  the projected weights vs the naive blend of policies vs the direct solve (Fig. 6 idea).
-- :func:`coordination` — blend weights α over time for a two-goal point mass pushed mid-way
-  (Fig. 9 idea).
+  h_i = exp(−g_i/λ), when it works (Fig. 3), when it needs a negative weight, and when the
+  components are too narrow for their spacing (Fig. 4), with the warnings said.
+- :func:`interpolation` — an intermediate goal on a rotor: linear Bellman combination with the
+  projected weights vs the naive blend of policies vs each component vs the direct solve, every
+  cost certified against the optimum (Figs. 5–6 idea).
+- :func:`coordination` — blend weights α over time for a two-goal point mass pushed mid-way, with
+  certified costs before and after the push (Fig. 9).
 - :func:`gymnast` — the acrobot swing-up from the paper's test state (Fig. 7 setting), a still
   and a GIF (the study of :mod:`gridlbc.studies.gymnast`).
 - :func:`certified_convergence` — the swing-up's predicted value and its policy's cost against
@@ -22,25 +24,31 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 from __future__ import annotations
 
 import math
+import textwrap
 import time
 import warnings
 from pathlib import Path
 
 import numpy as np
 
+from ..certify import certify
 from ..combine import CompositeCost, combine, naive_blend
 from ..costs import Quadratic
 from ..problem import Problem
-from ..project import ProjectionWarning
+from ..project import ProjectionWarning, project
 from ..project import projection as project_weights
 from ..simulate import simulate
 from ..solver import solve, solve_many
 from .problems import (
     GOAL_WEIGHTS,
     GYMNAST_START,
+    ROTOR_GOALS,
+    ROTOR_START,
+    ROTOR_WEIGHTS,
     SWINGUP_START,
     coordination_problem,
     gymnast_problem,
+    rotor_problem,
     swingup_problem,
 )
 
@@ -90,140 +98,171 @@ def cost_reward_space(out, n: int = 201) -> list[Path]:
 
 
 PROJECTION_CASES = (
-    ("components close enough (paper Fig. 3)", (-0.5, 0.5), 0.5, 0.2),
-    ("components too far apart (paper Fig. 4)", (0.0, 1.0), 25.0, 0.5),
+    ("represented well (paper Fig. 3)", (-0.5, 0.5), 0.5, 0.2),
+    ("target outside the components", (-0.5, 0.5), 0.5, 1.2),
+    ("components too narrow for their spacing (paper Fig. 4)", (0.0, 1.0), 25.0, 0.5),
 )
 """(title, component centres, weight W of g = W (x − c)², target centre ḡ) in one dimension."""
 
 
 def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
-    """Project a 1-D target reward onto two component rewards, in reward and in cost space.
+    """Project a 1-D target reward onto two component rewards: one target the basis represents
+    well, one it must extrapolate (a negative weight), one it cannot reach (Σw far from 1).
 
-    Top: h_i = exp(−g_i/λ), the target h̄ and the reconstruction Σ w_i h_i. Bottom: the costs g_i,
-    ḡ and the cost the combination really optimises, −λ log Σ w_i h_i, with its minima marked.
+    Top: h_i = exp(−g_i/λ), the target h̄ and the reconstruction Σ w_i h_i, with the
+    :class:`gridlbc.ProjectionWarning` messages that :func:`gridlbc.project` issues. Bottom: the
+    costs g_i, ḡ and the cost the combination really optimises, −λ log Σ w_i h_i (+∞ where
+    Σ w_i h_i ≤ 0), with its minima marked.
     """
     plt = _pyplot()
     lam = temperature
     x = np.linspace(-1.5, 2.5, points)[:, None]
-    fig, axes = plt.subplots(2, 2, figsize=(12, 7), sharex=True, constrained_layout=True)
+    fig, axes = plt.subplots(2, len(PROJECTION_CASES), figsize=(17, 8), sharex=True,
+                             constrained_layout=True)
     for col, (title, centres, W, target_centre) in enumerate(PROJECTION_CASES):
         components = [Quadratic([c], [W]) for c in centres]
         target = Quadratic([target_centre], [W])
-        result = project_weights(target, components, temperature=lam)
-        w = result.weights
+        with warnings.catch_warnings(record=True) as issued:
+            warnings.simplefilter("always", ProjectionWarning)
+            w = project(target, components, temperature=lam)
+        said = [str(m.message) for m in issued if issubclass(m.category, ProjectionWarning)]
+        result = project_weights(target, components, temperature=lam)  # for the residual
         h = [np.exp(-c(x) / lam) for c in components]
         blended = CompositeCost(tuple(components), w, lam)(x)
         top, bottom = axes[:, col]
         for i, h_i in enumerate(h):
-            top.plot(x, h_i, color=f"C{i}", label=f"h{i + 1}, w{i + 1} = {w[i]:.3f}")
+            top.plot(x, h_i, color=f"C{i}", label=f"h{i + 1} (c = {centres[i]:g}), "
+                     f"w{i + 1} = {w[i]:+.3f}")
             bottom.plot(x, components[i](x), color=f"C{i}", label=f"g{i + 1}")
-        top.plot(x, np.exp(-target(x) / lam), "k--", label="target h̄")
+        top.plot(x, np.exp(-target(x) / lam), "k--", label=f"target h̄ (c = {target_centre:g})")
         top.plot(x, sum(wi * hi for wi, hi in zip(w, h)), "C3", lw=2, label="Σ wᵢ hᵢ")
+        top.axhline(0, color="0.5", lw=0.5)
         bottom.plot(x, target(x), "k--", label="target ḡ")
         bottom.plot(x, blended, "C3", lw=2, label="−λ log Σ wᵢ hᵢ (what LBC optimises)")
+        finite = np.isfinite(blended)
         minima = np.flatnonzero((blended[1:-1] < blended[:-2]) & (blended[1:-1] < blended[2:])) + 1
         bottom.plot(x[minima, 0], blended[minima], "v", color="C3", ms=9,
                     label=f"its minima: x = {', '.join(f'{v:.2f}' for v in x[minima, 0])}")
-        verdict = (f"{len(result.messages)} ProjectionWarnings" if result.messages
-                   else "no warnings")
-        top.set_title(f"{title}\nΣw = {result.weight_sum:.2f}, residual "
-                      f"‖h̄ − Σwh‖/‖h̄‖ = {result.residual:.2f}; {verdict}", fontsize=10)
+        if not finite.all():
+            bottom.axvspan(x[~finite, 0].min(), x[~finite, 0].max(), color="C3", alpha=0.1,
+                           label="Σ wᵢ hᵢ ≤ 0: cost +∞")
+        top.set_title(f"{title}\nΣw = {w.sum():.2f}, residual ‖h̄ − Σwh‖/‖h̄‖ = "
+                      f"{result.residual:.2f}", fontsize=10)
+        verdict = ("gridlbc.project warns:\n" + "\n".join(
+            "• " + textwrap.fill(m, 52, subsequent_indent="  ") for m in said)
+            if said else "gridlbc.project: no warning")
+        top.text(0.02, 0.97, verdict, transform=top.transAxes, va="top", fontsize=7.5,
+                 color="C3" if said else "0.3",
+                 bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.8"})
         top.set_ylabel("reward h = exp(−g/λ)")
+        top.set_ylim(-0.7 if w.min() < 0 else -0.05, 1.45)
         bottom.set_ylabel("cost g")
         bottom.set_xlabel("state x")
-        bottom.set_ylim(-0.5, 6)
+        bottom.axvline(target_centre, color="k", ls=":", lw=1)
+        bottom.set_ylim(-0.5, 8.5)
         top.legend(fontsize=8, loc="upper right")
-        bottom.legend(fontsize=8, loc="upper right")
-    fig.suptitle(f"Projecting a target terminal reward onto component rewards (λ = {lam:g}, "
-                 "g = W (x − c)²)")
+        bottom.legend(fontsize=8, loc="upper center", ncol=2, framealpha=0.95)
+    fig.suptitle(f"Projecting a target terminal reward onto two component rewards (λ = {lam:g}, "
+                 "g = W (x − c)²): when the basis represents it and when it does not")
     return [_save(fig, out, "projection.png")]
 
 
 # -- 3. interpolation -------------------------------------------------------------------------------
 
 
-def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: float = 0.5,
-                  target_theta: float = 0.0, weights=(2.0, 0.5)) -> list[Path]:
-    """Pendulum swing-up to an intermediate goal: LBC vs naive blend vs direct optimum.
+def interpolation(out, n: int = 101, samples: int = 1000, seed: int = 0,
+                  traces: int = 30, dt: float = 0.01) -> list[Path]:
+    """A rotor turned half a turn to an angle between two solved goals: LBC vs naive blend.
 
-    Components: upright leaning θ = −a and θ = +a; target θ̄ between them; all with
-    g = (x − c)ᵀdiag(weights)(x − c). The weights come from projecting h̄ onto {h_1, h_2}; LBC
-    uses u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j, the naive blend u = Σ w_i u_i / Σ w_i.
-    All are rolled out from the same start with the same noise (same seed) and charged the
-    *target* task's cost. The defaults are those of ``gridlbc verify``'s interpolation check.
+    Components: at rest at θ = ±0.25 (:func:`~gridlbc.studies.problems.rotor_problem`), solved
+    with one fitted operator; target θ̄ = 0. The weights come from projecting h̄ onto {h_1, h_2}
+    (:func:`gridlbc.project`); LBC is u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j, exact for the
+    composite cost g_w = −λ log Σ w_i h_i; the naive blend is u = Σ w_i u_i / Σ w_i. From the
+    start almost opposite the goals the two components turn opposite ways. Every controller is
+    certified (:func:`gridlbc.certify`) on the composite task: its cost ± SE, and the certified
+    optimum v*; the final angles are those of the certified rollouts.
     """
-
     plt = _pyplot()
-    weights = list(weights)
-    components = [Quadratic([-a, 0.0], weights), Quadratic([a, 0.0], weights)]
-    target = Quadratic([target_theta, 0.0], weights)
-    problem = swingup_problem(n).replace(terminal_cost=target)
+    problem = rotor_problem(n)
+    target = problem.terminal_cost
+    components = [Quadratic([c, 0.0], ROTOR_WEIGHTS) for c in ROTOR_GOALS]
     lam = problem.temperature
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", ProjectionWarning)  # shown in the figure instead
-        result = project_weights(target, components, problem.grid, temperature=lam)
-    first, second, direct = solve_many(problem, components + [target])
+    result = project_weights(target, components, problem.grid, temperature=lam)
+    first, second = solve_many(problem, components, fitting="terminal")
+    direct = solve(problem, fitting="terminal")
+    lbc = combine([first, second], result.weights)
     controllers = {
-        f"goal θ = −{a:g} alone": first.policy,
-        f"goal θ = +{a:g} alone": second.policy,
+        f"goal θ = {ROTOR_GOALS[0]:+g} alone": first.policy,
+        f"goal θ = {ROTOR_GOALS[1]:+g} alone": second.policy,
         "naive blend Σwᵢuᵢ/Σwᵢ": naive_blend([first, second], result.weights).policy,
-        "LBC Σαᵢuᵢ": combine([first, second], result.weights).policy,
+        "LBC Σαᵢuᵢ": lbc.policy,
         "direct solve of ḡ": direct.policy,
     }
-    colors = ["0.6", "0.75", "C1", "C3", "k"]
-    clean = {k: simulate(problem, p, SWINGUP_START, 1, noise=False) for k, p in controllers.items()}
-    noisy = {k: simulate(problem, p, SWINGUP_START, samples, seed=seed) for k, p in controllers.items()}
+    colors = ["0.55", "0.75", "C1", "C0", "k"]
+    certificates = {k: certify(lbc.problem, p, ROTOR_START, samples, dt=dt, seed=seed,
+                                 progress=False)
+                    for k, p in controllers.items()}
+    fans = {k: simulate(problem, controllers[k], ROTOR_START, traces, dt=dt, seed=seed + 1)
+            for k in ("naive blend Σwᵢuᵢ/Σwᵢ", "LBC Σαᵢuᵢ")}
 
-    fig, axes = plt.subplots(2, 2, figsize=(13, 8.5), constrained_layout=True)
+    fig, axes = plt.subplots(2, 2, figsize=(14, 9), constrained_layout=True)
     (ax_h, ax_t), (ax_hist, ax_cost) = axes
-    theta = np.linspace(-1.2, 1.2, 481)
+    theta = np.linspace(-1.5, 1.5, 481)
     states = np.column_stack([theta, np.zeros_like(theta)])
-    h = [np.exp(-problem.replace(terminal_cost=c).terminal_values(states) / lam)
-         for c in components]
+    h = [np.exp(-c(states) / lam) for c in components]
     for i, (h_i, w_i) in enumerate(zip(h, result.weights)):
-        ax_h.plot(theta, h_i, color=colors[i], label=f"h{i + 1} (θ = {components[i].center[0]:+g}),"
-                  f" w{i + 1} = {w_i:.3f}")
-    ax_h.plot(theta, np.exp(-target(states) / lam), "k--", label=f"target h̄ (θ̄ = {target_theta:g})")
-    ax_h.plot(theta, sum(w * hi for w, hi in zip(result.weights, h)), "C3", lw=2, label="Σ wᵢ hᵢ")
-    ax_h.set(xlabel="θ_T (rad from upright), ω_T = 0", ylabel="terminal reward h = exp(−g/λ)",
-             title=f"projected weights: residual {result.residual:.2f}, Σw = "
-                   f"{result.weight_sum:.2f}")
-    ax_h.legend(fontsize=8)
+        ax_h.plot(theta, h_i, color=colors[i], label=f"h{i + 1} (θ = {ROTOR_GOALS[i]:+g}), "
+                  f"w{i + 1} = {w_i:.3f}")
+    ax_h.plot(theta, np.exp(-target(states) / lam), "k--", label="target h̄ (θ̄ = 0)")
+    ax_h.plot(theta, sum(w * hi for w, hi in zip(result.weights, h)), "C0", lw=2,
+              label="Σ wᵢ hᵢ (LBC's terminal reward)")
+    ax_h.set(xlabel="θ_T (rad), ω_T = 0", ylabel="terminal reward h = exp(−g/λ)",
+             title=f"projected weights (gridlbc.project): residual {result.residual:.2f}, "
+                   f"Σw = {result.weight_sum:.2f}")
+    ax_h.legend(fontsize=8, loc="lower center")
 
-    for (label, run), color in zip(clean.items(), colors):
-        lw = 1 if "alone" in label else 2
-        ax_t.plot(run.times, np.unwrap(run.states[0, :, 0]), color=color, lw=lw, label=label)
-    ax_t.axhline(target_theta, color="k", ls=":", lw=1)
-    ax_t.set(xlabel="t (s)", ylabel="θ (rad, unwrapped)",
-             title=f"noise-free closed loop from θ = {SWINGUP_START[0]:g}, ω = 0")
-    ax_t.legend(fontsize=8)
+    for (label, run), color in zip(fans.items(), ("C1", "C0")):
+        angle = np.unwrap(run.states[:, :, 0], axis=1)
+        for s in range(run.n_samples):
+            ax_t.plot(run.times, angle[s], color=color, lw=0.7, alpha=0.6,
+                      label=label if s == 0 else None)
+    for goal in (0.0, 2 * np.pi):
+        ax_t.axhline(goal, color="k", ls=":", lw=1)
+    ax_t.set(xlabel="t (s)", ylabel="θ (rad, unwrapped; the target is 0 ≡ 2π)",
+             title=f"{traces} noisy rollouts each from θ = {ROTOR_START[0]:g}, at rest")
+    ax_t.legend(fontsize=8, loc="center left")
 
-    bins = np.linspace(-np.pi, np.pi, 61)
-    for (label, run), color in list(zip(noisy.items(), colors))[2:]:
-        ax_hist.hist(_wrap(run.final_states[:, 0]), bins=bins, histtype="step", lw=2, color=color,
-                     label=f"{label}: median |θ_T − θ̄| = "
-                           f"{np.median(np.abs(_wrap(run.final_states[:, 0] - target_theta))):.2f}")
-    ax_hist.axvline(target_theta, color="k", ls=":", lw=1)
+    bins = np.linspace(-np.pi, np.pi, 73)
+    for (label, cert), color in zip(certificates.items(), colors):
+        final = _wrap(cert.final_states[:, 0])
+        ax_hist.hist(final, bins=bins, histtype="step", lw=2 if "alone" not in label else 1,
+                     color=color, label=f"{label}: median |θ_T − θ̄| = "
+                                        f"{np.median(np.abs(final)):.2f}")
+    ax_hist.axvline(0, color="k", ls=":", lw=1)
     ax_hist.set(xlabel="final θ_T (rad)", ylabel="samples",
-                title=f"final angles with noise (λ = {lam:g}), {samples} samples each")
-    ax_hist.legend(fontsize=8)
+                title=f"final angles, {samples} samples each (λ = {lam:g})")
+    ax_hist.legend(fontsize=8, loc="upper left")
 
-    names = list(noisy)
-    means = [noisy[k].mean_cost for k in names]
-    errors = [noisy[k].standard_error for k in names]
-    ax_cost.barh(range(len(names)), means, xerr=errors, color=colors, capsize=4)
-    predicted = float(direct.value(SWINGUP_START, 0.0)[0])
-    ax_cost.axvline(predicted, color="k", ls="--", lw=1,
-                    label=f"direct solve's prediction v(x₀) = {predicted:.2f}")
-    for k, (m, e) in enumerate(zip(means, errors)):
-        ax_cost.text(m + e + 0.2, k, f"{m:.2f} ± {e:.2f}", va="center", fontsize=9)
+    names = list(certificates)
+    gaps = [certificates[k].gap for k in names]
+    errors = [certificates[k].gap_se for k in names]
+    ax_cost.barh(range(len(names)), gaps, xerr=errors, color=colors, capsize=4)
+    for k, name in enumerate(names):
+        c = certificates[name]
+        ax_cost.text(max(c.gap, 0) + c.gap_se + 0.002, k,
+                     f"J − v* = {c.gap:+.4f} ± {c.gap_se:.4f}\n(J = {c.policy_cost:.3f} ± "
+                     f"{c.policy_cost_se:.3f}, v* = {c.optimal_value:.3f} ± "
+                     f"{c.optimal_value_se:.3f})", va="center", fontsize=8)
+    ax_cost.axvline(0, color="k", lw=1)
     ax_cost.set_yticks(range(len(names)), names, fontsize=9)
-    ax_cost.set_xlim(0, 1.25 * max(means))
-    ax_cost.set(xlabel="mean cost of the target task ± SE (same noise for all)",
-                title="expected cost J = E[ḡ(x_T) + ∫½u² dt]")
-    ax_cost.legend(fontsize=8, loc="lower right")
-    fig.suptitle(f"Interpolating an intermediate goal on the pendulum ({problem.grid.describe()}, "
-                 f"T = {problem.horizon:g}, g = {weights[0]:g}(θ − c)² + {weights[1]:g}ω²)")
+    ax_cost.set_xlim(min(0.0, min(gaps)) - 0.005, 2.2 * max(gaps) + 0.01)
+    ax_cost.set(xlabel="gap J − v* = λ KL(P_u ‖ P*) ± paired SE (gridlbc.certify, "
+                       f"{samples} samples)",
+                title="excess cost over the certified optimum, composite task "
+                      "g_w = −λ log Σ wᵢhᵢ")
+    fig.suptitle(f"Interpolating an intermediate goal: a rotor (pendulum without gravity, "
+                 f"{problem.grid.describe()}, T = {problem.horizon:g}, λ = {lam:g}, "
+                 f"g = {ROTOR_WEIGHTS[0]:g}(θ − c)² + {ROTOR_WEIGHTS[1]:g}ω²)")
     return [_save(fig, out, "interpolation.png")]
 
 
@@ -251,44 +290,101 @@ def simulate_with_push(problem: Problem, policy, x0, push_time: float, kick, n_s
     return times, np.concatenate([before.states, pushed[:, None], after.states[:, 1:]], axis=1)
 
 
-def coordination(out, n: int = 81, samples: int = 12, seed: int = 0) -> list[Path]:
-    """α over time of a two-goal combined controller (w = 1, 1), pushed mid-way.
+def remaining_task(problem: Problem, policy, start_time: float):
+    """The task left at ``start_time``: the problem on [t_s, T] (horizon T − t_s) and the policy
+    with its clock shifted, ``policy(x, t + t_s)``; e.g. to certify costs from a pushed state."""
+    return (problem.replace(horizon=problem.horizon - start_time),
+            lambda x, t: policy(x, t + start_time))
 
-    The point mass starts at x = 0.3 at rest, nearer the goal x = +1, so α₊ ≈ 1; at t = 1 s a
-    push sets its velocity to −2.5 m/s and the combination switches to the goal x = −1 on its own:
-    α = w_i z_i / Σ w_j z_j follows which goal is now cheaper to reach.
+
+def coordination(out, n: int = 81, samples: int = 2000, seed: int = 0,
+                 traces: int = 8, dt: float = 0.005) -> list[Path]:
+    """α over time of a two-goal combined controller (w = 1, 1), pushed mid-way (paper Fig. 9).
+
+    The point mass starts at x = 0.3 at rest, nearer the goal x = +1, so α₊ → 1; at t = 1 s a
+    push changes its velocity by −1.5 m/s and the combination switches to the goal x = −1 on its
+    own: α_i = w_i z_i / Σ w_j z_j follows which goal is now cheaper to reach. Costs on the
+    composite task g = −λ log(e^{−g₋/λ} + e^{−g₊/λ}) are certified (:func:`gridlbc.certify`)
+    from the start and from the pushed state, for the combination and for each goal's
+    controller alone, against the certified optimum.
     """
     plt = _pyplot()
     problem = coordination_problem(n)
     goals = [problem.terminal_cost, Quadratic([1.0, 0.0], GOAL_WEIGHTS)]
-    combined = combine(solve_many(problem, goals))
+    left, right = solve_many(problem, goals)
+    combined = combine([left, right])
     x0, push_time, kick = np.array([0.3, 0.0]), 1.0, np.array([0.0, -1.5])
     runs = {"noise-free": simulate_with_push(combined.problem, combined.policy, x0, push_time, kick,
                                              noise=False),
             "with noise": simulate_with_push(combined.problem, combined.policy, x0, push_time, kick,
-                                             samples, seed=seed)}
-    fig, (ax_alpha, ax_x) = plt.subplots(2, 1, figsize=(10, 7), sharex=True,
-                                         constrained_layout=True)
+                                             traces, seed=seed)}
+    times, states = runs["noise-free"]
+    pushed = states[0, np.searchsorted(times, push_time) + 1]  # just after the kick
+    controllers = {"LBC Σαᵢuᵢ (w = 1, 1)": combined.policy, "goal x = −1 alone": left.policy,
+                   "goal x = +1 alone": right.policy}
+    certificates = {}
+    for when, start, t_s in (("from x₀ at t = 0", x0, 0.0),
+                             (f"from the pushed state at t = {push_time:g} s", pushed, push_time)):
+        for name, policy in controllers.items():
+            task, shifted = remaining_task(combined.problem, policy, t_s)
+            certificates[when, name] = certify(task, shifted, start, samples, dt=dt,
+                                               seed=seed, progress=False)
+
+    fig = plt.figure(figsize=(14, 8.5), constrained_layout=True)
+    grid_spec = fig.add_gridspec(3, 2, width_ratios=(1.6, 1))
+    ax_alpha = fig.add_subplot(grid_spec[0, 0])
+    ax_x = fig.add_subplot(grid_spec[1, 0], sharex=ax_alpha)
+    ax_v = fig.add_subplot(grid_spec[2, 0], sharex=ax_alpha)
+    ax_cost = fig.add_subplot(grid_spec[:, 1])
     for label, (times, states) in runs.items():
         alpha = np.stack([combined.blend_weights(states[:, k], min(t, problem.horizon))[:, 1]
                           for k, t in enumerate(times)], axis=1)
-        style = ({"color": "C0", "lw": 2.5} if label == "noise-free"
-                 else {"color": "C1", "lw": 0.7, "alpha": 0.6})
+        style = ({"color": "C0", "lw": 2.5, "zorder": 3} if label == "noise-free"
+                 else {"color": "C1", "lw": 0.6, "alpha": 0.5})
         for s in range(states.shape[0]):
             name = label if s == 0 else None
             ax_alpha.plot(times, alpha[s], label=name, **style)
             ax_x.plot(times, states[s, :, 0], label=name, **style)
-    for ax in (ax_alpha, ax_x):
+            ax_v.plot(times, states[s, :, 1], label=name, **style)
+    for ax in (ax_alpha, ax_x, ax_v):
         ax.axvline(push_time, color="k", ls=":", lw=1)
         ax.grid(alpha=0.3)
-    ax_alpha.text(push_time + 0.03, 0.5, f"push: velocity {kick[1]:+g} m/s", fontsize=9)
+    ax_alpha.text(push_time + 0.03, 0.45, f"push: velocity {kick[1]:+g} m/s", fontsize=9)
     ax_alpha.set(ylabel="α₊ = z₊ / (z₋ + z₊)", ylim=(-0.03, 1.03),
-                 title="blend weight of the controller for goal x = +1")
+                 title="blend weight of the controller for goal x = +1 (α₋ = 1 − α₊)")
     ax_alpha.legend(fontsize=9, loc="lower left")
     for goal in (-1, 1):
         ax_x.axhline(goal, color="0.5", ls="--", lw=1)
-    ax_x.set(xlabel="t (s)", ylabel="position x (m)", title="position; goals at x = ±1 (dashed)")
-    fig.suptitle(f"Coordination: point mass with two acceptable outcomes (w = 1, 1), "
+    ax_x.set(ylabel="position x (m)", title="position; goals at rest at x = ±1 (dashed)")
+    ax_v.set(xlabel="t (s)", ylabel="velocity (m/s)", title="velocity")
+
+    names = list(controllers)
+    colors = ["C3", "0.55", "0.75"]
+    for group, when in enumerate(dict.fromkeys(w for w, _ in certificates)):
+        rows = [certificates[when, name] for name in names]
+        base = group * (len(names) + 1.5)
+        positions = base + np.arange(len(names))
+        means = [c.policy_cost for c in rows]
+        ax_cost.barh(positions, means, xerr=[c.policy_cost_se for c in rows], color=colors,
+                     capsize=3)
+        for y, c in zip(positions, rows):
+            ax_cost.text(c.policy_cost + c.policy_cost_se + 0.05, y,
+                         f"{c.policy_cost:.3f} ± {c.policy_cost_se:.3f}", va="center", fontsize=8)
+        best = rows[0]  # the combination is the proposal closest to optimal
+        ax_cost.plot([best.optimal_value] * 2, [base - 0.6, base + len(names) - 0.4], "k--",
+                     lw=1.2, label="certified optimum v*" if group == 0 else None)
+        ax_cost.text(best.optimal_value, base + len(names) - 0.3,
+                     f"{when}: v* = {best.optimal_value:.3f} ± {best.optimal_value_se:.3f}",
+                     fontsize=8.5, ha="center")
+    ticks = [base + k for base in (0, len(names) + 1.5) for k in range(len(names))]
+    ax_cost.set_yticks(ticks, names * 2, fontsize=8.5)
+    ax_cost.invert_yaxis()
+    ax_cost.set_xlim(0, 1.3 * max(c.policy_cost for c in certificates.values()))
+    ax_cost.set(xlabel="cost of the composite task ± SE (certified, "
+                       f"{samples} samples)",
+                title="expected cost J of the rest of the task vs the optimum")
+    ax_cost.legend(fontsize=8, loc="lower right")
+    fig.suptitle(f"Coordination with a push: point mass with two acceptable outcomes (w = 1, 1), "
                  f"{problem.grid.describe()}, λ = {problem.temperature:g}")
     return [_save(fig, out, "coordination.png")]
 
@@ -401,8 +497,9 @@ def certified_convergence(out, sizes=(32, 64, 128, 256), samples: int = 400,
 FIGURES = {
     "cost_reward_space": (cost_reward_space, {}, {"n": 61}),
     "projection": (projection, {}, {"points": 401}),
-    "interpolation": (interpolation, {}, {"n": 61, "samples": 200}),
-    "coordination": (coordination, {}, {"n": 41, "samples": 6}),
+    "interpolation": (interpolation, {}, {"n": 41, "samples": 200, "traces": 10,
+                                          "dt": 0.05}),
+    "coordination": (coordination, {}, {"n": 41, "samples": 200, "traces": 4, "dt": 0.02}),
     "gymnast": (gymnast, {}, {"n": 13, "reference": False}),
     "certified_convergence": (certified_convergence, {},
                               {"sizes": (16, 32), "samples": 40, "truth_samples": 80}),

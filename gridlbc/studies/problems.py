@@ -6,6 +6,8 @@ report, the convergence studies, the figures, the benchmarks and the tests.
 - :func:`pendulum_problem`: the pendulum of the convergence study (T = 1, ω box ±8);
 - :func:`pointmass_problem`: the linear-quadratic point mass with a Riccati solution;
 - :func:`coordination_problem`: a point mass with two acceptable goals;
+- :func:`rotor_problem`: a pendulum without gravity (a rotor) turned half a turn to an angle
+  between two solved goals (the interpolation figure), from :data:`ROTOR_START`;
 - :func:`gymnast_problem`: the paper's acrobot swing-up (paper §6.2), from :data:`GYMNAST_START`;
 - :func:`diver_problem`: the 4-link diver beyond the grid (paper §6.1–6.2, Figs. 6 and 8), a
   grid-free problem, taking off from :func:`diver_start`.
@@ -89,6 +91,27 @@ def coordination_problem(n: int = 81) -> Problem:
     grid = Grid([Axis(-3.0, 3.0, n, name="position"), Axis(-4.0, 4.0, n, name="velocity")])
     return Problem(PointMass(), grid, 3.0, Quadratic([-1.0, 0.0], GOAL_WEIGHTS),
                    temperature=0.3)
+
+
+# -- rotor -----------------------------------------------------------------------------------------
+
+ROTOR_START = np.array([3.12, 0.0])
+"""Start of the rotor (θ, ω): almost opposite the goals (θ = ±π), at rest."""
+
+ROTOR_WEIGHTS = (0.8, 0.5)
+"""diag W of the rotor's goals g = (x − c)ᵀW(x − c), c = (θ_goal, 0)."""
+
+ROTOR_GOALS = (-0.25, 0.25)
+"""The two solved goal angles (rad); the target θ̄ = 0 lies between them."""
+
+
+def rotor_problem(n: int = 101, terminal_cost=None) -> Problem:
+    """A pendulum without gravity (θ̈ = u, θ periodic, ω ∈ [−3, 3]), T = 5, λ = 0.2, R = 1; the
+    terminal cost defaults to the target, at rest at θ̄ = 0."""
+    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
+                 Axis(-3.0, 3.0, n + 1, name="omega")])
+    cost = Quadratic([0.0, 0.0], ROTOR_WEIGHTS) if terminal_cost is None else terminal_cost
+    return Problem(Pendulum(gravity=0.0), grid, 5.0, cost, temperature=0.2)
 
 
 # -- gymnast ---------------------------------------------------------------------------------------
