@@ -13,7 +13,7 @@ from .io import load, save
 from .problem import Problem
 from .project import Projection, ProjectionWarning, project, projection
 from .simulate import Rollouts, simulate
-from .solution import Solution, SolveDiagnostics, UnderflowWarning
+from .solution import ResolutionWarning, Solution, SolveDiagnostics, UnderflowWarning
 from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
 
 __version__ = "0.1.0"
@@ -29,6 +29,7 @@ __all__ = [
     "Projection",
     "ProjectionWarning",
     "Quadratic",
+    "ResolutionWarning",
     "Rollouts",
     "Solution",
     "SolveDiagnostics",
