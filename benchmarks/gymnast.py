@@ -1,15 +1,18 @@
 """The gymnast (acrobot) swing-up: grid-optimal controller vs the deterministic optimum.
 
-Problem: see :mod:`gridlbc.gymnast` (T = 3, λ = 1, R = 1, q = 0, g = xᵀdiag(10, 10, ½, ½)x;
+Problem: see :mod:`gridlbc.studies.gymnast` (T = 3, λ = 1, R = 1, q = 0, g = xᵀdiag(10, 10, ½, ½)x;
 hip stops at ±180°, or a free hip with --hip free). For each grid size, method (``fitted``: the
 splitting scheme fitted to the terminal cost, ``fitting="terminal"``) and time step:
 solve, then roll the grid-optimal policy out from (−105°, −15°, at rest) without noise and
-with noise (gridlbc.simulate, Euler–Maruyama at Δt = 2 ms). The slices are stored in float64
-(every k-th, "kept" in the table, to fit --memory). Reported: the solver's prediction
+with noise (gridlbc.certify of its own policy, Euler–Maruyama at Δt = 2 ms). The slices are stored
+in float64 (every k-th, "kept" in the table, to fit --memory). Reported: the solver's prediction
 v(x₀, 0) = −λ log z(x₀, 0), the noise-free rollout cost and final angle distance from the
-handstand, the noisy mean cost ± its standard error, and the wall time of the solve: the
-accuracy-per-second frontier. The deterministic optimum (gridlbc.trajopt, multistart RK4
-single shooting) is the reference.
+handstand, the noisy policy cost J ± its standard error, the effective sample size of the
+policy's own certificate, and the wall time of the solve: the accuracy-per-second frontier.
+References: the deterministic optimum (gridlbc.trajopt, multistart RK4 single shooting) for the
+noise-free cost, and for the noisy problem the certified optimum v*(x₀) (gridlbc.certify with
+--truth-samples, the policy of the row with the lowest J as proposal), against which the
+predictions and the policies' costs are then tabulated.
 
     python benchmarks/gymnast.py --sizes 31 41 51 61 71 81 --dts 0.05 0.1   # ≈ 20 min, 8 GiB
     python benchmarks/gymnast.py --sizes 61 --methods fitted --dts 0.05 --figures figures
@@ -20,19 +23,16 @@ from __future__ import annotations
 import argparse
 import itertools
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 import gridlbc
-from gridlbc.gymnast import (
-    GYMNAST_START,
-    angle_distance,
-    animate_swingup,
-    gymnast_problem,
-    plot_swingup,
-)
+from gridlbc.certify import CertificateWarning
 from gridlbc.simulate import simulate
+from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
+from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
 from gridlbc.trajopt import optimize_trajectory
 
 
@@ -62,13 +62,14 @@ def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
     wall = time.perf_counter() - started
     predicted = float(solution.value(GYMNAST_START, 0.0)[0])
     clean = simulate(problem, policy_of(solution), GYMNAST_START, 1, dt=rollout_dt, noise=False)
-    noisy = simulate(problem, policy_of(solution), GYMNAST_START, n_noisy, dt=rollout_dt,
-                     seed=seed, noise=True)
+    noisy = gridlbc.certify(problem, policy_of(solution), GYMNAST_START, n_noisy, dt=rollout_dt,
+                            seed=seed, min_effective_sample_size=0)  # J and the ESS are used
     row = {"grid": f"{n}^4", "method": method, "dt": solution.diagnostics.dt, "bounds": bounds,
                "store_every": store_every,
                "wall": wall, "predicted": predicted, "clean_cost": float(clean.costs[0]),
                "clean_distance": float(angle_distance(clean.final_states)[0]),
-               "noisy_cost": noisy.mean_cost, "noisy_se": noisy.standard_error,
+               "noisy_cost": noisy.policy_cost, "noisy_se": noisy.policy_cost_se,
+               "ess": noisy.effective_sample_size,
                "noisy_distance": float(np.median(angle_distance(noisy.final_states))),
                }
     return row, solution, clean
@@ -91,9 +92,13 @@ def main(argv=None):
     parser.add_argument("--hip", default="stops", choices=["stops", "free"],
                         help="hip stops at ±180° (default, the issue's problem) or a free hip")
     parser.add_argument("--noisy-samples", type=int, default=100)
+    parser.add_argument("--truth-samples", type=int, default=2000,
+                        help="samples of the certified optimum (default 2000)")
     parser.add_argument("--rollout-dt", type=float, default=0.002)
     parser.add_argument("--memory", type=float, default=6.0,
-                        help="GiB for the stored float64 slices (default 6)")
+                        help="GiB for the stored float64 slices of one solve (default 6; the "
+                        "best solve so far is kept as the certificate's proposal, so up to "
+                        "twice this is held)")
     parser.add_argument("--figures", default=None, help="folder for the swing-up plot and GIF")
     args = parser.parse_args(argv)
     hip = np.pi if args.hip == "stops" else None
@@ -109,9 +114,10 @@ def main(argv=None):
     print(f"target: noise-free rollout cost ≤ {1.25 * reference.cost:.2f} (+25 %) and final "
           "distance < 1 rad")
     header = (f"{'grid':>6} {'method':>9} {'dt':>6} {'box':>8} {'wall s':>7} {'v(x0)':>6} "
-              f"{'cost':>6} {'dist':>5} {'noisy cost':>13} {'dist':>5} {'kept':>4}")
+              f"{'cost':>6} {'dist':>5} {'noisy cost':>13} {'dist':>5} {'ESS':>4} {'kept':>4}")
     print(header)
     best = None
+    rows, proposal = [], None
     for n, method, dt in itertools.product(args.sizes, args.methods, args.dts):
         row, solution, clean = study_row(n, method, dt, tuple(args.bounds), hip,
                                          args.noisy_samples, args.rollout_dt, args.memory * 2**30)
@@ -119,10 +125,33 @@ def main(argv=None):
               f"{args.bounds[0]:>3g}×{args.bounds[1]:<4g} {row['wall']:7.1f} "
               f"{row['predicted']:6.2f} {row['clean_cost']:6.2f} {row['clean_distance']:5.2f} "
               f"{row['noisy_cost']:7.2f} ± {row['noisy_se']:4.2f} {row['noisy_distance']:5.2f} "
-              f"{row['store_every']:4d}", flush=True)
+              f"{row['ess']:4.0f} {row['store_every']:4d}", flush=True)
         if best is None or row["clean_cost"] < best[0]["clean_cost"]:
             best = (row, clean)
+        rows.append(row)
+        if proposal is None or row["noisy_cost"] < proposal[0]["noisy_cost"]:
+            proposal = (row, solution)
         del solution
+    if proposal is not None:
+        row, solution = proposal
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", CertificateWarning)
+            truth = gridlbc.certify(solution.problem, policy_of(solution), GYMNAST_START,
+                                    args.truth_samples, dt=args.rollout_dt, seed=1)
+        del proposal, solution
+        v, se = truth.optimal_value, truth.optimal_value_se
+        print(f"\ncertified optimum v*(x0) = {v:.2f} ± {se:.2f} (SE), proposal {row['grid']} "
+              f"{row['method']} dt {row['dt']:.3f}, {args.truth_samples} samples, effective "
+              f"sample size {truth.effective_sample_size:.0f}")
+        for w in caught:
+            print(f"warning: {w.message}")
+        print(f"{'grid':>6} {'method':>9} {'dt':>6} {'v(x0)':>6} {'error':>7} {'noisy cost':>13} "
+              f"{'gap J − v*':>11}")
+        for r in rows:
+            print(f"{r['grid']:>6} {r['method']:>9} {r['dt']:6.3f} {r['predicted']:6.2f} "
+                  f"{100 * (r['predicted'] - v) / v:6.1f}% {r['noisy_cost']:7.2f} ± "
+                  f"{r['noisy_se']:4.2f} {r['noisy_cost'] - v:6.2f} ± "
+                  f"{np.hypot(r['noisy_se'], se):4.2f}")
     if args.figures and best is not None:
         row, clean = best
         out = Path(args.figures)

@@ -1,7 +1,7 @@
 """Speed and memory of the solvers on large grids, against a plain scipy baseline.
 
 Cases (T = 3 s, λ = 1): the pendulum swing-up (θ periodic × ω ∈ [−10, 10], g = xᵀdiag(10, ½)x) on
-n × (n+1) grids and the gymnast (:func:`gridlbc.gymnast.gymnast_problem`, box ±16 × ±9) on n⁴
+n × (n+1) grids and the gymnast (:func:`gridlbc.studies.gymnast.gymnast_problem`, box ±16 × ±9) on n⁴
 grids. Each case runs in its own subprocess so that its peak RSS (VmHWM) is its own. Per case
 and method: wall time of the solve (setup included; numba kernels are cached on disk and warmed
 up by a tiny solve first), node-steps per second (stepping only), iterations per step, peak RSS,
@@ -33,9 +33,8 @@ import numpy as np
 
 import gridlbc
 from gridlbc import Problem
-from gridlbc.gymnast import gymnast_problem
-from gridlbc.splitting import feet_bytes_per_node
-from gridlbc.verify import swingup_problem
+from gridlbc.schemes.splitting import feet_bytes_per_node
+from gridlbc.studies.problems import gymnast_problem, swingup_problem
 
 
 def problem_for(system: str, n: int) -> Problem:
@@ -111,7 +110,7 @@ def peak_rss() -> int:
 
 def layout_comparison(n: int, steps: int, bandwidth: float):
     """ms per splitting step on the n⁴ gymnast with each feet layout (same process, warmed up)."""
-    from gridlbc.splitting import FEET_LAYOUTS, SplittingStep
+    from gridlbc.schemes.splitting import FEET_LAYOUTS, SplittingStep
 
     problem = gymnast_problem(n)
     z = np.exp(-problem.terminal_values()[None, :])

@@ -1,13 +1,13 @@
 """Blend weights over time of a two-goal point mass pushed mid-way (paper Fig. 9 idea).
 
-Writes the figure with gridlbc.figures.coordination (see its docstring for the experiment).
+Writes the figure with gridlbc.studies.figures.coordination (see its docstring for the experiment).
 
     python examples/coordination.py [--out figures] [--quick]
 """
 
 import argparse
 
-from gridlbc.figures import make_all
+from gridlbc.studies.figures import make_all
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", default="figures", help="output folder (default: figures)")

@@ -1,13 +1,13 @@
 """An intermediate goal on the pendulum: LBC vs naive blend vs direct solve (Fig. 6 idea).
 
-Writes the figure with gridlbc.figures.interpolation (see its docstring for the experiment).
+Writes the figure with gridlbc.studies.figures.interpolation (see its docstring for the experiment).
 
     python examples/interpolation.py [--out figures] [--quick]
 """
 
 import argparse
 
-from gridlbc.figures import make_all
+from gridlbc.studies.figures import make_all
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", default="figures", help="output folder (default: figures)")

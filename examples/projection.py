@@ -1,13 +1,13 @@
 """Projecting a target terminal reward onto component rewards (paper Figs. 3 and 4).
 
-Writes the figure with gridlbc.figures.projection (see its docstring for the experiment).
+Writes the figure with gridlbc.studies.figures.projection (see its docstring for the experiment).
 
     python examples/projection.py [--out figures] [--quick]
 """
 
 import argparse
 
-from gridlbc.figures import make_all
+from gridlbc.studies.figures import make_all
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", default="figures", help="output folder (default: figures)")

@@ -1,11 +1,12 @@
 """gridlbc: linearly solvable stochastic optimal control on grids, and linear Bellman combination.
 
 The desirability z = exp(−v/λ) of a control-affine problem with noise in the control channels
-solves a linear PDE (SPEC §1); solved on a grid, it gives the optimal value and policy anywhere,
+solves a linear PDE (paper §3.2); solved on a grid, it gives the optimal value and policy anywhere,
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 
 from . import costs, reference, systems
+from .certify import Certificate, CertificateWarning, certify
 from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
@@ -22,6 +23,8 @@ __all__ = [
     "METHODS",
     "PRESETS",
     "Axis",
+    "Certificate",
+    "CertificateWarning",
     "CombinedSolution",
     "Grid",
     "NaiveBlend",
@@ -35,6 +38,7 @@ __all__ = [
     "SolveDiagnostics",
     "SolverSettings",
     "UnderflowWarning",
+    "certify",
     "combine",
     "costs",
     "load",

@@ -16,3 +16,9 @@ jit_parallel = numba.njit(cache=True, nogil=True, parallel=True)
 """Decorator for kernels whose outer loop is a ``numba.prange`` over independent work."""
 
 prange = numba.prange
+
+
+def work_blocks(n_items: int) -> int:
+    """Number of parallel work blocks for ``n_items`` independent items: a few per thread, so
+    that the load balances."""
+    return max(1, min(n_items, 8 * numba.get_num_threads()))

@@ -13,7 +13,7 @@ from pathlib import Path
 
 
 def _cmd_demo(args) -> int:
-    from .demo import run_demo
+    from .studies.demo import run_demo
 
     run_demo(Path(args.out), grid_size=args.grid, progress=not args.quiet)
     return 0
@@ -21,13 +21,13 @@ def _cmd_demo(args) -> int:
 
 def _cmd_verify(args) -> int:
     """Exit status 0 when every check passes, 1 when one fails (the table says which)."""
-    from .verify import run_verification
+    from .studies.verify import run_verification
 
     report = run_verification(grid_size=args.grid, samples=args.samples, seed=args.seed,
                               quick=args.quick, progress=not args.quiet)
     print(report.table())
     if args.convergence:
-        from .convergence import pendulum_study, pointmass_study
+        from .studies.convergence import pendulum_study, pointmass_study
 
         spacings, sizes = ((1 / 4, 1 / 8, 1 / 16), (32, 64, 128)) if args.quick else \
             ((1 / 4, 1 / 8, 1 / 16, 1 / 32), (64, 128, 256))
@@ -195,8 +195,42 @@ def _cmd_combine(args) -> int:
     return 0
 
 
+def _cmd_certify(args) -> int:
+    """The certified optimum from each --state with the saved solution's policy as proposal,
+    beside the solution's own prediction v(x₀, 0)."""
+    import warnings
+
+    import numpy as np
+
+    from .certify import CertificateWarning, certify
+    from .io import load
+
+    solution = load(args.solution)
+    grid = solution.grid
+    if not args.state:
+        raise ValueError("give at least one start state: --state=X1,X2,... (repeatable)")
+    states = grid.check_states(np.array([_vector(x, "--state") for x in args.state]), "--state")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", CertificateWarning)
+        cert = certify(solution.problem, solution.policy, states, n_samples=args.samples,
+                       dt=args.dt, seed=args.seed, progress=None if not args.quiet else False)
+    predicted = solution.value(states, 0.0)
+    print(f"proposal: the policy of {args.solution} ({solution.problem.describe()})")
+    print(cert.summary())
+    print(" ".join(f"{h:>12}" for h in ("predicted v", "certified v*", "± SE", "error",
+                                          "policy cost", "gap", "ESS")))
+    for i in range(states.shape[0]):
+        v, se = cert.optimal_value[i], cert.optimal_value_se[i]
+        row = (predicted[i], v, se, predicted[i] - v, cert.policy_cost[i], cert.gap[i],
+               cert.effective_sample_size[i])
+        print(" ".join(f"{x:12.5g}" for x in row))
+    for w in caught:
+        print(f"warning: {w.message}", file=sys.stderr)
+    return 0
+
+
 def _cmd_figures(args) -> int:
-    from .figures import make_all
+    from .studies.figures import make_all
 
     written = make_all(Path(args.out), quick=args.quick, only=args.only, progress=not args.quiet)
     print(f"wrote {len(written)} files to {args.out}")
@@ -256,11 +290,31 @@ def _add_workflow_parsers(sub):
     combine.add_argument("--table", metavar="CSV", help="write the evaluations as CSV")
     combine.set_defaults(func=_cmd_combine)
 
-    from .figures import FIGURES
+    certify = sub.add_parser(
+        "certify", help="the true optimal cost from start states, with a saved solution's policy "
+        "as the importance-sampling proposal",
+        description="Certify a saved solution: roll out its policy on the problem's SDE and "
+        "estimate the true optimal cost v*(x0) = −λ log E[exp(−S/λ)] (Feynman–Kac and Girsanov; "
+        "exact for any proposal up to the time step), the policy's own cost and the gap, beside "
+        "the solution's prediction v(x0, 0). A small effective sample size (ESS) means the "
+        "estimate is not to be trusted (a warning says what to do).",
+    )
+    certify.add_argument("solution", help="a solution file written by gridlbc solve")
+    certify.add_argument("--state", action="append", metavar="X",
+                         help="start state, comma-separated, multiples of pi allowed "
+                         "(repeatable; negative numbers need '=': --state=-pi,0)")
+    certify.add_argument("--samples", type=int, default=2000,
+                         help="samples per start state (default: 2000)")
+    certify.add_argument("--dt", type=float, help="Euler–Maruyama step (default: T/300)")
+    certify.add_argument("--seed", type=int, help="random seed")
+    certify.add_argument("--quiet", action="store_true", help="no progress output")
+    certify.set_defaults(func=_cmd_certify)
+
+    from .studies.figures import FIGURES
 
     figures = sub.add_parser(
         "figures", help="regenerate the figure gallery",
-        description="Write every figure of the gallery (gridlbc.figures) to a folder. The full "
+        description="Write every figure of the gallery (gridlbc.studies.figures) to a folder. The full "
         "sizes take several minutes; --quick runs small grids in about a minute.",
     )
     figures.add_argument("--out", default="figures", help="folder (default: figures)")

@@ -1,4 +1,4 @@
-"""Linear Bellman combination of solved controllers (SPEC §2, paper §3–4).
+"""Linear Bellman combination of solved controllers (paper §3–4).
 
 Desirabilities z_i of one linear PDE (same dynamics a, B, state cost q, control cost R,
 temperature λ and horizon T) for terminal rewards h_i = exp(−g_i/λ) superpose: for fixed weights
@@ -12,7 +12,7 @@ and its optimal policy is the state- and time-dependent blend of the component p
 
 With w_i = 1 the combination *coordinates* (several acceptable outcomes); with w from
 :func:`gridlbc.project` it *interpolates* goals. Since the grid solver is linear in the terminal
-data, :func:`combine` equals the direct solve of the composite cost to rounding (SPEC §3).
+data, :func:`combine` equals the direct solve of the composite cost to rounding.
 
 Each component stores z_i = Z_i e^{ℓ_i} with its own log-scale per slice. The combination works
 with the common scale L = max_i L_i(t),
@@ -197,7 +197,7 @@ class CombinedSolution:
 
 
 def combine(solutions, weights=None) -> CombinedSolution:
-    """Linear Bellman combination z = Σ w_i z_i of solutions of one PDE (SPEC §2).
+    """Linear Bellman combination z = Σ w_i z_i of solutions of one PDE (paper §3–4).
 
     Parameters
     ----------
@@ -241,7 +241,7 @@ class NaiveBlend:
 
 
 def naive_blend(solutions, weights) -> NaiveBlend:
-    """The naive blend u = Σ w_i u_i / Σ w_i with fixed ``weights`` (SPEC §2, paper Fig. 6).
+    """The naive blend u = Σ w_i u_i / Σ w_i with fixed ``weights`` (paper Fig. 6).
 
     ``solutions`` are any objects with ``.policy(x, t)`` (Solutions or your own controllers);
     ``weights`` as for :func:`combine` (``None``: the plain average).

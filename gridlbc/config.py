@@ -57,16 +57,6 @@ TOP_KEYS = ("system", "grid", "horizon", "temperature", "control_cost", "termina
             "state_cost", "solver")
 REQUIRED_KEYS = ("system", "grid", "horizon", "terminal_cost")
 
-DEFAULT_BOUNDS = {
-    "SingleIntegrator": [(-4.0, 4.0)],
-    "PointMass": [(-4.0, 4.0), (-6.0, 6.0)],
-    "Pendulum": [None, (-10.0, 10.0)],
-    "Acrobot": [None, (-math.pi, math.pi), (-16.0, 16.0), (-9.0, 9.0)],
-}
-"""The box used with ``grid.n``: ``None`` is an angle, periodic on [−π, π); a pair is (lo, hi)
-of a non-periodic axis. The acrobot's box is the gymnast study's (:mod:`gridlbc.gymnast`: hip
-stops at ±π, momenta ±16 × ±9)."""
-
 _PI = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)?)\s*\*?\s*pi\s*(?:/\s*(\d+(?:\.\d*)?))?\s*$")
 
 
@@ -152,23 +142,6 @@ def system_from_name(name, parameters=None):
         raise ValueError(f"system.parameters: {exc}") from None
 
 
-def default_axes(system, counts) -> list[Axis]:
-    """Axes over the system's default box (:data:`DEFAULT_BOUNDS`) with ``counts`` nodes."""
-    name = type(system).__name__
-    if name not in DEFAULT_BOUNDS:
-        raise ValueError(f"{name} has no default box: give grid.axes (lo, hi, n per coordinate)")
-    bounds = DEFAULT_BOUNDS[name]
-    if len(counts) == 1:
-        counts = counts * len(bounds)
-    if len(counts) != len(bounds):
-        raise ValueError(f"grid.n must be one node count or {len(bounds)} (one per state "
-                         f"coordinate of {name}), got {len(counts)}")
-    names = system.state_names or (None,) * len(bounds)
-    return [Axis(-math.pi, math.pi, n, periodic=True, name=label) if box is None
-            else Axis(box[0], box[1], n, name=label)
-            for box, n, label in zip(bounds, counts, names)]
-
-
 def _count(value, key: str) -> int:
     if isinstance(value, bool) or not isinstance(value, int):
         raise TypeError(f"{key} must be an integer number of nodes, got {value!r}")
@@ -182,7 +155,13 @@ def _grid(data, system) -> Grid:
                          "box) or grid.axes (a table per coordinate with lo, hi, n, periodic)")
     if "n" in data:
         counts = data["n"] if isinstance(data["n"], list) else [data["n"]]
-        return Grid(default_axes(system, [_count(n, f"grid.n[{i}]") for i, n in enumerate(counts)]))
+        if not system.default_box:
+            raise ValueError(f"{type(system).__name__} has no default box: give grid.axes (lo, "
+                             "hi, n per coordinate)")
+        try:
+            return system.default_grid([_count(n, f"grid.n[{i}]") for i, n in enumerate(counts)])
+        except ValueError as exc:
+            raise ValueError(f"grid.{exc}") from None
     if not isinstance(data["axes"], list) or not data["axes"]:
         raise ValueError("grid.axes must be a list of tables ([[grid.axes]] in TOML)")
     axes = []

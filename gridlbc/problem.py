@@ -1,4 +1,4 @@
-"""A linearly solvable finite-horizon control problem on a grid (SPEC §1).
+"""A linearly solvable finite-horizon control problem on a grid (paper §3.2).
 
     dx = (a(x) + B(x) u) dt + dξ,      Cov[dξ] = λ B R⁻¹ Bᵀ dt
     J  = E[ g(x_T) + ∫₀ᵀ ( q(x) + ½ uᵀ R u ) dt ]

@@ -1,4 +1,4 @@
-"""Weights that interpolate a target terminal cost from component costs (SPEC §2, paper §4.1).
+"""Weights that interpolate a target terminal cost from component costs (paper §4.1).
 
 The combination of :func:`gridlbc.combine` solves the terminal reward h = Σ w_i h_i with
 h_i = exp(−g_i/λ). To aim it at a target cost ḡ, project h̄ = exp(−ḡ/λ) onto span{h_i} in
@@ -230,7 +230,7 @@ def _diagnose(w: np.ndarray, residual: float, condition: float) -> tuple[str, ..
 
 def project(target_cost, component_costs, grid: Grid | None = None, *,
             temperature: float = 1.0, method: str = "auto") -> np.ndarray:
-    """Weights w (n,) with Σ w_i exp(−g_i/λ) the L² projection of exp(−ḡ/λ) (SPEC §2).
+    """Weights w (n,) with Σ w_i exp(−g_i/λ) the L² projection of exp(−ḡ/λ) (paper §3–4).
 
     Parameters
     ----------

@@ -1,4 +1,4 @@
-"""Monte-Carlo rollouts of a policy on the problem's SDE (SPEC §1).
+"""Monte-Carlo rollouts of a policy on the problem's SDE (paper §3.2).
 
 Euler–Maruyama with step Δt = T/K on the Itô SDE
 
@@ -33,18 +33,24 @@ DEFAULT_STEPS = 300
 
 
 @jit
-def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost):
-    """x_out = x + (a + B u) dt + B (noise ε); cost += ½ uᵀ R u dt, for every sample."""
+def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost, ito):
+    """x_out = x + (a + B u) dt + B dε with dε = (noise ε); cost += ½ uᵀ R u dt and
+    ito += uᵀ R dε (the Girsanov term of :func:`gridlbc.certify`), for every sample."""
     n, d = x.shape
     m = u.shape[1]
     for s in range(n):  # serial: a few flops per sample, threads would cost more
-        kick = np.zeros(m)  # √(λ dt) C ε
-        control = 0.0
+        kick = np.zeros(m)  # dε = √(λ dt) C ε
         for i in range(m):
             for j in range(m):
                 kick[i] += noise[i, j] * eps[s, j]
+        control = 0.0
+        girsanov = 0.0
+        for i in range(m):
+            for j in range(m):
                 control += u[s, i] * R[i, j] * u[s, j]
+                girsanov += u[s, i] * R[i, j] * kick[j]
         cost[s] += 0.5 * control * dt
+        ito[s] += girsanov
         for k in range(d):
             v = drift[s, k]
             w = 0.0
@@ -55,10 +61,12 @@ def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost):
 
 
 def em_step_reference(x, drift, B, u, eps, noise, R, dt):
-    """Plain-numpy version of the Euler–Maruyama kernel: (new states, ½ uᵀRu dt per sample)."""
+    """Plain-numpy version of the Euler–Maruyama kernel: (new states, ½ uᵀRu dt, uᵀR dε) per
+    sample."""
     kick = eps @ noise.T
     x_new = x + (drift + np.einsum("ndm,nm->nd", B, u)) * dt + np.einsum("ndm,nm->nd", B, kick)
-    return x_new, 0.5 * np.einsum("ni,ij,nj->n", u, R, u) * dt
+    return (x_new, 0.5 * np.einsum("ni,ij,nj->n", u, R, u) * dt,
+            np.einsum("ni,ij,nj->n", u, R, kick))
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,11 +132,16 @@ class Rollouts:
                 f"{self.n_samples} samples, Δt = {self.dt:.3g}, {self.n_left_box} left the box")
 
 
-def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
+def _check_sample_count(n_samples) -> int:
     if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)):
         raise TypeError(f"n_samples must be an integer, got {n_samples!r}")
     if n_samples < 1:
         raise ValueError(f"n_samples must be at least 1, got {n_samples}")
+    return int(n_samples)
+
+
+def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
+    n_samples = _check_sample_count(n_samples)
     x0 = problem.grid.check_states(x0, "x0")
     if x0.shape[0] == 1:
         return np.repeat(x0, n_samples, axis=0)
@@ -186,10 +199,9 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
         Number of independent samples.
     dt : float, optional
         Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`).
-        The scheme's weak error is O(Δt) with a problem-dependent constant: on the pendulum
-        swing-up (T = 3, fast dynamics near the bottom) the default Δt = 0.01 reads the mean
-        cost about 6 % below Δt = 0.002. Pass a smaller ``dt`` when a cost must be checked to
-        a few percent.
+        The scheme's weak error is O(Δt) with a problem-dependent constant, large where the
+        dynamics are fast (the README's swing-up tables are rolled out at Δt = 0.002). Pass a
+        smaller ``dt`` when a cost must be checked to a few percent.
     seed : int, optional
         Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
     noise : bool
@@ -199,45 +211,80 @@ def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None 
     -------
     Rollouts
     """
+    _check_problem_and_policy(problem, policy)
+    x = _initial_states(problem, x0, n_samples)
+    K = _step_count(problem.horizon, dt)
+    n, d, m = x.shape[0], problem.system.state_dim, problem.system.control_dim
+    states = np.empty((n, K + 1, d))
+    controls = np.empty((n, K, m))
+
+    def record(k, x_new, u):
+        states[:, k + 1] = x_new
+        controls[:, k] = u
+
+    path = _euler_maruyama(problem, policy, x, K, np.random.default_rng(seed), noise, record)
+    states[:, 0] = path.start
+    costs = path.running_cost + path.terminal_cost
+    return Rollouts(path.times, states, controls, costs, path.terminal_cost, path.left_box, seed)
+
+
+def _check_problem_and_policy(problem, policy) -> None:
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
     if not callable(policy):
         raise TypeError("policy must be callable as policy(x, t) -> (N, m), e.g. solution.policy")
-    x = _initial_states(problem, x0, n_samples)
+
+
+@dataclass(frozen=True, eq=False)
+class _Path:
+    """What one Euler–Maruyama run accumulates per sample (see :func:`_euler_maruyama`)."""
+
+    times: np.ndarray
+    start: np.ndarray  # x₀ wrapped into the box, (n, d)
+    running_cost: np.ndarray  # Σ (q + ½ uᵀRu) Δt
+    final_states: np.ndarray  # x_K, (n, d)
+    terminal_cost: np.ndarray  # g(x_K)
+    ito: np.ndarray  # Σ uᵀR dε
+    left_box: np.ndarray
+
+
+def _euler_maruyama(problem: Problem, policy, x: np.ndarray, n_steps: int, rng, noise: bool = True,
+                    on_step=None) -> _Path:
+    """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
+
+    ``on_step(k, x_{k+1}, u_k)`` is called after each step (recording, progress).
+    """
     T = problem.horizon
-    K = _step_count(T, dt)
-    step = T / K
+    step = T / n_steps
     grid, system = problem.grid, problem.system
-    n, d, m = x.shape[0], system.state_dim, system.control_dim
-    rng = np.random.default_rng(seed)
+    n, m = x.shape[0], system.control_dim
     R = np.ascontiguousarray(problem.R)
     root = np.linalg.cholesky(problem.R_inv) * math.sqrt(problem.temperature * step)
     outside_mask = ~grid.periodic
     lo, hi = grid.lo, grid.hi
 
-    states = np.empty((n, K + 1, d))
-    controls = np.empty((n, K, m))
-    costs = np.zeros(n)
+    running = np.zeros(n)
+    ito = np.zeros(n)
     left = np.zeros(n, dtype=bool)
     x = grid.wrap(x)
-    states[:, 0] = x
+    start = x
     eps = np.zeros((n, m))
-    for k in range(K):
+    for k in range(n_steps):
         t = k * step
         u = _controls(policy, x, t, m, k)
         drift = np.ascontiguousarray(system.drift(x), dtype=float)
         B = np.ascontiguousarray(system.input_matrix(x), dtype=float)
         if problem.state_cost is not None:
-            costs += problem.state_cost_values(x) * step
+            running += problem.state_cost_values(x) * step
         if noise:
             eps = rng.standard_normal((n, m))
         x_new = np.empty_like(x)
-        _em_kernel(x, drift, B, u, eps, root, R, step, x_new, costs)
+        _em_kernel(x, drift, B, u, eps, root, R, step, x_new, running, ito)
         x = grid.wrap(x_new)
         left |= np.any(((x < lo) | (x > hi)) & outside_mask, axis=1)
-        states[:, k + 1] = x
-        controls[:, k] = u
+        if on_step is not None:
+            on_step(k, x, u)
     terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")
-    times = np.arange(K + 1) * step
+    times = np.arange(n_steps + 1) * step
     times[-1] = T
-    return Rollouts(times, states, controls, costs + terminal, terminal, left, seed)
+    return _Path(times, start, running, x, terminal, ito, left)

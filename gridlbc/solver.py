@@ -1,7 +1,7 @@
 """Backward time stepping of the linear Bellman PDE: :func:`solve` and :func:`solve_many`.
 
 From the terminal data z(·, T) = exp(−g/λ) a step operator S (a monotone linear map, see
-:mod:`gridlbc.splitting` and :mod:`gridlbc.implicit`) is applied n = T/Δt times,
+:mod:`gridlbc.schemes.splitting` and :mod:`gridlbc.schemes.implicit`) is applied n = T/Δt times,
 
     z(·, t − Δt) = S z(·, t).
 
@@ -24,24 +24,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numba import jit_parallel, prange
-from .implicit import LINEAR_SOLVERS, ImplicitStep
+from ._numba import jit_parallel, prange, work_blocks
 from .problem import Problem
+from .schemes import LINEAR_SOLVERS, METHODS
+from .schemes.splitting import SplittingStep, _flat_chunks
 from .solution import ResolutionWarning, Solution, SolveDiagnostics
-from .splitting import SplittingStep, _flat_chunks
-
-METHODS = {"splitting": SplittingStep, "implicit": ImplicitStep}
-"""Step schemes by name; both are linear in z and monotone (z ≥ 0, discrete maximum principle).
-
-- ``"splitting"`` (default): semi-Lagrangian drift + implicit tridiagonal diffusion + exact cost
-  (:mod:`gridlbc.splitting`). Error O(h²/Δt + Δt); unconditionally stable; O(N) work per step
-  with parallel, allocation-free kernels and compact feet (14 B/node in 4D). Exactly linear
-  (superposition to rounding).
-- ``"implicit"``: upwind + backward Euler, error O(h + Δt) (:mod:`gridlbc.implicit`), the
-  reference. Its linear system is solved by sparse LU on small 2D grids (exact to rounding) and
-  by Gauss–Seidel sweeps otherwise (non-negative iterates, stopped at a max-norm change of
-  ``1e-10`` of max z: linear and monotone up to that tolerance); ``linear_solver`` overrides.
-"""
 
 
 PLAIN_COURANT, PLAIN_MIN_STEPS = 6.0, 50
@@ -73,8 +60,7 @@ class SolverSettings:
     store_every : int
         Keep every k-th slice (and always t = 0 and T); z between them is interpolated linearly
         in time (which keeps superposition exact). This costs policy accuracy where the dynamics
-        are fast: on the gymnast at 51⁴, Δt = 0.05, k = 4 raised the noise-free rollout cost
-        from 18.79 to 20.96 (``benchmarks/gymnast.py --memory``). Prefer ``mmap_dir`` or float32
+        are fast (``benchmarks/gymnast.py --memory`` measures it). Prefer ``mmap_dir`` or float32
         slices when memory is short and the states that matter keep z above 1e-38 of the
         slice maximum.
     dtype : str
@@ -87,11 +73,11 @@ class SolverSettings:
     mmap_dir : str, optional
         Keep the slices in an (unlinked) memory-mapped file in this directory instead of RAM.
     linear_solver : str
-        For ``method="implicit"``: one of :data:`gridlbc.implicit.LINEAR_SOLVERS` (``"auto"``:
+        For ``method="implicit"``: one of :data:`gridlbc.schemes.implicit.LINEAR_SOLVERS` (``"auto"``:
         sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
     fitting : None, "terminal" or a terminal cost
         For ``method="splitting"``: fit the drift's interpolation to a reference desirability
-        φ = exp(−g_ref/λ) (:mod:`gridlbc.splitting`, "Exponential fitting"): exact where z ∝ φ,
+        φ = exp(−g_ref/λ) (:mod:`gridlbc.schemes.splitting`, "Exponential fitting"): exact where z ∝ φ,
         far less numerical diffusion where v is steep. ``None``: plain barycentric
         interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
         :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
@@ -130,9 +116,10 @@ class SolverSettings:
         if not (self.fitting is None or self.fitting == "terminal" or callable(self.fitting)):
             raise ValueError(f"fitting must be None, 'terminal' or a terminal cost g(x), got "
                              f"{self.fitting!r}")
-        if self.fitting is not None and self.method != "splitting":
-            raise ValueError(f"fitting applies to method='splitting', not {self.method!r}: "
-                             "drop fitting or use the splitting method")
+        if self.fitting is not None and not METHODS[self.method].supports_fitting:
+            fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
+            raise ValueError(f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
+                             f"{self.method!r}: drop fitting or use one of those methods")
         if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
             raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
 
@@ -239,10 +226,13 @@ def _check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
 
 
 class _Progress:
-    """A one-line progress bar on stderr: steps, elapsed time, ETA and node-steps per second."""
+    """A one-line progress bar on stderr: steps, elapsed time, ETA and ``unit`` per second (``nodes``
+    of them per step); with ``delay`` it starts only once the run has taken that many seconds."""
 
-    def __init__(self, total: int, enabled: bool, label: str, nodes: int):
+    def __init__(self, total: int, enabled: bool, label: str, nodes: int, unit: str = "node-steps",
+                 delay: float = 0.0):
         self.total, self.enabled, self.label, self.nodes = total, enabled, label, nodes
+        self.unit, self.delay = unit, delay
         self.start = time.perf_counter()
         self.last = -math.inf
 
@@ -250,17 +240,17 @@ class _Progress:
         if not self.enabled:
             return
         now = time.perf_counter()
-        if now - self.last < 0.5 and done != self.total:
+        elapsed = now - self.start
+        if (now - self.last < 0.5 and done != self.total) or elapsed < self.delay:
             return
         self.last = now
-        elapsed = now - self.start
         fraction = done / self.total
         bar = "#" * int(25 * fraction)
         eta = elapsed * (1 - fraction) / fraction if done else math.nan
         rate = done * self.nodes / elapsed / 1e6 if elapsed > 0 else math.nan
         sys.stderr.write(
             f"\r{self.label} [{bar:<25}] {done}/{self.total} steps {elapsed:6.1f}s "
-            f"ETA {eta:6.1f}s {rate:7.1f} M node-steps/s"
+            f"ETA {eta:6.1f}s {rate:7.1f} M {self.unit}/s"
         )
         if done == self.total:
             sys.stderr.write("\n")
@@ -268,12 +258,12 @@ class _Progress:
 
 
 @jit_parallel
-def _store_kernel(Z, scale, out):
+def _store_kernel(Z, scale, out, flushed):
     """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
-    to zero (float32 storage of values below ~1e-45 of the slice maximum)."""
+    to zero (float32 storage of values below ~1e-45 of the slice maximum), counted per work
+    block in ``flushed``."""
     n_rhs, n_nodes = Z.shape
-    n_blocks = min(n_nodes, 256)
-    flushed = np.zeros(n_blocks, dtype=np.int64)
+    n_blocks = flushed.shape[0]
     for b in prange(n_blocks):
         count = 0
         for r in range(n_rhs):
@@ -367,7 +357,6 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
         return [_solve_log(problem, s, kept, dt, n_steps, rate, estimate, started)]
     Z, log_scale = _terminal_data(problem, terminal_costs)
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.fitting, Z, log_scale)
-    fit = () if reference is None else (reference,)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
     step = METHODS[s.method](problem, dt, **options)
     setup_time = time.perf_counter() - started
@@ -375,13 +364,14 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     slices = _slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty((len(kept), K))
     slot = len(kept) - 1
-    flushed = _store_kernel(Z[:K], np.ones(K), slices[:, slot])
+    blocks = np.zeros(work_blocks(grid.size), dtype=np.int64)
+    flushed = _store_kernel(Z[:K], np.ones(K), slices[:, slot], blocks)
     scales[slot] = log_scale[:K]
     buffer = np.empty_like(Z)
     scale = np.ones(Z.shape[0])
     progress = _Progress(n_steps, s.progress, f"{s.method} {grid.describe()}", grid.size)
     for n in range(n_steps - 1, -1, -1):  # step n+1 → n, t_n = n Δt
-        peak = step(Z, buffer, scale, *fit)  # buffer = S(scale · Z), its row maxima
+        peak = step(Z, buffer, scale, reference)  # buffer = S(scale · Z), its row maxima
         Z, buffer = buffer, Z
         if not np.all(peak > 0) or not np.all(np.isfinite(peak)):
             raise FloatingPointError(
@@ -393,13 +383,13 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
         scale = 1.0 / peak
         if n == kept[slot - 1]:
             slot -= 1
-            flushed += _store_kernel(Z[:K], scale[:K], slices[:, slot])
+            flushed += _store_kernel(Z[:K], scale[:K], slices[:, slot], blocks)
             scales[slot] = log_scale[:K]
         progress.update(n_steps - n)
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
-    iterations = tuple(getattr(step, "iterations", ()))
+    iterations = tuple(step.iterations)
     out = []
     for r, cost in enumerate(terminal_costs):
         diagnostics = SolveDiagnostics(

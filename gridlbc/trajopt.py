@@ -1,6 +1,6 @@
 """Deterministic trajectory optimisation: a reference optimum for the noise-free problem.
 
-The deterministic limit (λ → 0) of SPEC §1 is
+The deterministic limit (λ → 0) of the control problem (paper §3.2) is
 
     ẋ = a(x) + B(x) u,      J = g(x_T) + ∫₀ᵀ ( q(x) + ½ uᵀ R u ) dt.
 

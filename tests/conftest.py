@@ -25,3 +25,52 @@ def _close_figures():
 @pytest.fixture
 def rng():
     return np.random.default_rng(20261122)
+
+
+# -- problem factories shared by the test modules (the studies' named problems live in
+# gridlbc.studies.problems; these are the small variants the unit tests use) ----------------------
+
+
+def pendulum(n=24, omega_max=6.0, omega_nodes=None, horizon=1.0, weights=(2.0, 0.2), system=None,
+             **options):
+    """Pendulum on θ periodic [−π, π) (``n`` nodes) × ω ∈ [−ω_max, ω_max] (``omega_nodes``,
+    default n + 1), g = xᵀdiag(weights)x; ``options`` go to :class:`gridlbc.Problem`."""
+    import gridlbc as g
+    from gridlbc.systems import Pendulum
+
+    grid = g.Grid([g.Axis(-np.pi, np.pi, n, periodic=True),
+                   g.Axis(-omega_max, omega_max, n + 1 if omega_nodes is None else omega_nodes)])
+    return g.Problem(Pendulum() if system is None else system, grid, horizon,
+                     g.Quadratic([0.0, 0.0], list(weights)), **options)
+
+
+def line(n=41, horizon=1.0, **options):
+    """SingleIntegrator on [−3, 3] with ``n`` nodes and g = x²; ``options`` go to Problem."""
+    import gridlbc as g
+    from gridlbc.systems import SingleIntegrator
+
+    return g.Problem(SingleIntegrator(), g.Grid([g.Axis(-3, 3, n)]), horizon,
+                     g.Quadratic([0], [1]), **options)
+
+
+POINTMASS_TOML = """
+horizon = 1.0
+temperature = 0.5
+[system]
+name = "PointMass"
+[grid]
+n = 21
+[terminal_cost]
+center = [{c}, 0]
+weights = [4, 1]
+[solver]
+dt = 0.05
+"""
+"""A PointMass problem description (TOML) with its goal at position ``{c}``."""
+
+
+def pointmass_description(c):
+    """:data:`POINTMASS_TOML` with goal ``c``, parsed to a dict."""
+    import tomllib
+
+    return tomllib.loads(POINTMASS_TOML.format(c=c))

@@ -10,12 +10,13 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import line
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import gridlbc as g
 from gridlbc.combine import CompositeCost
-from gridlbc.systems import Pendulum, PointMass, SingleIntegrator
+from gridlbc.systems import Pendulum, PointMass
 
 RTOL = 1e-10
 
@@ -106,9 +107,7 @@ def test_evaluation_api_matches_solution(pendulum, rng):
 
 
 def _line_problem(n=41, horizon=0.4, temperature=1.0):
-    grid = g.Grid([g.Axis(-3, 3, n)])
-    return g.Problem(SingleIntegrator(), grid, horizon, g.Quadratic([0], [1]),
-                     temperature=temperature)
+    return line(n, horizon, temperature=temperature)
 
 
 def test_components_with_scales_1e300_apart_combine_exactly(rng):

@@ -7,19 +7,19 @@ import numpy as np
 import pytest
 
 import gridlbc
-from gridlbc.convergence import (
+from gridlbc.studies.convergence import (
     ConvergenceTable,
-    pendulum_problem,
+    certified_study,
     pendulum_study,
     plot_convergence,
     plot_temperature,
     pointmass_points,
-    pointmass_problem,
     pointmass_study,
     richardson_estimate,
     richardson_z,
     temperature_study,
 )
+from gridlbc.studies.problems import pendulum_problem, pointmass_problem
 
 
 def test_richardson_estimate_recovers_the_limit_of_a_pure_power_law(rng):
@@ -111,3 +111,20 @@ def test_bad_inputs():
         pointmass_problem(0.3)
     with pytest.raises(ValueError, match="two grid sizes"):
         pendulum_study(sizes=(32,))
+
+
+def test_certified_study_rows_are_the_solves_and_their_certificates():
+    # Deterministic parts exactly (each row's prediction is its solve's v(x0, 0); the truth is
+    # gridlbc.certify with the named proposal and seed + 1); the table lists every row.
+    start = np.array([0.5, 0.0])
+    study = certified_study(pendulum_problem, (8, 16), start, (("splitting", None),
+                            ("fitted", 0.05)), samples=20, truth_samples=30, seed=2)
+    assert study.proposal == ("fitted", 16, 0.05)
+    assert study.labels() == ["splitting", "fitted dt 0.05"]
+    direct = gridlbc.solve(pendulum_problem(16), dt=0.05, fitting="terminal")
+    row = study.select("fitted dt 0.05")[-1]
+    assert row.shape == (16, 17) and row.predicted == float(direct.value(start, 0.0)[0])
+    with pytest.warns(gridlbc.CertificateWarning):
+        truth = gridlbc.certify(direct.problem, direct.policy, start, 30, seed=3)
+    assert study.truth.optimal_value == truth.optimal_value
+    assert len(study.format().splitlines()) == 3 + len(study.rows)

@@ -4,7 +4,9 @@ against one uninterrupted rollout."""
 import numpy as np
 import pytest
 
-from gridlbc import figures, simulate
+from gridlbc import simulate
+from gridlbc.studies import figures
+from gridlbc.studies.problems import coordination_problem
 
 PNG = b"\x89PNG\r\n\x1a\n"
 
@@ -15,6 +17,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
     ("interpolation", {"n": 21, "samples": 8}),
     ("coordination", {"n": 21, "samples": 2}),
     ("gymnast", {"n": 5, "reference": False}),
+    ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),
     ("convergence", {"spacings": (1, 2), "sizes": (16, 32), "temperatures": (1.0,),
                      "temperature_grid": 16}),
 ])
@@ -37,7 +40,7 @@ def test_push_without_kick_equals_one_rollout():
     """Splitting a noise-free rollout at t_p with a zero kick must reproduce the uninterrupted
     rollout: the second call restarts the policy's clock at t_p, Euler steps coincide (same Δt,
     t_p a multiple of it), so the states agree to rounding."""
-    problem = figures.coordination_problem(21)
+    problem = coordination_problem(21)
 
     def policy(x, t):
         return -x[:, :1] + np.sin(3 * t) * np.ones((len(x), 1))  # time-dependent on purpose
@@ -54,6 +57,6 @@ def test_push_without_kick_equals_one_rollout():
 
 
 def test_push_rejects_time_outside_horizon():
-    problem = figures.coordination_problem(21)
+    problem = coordination_problem(21)
     with pytest.raises(ValueError, match="push_time must lie in"):
         figures.simulate_with_push(problem, lambda x, t: 0 * x[:, :1], [0, 0], 3.0, [0, 0])

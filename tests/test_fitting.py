@@ -1,22 +1,21 @@
-"""The exponentially fitted drift of the splitting scheme (gridlbc.splitting, "Exponential
+"""The exponentially fitted drift of the splitting scheme (gridlbc.schemes.splitting, "Exponential
 fitting"): exact for desirabilities proportional to the reference, linear and positive for any
 other, exactly superposable among solutions that share the reference, and far more honest than
 plain interpolation where v is steep."""
 
 import numpy as np
 import pytest
+from conftest import pendulum
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.schemes.splitting import SplittingStep, characteristic_feet
 from gridlbc.simulate import simulate
-from gridlbc.splitting import SplittingStep, characteristic_feet
-from gridlbc.systems import Pendulum
-from gridlbc.verify import SWINGUP_START, swingup_problem
+from gridlbc.studies.problems import SWINGUP_START, swingup_problem
 
 
 def _pendulum(n=24):
-    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-6, 6, n + 1)])
-    return Problem(Pendulum(), grid, 1.0, Quadratic([0, 0], [1, 0.1]))
+    return pendulum(n, weights=(1, 0.1))
 
 
 @pytest.mark.parametrize("feet", ["compact", "table"])
@@ -125,7 +124,7 @@ def test_fitting_makes_the_swingup_prediction_honest():
     errors ≈ 0.17). The fitted gap must be under 6 % of the realised cost (well over 3 standard
     errors away from the measured 2.6 %), the plain one over 15 % (measured 25 %)."""
     problem = swingup_problem(128)
-    x0 = np.array(SWINGUP_START)
+    x0 = SWINGUP_START.copy()
     gaps = {}
     for fitting in (None, "terminal"):
         solution = gridlbc.solve(problem, dt=0.03, fitting=fitting)

@@ -1,18 +1,13 @@
 """The gymnast study on a small grid: the grid-optimal controllers (plain and fitted) against
-zero torque and each other, and the problem and figure helpers of gridlbc.gymnast."""
+zero torque and each other, and the problem and figure helpers of gridlbc.studies.gymnast."""
 
 import numpy as np
 import pytest
 
 import gridlbc
-from gridlbc.gymnast import (
-    GYMNAST_START,
-    angle_distance,
-    animate_swingup,
-    gymnast_problem,
-    plot_swingup,
-)
 from gridlbc.simulate import simulate
+from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
+from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
 
 NOISY = {"n_samples": 800, "dt": 0.005, "seed": 11, "noise": True}
 """Rollouts with noise; the same seed gives every controller the same noise (common random

@@ -4,12 +4,13 @@ import math
 
 import numpy as np
 import pytest
+from conftest import pendulum
 from scipy.interpolate import RegularGridInterpolator
 
 from gridlbc import Axis, Grid, Problem
-from gridlbc.convergence import pointmass_points, pointmass_problem
 from gridlbc.costs import Quadratic
-from gridlbc.hjb import (
+from gridlbc.reference import lq_solution, solve_hjb
+from gridlbc.reference.hjb import (
     _grid_arrays,
     _hamiltonian_kernel,
     control_structure,
@@ -17,15 +18,13 @@ from gridlbc.hjb import (
     multilinear,
     nodal_gradient,
 )
-from gridlbc.reference import lq_solution, solve_hjb
-from gridlbc.systems import Pendulum
+from gridlbc.studies.convergence import pointmass_points
+from gridlbc.studies.problems import pointmass_problem
 from gridlbc.systems.base import LinearSystem
 
 
 def _pendulum(n=16, temperature=1.0, horizon=0.5):
-    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True), Axis(-6.0, 6.0, n + 1)])
-    return Problem(Pendulum(), grid, horizon, Quadratic([0.0, 0.0], [2.0, 0.2]),
-                   temperature=temperature)
+    return pendulum(n, horizon=horizon, temperature=temperature)
 
 
 def _kernel_hamiltonian(problem, v):

@@ -6,6 +6,7 @@ import pytest
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.reference import lq_solution
+from gridlbc.studies.problems import pointmass_problem
 from gridlbc.systems import Pendulum, PointMass, SingleIntegrator
 
 
@@ -55,9 +56,7 @@ def _orders(errors):
 
 
 def _pointmass(n):
-    grid = Grid([Axis(-4.0, 4.0, n), Axis(-6.0, 6.0, n)])
-    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [2.0, 0.5]),
-                   state_cost=Quadratic([0.0, 0.0], [0.5, 0.05]), temperature=0.5)
+    return pointmass_problem(grid=Grid([Axis(-4.0, 4.0, n), Axis(-6.0, 6.0, n)]))
 
 
 def _low_cost_interior(nodes, exact):

@@ -6,17 +6,17 @@ is exactly zero for the linear systems used where stated, O(Δt) otherwise.
 
 import numpy as np
 import pytest
+from conftest import line
 
 import gridlbc as g
 from gridlbc.reference import lq_solution
 from gridlbc.simulate import _em_kernel, em_step_reference
-from gridlbc.systems import Pendulum, PointMass, SingleIntegrator
+from gridlbc.systems import Pendulum, PointMass
 
 
 def _line(temperature=1.0, control_cost=1.0, horizon=1.0, state_cost=None, n=41):
-    grid = g.Grid([g.Axis(-3, 3, n)])
-    return g.Problem(SingleIntegrator(), grid, horizon, g.Quadratic([0], [1]),
-                     state_cost=state_cost, control_cost=control_cost, temperature=temperature)
+    return line(n, horizon, state_cost=state_cost, control_cost=control_cost,
+                temperature=temperature)
 
 
 def _zero(x, t):
@@ -30,11 +30,12 @@ def test_kernel_matches_numpy_reference(rng):
     noise = np.tril(rng.normal(size=(m, m)))
     M = rng.normal(size=(m, m))
     R = M @ M.T + np.eye(m)
-    out, cost = np.empty((n, d)), np.full(n, 0.25)
-    _em_kernel(x, drift, B, u, eps, noise, R, 0.01, out, cost)
-    x_ref, c_ref = em_step_reference(x, drift, B, u, eps, noise, R, 0.01)
+    out, cost, ito = np.empty((n, d)), np.full(n, 0.25), np.full(n, -0.5)
+    _em_kernel(x, drift, B, u, eps, noise, R, 0.01, out, cost, ito)
+    x_ref, c_ref, ito_ref = em_step_reference(x, drift, B, u, eps, noise, R, 0.01)
     np.testing.assert_allclose(out, x_ref, rtol=1e-13, atol=1e-14)
     np.testing.assert_allclose(cost, 0.25 + c_ref, rtol=1e-13)
+    np.testing.assert_allclose(ito, -0.5 + ito_ref, rtol=1e-12, atol=1e-14)
 
 
 def test_deterministic_constant_control_is_exact():

@@ -5,6 +5,7 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import pendulum
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -14,8 +15,7 @@ METHODS = ["splitting", "implicit"]
 
 
 def _pendulum_problem(n=33, T=1.0, **kw):
-    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-6.0, 6.0, n)])
-    return Problem(Pendulum(), grid, T, Quadratic([0.0, 0.0], [2.0, 0.2]), **kw)
+    return pendulum(n, omega_nodes=n, horizon=T, **kw)
 
 
 def _nodal_z(solution, j):
@@ -61,8 +61,8 @@ def test_constants_preserved_without_state_cost(method):
 
 
 def _mild_pendulum(n, **kw):
-    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-4.0, 4.0, n)])
-    return Problem(Pendulum(gravity=2.0), grid, 1.0, Quadratic([0.0, 0.0], [1.0, 0.1]), **kw)
+    return pendulum(n, omega_max=4.0, omega_nodes=n, weights=(1.0, 0.1),
+                    system=Pendulum(gravity=2.0), **kw)
 
 
 def test_schemes_converge_to_the_same_value():

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from gridlbc.reference import lq_solution
-from gridlbc.verify import (
+from gridlbc.studies.verify import (
     CheckResult,
     VerificationReport,
     _exact_coordination,

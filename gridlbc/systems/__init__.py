@@ -1,4 +1,4 @@
-"""Control-affine systems: the built-ins of SPEC §5 and the base class for your own."""
+"""Control-affine systems: the built-ins (paper §6) and the base class for your own."""
 
 from .base import ControlAffineSystem, LinearSystem
 from .mechanical import Acrobot, Pendulum, PointMass, SingleIntegrator

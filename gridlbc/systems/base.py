@@ -4,7 +4,7 @@ A system is the pair (a, B) of
 
     dx = (a(x) + B(x) u) dt + dξ,     Cov[dξ] = λ B(x) R⁻¹ B(x)ᵀ dt
 
-(SPEC §1): the noise enters through the control channels, which is what makes the Bellman equation
+(paper §3.2): the noise enters through the control channels, which is what makes the Bellman equation
 linear in the desirability z = exp(−v/λ). The grid solvers further need B R⁻¹ Bᵀ to be diagonal in
 the state coordinates (each control drives its own axis).
 
@@ -16,7 +16,11 @@ periodic grid axis) and implement :meth:`drift` and :meth:`input_matrix`, both v
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+
+from ..grid import Axis, Grid
 
 
 class ControlAffineSystem:
@@ -32,12 +36,33 @@ class ControlAffineSystem:
         A label per coordinate (plots and messages).
     angle_axes : tuple of int
         The coordinates that are angles (radians, measured from the upright).
+    default_box : tuple
+        The box a grid spans by default (:meth:`default_grid`), one entry per coordinate:
+        ``None`` for an angle (periodic on [−π, π)) or a pair ``(lo, hi)``. Empty: no default.
     """
 
     state_dim: int = 0
     control_dim: int = 0
     state_names: tuple[str, ...] = ()
     angle_axes: tuple[int, ...] = ()
+    default_box: tuple = ()
+
+    def default_grid(self, n) -> Grid:
+        """A grid over :attr:`default_box` with ``n`` nodes per axis (one count, or one per axis)."""
+        name = type(self).__name__
+        if not self.default_box:
+            raise ValueError(f"{name} has no default box: give the grid's axes (lo, hi, n per "
+                             "coordinate)")
+        counts = [n] if np.isscalar(n) else list(n)
+        if len(counts) == 1:
+            counts = counts * len(self.default_box)
+        if len(counts) != len(self.default_box):
+            raise ValueError(f"n must be one node count or {len(self.default_box)} (one per state "
+                             f"coordinate of {name}), got {len(counts)}")
+        names = self.state_names or (None,) * len(counts)
+        return Grid([Axis(-math.pi, math.pi, k, periodic=True, name=label) if box is None
+                     else Axis(box[0], box[1], k, name=label)
+                     for box, k, label in zip(self.default_box, counts, names)])
 
     def drift(self, x) -> np.ndarray:
         """Passive dynamics a(x), shape ``(N, d)`` for states ``(N, d)``."""

@@ -1,6 +1,8 @@
-"""The built-in systems of SPEC §5. Angles are measured from the upright; hanging down is ±π."""
+"""The built-in systems (paper §6). Angles are measured from the upright; hanging down is ±π."""
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -27,6 +29,8 @@ class SingleIntegrator(LinearSystem):
     def __init__(self):
         super().__init__([[0.0]], [[1.0]], state_names=("x",))
 
+    default_box = ((-4.0, 4.0),)
+
     def parameters(self):
         return {}
 
@@ -39,6 +43,8 @@ class PointMass(LinearSystem):
         super().__init__(
             [[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0 / self.mass]], state_names=("position", "velocity")
         )
+
+    default_box = ((-4.0, 4.0), (-6.0, 6.0))
 
     def parameters(self):
         return {"mass": self.mass}
@@ -57,6 +63,7 @@ class Pendulum(ControlAffineSystem):
     control_dim = 1
     state_names = ("theta", "omega")
     angle_axes = (0,)
+    default_box = (None, (-10.0, 10.0))
 
     def __init__(self, mass: float = 1.0, length: float = 1.0, gravity: float = 9.81,
                  damping: float = 0.0):
@@ -113,6 +120,9 @@ class Acrobot(ControlAffineSystem):
     control_dim = 1
     state_names = ("theta1", "theta2", "p1", "p2")
     angle_axes = (0, 1)
+    default_box = (None, (-math.pi, math.pi), (-16.0, 16.0), (-9.0, 9.0))
+    """The gymnast study's box: hip stops at ±π, momenta ±16 × ±9 (see
+    :func:`gridlbc.studies.problems.gymnast_problem`)."""
 
     def __init__(self, m1: float = 1.0, m2: float = 1.0, l1: float = 1.0, l2: float = 1.0,
                  gravity: float = 9.81):

@@ -1,6 +1,6 @@
 """An independent check: the nonlinear HJB solved directly in value space (Kushner–Dupuis).
 
-The optimal cost-to-go v of SPEC §1 solves the nonlinear Hamilton–Jacobi–Bellman equation
+The optimal cost-to-go v of the control problem (paper §3.2) solves the nonlinear Hamilton–Jacobi–Bellman equation
 
     −∂ₜv = q + min_u [ ½ uᵀR u + (a + B u)ᵀ∇v ] + ½ tr(Σ ∇²v),   Σ = λ B R⁻¹ Bᵀ,   v(·, T) = g,
 
@@ -27,7 +27,7 @@ the convex-or-not piecewise quadratic ½ r_j u² + b_k⁺ δ⁺ − b_k⁻ δ⁻
 minimum lies at the unconstrained minimiser of the branch b ≥ 0 (u = −B_kj δ⁺/r_j) or of the
 branch b ≤ 0 (u = −B_kj δ⁻/r_j) when that branch's sign condition holds, or at the kink b = 0.
 
-Boundaries follow SPEC §3: periodic axes wrap; on a closed axis the transitions out of the box are
+Boundaries: periodic axes wrap; on a closed axis the transitions out of the box are
 suppressed (δ⁻ = 0 at the lower end, δ⁺ = 0 at the upper end: a reflecting state constraint).
 
 Evaluation anywhere: v by multilinear (tensor-product) interpolation of the nodal values, linear
@@ -43,9 +43,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ._numba import jit
-from .grid import Grid
-from .problem import Problem
+from .._numba import jit
+from ..grid import Grid
+from ..problem import Problem
 
 
 @jit

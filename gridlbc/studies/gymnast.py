@@ -1,6 +1,6 @@
 """The paper's gymnast (acrobot) swing-up study: the problem, its test state and its figures.
 
-Problem (paper §6.2, SPEC §5): the :class:`gridlbc.systems.Acrobot` in canonical momenta,
+Problem (paper §6.2): the :class:`gridlbc.systems.Acrobot` in canonical momenta,
 T = 3 s, λ = 1, R = 1, q = 0 and the terminal cost
 
     g(x) = xᵀ diag(10, 10, 0.5, 0.5) x        (θ1 wrapped to the nearest image of 0),
@@ -9,8 +9,8 @@ on the box θ1 ∈ [−π, π) (periodic) × θ2 ∈ [−H, H] × |p1| ≤ P1 ×
 (θ1, θ2) = (−105°, −15°) at rest.
 
 The hip. A gymnast's legs cannot pass through the arms, so by default the hip angle lives on a
-closed axis with stops at H = π (the box edge is a state constraint, SPEC §3) and g is the plain
-quadratic in θ2. This is the problem of the issue that set the accuracy target: its
+closed axis with stops at H = π (the box edge is a state constraint) and g is the plain
+quadratic in θ2. This is the problem whose deterministic optimum sets the accuracy target: its
 deterministic optimum (``gridlbc.trajopt``) costs 13.18, ends 0.59 rad from the handstand,
 keeps θ2 within [−2.21, 1.62] and reaches |p1| = 12.9, |p2| = 7.1. ``hip_range=None`` makes
 the hip a free joint instead (θ2 periodic, g wrap-aware in θ2): the optimum then rotates the legs
@@ -26,43 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .systems import Acrobot
-
-GYMNAST_START = np.array([np.radians(-105.0), np.radians(-15.0), 0.0, 0.0])
-"""The paper's swing-up test state (θ1, θ2, p1, p2): (−105°, −15°) at rest."""
-
-GYMNAST_WEIGHTS = (10.0, 10.0, 0.5, 0.5)
-"""diag W of the terminal cost g(x) = xᵀ W x."""
-
-
-def gymnast_problem(n=31, momentum_bounds=(16.0, 9.0), hip_range: float | None = np.pi,
-                    horizon: float = 3.0, temperature: float = 1.0) -> Problem:
-    """The swing-up problem on an n⁴ grid (or ``n`` = (n1, n2, n3, n4)), momentum box ±P1 × ±P2
-    and hip stops at ±``hip_range`` (``None``: a free, periodic hip; see the module docstring)."""
-    shape = (n,) * 4 if np.isscalar(n) else tuple(n)
-    if len(shape) != 4:
-        raise ValueError(f"n must be one node count or four, got {n!r}")
-    p1, p2 = (float(b) for b in momentum_bounds)
-    if not (p1 > 0 and p2 > 0):
-        raise ValueError(f"momentum_bounds must be two positive numbers, got {momentum_bounds!r}")
-    if hip_range is None:
-        hip = Axis(-np.pi, np.pi, shape[1], periodic=True, name="theta2")
-    elif isinstance(hip_range, (int, float)) and 0 < hip_range <= np.pi:
-        hip = Axis(-hip_range, hip_range, shape[1], name="theta2")
-    else:
-        raise ValueError(f"hip_range must be None (a free hip) or a number in (0, π], got "
-                         f"{hip_range!r}")
-    grid = Grid([
-        Axis(-np.pi, np.pi, shape[0], periodic=True, name="theta1"),
-        hip,
-        Axis(-p1, p1, shape[2], name="p1"),
-        Axis(-p2, p2, shape[3], name="p2"),
-    ])
-    return Problem(Acrobot(), grid, horizon, Quadratic(np.zeros(4), GYMNAST_WEIGHTS),
-                   temperature=temperature)
+from ..systems import Acrobot
 
 
 def angle_distance(states) -> np.ndarray:

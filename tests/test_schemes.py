@@ -9,10 +9,10 @@ import scipy.sparse.linalg as spla
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
-from gridlbc.implicit import ImplicitStep
 from gridlbc.interpolate import barycentric
 from gridlbc.reference import lq_solution
-from gridlbc.splitting import SplittingStep, characteristic_feet, tridiagonal_factors
+from gridlbc.schemes.implicit import ImplicitStep
+from gridlbc.schemes.splitting import SplittingStep, characteristic_feet, tridiagonal_factors
 from gridlbc.systems import Acrobot, SingleIntegrator
 from gridlbc.systems.base import ControlAffineSystem, LinearSystem
 

@@ -1,6 +1,6 @@
-"""Exact and independent references for checking the grid solvers.
+"""The Riccati solution of linear-quadratic problems, the exact check for the grid solvers.
 
-:func:`lq_solution` is the closed-form optimum of a linear system with quadratic costs (SPEC §6):
+:func:`lq_solution` is the closed-form optimum of a linear system with quadratic costs:
 v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward from T,
 
     −Ṗ  = AᵀP + P A − P S P + 2 W_q                    P(T)  = 2 W_T
@@ -9,9 +9,6 @@ v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward
 
 and u*(x, t) = −R⁻¹ Bᵀ (P x + p). The ODEs are integrated to near machine precision (DOP853).
 
-:func:`solve_hjb` (from :mod:`gridlbc.hjb`) solves the nonlinear HJB directly in value space by a
-Markov-chain approximation sharing no code with the z-space solvers: the check for nonlinear
-systems, where no closed form exists.
 """
 
 from __future__ import annotations
@@ -21,9 +18,8 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .costs import Quadratic
-from .hjb import solve_hjb  # noqa: F401 (re-exported: gridlbc.reference.solve_hjb, SPEC §7)
-from .problem import Problem
+from ..costs import Quadratic
+from ..problem import Problem
 
 
 @dataclass(frozen=True, eq=False)
@@ -66,7 +62,7 @@ def _quadratic_terms(cost, name: str, d: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
-    """The exact solution of SPEC §6 for a linear system with quadratic costs.
+    """The exact solution for a linear system with quadratic costs.
 
     Requires ``problem.system.linear_matrices()`` (a(x) = A x, constant B), Quadratic terminal and
     state costs, and no periodic grid axis (the closed form lives on all of Rᵈ).

@@ -1,4 +1,4 @@
-"""Implicit upwind scheme for the linear Bellman PDE (SPEC §3): the reference discretisation.
+"""Implicit upwind scheme for the linear Bellman PDE : the reference discretisation.
 
 The generator of a continuous-time Markov chain on the nodes approximates aᵀ∇ + tr(D ∇²),
 D = ½ λ B R⁻¹ Bᵀ (diagonal): from node i along axis k it jumps
@@ -23,8 +23,8 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from ._numba import jit
-from .problem import Problem
+from .._numba import jit
+from ..problem import Problem
 
 DIRECT_LIMIT = 400_000
 """Grids with more nodes than this (or more than two dimensions) use the iterative solver."""
@@ -109,6 +109,7 @@ class ImplicitStep:
     """
 
     name = "implicit"
+    supports_fitting = False
 
     def __init__(self, problem: Problem, dt: float, linear_solver: str = "auto",
                  tol: float = 1e-10, max_iterations: int = 10_000):
@@ -171,8 +172,12 @@ class ImplicitStep:
         self.iterations.append(sweeps)
         return float(out.max())
 
-    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray) -> np.ndarray:
-        """out = A⁻¹ (scale · z) for every row of ``z`` ``(K, N)``; returns the row maxima."""
+    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
+                 reference: int | None = None) -> np.ndarray:
+        """out = A⁻¹ (scale · z) for every row of ``z`` ``(K, N)``; returns the row maxima.
+        ``reference`` must be None: the upwind scheme has no fitted variant."""
+        if reference is not None:
+            raise ValueError("the implicit scheme does not support fitting (reference must be None)")
         b = z * scale[:, None]
         if self.direct:
             out[...] = self._lu.solve(np.ascontiguousarray(b.T)).T

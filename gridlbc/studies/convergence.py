@@ -5,7 +5,7 @@ interpolation is part of what is measured), restricted to where the value is wit
 its minimum (far tails, where no one steers, are excluded):
 
 * **PointMass** (linear, quadratic costs): every solver against the exact Riccati solution
-  (:func:`gridlbc.reference.lq_solution`, SPEC §6);
+  (:func:`gridlbc.reference.lq_solution`);
 * **Pendulum** (nonlinear, no closed form): each solver against its own Richardson estimate from its two
   finest grids, v_R = v_h + (v_h − v_{2h}) / (2^p − 1) with p observed from three grids, against
   the other solver's Richardson estimate, and the two solvers against each other on the same grid.
@@ -27,14 +27,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .hjb import solve_hjb
-from .problem import Problem
-from .reference import lq_solution
-from .solution import UnderflowWarning
-from .solver import solve
-from .systems import Pendulum, PointMass
+from ..certify import certify
+from ..problem import Problem
+from ..reference import lq_solution
+from ..reference.hjb import solve_hjb
+from ..solution import UnderflowWarning
+from ..solver import solve
+from .problems import pendulum_problem, pointmass_problem
 
 SOLVERS = {
     "splitting": lambda problem: solve(problem, method="splitting"),
@@ -108,32 +107,6 @@ class ConvergenceTable:
 
 
 # -- the two test problems -----------------------------------------------------------------------
-
-def pointmass_problem(h: float) -> Problem:
-    """PointMass (m = 1), λ = 0.5, q = xᵀdiag(0.5, 0.05)x, g = (x − (1, 0))ᵀdiag(2, 0.5)(x − (1, 0)),
-    T = 2, on [−4, 4] × [−6, 6] with spacing ``h`` on both axes (8/h and 12/h must be integers)."""
-    counts = [8 / h, 12 / h]
-    if not all(abs(c - round(c)) < 1e-9 and c >= 2 for c in counts):
-        raise ValueError(f"h must divide 8 and 12 into at least 2 cells (e.g. 1/4, 1/8), got {h}")
-    grid = Grid([Axis(-4.0, 4.0, round(counts[0]) + 1, name="position"),
-                 Axis(-6.0, 6.0, round(counts[1]) + 1, name="velocity")])
-    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [2.0, 0.5]),
-                   Quadratic([0.0, 0.0], [0.5, 0.05]), control_cost=1.0, temperature=0.5)
-
-
-PENDULUM_WEIGHTS = (10.0, 0.5)
-"""Terminal weights of the pendulum study: g = θ² · 10 + ω² · 0.5 (upright at rest)."""
-
-
-def pendulum_problem(n: int, temperature: float = 1.0, horizon: float = 1.0,
-                     weights=PENDULUM_WEIGHTS) -> Problem:
-    """Pendulum (m = l = 1, g = 9.81), θ periodic on [−π, π) with ``n`` nodes, ω ∈ [−8, 8] with
-    n + 1 nodes (equal spacing 2π/n and 16/n), g = (θ, ω)ᵀdiag(weights)(θ, ω), no state cost."""
-    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
-                 Axis(-8.0, 8.0, n + 1, name="omega")])
-    return Problem(Pendulum(), grid, horizon, Quadratic([0.0, 0.0], list(weights)),
-                   temperature=temperature)
-
 
 def pointmass_points() -> np.ndarray:
     """Evaluation lattice |position| ≤ 2, |velocity| ≤ 3 (41 × 61 points)."""
@@ -426,3 +399,124 @@ def plot_temperature(study: TemperatureStudy, path=None):
     if path is not None:
         fig.savefig(path, dpi=120)
     return fig
+
+
+# -- against the certified optimum ----------------------------------------------------------------
+
+SCHEMES = {
+    "splitting": lambda problem, dt: solve(problem, dt=dt, method="splitting"),
+    "fitted": lambda problem, dt: solve(problem, dt=dt, method="splitting", fitting="terminal"),
+    "implicit": lambda problem, dt: solve(problem, dt=dt, method="implicit"),
+    "hjb": lambda problem, dt: solve_hjb(problem, dt=dt),
+}
+"""Solvers of :func:`certified_study` by name, each called as ``(problem, dt)`` (dt None: the
+solver's default): the plain and the fitted splitting scheme, implicit upwind, value-space HJB."""
+
+
+@dataclass(frozen=True)
+class CertifiedRow:
+    """One solve judged by the certified optimum: its prediction v(x₀, 0) and the certificate of
+    its own policy (the policy's cost J ± SE and the effective sample size of that certificate,
+    near ``n_samples`` when the policy is near optimal). ``label`` names the configuration:
+    the scheme, and the time step when one was given (e.g. ``"fitted dt 0.02"``)."""
+
+    scheme: str
+    label: str
+    shape: tuple[int, ...]
+    dt: float
+    steps: int
+    wall_time: float
+    predicted: float
+    policy_cost: float
+    policy_cost_se: float
+    effective_sample_size: float
+    n_samples: int
+
+
+@dataclass(frozen=True)
+class CertifiedStudy:
+    """Predictions and policy costs of several solves against one certified optimum.
+
+    ``truth`` is the :class:`gridlbc.Certificate` of v*(x₀) with the policy of ``proposal``
+    (scheme, n, dt) as the importance-sampling proposal; the rows' gaps J − v* have the standard
+    error √(SE_J² + SE_v*²) (independent samples).
+    """
+
+    start: np.ndarray
+    truth: object
+    proposal: tuple
+    rows: tuple[CertifiedRow, ...]
+
+    def select(self, label: str) -> tuple[CertifiedRow, ...]:
+        """The rows of one configuration (:attr:`CertifiedRow.label`), coarse to fine."""
+        return tuple(r for r in self.rows if r.label == label)
+
+    def labels(self) -> list[str]:
+        return list(dict.fromkeys(r.label for r in self.rows))
+
+    def format(self) -> str:
+        v, se = self.truth.optimal_value, self.truth.optimal_value_se
+        scheme, n, dt = self.proposal
+        lines = [f"certified optimum v*({np.array2string(self.start, precision=3)}) = {v:.3f} ± "
+                 f"{se:.3f} (SE): proposal {scheme} n = {n}"
+                 + (f" dt {dt:g}" if dt is not None else "") + f", {self.truth.n_samples} "
+                 f"samples at Δt = {self.truth.dt:g}, effective sample size "
+                 f"{self.truth.effective_sample_size:.0f}"]
+        head = (f"{'scheme':<16}{'grid':>10}{'dt':>8}{'steps':>6}{'time s':>8}{'predicted':>10}"
+                f"{'error':>8}{'policy cost':>12}{'± SE':>6}{'gap':>7}{'ESS':>6}")
+        lines += [head, "-" * len(head)]
+        for r in self.rows:
+            gap_se = math.hypot(r.policy_cost_se, se)
+            lines.append(
+                f"{r.label:<16}{'×'.join(map(str, r.shape)):>10}{r.dt:8.4f}{r.steps:6d}"
+                f"{r.wall_time:8.2f}{r.predicted:10.2f}{100 * (r.predicted - v) / v:7.1f}%"
+                f"{r.policy_cost:12.2f}{r.policy_cost_se:6.2f}{r.policy_cost - v:7.2f}"
+                f"{100 * r.effective_sample_size / r.n_samples:5.0f}%"
+                + ("" if r.policy_cost - v > 2 * gap_se else "  (gap within 2 SE of 0)"))
+        return "\n".join(lines)
+
+
+def certified_study(make_problem, sizes, start, configs=(("splitting", None), ("fitted", None)),
+                    proposal=None, samples: int = 400, truth_samples: int = 2000,
+                    rollout_dt: float | None = None, seed: int = 0,
+                    progress: bool = False) -> CertifiedStudy:
+    """Solve ``make_problem(n)`` for each n in ``sizes`` and each (scheme, dt) in ``configs``
+    (schemes from :data:`SCHEMES`), and judge each by the certified optimum v*(``start``).
+
+    v* is :func:`gridlbc.certify` with ``truth_samples`` samples and the policy of ``proposal`` =
+    (scheme, n, dt) as proposal (default: the last config on the largest grid), which should be
+    the most accurate solve at hand: its effective sample size says how far to trust v*. Each row
+    then certifies its own policy with ``samples`` samples (its cost J and how good a proposal
+    it is). ``rollout_dt`` is the Euler–Maruyama step of all rollouts (default T/300).
+    """
+    start = np.asarray(start, dtype=float)
+    proposal = (configs[-1][0], max(sizes), configs[-1][1]) if proposal is None else \
+        tuple(proposal)
+    say = print if progress else (lambda *a, **k: None)
+    solutions = {}
+
+    def solved(scheme, n, dt):
+        key = (scheme, n, dt)
+        if key not in solutions:
+            solutions.clear()  # keep one solve in memory at a time
+            solutions[key] = SCHEMES[scheme](make_problem(n), dt)
+        return solutions[key]
+
+    best = solved(*proposal)
+    truth = certify(best.problem, best.policy, start, truth_samples, dt=rollout_dt,
+                    seed=seed + 1, progress=progress)
+    say(f"certified optimum {truth.optimal_value:.3f} ± {truth.optimal_value_se:.3f}")
+    rows = []
+    for n in sizes:
+        for scheme, dt in configs:
+            sol = solved(scheme, n, dt)
+            own = certify(sol.problem, sol.policy, start, samples, dt=rollout_dt, seed=seed,
+                          progress=progress, min_effective_sample_size=0)  # J and ESS used
+            d = sol.diagnostics
+            label = scheme if dt is None else f"{scheme} dt {dt:g}"
+            rows.append(CertifiedRow(scheme, label, sol.problem.grid.shape, d.dt, d.steps, d.wall_time,
+                                     float(sol.value(start, 0.0)[0]), own.policy_cost,
+                                     own.policy_cost_se, own.effective_sample_size, samples))
+            say(f"  {scheme} n = {n}: predicted {rows[-1].predicted:.3f}, policy cost "
+                f"{own.policy_cost:.3f}")
+    return CertifiedStudy(start, truth, proposal, tuple(rows))

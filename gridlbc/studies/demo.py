@@ -17,25 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import combine
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import Pendulum
+from ..combine import combine
+from ..costs import Quadratic
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from .problems import SWINGUP_START, swingup_problem
 from .verify import SWINGUP_ROLLOUT_DT
-
-START = np.array([2.8, 0.0])
-"""Near hanging down (θ = π is straight down), at rest."""
-
-
-def swingup_problem(n: int = 201, horizon: float = 3.0, temperature: float = 1.0) -> Problem:
-    """The pendulum swing-up of the issue tracker: θ periodic on [−π, π), ω ∈ [−10, 10]."""
-    grid = Grid([Axis(-np.pi, np.pi, n, periodic=True, name="θ"),
-                 Axis(-10.0, 10.0, n, name="ω")])
-    return Problem(Pendulum(), grid, horizon, Quadratic([0.0, 0.0], [10.0, 0.5]),
-                   temperature=temperature)
 
 
 def plot_fields(solution, path: Path, title: str, t: float = 0.0):
@@ -89,7 +76,7 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
     solutions, predictions = {}, {}
     for fitting, label in labels.items():
         sol = solutions[fitting] = solve(problem, progress=progress, fitting=fitting)
-        predictions[fitting] = float(sol.value(START, 0.0)[0])
+        predictions[fitting] = float(sol.value(SWINGUP_START, 0.0)[0])
         d = sol.diagnostics
         say(f"   {label} {d.method}: {d.steps} steps of dt = {d.dt:.4f} in {d.wall_time:.2f} s; "
             f"predicted v(x0) = {predictions[fitting]:.3f}")
@@ -97,7 +84,7 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
     for fitting, sol in solutions.items():
         started = time.perf_counter()
         predicted = predictions[fitting]
-        rollouts = simulate(problem, sol.policy, START, n_samples=n_samples,
+        rollouts = simulate(problem, sol.policy, SWINGUP_START, n_samples=n_samples,
                             dt=SWINGUP_ROLLOUT_DT, seed=seed)
         gap = (rollouts.mean_cost - predicted) / rollouts.mean_cost
         say(f"   {labels[fitting]}: {rollouts.summary()} "

@@ -1,20 +1,22 @@
 """Checks of the paper's claims, each against an exact or method-independent answer.
 
-a. **Superposition** (SPEC §2–3): :func:`gridlbc.combine` of solutions for g_i equals the direct
+a. **Superposition** (paper §3–4): :func:`gridlbc.combine` of solutions for g_i equals the direct
    solve of g = −λ log Σ w_i exp(−g_i/λ): z, v, u and α on the grid and at random off-grid states,
    to rounding (bound 1e-10 relative).
-b. **Optimality in expectation**: the Monte-Carlo cost of the grid policy from x₀ against the
-   predicted v(x₀, 0) = −λ log z(x₀, 0) and, for the linear PointMass, the Riccati optimum (SPEC §6).
-   Bound: 3 standard errors plus the discretisation error |v_grid − v_Riccati| measured at that
-   grid (the Riccati policy itself: 3 SE plus an O(Δt) Euler–Maruyama bias). On the pendulum
-   swing-up the prediction and the realised cost must agree within 10%: the gap is the solver's
-   honest accuracy, since the realised cost of *any* policy is at least the true optimum.
-c. **Interpolation** on the pendulum: two goals and a target between them; the Monte-Carlo cost
-   under the target task and the final-state error of LBC (weights from :func:`gridlbc.project`),
-   the naive blend with the same weights, and the target solved directly.
+b. **Optimality**: the predicted v(x₀, 0) = −λ log z(x₀, 0) against the certified optimum v*(x₀)
+   of :func:`gridlbc.certify` (importance sampling with the grid policy as proposal: the true
+   optimum up to the rollout time step, whatever the policy), the policy's own cost J and the gap
+   J − v*. On the linear PointMass v* must match the Riccati optimum within 3 SE plus an O(Δt)
+   Euler–Maruyama bias, and the policy's cost within 3 SE plus the discretisation error
+   |v_grid − v_Riccati|. On the pendulum swing-up the prediction must lie within 10 % of v*.
+   A certificate whose effective sample size is below
+   :data:`gridlbc.certify.MIN_EFFECTIVE_SAMPLE_SIZE` fails its row: its v* is not to be trusted.
+c. **Interpolation** on the pendulum: two goals and a target between them; under the target task,
+   the certified optimum, the cost and gap of LBC (weights from :func:`gridlbc.project`), the
+   naive blend with the same weights and the target solved directly, and their final-state errors.
 d. **Coordination** (w = 1) on the PointMass with goals at positions ±1: which goal the combined
-   controller reaches from each start, its blend weight α₊(x₀, 0), and its cost against the
-   prediction −λ log(z₁ + z₂).
+   controller reaches from each start, its blend weight α₊(x₀, 0), and, from x₀ = 0, the certified
+   optimum against the exact −λ log(z₁ + z₂), the prediction, and the policy's cost and gap.
 
 :func:`run_verification` runs them all and returns a :class:`VerificationReport` (``.table()``,
 ``.to_json(path)``); ``gridlbc verify`` prints the table.
@@ -27,27 +29,28 @@ import math
 import sys
 import time
 import warnings
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
-from .combine import combine, naive_blend
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .project import ProjectionWarning, projection
-from .reference import lq_solution
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import Pendulum, PointMass
+from ..certify import certify
+from ..combine import combine, naive_blend
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..problem import Problem
+from ..project import ProjectionWarning, projection
+from ..reference import lq_solution
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from ..systems import Pendulum, PointMass
+from .problems import SWINGUP_START, pendulum_grid, swingup_problem
 
 SUPERPOSITION_BOUND = 1e-10
 SWINGUP_GAP = 0.10
 SWINGUP_ROLLOUT_DT = 0.002
 """Euler–Maruyama step of the swing-up rollouts: at the default 0.01 the scheme's O(Δt) bias
-lowers this problem's mean cost by about 0.9 (6 %), which would flatter an optimistic
-solver."""
+lowers this problem's mean cost noticeably, which would flatter an optimistic solver."""
 
 
 @dataclass(frozen=True)
@@ -125,14 +128,9 @@ def _fmt(x: float) -> str:
 # -- a. superposition -------------------------------------------------------------------------------
 
 
-def _pendulum_grid(n: int, omega_max: float = 10.0) -> Grid:
-    return Grid([Axis(-np.pi, np.pi, n, periodic=True, name="theta"),
-                 Axis(-omega_max, omega_max, n + 1, name="omega")])
-
-
 def check_superposition(n: int = 64, n_states: int = 1000, seed: int = 0) -> list[CheckResult]:
     """combine vs the direct solve of the composite cost on a pendulum, on and off the grid."""
-    grid = _pendulum_grid(n, 8.0)
+    grid = pendulum_grid(n, 8.0)
     problem = Problem(Pendulum(), grid, 1.0, Quadratic([0, 0], [4, 0.5]),
                       state_cost=Quadratic([0, 0], [0.1, 0.01]), control_cost=0.5,
                       temperature=0.7)
@@ -179,9 +177,34 @@ def _mc_row(check, case, rollouts, reference, bound, note="") -> CheckResult:
     return _row(check, case, rollouts.mean_cost, reference, rollouts.standard_error, bound, note)
 
 
+def _certificate_rows(check, case, cert, predicted=math.nan, prediction_bound=math.nan,
+                      exact=math.nan, exact_bound=math.nan, cost_bound=math.nan, note=""
+                      ) -> list[CheckResult]:
+    """Rows of one start state's certificate: the certified optimum v* (against an exact value
+    where there is one, and failing when too few effective samples carry it), the prediction
+    against v*, and the proposal policy's cost J (against the exact value where there is one)
+    and gap J − v*."""
+    v, se = cert.optimal_value, cert.optimal_value_se
+    ess = (f"effective sample size {cert.effective_sample_size:.0f} of {cert.n_samples}"
+           + ("" if cert.trusted else " — too few: v* is not trustworthy") +
+           f", Δt = {cert.dt:.3g}, {100 * cert.left_box_fraction:.1f} % left the box")
+    optimum = _row(check, f"{case}: certified optimum v*", v, exact, se, exact_bound,
+                   "; ".join(filter(None, (note, ess))))
+    if not cert.trusted:
+        optimum = replace(optimum, passed=False)
+    rows = [optimum]
+    if not math.isnan(predicted):
+        rows.append(_row(check, f"{case}: predicted v(x0,0) vs v*", predicted, v, se,
+                         prediction_bound))
+    rows.append(_row(check, f"{case}: policy cost J", cert.policy_cost,
+                     v if math.isnan(exact) else exact, cert.policy_cost_se, cost_bound))
+    rows.append(_row(check, f"{case}: gap J − v*", cert.gap, standard_error=cert.gap_se))
+    return rows
+
+
 def check_pointmass_optimality(n: int = 61, samples: int = 4000, seed: int = 0
                                ) -> list[CheckResult]:
-    """PointMass LQ problem: grid prediction and Monte-Carlo costs vs the Riccati optimum."""
+    """PointMass LQ problem: grid prediction, certified optimum and policy cost vs Riccati."""
     grid = Grid([Axis(-4, 4, n), Axis(-4, 4, n)])
     problem = Problem(PointMass(), grid, 1.0, Quadratic([0, 0], [2, 1]),
                       state_cost=Quadratic([0, 0], [0.5, 0.1]), control_cost=2.0,
@@ -192,7 +215,7 @@ def check_pointmass_optimality(n: int = 61, samples: int = 4000, seed: int = 0
     sol = solve(problem)
     v_grid = float(sol.value(x0, 0.0)[0])
     discretisation = abs(v_grid - v_exact)
-    grid_run = simulate(problem, sol.policy, x0, samples, seed=seed)
+    cert = certify(problem, sol.policy, x0, samples, seed=seed, progress=False)
     exact_run = simulate(problem, exact.policy, x0, samples, seed=seed + 1)
     bias = 2 * exact_run.dt * abs(v_exact)
     case = f"PointMass {_shape(grid)}"
@@ -200,53 +223,46 @@ def check_pointmass_optimality(n: int = 61, samples: int = 4000, seed: int = 0
         _row("optimality", f"{case}: grid v(x0,0)", v_grid, v_exact,
              note=f"x0 = {x0.tolist()}, T = 1, λ = 0.5, R = 2; grid vs Riccati value "
                   f"(discretisation error {discretisation:.3g})"),
-        _mc_row("optimality", f"{case}: MC cost, grid policy", grid_run, v_exact,
-                3 * grid_run.standard_error + discretisation,
-                f"{samples} samples; bound 3 SE + |v_grid − v_Riccati|"),
+        *_certificate_rows(
+            "optimality", case, cert, exact=v_exact,
+            exact_bound=3 * cert.optimal_value_se + bias,
+            cost_bound=3 * cert.policy_cost_se + discretisation,
+            note=f"{samples} samples, grid policy as proposal; bounds: v* 3 SE + 2Δt|v| "
+                 "(Euler–Maruyama bias), J 3 SE + |v_grid − v_Riccati|"),
         _mc_row("optimality", f"{case}: MC cost, Riccati policy", exact_run, v_exact,
                 3 * exact_run.standard_error + bias,
                 f"bound 3 SE + 2Δt|v| (Euler–Maruyama bias), Δt = {exact_run.dt:.3g}"),
     ]
 
 
-SWINGUP_START = (2.8, 0.0)
-
-
-def swingup_problem(n: int = 256, terminal_cost=None) -> Problem:
-    """Pendulum swing-up of the issue: T = 3, λ = 1, g = xᵀ diag(10, 0.5) x, θ periodic on
-    [−π, π) with ``n`` nodes, ω on [−10, 10] with n + 1."""
-    cost = Quadratic([0, 0], [10, 0.5]) if terminal_cost is None else terminal_cost
-    return Problem(Pendulum(), _pendulum_grid(n), 3.0, cost, temperature=1.0)
-
-
 def check_swingup_optimality(n: int = 256, dt: float | None = 0.02, samples: int = 2000,
                              seed: int = 0, fitting="terminal") -> list[CheckResult]:
-    """Pendulum swing-up: predicted −λ log z(x₀, 0) vs the Monte-Carlo cost of the grid policy
-    (rollouts at Δt = :data:`SWINGUP_ROLLOUT_DT`). The solve is fitted to the terminal cost by
-    default: the plain splitting scheme is optimistic here by about 10 % at 256²
-    (``benchmarks/swingup_accuracy.py``)."""
+    """Pendulum swing-up: predicted −λ log z(x₀, 0) vs the certified optimum, with the grid policy
+    as proposal (rollouts at Δt = :data:`SWINGUP_ROLLOUT_DT`), and that policy's cost and gap.
+    The solve is fitted to the terminal cost by default (``benchmarks/swingup_accuracy.py``
+    compares the schemes)."""
     problem = swingup_problem(n)
     sol = solve(problem, dt=dt, fitting=fitting)
-    x0 = np.array(SWINGUP_START)
+    x0 = SWINGUP_START.copy()
     predicted = float(sol.value(x0, 0.0)[0])
-    run = simulate(problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed)
-    gap = (run.mean_cost - predicted) / run.mean_cost
+    cert = certify(problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed,
+                   progress=False)
     step = (f"dt={sol.diagnostics.dt:.3g}" + ("" if dt is not None else " (default)")
             + (", fitted" if fitting else ", plain"))
-    return [_mc_row(
-        "optimality", f"swing-up {_shape(problem.grid)} {step}: MC cost vs predicted", run,
-        predicted, SWINGUP_GAP * run.mean_cost,
-        f"x0 = {x0.tolist()}: predicted {predicted:.4g}, realised {run.mean_cost:.4g} ± "
-        f"{run.standard_error:.2g}, gap {100 * gap:.1f}% of the realised cost (bound "
-        f"{100 * SWINGUP_GAP:.0f}%); {run.n_left_box} of {samples} samples left the ω box")]
+    error = (predicted - cert.optimal_value) / cert.optimal_value
+    return _certificate_rows(
+        "optimality", f"swing-up {_shape(problem.grid)} {step}", cert, predicted,
+        SWINGUP_GAP * cert.optimal_value,
+        note=f"x0 = {x0.tolist()}, {samples} samples: predicted {predicted:.4g} is "
+             f"{100 * error:+.1f}% from v* (bound {100 * SWINGUP_GAP:.0f}%)")
 
 
 # -- c. interpolation -------------------------------------------------------------------------------
 
 
-def _final_errors(rollouts, center) -> tuple[float, float]:
+def _final_errors(final_states, center) -> tuple[float, float]:
     """Mean |θ_T − θ̄| (to the nearest image) and mean |ω_T − ω̄|."""
-    diff = np.abs(rollouts.final_states - center)
+    diff = np.abs(final_states - center)
     diff[:, 0] = np.abs(np.mod(diff[:, 0] + np.pi, 2 * np.pi) - np.pi)
     return float(diff[:, 0].mean()), float(diff[:, 1].mean())
 
@@ -266,23 +282,26 @@ def check_interpolation(n: int = 128, dt: float | None = 0.02, samples: int = 10
     controllers = {"LBC": combine(sols[:2], proj.weights).policy,
                    "naive blend": naive_blend(sols[:2], proj.weights).policy,
                    "direct": sols[2].policy}
-    x0 = np.array(SWINGUP_START)
-    runs = {name: simulate(problem, policy, x0, samples, seed=seed)
-            for name, policy in controllers.items()}
-    direct = runs["direct"]
+    predictions = {"LBC": combine(sols[:2], proj.weights).value, "direct": sols[2].value}
+    x0 = SWINGUP_START.copy()
     case = f"pendulum {_shape(problem.grid)}"
     rows = []
-    for name, run in runs.items():
-        rows.append(_mc_row("interpolation", f"{case}: {name} MC cost (target task)", run,
-                            math.nan if name == "direct" else direct.mean_cost, math.nan))
-        theta_error, omega_error = _final_errors(run, target.center)
+    for name, policy in controllers.items():
+        # Certified under the target task, each controller its own proposal (all estimate the
+        # same v*), with the same seed; the final-state errors are those of its rollouts.
+        cert = certify(problem, policy, x0, samples, seed=seed, progress=False)
+        predicted = float(predictions[name](x0, 0.0)[0]) if name in predictions else math.nan
+        rows += _certificate_rows("interpolation", f"{case}: {name}", cert, predicted,
+                                  note="under the target task")
+        theta_error, omega_error = _final_errors(cert.final_states, target.center)
         rows.append(_row("interpolation", f"{case}: {name} mean |θ_T − θ̄|", theta_error))
         rows.append(_row("interpolation", f"{case}: {name} mean |ω_T − ω̄|", omega_error))
     rows[-1] = CheckResult(**{**asdict(rows[-1]), "note": (
         f"goals θ = ±{goal:g}, target θ̄ = 0, ω̄ = 0, W = {W}; projected weights "
         f"{np.round(proj.weights, 4).tolist()} (sum {proj.weight_sum:.3g}, "
-        f"residual {proj.residual:.2g}); costs under the target task from x0 = {x0.tolist()}, "
-        f"{samples} samples each, same seed")})
+        f"residual {proj.residual:.2g}); certified under the target task from x0 = "
+        f"{x0.tolist()} with each controller as proposal, {samples} samples each, same seed; "
+        "LBC's prediction is −λ log Σ w_i z_i")})
     return rows
 
 
@@ -339,19 +358,22 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
     v_exact = float(exact_value(x0, 0.0)[0])
     v_grid = float(combined.value(x0, 0.0)[0])
     case = f"start x=0, {_shape(grid)}"
-    grid_run = simulate(combined.problem, combined.policy, x0, 4 * samples,
-                        seed=seed + len(starts))
+    cert = certify(combined.problem, combined.policy, x0, 4 * samples, seed=seed + len(starts),
+                   progress=False)
     exact_run = simulate(combined.problem, exact_policy, x0, 4 * samples,
                          seed=seed + len(starts) + 1)
+    bias = 2 * exact_run.dt * abs(v_exact)
     return rows + [
         _row("coordination", f"{case}: grid −λ log(z₁+z₂)", v_grid, v_exact,
              note=f"PointMass, goals (±1, 0), T = 1.5, λ = {lam}; reference: exact "
                   "−λ log Σ exp(−v_i/λ) with Riccati v_i"),
-        _mc_row("coordination", f"{case}: MC cost, combined grid policy", grid_run, v_exact,
-                3 * grid_run.standard_error + abs(v_grid - v_exact),
-                "bound 3 SE + |v_grid − v_exact|"),
+        *_certificate_rows(
+            "coordination", f"{case}, combined grid policy", cert, v_grid,
+            exact=v_exact, exact_bound=3 * cert.optimal_value_se + bias,
+            cost_bound=3 * cert.policy_cost_se + abs(v_grid - v_exact),
+            note="bounds: v* 3 SE + 2Δt|v| (Euler–Maruyama bias), J 3 SE + |v_grid − v_exact|"),
         _mc_row("coordination", f"{case}: MC cost, exact combined policy", exact_run, v_exact,
-                3 * exact_run.standard_error + 2 * exact_run.dt * abs(v_exact),
+                3 * exact_run.standard_error + bias,
                 "bound 3 SE + 2Δt|v| (Euler–Maruyama bias)"),
     ]
 
@@ -366,11 +388,10 @@ def run_verification(grid_size: int = 256, samples: int = 8000, seed: int = 0,
 
     ``grid_size`` is the swing-up grid (θ nodes; ω gets one more; the interpolation check uses
     half of it), ``samples`` the Monte-Carlo samples of the swing-up (the other checks scale from
-    it), ``swingup_dt`` the solver step on the pendulum (0.02 by default, the setting of SPEC §3's
+    it), ``swingup_dt`` the solver step on the pendulum (0.02 by default, the setting of the README's
     measurement); the swing-up is also run at the solver's default step. The superposition,
     PointMass and coordination checks run at fixed small sizes, or smaller with ``quick`` (a smoke
-    test: the statistical and 10% bounds are then not expected to hold). About 10 s of compute at
-    the defaults (more on a loaded machine).
+    test: the statistical and 10% bounds are then not expected to hold).
     """
     started = time.perf_counter()
     small = {"superposition": 24, "pointmass": 21, "coordination": 31} if quick else \

@@ -12,9 +12,11 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 - :func:`coordination` — blend weights α over time for a two-goal point mass pushed mid-way
   (Fig. 9 idea).
 - :func:`gymnast` — the acrobot swing-up from the paper's test state (Fig. 7 setting), a still
-  and a GIF (the study of :mod:`gridlbc.gymnast`).
+  and a GIF (the study of :mod:`gridlbc.studies.gymnast`).
+- :func:`certified_convergence` — the swing-up's predicted value and its policy's cost against
+  the certified optimum as the grid is refined (:func:`gridlbc.certify`).
 - :func:`convergence` — error against grid spacing and the small-temperature study
-  (:mod:`gridlbc.convergence`).
+  (:mod:`gridlbc.studies.convergence`).
 """
 
 from __future__ import annotations
@@ -26,15 +28,21 @@ from pathlib import Path
 
 import numpy as np
 
-from .combine import CompositeCost, combine, naive_blend
-from .costs import Quadratic
-from .grid import Axis, Grid
-from .problem import Problem
-from .project import ProjectionWarning
-from .project import projection as project_weights
-from .simulate import simulate
-from .solver import solve, solve_many
-from .systems import PointMass
+from ..combine import CompositeCost, combine, naive_blend
+from ..costs import Quadratic
+from ..problem import Problem
+from ..project import ProjectionWarning
+from ..project import projection as project_weights
+from ..simulate import simulate
+from ..solver import solve, solve_many
+from .problems import (
+    GOAL_WEIGHTS,
+    GYMNAST_START,
+    SWINGUP_START,
+    coordination_problem,
+    gymnast_problem,
+    swingup_problem,
+)
 
 DPI = 100
 
@@ -66,7 +74,7 @@ def _wrap(theta):
 
 def cost_reward_space(out, n: int = 201) -> list[Path]:
     """Value, desirability and policy of the pendulum swing-up at t = 0 on an n × n grid."""
-    from .demo import plot_fields, swingup_problem
+    from .demo import plot_fields
 
     problem = swingup_problem(n)
     solution = solve(problem)
@@ -144,7 +152,6 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
     All are rolled out from the same start with the same noise (same seed) and charged the
     *target* task's cost. The defaults are those of ``gridlbc verify``'s interpolation check.
     """
-    from .demo import START, swingup_problem
 
     plt = _pyplot()
     weights = list(weights)
@@ -164,8 +171,8 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
         "direct solve of ḡ": direct.policy,
     }
     colors = ["0.6", "0.75", "C1", "C3", "k"]
-    clean = {k: simulate(problem, p, START, 1, noise=False) for k, p in controllers.items()}
-    noisy = {k: simulate(problem, p, START, samples, seed=seed) for k, p in controllers.items()}
+    clean = {k: simulate(problem, p, SWINGUP_START, 1, noise=False) for k, p in controllers.items()}
+    noisy = {k: simulate(problem, p, SWINGUP_START, samples, seed=seed) for k, p in controllers.items()}
 
     fig, axes = plt.subplots(2, 2, figsize=(13, 8.5), constrained_layout=True)
     (ax_h, ax_t), (ax_hist, ax_cost) = axes
@@ -188,7 +195,7 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
         ax_t.plot(run.times, np.unwrap(run.states[0, :, 0]), color=color, lw=lw, label=label)
     ax_t.axhline(target_theta, color="k", ls=":", lw=1)
     ax_t.set(xlabel="t (s)", ylabel="θ (rad, unwrapped)",
-             title=f"noise-free closed loop from θ = {START[0]:g}, ω = 0")
+             title=f"noise-free closed loop from θ = {SWINGUP_START[0]:g}, ω = 0")
     ax_t.legend(fontsize=8)
 
     bins = np.linspace(-np.pi, np.pi, 61)
@@ -205,7 +212,7 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
     means = [noisy[k].mean_cost for k in names]
     errors = [noisy[k].standard_error for k in names]
     ax_cost.barh(range(len(names)), means, xerr=errors, color=colors, capsize=4)
-    predicted = float(direct.value(START, 0.0)[0])
+    predicted = float(direct.value(SWINGUP_START, 0.0)[0])
     ax_cost.axvline(predicted, color="k", ls="--", lw=1,
                     label=f"direct solve's prediction v(x₀) = {predicted:.2f}")
     for k, (m, e) in enumerate(zip(means, errors)):
@@ -221,17 +228,6 @@ def interpolation(out, n: int = 151, samples: int = 1000, seed: int = 0, a: floa
 
 
 # -- 4. coordination with a push ----------------------------------------------------------------------
-
-
-GOAL_WEIGHTS = (20.0, 2.0)
-"""W of the goals g = (x − c)ᵀW(x − c), c = (±1, 0)."""
-
-
-def coordination_problem(n: int = 81) -> Problem:
-    """Point mass, two acceptable outcomes: at rest at x = −1 or x = +1 after T = 3 s."""
-    grid = Grid([Axis(-3.0, 3.0, n, name="position"), Axis(-4.0, 4.0, n, name="velocity")])
-    return Problem(PointMass(), grid, 3.0, Quadratic([-1.0, 0.0], GOAL_WEIGHTS),
-                   temperature=0.3)
 
 
 def simulate_with_push(problem: Problem, policy, x0, push_time: float, kick, n_samples: int = 1,
@@ -310,14 +306,14 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     cost: noise-free cost 15.9, ending 0.75 rad from the handstand, against the optimum's 13.18);
     the solve takes about 1.5 minutes and 7 GiB.
     """
-    from .gymnast import GYMNAST_START, animate_swingup, gymnast_problem, plot_swingup
+    from .gymnast import animate_swingup, plot_swingup
 
     problem = gymnast_problem(n)
     solution = solve(problem, dt=dt, dtype="float32", fitting=fitting)
     run = simulate(problem, solution.policy, GYMNAST_START, 1, dt=0.002, noise=False)
     ref = None
     if reference:
-        from .trajopt import optimize_trajectory
+        from ..trajopt import optimize_trajectory
 
         optimum = optimize_trajectory(problem.system.drift, problem.system.input_matrix,
                                       GYMNAST_START, problem.horizon, problem.terminal_cost,
@@ -340,7 +336,7 @@ def convergence(out, spacings=(4, 8, 16, 32), sizes=(64, 128, 256),
                 temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), temperature_grid: int = 128
                 ) -> list[Path]:
     """Error against h for the z-space and HJB solvers, and v, u as λ → 0
-    (:mod:`gridlbc.convergence`; ``benchmarks/convergence.py`` prints the tables)."""
+    (:mod:`gridlbc.studies.convergence`; ``benchmarks/convergence.py`` prints the tables)."""
     from .convergence import (
         pendulum_study,
         plot_convergence,
@@ -357,6 +353,50 @@ def convergence(out, spacings=(4, 8, 16, 32), sizes=(64, 128, 256),
     return paths
 
 
+def plot_certified_convergence(study, labels=None):
+    """Predicted v(x₀, 0) (solid) and the policy's cost J ± SE (dashed) of each configuration of a
+    :class:`~gridlbc.studies.convergence.CertifiedStudy` against n, with the certified optimum
+    v* ± SE (black line, grey band); ``labels`` picks configurations (default: all)."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.5, 4.8), constrained_layout=True)
+    v, se = study.truth.optimal_value, study.truth.optimal_value_se
+    sizes = sorted({r.shape[0] for r in study.rows})
+    ax.axhspan(v - 2 * se, v + 2 * se, color="0.85", label="certified v* ± 2 SE")
+    ax.axhline(v, color="k", lw=1.2)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for color, label in zip(colors, labels or study.labels()):
+        rows = study.select(label)
+        n = [r.shape[0] for r in rows]
+        ax.plot(n, [r.predicted for r in rows], "o-", color=color, label=f"{label}: predicted")
+        ax.errorbar(n, [r.policy_cost for r in rows], [2 * r.policy_cost_se for r in rows],
+                    fmt="s--", color=color, capsize=3, label=f"{label}: its policy's cost J")
+    ax.set_xscale("log", base=2)
+    ax.set_xticks(sizes, [str(k) for k in sizes])
+    ax.set_xlabel("grid nodes per axis n (θ; ω has n + 1)")
+    ax.set_ylabel("cost from x₀")
+    scheme, n_truth, _ = study.proposal
+    ax.set_title(f"Predicted value and policy cost vs the certified optimum v*(x₀) = {v:.2f}\n"
+                 f"(importance sampling, proposal: {scheme} {n_truth}², "
+                 f"ESS {study.truth.effective_sample_size:.0f} of {study.truth.n_samples})",
+                 fontsize=10)
+    ax.legend(fontsize=8, ncol=2)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def certified_convergence(out, sizes=(32, 64, 128, 256), samples: int = 400,
+                          truth_samples: int = 2000, seed: int = 0) -> list[Path]:
+    """The pendulum swing-up from :data:`SWINGUP_START` as the grid is refined: each scheme's
+    predicted value and its policy's cost against the certified optimum (rollouts at Δt = 0.002;
+    ``benchmarks/swingup_accuracy.py`` prints the table)."""
+    from .convergence import certified_study
+
+    study = certified_study(swingup_problem, tuple(sizes), SWINGUP_START,
+                            (("splitting", None), ("fitted", None)), samples=samples,
+                            truth_samples=truth_samples, rollout_dt=0.002, seed=seed)
+    return [_save(plot_certified_convergence(study), out, "certified_convergence.png")]
+
+
 # -- all --------------------------------------------------------------------------------------------
 
 
@@ -366,6 +406,8 @@ FIGURES = {
     "interpolation": (interpolation, {}, {"n": 61, "samples": 200}),
     "coordination": (coordination, {}, {"n": 41, "samples": 6}),
     "gymnast": (gymnast, {}, {"n": 13, "reference": False}),
+    "certified_convergence": (certified_convergence, {},
+                              {"sizes": (16, 32), "samples": 40, "truth_samples": 80}),
     "convergence": (convergence, {}, {"spacings": (2, 4), "sizes": (32, 64),
                                       "temperatures": (1.0, 0.1), "temperature_grid": 48}),
 }

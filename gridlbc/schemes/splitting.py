@@ -1,4 +1,4 @@
-"""Semi-Lagrangian operator splitting for the linear Bellman PDE (SPEC §3).
+"""Semi-Lagrangian operator splitting for the linear Bellman PDE.
 
 One backward step from t + Δt to t composes linear, monotone operators, symmetrically (Strang):
 
@@ -19,9 +19,7 @@ unconditionally stable: Δt is limited by accuracy, not by a CFL condition. Its 
 O(h²/Δt) from the interpolation (a numerical diffusion of at most h²/(8Δt) per axis), O(Δt) from
 the backward-Euler diffusion and O(Δt²) from the symmetric splitting and the foot; the first term
 *falls* as Δt grows, so unlike an upwind scheme the splitting wants large Courant numbers. The
-symmetric order matters where the drift is fast: on the pendulum swing-up at 128² and
-Δt = 0.05 the policy's Monte-Carlo cost drops from 16.9 (drift, then diffusion, then cost) to
-14.2 (``benchmarks/swingup_accuracy.py``).
+symmetric order matters where the drift is fast (``benchmarks/swingup_accuracy.py``).
 
 Exponential fitting (``fitting=`` in :func:`gridlbc.solve`). Barycentric interpolation is exact
 for affine z, but z = e^{−v/λ} is exponential wherever v is steep (a swing-up's terminal bowl
@@ -40,9 +38,7 @@ reference is itself advanced by the fitted step, as one more right-hand side (fi
 P_φ φ = φ̄: v(x) ← Σ_j w_j v(y_j), the value-space semi-Lagrangian update). A problem fitted to
 its own terminal cost therefore has the accuracy of interpolating v rather than z, and all
 terminal costs solved with the same reference share one linear operator, so superposition stays
-exact among them. Measured on the pendulum swing-up (``benchmarks/swingup_accuracy.py``): at
-128², Δt = 0.029 the plain scheme predicts 12.00 for a policy that costs 15.65 ± 0.34, the
-fitted one 14.50 for a policy that costs 14.49 ± 0.27. Where v is curved rather than steep,
+exact among them (the README's swing-up tables compare the two). Where v is curved rather than steep,
 interpolating v overestimates it by about h² v''/8 per step: the fitted value errs on the
 pessimistic side.
 
@@ -63,13 +59,12 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 
-from ._numba import jit, jit_parallel, prange
-from .grid import Grid
-from .interpolate import barycentric
-from .problem import Problem
+from .._numba import jit, jit_parallel, prange, work_blocks
+from ..grid import Grid
+from ..interpolate import barycentric
+from ..problem import Problem
 
 FEET_LAYOUTS = ("compact", "table")
 """How the characteristic feet are stored (see the module docstring)."""
@@ -78,11 +73,6 @@ _Q = 65535  # quantisation of the fractional coordinates in the compact layout
 _MAX_COMPACT_DIM = 8  # the packed simplex shape holds 4 bits per walk step
 _FEET_CHUNK = 1 << 20  # nodes per chunk when computing feet (bounds the setup memory)
 _TINY = 1e-300  # floor of the fitting reference: 1/φ and the factors stay finite
-
-
-def _blocks(n_items: int) -> int:
-    """Number of parallel work blocks: a few per thread, so that the load balances."""
-    return max(1, min(n_items, 8 * numba.get_num_threads()))
 
 
 # -- feet ---------------------------------------------------------------------------------------
@@ -555,6 +545,7 @@ class SplittingStep:
     """
 
     name = "splitting"
+    supports_fitting = True
 
     def __init__(self, problem: Problem, dt: float, feet: str = "compact"):
         if feet not in FEET_LAYOUTS:
@@ -572,6 +563,7 @@ class SplittingStep:
                          else np.empty(0))
         self.cost_factor = np.exp(self.log_cost)
         self._buffers = {}
+        self.iterations: list[int] = []  # direct tridiagonal solves: no iterations
 
     @staticmethod
     def estimate_bytes(grid: Grid, feet: str = "compact") -> int:
@@ -649,7 +641,7 @@ class SplittingStep:
             second = out if first is z else z
             self.drift(first, second, scale, reference)
             self.fitted_half_diffusion(second, first, reference)
-            block_max = self._buffer(K, _blocks(self.grid.size))
+            block_max = self._buffer(K, work_blocks(self.grid.size))
             _cost_max_kernel(out, self.cost_factor, block_max)
             return block_max.max(axis=1)
         self._half_diffusion(z, None)
@@ -660,10 +652,10 @@ class SplittingStep:
             k, stride = self.noise[-1][0], int(self.grid.strides[self.noise[-1][0]])
             chunk = min(stride, 64)
             n_tasks = self.grid.size // (self.grid.axes[k].n * stride) * ((stride + chunk - 1) // chunk)
-            block_max = self._buffer(K, _blocks(n_tasks))
+            block_max = self._buffer(K, work_blocks(n_tasks))
         self._half_diffusion(out, block_max)
         if block_max is None:
-            block_max = self._buffer(K, _blocks(self.grid.size))
+            block_max = self._buffer(K, work_blocks(self.grid.size))
             _cost_max_kernel(out, self.cost_factor, block_max)
         return block_max.max(axis=1)
 

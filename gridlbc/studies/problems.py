@@ -1,0 +1,125 @@
+"""The named problems of the studies: one definition each, shared by the demo, the verification
+report, the convergence studies, the figures, the benchmarks and the tests.
+
+- :func:`swingup_problem`: the pendulum swing-up (T = 3, λ = 1, g = xᵀdiag(10, ½)x, from
+  :data:`SWINGUP_START`, near hanging down at rest);
+- :func:`pendulum_problem`: the pendulum of the convergence study (T = 1, ω box ±8);
+- :func:`pointmass_problem`: the linear-quadratic point mass with a Riccati solution;
+- :func:`coordination_problem`: a point mass with two acceptable goals;
+- :func:`gymnast_problem`: the paper's acrobot swing-up (paper §6.2), from :data:`GYMNAST_START`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..costs import Quadratic
+from ..grid import Axis, Grid
+from ..problem import Problem
+from ..systems import Acrobot, Pendulum, PointMass
+
+# -- pendulum --------------------------------------------------------------------------------------
+
+SWINGUP_START = np.array([2.8, 0.0])
+"""Start of the swing-up (θ, ω): near hanging down (θ = ±π), at rest."""
+
+SWINGUP_WEIGHTS = (10.0, 0.5)
+"""diag W of the swing-up's terminal cost g = xᵀWx (upright at rest)."""
+
+
+def pendulum_grid(n: int, omega_max: float = 10.0) -> Grid:
+    """θ periodic on [−π, π) with ``n`` nodes, ω ∈ [−ω_max, ω_max] with n + 1 nodes."""
+    return Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
+                 Axis(-omega_max, omega_max, n + 1, name="omega")])
+
+
+def swingup_problem(n: int = 256, terminal_cost=None, horizon: float = 3.0,
+                    temperature: float = 1.0) -> Problem:
+    """Pendulum swing-up: m = l = 1, g = 9.81, T = 3, λ = 1, R = 1, no state cost,
+    g(x) = xᵀ diag(10, ½) x (or ``terminal_cost``), on :func:`pendulum_grid` (ω ±10)."""
+    cost = Quadratic([0.0, 0.0], SWINGUP_WEIGHTS) if terminal_cost is None else terminal_cost
+    return Problem(Pendulum(), pendulum_grid(n), horizon, cost, temperature=temperature)
+
+
+PENDULUM_WEIGHTS = (10.0, 0.5)
+"""Terminal weights of the pendulum convergence study: g = θ² · 10 + ω² · 0.5."""
+
+
+def pendulum_problem(n: int, temperature: float = 1.0, horizon: float = 1.0,
+                     weights=PENDULUM_WEIGHTS) -> Problem:
+    """Pendulum of the convergence study (m = l = 1, g = 9.81) on :func:`pendulum_grid` with
+    ω ∈ [−8, 8] (equal spacing 2π/n and 16/n), g = (θ, ω)ᵀdiag(weights)(θ, ω), no state cost."""
+    return Problem(Pendulum(), pendulum_grid(n, 8.0), horizon,
+                   Quadratic([0.0, 0.0], list(weights)), temperature=temperature)
+
+
+# -- point mass ------------------------------------------------------------------------------------
+
+
+def pointmass_problem(h: float | None = None, grid: Grid | None = None) -> Problem:
+    """PointMass (m = 1), λ = 0.5, q = xᵀdiag(0.5, 0.05)x, g = (x − (1, 0))ᵀdiag(2, 0.5)(x − (1, 0)),
+    T = 2: linear-quadratic, so :func:`gridlbc.reference.lq_solution` is exact. On
+    [−4, 4] × [−6, 6] with spacing ``h`` on both axes (8/h and 12/h must be integers), or on
+    ``grid``."""
+    if (h is None) == (grid is None):
+        raise ValueError("give exactly one of h (a spacing) or grid")
+    if grid is None:
+        counts = [8 / h, 12 / h]
+        if not all(abs(c - round(c)) < 1e-9 and c >= 2 for c in counts):
+            raise ValueError(
+                f"h must divide 8 and 12 into at least 2 cells (e.g. 1/4, 1/8), got {h}")
+        grid = Grid([Axis(-4.0, 4.0, round(counts[0]) + 1, name="position"),
+                     Axis(-6.0, 6.0, round(counts[1]) + 1, name="velocity")])
+    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [2.0, 0.5]),
+                   Quadratic([0.0, 0.0], [0.5, 0.05]), control_cost=1.0, temperature=0.5)
+
+
+GOAL_WEIGHTS = (20.0, 2.0)
+"""W of the coordination goals g = (x − c)ᵀW(x − c), c = (±1, 0)."""
+
+
+def coordination_problem(n: int = 81) -> Problem:
+    """Point mass, two acceptable outcomes: at rest at x = −1 or x = +1 after T = 3 s, λ = 0.3
+    (the problem's own terminal cost is the goal at −1; combine it with the goal at +1)."""
+    grid = Grid([Axis(-3.0, 3.0, n, name="position"), Axis(-4.0, 4.0, n, name="velocity")])
+    return Problem(PointMass(), grid, 3.0, Quadratic([-1.0, 0.0], GOAL_WEIGHTS),
+                   temperature=0.3)
+
+
+# -- gymnast ---------------------------------------------------------------------------------------
+
+GYMNAST_START = np.array([np.radians(-105.0), np.radians(-15.0), 0.0, 0.0])
+"""The paper's swing-up test state (θ1, θ2, p1, p2): (−105°, −15°) at rest."""
+
+GYMNAST_WEIGHTS = (10.0, 10.0, 0.5, 0.5)
+"""diag W of the gymnast's terminal cost g(x) = xᵀ W x."""
+
+
+def gymnast_problem(n=31, momentum_bounds=(16.0, 9.0), hip_range: float | None = np.pi,
+                    horizon: float = 3.0, temperature: float = 1.0) -> Problem:
+    """The acrobot swing-up (see :mod:`gridlbc.studies.gymnast`) on an n⁴ grid (or ``n`` =
+    (n1, n2, n3, n4)), momentum box ±P1 × ±P2 and hip stops at ±``hip_range`` (``None``: a free,
+    periodic hip)."""
+    shape = (n,) * 4 if np.isscalar(n) else tuple(n)
+    if len(shape) != 4:
+        raise ValueError(f"n must be one node count or four, got {n!r}")
+    p1, p2 = (float(b) for b in momentum_bounds)
+    if not (p1 > 0 and p2 > 0):
+        raise ValueError(f"momentum_bounds must be two positive numbers, got {momentum_bounds!r}")
+    if hip_range is None:
+        hip = Axis(-np.pi, np.pi, shape[1], periodic=True, name="theta2")
+    elif isinstance(hip_range, (int, float)) and 0 < hip_range <= np.pi:
+        hip = Axis(-hip_range, hip_range, shape[1], name="theta2")
+    else:
+        raise ValueError(f"hip_range must be None (a free hip) or a number in (0, π], got "
+                         f"{hip_range!r}")
+    grid = Grid([
+        Axis(-np.pi, np.pi, shape[0], periodic=True, name="theta1"),
+        hip,
+        Axis(-p1, p1, shape[2], name="p1"),
+        Axis(-p2, p2, shape[3], name="p2"),
+    ])
+    return Problem(Acrobot(), grid, horizon, Quadratic(np.zeros(4), GYMNAST_WEIGHTS),
+                   temperature=temperature)

@@ -1,0 +1,206 @@
+"""certify: the importance-sampled optimum against exact answers.
+
+Every statistical tolerance is 3 standard errors of the estimate under test (the certificate's own
+delta-method SE), plus, where the continuous-time Riccati value is the target, the Euler–Maruyama
+chain's exact distance from it: the estimator is exact for the time-discretised chain (the
+Girsanov weight is the ratio of the chain's Gaussian transition densities), whose Feynman–Kac
+value :func:`_chain_value` computes in closed form by a discrete Riccati recursion.
+"""
+
+import numpy as np
+import pytest
+
+import gridlbc as g
+from gridlbc.reference import lq_solution
+from gridlbc.systems import PointMass, SingleIntegrator
+
+N_STEPS = 300  # simulate's default: dt = T / 300
+
+
+def _point_mass(n=41):
+    grid = g.Grid([g.Axis(-4, 4, n), g.Axis(-4, 4, n)])
+    return g.Problem(PointMass(), grid, 1.0, g.Quadratic([0, 0], [2, 1]),
+                     state_cost=g.Quadratic([0, 0], [0.5, 0.1]), control_cost=2.0,
+                     temperature=0.5)
+
+
+X0 = np.array([1.0, -0.5])
+
+
+def _zero(x, t):
+    return np.zeros((x.shape[0], 1))
+
+
+def _chain_value(problem, x0, n_steps=N_STEPS):
+    """−λ log E₀[exp(−(g(x_K) + Σ q(x_k) Δt)/λ)] for the zero-control Euler–Maruyama chain
+    x_{k+1} = (I + A Δt) x_k + B η_k, η_k ~ N(0, λ R⁻¹ Δt), exactly.
+
+    v_k(x) = ½ xᵀP_k x + p_kᵀx + c_k; integrating η out of exp(−v_{k+1}/λ) gives, with
+    F = I + A Δt and N = B (R/Δt + BᵀPB)⁻¹ Bᵀ,
+    P_k = 2W_q Δt + Fᵀ(P − PNP)F,  p_k = −2W_q c_q Δt + Fᵀ(p − PNp),
+    c_k = c_qᵀW_q c_q Δt + c − ½ pᵀNp + (λ/2) log det(I + Δt R⁻¹BᵀPB).
+    """
+    A, B = problem.system.linear_matrices()
+    lam, R, dt = problem.temperature, problem.R, problem.horizon / n_steps
+    d = A.shape[0]
+    WT, cT = problem.terminal_cost.weights, problem.terminal_cost.center
+    q = problem.state_cost
+    Wq, cq = (np.zeros((d, d)), np.zeros(d)) if q is None else (q.weights, q.center)
+    P, p, c = 2 * WT, -2 * WT @ cT, cT @ WT @ cT
+    F = np.eye(d) + A * dt
+    for _ in range(n_steps):
+        N = B @ np.linalg.solve(R / dt + B.T @ P @ B, B.T)
+        logdet = np.linalg.slogdet(np.eye(B.shape[1]) + dt * np.linalg.solve(R, B.T @ P @ B))[1]
+        P, p, c = (2 * Wq * dt + F.T @ (P - P @ N @ P) @ F,
+                   -2 * Wq @ cq * dt + F.T @ (p - P @ N @ p),
+                   cq @ Wq @ cq * dt + c - 0.5 * p @ N @ p + 0.5 * lam * logdet)
+    return 0.5 * x0 @ P @ x0 + p @ x0 + c
+
+
+def test_chain_value_converges_to_riccati_at_first_order():
+    # The reference itself: O(Δt) from the continuous optimum, so halving Δt halves the distance.
+    problem = _point_mass()
+    exact = float(lq_solution(problem).value(X0, 0.0)[0])
+    errors = [abs(_chain_value(problem, X0, k) - exact) for k in (100, 200, 400)]
+    ratios = np.array(errors[:-1]) / np.array(errors[1:])
+    np.testing.assert_allclose(ratios, 2.0, rtol=0.05)
+
+
+@pytest.fixture(scope="module")
+def grid_solution():
+    return g.solve(_point_mass())
+
+
+@pytest.mark.parametrize("proposal", ["zero", "grid"])
+def test_lq_optimum_matches_riccati(proposal, grid_solution):
+    problem = _point_mass()
+    policy = _zero if proposal == "zero" else grid_solution.policy
+    cert = g.certify(problem, policy, X0, n_samples=1000, seed=4)
+    riccati = float(lq_solution(problem).value(X0, 0.0)[0])
+    chain = _chain_value(problem, X0)
+    assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
+    assert abs(cert.optimal_value - riccati) < 3 * cert.optimal_value_se + abs(chain - riccati)
+    assert abs(cert.policy_cost - cert.gap - cert.optimal_value) < 1e-12 * cert.policy_cost
+    assert cert.n_samples == 1000 and cert.dt == pytest.approx(problem.horizon / N_STEPS)
+    assert cert.left_box_fraction == 0.0 and cert.trusted
+
+
+def test_good_proposal_has_smaller_error_and_gap(grid_solution):
+    # The grid policy is close to optimal: its weights are nearly uniform (effective sample size
+    # near n) and its SE is several times that of zero control, whose gap is clearly positive.
+    problem = _point_mass()
+    zero = g.certify(problem, _zero, X0, n_samples=1000, seed=5)
+    grid = g.certify(problem, grid_solution.policy, X0, n_samples=1000, seed=5)
+    assert grid.optimal_value_se < zero.optimal_value_se / 2
+    assert grid.effective_sample_size > 0.9 * 1000 > zero.effective_sample_size
+    assert zero.gap > 3 * zero.gap_se
+    assert abs(grid.gap) < zero.gap
+
+
+def test_bad_policy_gives_right_optimum_with_larger_error_and_positive_gap():
+    # Pushing the wrong way at constant force: the proposal is poor, yet v* is still the optimum.
+    problem = _point_mass()
+    chain = _chain_value(problem, X0)
+    zero = g.certify(problem, _zero, X0, n_samples=4000, seed=6)
+    bad = g.certify(problem, lambda x, t: np.full((x.shape[0], 1), 0.6), X0, n_samples=4000,
+                    seed=6)
+    assert bad.effective_sample_size >= bad.min_effective_sample_size
+    assert abs(bad.optimal_value - chain) < 3 * bad.optimal_value_se
+    assert bad.optimal_value_se > 1.5 * zero.optimal_value_se
+    assert bad.gap > 3 * bad.gap_se
+    assert bad.gap > zero.gap
+
+
+def test_zero_control_is_plain_feynman_kac():
+    # u = 0: S = g + Σ q Δt, the uncontrolled cost, so v* = −λ log mean exp(−cost/λ) over the
+    # uncontrolled rollouts of simulate with the same seed (the same draws): equal to rounding.
+    # With q = 0 on ẋ = noise, x_T ~ N(x0, λT/R) exactly under Euler–Maruyama, and
+    # E exp(−w x_T²/λ) = (1 + 2wσ²/λ)^{−1/2} exp(−w x0²/(λ + 2wσ²)), σ² = λT/R: within 3 SE.
+    lam, r_cost, w, x0 = 0.7, 1.5, 2.0, 0.8
+    grid = g.Grid([g.Axis(-3, 3, 41)])
+    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [w]),
+                        control_cost=r_cost, temperature=lam)
+    cert = g.certify(problem, _zero, [x0], n_samples=5000, seed=9)
+    rollouts = g.simulate(problem, _zero, [x0], n_samples=5000, seed=9)
+    a = -rollouts.costs / lam
+    plain = -lam * (a.max() + np.log(np.mean(np.exp(a - a.max()))))
+    assert cert.optimal_value == pytest.approx(plain, rel=1e-13)
+    assert cert.gap == pytest.approx(cert.policy_cost - plain, rel=1e-12)
+    var = lam / r_cost
+    z = (1 + 2 * w * var / lam) ** -0.5 * np.exp(-w * x0**2 / (lam + 2 * w * var))
+    assert abs(cert.optimal_value + lam * np.log(z)) < 3 * cert.optimal_value_se
+
+
+def test_small_temperature_does_not_underflow():
+    # S/λ ~ 2000 here: exp(−S/λ) underflows to 0 in double precision, the log-sum-exp does not.
+    grid = g.Grid([g.Axis(-3, 3, 41)])
+    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [50.0]),
+                        temperature=0.001)
+    exact = lq_solution(problem)
+    cert = g.certify(problem, exact.policy, [2.0], n_samples=500, seed=1)
+    v = float(exact.value([2.0], 0.0)[0])
+    assert np.exp(-v / problem.temperature) == 0.0
+    chain = _chain_value(problem, np.array([2.0]))
+    assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
+    assert abs(cert.optimal_value - v) < 3 * cert.optimal_value_se + abs(chain - v)
+    assert cert.trusted  # the Riccati policy is near optimal for the chain: most samples count
+
+
+def test_seed_reproduces_and_several_states_share_the_convention():
+    problem = _point_mass()
+    a = g.certify(problem, _zero, X0, n_samples=300, seed=3)
+    b = g.certify(problem, _zero, X0, n_samples=300, seed=3)
+    c = g.certify(problem, _zero, X0, n_samples=300, seed=4)
+    assert a.optimal_value == b.optimal_value and a.gap_se == b.gap_se
+    assert a.optimal_value != c.optimal_value
+    assert isinstance(a.optimal_value, float)
+    one = g.certify(problem, _zero, X0[None], n_samples=300, seed=3)  # (1, d): arrays (1,)
+    assert one.optimal_value.shape == (1,) and one.optimal_value[0] == a.optimal_value
+    several = g.certify(problem, _zero, [X0, [0.0, 0.0], [-1.0, 1.0]], n_samples=1000, seed=3)
+    assert several.optimal_value.shape == several.gap_se.shape == (3,)
+    assert several.start_states.shape == (3, 2)
+    chain = [_chain_value(problem, np.asarray(x)) for x in several.start_states]
+    assert np.all(np.abs(several.optimal_value - chain) < 3 * several.optimal_value_se)
+    assert len(several.summary().splitlines()) == 4
+
+
+def test_few_effective_samples_warn_and_flag_the_summary():
+    problem = _point_mass()
+    with pytest.warns(g.CertificateWarning, match="proposal closer to optimal.*more samples.*λ"):
+        cert = g.certify(problem, lambda x, t: np.full((x.shape[0], 1), 3.0), X0,
+                         n_samples=200, seed=1)
+    assert not cert.trusted and "TOO FEW EFFECTIVE SAMPLES" in cert.summary()
+
+
+def test_box_exits_are_counted_as_simulate_counts_them():
+    grid = g.Grid([g.Axis(-0.3, 0.3, 11)])
+    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [1.0]))
+    cert = g.certify(problem, _zero, [0.0], n_samples=400, seed=2)
+    rollouts = g.simulate(problem, _zero, [0.0], n_samples=400, seed=2)
+    assert cert.left_box_fraction == rollouts.left_box.mean() > 0.5
+    np.testing.assert_array_equal(cert.final_states, rollouts.final_states)
+
+
+def test_progress_bar_on_request(capsys):
+    g.certify(_point_mass(), _zero, X0, n_samples=10, seed=0, progress=True,
+              min_effective_sample_size=1)
+    assert "300/300 steps" in capsys.readouterr().err
+    g.certify(_point_mass(), _zero, X0, n_samples=10, seed=0, progress=False,
+              min_effective_sample_size=1)
+    assert capsys.readouterr().err == ""
+
+
+@pytest.mark.parametrize("kwargs, error, match", [
+    ({"x0": [np.nan, 0.0]}, ValueError, "x0 has a non-finite"),
+    ({"x0": [0.0]}, ValueError, "x0 must have shape"),
+    ({"n_samples": 0}, ValueError, "at least 1"),
+    ({"n_samples": 2.5}, TypeError, "integer"),
+    ({"dt": 0.0}, ValueError, "dt must lie"),
+    ({"policy": "zero"}, TypeError, "policy must be callable"),
+    ({"policy": lambda x, t: np.zeros(x.shape[0])}, ValueError, r"shape \(N, m\) = \(1, 1\)"),
+    ({"policy": lambda x, t: np.full((x.shape[0], 1), np.nan)}, ValueError, "non-finite"),
+])
+def test_bad_input_is_named(kwargs, error, match):
+    args = {"policy": _zero, "x0": X0, "n_samples": 1} | kwargs
+    with pytest.raises(error, match=match):
+        g.certify(_point_mass(11), args.pop("policy"), args.pop("x0"), **args)
