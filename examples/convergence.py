@@ -10,12 +10,12 @@ from pathlib import Path
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+import matplotlib.pyplot as plt
+import numpy as np
 
-import gridlbc  # noqa: E402
-from gridlbc.reference import lq_solution  # noqa: E402
-from gridlbc.studies.problems import pointmass_problem  # noqa: E402
+import gridlbc
+from gridlbc.reference import lq_solution
+from gridlbc.studies.problems import pointmass_problem
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", default="figures", help="output folder (default: figures)")

@@ -11,9 +11,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 
-import gridlbc  # noqa: E402
-from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup  # noqa: E402
-from gridlbc.studies.problems import GYMNAST_START, gymnast_problem  # noqa: E402
+import gridlbc
+from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
+from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--out", default="figures", help="output folder (default: figures)")

@@ -16,6 +16,7 @@ from .project import Projection, ProjectionWarning, project, projection
 from .simulate import Rollouts, simulate
 from .solution import ResolutionWarning, Solution, SolveDiagnostics, UnderflowWarning
 from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
+from .sweep import SweepMember, sweep  # imports Dask only when a sweep runs
 
 __version__ = "0.1.0"
 
@@ -37,6 +38,7 @@ __all__ = [
     "Solution",
     "SolveDiagnostics",
     "SolverSettings",
+    "SweepMember",
     "UnderflowWarning",
     "certify",
     "combine",
@@ -50,5 +52,6 @@ __all__ = [
     "simulate",
     "solve",
     "solve_many",
+    "sweep",
     "systems",
 ]

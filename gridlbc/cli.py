@@ -106,14 +106,19 @@ def _description_from_flags(data: dict, args) -> dict:
     return data
 
 
-def _cmd_solve(args) -> int:
-    from .config import problem_from_dict, read_description
-    from .io import save
-    from .solver import solve
+def _base_description(args) -> dict:
+    """The description of ``--config`` (if given) with the problem flags laid over it."""
+    from .config import read_description
 
-    data = read_description(args.config) if args.config else {}
+    return _description_from_flags(read_description(args.config) if args.config else {}, args)
+
+
+def _config(data: dict, args):
+    """The problem and settings of a description; a missing key says which flag gives it."""
+    from .config import problem_from_dict
+
     try:
-        config = problem_from_dict(_description_from_flags(data, args))
+        return problem_from_dict(data)
     except (TypeError, ValueError) as exc:
         message = str(exc)
         for key, flags in (("'system'", "--system"), ("'grid'", "--grid or --axis"),
@@ -123,6 +128,13 @@ def _cmd_solve(args) -> int:
                 message += f": give {flags} or a --config file"
         from_file = args.config and not message.startswith("--")
         raise type(exc)(f"{args.config}: {message}" if from_file else message) from None
+
+
+def _cmd_solve(args) -> int:
+    from .io import save
+    from .solver import solve
+
+    config = _config(_base_description(args), args)
     problem = config.problem
     if not args.quiet:
         print(f"solving {problem.describe()}", flush=True)
@@ -133,6 +145,96 @@ def _cmd_solve(args) -> int:
     print(f"wrote {path}: {d.method}, {d.steps} steps of dt = {d.dt:.4g} in {d.wall_time:.1f} s"
           + (f", {d.underflow_nodes} nodes underflowed" if d.underflow_nodes else ""))
     return 0
+
+
+def _sweep_axes(args) -> list[tuple[str, list]]:
+    """The swept quantities: (column name, values), in the order of the flags' help."""
+    axes = []
+    for item in args.param_values or ():
+        key, sep, values = item.partition("=")
+        if not sep or not key.strip():
+            raise ValueError(f"--param-values expects KEY=V1,V2,..., got {item!r}")
+        axes.append((key.strip(), _vector(values, f"--param-values {key.strip()}")))
+    for flag in ("temperatures", "horizons"):
+        if getattr(args, flag) is not None:
+            axes.append((flag[:-1], _vector(getattr(args, flag), f"--{flag}")))
+    if args.goal:
+        axes.append(("goal", [_vector(goal, "--goal") for goal in args.goal]))
+    if not axes:
+        raise ValueError("nothing to sweep: give --param-values, --temperatures, --horizons "
+                         "and/or --goal (repeatable)")
+    return axes
+
+
+def _sweep_member(base: dict, names, values) -> dict:
+    """The description of one member: ``base`` with the swept values put in."""
+    import copy
+
+    data = copy.deepcopy(base)
+    for name, value in zip(names, values):
+        if name in ("temperature", "horizon"):
+            data[name] = value
+        elif name == "goal":
+            data["terminal_cost"] = {**data.get("terminal_cost", {}), "center": value}
+        else:
+            system = data.setdefault("system", {})
+            system["parameters"] = {**system.get("parameters", {}), name: value}
+    return data
+
+
+def _cmd_sweep(args) -> int:
+    """Exit status 0 when every member is solved (or reused), 1 when one failed."""
+    import itertools
+
+    import numpy as np
+
+    from .sweep import _import_distributed, sweep
+
+    try:
+        _import_distributed()
+    except ImportError as exc:
+        print(f"gridlbc sweep: error: {exc}", file=sys.stderr)
+        return 2
+    base = _base_description(args)
+    axes = _sweep_axes(args)
+    names = [name for name, _ in axes]
+    combos = list(itertools.product(*(values for _, values in axes)))
+    configs = []
+    for i, combo in enumerate(combos):
+        try:
+            configs.append(_config(_sweep_member(base, names, combo), args))
+        except (TypeError, ValueError) as exc:
+            what = ", ".join(f"{n}={v}" for n, v in zip(names, combo))
+            raise type(exc)(f"member {i} ({what}): {exc}") from None
+    states = None
+    if args.at:
+        states = np.array([_vector(x, "--at") for x in args.at])
+        states = configs[0].problem.grid.check_states(states, "--at")
+    members = sweep([c.problem for c in configs], args.out, states=states,
+                    client=args.scheduler, workers=args.workers, progress=not args.quiet,
+                    settings=configs[0].settings)
+    header = ["#", *names] + [f"v({','.join(f'{c:g}' for c in x)})" for x in
+                              ([] if states is None else states)] + ["solve s", "status"]
+    rows = []
+    for m, combo in zip(members, combos):
+        swept = [",".join(f"{c:g}" for c in v) if isinstance(v, list) else f"{v:g}"
+                 for v in combo]
+        values = [] if m.values is None else [f"{v:.6g}" for v in m.values]
+        if m.error:
+            values = ["-"] * (0 if states is None else len(states))
+            status = f"failed: {m.error}"
+        else:
+            status = ("reused " if m.reused else "solved ") + m.path.name
+        wall = "-" if m.diagnostics is None else f"{m.diagnostics.wall_time:.2f}"
+        rows.append([str(m.index), *swept, *values, wall, status])
+    widths = [max(len(h), *(len(r[k]) for r in rows)) for k, h in enumerate(header[:-1])]
+    for row in [header, *rows]:
+        print("  ".join(c.rjust(w) for c, w in zip(row, widths)) + "  " + row[-1])
+    failed = sum(m.error is not None for m in members)
+    reused = sum(m.reused for m in members)
+    print(f"{len(members)} members: {len(members) - failed - reused} solved, {reused} reused, "
+          f"{failed} failed; files in {args.out}")
+    return 1 if failed else 0
 
 
 def _cmd_combine(args) -> int:
@@ -237,6 +339,33 @@ def _cmd_figures(args) -> int:
     return 0
 
 
+def _add_problem_arguments(parser):
+    """The flags that describe a problem and its solver settings (``solve`` and ``sweep``)."""
+    parser.add_argument("--config", metavar="TOML", help="problem description file")
+    parser.add_argument("--system", help="SingleIntegrator, PointMass, Pendulum, Acrobot or "
+                       "package.module.Class")
+    parser.add_argument("--param", action="append", metavar="KEY=VALUE",
+                       help="system constructor parameter (repeatable), e.g. damping=0.1")
+    parser.add_argument("--grid", metavar="N[,N...]",
+                       help="nodes per axis on the system's default box")
+    parser.add_argument("--axis", action="append", metavar="LO,HI,N[,periodic]",
+                       help="one axis per state coordinate, in order (repeatable)")
+    parser.add_argument("--horizon", metavar="T", help="horizon T in seconds")
+    parser.add_argument("--temperature", metavar="LAMBDA", help="temperature λ (default 1)")
+    parser.add_argument("--control-cost", metavar="R", help="R: a number or one per control")
+    for cost, what in (("terminal", "terminal cost g"), ("state", "state cost q")):
+        parser.add_argument(f"--{cost}-center", metavar="C", help=f"centre c of the {what}, "
+                           "comma-separated")
+        parser.add_argument(f"--{cost}-weights", metavar="W", help=f"diagonal of W of the {what}")
+    parser.add_argument("--method", help="splitting (default) or implicit")
+    parser.add_argument("--dt", type=float, help="time step (default from the Courant number)")
+    parser.add_argument("--store-every", type=int, help="keep every k-th time slice")
+    parser.add_argument("--dtype", help="float64 (default) or float32 storage")
+    parser.add_argument("--fitting", choices=["terminal"],
+                       help="fit the drift's interpolation to the terminal cost (splitting only: "
+                       "far less numerical diffusion where v is steep; see README)")
+
+
 def _add_workflow_parsers(sub):
     solve = sub.add_parser(
         "solve", help="solve a problem from flags or a TOML file and save the Solution",
@@ -244,32 +373,36 @@ def _add_workflow_parsers(sub):
         "(--config, see gridlbc.config) and/or flags (flags win) and save it with gridlbc.save. "
         "Negative numbers need '=': --axis=-pi,pi,101,periodic; multiples of pi are allowed.",
     )
-    solve.add_argument("--config", metavar="TOML", help="problem description file")
-    solve.add_argument("--system", help="SingleIntegrator, PointMass, Pendulum, Acrobot or "
-                       "package.module.Class")
-    solve.add_argument("--param", action="append", metavar="KEY=VALUE",
-                       help="system constructor parameter (repeatable), e.g. damping=0.1")
-    solve.add_argument("--grid", metavar="N[,N...]",
-                       help="nodes per axis on the system's default box")
-    solve.add_argument("--axis", action="append", metavar="LO,HI,N[,periodic]",
-                       help="one axis per state coordinate, in order (repeatable)")
-    solve.add_argument("--horizon", metavar="T", help="horizon T in seconds")
-    solve.add_argument("--temperature", metavar="LAMBDA", help="temperature λ (default 1)")
-    solve.add_argument("--control-cost", metavar="R", help="R: a number or one per control")
-    for cost, what in (("terminal", "terminal cost g"), ("state", "state cost q")):
-        solve.add_argument(f"--{cost}-center", metavar="C", help=f"centre c of the {what}, "
-                           "comma-separated")
-        solve.add_argument(f"--{cost}-weights", metavar="W", help=f"diagonal of W of the {what}")
-    solve.add_argument("--method", help="splitting (default) or implicit")
-    solve.add_argument("--dt", type=float, help="time step (default from the Courant number)")
-    solve.add_argument("--store-every", type=int, help="keep every k-th time slice")
-    solve.add_argument("--dtype", help="float64 (default) or float32 storage")
-    solve.add_argument("--fitting", choices=["terminal"],
-                       help="fit the drift's interpolation to the terminal cost (splitting only: "
-                       "far less numerical diffusion where v is steep; see README)")
+    _add_problem_arguments(solve)
     solve.add_argument("--out", required=True, help="where to save the Solution (.npz)")
     solve.add_argument("--quiet", action="store_true", help="no progress output")
     solve.set_defaults(func=_cmd_solve)
+
+    sweep = sub.add_parser(
+        "sweep", help="solve a grid of problems in parallel on Dask and print their values",
+        description="Solve every combination of the swept values (--param-values, "
+        "--temperatures, --horizons, --goal) around a base problem given as for solve, in "
+        "parallel on Dask distributed (pip install \"gridlbc[dask]\"): a local cluster of "
+        "--workers processes, or the cluster at --scheduler. Each member is saved in --out "
+        "under a hash of its problem and settings; a rerun reuses finished members. Prints a "
+        "table of v(x, 0) at the --at states; exit status 1 if a member failed.",
+    )
+    _add_problem_arguments(sweep)
+    sweep.add_argument("--param-values", action="append", metavar="KEY=V1,V2,...",
+                       help="values of a system parameter (repeatable), e.g. damping=0,0.1,0.2")
+    sweep.add_argument("--temperatures", metavar="L1,L2,...", help="temperatures λ")
+    sweep.add_argument("--horizons", metavar="T1,T2,...", help="horizons T")
+    sweep.add_argument("--goal", action="append", metavar="C",
+                       help="a terminal-cost centre (repeatable: one member per goal)")
+    sweep.add_argument("--at", action="append", metavar="STATE",
+                       help="report v(x, 0) at this state (comma-separated, repeatable)")
+    sweep.add_argument("--out", required=True, help="folder for the Solution files")
+    sweep.add_argument("--scheduler", metavar="ADDRESS",
+                       help="a Dask scheduler, e.g. tcp://host:8786 (default: a local cluster)")
+    sweep.add_argument("--workers", type=int, metavar="N",
+                       help="processes of the local cluster (default: the available cores)")
+    sweep.add_argument("--quiet", action="store_true", help="no progress output")
+    sweep.set_defaults(func=_cmd_sweep)
 
     combine = sub.add_parser(
         "combine", help="combine saved solutions and evaluate value, policy and blend weights",

@@ -190,7 +190,7 @@ def _quadratic(data, key: str):
         raise ValueError(f"{key}: {exc}") from None
 
 
-def _settings(data) -> SolverSettings:
+def _solver_settings(data) -> SolverSettings:
     fields = tuple(SolverSettings.__dataclass_fields__)
     data = _table(data or {}, "solver", fields)
     try:
@@ -217,7 +217,7 @@ def problem_from_dict(data: dict) -> ProblemConfig:
                           temperature=number(data.get("temperature", 1.0), "temperature"))
     except TypeError as exc:
         raise ValueError(str(exc)) from None
-    return ProblemConfig(problem, _settings(data.get("solver")))
+    return ProblemConfig(problem, _solver_settings(data.get("solver")))
 
 
 def read_description(path) -> dict:

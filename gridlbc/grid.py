@@ -133,6 +133,12 @@ class Grid:
         shape = self.shape
         return np.array([math.prod(shape[k + 1 :]) for k in range(self.ndim)], dtype=np.int64)
 
+    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+        """``(lo, spacing, shape, strides, periodic)``: the grid as the arrays compiled kernels
+        take (float64, float64, int64, int64, bool; each of shape ``(d,)``)."""
+        return (self.lo, self.spacing, np.array(self.shape, dtype=np.int64), self.strides,
+                self.periodic)
+
     def points(self) -> list[np.ndarray]:
         """Node coordinates per axis."""
         return [a.points() for a in self.axes]

@@ -68,16 +68,6 @@ def _kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
             weights[p, j + 1] = frac[k] - nxt
 
 
-def _grid_constants(grid: Grid):
-    return (
-        grid.lo,
-        grid.spacing,
-        np.array(grid.shape, dtype=np.int64),
-        grid.strides,
-        grid.periodic,
-    )
-
-
 def barycentric(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     """Simplex vertices and barycentric weights of states ``x`` ``(N, d)`` on ``grid``.
 
@@ -88,7 +78,7 @@ def barycentric(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     n = x.shape[0]
     idx = np.empty((n, grid.ndim + 1), dtype=np.int64)
     weights = np.empty((n, grid.ndim + 1))
-    _kuhn_kernel(np.ascontiguousarray(x), *_grid_constants(grid), idx, weights)
+    _kuhn_kernel(np.ascontiguousarray(x), *grid.kernel_arrays(), idx, weights)
     return idx, weights
 
 
@@ -104,7 +94,7 @@ def interpolate(grid: Grid, values, x) -> np.ndarray:
     return (values[..., idx] * weights).sum(axis=-1)
 
 
-def barycentric_reference(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
+def barycentric_numpy(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     """Plain-numpy version of :func:`barycentric`, for testing the compiled kernel."""
     x = grid.clamp(grid.check_states(x))
     shape = np.array(grid.shape)

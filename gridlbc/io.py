@@ -79,23 +79,14 @@ def _cost_from_record(record, name: str, grid: Grid, data):
     return GridCost(grid, data[f"{name}_nodes"])
 
 
-def save(solution: Solution, path) -> Path:
-    """Write ``solution`` to ``path`` (``.npz`` appended if missing); returns the path written."""
-    if not isinstance(solution, Solution):
-        raise TypeError(f"save expects a gridlbc.Solution, got {type(solution).__name__}")
-    from . import __version__
+def problem_record(problem: Problem, arrays: dict) -> dict:
+    """The problem as JSON-ready metadata; costs that are not quadratics go into ``arrays``.
 
-    path = Path(path)
-    if path.suffix != ".npz":
-        path = path.with_name(path.name + ".npz")
-    problem = solution.problem
+    Two problems with equal records (and equal ``arrays``) describe the same PDE on the same
+    grid: :func:`load` rebuilds the problem from them, :func:`gridlbc.sweep` hashes them.
+    """
     system = problem.system
-    arrays = {"times": solution.times, "slices": solution.slices,
-              "log_scales": solution.log_scales}
-    meta = {
-        "format": FORMAT,
-        "format_version": FORMAT_VERSION,
-        "library_version": __version__,
+    return {
         "grid": [{"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": a.name}
                  for a in problem.grid.axes],
         "system": {"class": f"{type(system).__module__}.{type(system).__qualname__}",
@@ -105,9 +96,34 @@ def save(solution: Solution, path) -> Path:
         "control_cost": problem.control_cost.tolist(),
         "terminal_cost": _cost_record(problem.terminal_cost, "terminal", problem, arrays),
         "state_cost": _cost_record(problem.state_cost, "state_cost", problem, arrays),
+    }
+
+
+def save(solution: Solution, path, annotations: dict | None = None) -> Path:
+    """Write ``solution`` to ``path`` (``.npz`` appended if missing); returns the path written.
+
+    ``annotations``: optional JSON-serialisable data kept with the file (:func:`read_metadata`
+    returns it under ``"annotations"``; :func:`load` ignores it).
+    """
+    if not isinstance(solution, Solution):
+        raise TypeError(f"save expects a gridlbc.Solution, got {type(solution).__name__}")
+    from . import __version__
+
+    path = Path(path)
+    if path.suffix != ".npz":
+        path = path.with_name(path.name + ".npz")
+    arrays = {"times": solution.times, "slices": solution.slices,
+              "log_scales": solution.log_scales}
+    meta = {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "library_version": __version__,
+        **problem_record(solution.problem, arrays),
         "diagnostics": asdict(solution.diagnostics),
         "sha256": _digest(solution.times, solution.slices, solution.log_scales),
     }
+    if annotations is not None:
+        meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
     with open(path, "wb") as f:
         np.savez(f, **arrays)
@@ -126,21 +142,32 @@ def _system_from_record(record):
     return cls(**record["parameters"])
 
 
-def load(path) -> Solution:
-    """Read a Solution written by :func:`save`; the arrays come back bit for bit."""
+def _read(path, arrays: bool) -> tuple[dict, dict]:
+    """The metadata of a saved solution and, if ``arrays``, its arrays (checked readable)."""
     path = Path(path)
     if not path.exists():
         raise FileNotFoundError(f"no saved solution at {str(path)!r}")
     try:
         with np.load(path, allow_pickle=False) as data:
             meta = json.loads(str(data["metadata"]))
-            contents = {k: data[k] for k in data.files if k != "metadata"}
+            contents = {k: data[k] for k in data.files if k != "metadata"} if arrays else {}
     except (zipfile.BadZipFile, OSError, ValueError, KeyError, EOFError) as exc:
         raise ValueError(
             f"{str(path)!r} is not a readable gridlbc solution (truncated or corrupted?): {exc}"
         ) from None
-    if meta.get("format") != FORMAT:
+    if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         raise ValueError(f"{str(path)!r} is not a gridlbc solution file")
+    return meta, contents
+
+
+def read_metadata(path) -> dict:
+    """The metadata of a file written by :func:`save`, without reading its arrays."""
+    return _read(path, arrays=False)[0]
+
+
+def load(path) -> Solution:
+    """Read a Solution written by :func:`save`; the arrays come back bit for bit."""
+    meta, contents = _read(path, arrays=True)
     if meta.get("format_version") != FORMAT_VERSION:
         raise ValueError(
             f"{str(path)!r} has format version {meta.get('format_version')}, this gridlbc "

@@ -32,7 +32,7 @@ import numpy as np
 from .costs import Quadratic, evaluate_cost
 from .grid import Grid
 
-METHODS = ("auto", "analytic", "quadrature")
+PROJECTION_METHODS = ("auto", "analytic", "quadrature")
 
 NEGATIVE_TOLERANCE = 1e-6
 """Weights below −NEGATIVE_TOLERANCE · max|w| count as negative."""
@@ -143,8 +143,8 @@ def _quadrature(costs, lam, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _choose_method(method, costs, grid) -> str:
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if method not in PROJECTION_METHODS:
+        raise ValueError(f"method must be one of {', '.join(PROJECTION_METHODS)}, got {method!r}")
     quadratic = all(isinstance(c, Quadratic) for c in costs)
     periodic = (grid is not None and bool(grid.periodic.any())) or any(
         isinstance(c, Quadratic) and c.periods is not None and np.isfinite(c.periods).any()

@@ -60,7 +60,7 @@ def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost, ito):
             x_out[s, k] = x[s, k] + v * dt + w
 
 
-def em_step_reference(x, drift, B, u, eps, noise, R, dt):
+def em_step_numpy(x, drift, B, u, eps, noise, R, dt):
     """Plain-numpy version of the Euler–Maruyama kernel: (new states, ½ uᵀRu dt, uᵀR dε) per
     sample."""
     kick = eps @ noise.T

@@ -30,7 +30,6 @@ from .schemes import LINEAR_SOLVERS, METHODS
 from .schemes.splitting import SplittingStep, _flat_chunks
 from .solution import ResolutionWarning, Solution, SolveDiagnostics
 
-
 PLAIN_COURANT, PLAIN_MIN_STEPS = 6.0, 50
 """Default Courant number and fewest steps of the plain splitting scheme."""
 FITTED_COURANT, FITTED_MIN_STEPS = 12.0, 10

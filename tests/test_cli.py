@@ -31,7 +31,7 @@ def one_line_error(result, *fragments):
 
 
 @pytest.mark.parametrize("command", ["", "demo", "verify", "solve", "combine", "certify",
-                                     "figures"])
+                                     "figures", "sweep"])
 def test_help_everywhere(command):
     result = run(*([command] if command else []), "--help")
     assert result.returncode == 0

@@ -11,12 +11,11 @@ from gridlbc import Axis, Grid, Problem
 from gridlbc.costs import Quadratic
 from gridlbc.reference import lq_solution, solve_hjb
 from gridlbc.reference.hjb import (
-    _grid_arrays,
     _hamiltonian_kernel,
     control_structure,
-    hamiltonian_reference,
+    hamiltonian_numpy,
     multilinear,
-    nodal_gradient,
+    value_gradient,
 )
 from gridlbc.studies.convergence import pointmass_points
 from gridlbc.studies.problems import pointmass_problem
@@ -35,7 +34,8 @@ def _kernel_hamiltonian(problem, v):
     control = np.empty((grid.size, s.axis.size))
     _hamiltonian_kernel(v, np.ascontiguousarray(problem.system.drift(x)), s.gain, s.axis, s.r,
                         np.ascontiguousarray(0.5 * problem.noise_diagonal(x)),
-                        problem.state_cost_values(x), *_grid_arrays(grid), H, rate, control)
+                        problem.state_cost_values(x), *grid.kernel_arrays()[2:4], grid.spacing,
+                        grid.periodic, H, rate, control)
     return H, rate, control
 
 
@@ -46,7 +46,7 @@ def test_hamiltonian_kernel_matches_numpy_reference(make, rng):
     problem = make()
     v = rng.normal(scale=3.0, size=problem.grid.size)
     H, rate, _ = _kernel_hamiltonian(problem, v)
-    H_ref, rate_ref = hamiltonian_reference(problem, v)
+    H_ref, rate_ref = hamiltonian_numpy(problem, v)
     scale = np.abs(H_ref).max()
     np.testing.assert_allclose(H, H_ref, rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(rate, rate_ref, rtol=1e-12)
@@ -94,10 +94,10 @@ def test_multilinear_reproduces_bilinear_functions_and_clamps_outside():
     np.testing.assert_allclose(got, f(grid.clamp(x)), rtol=1e-14)
 
 
-def test_nodal_gradient_is_exact_for_quadratics_inside_and_wraps_periodic():
+def test_value_gradient_is_exact_for_quadratics_inside_and_wraps_periodic():
     grid = Grid([Axis(-math.pi, math.pi, 16, periodic=True), Axis(-1.0, 1.0, 9)])
     x = grid.nodes()
-    grad = nodal_gradient(grid, np.sin(x[:, 0]) + x[:, 1] ** 2)
+    grad = value_gradient(grid, np.sin(x[:, 0]) + x[:, 1] ** 2)
     h = grid.spacing
     # central differences: sin → cos · sin(h)/h exactly, x² → 2x exactly (one-sided at the ends)
     np.testing.assert_allclose(grad[0], np.cos(x[:, 0]) * math.sin(h[0]) / h[0], atol=1e-14)

@@ -148,10 +148,6 @@ def _multilinear_kernel(values, x, lo, spacing, shape, strides, periodic, out):
                     out[r_, p] += w * values[r_, node]
 
 
-def _grid_arrays(grid: Grid):
-    return (np.array(grid.shape, dtype=np.int64), grid.strides, grid.spacing, grid.periodic)
-
-
 def multilinear(grid: Grid, values, x) -> np.ndarray:
     """Multilinear interpolation of nodal ``values`` ``(K, size)`` at states ``x`` ``(P, d)``.
 
@@ -161,14 +157,14 @@ def multilinear(grid: Grid, values, x) -> np.ndarray:
     values = np.ascontiguousarray(np.atleast_2d(values), dtype=float)
     if values.shape[-1] != grid.size:
         raise ValueError(f"values must have {grid.size} nodal entries, got shape {values.shape}")
-    shape, strides, spacing, periodic = _grid_arrays(grid)
+    _, spacing, shape, strides, periodic = grid.kernel_arrays()
     out = np.empty((values.shape[0], x.shape[0]))
     _multilinear_kernel(values, np.ascontiguousarray(x), grid.lo, spacing, shape, strides,
                         periodic, out)
     return out
 
 
-def nodal_gradient(grid: Grid, values: np.ndarray) -> np.ndarray:
+def value_gradient(grid: Grid, values: np.ndarray) -> np.ndarray:
     """∇v at every node, shape ``(d, size)``: central differences, wrapped on periodic axes and
     one-sided at the ends of closed axes."""
     field = grid.reshape(np.asarray(values, dtype=float))
@@ -212,7 +208,7 @@ def control_structure(problem: Problem, x: np.ndarray) -> ControlStructure:
     return ControlStructure(axis.astype(np.int64), gain, np.ascontiguousarray(np.diag(R)))
 
 
-def hamiltonian_reference(problem: Problem, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def hamiltonian_numpy(problem: Problem, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Plain-numpy H[v] and ρ of the module docstring, for testing the compiled kernel.
 
     Minimises over each control by brute force on the union of the three candidate points.
@@ -314,7 +310,7 @@ class HJBSolution:
 
     def gradient(self, x, t) -> np.ndarray:
         """∇v(x, t) from interpolated nodal central differences, shape ``(N, d)``."""
-        return multilinear(self.grid, nodal_gradient(self.grid, self._nodal_at(t)), x).T
+        return multilinear(self.grid, value_gradient(self.grid, self._nodal_at(t)), x).T
 
     def policy(self, x, t) -> np.ndarray:
         """u*(x, t) = −R⁻¹ B(x)ᵀ ∇v(x, t), shape ``(N, m)``."""
@@ -360,7 +356,7 @@ def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9
     drift = np.ascontiguousarray(problem.system.drift(x), dtype=float)
     diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
     q = problem.state_cost_values(x)
-    shape, strides, spacing, periodic = _grid_arrays(grid)
+    _, spacing, shape, strides, periodic = grid.kernel_arrays()
     T = problem.horizon
     max_step = T if dt is None else min(float(dt), T)
 

@@ -1,0 +1,333 @@
+"""Many independent solves in parallel on Dask distributed: :func:`sweep`.
+
+A sweep solves a list of problems (a grid of temperatures, horizons, dynamics parameters or
+goals), each with :func:`gridlbc.solve`, on the workers of a Dask cluster. Each worker writes its
+member's :class:`gridlbc.Solution` with :func:`gridlbc.save` and sends back only a summary: the
+value v(x, 0) = −λ log z(x, 0) at the requested states, the solve's diagnostics, or the error
+that stopped it.
+
+A member is identified by a content hash (SHA-256) of its problem as :func:`gridlbc.save` records
+it (grid, system and its parameters, horizon, temperature, R, the costs: quadratics by centre and
+weights, other callables by their values at the nodes), of the solver settings that change the
+result, and of the library and file-format versions. The hash names the member's file and is
+stored in it, so a rerun of the same sweep reuses every finished member (after checking the
+stored hash and the arrays' checksum) and solves only what is missing or failed.
+
+Problems that differ only in their terminal cost share one operator: :func:`gridlbc.solve_many`
+solves them together, and exactly (one step operator, many right-hand sides), which beats a sweep
+whenever they fit in memory at once.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import hashlib
+import json
+import os
+import sys
+import time
+import warnings
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .io import FORMAT_VERSION, _cost_record, load, problem_record, read_metadata, save
+from .problem import Problem
+from .solution import SolveDiagnostics
+from .solver import SolverSettings, _settings, solve
+
+_NOT_HASHED = ("progress", "mmap_dir")
+"""Settings that change how a solve runs but not its result."""
+
+
+@dataclass(frozen=True)
+class SweepMember:
+    """The outcome of one problem of a :func:`sweep`.
+
+    Attributes
+    ----------
+    index : int
+        Position of the problem in the list given to :func:`sweep`.
+    key : str
+        SHA-256 of the problem and the solver settings (hex): the member's identity.
+    path : Path or None
+        The saved Solution (:func:`gridlbc.load` reads it); ``None`` if the member failed.
+    values : ndarray (n,) or None
+        v(x, 0) at the sweep's ``states`` (``None`` without states or when failed); +inf where
+        z underflowed.
+    diagnostics : SolveDiagnostics or None
+        Of the solve that wrote the file (also when the file was reused).
+    error : str or None
+        ``None``, or why the member failed (exception type and message).
+    reused : bool
+        The file was already complete from an earlier run and was not solved again.
+    warnings : tuple of str
+        Warnings raised while solving or evaluating this member (also re-issued by
+        :func:`sweep`).
+    """
+
+    index: int
+    key: str
+    path: Path | None
+    values: np.ndarray | None
+    diagnostics: SolveDiagnostics | None
+    error: str | None = None
+    reused: bool = False
+    warnings: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class _Outcome:
+    """What a worker sends back: small, whatever the grid size."""
+
+    values: np.ndarray | None
+    diagnostics: SolveDiagnostics | None
+    error: str | None
+    reused: bool
+    warnings: tuple[tuple[type, str], ...]
+
+
+def _json_default(obj):
+    if isinstance(obj, np.generic | np.ndarray):
+        return obj.tolist()
+    raise TypeError(f"{type(obj).__name__} is not JSON-serialisable")
+
+
+def settings_record(problem: Problem, settings: SolverSettings, arrays: dict) -> dict:
+    """The solver settings that change a solve's result, as JSON-ready data.
+
+    A fitting cost that is not a quadratic goes into ``arrays`` by its values at the nodes.
+    """
+    record = {k: v for k, v in dataclasses.asdict(settings).items()
+              if k not in _NOT_HASHED and k != "fitting"}
+    fitting = settings.fitting
+    record["fitting"] = fitting if fitting is None or isinstance(fitting, str) else \
+        _cost_record(fitting, "fitting", problem, arrays)
+    return record
+
+
+def member_key(problem: Problem, settings: SolverSettings) -> str:
+    """SHA-256 (hex) of what determines a solve's result: problem, settings and versions."""
+    from . import __version__
+
+    arrays: dict = {}
+    description = {"library_version": __version__, "format_version": FORMAT_VERSION,
+                   "problem": problem_record(problem, arrays),
+                   "settings": settings_record(problem, settings, arrays)}
+    h = hashlib.sha256(json.dumps(description, sort_keys=True, default=_json_default).encode())
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}:{a.dtype}:{a.shape}".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _finished(path: Path, key: str):
+    """The Solution stored at ``path`` if it is complete and was written for ``key``, else None."""
+    try:
+        if read_metadata(path).get("annotations", {}).get("sweep_key") != key:
+            return None
+        return load(path)  # verifies the arrays against their checksum
+    except (FileNotFoundError, ValueError, KeyError, TypeError):
+        return None
+
+
+def _save_atomic(solution, path: Path, key: str) -> None:
+    """Save under a temporary name, then rename: a killed worker never leaves a partial file."""
+    partial = path.with_name(f"{path.stem}.{os.getpid()}.partial.npz")
+    try:
+        save(solution, partial, annotations={"sweep_key": key})
+        os.replace(partial, path)
+    finally:
+        partial.unlink(missing_ok=True)
+
+
+def _run_member(problem: Problem, settings: SolverSettings, states, path: str, key: str,
+                numba_threads: int) -> _Outcome:
+    """Solve (or reuse) one member on a worker; every failure is returned, never raised."""
+    import numba
+
+    numba.set_num_threads(max(1, min(numba_threads, numba.config.NUMBA_NUM_THREADS)))
+    path = Path(path)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            solution = _finished(path, key)
+            reused = solution is not None
+            if not reused:
+                solution = solve(problem, settings=settings)
+                _save_atomic(solution, path, key)
+            values = None if states is None else solution.value(states, 0.0)
+            error = None
+        except Exception as exc:  # noqa: BLE001 (a member's failure is its result)
+            values, error, reused = None, f"{type(exc).__name__}: {exc}", False
+            solution = None
+    return _Outcome(values, None if solution is None else solution.diagnostics, error, reused,
+                    tuple((w.category, str(w.message)) for w in caught))
+
+
+def _import_distributed():
+    try:
+        import distributed
+    except ImportError as exc:
+        raise ImportError(
+            "gridlbc.sweep needs Dask distributed, which is not installed: install the extra "
+            "with pip install \"gridlbc[dask]\" (or pip install \"dask[distributed]\")"
+        ) from exc
+    return distributed
+
+
+def available_cores() -> int:
+    """Cores this process may run on (the default number of local workers)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+@contextlib.contextmanager
+def _connect(client, workers, numba_threads):
+    """A Dask client: the given one, one connected to an address, or a new local cluster."""
+    distributed = _import_distributed()
+    if client is not None and workers is not None:
+        raise ValueError("workers sizes the local cluster started when client is None: drop "
+                         "workers, or size your own cluster")
+    if isinstance(client, distributed.Client):
+        yield client
+        return
+    if isinstance(client, str):
+        with distributed.Client(client) as connected:
+            yield connected
+        return
+    if client is not None:
+        raise TypeError(f"client must be None, a dask.distributed.Client or a scheduler address "
+                        f"such as 'tcp://host:8786', got {type(client).__name__}")
+    workers = available_cores() if workers is None else workers
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    env = {"NUMBA_NUM_THREADS": str(numba_threads)}
+    with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                  dashboard_address=":0", env=env) as cluster, \
+            distributed.Client(cluster) as local:
+        yield local
+
+
+class _Progress:
+    """One line on stderr: members done, failed and reused, elapsed time."""
+
+    def __init__(self, total: int, enabled: bool, where: str):
+        self.total, self.enabled = total, enabled
+        self.start = time.perf_counter()
+        if enabled:
+            sys.stderr.write(f"sweep: {total} members on {where}\n")
+
+    def update(self, done: int, failed: int, reused: int):
+        if not self.enabled:
+            return
+        elapsed = time.perf_counter() - self.start
+        bar = "#" * int(25 * done / self.total)
+        eta = f"{elapsed * (self.total - done) / done:6.1f}s" if done else "     ?"
+        sys.stderr.write(f"\rsweep [{bar:<25}] {done}/{self.total} done, {failed} failed, "
+                         f"{reused} reused {elapsed:6.1f}s ETA {eta}")
+        if done == self.total:
+            sys.stderr.write("\n")
+        sys.stderr.flush()
+
+
+def _describe(client) -> str:
+    n = len(client.scheduler_info().get("workers", {}))
+    return f"{n} worker{'s' * (n != 1)} at {client.scheduler.address}"
+
+
+def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = None,
+          numba_threads: int = 1, progress: bool = True, settings=None,
+          **solve_options) -> list[SweepMember]:
+    """Solve many problems in parallel on Dask distributed; one saved Solution per problem.
+
+    Parameters
+    ----------
+    problems : sequence of Problem
+        The members. They are pickled to the workers: the built-in systems and
+        :class:`gridlbc.Quadratic` costs are; your own systems and costs must be importable on
+        the workers.
+    out_dir : path
+        Where each member's Solution is written, as ``<system>-<key[:16]>.npz``. On a cluster of
+        several machines it must be a directory that every worker can write to.
+    states : array_like (n, d) or (d,), optional
+        States at which to report v(x, 0) in each member's ``values``.
+    client : None, dask.distributed.Client or str
+        ``None``: start a local cluster of ``workers`` processes with one thread each, and close
+        it at the end. A Client: use its cluster. A scheduler address (``"tcp://host:8786"``):
+        connect to it.
+    workers : int, optional
+        Processes of the local cluster (default: the cores available to this process).
+    numba_threads : int
+        Threads each member's numba kernels use (default 1: the parallelism is across members).
+    progress : bool
+        Print the sweep's progress to stderr.
+    settings, **solve_options
+        As for :func:`gridlbc.solve`, the same for every member.
+
+    Returns
+    -------
+    list of SweepMember
+        One per problem, in order. A member that failed has its ``error`` set; the others are
+        kept. Members already in ``out_dir`` from an earlier run of the same problem and settings
+        are loaded (``reused``), not solved again.
+    """
+    problems = list(problems)
+    for i, problem in enumerate(problems):
+        if not isinstance(problem, Problem):
+            raise TypeError(f"problems[{i}] must be a gridlbc.Problem, got "
+                            f"{type(problem).__name__}")
+    if isinstance(numba_threads, bool) or not isinstance(numba_threads, int) or numba_threads < 1:
+        raise ValueError(f"numba_threads must be a positive integer, got {numba_threads!r}")
+    s = dataclasses.replace(_settings(settings, solve_options), progress=False)
+    points = None if states is None else [p.grid.check_states(states, "states") for p in problems]
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    keys = [member_key(p, s) for p in problems]
+    paths = [(out_dir / f"{type(p.system).__name__.lower()}-{k[:16]}.npz").resolve()
+             for p, k in zip(problems, keys)]
+    state_tag = "none" if states is None else \
+        hashlib.sha256(np.ascontiguousarray(points[0]).tobytes()).hexdigest()[:16]
+    outcomes: dict[str, _Outcome] = {}
+    with _connect(client, workers, numba_threads) as c:
+        pending, submitted = {}, set()
+        for i, (problem, key, path) in enumerate(zip(problems, keys, paths)):
+            if key in submitted:
+                continue  # the same problem twice: solved once, reported for both
+            submitted.add(key)
+            try:
+                future = c.submit(_run_member, problem, s, None if points is None else points[i],
+                                  str(path), key, numba_threads,
+                                  key=f"gridlbc-sweep-{key[:32]}-{state_tag}")
+            except Exception as exc:  # noqa: BLE001 (e.g. a problem that cannot be pickled)
+                outcomes[key] = _Outcome(None, None, f"{type(exc).__name__}: {exc}", False, ())
+                continue
+            pending[future] = key
+        bar = _Progress(len(set(keys)), progress, _describe(c))
+        failed = sum(o.error is not None for o in outcomes.values())
+        reused = 0
+        bar.update(len(outcomes), failed, reused)
+        distributed = _import_distributed()
+        for future in distributed.as_completed(list(pending)):
+            try:
+                outcome = future.result()
+            except Exception as exc:  # noqa: BLE001 (a worker died or could not unpickle it)
+                outcome = _Outcome(None, None, f"{type(exc).__name__}: {exc}", False, ())
+            outcomes[pending[future]] = outcome
+            failed += outcome.error is not None
+            reused += outcome.reused
+            bar.update(len(outcomes), failed, reused)
+            future.release()
+    members = []
+    for i, (key, path) in enumerate(zip(keys, paths)):
+        o = outcomes[key]
+        for category, message in o.warnings:
+            warnings.warn(f"sweep member {i}: {message}", category, stacklevel=2)
+        members.append(SweepMember(i, key, None if o.error else path, o.values, o.diagnostics,
+                                   o.error, o.reused, tuple(m for _, m in o.warnings)))
+    return members
