@@ -521,6 +521,37 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
             out[r, p] *= norm
 
 
+def diffuse_fitted_numpy(y: np.ndarray, ell: np.ndarray, variance: float, h: float,
+                         periodic: bool, points: int = 64, images: int = 3) -> np.ndarray:
+    """Plain-numpy twin of :func:`_diffuse_fitted_kernel` on one line (``y`` ``(K, n)``, ``ell``
+    ``(n,)``): the same integral by the midpoint rule with ``points`` per cell over ``images``
+    line lengths to each side, every cell taken (no window)."""
+    n = ell.size
+    period = n if periodic else 2 * (n - 1)
+    if periodic:
+        left, centre, right = np.roll(ell, 1), ell, np.roll(ell, -1)
+        kappa = left - 2 * centre + right
+    else:
+        inner = np.clip(np.arange(n), 1, n - 2)
+        kappa = ell[inner - 1] - 2 * ell[inner] + ell[inner + 1]
+    A = h * h / (2 * variance)
+    m = np.arange(-images * n, images * n)
+    k = np.mod(m, period)
+    k0 = np.where(k > n - 1, period - k, k)
+    k = np.mod(m + 1, period)
+    k1 = np.where(k > n - 1, period - k, k)
+    s = (np.arange(points) + 0.5) / points
+    cell_kappa = np.minimum(0.5 * (kappa[k0] + kappa[k1]), A)[:, None]
+    log_phi = (1 - s) * ell[k0, None] + s * ell[k1, None] - 0.5 * cell_kappa * s * (1 - s)
+    y_bar = (1 - s) * y[:, k0, None] + s * y[:, k1, None]
+    out = np.empty_like(y, dtype=float)
+    for i in range(n):
+        x = (m[:, None] - i + s) * h
+        weight = np.exp(-x * x / (2 * variance) + log_phi) * h / points
+        out[:, i] = (y_bar * weight).sum(axis=(1, 2)) / np.sqrt(2 * np.pi * variance)
+    return out
+
+
 @jit_parallel
 def _cost_max_kernel(z, cost, block_max):
     """z[r] *= cost (when ``cost`` is not empty); block_max[r, b] = max of z[r] over block b."""
