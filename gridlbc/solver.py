@@ -80,7 +80,9 @@ class SolverSettings:
         far less numerical diffusion where v is steep. ``None``: plain barycentric
         interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
         :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
-        that cost. The step stays linear in z for a fixed reference, so superposition is exact
+        that cost. The diffusion is fitted to the same reference, and a single solve fitted
+        to its own terminal cost runs in the log domain and interpolates v (no underflow at any
+        temperature). The step stays linear in z for a fixed reference, so superposition is exact
         among solutions that share it; :func:`gridlbc.combine` refuses solutions fitted to
         different references.
     """
@@ -199,7 +201,7 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
     fitted = settings.fitting is not None
     rows = n_rhs + (1 if fitted and not _is_own_reference(settings.fitting, n_rhs) else 0)
-    working = (3 * rows + grid.ndim + (1 if fitted else 0)) * grid.size * 8  # + log φ
+    working = (3 * rows + grid.ndim + (2 if fitted else 0)) * grid.size * 8  # + log φ, κ
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)
     return {"stored": stored, "working": working, "operator": operator, "ram": ram}

@@ -42,6 +42,19 @@ exact among them (the README's swing-up tables compare the two). Where v is curv
 interpolating v overestimates it by about h² v''/8 per step: the fitted value errs on the
 pessimistic side.
 
+Fitted diffusion. With a reference, the half-step diffusion along each noise axis is fitted too:
+
+    (D_φ z)(x) = ∫ G_σ(x − x') φ̄(x') ȳ(x') dx',    y = z/φ,    σ² = λ (B R⁻¹ Bᵀ)_kk Δt/2,
+
+with ȳ the piecewise-linear interpolant of y, log φ̄ on each cell the quadratic through its two
+nodes with the cell's mean second difference, and the line continued by wrapping (periodic) or
+mirroring (closed, the reflecting constraint); each cell's integral is closed-form (erf). For a
+fixed φ this is again linear and non-negative and exact where z ∝ φ (for a Gaussian φ exactly
+the heat kernel's result). Its tails are Gaussian, so moving k cells costs the control's true
+(kh)²/(2 (B R⁻¹ Bᵀ)_kk Δt/2) at any λ; the tridiagonal solve's tails decay only geometrically,
+which caps the rise of −λ log z per cell at λ log(1/ρ), a cap that vanishes with λ. A single
+solve fitted to itself runs in the log domain (:meth:`SplittingStep.log_step`).
+
 Large grids. The feet are computed once per solve, in chunks, and stored compactly
 (:data:`FEET_LAYOUTS`): ``"compact"`` keeps per node the base corner (int32), the index (uint16) of its
 simplex's shape (axis order and periodic seams; a small table holds the d+1 vertex offsets of
