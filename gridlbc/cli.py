@@ -339,6 +339,35 @@ def _cmd_figures(args) -> int:
     return 0
 
 
+def _cmd_interactive(args) -> int:
+    from .interactive import write_page
+    from .io import load
+
+    options = {"dtype": args.dtype, "n_times": args.times}
+    if args.max_mb is not None:
+        options["max_bytes"] = int(args.max_mb * 1e6)
+    if args.nodes is not None:
+        nodes = [c.strip() for c in args.nodes.split(",")]
+        if not all(c.isdigit() for c in nodes):
+            raise ValueError(f"--nodes expects node counts such as 61 or 61,41, got {args.nodes!r}")
+        options["nodes"] = [int(c) for c in nodes]
+    if args.weights is not None:
+        options["weights"] = _vector(args.weights, "--weights")
+    if args.state is not None:
+        options["state"] = _vector(args.state, "--state")
+    if args.solutions:
+        report = write_page([load(p) for p in args.solutions], args.out, **options)
+    else:
+        from .studies.demo import interactive_demo
+
+        if not args.quiet:
+            print(f"solving the built-in pendulum demo (three goals) on {args.demo_grid} θ "
+                  "nodes ...", flush=True)
+        report = interactive_demo(args.out, args.demo_grid, progress=not args.quiet, **options)
+    print(report.summary())
+    return 0
+
+
 def _add_problem_arguments(parser):
     """The flags that describe a problem and its solver settings (``solve`` and ``sweep``)."""
     parser.add_argument("--config", metavar="TOML", help="problem description file")
@@ -442,6 +471,41 @@ def _add_workflow_parsers(sub):
     certify.add_argument("--seed", type=int, help="random seed")
     certify.add_argument("--quiet", action="store_true", help="no progress output")
     certify.set_defaults(func=_cmd_certify)
+
+    interactive = sub.add_parser(
+        "interactive", help="write a self-contained web page that recombines solutions live",
+        description="Write one HTML file (nothing loaded from the network) that recombines saved "
+        "solutions in the browser: drag weights, pick a goal (weights by projection), click a "
+        "state to roll out the combined controller on the value and policy maps. Without files "
+        "it solves a built-in pendulum swing-up with three goals on 101² (well under a "
+        "minute). Supported: 2-D Pendulum and PointMass solutions. Solutions larger than "
+        "--max-mb are decimated (a subset of the stored slices, denser towards T, and a "
+        "coarser grid, both evaluated from the solution itself); the page then computes "
+        "exactly what gridlbc.combine computes on the decimated solutions, and the output says "
+        "how far those are from the originals. PAGE.html?weights=1,0.5&state=2.8,0&time=0 "
+        "writes {value, policy, alpha} as JSON into the element #probe (goal=c1,c2 instead of "
+        "weights: weights by projection).",
+    )
+    interactive.add_argument("solutions", nargs="*", help="solution files (gridlbc solve)")
+    interactive.add_argument("--out", required=True, help="the page to write (.html)")
+    interactive.add_argument("--weights", metavar="W1,W2,...",
+                             help="initial weights (default: all ones)")
+    interactive.add_argument("--state", metavar="X", help="initial rollout start state")
+    interactive.add_argument("--max-mb", type=float,
+                             help="embed the solutions whole up to this many MB of slices, "
+                             "else decimate to fit (default: 16; the built-in demo: 4)")
+    interactive.add_argument("--nodes", metavar="N[,N]",
+                             help="decimate to this many nodes per axis")
+    interactive.add_argument("--times", type=int, metavar="K",
+                             help="decimate to at most K stored time slices, denser towards "
+                             "T (default 41 when decimating)")
+    interactive.add_argument("--dtype", choices=["float32", "float64"], default="float32",
+                             help="precision of decimated slices (default float32: half the "
+                             "bytes; float64 keeps z below 1e-45 of each slice's maximum)")
+    interactive.add_argument("--demo-grid", type=int, default=101,
+                             help="nodes per axis of the built-in demo's solve (default: 101)")
+    interactive.add_argument("--quiet", action="store_true", help="no progress output")
+    interactive.set_defaults(func=_cmd_interactive)
 
     from .studies.figures import FIGURES
 

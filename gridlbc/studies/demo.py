@@ -12,6 +12,7 @@
 
 from __future__ import annotations
 
+import math
 import time
 from pathlib import Path
 
@@ -19,6 +20,7 @@ import numpy as np
 
 from ..combine import combine
 from ..costs import Quadratic
+from ..interactive import PageReport, write_page
 from ..simulate import simulate
 from ..solver import solve, solve_many
 from .problems import SWINGUP_START, swingup_problem
@@ -119,3 +121,43 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
                 "Linear Bellman combination of two goals θ = ±0.6 (w = 1, 1): t = 0")
     say(f"4. figures written to {out}/demo_swingup.png and demo_combined.png")
     return results
+
+
+# -- the built-in page of ``gridlbc interactive`` ---------------------------------------------
+
+INTERACTIVE_GOALS = ((-0.4, 0.0), (0.4, 0.0), (math.pi, 0.0))
+"""Goals (θ, ω) of the built-in page: upright leaning left, leaning right, hanging down."""
+
+INTERACTIVE_GOAL_WEIGHTS = (4.0, 0.5)
+"""diag W of each goal's g = (x − c)ᵀW(x − c): wide enough that projection interpolates between
+the two upright goals (a target between them is represented with a residual below one half)."""
+
+INTERACTIVE_HORIZON = 5.0
+"""Long enough for the noise-free closed loop from the swing-up start to reach a goal (in the
+demo's 3 s it stops short)."""
+
+INTERACTIVE_WEIGHTS = (1.0, 1.0, 0.0)
+"""Initial weights: swing up to either upright goal, the hanging one switched off."""
+
+INTERACTIVE_LABELS = ("upright, leaning left (θ = −0.4)", "upright, leaning right (θ = +0.4)",
+                      "hanging down (θ = π)")
+
+
+def interactive_demo(out, grid_size: int = 101, progress: bool = True,
+                     **page_options) -> PageReport:
+    """Write the built-in page of ``gridlbc interactive`` to ``out``.
+
+    The swing-up pendulum (λ = 1, R = 1) over :data:`INTERACTIVE_HORIZON`, solved on
+    ``grid_size`` θ nodes for the :data:`INTERACTIVE_GOALS` with one operator fitted to Σ_i h_i
+    (so that they combine exactly), starting from near hanging down, decimated to 4 MB of slices
+    (a 5.3 MB page). ``page_options`` go to :func:`gridlbc.interactive.write_page` (and override
+    the demo's weights, state or size).
+    """
+    problem = swingup_problem(grid_size, horizon=INTERACTIVE_HORIZON)
+    goals = [Quadratic(list(c), INTERACTIVE_GOAL_WEIGHTS) for c in INTERACTIVE_GOALS]
+    solutions = solve_many(problem, goals, fitting="terminal", progress=progress)
+    options = {"weights": INTERACTIVE_WEIGHTS, "state": SWINGUP_START, "max_bytes": 4_000_000,
+               "labels": INTERACTIVE_LABELS,
+               "title": "Linear Bellman combination, live: pendulum swing-up"}
+    options.update(page_options)
+    return write_page(solutions, out, **options)
