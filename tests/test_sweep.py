@@ -47,10 +47,8 @@ def client():
 def test_problems_pickle_for_the_workers(system):
     """Plain pickle (what any cluster can ship) round-trips a problem with a built-in system and
     quadratic costs to the same dynamics and costs, bit for bit."""
-    from gridlbc.config import default_axes
-
     d = system.state_dim
-    problem = Problem(system, Grid(default_axes(system, [5])), 1.5, Quadratic(np.ones(d), 2.0),
+    problem = Problem(system, system.default_grid(5), 1.5, Quadratic(np.ones(d), 2.0),
                       state_cost=Quadratic(np.zeros(d), 0.1), control_cost=0.5, temperature=0.7)
     copy = pickle.loads(pickle.dumps(problem))
     x = problem.grid.nodes()
@@ -208,4 +206,5 @@ def test_worker_warnings_reach_the_caller(tmp_path, client):
         [member] = gridlbc.sweep([problem], tmp_path, states=[-math.pi, -8.0], client=client,
                                  progress=False, dtype="float32")
     assert member.values[0] == math.inf and member.error is None
-    assert len(member.warnings) == 1 and "underflow" in member.warnings[0]
+    # the plain solve at λ = 0.005 also (rightly) raises a ResolutionWarning on the worker
+    assert sum("underflow" in w for w in member.warnings) == 1, member.warnings
