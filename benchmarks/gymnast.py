@@ -9,7 +9,8 @@ in float64 (every k-th, "kept" in the table, to fit --memory). Reported: the sol
 v(x₀, 0) = −λ log z(x₀, 0), the noise-free rollout cost and final angle distance from the
 handstand, the noisy policy cost J ± its standard error, the effective sample size of the
 policy's own certificate, and the wall time of the solve: the accuracy-per-second frontier.
-References: the deterministic optimum (gridlbc.trajopt, multistart RK4 single shooting) for the
+References: the deterministic optimum (gridlbc.trajectory.optimize, multistart RK4 single
+shooting polished by iLQR) for the
 noise-free cost, and for the noisy problem the certified optimum v*(x₀) (gridlbc.certify with
 --truth-samples, the policy of the row with the lowest J as proposal), against which the
 predictions and the policies' costs are then tabulated.
@@ -33,13 +34,11 @@ from gridlbc.certify import CertificateWarning
 from gridlbc.simulate import simulate
 from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
 from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
-from gridlbc.trajopt import optimize_trajectory
+from gridlbc.trajectory import optimize
 
 
 def deterministic_optimum(problem):
-    system = problem.system
-    return optimize_trajectory(system.drift, system.input_matrix, GYMNAST_START,
-                               problem.horizon, problem.terminal_cost, n_intervals=300)
+    return optimize(problem, GYMNAST_START, n_intervals=300)
 
 
 def policy_of(solution):
@@ -107,7 +106,7 @@ def main(argv=None):
     ref_distance = float(angle_distance(reference.states[-1:])[0])
     zero_cost, zero_distance = zero_torque_cost(gymnast_problem(11, args.bounds, hip),
                                               args.rollout_dt)
-    print(f"deterministic optimum (trajopt): cost {reference.cost:.2f}, final angle distance "
+    print(f"deterministic optimum (trajectory.optimize): cost {reference.cost:.2f}, final angle distance "
           f"{ref_distance:.2f} rad, max |p1| {np.abs(reference.states[:, 2]).max():.1f}, "
           f"max |p2| {np.abs(reference.states[:, 3]).max():.1f}")
     print(f"zero torque: cost {zero_cost:.2f}, final angle distance {zero_distance:.2f} rad")

@@ -5,9 +5,9 @@ solves a linear PDE (paper §3.2); solved on a grid, it gives the optimal value 
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 
-from . import costs, reference, systems
+from . import costs, reference, systems, trajectory
 from .certify import Certificate, CertificateWarning, certify
-from .combine import CombinedSolution, NaiveBlend, combine, naive_blend
+from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .io import load, save
@@ -26,6 +26,7 @@ __all__ = [
     "Axis",
     "Certificate",
     "CertificateWarning",
+    "Combination",
     "CombinedSolution",
     "Grid",
     "NaiveBlend",
@@ -54,4 +55,5 @@ __all__ = [
     "solve_many",
     "sweep",
     "systems",
+    "trajectory",
 ]

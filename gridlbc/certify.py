@@ -57,6 +57,11 @@ PROGRESS_DELAY = 2.0
 """Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
 
 
+_ESTIMATES = ("optimal_value", "optimal_value_se", "policy_cost", "policy_cost_se", "gap", "gap_se",
+              "effective_sample_size", "left_box_fraction", "optimal_left_box_fraction")
+"""The per-start-state fields of :class:`Certificate`, in the order :func:`_estimates` returns."""
+
+
 class CertificateWarning(UserWarning):
     """The certified optimum rests on too few effective samples to be trusted."""
 
@@ -83,7 +88,7 @@ class Certificate:
     effective_sample_size : float or ndarray (k,)
         (Σw)² / Σw² of the weights w = exp(−S_u/λ), between 1 and ``n_samples``.
     left_box_fraction : float or ndarray (k,)
-        Share of the samples that left the grid's box on a non-periodic axis.
+        Share of the samples that left the grid's box on a non-periodic axis (0 without a grid).
     optimal_left_box_fraction : float or ndarray (k,)
         The same share under the optimal process (weighted by w).
     final_states : ndarray (n, d) or (k, n, d)
@@ -122,9 +127,7 @@ class Certificate:
 
     def summary(self) -> str:
         """One line per start state: v*, J(u), the gap (± one SE each) and the diagnostics."""
-        rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in (
-            "optimal_value", "optimal_value_se", "policy_cost", "policy_cost_se", "gap", "gap_se",
-            "effective_sample_size", "left_box_fraction", "optimal_left_box_fraction")]
+        rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in _ESTIMATES]
         lines = []
         for i, x0 in enumerate(self.start_states):
             v, v_se, J, J_se, gap, gap_se, ess, left, left_opt = (r[i] for r in rows)
@@ -203,7 +206,7 @@ def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | Non
     _check_problem_and_policy(problem, policy)
     n = _check_sample_count(n_samples)
     single = np.ndim(x0) == 1
-    starts = problem.grid.wrap(problem.grid.check_states(x0, "x0"))
+    starts = problem.wrap(problem.check_states(x0, "x0"))
     K = _step_count(problem.horizon, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
@@ -216,17 +219,20 @@ def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | Non
     S = C + path.ito.reshape(k, n)
     left = path.left_box.reshape(k, n)
     columns = np.array([_estimates(S[i], C[i], left[i], lam) for i in range(k)]).T
-    for i in np.flatnonzero(columns[6] < min_effective_sample_size):
+    estimates = dict(zip(_ESTIMATES, columns))
+    ess, value = estimates["effective_sample_size"], estimates["optimal_value"]
+    for i in np.flatnonzero(ess < min_effective_sample_size):
         warnings.warn(
-            f"certify: effective sample size {columns[6, i]:.1f} of {n} at x0 = {starts[i]} is "
-            f"below {min_effective_sample_size:g}: v* = {columns[0, i]:.4g} and its standard "
+            f"certify: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
+            f"below {min_effective_sample_size:g}: v* = {value[i]:.4g} and its standard "
             "error are not trustworthy (a few samples carry all the weight exp(−S/λ)). Use a "
             "proposal closer to optimal (a finer or fitted grid solution), more samples, or note "
             f"that the temperature λ = {lam:g} is small relative to the costs, which sharpens "
             "the weights.",
             CertificateWarning, stacklevel=2,
         )
-    fields = [float(c[0]) if single else c for c in columns]
     final = path.final_states.reshape(k, n, -1)
-    return Certificate(starts, *fields, final_states=final[0] if single else final, n_samples=n, dt=problem.horizon / K, temperature=lam,
-                       min_effective_sample_size=float(min_effective_sample_size), seed=seed)
+    return Certificate(
+        starts, **{name: float(c[0]) if single else c for name, c in estimates.items()},
+        final_states=final[0] if single else final, n_samples=n, dt=problem.horizon / K,
+        temperature=lam, min_effective_sample_size=float(min_effective_sample_size), seed=seed)

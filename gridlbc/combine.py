@@ -22,18 +22,31 @@ with the common scale L = max_i L_i(t),
 so components whose scales differ by e^{±700} (1e±300) combine without overflow: the smaller ones
 contribute what they contribute in float64, and no more.
 
-:func:`naive_blend` is the baseline the paper beats: u = Σ w_i u_i / Σ w_i with the weights fixed.
+Components of any other kind (trajectory expansions from :func:`gridlbc.trajectory.expand`,
+alone or mixed with grid solutions of the same problem) combine through their values, in the
+log domain (paper §5, eq. 12):
+
+    α_i = w_i exp(−(v_i − v_min)/λ) / Σ_j w_j exp(−(v_j − v_min)/λ),   u = Σ α_i u_i,
+
+with v_min = min_j v_j per state, so nothing underflows. Such a combination is only as accurate
+as its components; a combination of grid solutions of one linear operator is exactly the direct
+solve. The ``exact`` attribute of the result says which holds.
+
+:func:`naive_blend` is the baseline the paper beats: u = Σ w_i u_i / Σ w_i with the weights fixed
+(or the plain sum Σ w_i u_i, the paper's Fig. 7 baseline).
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from .problem import Problem
-from .solution import Solution, warn_underflow
+from .solution import Solution, UnderflowWarning, warn_underflow
 
 
 def check_weights(weights, n: int) -> np.ndarray:
@@ -58,14 +71,30 @@ def check_weights(weights, n: int) -> np.ndarray:
     return w
 
 
-def _same_cost(a, b, grid) -> bool:
-    """Whether two costs agree at every grid node (the discrete problem only sees node values)."""
+def _same_cost(a, b, x: np.ndarray, t=None) -> bool:
+    """Whether two state costs agree at states ``x`` (and times ``t`` for a time-dependent one):
+    the grid nodes for grid solutions (the discrete problem only sees node values), a
+    trajectory's states and times for trajectory components."""
     if a is b:
         return True
     if a is None or b is None:
         return False
-    nodes = grid.nodes()
-    return bool(np.array_equal(np.asarray(a(nodes), float), np.asarray(b(nodes), float)))
+    values = [c(x, t) if getattr(c, "time_dependent", False) else c(x) for c in (a, b)]
+    return bool(np.array_equal(np.asarray(values[0], float), np.asarray(values[1], float)))
+
+
+def _problem_differences(p0: Problem, p: Problem) -> list[str]:
+    """What differs between two problems besides the terminal cost, state cost and grid."""
+    differs = []
+    if p.system != p0.system:
+        differs.append(f"system ({p0.system!r} vs {p.system!r})")
+    if p.horizon != p0.horizon:
+        differs.append(f"horizon ({p0.horizon:g} vs {p.horizon:g})")
+    if p.temperature != p0.temperature:
+        differs.append(f"temperature λ ({p0.temperature:g} vs {p.temperature:g})")
+    if not np.array_equal(p.R, p0.R):
+        differs.append(f"control cost R ({p0.R.tolist()} vs {p.R.tolist()})")
+    return differs
 
 
 def _check_components(solutions) -> tuple[Solution, ...]:
@@ -79,18 +108,10 @@ def _check_components(solutions) -> tuple[Solution, ...]:
     p0 = ref.problem
     for i, s in enumerate(solutions[1:], start=1):
         p = s.problem
-        differs = []
-        if p.system != p0.system:
-            differs.append(f"system ({p0.system!r} vs {p.system!r})")
+        differs = _problem_differences(p0, p)
         if p.grid != p0.grid:
             differs.append(f"grid ({p0.grid.describe()} vs {p.grid.describe()})")
-        if p.horizon != p0.horizon:
-            differs.append(f"horizon ({p0.horizon:g} vs {p.horizon:g})")
-        if p.temperature != p0.temperature:
-            differs.append(f"temperature λ ({p0.temperature:g} vs {p.temperature:g})")
-        if not np.array_equal(p.R, p0.R):
-            differs.append(f"control cost R ({p0.R.tolist()} vs {p.R.tolist()})")
-        if p.grid == p0.grid and not _same_cost(p.state_cost, p0.state_cost, p.grid):
+        if p.grid == p0.grid and not _same_cost(p.state_cost, p0.state_cost, p.grid.nodes()):
             differs.append("state cost q (values differ at the grid nodes)")
         if not np.array_equal(s.times, ref.times):
             differs.append(f"time grid ({len(ref.times)} vs {len(s.times)} stored slices, or "
@@ -132,6 +153,18 @@ class CompositeCost:
             return np.where(s > 0, -lam * (np.log(np.where(s > 0, s, 1.0)) + top), np.inf)
 
 
+def _normalised(terms: np.ndarray) -> np.ndarray:
+    """α = terms / Σ terms, ``(n, N)`` → ``(N, n)``; NaN (with an UnderflowWarning) where the
+    sum is not positive."""
+    total = terms.sum(axis=0)
+    bad = ~(total > 0)
+    warn_underflow(bad)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        alpha = (terms / np.where(bad, 1.0, total)).T
+    alpha[bad] = np.nan
+    return alpha
+
+
 @dataclass(frozen=True, eq=False)
 class CombinedSolution:
     """z = Σ w_i z_i of solutions sharing one PDE; evaluates like a :class:`gridlbc.Solution`.
@@ -144,11 +177,16 @@ class CombinedSolution:
     problem : Problem
         The components' problem with the composite terminal cost
         g = −λ log Σ w_i exp(−g_i/λ) (a :class:`CompositeCost`), e.g. for :func:`gridlbc.simulate`.
+    exact : bool
+        Always True: the components share one linear operator (same scheme, and no fitting or
+        one shared fitting reference), so this is the direct solve of the composite cost to
+        rounding.
     """
 
     components: tuple[Solution, ...]
     weights: np.ndarray
     problem: Problem
+    exact: ClassVar[bool] = True
 
     @property
     def times(self) -> np.ndarray:
@@ -181,13 +219,7 @@ class CombinedSolution:
         """α_i(x, t) = w_i z_i / Σ_j w_j z_j, shape ``(N, n)``: non-negative and summing to one
         when the weights are; NaN (with an UnderflowWarning) where Σ w_j z_j underflowed."""
         _, z, _ = self._component_fields(x, t, gradient=False)
-        total = z.sum(axis=0)
-        bad = ~(total > 0)
-        warn_underflow(bad)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            alpha = (z / np.where(bad, 1.0, total)).T
-        alpha[bad] = np.nan
-        return alpha
+        return _normalised(z)
 
     # The evaluation from scaled fields is exactly Solution's: share it rather than repeat it.
     log_desirability = Solution.log_desirability
@@ -196,55 +228,193 @@ class CombinedSolution:
     policy = Solution.policy
 
 
-def combine(solutions, weights=None) -> CombinedSolution:
-    """Linear Bellman combination z = Σ w_i z_i of solutions of one PDE (paper §3–4).
+@dataclass(frozen=True, eq=False)
+class Combination:
+    """Σ w_i z_i of components known through their values: α_i ∝ w_i exp(−(v_i − v_min)/λ).
+
+    Attributes
+    ----------
+    components : tuple
+        Trajectory expansions and/or grid Solutions of one problem.
+    weights : ndarray (n,)
+    problem : Problem
+        The components' problem with the composite terminal cost (a :class:`CompositeCost`).
+    exact : bool
+        Always False: the combination is only as accurate as its components (their values are
+        approximations of different origins, not one linear operator's solutions).
+    """
+
+    components: tuple
+    weights: np.ndarray
+    problem: Problem
+    exact: ClassVar[bool] = False
+
+    @property
+    def temperature(self) -> float:
+        return self.problem.temperature
+
+    def _log_terms(self, x, t) -> np.ndarray:
+        """log |w_i| + log z_i(x, t), shape ``(n, N)`` (−inf where a component underflowed)."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UnderflowWarning)  # only the total's underflow counts
+            logs = [_log_desirability(c, x, t) for c in self.components]
+        with np.errstate(divide="ignore"):
+            return np.log(np.abs(self.weights))[:, None] + np.stack(logs)
+
+    def _scaled(self, x, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(top, terms, total): terms_i = sign(w_i) exp(e_i − top), total = Σ terms_i."""
+        e = self._log_terms(x, t)
+        top = e.max(axis=0)
+        finite = np.isfinite(top)
+        terms = np.sign(self.weights)[:, None] * np.exp(e - np.where(finite, top, 0.0))
+        terms[:, ~finite] = 0.0
+        return top, terms, terms.sum(axis=0)
+
+    def log_desirability(self, x, t) -> np.ndarray:
+        """log Σ w_i z_i(x, t), shape ``(N,)`` (−inf, with an UnderflowWarning, where it is not
+        positive)."""
+        top, _, total = self._scaled(x, t)
+        bad = ~(total > 0)
+        warn_underflow(bad)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, total)) + top)
+
+    def desirability(self, x, t) -> np.ndarray:
+        """z = Σ w_i z_i, shape ``(N,)`` (may underflow: use :meth:`value`)."""
+        with np.errstate(under="ignore", over="ignore"):
+            return np.exp(self.log_desirability(x, t))
+
+    def value(self, x, t) -> np.ndarray:
+        """v = −λ log Σ w_i z_i, shape ``(N,)``."""
+        return -self.temperature * self.log_desirability(x, t)
+
+    def blend_weights(self, x, t) -> np.ndarray:
+        """α_i(x, t), shape ``(N, n)`` (NaN, with an UnderflowWarning, where Σ w_j z_j ≤ 0)."""
+        return _normalised(self._scaled(x, t)[1])
+
+    def policy(self, x, t) -> np.ndarray:
+        """u = Σ α_i u_i, shape ``(N, m)``; components with α_i = 0 are not evaluated there."""
+        alpha = self.blend_weights(x, t)
+        u = 0.0
+        for i, c in enumerate(self.components):
+            active = alpha[:, i] != 0
+            if not np.any(active):
+                continue
+            ui = np.zeros((alpha.shape[0], self.problem.system.control_dim))
+            ui[active] = np.asarray(c.policy(np.atleast_2d(x)[active], t), dtype=float)
+            u = u + alpha[:, i, None] * ui
+        return u + np.zeros((alpha.shape[0], self.problem.system.control_dim))
+
+
+def _log_desirability(component, x, t) -> np.ndarray:
+    if callable(getattr(component, "log_desirability", None)):
+        return np.asarray(component.log_desirability(x, t), dtype=float)
+    return -np.asarray(component.value(x, t), dtype=float) / component.problem.temperature
+
+
+def _check_general_components(components) -> tuple:
+    """Components with ``.value``, ``.policy`` and ``.problem``, all of one problem."""
+    for i, c in enumerate(components):
+        for attr in ("value", "policy"):
+            if not callable(getattr(c, attr, None)):
+                raise TypeError(
+                    f"components[{i}] ({type(c).__name__}) has no .{attr}(x, t): combine needs "
+                    "each component's value function and policy (a gridlbc.Solution, or "
+                    "gridlbc.trajectory.expand(problem, trajectory))"
+                )
+        if not isinstance(getattr(c, "problem", None), Problem):
+            raise TypeError(f"components[{i}] ({type(c).__name__}) has no .problem: combine "
+                            "checks that all components solve the same problem")
+    p0 = components[0].problem
+    sample = next((c.trajectory for c in components if hasattr(c, "trajectory")), None)
+    for i, c in enumerate(components[1:], start=1):
+        p = c.problem
+        differs = _problem_differences(p0, p)
+        if sample is not None and not _same_cost(p.state_cost, p0.state_cost, sample.states,
+                                                 sample.times):
+            differs.append("state cost q (values differ along a component's trajectory)")
+        if differs:
+            raise ValueError(
+                f"components[{i}] and components[0] must be controllers of the same problem to "
+                f"combine, but differ in: {'; '.join(differs)}. Only the terminal cost may differ."
+            )
+    return components
+
+
+def combine(components, weights=None) -> CombinedSolution | Combination:
+    """Linear Bellman combination z = Σ w_i z_i of controllers of one problem (paper §3–5).
 
     Parameters
     ----------
-    solutions : sequence of Solution
-        Solved for different terminal costs g_i, everything else equal (system, grid, horizon,
-        stored times, state cost q, control cost R, temperature λ, solver method); otherwise a
-        ``ValueError`` names what differs.
+    components : sequence of Solution and/or trajectory components
+        Grid Solutions solved for different terminal costs g_i, everything else equal (system,
+        grid, horizon, stored times, state cost q, control cost R, temperature λ, solver method,
+        fitting reference); or any components with ``.value(x, t)``, ``.policy(x, t)`` and
+        ``.problem`` of one problem (system, horizon, q, R, λ), such as
+        :func:`gridlbc.trajectory.expand`, mixed with grid Solutions or not. Otherwise an error
+        names what differs.
     weights : array_like (n,), optional
         Fixed weights w_i. ``None`` (coordination): all ones. Otherwise finite with a positive
         sum; from :func:`gridlbc.project` to interpolate a target cost.
 
     Returns
     -------
-    CombinedSolution
-        ``value``, ``log_desirability``, ``desirability``, ``policy`` exactly as the solution of
-        the composite terminal cost g = −λ log Σ w_i exp(−g_i/λ), plus ``blend_weights``
-        α_i = w_i z_i / Σ_j w_j z_j, and u = Σ α_i u_i.
+    CombinedSolution or Combination
+        Grid Solutions only: a :class:`CombinedSolution`, exactly the solution of the composite
+        terminal cost g = −λ log Σ w_i exp(−g_i/λ) (``exact`` True). Otherwise a
+        :class:`Combination` (``exact`` False: as accurate as its components). Both have
+        ``value``, ``log_desirability``, ``desirability``, ``policy`` (u = Σ α_i u_i) and
+        ``blend_weights`` α_i = w_i z_i / Σ_j w_j z_j.
     """
-    solutions = _check_components(solutions)
-    w = check_weights(weights, len(solutions))
-    base = solutions[0].problem
-    cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w, base.temperature)
-    return CombinedSolution(solutions, w, base.replace(terminal_cost=cost))
+    components = tuple(components)
+    if not components:
+        raise ValueError("components is empty: give at least one gridlbc.Solution or trajectory "
+                         "component to combine")
+    if all(isinstance(c, Solution) for c in components):
+        solutions = _check_components(components)
+        w = check_weights(weights, len(solutions))
+        base = solutions[0].problem
+        cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w,
+                             base.temperature)
+        return CombinedSolution(solutions, w, base.replace(terminal_cost=cost))
+    components = _check_general_components(components)
+    w = check_weights(weights, len(components))
+    base = components[0].problem
+    cost = CompositeCost(tuple(c.problem.terminal_cost for c in components), w, base.temperature)
+    return Combination(components, w, base.replace(terminal_cost=cost))
+
+
+BLEND_MODES = ("average", "sum")
+"""How :func:`naive_blend` adds the weighted policies."""
 
 
 @dataclass(frozen=True, eq=False)
 class NaiveBlend:
     """The fixed-weight average u = Σ w_i u_i / Σ w_i of component policies (the paper's
-    baseline): same weights at every state and time, blind to which component is relevant."""
+    baseline), or the sum Σ w_i u_i (``mode="sum"``): same weights at every state and time,
+    blind to which component is relevant."""
 
     components: tuple
     weights: np.ndarray
+    mode: str = "average"
 
     def policy(self, x, t) -> np.ndarray:
-        """u(x, t) = Σ w_i u_i(x, t) / Σ w_i, shape ``(N, m)``."""
+        """u(x, t) = Σ w_i u_i(x, t) / Σ w_i (or Σ w_i u_i(x, t)), shape ``(N, m)``."""
         u = [np.asarray(c.policy(x, t), dtype=float) for c in self.components]
         shapes = {a.shape for a in u}
         if len(shapes) != 1:
             raise ValueError(f"component policies return different shapes {sorted(shapes)}")
-        return np.einsum("i,i...->...", self.weights, np.stack(u)) / self.weights.sum()
+        total = np.einsum("i,i...->...", self.weights, np.stack(u))
+        return total if self.mode == "sum" else total / self.weights.sum()
 
 
-def naive_blend(solutions, weights) -> NaiveBlend:
+def naive_blend(solutions, weights, mode: str = "average") -> NaiveBlend:
     """The naive blend u = Σ w_i u_i / Σ w_i with fixed ``weights`` (paper Fig. 6).
 
-    ``solutions`` are any objects with ``.policy(x, t)`` (Solutions or your own controllers);
-    ``weights`` as for :func:`combine` (``None``: the plain average).
+    ``solutions`` are any objects with ``.policy(x, t)`` (Solutions, trajectory components or
+    your own controllers); ``weights`` as for :func:`combine` (``None``: all ones).
+    ``mode="sum"`` gives Σ w_i u_i instead, the paper's Fig. 7 baseline ("simply sums the
+    results of the two tracking controllers").
     """
     components = tuple(solutions)
     if not components:
@@ -252,4 +422,6 @@ def naive_blend(solutions, weights) -> NaiveBlend:
     for i, c in enumerate(components):
         if not callable(getattr(c, "policy", None)):
             raise TypeError(f"solutions[{i}] has no .policy(x, t) method ({type(c).__name__})")
-    return NaiveBlend(components, check_weights(weights, len(components)))
+    if mode not in BLEND_MODES:
+        raise ValueError(f"mode must be one of {', '.join(map(repr, BLEND_MODES))}, got {mode!r}")
+    return NaiveBlend(components, check_weights(weights, len(components)), mode)

@@ -77,12 +77,7 @@ class Quadratic:
             x = x[None, :]
         if x.ndim != 2 or x.shape[1] != self.dim:
             raise ValueError(f"cost argument must have shape (N, {self.dim}), got {x.shape}")
-        diff = x - self.center
-        if self.periods is not None:
-            for k in np.flatnonzero(np.isfinite(self.periods)):
-                P = self.periods[k]
-                diff[:, k] = np.mod(diff[:, k] + 0.5 * P, P) - 0.5 * P
-        return diff
+        return wrap_difference(x - self.center, self.periods)
 
     def __call__(self, x) -> np.ndarray:
         diff = self.difference(x)
@@ -92,6 +87,17 @@ class Quadratic:
         w = np.diag(self.weights) if np.count_nonzero(self.weights - np.diag(np.diag(self.weights))) == 0 \
             else self.weights
         return f"Quadratic(center={self.center.tolist()}, weights={np.asarray(w).tolist()})"
+
+
+def wrap_difference(diff: np.ndarray, periods) -> np.ndarray:
+    """Differences ``(N, d)`` taken to the nearest image, in ``[−P/2, P/2)``, on the coordinates
+    with a finite period (``periods`` ``(d,)``, ``inf`` or ``None`` for none); a new array."""
+    diff = np.array(diff, dtype=float)
+    if periods is not None:
+        for k in np.flatnonzero(np.isfinite(periods)):
+            P = periods[k]
+            diff[:, k] = np.mod(diff[:, k] + 0.5 * P, P) - 0.5 * P
+    return diff
 
 
 def evaluate_cost(cost, x: np.ndarray, name: str) -> np.ndarray:
@@ -106,3 +112,69 @@ def evaluate_cost(cost, x: np.ndarray, name: str) -> np.ndarray:
     if not np.all(np.isfinite(values)):
         raise ValueError(f"{name} returned a non-finite value (NaN or inf) at some states")
     return values
+
+
+@dataclass(frozen=True, eq=False)
+class Tracking:
+    """The tracking cost q(x, t) = (x − x̃(t))ᵀ Q (x − x̃(t)) of the paper's §6.1, wrap-aware.
+
+    x̃(t) is the reference path, linear between the given samples (held at the ends). Costs that
+    depend on time are used by :mod:`gridlbc.trajectory` and :func:`gridlbc.simulate`; the grid
+    solvers need q(x) and refuse them.
+
+    Parameters
+    ----------
+    times : array_like, shape (S,)
+        Increasing sample times of the reference path.
+    states : array_like, shape (S, d)
+        x̃ at those times (angles unwrapped, in radians from the upright).
+    weights : array_like, shape (d,) or (d, d)
+        Q, positive semi-definite.
+    periods : array_like, shape (d,), optional
+        As for :class:`Quadratic`; a :class:`gridlbc.Problem` fills it in.
+    """
+
+    times: np.ndarray
+    states: np.ndarray
+    weights: np.ndarray
+    periods: np.ndarray | None = None
+
+    time_dependent = True
+
+    def __post_init__(self):
+        t = np.asarray(self.times, dtype=float)
+        x = np.asarray(self.states, dtype=float)
+        if t.ndim != 1 or t.size < 1 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
+            raise ValueError("Tracking times must be a non-empty increasing vector of finite times")
+        if x.ndim != 2 or x.shape[0] != t.size or not np.all(np.isfinite(x)):
+            raise ValueError(f"Tracking states must be finite with shape ({t.size}, d), one row "
+                             f"per time, got shape {np.shape(self.states)}")
+        shape = Quadratic(x[0], self.weights, self.periods)  # validates weights and periods
+        object.__setattr__(self, "times", t)
+        object.__setattr__(self, "states", x)
+        object.__setattr__(self, "weights", shape.weights)
+        object.__setattr__(self, "periods", shape.periods)
+
+    @property
+    def dim(self) -> int:
+        return self.states.shape[1]
+
+    def with_periods(self, periods) -> Tracking:
+        return Tracking(self.times, self.states, self.weights, periods)
+
+    def reference(self, t) -> np.ndarray:
+        """x̃(t) for times ``(N,)`` (or one time), shape ``(N, d)``."""
+        t = np.atleast_1d(np.asarray(t, dtype=float))
+        return np.stack([np.interp(t, self.times, self.states[:, k]) for k in range(self.dim)],
+                        axis=1)
+
+    def difference(self, x, t) -> np.ndarray:
+        """x − x̃(t), nearest image on periodic coordinates, shape ``(N, d)``."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        if x.ndim != 2 or x.shape[1] != self.dim:
+            raise ValueError(f"cost argument must have shape (N, {self.dim}), got {x.shape}")
+        return wrap_difference(x - self.reference(np.broadcast_to(t, x.shape[:1])), self.periods)
+
+    def __call__(self, x, t) -> np.ndarray:
+        diff = self.difference(x, t)
+        return np.einsum("ni,ij,nj->n", diff, self.weights, diff)

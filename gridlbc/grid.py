@@ -180,18 +180,7 @@ class Grid:
         A single state may be given as shape ``(d,)``. Raises a ``ValueError`` naming ``name`` on a
         wrong trailing dimension or a non-finite coordinate.
         """
-        arr = np.asarray(x, dtype=float)
-        if arr.ndim == 1:
-            arr = arr[None, :]
-        if arr.ndim != 2 or arr.shape[1] != self.ndim:
-            raise ValueError(
-                f"{name} must have shape (N, {self.ndim}) or ({self.ndim},) for this "
-                f"{self.ndim}-dimensional grid, got shape {np.shape(x)}"
-            )
-        if not np.all(np.isfinite(arr)):
-            bad = int(np.argmax(~np.all(np.isfinite(arr), axis=1)))
-            raise ValueError(f"{name} has a non-finite coordinate (first at row {bad}: {arr[bad]})")
-        return arr
+        return check_states(x, self.ndim, name, f"this {self.ndim}-dimensional grid")
 
     def reshape(self, values: np.ndarray) -> np.ndarray:
         """View flat nodal values ``(..., size)`` as ``(..., *shape)``."""
@@ -202,3 +191,22 @@ class Grid:
         dims = "×".join(str(n) for n in self.shape)
         kinds = ", ".join("periodic" if a.periodic else "-" for a in self.axes)
         return f"{dims} ({kinds})"
+
+
+def check_states(x, ndim: int, name: str = "x", where: str = "this state space") -> np.ndarray:
+    """States ``x`` as a finite float ``(N, ndim)`` array (one state may be ``(ndim,)``).
+
+    Raises a ``ValueError`` naming ``name`` and ``where`` on a wrong trailing dimension or a
+    non-finite coordinate.
+    """
+    arr = np.asarray(x, dtype=float)
+    if arr.ndim == 1:
+        arr = arr[None, :]
+    if arr.ndim != 2 or arr.shape[1] != ndim:
+        raise ValueError(
+            f"{name} must have shape (N, {ndim}) or ({ndim},) for {where}, got shape {np.shape(x)}"
+        )
+    if not np.all(np.isfinite(arr)):
+        bad = int(np.argmax(~np.all(np.isfinite(arr), axis=1)))
+        raise ValueError(f"{name} has a non-finite coordinate (first at row {bad}: {arr[bad]})")
+    return arr

@@ -1,4 +1,4 @@
-"""A linearly solvable finite-horizon control problem on a grid (paper §3.2).
+"""A linearly solvable finite-horizon control problem, on a grid or grid-free (paper §3.2).
 
     dx = (a(x) + B(x) u) dt + dξ,      Cov[dξ] = λ B R⁻¹ Bᵀ dt
     J  = E[ g(x_T) + ∫₀ᵀ ( q(x) + ½ uᵀ R u ) dt ]
@@ -8,6 +8,10 @@ The desirability z = exp(−v/λ) then solves the linear backward PDE
     −∂ₜz = −(q/λ) z + aᵀ∇z + (λ/2) tr(B R⁻¹ Bᵀ ∇²z),      z(x, T) = exp(−g(x)/λ),
 
 and the optimal policy is u* = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v.
+
+The grid solvers need a :class:`gridlbc.Grid`. Trajectory methods, rollouts and certificates do
+not: ``Problem(system, None, horizon, terminal_cost, ..., periodic=(...))`` states only which
+coordinates are angles (period 2π, wrapped into [−π, π)), for wrap-aware costs and differences.
 """
 
 from __future__ import annotations
@@ -17,8 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic, evaluate_cost
-from .grid import Grid
+from .costs import Quadratic, Tracking, evaluate_cost
+from .grid import Grid, check_states
 from .systems.base import ControlAffineSystem
 
 
@@ -57,45 +61,55 @@ class Problem:
     ----------
     system : ControlAffineSystem
         The dynamics a(x), B(x).
-    grid : Grid
-        The state-space box; one axis per state coordinate.
+    grid : Grid or None
+        The state-space box; one axis per state coordinate. ``None`` for a grid-free problem
+        (trajectory methods, :func:`gridlbc.simulate`): no box, and :func:`gridlbc.solve`
+        refuses it.
     horizon : float
         T > 0, in the system's time unit.
     terminal_cost : callable
         g(x) on ``(N, d)`` states, e.g. :class:`gridlbc.costs.Quadratic`. Quadratic costs are made
-        wrap-aware on the grid's periodic axes.
+        wrap-aware on the periodic axes.
     state_cost : callable, optional
-        q(x) ≥ 0 on ``(N, d)`` states; zero when omitted.
+        q(x) ≥ 0 on ``(N, d)`` states; zero when omitted. A cost with ``time_dependent = True``
+        (:class:`gridlbc.costs.Tracking`) is q(x, t): trajectory methods and
+        :func:`gridlbc.simulate` accept it, the grid solvers do not.
     control_cost : float, (m,) or (m, m)
         R, symmetric positive definite (a scalar means R = r I).
     temperature : float
         λ > 0: the noise level and the unit of the exponential transform z = exp(−v/λ).
+    periodic : sequence of int, optional
+        The periodic coordinates (angles: period 2π, wrapped into [−π, π)) of a grid-free
+        problem; default the system's ``angle_axes``, ``()`` for none. With a grid, the grid's
+        periodic axes decide (give ``periodic`` only to restate them).
     """
 
     system: ControlAffineSystem
-    grid: Grid
+    grid: Grid | None
     horizon: float
     terminal_cost: object
     state_cost: object = None
     control_cost: object = 1.0
     temperature: float = 1.0
+    periodic: tuple[int, ...] | None = None
 
     def __post_init__(self):
         sys, grid = self.system, self.grid
-        if not isinstance(grid, Grid):
-            raise TypeError(f"grid must be a gridlbc.Grid, got {type(grid).__name__}")
+        if grid is not None and not isinstance(grid, Grid):
+            raise TypeError(f"grid must be a gridlbc.Grid or None, got {type(grid).__name__}")
         for attr in ("drift", "input_matrix", "state_dim", "control_dim"):
             if not hasattr(sys, attr):
                 raise TypeError(
                     f"system must be a control-affine system with .{attr} "
                     "(subclass gridlbc.systems.ControlAffineSystem)"
                 )
-        if grid.ndim != sys.state_dim:
+        if grid is not None and grid.ndim != sys.state_dim:
             raise ValueError(
                 f"grid has {grid.ndim} axes but the {type(sys).__name__} state has "
                 f"{sys.state_dim} coordinates: give one Axis per state coordinate"
             )
         set_ = lambda k, v: object.__setattr__(self, k, v)
+        set_("periodic", self._check_periodic(self.periodic))
         set_("horizon", _positive_float("horizon", self.horizon))
         set_("temperature", _positive_float("temperature", self.temperature))
         set_("control_cost", _control_cost_matrix(self.control_cost, sys.control_dim))
@@ -103,16 +117,87 @@ class Problem:
         if self.state_cost is not None:
             set_("state_cost", self._bind_cost(self.state_cost, "state_cost"))
 
+    def _check_periodic(self, periodic) -> tuple[int, ...] | None:
+        if periodic is None:
+            return None
+        d = self.system.state_dim
+        try:
+            axes = tuple(sorted({int(k) for k in periodic}))
+        except (TypeError, ValueError):
+            raise TypeError(f"periodic must be a sequence of coordinate indices, got {periodic!r}") from None
+        if axes and not (0 <= axes[0] and axes[-1] < d):
+            raise ValueError(f"periodic indices must lie in 0 … {d - 1} (state coordinates), "
+                             f"got {periodic!r}")
+        if self.grid is not None:
+            on_grid = tuple(int(k) for k in np.flatnonzero(self.grid.periodic))
+            if axes != on_grid:
+                raise ValueError(
+                    f"periodic={axes} disagrees with the grid's periodic axes {on_grid}: the grid "
+                    "decides, leave periodic out (or set Axis(..., periodic=True) on the grid)"
+                )
+        return axes
+
+    @property
+    def state_dim(self) -> int:
+        return self.system.state_dim
+
+    @property
+    def periodic_axes(self) -> tuple[int, ...]:
+        """The periodic coordinates: the grid's, else ``periodic``, else the system's angles."""
+        if self.grid is not None:
+            return tuple(int(k) for k in np.flatnonzero(self.grid.periodic))
+        if self.periodic is not None:
+            return self.periodic
+        return tuple(int(k) for k in getattr(self.system, "angle_axes", ()))
+
+    @property
+    def periods(self) -> np.ndarray:
+        """Period per coordinate, ``inf`` where not periodic, shape ``(d,)``."""
+        if self.grid is not None:
+            return self.grid.periods
+        P = np.full(self.state_dim, np.inf)
+        P[list(self.periodic_axes)] = 2 * np.pi
+        return P
+
+    def wrap(self, x) -> np.ndarray:
+        """Periodic coordinates into the grid's box, or into [−π, π) without a grid."""
+        if self.grid is not None:
+            return self.grid.wrap(x)
+        x = np.array(x, dtype=float, copy=True)
+        for k in self.periodic_axes:
+            x[..., k] = np.mod(x[..., k] + np.pi, 2 * np.pi) - np.pi
+        return x
+
+    def check_states(self, x, name: str = "x") -> np.ndarray:
+        """States as a finite float ``(N, d)`` array (one state may be ``(d,)``)."""
+        if self.grid is not None:
+            return self.grid.check_states(x, name)
+        return check_states(x, self.state_dim, name, f"the {self.state_dim}-dimensional state")
+
+    def require_grid(self, what: str) -> Grid:
+        """The grid, or a clear error naming ``what`` needs it."""
+        if self.grid is None:
+            raise ValueError(
+                f"{what} needs a grid, and this Problem has none (grid=None, made for trajectory "
+                "methods and rollouts): give Problem(system, Grid([Axis(...), ...]), horizon, "
+                "terminal_cost, ...) to solve on a grid, or use gridlbc.trajectory for a "
+                "grid-free problem"
+            )
+        return self.grid
+
     def _bind_cost(self, cost, name):
         if not callable(cost):
             raise TypeError(f"{name} must be callable on (N, d) states, e.g. gridlbc.costs.Quadratic")
-        if isinstance(cost, Quadratic):
-            if cost.dim != self.grid.ndim:
+        if getattr(cost, "time_dependent", False) and name == "terminal_cost":
+            raise TypeError("terminal_cost must be a function of the state alone, g(x): a "
+                            "time-dependent cost (costs.Tracking) can only be a state_cost")
+        if isinstance(cost, (Quadratic, Tracking)):
+            if cost.dim != self.state_dim:
                 raise ValueError(
-                    f"{name} center has {cost.dim} coordinates but the state has {self.grid.ndim}"
+                    f"{name} center has {cost.dim} coordinates but the state has {self.state_dim}"
                 )
             if cost.periods is None:
-                cost = cost.with_periods(self.grid.periods)
+                cost = cost.with_periods(self.periods)
         return cost
 
     def replace(self, **changes) -> Problem:
@@ -130,15 +215,27 @@ class Problem:
 
     def terminal_values(self, x=None) -> np.ndarray:
         """g at states (default: the grid nodes), checked finite."""
-        x = self.grid.nodes() if x is None else self.grid.check_states(x)
+        x = self.require_grid("terminal_values()").nodes() if x is None else self.check_states(x)
         return evaluate_cost(self.terminal_cost, x, "terminal_cost")
 
-    def state_cost_values(self, x=None) -> np.ndarray:
-        """q at states (default: the grid nodes), checked finite and non-negative."""
-        x = self.grid.nodes() if x is None else self.grid.check_states(x)
+    def state_cost_values(self, x=None, t=None) -> np.ndarray:
+        """q at states (default: the grid nodes) and time ``t``, checked finite and non-negative.
+
+        ``t`` is needed only by a time-dependent state cost (:class:`gridlbc.costs.Tracking`).
+        """
+        x = self.require_grid("state_cost_values()").nodes() if x is None else self.check_states(x)
         if self.state_cost is None:
             return np.zeros(x.shape[0])
-        q = evaluate_cost(self.state_cost, x, "state_cost")
+        cost = self.state_cost
+        if getattr(cost, "time_dependent", False):
+            if t is None:
+                raise ValueError(
+                    "state_cost depends on time (q(x, t), e.g. costs.Tracking): the grid solvers "
+                    "need q(x) alone; use gridlbc.trajectory for a tracking cost"
+                )
+            q = evaluate_cost(lambda y: cost(y, t), x, "state_cost")
+        else:
+            q = evaluate_cost(cost, x, "state_cost")
         if np.any(q < 0):
             raise ValueError(
                 f"state_cost must be non-negative (min {q.min():.3g}): add a constant to it; "
@@ -148,7 +245,7 @@ class Problem:
 
     def noise_covariance(self, x) -> np.ndarray:
         """Σ(x) = λ B R⁻¹ Bᵀ, shape ``(N, d, d)``."""
-        x = self.grid.check_states(x)
+        x = self.check_states(x)
         d, m = self.system.state_dim, self.system.control_dim
         B = np.asarray(self.system.input_matrix(x), dtype=float)
         if B.shape != (x.shape[0], d, m):
@@ -181,7 +278,6 @@ class Problem:
         return diag
 
     def describe(self) -> str:
-        return (
-            f"{type(self.system).__name__} on {self.grid.describe()}, T={self.horizon:g}, "
-            f"λ={self.temperature:g}"
-        )
+        where = (self.grid.describe() if self.grid is not None
+                 else f"no grid (periodic {list(self.periodic_axes)})")
+        return f"{type(self.system).__name__} on {where}, T={self.horizon:g}, λ={self.temperature:g}"

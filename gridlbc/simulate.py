@@ -5,7 +5,8 @@ Euler–Maruyama with step Δt = T/K on the Itô SDE
     dx = (a(x) + B(x) u) dt + √λ B(x) R^{−1/2} dW,      Cov[dξ] = λ B R⁻¹ Bᵀ dt,
 
 i.e. x_{k+1} = x_k + (a(x_k) + B(x_k) u_k) Δt + √(λ Δt) B(x_k) C ε_k with C Cᵀ = R⁻¹ (Cholesky)
-and ε_k ~ N(0, I_m), periodic coordinates wrapped into the box after each step. Each sample's
+and ε_k ~ N(0, I_m), periodic coordinates wrapped after each step (into the grid's box, or into
+[−π, π) for a grid-free problem). The noise B C ε needs no diagonal B R⁻¹ Bᵀ. Each sample's
 cost is the rectangle rule of the running cost plus the terminal cost,
 
     J = Σ_k ( q(x_k) + ½ u_kᵀ R u_k ) Δt + g(x_K),
@@ -87,7 +88,8 @@ class Rollouts:
         g(x_T) per sample (part of ``costs``).
     left_box : ndarray (n,) of bool
         Samples that left the grid's box on a non-periodic axis at some step (the SDE lives on
-        Rᵈ, so they keep going; a grid solution is clamped to the box there).
+        Rᵈ, so they keep going; a grid solution is clamped to the box there). All False for a
+        grid-free problem (no box).
     seed : int or None
     """
 
@@ -142,7 +144,7 @@ def _check_sample_count(n_samples) -> int:
 
 def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
     n_samples = _check_sample_count(n_samples)
-    x0 = problem.grid.check_states(x0, "x0")
+    x0 = problem.check_states(x0, "x0")
     if x0.shape[0] == 1:
         return np.repeat(x0, n_samples, axis=0)
     if x0.shape[0] != n_samples:
@@ -260,13 +262,11 @@ def _euler_maruyama(problem: Problem, policy, x: np.ndarray, n_steps: int, rng, 
     n, m = x.shape[0], system.control_dim
     R = np.ascontiguousarray(problem.R)
     root = np.linalg.cholesky(problem.R_inv) * math.sqrt(problem.temperature * step)
-    outside_mask = ~grid.periodic
-    lo, hi = grid.lo, grid.hi
 
     running = np.zeros(n)
     ito = np.zeros(n)
     left = np.zeros(n, dtype=bool)
-    x = grid.wrap(x)
+    x = problem.wrap(x)
     start = x
     eps = np.zeros((n, m))
     for k in range(n_steps):
@@ -275,13 +275,14 @@ def _euler_maruyama(problem: Problem, policy, x: np.ndarray, n_steps: int, rng, 
         drift = np.ascontiguousarray(system.drift(x), dtype=float)
         B = np.ascontiguousarray(system.input_matrix(x), dtype=float)
         if problem.state_cost is not None:
-            running += problem.state_cost_values(x) * step
+            running += problem.state_cost_values(x, t) * step
         if noise:
             eps = rng.standard_normal((n, m))
         x_new = np.empty_like(x)
         _em_kernel(x, drift, B, u, eps, root, R, step, x_new, running, ito)
-        x = grid.wrap(x_new)
-        left |= np.any(((x < lo) | (x > hi)) & outside_mask, axis=1)
+        x = problem.wrap(x_new)
+        if grid is not None:
+            left |= np.any(((x < grid.lo) | (x > grid.hi)) & ~grid.periodic, axis=1)
         if on_step is not None:
             on_step(k, x, u)
     terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")

@@ -46,8 +46,8 @@ class SolverSettings:
         One of :data:`METHODS` (``"splitting"`` or ``"implicit"``).
     dt : float, optional
         Time step; rounded down so that it divides the horizon. Default: a Courant number
-        (max |a_k| Δt / h_k) of ``courant`` for the splitting scheme, and 1 for the implicit one,
-        with at least ``min_steps`` steps.
+        (``max |a_k| Δt / h_k``) of ``courant`` for the splitting scheme, and 1 for the implicit
+        one, with at least ``min_steps`` steps.
     courant : float, optional
         Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
         error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
@@ -342,7 +342,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     if not terminal_costs:
         raise ValueError("terminal_costs is empty: give at least one terminal cost")
     s = _settings(settings, options)
-    grid = problem.grid
+    grid = problem.require_grid("solve")
+    problem.noise_diagonal(grid.node_coordinates([0]))  # refuse cross-diffusion before any work
     started = time.perf_counter()
     K = len(terminal_costs)
     what = f"solving on {grid.describe()}"

@@ -235,7 +235,7 @@ def test_bad_components(line_solution):
     _, sol = line_solution
     with pytest.raises(ValueError, match="empty"):
         g.combine([])
-    with pytest.raises(TypeError, match=r"solutions\[1\]"):
+    with pytest.raises(TypeError, match=r"components\[1\]"):
         g.combine([sol, "not a solution"])
     with pytest.raises(TypeError, match="policy"):
         g.naive_blend([sol, object()], [1, 1])

@@ -1,5 +1,6 @@
 """Every script in examples/ runs (small sizes) so the README never lies."""
 
+import importlib.util
 import subprocess
 import sys
 from pathlib import Path
@@ -8,12 +9,19 @@ import pytest
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 SLOW = {"gymnast", "interpolation"}  # cold numba cache / many rollouts: over ~20 s
+NEEDS = {"gym_pendulum": "gymnasium"}  # optional extras an example imports
+MISSING = {name for name, module in NEEDS.items() if importlib.util.find_spec(module) is None}
 
 
-@pytest.mark.parametrize("name", [
-    pytest.param(p.stem, marks=[pytest.mark.slow] if p.stem in SLOW else [])
-    for p in sorted(EXAMPLES.glob("*.py"))
-])
+def _marks(name):
+    marks = [pytest.mark.slow] if name in SLOW else []
+    if name in MISSING:
+        marks.append(pytest.mark.skip(reason=f"needs {NEEDS[name]} (pip install '.[{NEEDS[name]}]')"))
+    return marks
+
+
+@pytest.mark.parametrize("name", [pytest.param(p.stem, marks=_marks(p.stem))
+                                  for p in sorted(EXAMPLES.glob("*.py"))])
 def test_example_runs(tmp_path, name):
     args = [sys.executable, str(EXAMPLES / f"{name}.py"), "--quick"]
     if name != "tutorial":

@@ -26,37 +26,43 @@ def _pendulum(n=16, temperature=1.0, horizon=0.5):
     return pendulum(n, horizon=horizon, temperature=temperature)
 
 
-def _kernel_hamiltonian(problem, v):
+def _kernel_hamiltonian(problem, v, control_bounds=None):
     grid = problem.grid
     x = grid.nodes()
-    s = control_structure(problem, x)
+    s = control_structure(problem, x, control_bounds)
     H, rate = np.empty(grid.size), np.empty(grid.size)
     control = np.empty((grid.size, s.axis.size))
     _hamiltonian_kernel(v, np.ascontiguousarray(problem.system.drift(x)), s.gain, s.axis, s.r,
-                        np.ascontiguousarray(0.5 * problem.noise_diagonal(x)),
+                        s.bounds, np.ascontiguousarray(0.5 * problem.noise_diagonal(x)),
                         problem.state_cost_values(x), *grid.kernel_arrays()[2:4], grid.spacing,
                         grid.periodic, H, rate, control)
     return H, rate, control
 
 
+@pytest.mark.parametrize("bounds", [None, (-0.5, 1.0), (0.2, np.inf)])
 @pytest.mark.parametrize("make", [lambda: pointmass_problem(1.0), lambda: _pendulum(12)])
-def test_hamiltonian_kernel_matches_numpy_reference(make, rng):
-    # The kernel picks among feasible branch minimisers; the reference evaluates the exact
-    # piecewise objective at all three candidates. Same arithmetic up to summation order.
+def test_hamiltonian_kernel_matches_numpy_reference(make, bounds, rng):
+    # The kernel clips each branch minimiser to its half-line ∩ box; the reference evaluates the
+    # exact piecewise objective at every candidate (kink, branch minimisers, box ends). Same
+    # arithmetic up to summation order. (0.2, ∞) excludes u = 0, an unusual but valid box.
     problem = make()
     v = rng.normal(scale=3.0, size=problem.grid.size)
-    H, rate, _ = _kernel_hamiltonian(problem, v)
-    H_ref, rate_ref = hamiltonian_numpy(problem, v)
+    H, rate, _ = _kernel_hamiltonian(problem, v, bounds)
+    H_ref, rate_ref = hamiltonian_numpy(problem, v, bounds)
     scale = np.abs(H_ref).max()
     np.testing.assert_allclose(H, H_ref, rtol=0, atol=1e-12 * scale)
     np.testing.assert_allclose(rate, rate_ref, rtol=1e-12)
 
 
-def test_minimising_control_beats_a_dense_search(rng):
-    # min_u [½ r u² + b⁺δ⁺ − b⁻δ⁻], b = a + β u: no control on a fine grid of u does better.
+@pytest.mark.parametrize("lo, hi", [(-60.0, 60.0), (-2.0, 3.0)])
+def test_minimising_control_beats_a_dense_search(lo, hi, rng):
+    # min_u [½ r u² + b⁺δ⁺ − b⁻δ⁻], b = a + β u over lo ≤ u ≤ hi: the kernel's control lies in
+    # the box and no control on a fine grid of the box does better. (±60 is wider than every
+    # unconstrained minimiser here, so that case is the unbounded one.)
     problem = _pendulum(10)
     v = rng.normal(scale=5.0, size=problem.grid.size)
-    _, _, control = _kernel_hamiltonian(problem, v)
+    _, _, control = _kernel_hamiltonian(problem, v, (lo, hi))
+    assert np.all((control >= lo) & (control <= hi))
     grid = problem.grid
     field = grid.reshape(v)
     h = grid.spacing[1]
@@ -69,7 +75,7 @@ def test_minimising_control_beats_a_dense_search(rng):
         b = a[:, None] + beta[:, None] * u
         return 0.5 * u**2 + np.maximum(b, 0) * forward[:, None] - np.maximum(-b, 0) * backward[:, None]
 
-    searched = objective(np.linspace(-60, 60, 24001)[None, :]).min(axis=1)
+    searched = objective(np.linspace(lo, hi, 24001)[None, :]).min(axis=1)
     found = objective(control[:, :1])[:, 0]
     assert np.all(found <= searched + 1e-12 * np.abs(searched).max())
 
@@ -177,3 +183,87 @@ def test_bad_inputs_raise_with_the_argument_named():
                         Quadratic([0, 0], [1, 1]))
     with pytest.raises(ValueError, match="own state axis"):
         solve_hjb(same_axis)
+
+
+def _same_steps(problem, bounds, dt):
+    """Bounded and unbounded solves on one time grid (dt below both CFL limits)."""
+    free, boxed = solve_hjb(problem, dt), solve_hjb(problem, dt, control_bounds=bounds)
+    for s in (free, boxed):
+        assert s.diagnostics.min_step == s.diagnostics.max_step == pytest.approx(dt)
+    return free, boxed
+
+
+def test_bounded_value_is_above_the_unbounded_and_the_policy_in_the_box(rng):
+    # With the same steps, H_boxed[v] ≥ H_free[v] pointwise (a minimum over a subset) and the
+    # explicit step v + Δt H is monotone in v, so by induction v_boxed ≥ v_free at every node
+    # and slice (to rounding). The torque limit ±1 binds: the swing-up needs more.
+    problem = _pendulum(16)
+    free, boxed = _same_steps(problem, (-1.0, 1.0), dt=2e-3)
+    scale = np.abs(free.values).max()
+    assert np.all(boxed.values >= free.values - 1e-12 * scale)
+    assert (boxed.values[0] - free.values[0]).max() > 0.5  # the bound matters (1.04 measured)
+    x = np.column_stack([rng.uniform(-4, 4, 300), rng.uniform(-8, 8, 300)])  # partly outside
+    for t in (0.0, 0.13, 0.5):
+        u = boxed.policy(x, t)
+        assert u.shape == (300, 1) and np.all(np.abs(u) <= 1.0)
+        # the clipped unconstrained minimiser of ½ r u² + u β ∂v/∂ω (r = 1, β = 1)
+        beta_dv = boxed.gradient(x, t)[:, 1]
+        np.testing.assert_array_equal(u[:, 0], np.clip(-beta_dv, -1.0, 1.0))
+
+
+def test_bounds_that_never_bind_change_nothing():
+    # Bounds wider than every minimiser the unbounded solve takes leave every minimisation, and
+    # so every value, the same: equal to rounding (bitwise, in practice).
+    problem = _pendulum(16)
+    free, boxed = _same_steps(problem, (-1e3, 1e3), dt=2e-3)
+    assert np.abs(free.policy(problem.grid.nodes(), 0.0)).max() < 1e2
+    np.testing.assert_allclose(boxed.values, free.values, rtol=0,
+                               atol=1e-13 * np.abs(free.values).max())
+
+
+@pytest.mark.parametrize("lo, hi", [(-1.0, 1.0), (-10.0, 10.0), (1.5, 3.0)])
+def test_single_integrator_with_a_linear_terminal_cost_is_exact(lo, hi):
+    # dx = u dt + noise, q = 0, g(x) = c x, R = r: v = c x + (T − t) min_{lo≤u≤hi} (½ r u² + c u)
+    # solves the bounded HJB exactly (∇²v = 0), with u* = clip(−c/r, lo, hi). Upwind differences
+    # of a linear function are exact and so is the explicit step of a constant H, so the scheme
+    # reproduces v to rounding at nodes the reflecting walls cannot reach: the wall's influence
+    # travels against the controlled drift u* (towards +x here, at most 4 units in T = 1) and
+    # spreads with the noise and the upwind scheme's own diffusion |u*|h/2 (together a spread of
+    # ≤ 0.55 in T), so the wall at 6 is > 7 spreads downstream of x ≤ −2 after the drift.
+    from gridlbc.systems import SingleIntegrator
+
+    c, r, T = -4.0, 1.0, 1.0
+    grid = Grid([Axis(-6.0, 6.0, 241)])
+    problem = Problem(SingleIntegrator(), grid, T, lambda x: c * x[:, 0], control_cost=r,
+                      temperature=0.1)
+    solution = solve_hjb(problem, control_bounds=(lo, hi))
+    u_star = min(max(-c / r, lo), hi)
+    x = grid.nodes()
+    inside = (x[:, 0] <= -2.0) & (x[:, 0] >= -4.0)
+    for j in (0, 25):
+        t = solution.times[j]
+        exact = c * x[:, 0] + (T - t) * (0.5 * r * u_star**2 + c * u_star)
+        np.testing.assert_allclose(solution.values[j][inside], exact[inside], rtol=0, atol=1e-9)
+        np.testing.assert_allclose(solution.policy(x[inside], t)[:, 0], u_star, rtol=0, atol=1e-9)
+
+
+def test_control_bounds_are_checked():
+    problem = _pendulum(8)
+    with pytest.raises(ValueError, match=r"control_bounds .*shape \(1, 2\)"):
+        solve_hjb(problem, control_bounds=(-1.0, 0.0, 1.0))
+    with pytest.raises(ValueError, match="lo > hi"):
+        solve_hjb(problem, control_bounds=(1.0, -1.0))
+    with pytest.raises(ValueError, match="control_bounds must be numbers"):
+        solve_hjb(problem, control_bounds=(np.nan, 1.0))
+    with pytest.raises(ValueError, match="control_bounds must be numbers"):
+        solve_hjb(problem, control_bounds=(np.inf, np.inf))
+    with pytest.raises(TypeError, match="control_bounds"):
+        solve_hjb(problem, control_bounds="wide")
+    grid = Grid([Axis(-1, 1, 5), Axis(-1, 1, 5)])
+    two = Problem(LinearSystem(np.zeros((2, 2)), np.eye(2)), grid, 0.1, Quadratic([0, 0], [1, 1]))
+    per_control = solve_hjb(two, control_bounds=[(-1, 1), (0, np.inf)])
+    np.testing.assert_array_equal(per_control.control_bounds, [[-1, 1], [0, np.inf]])
+    u = per_control.policy(np.random.default_rng(1).uniform(-1, 1, (50, 2)), 0.0)
+    assert np.all(np.abs(u[:, 0]) <= 1) and np.all(u[:, 1] >= 0)
+    with pytest.raises(ValueError, match="diagonal control_cost"):
+        solve_hjb(two.replace(control_cost=[[2.0, 0.5], [0.5, 1.0]]), control_bounds=(-1, 1))

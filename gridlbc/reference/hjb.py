@@ -23,9 +23,23 @@ order in h (the upwinding) and in Δt ∝ h.
 
 The minimum over u is exact: each control u_j drives one axis k (R diagonal, B_kj its only
 nonzero in column j, as for every built-in system), so it is a one-dimensional minimisation of
-the convex-or-not piecewise quadratic ½ r_j u² + b_k⁺ δ⁺ − b_k⁻ δ⁻ with b_k = a_k + B_kj u: the
-minimum lies at the unconstrained minimiser of the branch b ≥ 0 (u = −B_kj δ⁺/r_j) or of the
-branch b ≤ 0 (u = −B_kj δ⁻/r_j) when that branch's sign condition holds, or at the kink b = 0.
+the piecewise quadratic ½ r_j u² + b_k⁺ δ⁺ − b_k⁻ δ⁻ with b_k = a_k + B_kj u. The kink b = 0
+splits the u-line into two half-lines; on the one where b ≥ 0 the objective is the convex
+quadratic ½ r_j u² + b δ⁺, minimised at u = −B_kj δ⁺/r_j, on the other at u = −B_kj δ⁻/r_j.
+
+Bounded controls. With ``control_bounds`` each u_j is restricted to a box [lo_j, hi_j], and the
+HJB's minimum is taken over the box,
+
+    −∂ₜv = q + min_{lo ≤ u ≤ hi} [ ½ uᵀR u + (a + B u)ᵀ∇v ] + ½ tr(Σ ∇²v).
+
+For diagonal R the objective separates over the controls and each one is a convex quadratic in
+u_j, so the constrained minimiser is the unconstrained one clipped to the box,
+u*_j = clip(−(Bᵀ∇v)_j / r_j, lo_j, hi_j): that is what :meth:`HJBSolution.policy` returns. In
+the discrete Hamiltonian each branch's minimiser is clipped to (its half-line ∩ the box), which is
+again exact. Only the optimisation is bounded: the noise keeps its covariance Σ = λ B R⁻¹ Bᵀ,
+so with bounds the problem is no longer linearly solvable (no z-space counterpart). A
+non-diagonal R couples the controls (the box minimiser is then not the clipped one) and is
+refused, bounded or not.
 
 Boundaries: periodic axes wrap; on a closed axis the transitions out of the box are
 suppressed (δ⁻ = 0 at the lower end, δ⁺ = 0 at the upper end: a reflecting state constraint).
@@ -49,12 +63,13 @@ from ..problem import Problem
 
 
 @jit
-def _hamiltonian_kernel(v, drift, gain, control_axis, r, diffusion, q, shape, strides, spacing,
-                        periodic, out, rate, control):
+def _hamiltonian_kernel(v, drift, gain, control_axis, r, bounds, diffusion, q, shape, strides,
+                        spacing, periodic, out, rate, control):
     """H[v] and the jump rate ρ at every node, and the minimising control (see module docstring).
 
     ``gain[i, j]`` is B_kj at node i for the axis k = ``control_axis[j]``; axes without a control
-    (``control_of_axis`` −1) are advected by the passive drift alone.
+    (``control_of_axis`` −1) are advected by the passive drift alone. ``bounds[j]`` is the box
+    [lo_j, hi_j] of control j (±∞ when unbounded).
     """
     n_nodes, d = drift.shape
     m = gain.shape[1]
@@ -81,27 +96,40 @@ def _hamiltonian_kernel(v, drift, gain, control_axis, r, diffusion, q, shape, st
             rho += 2.0 * diffusion[p, k] / (h * h)
             a = drift[p, k]
             j = control_of_axis[k]
-            beta = gain[p, j] if j >= 0 else 0.0
-            if beta == 0.0:
-                if j >= 0:
-                    control[p, j] = 0.0
+            if j < 0:
                 b = a
                 best = max(b, 0.0) * forward - max(-b, 0.0) * backward
             else:
-                u_best = -a / beta  # the kink b = 0
-                best = 0.5 * r[j] * u_best * u_best
-                u_up = -beta * forward / r[j]
-                if a + beta * u_up >= 0.0:
-                    f = 0.5 * r[j] * u_up * u_up + (a + beta * u_up) * forward
-                    if f < best:
-                        best, u_best = f, u_up
-                u_down = -beta * backward / r[j]
-                if a + beta * u_down <= 0.0:
-                    f = 0.5 * r[j] * u_down * u_down + (a + beta * u_down) * backward
-                    if f < best:
-                        best, u_best = f, u_down
+                lo, hi = bounds[j, 0], bounds[j, 1]
+                beta = gain[p, j]
+                if beta == 0.0:
+                    # the control moves nothing: minimise ½ r u² over the box alone
+                    u_best = min(max(0.0, lo), hi)
+                    b = a
+                    best = (0.5 * r[j] * u_best * u_best + max(b, 0.0) * forward
+                            - max(-b, 0.0) * backward)
+                else:
+                    # Branch b ≥ 0 is the half-line of u on one side of the kink −a/β, branch
+                    # b ≤ 0 the other; on each, the objective is a convex quadratic, so its
+                    # minimum over (half-line ∩ box) is its unconstrained minimiser clipped.
+                    kink = -a / beta
+                    best = np.inf
+                    u_best = 0.0
+                    for branch in range(2):
+                        slope = forward if branch == 0 else backward
+                        if (branch == 0) == (beta > 0.0):
+                            low, high = max(kink, lo), hi  # u ≥ kink
+                        else:
+                            low, high = lo, min(kink, hi)  # u ≤ kink
+                        if low <= high:
+                            u = min(max(-beta * slope / r[j], low), high)
+                            b = a + beta * u
+                            f = (0.5 * r[j] * u * u + max(b, 0.0) * forward
+                                 - max(-b, 0.0) * backward)
+                            if f < best:
+                                best, u_best = f, u
+                    b = a + beta * u_best
                 control[p, j] = u_best
-                b = a + beta * u_best
             total += best
             rho += abs(b) / h
         out[p] = total
@@ -180,19 +208,55 @@ def value_gradient(grid: Grid, values: np.ndarray) -> np.ndarray:
 
 @dataclass(frozen=True)
 class ControlStructure:
-    """Which axis each control drives and its gain B_kj at the nodes, for the exact minimisation."""
+    """Which axis each control drives and its gain B_kj at the nodes, for the exact minimisation,
+    and the box each control is minimised over."""
 
     axis: np.ndarray  # (m,) int
     gain: np.ndarray  # (N, m)
     r: np.ndarray  # (m,) diagonal of R
+    bounds: np.ndarray  # (m, 2): lo_j, hi_j (±inf when unbounded)
 
 
-def control_structure(problem: Problem, x: np.ndarray) -> ControlStructure:
-    """Check that each control drives its own axis with a diagonal R, and return the structure."""
+def control_box(control_bounds, m: int) -> np.ndarray:
+    """``control_bounds`` as an ``(m, 2)`` array of [lo_j, hi_j], checked.
+
+    Accepts ``None`` (unbounded: ±∞), one pair ``(lo, hi)`` for every control, or one pair per
+    control (shape ``(m, 2)``); ``±np.inf`` leaves a side open.
+    """
+    if control_bounds is None:
+        return np.tile([-np.inf, np.inf], (m, 1))
+    try:
+        box = np.array(control_bounds, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"control_bounds must be a pair (lo, hi) or one pair per control, got {control_bounds!r}"
+        ) from None
+    if box.shape == (2,):
+        box = np.tile(box, (m, 1))
+    if box.shape != (m, 2):
+        raise ValueError(
+            f"control_bounds must be one pair (lo, hi) for all {m} control(s) or shape ({m}, 2), "
+            f"one pair per control; got shape {box.shape}"
+        )
+    if np.any(np.isnan(box)) or np.any(box[:, 0] == np.inf) or np.any(box[:, 1] == -np.inf):
+        raise ValueError(f"control_bounds must be numbers (±inf for an open side), got {box.tolist()}")
+    if np.any(box[:, 0] > box[:, 1]):
+        j = int(np.flatnonzero(box[:, 0] > box[:, 1])[0])
+        raise ValueError(
+            f"control_bounds for control {j} has lo > hi ({box[j, 0]:g} > {box[j, 1]:g}): "
+            "give (lo, hi) with lo ≤ hi"
+        )
+    return box
+
+
+def control_structure(problem: Problem, x: np.ndarray, control_bounds=None) -> ControlStructure:
+    """Check that each control drives its own axis with a diagonal R, and return the structure
+    with the box of ``control_bounds`` (see :func:`control_box`)."""
     R = problem.R
     if np.any(R != np.diag(np.diag(R))):
         raise ValueError(
-            "solve_hjb minimises over each control separately and needs a diagonal control_cost R; "
+            "solve_hjb minimises over each control separately and needs a diagonal control_cost R "
+            "(with control_bounds, the box minimiser is the clipped unconstrained one only then); "
             "rotate the controls to diagonalise R"
         )
     B = np.asarray(problem.system.input_matrix(x), dtype=float)
@@ -205,19 +269,22 @@ def control_structure(problem: Problem, x: np.ndarray) -> ControlStructure:
             "does (e.g. canonical momenta)"
         )
     gain = np.ascontiguousarray(B[:, axis, np.arange(axis.size)])
-    return ControlStructure(axis.astype(np.int64), gain, np.ascontiguousarray(np.diag(R)))
+    return ControlStructure(axis.astype(np.int64), gain, np.ascontiguousarray(np.diag(R)),
+                            control_box(control_bounds, axis.size))
 
 
-def hamiltonian_numpy(problem: Problem, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def hamiltonian_numpy(problem: Problem, v: np.ndarray,
+                      control_bounds=None) -> tuple[np.ndarray, np.ndarray]:
     """Plain-numpy H[v] and ρ of the module docstring, for testing the compiled kernel.
 
-    Minimises over each control by brute force on the union of the three candidate points.
+    Minimises over each control by brute force over candidate points that contain the minimiser:
+    the kink and both branch minimisers, each clipped to the box, and the box's finite ends.
     """
     grid = problem.grid
     x = grid.nodes()
     drift = np.asarray(problem.system.drift(x), dtype=float)
     diffusion = 0.5 * problem.noise_diagonal(x)
-    structure = control_structure(problem, x)
+    structure = control_structure(problem, x, control_bounds)
     field = grid.reshape(v)
     H = problem.state_cost_values(x).copy()
     rate = np.zeros(grid.size)
@@ -242,7 +309,10 @@ def hamiltonian_numpy(problem: Problem, v: np.ndarray) -> tuple[np.ndarray, np.n
             beta, r = structure.gain[:, j], structure.r[j]
             with np.errstate(divide="ignore", invalid="ignore"):
                 kink = np.where(beta != 0, -a / beta, 0.0)
-            candidates = np.stack([kink, -beta * forward / r, -beta * backward / r])
+            lo, hi = structure.bounds[j]
+            inner = np.clip([kink, -beta * forward / r, -beta * backward / r], lo, hi)
+            ends = [np.full(grid.size, end) if np.isfinite(end) else inner[0] for end in (lo, hi)]
+            candidates = np.concatenate([inner, ends])
         b = a + beta * candidates
         f = 0.5 * r * candidates**2 + np.maximum(b, 0) * forward - np.maximum(-b, 0) * backward
         best = np.argmin(f, axis=0)
@@ -277,12 +347,15 @@ class HJBSolution:
     values : ndarray (S, N)
         Nodal v at those times.
     diagnostics : HJBDiagnostics
+    control_bounds : ndarray (m, 2)
+        The box [lo_j, hi_j] each control was minimised over (±inf: unbounded).
     """
 
     problem: Problem
     times: np.ndarray
     values: np.ndarray
     diagnostics: HJBDiagnostics
+    control_bounds: np.ndarray
 
     @property
     def grid(self) -> Grid:
@@ -313,14 +386,19 @@ class HJBSolution:
         return multilinear(self.grid, value_gradient(self.grid, self._nodal_at(t)), x).T
 
     def policy(self, x, t) -> np.ndarray:
-        """u*(x, t) = −R⁻¹ B(x)ᵀ ∇v(x, t), shape ``(N, m)``."""
+        """u*(x, t) = clip(−R⁻¹ B(x)ᵀ ∇v(x, t), lo, hi), shape ``(N, m)``.
+
+        The minimiser of ½ uᵀRu + uᵀBᵀ∇v over the box ``control_bounds`` (R is diagonal, so
+        clipping each control is exact); without bounds, the unconstrained −R⁻¹Bᵀ∇v.
+        """
         x = self.grid.check_states(x)
         B = np.asarray(self.problem.system.input_matrix(self.grid.clamp(x)), dtype=float)
-        return -np.einsum("nkm,nk->nm", B, self.gradient(x, t)) @ self.problem.R_inv.T
+        u = -np.einsum("nkm,nk->nm", B, self.gradient(x, t)) @ self.problem.R_inv.T
+        return np.clip(u, self.control_bounds[:, 0], self.control_bounds[:, 1])
 
 
-def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9,
-              slices: int = 50) -> HJBSolution:
+def solve_hjb(problem: Problem, dt: float | None = None, control_bounds=None, *,
+              courant: float = 0.9, slices: int = 50) -> HJBSolution:
     """Solve the nonlinear HJB of ``problem`` in value space, backward from v(T) = g.
 
     Parameters
@@ -331,6 +409,11 @@ def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9
     dt : float, optional
         Largest time step. Each explicit step is further limited by the CFL condition
         Δt max ρ ≤ ``courant`` of the current policy, so ``None`` means "as the CFL allows".
+    control_bounds : (lo, hi) or array (m, 2), optional
+        Bound the controls: u is minimised over the box lo ≤ u ≤ hi (one pair for every
+        control, or one per control; ``±np.inf`` leaves a side open). ``None``: unbounded.
+        The noise is unchanged (covariance λ B R⁻¹ Bᵀ), so a bounded problem has no z-space
+        counterpart: this solver is then the library's way to solve it.
     courant : float
         In (0, 1]: the fraction of the monotonicity limit used.
     slices : int
@@ -350,9 +433,9 @@ def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9
     if isinstance(slices, bool) or not isinstance(slices, (int, np.integer)) or slices < 1:
         raise ValueError(f"slices must be a positive integer, got {slices!r}")
     started = time.perf_counter()
-    grid = problem.grid
+    grid = problem.require_grid("solve_hjb")
     x = grid.nodes()
-    structure = control_structure(problem, x)
+    structure = control_structure(problem, x, control_bounds)
     drift = np.ascontiguousarray(problem.system.drift(x), dtype=float)
     diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
     q = problem.state_cost_values(x)
@@ -371,8 +454,9 @@ def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9
     for j in range(slices - 1, -1, -1):
         remaining = interval
         while remaining > 1e-12 * interval:
-            _hamiltonian_kernel(v, drift, structure.gain, structure.axis, structure.r, diffusion,
-                                q, shape, strides, spacing, periodic, H, rate, control)
+            _hamiltonian_kernel(v, drift, structure.gain, structure.axis, structure.r,
+                                structure.bounds, diffusion, q, shape, strides, spacing,
+                                periodic, H, rate, control)
             limit = min(max_step, courant / max(rate.max(), 1e-300))
             n_sub = max(1, math.ceil(remaining / limit - 1e-9))
             step = remaining / n_sub
@@ -388,4 +472,4 @@ def solve_hjb(problem: Problem, dt: float | None = None, *, courant: float = 0.9
         courant=courant, wall_time=time.perf_counter() - started,
     )
     times = np.linspace(0.0, T, slices + 1)
-    return HJBSolution(problem, times, values, diagnostics)
+    return HJBSolution(problem, times, values, diagnostics, structure.bounds)

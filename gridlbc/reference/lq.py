@@ -36,18 +36,18 @@ class LQSolution:
         if not (-1e-9 * T <= t <= T * (1 + 1e-9)):
             raise ValueError(f"t must lie in [0, T] = [0, {T:g}], got {t}")
         y = self._dense(T - min(max(t, 0.0), T))
-        d = self.problem.grid.ndim
+        d = self.problem.state_dim
         return y[: d * d].reshape(d, d), y[d * d : d * d + d], float(y[-1])
 
     def value(self, x, t) -> np.ndarray:
         """v(x, t), shape ``(N,)``."""
-        x = self.problem.grid.check_states(x)
+        x = self.problem.check_states(x)
         P, p, c0 = self.coefficients(t)
         return 0.5 * np.einsum("ni,ij,nj->n", x, P, x) + x @ p + c0
 
     def policy(self, x, t) -> np.ndarray:
         """u*(x, t) = −R⁻¹ Bᵀ (P x + p), shape ``(N, m)``."""
-        x = self.problem.grid.check_states(x)
+        x = self.problem.check_states(x)
         P, p, _ = self.coefficients(t)
         _, B = self.problem.system.linear_matrices()
         return -(x @ P + p) @ B @ self.problem.R_inv.T
@@ -65,7 +65,8 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
     """The exact solution for a linear system with quadratic costs.
 
     Requires ``problem.system.linear_matrices()`` (a(x) = A x, constant B), Quadratic terminal and
-    state costs, and no periodic grid axis (the closed form lives on all of Rᵈ).
+    state costs, and no periodic axis (the closed form lives on all of Rᵈ); a grid-free Problem
+    will do.
     """
     matrices = problem.system.linear_matrices()
     if matrices is None:
@@ -73,8 +74,9 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
             f"lq_solution needs a linear system (a(x) = A x, constant B); "
             f"{type(problem.system).__name__} is not: use reference.solve_hjb instead"
         )
-    if np.any(problem.grid.periodic):
-        raise ValueError("lq_solution is the solution on all of Rᵈ: the grid must have no periodic axis")
+    if problem.periodic_axes:
+        raise ValueError("lq_solution is the solution on all of Rᵈ: the problem must have no "
+                         f"periodic axis, got {list(problem.periodic_axes)}")
     A, B = matrices
     d = A.shape[0]
     S = B @ problem.R_inv @ B.T

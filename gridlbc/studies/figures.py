@@ -301,7 +301,7 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     """The acrobot swing-up from (−105°, −15°) at rest on an n⁴ grid: still frames and a GIF.
 
     The grid-optimal policy is rolled out without noise; ``reference`` adds the deterministic
-    optimum (:func:`gridlbc.trajopt.optimize_trajectory`) dashed. The defaults are the best
+    optimum (:func:`gridlbc.trajectory.optimize`) dashed. The defaults are the best
     setting measured by ``benchmarks/gymnast.py`` (71⁴, Δt = 0.05, drift fitted to the terminal
     cost: noise-free cost 15.9, ending 0.75 rad from the handstand, against the optimum's 13.18);
     the solve takes about 1.5 minutes and 7 GiB.
@@ -313,11 +313,9 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
     run = simulate(problem, solution.policy, GYMNAST_START, 1, dt=0.002, noise=False)
     ref = None
     if reference:
-        from ..trajopt import optimize_trajectory
+        from ..trajectory import optimize
 
-        optimum = optimize_trajectory(problem.system.drift, problem.system.input_matrix,
-                                      GYMNAST_START, problem.horizon, problem.terminal_cost,
-                                      n_intervals=300)
+        optimum = optimize(problem, GYMNAST_START, n_intervals=300)
         ref = (optimum.times, optimum.states, optimum.controls)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,247 @@
+"""The quadratic value expansion and LQR tracker along an optimised trajectory (paper §5, eq. 12).
+
+Along a trajectory (x̄_k, ū_k) of :func:`gridlbc.trajectory.optimize`, the Gauss–Newton Riccati
+pass of :mod:`gridlbc.trajectory.ddp` gives at every node t_k the gradient p_k and Hessian
+P_k ⪰ 0 of the cost-to-go and the gain K_k. The component is
+
+    v̂(x, t) = v̄(t) + p(t)ᵀΔx + ½ Δxᵀ P(t) Δx,      Δx = x ⊖ x̄(t)   (nearest image on periodic axes)
+    u(x, t) = ū(t) + K(t) Δx                                          (the LQR tracker)
+    z(x, t) = exp(−v̂(x, t)/λ)
+
+with v̄_k = g(x̄_K) + Σ_{j≥k} (q(x̄_j, t_j) + ½ ū_jᵀRū_j) Δt the cost along the trajectory, plus,
+with noise (``stochastic=True``, the default), the Itô correction of the Riccati equation
+
+    c_k = (λ/2) ∫_{t_k}^T tr(S P) ds,   S = B(x̄) R⁻¹ B(x̄)ᵀ   (trapezoidal rule on the nodes),
+
+which makes v̂ exact for linear-quadratic problems (the README's LQ reference); the paper uses
+the deterministic v̄ (``stochastic=False``). Between nodes v̄, c, p, P and x̄ are linear in time,
+ū and K are held on each interval, as the optimiser held the controls.
+
+Far from its trajectory a tracker extrapolates a local model: KΔx grows without bound. With a
+``radius`` ρ_max the feedback is saturated at the Mahalanobis distance
+
+    ρ(x, t) = √(Δxᵀ P(t) Δx / λ),     u = ū + K Δx · min(1, ρ_max / ρ),
+
+the number of standard deviations of the component's Gaussian desirability
+exp(−½ Δxᵀ(P/λ)Δx) at which the state lies; v̂ itself is not changed.
+"""
+
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..costs import wrap_difference
+from ..problem import Problem
+from ..solution import Solution
+from .ddp import sweep
+from .optimize import Trajectory, shooting_for, timed_state_cost
+
+
+class TrajectoryWarning(RuntimeWarning):
+    """An expansion was built around a trajectory whose optimisation did not converge."""
+
+
+def state_periods(problem: Problem) -> np.ndarray:
+    """The period of each state coordinate (``inf`` where not periodic), shape ``(d,)``."""
+    periods = getattr(problem, "periods", None)
+    if periods is None:
+        periods = problem.grid.periods
+    return np.asarray(periods, dtype=float)
+
+
+@dataclass(frozen=True, eq=False)
+class TrajectoryExpansion:
+    """A trajectory-based component: v̂, z and the tracker of the module docstring.
+
+    Attributes
+    ----------
+    problem : Problem
+    trajectory : Trajectory
+    nominal_values : ndarray (K+1,)
+        v̄(t_k), with the Itô correction c_k when ``stochastic``.
+    gradients : ndarray (K+1, d)
+        p_k.
+    hessians : ndarray (K+1, d, d)
+        P_k, positive semi-definite.
+    gains : ndarray (K, m, d)
+        K_k, the tracker's feedback on [t_k, t_k+1).
+    stochastic : bool
+        Whether ``nominal_values`` include (λ/2)∫tr(SP).
+    radius : float or None
+        ρ_max of the feedback saturation (None: none).
+    """
+
+    problem: Problem
+    trajectory: Trajectory
+    nominal_values: np.ndarray
+    gradients: np.ndarray
+    hessians: np.ndarray
+    gains: np.ndarray
+    stochastic: bool
+    radius: float | None
+    periods: np.ndarray
+
+    @property
+    def times(self) -> np.ndarray:
+        return self.trajectory.times
+
+    @property
+    def temperature(self) -> float:
+        return self.problem.temperature
+
+    def _states(self, x) -> np.ndarray:
+        d = self.problem.system.state_dim
+        arr = np.asarray(x, dtype=float)
+        if arr.ndim == 1:
+            arr = arr[None, :]
+        if arr.ndim != 2 or arr.shape[1] != d:
+            raise ValueError(f"x must be states of shape (N, {d}) or one state ({d},), got shape "
+                             f"{np.shape(x)}")
+        return arr
+
+    # Times are checked and bracketed exactly as a grid Solution's slices are.
+    _check_time = Solution._check_time
+    _bracket_time = Solution._bracket
+
+    def _bracket(self, t) -> tuple[int, float]:
+        return self._bracket_time(self._check_time(t))
+
+    def _at(self, field: np.ndarray, j: int, theta: float) -> np.ndarray:
+        return (1.0 - theta) * field[j] + theta * field[j + 1]
+
+    def deviation(self, x, t) -> np.ndarray:
+        """Δx = x ⊖ x̄(t), to the nearest image on periodic axes, shape ``(N, d)``."""
+        j, theta = self._bracket(t)
+        return self._deviation(self._states(x), j, theta)
+
+    def _deviation(self, x: np.ndarray, j: int, theta: float) -> np.ndarray:
+        return wrap_difference(x - self._at(self.trajectory.states, j, theta), self.periods)
+
+    def value(self, x, t) -> np.ndarray:
+        """v̂(x, t) = v̄ + pᵀΔx + ½ ΔxᵀPΔx, shape ``(N,)``."""
+        j, theta = self._bracket(t)
+        dx = self._deviation(self._states(x), j, theta)
+        P = self._at(self.hessians, j, theta)
+        return (self._at(self.nominal_values, j, theta) + dx @ self._at(self.gradients, j, theta)
+                + 0.5 * np.einsum("ni,ij,nj->n", dx, P, dx))
+
+    def log_desirability(self, x, t) -> np.ndarray:
+        """log z = −v̂/λ, shape ``(N,)``."""
+        return -self.value(x, t) / self.temperature
+
+    def desirability(self, x, t) -> np.ndarray:
+        """z = exp(−v̂/λ), shape ``(N,)`` (may underflow far away: use :meth:`value`)."""
+        with np.errstate(under="ignore", over="ignore"):
+            return np.exp(self.log_desirability(x, t))
+
+    def mahalanobis(self, x, t) -> np.ndarray:
+        """ρ = √(ΔxᵀPΔx/λ), shape ``(N,)``: how far x is from the trajectory in the component's
+        own metric."""
+        j, theta = self._bracket(t)
+        dx = self._deviation(self._states(x), j, theta)
+        return self._rho(dx, j, theta)
+
+    def _rho(self, dx: np.ndarray, j: int, theta: float) -> np.ndarray:
+        P = self._at(self.hessians, j, theta)
+        return np.sqrt(np.maximum(np.einsum("ni,ij,nj->n", dx, P, dx), 0.0) / self.temperature)
+
+    def policy(self, x, t) -> np.ndarray:
+        """The tracker u = ū + K Δx (feedback saturated beyond ``radius``), shape ``(N, m)``."""
+        j, theta = self._bracket(t)
+        dx = self._deviation(self._states(x), j, theta)
+        if self.radius is not None:
+            rho = self._rho(dx, j, theta)
+            with np.errstate(divide="ignore"):
+                dx = dx * np.minimum(1.0, self.radius / rho)[:, None]
+        # ū and K are held on [t_j, t_j+1) (t = T falls in the last interval)
+        return self.trajectory.controls[j] + dx @ self.gains[j].T
+
+
+def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
+           radius: float | None = None) -> TrajectoryExpansion:
+    """The quadratic value expansion and LQR tracker of ``trajectory`` (module docstring).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem the trajectory was optimised for (its temperature λ may differ: it sets the
+        Itô correction and the desirability's unit).
+    trajectory : Trajectory
+        From :func:`gridlbc.trajectory.optimize`.
+    stochastic : bool
+        Include (λ/2)∫tr(B R⁻¹ Bᵀ P) in v̄ (exact for LQ); ``False``: the paper's deterministic v̄.
+    radius : float, optional
+        Saturate the tracker's feedback at this Mahalanobis distance ρ_max (in standard
+        deviations of the component's desirability); ``None``: no saturation.
+
+    Returns
+    -------
+    TrajectoryExpansion
+        A component for :func:`gridlbc.combine` with ``value``, ``desirability`` and ``policy``.
+    """
+    if not isinstance(problem, Problem):
+        raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
+    if not isinstance(trajectory, Trajectory):
+        raise TypeError("trajectory must be a gridlbc.trajectory.Trajectory (from "
+                        f"gridlbc.trajectory.optimize), got {type(trajectory).__name__}")
+    if radius is not None:
+        radius = float(radius)
+        if not (np.isfinite(radius) and radius > 0):
+            raise ValueError(f"radius must be None or a positive number, got {radius}")
+    _check_same_problem(problem, trajectory)
+    if not trajectory.converged:
+        warnings.warn(f"the trajectory's optimisation did not converge ({trajectory.message}): "
+                      "its expansion is a local model of a suboptimal tape; optimise again with "
+                      "more restarts or intervals", TrajectoryWarning, stacklevel=2)
+    U, X = trajectory.controls, trajectory.states
+    K = len(U)
+    shooting = shooting_for(problem, X[0], K)
+    states, back = sweep(shooting, U, problem.terminal_cost, problem.state_cost)
+    dt = shooting.dt
+    running = 0.5 * np.einsum("ki,ij,kj->k", U, problem.R, U)
+    q = timed_state_cost(problem)
+    if q is not None:
+        running = running + np.asarray(q(states[:-1], trajectory.times[:-1]), dtype=float)
+    terminal = float(np.asarray(problem.terminal_cost(states[-1:]), dtype=float)[0])
+    to_go = terminal + dt * np.concatenate([np.cumsum(running[::-1])[::-1], [0.0]])
+    if stochastic:
+        B = np.asarray(problem.system.input_matrix(states), dtype=float)  # (K+1, d, m)
+        S = np.einsum("kim,mn,kjn->kij", B, problem.R_inv, B)
+        trace = np.einsum("kij,kji->k", S, back.P)
+        step = 0.25 * problem.temperature * dt * (trace[:-1] + trace[1:])
+        to_go = to_go + np.concatenate([np.cumsum(step[::-1])[::-1], [0.0]])
+    return TrajectoryExpansion(problem, trajectory, to_go, back.p, back.P, back.gains,
+                               bool(stochastic), radius, state_periods(problem))
+
+
+def _check_same_problem(problem: Problem, trajectory: Trajectory) -> None:
+    """Raise if ``trajectory`` was optimised for a problem other than ``problem``."""
+    other = trajectory.problem
+    differs = []
+    if other.system != problem.system:
+        differs.append(f"system ({other.system!r} vs {problem.system!r})")
+    if not np.isclose(trajectory.times[-1], problem.horizon, rtol=1e-12, atol=0):
+        differs.append(f"horizon (the trajectory ends at {trajectory.times[-1]:g}, the problem's "
+                       f"T is {problem.horizon:g})")
+    if not np.array_equal(other.R, problem.R):
+        differs.append(f"control cost R ({other.R.tolist()} vs {problem.R.tolist()})")
+    x, t = trajectory.states, trajectory.times
+    for name in ("terminal_cost", "state_cost"):
+        a, b = getattr(other, name), getattr(problem, name)
+        if a is b:
+            continue
+        if a is None or b is None:
+            differs.append(name.replace("_", " "))
+            continue
+        timed = getattr(a, "time_dependent", False), getattr(b, "time_dependent", False)
+        if timed[0] != timed[1] or not np.allclose(a(x, t) if timed[0] else a(x),
+                                                   b(x, t) if timed[1] else b(x),
+                                                   rtol=1e-12, atol=1e-12):
+            differs.append(f"{name.replace('_', ' ')} (values differ along the trajectory)")
+    if differs:
+        raise ValueError("trajectory was optimised for another problem: it differs in "
+                         f"{'; '.join(differs)}. Optimise it for this problem "
+                         "(gridlbc.trajectory.optimize(problem, x0)).")
