@@ -14,7 +14,7 @@ from .io import load, save
 from .problem import Problem
 from .project import Projection, ProjectionWarning, project, projection
 from .simulate import Rollouts, simulate
-from .solution import Solution, SolveDiagnostics, UnderflowWarning
+from .solution import ResolutionWarning, Solution, SolveDiagnostics, UnderflowWarning
 from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
 from .sweep import SweepMember, sweep  # imports Dask only when a sweep runs
 
@@ -34,6 +34,7 @@ __all__ = [
     "Projection",
     "ProjectionWarning",
     "Quadratic",
+    "ResolutionWarning",
     "Rollouts",
     "Solution",
     "SolveDiagnostics",

@@ -13,6 +13,12 @@ and time t ∈ [t_j, t_{j+1}] (θ = (t − t_j)/(t_{j+1} − t_j)):
 
 with ∇z by finite differences at the simplex vertices. All three interpolants are linear in the
 nodal z, so combinations of solutions evaluate exactly as the solution of the combined problem.
+
+A solve fitted to its own terminal cost is not linear in its terminal data anyway (its operator
+is built from it); it stores log z instead (``diagnostics.interpolation == "log"``) and
+interpolates that, v(x, t) = −λ Σ w I[log z], u* = λ R⁻¹ Bᵀ I[∇ log z]: the interpolation its
+fitted step uses, and one that neither underflows nor caps ∇z/z at about 1/h where v/λ rises
+steeply from node to node.
 """
 
 from __future__ import annotations
@@ -30,6 +36,11 @@ class UnderflowWarning(RuntimeWarning):
     """Desirability underflowed to zero at some query states: value +inf, policy undefined (NaN)."""
 
 
+class ResolutionWarning(RuntimeWarning):
+    """The grid and scheme cannot resolve the solution (its values are not to be trusted there);
+    the message says what limits it and what to change."""
+
+
 @dataclass(frozen=True)
 class SolveDiagnostics:
     """What a solve did and cost.
@@ -43,7 +54,9 @@ class SolveDiagnostics:
     storage (below ~1e-45 of their slice's maximum; value +inf there); ``memory_estimate``: the
     bytes of memory the solve was estimated to need (checked before allocating); ``fitting``:
     ``"none"``, or a fingerprint of the reference the drift was fitted to (solutions combine
-    exactly only when it matches).
+    exactly only when it matches); ``interpolation``: ``"linear"`` (the slices hold scaled z,
+    interpolated linearly) or ``"log"`` (a solve fitted to its own terminal cost: the slices
+    hold log z relative to its maximum, and v = −λ log z is interpolated linearly).
     """
 
     method: str
@@ -60,6 +73,7 @@ class SolveDiagnostics:
     flushed_values: int = 0
     memory_estimate: int = 0
     fitting: str = "none"
+    interpolation: str = "linear"
 
 
 @dataclass(frozen=True, eq=False)
@@ -102,6 +116,8 @@ class Solution:
 
     def log_desirability_nodes(self, j: int = 0) -> np.ndarray:
         """log z at every node of stored slice ``j`` (−inf where it underflowed), shape ``(N,)``."""
+        if self.diagnostics.interpolation == "log":
+            return self.slices[j].astype(float) + self.log_scales[j]
         with np.errstate(divide="ignore"):
             return np.log(self.slices[j].astype(float)) + self.log_scales[j]
 
@@ -155,6 +171,12 @@ class Solution:
         shape ``(N, m)`` (``g`` is ``None`` when ``gradient`` is false). The building block of
         every evaluation here and of :func:`gridlbc.combine`.
         """
+        if self.diagnostics.interpolation == "log":
+            ell, g = self._log_fields(x, t, gradient)
+            L = float(ell.max())
+            with np.errstate(under="ignore"):
+                z = np.exp(ell - L)
+            return L, z, None if g is None else g * z[:, None]
         grid = self.grid
         x = grid.check_states(x)
         js, tw, L = self._time_weights(t)
@@ -171,8 +193,29 @@ class Solution:
             g += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], dz)
         return L, z, g
 
+    def _log_fields(self, x, t, gradient: bool):
+        """For ``interpolation="log"``: the interpolated ℓ = log z ``(N,)`` and Bᵀ∇ℓ ``(N, m)``
+        (``None`` without ``gradient``), linear in the nodal log z in space and in time."""
+        grid = self.grid
+        x = grid.check_states(x)
+        j, theta = self._bracket(self._check_time(t))
+        tw = np.array([1.0 - theta, theta])
+        idx, bw = barycentric(grid, x)
+        S = self.slices[j: j + 2]
+        ell = np.einsum("s,snv,nv->n", tw, S[:, idx], bw) + tw @ self.log_scales[j: j + 2]
+        if not gradient:
+            return ell, None
+        B = self._input_matrix_at(idx)
+        g = np.zeros((x.shape[0], self.problem.system.control_dim))
+        for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
+            dl = node_gradient(grid, S, idx.ravel(), k).reshape((2,) + idx.shape)
+            g += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], np.einsum("s,snv->nv", tw, dl))
+        return ell, g
+
     def log_desirability(self, x, t) -> np.ndarray:
         """log z(x, t), shape ``(N,)`` (−inf where z underflowed, with an UnderflowWarning)."""
+        if _interpolates_log(self):
+            return self._log_fields(x, t, gradient=False)[0]
         L, z, _ = self.scaled_fields(x, t, gradient=False)
         return _log_checked(z) + L
 
@@ -188,9 +231,19 @@ class Solution:
         return -self.temperature * self.log_desirability(x, t)
 
     def policy(self, x, t) -> np.ndarray:
-        """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z, shape ``(N, m)``."""
+        """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v, shape ``(N, m)``."""
+        if _interpolates_log(self):
+            _, g = self._log_fields(x, t, gradient=True)
+            return self.temperature * (g @ self.problem.R_inv.T)
         _L, z, g = self.scaled_fields(x, t)
         return policy_from_fields(self.problem, z, g)
+
+
+def _interpolates_log(solution) -> bool:
+    """Whether ``solution`` interpolates log z (a Solution fitted to itself); the evaluation
+    methods below are shared with :class:`gridlbc.combine.CombinedSolution`, which does not."""
+    diagnostics = getattr(solution, "diagnostics", None)
+    return diagnostics is not None and diagnostics.interpolation == "log"
 
 
 def warn_underflow(bad: np.ndarray) -> None:

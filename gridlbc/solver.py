@@ -18,6 +18,7 @@ import os
 import shutil
 import tempfile
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -26,7 +27,13 @@ from ._numba import jit_parallel, prange, work_blocks
 from .problem import Problem
 from .progress import ProgressBar
 from .schemes import LINEAR_SOLVERS, METHODS
-from .solution import Solution, SolveDiagnostics
+from .schemes.splitting import SplittingStep, _flat_chunks
+from .solution import ResolutionWarning, Solution, SolveDiagnostics
+
+PLAIN_COURANT, PLAIN_MIN_STEPS = 6.0, 50
+"""Default Courant number and fewest steps of the plain splitting scheme."""
+FITTED_COURANT, FITTED_MIN_STEPS = 12.0, 10
+"""The same for the fitted one (its O(h²/Δt) interpolation error wants longer steps)."""
 
 
 @dataclass(frozen=True)
@@ -41,13 +48,14 @@ class SolverSettings:
         Time step; rounded down so that it divides the horizon. Default: a Courant number
         (``max |a_k| Δt / h_k``) of ``courant`` for the splitting scheme, and 1 for the implicit
         one, with at least ``min_steps`` steps.
-    courant : float
+    courant : float, optional
         Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
         error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
-        small steps *add* numerical diffusion and the most accurate Δt has a Courant number
-        well above 1 (``benchmarks/swingup_accuracy.py`` measures it); the default is 6.
-    min_steps : int
-        At least this many steps over the horizon.
+        small steps *add* numerical diffusion (plain) or pessimism (fitted). Default 6 for the
+        plain drift and 12 when it is fitted, whose interpolation error is the larger term
+        (``benchmarks/accuracy.py`` measures both against the certified optimum).
+    min_steps : int, optional
+        At least this many steps over the horizon (default 50 plain, 10 fitted).
     store_every : int
         Keep every k-th slice (and always t = 0 and T); z between them is interpolated linearly
         in time (which keeps superposition exact). This costs policy accuracy where the dynamics
@@ -72,15 +80,17 @@ class SolverSettings:
         far less numerical diffusion where v is steep. ``None``: plain barycentric
         interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
         :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
-        that cost. The step stays linear in z for a fixed reference, so superposition is exact
+        that cost. The diffusion is fitted to the same reference, and a single solve fitted
+        to its own terminal cost runs in the log domain and interpolates v (no underflow at any
+        temperature). The step stays linear in z for a fixed reference, so superposition is exact
         among solutions that share it; :func:`gridlbc.combine` refuses solutions fitted to
         different references.
     """
 
     method: str = "splitting"
     dt: float | None = None
-    courant: float = 6.0
-    min_steps: int = 50
+    courant: float | None = None
+    min_steps: int | None = None
     store_every: int = 1
     dtype: str = "float64"
     progress: bool = False
@@ -95,9 +105,9 @@ class SolverSettings:
             )
         if self.dt is not None and not (np.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"dt must be positive and finite, got {self.dt}")
-        if not (self.courant > 0):
+        if self.courant is not None and not (self.courant > 0):
             raise ValueError(f"courant must be positive, got {self.courant}")
-        if int(self.min_steps) < 1 or int(self.store_every) < 1:
+        if (self.min_steps is not None and int(self.min_steps) < 1) or int(self.store_every) < 1:
             raise ValueError("min_steps and store_every must be at least 1")
         if self.dtype not in ("float64", "float32"):
             raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
@@ -159,8 +169,11 @@ def time_grid(problem: Problem, settings: SolverSettings, rate: float) -> tuple[
             raise ValueError(f"dt = {settings.dt} exceeds the horizon T = {T}")
         n = math.ceil(T / settings.dt - 1e-9)
     else:
-        courant = settings.courant if settings.method == "splitting" else 1.0
-        n = max(settings.min_steps, math.ceil(T * rate / courant - 1e-9))
+        fitted = settings.fitting is not None
+        courant = (1.0 if settings.method != "splitting" else settings.courant
+                   or (FITTED_COURANT if fitted else PLAIN_COURANT))
+        min_steps = settings.min_steps or (FITTED_MIN_STEPS if fitted else PLAIN_MIN_STEPS)
+        n = max(int(min_steps), math.ceil(T * rate / courant - 1e-9))
     return T / n, n
 
 
@@ -188,7 +201,7 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
     fitted = settings.fitting is not None
     rows = n_rhs + (1 if fitted and not _is_own_reference(settings.fitting, n_rhs) else 0)
-    working = (3 * rows + grid.ndim + (1 if fitted else 0)) * grid.size * 8  # + log φ
+    working = (3 * rows + grid.ndim + (2 if fitted else 0)) * grid.size * 8  # + log φ, κ
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)
     return {"stored": stored, "working": working, "operator": operator, "ram": ram}
@@ -310,6 +323,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     estimate = memory_estimate(problem, s, len(kept), K)
     _check_memory(estimate, what, s.mmap_dir)
 
+    if _is_own_reference(s.fitting, K) and s.method == "splitting":
+        return [_solve_log(problem, s, kept, dt, n_steps, rate, estimate, started)]
     Z, log_scale = _terminal_data(problem, terminal_costs)
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.fitting, Z, log_scale)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
@@ -357,7 +372,123 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
         )
         out.append(Solution(problem.replace(terminal_cost=cost), times, slices[r],
                             scales[:, r].copy(), diagnostics))
+    if reference is None:
+        diffusion_step = 0.5 * dt if s.method == "splitting" else dt
+        for solution in out:
+            check_resolution(solution.problem, solution, diffusion_step)
     return out
+
+
+TAIL_SHARE = 0.01
+"""A plain solve warns when more than this share of the nodes sit at its diffusion's tail cap."""
+
+
+def _diffusion_tail_cap(ratio: np.ndarray) -> np.ndarray:
+    """log(1/ρ) per cell of the implicit diffusion (1 + 2r) z_i − r (z_{i−1} + z_{i+1}) = b:
+    its inverse decays like ρ^k, ρ = ((1 + 2r) − √(1 + 4r)) / (2r), so however fast the true
+    desirability falls, the computed one falls by at most this factor of e per cell."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho = ((1 + 2 * ratio) - np.sqrt(1 + 4 * ratio)) / (2 * ratio)
+        return np.where(ratio > 0, -np.log(rho), np.inf)
+
+
+def check_resolution(problem: Problem, solution: Solution, step: float) -> float:
+    """Warn (:class:`ResolutionWarning`) when the plain operator's z tails, not the PDE, set the
+    value: the share of nodes where v/λ at t = T (the terminal cost) or t = 0 rises from a node
+    to its neighbour along a noise axis by at least 0.9 of the diffusion's tail cap
+    (:func:`_diffusion_tail_cap`, for r = ``step`` D_k / h_k², ``step`` the diffusion's time
+    step). The scheme cannot carry such a fall of z: it fills it with its own tails, so v is
+    underestimated, more so as λ falls. Returns that share."""
+    grid = problem.grid
+    flagged, worst = 0, (0.0, 0.0, "")
+    for value in (problem.terminal_values(grid.nodes()), solution.value_nodes(0)):
+        flagged, worst = _count_at_cap(problem, value, step, flagged, worst)
+    share = flagged / (2 * grid.size)
+    if share > TAIL_SHARE:
+        warnings.warn(
+            f"the plain scheme cannot resolve this problem's desirability: at {100 * share:.0f} % "
+            f"of the nodes v/λ rises from node to node faster than its diffusion's tails allow "
+            f"(up to {worst[0]:.3g} per cell along {worst[2]}, where the tails cap it at "
+            f"{worst[1]:.3g}), so v is underestimated there, increasingly as λ falls. Solve with "
+            "fitting='terminal' (exact tails), or refine that axis, or raise the temperature.",
+            ResolutionWarning, stacklevel=3,
+        )
+    return share
+
+
+def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int, worst):
+    """Add to ``flagged`` the nodes whose v/λ rises to a noise-axis neighbour by ≥ 0.9 of the tail
+    cap, and keep the worst (rise, cap, axis) seen."""
+    grid, lam = problem.grid, problem.temperature
+    for flat in _flat_chunks(grid.size):
+        x = grid.node_coordinates(flat)
+        diffusion = 0.5 * problem.noise_diagonal(x)
+        index = np.stack(np.unravel_index(flat, grid.shape), axis=1)
+        hit = np.zeros(flat.size, dtype=bool)
+        for k, ax in enumerate(grid.axes):
+            if not np.any(diffusion[:, k] > 0):
+                continue
+            nxt = index.copy()
+            nxt[:, k] += 1
+            inside = nxt[:, k] < ax.n
+            if ax.periodic:
+                nxt[:, k] %= ax.n
+                inside[:] = True
+            neighbour = np.ravel_multi_index(tuple(np.minimum(nxt, np.array(grid.shape) - 1).T),
+                                             grid.shape)
+            with np.errstate(invalid="ignore"):  # +inf where one side underflowed, NaN both
+                rise = np.abs(value[neighbour] - value[flat]) / lam
+            cap = _diffusion_tail_cap(step * diffusion[:, k] / ax.spacing**2)
+            at_cap = inside & ~np.isnan(rise) & (rise >= 0.9 * cap)
+            hit |= at_cap
+            if np.any(at_cap):
+                i = np.argmax(np.where(at_cap, rise, -1.0))
+                if rise[i] > worst[0]:
+                    worst = (float(rise[i]), float(cap[i]), ax.name or f"axis {k}")
+        flagged += int(hit.sum())
+    return flagged, worst
+
+
+def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, n_steps: int,
+               rate: float, estimate: dict[str, int], started: float) -> Solution:
+    """A single terminal cost fitted to itself, stepped in the log domain.
+
+    ℓ = log z − (its maximum) is advanced by :meth:`SplittingStep.log_step` and stored as it is
+    (slices of log z relative to their maximum, ``interpolation="log"``: the solution then
+    interpolates v = −λ log z, not z), so that neither the solve nor the stored solution
+    underflows however large v/λ grows across the grid.
+    """
+    grid = problem.grid
+    g = problem.terminal_values(grid.nodes())
+    ell = (-(g - g.min()) / problem.temperature)[None, :]
+    log_scale = -g.min() / problem.temperature
+    fingerprint = _fingerprint(np.exp(ell[0]))
+    step = SplittingStep(problem, dt)
+    setup_time = time.perf_counter() - started
+    slices = _slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
+    scales = np.empty(len(kept))
+    slot = len(kept) - 1
+    slices[slot], scales[slot] = ell[0], log_scale
+    buffer = np.empty_like(ell)
+    progress = _Progress(n_steps, s.progress, f"fitted {grid.describe()}", grid.size)
+    for n in range(n_steps - 1, -1, -1):
+        peak = step.log_step(ell, buffer)
+        ell, buffer = buffer, ell
+        ell -= peak
+        log_scale += peak
+        if n == kept[slot - 1]:
+            slot -= 1
+            slices[slot], scales[slot] = ell[0], log_scale
+        progress.update(n_steps - n)
+    times = np.array(kept, dtype=float) * dt
+    times[-1] = problem.horizon
+    diagnostics = SolveDiagnostics(
+        method=s.method, dt=dt, steps=n_steps, store_every=s.store_every,
+        wall_time=time.perf_counter() - started, setup_time=setup_time, underflow_nodes=0,
+        stored_bytes=int(slices.nbytes), operator_bytes=step.nbytes, courant=rate * dt,
+        memory_estimate=estimate["ram"], fitting=fingerprint, interpolation="log",
+    )
+    return Solution(problem, times, slices, scales, diagnostics)
 
 
 def solve(problem: Problem, dt: float | None = None, settings=None, **options) -> Solution:

@@ -206,4 +206,5 @@ def test_worker_warnings_reach_the_caller(tmp_path, client):
         [member] = gridlbc.sweep([problem], tmp_path, states=[-math.pi, -8.0], client=client,
                                  progress=False, dtype="float32")
     assert member.values[0] == math.inf and member.error is None
-    assert len(member.warnings) == 1 and "underflow" in member.warnings[0]
+    # the plain solve at λ = 0.005 also (rightly) raises a ResolutionWarning on the worker
+    assert sum("underflow" in w for w in member.warnings) == 1, member.warnings

@@ -131,7 +131,7 @@ def decimate(solution: Solution, nodes=None, n_times: int | None = None,
     flushed = int(np.count_nonzero(slices) - np.count_nonzero(stored))
     diagnostics = replace(
         solution.diagnostics, stored_bytes=int(stored.nbytes), flushed_values=flushed,
-        underflow_nodes=int(np.count_nonzero(stored[0] == 0)),
+        underflow_nodes=int(np.count_nonzero(stored[0] == 0)), interpolation="linear",
     )
     return Solution(solution.problem.replace(grid=coarse), solution.times[kept].copy(), stored,
                     scales, diagnostics)
@@ -209,7 +209,10 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     shape, n_stored = first.grid.shape, len(first.times)
     whole = sum(int(s.slices.nbytes) for s in solutions)
     if nodes is None and n_times is None and whole <= max_bytes:
-        return Embedding(solutions, shape, n_stored, False)
+        # the page interpolates z: a solution that stores log z is converted at its own nodes
+        return Embedding(tuple(s if s.diagnostics.interpolation == "linear" else
+                               decimate(s, None, None, dtype) for s in solutions),
+                         shape, n_stored, False)
     if n_times is None:
         n_times = min(n_stored, DEFAULT_TIMES)
     if nodes is None:

@@ -42,6 +42,19 @@ exact among them (the README's swing-up tables compare the two). Where v is curv
 interpolating v overestimates it by about h² v''/8 per step: the fitted value errs on the
 pessimistic side.
 
+Fitted diffusion. With a reference, the half-step diffusion along each noise axis is fitted too:
+
+    (D_φ z)(x) = ∫ G_σ(x − x') φ̄(x') ȳ(x') dx',    y = z/φ,    σ² = λ (B R⁻¹ Bᵀ)_kk Δt/2,
+
+with ȳ the piecewise-linear interpolant of y, log φ̄ on each cell the quadratic through its two
+nodes with the cell's mean second difference, and the line continued by wrapping (periodic) or
+mirroring (closed, the reflecting constraint); each cell's integral is closed-form (erf). For a
+fixed φ this is again linear and non-negative and exact where z ∝ φ (for a Gaussian φ exactly
+the heat kernel's result). Its tails are Gaussian, so moving k cells costs the control's true
+(kh)²/(2 (B R⁻¹ Bᵀ)_kk Δt/2) at any λ; the tridiagonal solve's tails decay only geometrically,
+which caps the rise of −λ log z per cell at λ log(1/ρ), a cap that vanishes with λ. A single
+solve fitted to itself runs in the log domain (:meth:`SplittingStep.log_step`).
+
 Large grids. The feet are computed once per solve, in chunks, and stored compactly
 (:data:`FEET_LAYOUTS`): ``"compact"`` keeps per node the base corner (int32), the index (uint16) of its
 simplex's shape (axis order and periodic seams; a small table holds the d+1 vertex offsets of
@@ -57,9 +70,11 @@ state cost, into the last diffusion pass), so a step streams z through memory ab
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from .._numba import jit_parallel, prange, work_blocks
+from .._numba import jit, jit_parallel, prange, work_blocks
 from ..grid import Grid
 from ..interpolate import barycentric
 from ..problem import Problem
@@ -357,6 +372,199 @@ def _diffuse_periodic_kernel(z, ratio, n, stride):
                 z[r_idx, base + i * stride] = y[i] - factor * q[i]
 
 
+# -- fitted diffusion ---------------------------------------------------------------------------
+
+_FIT_WINDOW = 30.0  # cells whose integrand stays below e^{−30} of the largest are skipped
+_FIT_IMAGES = 16  # the fitted diffusion scans at most this many line lengths to each side
+
+
+@jit
+def _erfcx(x):
+    """e^{x²} erfc(x) for x ≥ 0 (the asymptotic series beyond x = 25, where erfc underflows)."""
+    if x < 25.0:
+        return math.exp(x * x) * math.erfc(x)
+    inv = 1.0 / (x * x)
+    return (1.0 - 0.5 * inv + 0.75 * inv * inv - 1.875 * inv * inv * inv) / (x * math.sqrt(math.pi))
+
+
+@jit
+def _cell_weights(A, B, C, E):
+    """(∫₀¹ (1 − s) e^{f(s) − E} ds, ∫₀¹ s e^{f(s) − E} ds) for the concave
+    f(s) = −A s² + B s + C (A > 0), without overflow, both clamped at 0 against rounding.
+
+    With μ = B/(2A): ∫₀¹ e^{f} = e^{f(ŝ)} √π/(2√A) × (an erf difference, written with erfcx
+    when both ends lie on one side of μ, so that it never cancels), and
+    ∫₀¹ (s − μ) e^{f} = (e^{f(0)} − e^{f(1)})/(2A)."""
+    root = math.sqrt(A)
+    mu = B / (2.0 * A)
+    lo, hi = -root * mu, root * (1.0 - mu)
+    e0, e1 = math.exp(C - E), math.exp(C + B - A - E)
+    half = 0.5 * math.sqrt(math.pi) / root
+    if lo >= 0.0:  # μ ≤ 0: the integrand is largest at s = 0
+        total = e0 * half * (_erfcx(lo) - math.exp(lo * lo - hi * hi) * _erfcx(hi))
+    elif hi <= 0.0:  # μ ≥ 1: largest at s = 1
+        total = e1 * half * (_erfcx(-hi) - math.exp(hi * hi - lo * lo) * _erfcx(-lo))
+    else:
+        total = math.exp(C + A * mu * mu - E) * half * (math.erf(hi) - math.erf(lo))
+    first = max(mu * total + (e0 - e1) / (2.0 * A), 0.0)
+    return max(total - first, 0.0), first
+
+
+@jit
+def _cell_peak(A, B, C):
+    """max over s ∈ [0, 1] of −A s² + B s + C."""
+    s = min(max(B / (2.0 * A), 0.0), 1.0)
+    return C + s * (B - A * s)
+
+
+@jit_parallel
+def _line_bounds(ell, n, stride, periodic, curvature, rises, bulges):
+    """Per node p of one axis: ``curvature[p]`` = ℓ_{k−1} − 2ℓ_k + ℓ_{k+1} (wrapped on a periodic
+    line; at the ends of a closed one, the neighbour's). Per line: ``rises`` the largest
+    |ℓ_{k+1} − ℓ_k| between neighbours and ``bulges`` the most the curved interpolant of the
+    fitted diffusion rises above the nodes, max(0, −min κ)/8: together they bound how far the
+    fitted diffusion scans."""
+    n_lines = ell.size // n
+    for task in prange(n_lines):
+        line = (task // stride) * n * stride + task % stride
+        rise = 0.0
+        lowest = 0.0
+        for i in range(n):
+            left = i - 1 if i > 0 else (n - 1 if periodic else 1)
+            right = i + 1 if i < n - 1 else (0 if periodic else n - 2)
+            if not periodic and (i == 0 or i == n - 1):
+                inner = 1 if i == 0 else n - 2  # the neighbour's curvature
+                left, right, centre = inner - 1, inner + 1, inner
+            else:
+                centre = i
+            kappa = (ell[line + left * stride] - 2.0 * ell[line + centre * stride]
+                     + ell[line + right * stride])
+            curvature[line + i * stride] = kappa
+            lowest = min(lowest, kappa)
+            if periodic or i < n - 1:
+                j = i + 1 if i + 1 < n else 0
+                rise = max(rise, abs(ell[line + j * stride] - ell[line + i * stride]))
+        rises[task] = rise
+        bulges[task] = -lowest / 8.0
+
+
+@jit_parallel
+def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n, stride,
+                           periodic, log_out, out):
+    """out[r, p] = ∫ G_σ(x_p − x) φ̄(x) ȳ_r(x) dx along one axis, for y = z/φ and ell = log φ at
+    the nodes: ȳ_r the piecewise-linear interpolant of y_r, φ̄ = exp(ℓ̄) with ℓ̄ on each cell the
+    quadratic through its two nodes with the cell's mean second difference κ (from
+    ``curvature``, capped at A below so that every cell's integrand stays concave in the
+    exponent; exact for quadratic ℓ), G_σ the Gaussian of variance σ² = ``sigma2`` (one value, or
+    one per node), continued across the ends by wrapping (periodic) or mirroring (closed). The
+    curvature removes the bias of a linear ℓ̄, which overestimates v = −λℓ by h²v''/8 mid-cell.
+
+    Each side of x_p is scanned cell by cell, twice: first for the largest peak E of the
+    log-integrand −(x_p − x)²/(2σ²) + ℓ̄(x) over a cell, then to integrate the cells whose peak
+    is within 30 of E. A cell c cells away peaks at most at −A c² + ℓ (A = h²/(2σ²), ℓ its near
+    node's, plus the line's ``bulges``), and beyond c > L/(2A), L the line's ``rises``, no later
+    cell can peak higher than that: the scan stops there once it falls below E − 30, or once
+    −A c² + ``ell_max`` (plus the bulge) does (after at most ``_FIT_IMAGES`` line lengths).
+
+    With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
+    the integral, log ∫ G_σ φ̄: the reference advanced alone, in the log domain (nothing
+    underflows however steep ℓ is)."""
+    n_rhs, n_nodes = y.shape
+    uniform = sigma2.size == 1
+    reach = _FIT_IMAGES * n
+    period = n if periodic else 2 * (n - 1)
+    for p in prange(n_nodes):
+        i = (p // stride) % n
+        line = p - i * stride
+        s2 = sigma2[0] if uniform else sigma2[p]
+        if s2 <= 0.0:  # no noise at this node: z' = z
+            for r in range(n_rhs):
+                out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
+            continue
+        A = h * h / (2.0 * s2)
+        line_id = (p // (n * stride)) * stride + p % stride
+        free = rises[line_id] / (2.0 * A)  # within this many cells the bound may still rise
+        bulge = bulges[line_id]
+        peak = ell[p]
+        for sweep in range(2):  # 0: the largest cell peak E; 1: integrate against it
+            if sweep == 1:
+                for r in range(n_rhs):
+                    out[r, p] = 0.0
+            for side in range(2):
+                step = 1 if side == 0 else -1
+                near = i  # unfolded index of the cell's node nearest to x_p, then the far one
+                k_near = i
+                for c in range(reach):
+                    far = near + step
+                    k_far = far % period
+                    if k_far < 0:
+                        k_far += period
+                    if k_far > n - 1:
+                        k_far = period - k_far
+                    gauss = -A * c * c
+                    if gauss + ell_max + bulge < peak - _FIT_WINDOW or (c > free and (
+                            gauss + ell[line + k_near * stride] + bulge < peak - _FIT_WINDOW)):
+                        break
+                    lo_node, hi_node = (k_near, k_far) if side == 0 else (k_far, k_near)
+                    a = (near - i if side == 0 else far - i) * h  # the cell's left end − x_p
+                    k0, k1 = line + lo_node * stride, line + hi_node * stride
+                    kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
+                    Ac = A - 0.5 * kappa
+                    B = ell[k1] - ell[k0] - a * h / s2 - 0.5 * kappa
+                    C = ell[k0] - a * a / (2.0 * s2)
+                    top = _cell_peak(Ac, B, C)
+                    near, k_near = far, k_far
+                    if sweep == 0:
+                        peak = max(peak, top)
+                        continue
+                    if top < peak - _FIT_WINDOW:
+                        continue
+                    w0, w1 = _cell_weights(Ac, B, C, peak)
+                    if log_out:
+                        out[0, p] += w0 + w1
+                        continue
+                    for r in range(n_rhs):
+                        out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
+        norm = h / math.sqrt(2.0 * math.pi * s2)
+        if log_out:
+            out[0, p] = peak + math.log(out[0, p] * norm)
+            continue
+        norm *= math.exp(peak)
+        for r in range(n_rhs):
+            out[r, p] *= norm
+
+
+def diffuse_fitted_numpy(y: np.ndarray, ell: np.ndarray, variance: float, h: float,
+                         periodic: bool, points: int = 64, images: int = 3) -> np.ndarray:
+    """Plain-numpy twin of :func:`_diffuse_fitted_kernel` on one line (``y`` ``(K, n)``, ``ell``
+    ``(n,)``): the same integral by the midpoint rule with ``points`` per cell over ``images``
+    line lengths to each side, every cell taken (no window)."""
+    n = ell.size
+    period = n if periodic else 2 * (n - 1)
+    if periodic:
+        left, centre, right = np.roll(ell, 1), ell, np.roll(ell, -1)
+        kappa = left - 2 * centre + right
+    else:
+        inner = np.clip(np.arange(n), 1, n - 2)
+        kappa = ell[inner - 1] - 2 * ell[inner] + ell[inner + 1]
+    A = h * h / (2 * variance)
+    m = np.arange(-images * n, images * n)
+    k = np.mod(m, period)
+    k0 = np.where(k > n - 1, period - k, k)
+    k = np.mod(m + 1, period)
+    k1 = np.where(k > n - 1, period - k, k)
+    s = (np.arange(points) + 0.5) / points
+    cell_kappa = np.minimum(0.5 * (kappa[k0] + kappa[k1]), A)[:, None]
+    log_phi = (1 - s) * ell[k0, None] + s * ell[k1, None] - 0.5 * cell_kappa * s * (1 - s)
+    y_bar = (1 - s) * y[:, k0, None] + s * y[:, k1, None]
+    out = np.empty_like(y, dtype=float)
+    for i in range(n):
+        x = (m[:, None] - i + s) * h
+        weight = np.exp(-x * x / (2 * variance) + log_phi) * h / points
+        out[:, i] = (y_bar * weight).sum(axis=(1, 2)) / np.sqrt(2 * np.pi * variance)
+    return out
+
+
 @jit_parallel
 def _cost_max_kernel(z, cost, block_max):
     """z[r] *= cost (when ``cost`` is not empty); block_max[r, b] = max of z[r] over block b."""
@@ -395,8 +603,9 @@ class SplittingStep:
         self._encode_feet(problem, dt)
         self._setup_diffusion(problem, 0.5 * dt)
         q = problem.state_cost_values()
-        self.cost_factor = (np.exp(-q * (0.5 * dt) / problem.temperature) if np.any(q != 0)
-                            else np.empty(0))
+        self.log_cost = (-q * (0.5 * dt) / problem.temperature if np.any(q != 0)
+                         else np.empty(0))
+        self.cost_factor = np.exp(self.log_cost)
         self._buffers = {}
         self.iterations: list[int] = []  # direct tridiagonal solves: no iterations
 
@@ -432,6 +641,7 @@ class SplittingStep:
     def _setup_diffusion(self, problem: Problem, dt: float):
         grid = self.grid
         self.noise = []  # (axis, periodic, data, uniform)
+        self.variances = []  # per noise axis: σ² = 2 D_k Δt of the half step (one, or per node)
         for k, ax in enumerate(grid.axes):
             diffusion = np.concatenate([
                 0.5 * problem.noise_diagonal(grid.node_coordinates(flat))[:, k]
@@ -440,6 +650,8 @@ class SplittingStep:
             if not np.any(diffusion > 0):
                 continue
             ratio = dt * diffusion / ax.spacing**2
+            variance = 2.0 * dt * diffusion
+            self.variances.append(variance[:1] if np.all(variance == variance[0]) else variance)
             if ax.periodic:
                 self.noise.append((k, True, ratio, False))
                 continue
@@ -454,7 +666,9 @@ class SplittingStep:
 
     @property
     def nbytes(self) -> int:
-        arrays = [*self.arrays, self.cost_factor, *(data for _, _, data, _ in self.noise)]
+        arrays = [*self.arrays, self.cost_factor, self.log_cost,
+                  *(data for _, _, data, _ in self.noise),
+                  *self.variances]
         return int(sum(a.nbytes for a in arrays))
 
     def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
@@ -465,6 +679,15 @@ class SplittingStep:
         K = z.shape[0]
         if self.cost_factor.size:
             z *= self.cost_factor
+        if reference is not None:
+            # fitted: D½ z → out (or back into z), P into the other, D½ ends in out
+            first = self.fitted_half_diffusion(z, out, reference)
+            second = out if first is z else z
+            self.drift(first, second, scale, reference)
+            self.fitted_half_diffusion(second, first, reference)
+            block_max = self._buffer(K, work_blocks(self.grid.size))
+            _cost_max_kernel(out, self.cost_factor, block_max)
+            return block_max.max(axis=1)
         self._half_diffusion(z, None)
         self.drift(z, out, scale, reference)
         block_max = None
@@ -489,7 +712,7 @@ class SplittingStep:
         if reference is None:
             ell = np.empty(0)
         else:
-            ell = self._buffer(1, self.grid.size)[0]  # log φ of the reference
+            ell = self._buffer(2, self.grid.size)[0]  # log φ of the reference
             if _fitting_kernel(z, reference, ell) == 0:
                 ones_row = reference
         if self.layout == "compact":
@@ -497,6 +720,55 @@ class SplittingStep:
                                    ones_row, out)
         else:
             _advect_table_kernel(z, self.idx, self.weights, scale, ell, ones_row, out)
+
+    def log_step(self, ell: np.ndarray, out: np.ndarray) -> float:
+        """The step fitted to its own result, in the log domain: for ℓ = log z (``(1, N)``,
+        consumed), out = log S_z z with S_z the step fitted to z itself. The drift is then the
+        value-space semi-Lagrangian update ℓ(x) ← Σ_j w_j ℓ(y_j), the diffusion log ∫ G_σ e^ℓ̄
+        and the cost ℓ ← ℓ − q Δt/(2λ), so nothing underflows however steep v/λ is. Returns
+        max out."""
+        if self.log_cost.size:
+            ell += self.log_cost
+        first = self._log_half_diffusion(ell, out)
+        second = out if first is ell else ell
+        self.drift(first, second, np.ones(1))
+        result = self._log_half_diffusion(second, first)
+        if self.log_cost.size:
+            result += self.log_cost
+        if result is not out:
+            out[:] = result
+        return float(out.max())
+
+    def _log_half_diffusion(self, ell: np.ndarray, spare: np.ndarray) -> np.ndarray:
+        """D½ of e^ℓ fitted to itself, in the log domain; returns the array holding the result
+        (alternating between ``ell`` and ``spare`` as :meth:`fitted_half_diffusion`)."""
+        source, target = ell, spare
+        curvature = self._buffer(2, self.grid.size)[1]
+        for (k, periodic, _, _), variance in zip(self.noise, self.variances, strict=True):
+            ax, stride = self.grid.axes[k], int(self.grid.strides[k])
+            rises, bulges = self._buffer(2, self.grid.size // ax.n)
+            _line_bounds(source[0], ax.n, stride, periodic, curvature, rises, bulges)
+            _diffuse_fitted_kernel(source, source[0], curvature, rises, bulges,
+                                   float(source.max()), variance, ax.spacing, ax.n, stride,
+                                   periodic, True, target)
+            source, target = target, source
+        return source
+
+    def fitted_half_diffusion(self, z: np.ndarray, spare: np.ndarray, reference: int) -> np.ndarray:
+        """D½ fitted to row ``reference`` (see the module docstring), one noise axis at a time,
+        alternating between ``z`` and ``spare`` (both are overwritten). Returns the array that
+        holds the result: ``spare`` after an odd number of noise axes, ``z`` after an even one."""
+        source, target = z, spare
+        ell, curvature = self._buffer(2, self.grid.size)
+        for (k, periodic, _, _), variance in zip(self.noise, self.variances, strict=True):
+            ax, stride = self.grid.axes[k], int(self.grid.strides[k])
+            _fitting_kernel(source, reference, ell)
+            rises, bulges = self._buffer(2, self.grid.size // ax.n)
+            _line_bounds(ell, ax.n, stride, periodic, curvature, rises, bulges)
+            _diffuse_fitted_kernel(source, ell, curvature, rises, bulges, float(ell.max()),
+                                   variance, ax.spacing, ax.n, stride, periodic, False, target)
+            source, target = target, source
+        return source
 
     def _half_diffusion(self, z: np.ndarray, block_max: np.ndarray | None):
         """D½ in place on every noise axis; the last pass also records row maxima per block in

@@ -4,6 +4,8 @@ report, the convergence studies, the figures, the benchmarks and the tests.
 - :func:`swingup_problem`: the pendulum swing-up (T = 3, λ = 1, g = xᵀdiag(10, ½)x, from
   :data:`SWINGUP_START`, near hanging down at rest);
 - :func:`pendulum_problem`: the pendulum of the convergence study (T = 1, ω box ±8);
+- :func:`mild_pendulum_problem` and :func:`steep_swingup_problem`: the accuracy study's damped
+  pendulum with a state cost, and a swing-up whose steep terminal cost tests small temperatures;
 - :func:`pointmass_problem`: the linear-quadratic point mass with a Riccati solution;
 - :func:`coordination_problem`: a point mass with two acceptable goals;
 - :func:`rotor_problem`: a pendulum without gravity (a rotor) turned half a turn to an angle
@@ -58,6 +60,32 @@ def pendulum_problem(n: int, temperature: float = 1.0, horizon: float = 1.0,
     ω ∈ [−8, 8] (equal spacing 2π/n and 16/n), g = (θ, ω)ᵀdiag(weights)(θ, ω), no state cost."""
     return Problem(Pendulum(), pendulum_grid(n, 8.0), horizon,
                    Quadratic([0.0, 0.0], list(weights)), temperature=temperature)
+
+
+MILD_STATES = np.array([(1.0, 0.0), (-1.0, 0.0), (0.5, 2.0), (-0.5, -2.0), (0.0, 1.0), (1.0, -2.0)])
+"""Start states of the accuracy study on :func:`mild_pendulum_problem` (|θ| ≤ 1, |ω| ≤ 2)."""
+
+
+def mild_pendulum_problem(n: int = 128) -> Problem:
+    """Damped pendulum (b = 0.1), T = 1, λ = 1, q = xᵀdiag(0.5, 0.05)x, g = xᵀdiag(3, 0.3)x, on
+    :func:`pendulum_grid` with ω ∈ [−8, 8]: a smooth value, mildly curved."""
+    return Problem(Pendulum(damping=0.1), pendulum_grid(n, 8.0), 1.0, Quadratic([0, 0], [3, 0.3]),
+                   state_cost=Quadratic([0, 0], [0.5, 0.05]), temperature=1.0)
+
+
+STEEP_START = np.array([3.0, 0.0])
+"""Start of :func:`steep_swingup_problem` (θ, ω): near hanging down, at rest."""
+
+STEEP_DETERMINISTIC_OPTIMUM = 27.95
+"""The λ → 0 optimum of :func:`steep_swingup_problem` from :data:`STEEP_START` (trajectory
+optimisation, as quoted with the accuracy study)."""
+
+
+def steep_swingup_problem(n: int = 201, temperature: float = 1.0) -> Problem:
+    """Swing-up with a steep terminal cost, g = xᵀdiag(50, 5)x, T = 2, on :func:`pendulum_grid`
+    (ω ±10): v/λ rises by up to 10/λ per cell along ω, the test of small temperatures."""
+    return Problem(Pendulum(), pendulum_grid(n), 2.0, Quadratic([0, 0], [50, 5]),
+                   temperature=temperature)
 
 
 # -- point mass ------------------------------------------------------------------------------------
