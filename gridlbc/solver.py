@@ -470,7 +470,7 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     slot = len(kept) - 1
     slices[slot], scales[slot] = ell[0], log_scale
     buffer = np.empty_like(ell)
-    progress = _Progress(n_steps, s.progress, f"fitted {grid.describe()}", grid.size)
+    progress = ProgressBar(n_steps, s.progress, f"fitted {grid.describe()}", work_per_item=grid.size)
     for n in range(n_steps - 1, -1, -1):
         peak = step.log_step(ell, buffer)
         ell, buffer = buffer, ell
