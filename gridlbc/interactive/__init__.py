@@ -209,10 +209,13 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     shape, n_stored = first.grid.shape, len(first.times)
     whole = sum(int(s.slices.nbytes) for s in solutions)
     if nodes is None and n_times is None and whole <= max_bytes:
-        # the page interpolates z: a solution that stores log z is converted at its own nodes
-        return Embedding(tuple(s if s.diagnostics.interpolation == "linear" else
-                               decimate(s, None, None, dtype) for s in solutions),
-                         shape, n_stored, False)
+        # The page interpolates z: a solution that stores log z is converted to z at its own
+        # nodes and reported as decimated (the page is exact for the converted solution, and the
+        # report gives its error against the original).
+        converted = [s.diagnostics.interpolation != "linear" for s in solutions]
+        return Embedding(tuple(decimate(s, None, None, dtype) if c else s
+                               for s, c in zip(solutions, converted)),
+                         shape, n_stored, any(converted))
     if n_times is None:
         n_times = min(n_stored, DEFAULT_TIMES)
     if nodes is None:
