@@ -46,7 +46,7 @@ from typing import ClassVar
 import numpy as np
 
 from .problem import Problem
-from .solution import Solution, UnderflowWarning, warn_underflow
+from .solution import FieldEvaluation, Solution, UnderflowWarning, warn_underflow
 
 
 def check_weights(weights, n: int) -> np.ndarray:
@@ -166,7 +166,7 @@ def _normalised(terms: np.ndarray) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class CombinedSolution:
+class CombinedSolution(FieldEvaluation):
     """z = Σ w_i z_i of solutions sharing one PDE; evaluates like a :class:`gridlbc.Solution`.
 
     Attributes
@@ -196,10 +196,6 @@ class CombinedSolution:
     def grid(self):
         return self.problem.grid
 
-    @property
-    def temperature(self) -> float:
-        return self.problem.temperature
-
     def _component_fields(self, x, t, gradient: bool):
         """Per component (w_i e^{L_i − L} z̃_i, w_i e^{L_i − L} g̃_i) on the common scale L."""
         fields = [s.scaled_fields(x, t, gradient) for s in self.components]
@@ -220,12 +216,6 @@ class CombinedSolution:
         when the weights are; NaN (with an UnderflowWarning) where Σ w_j z_j underflowed."""
         _, z, _ = self._component_fields(x, t, gradient=False)
         return _normalised(z)
-
-    # The evaluation from scaled fields is exactly Solution's: share it rather than repeat it.
-    log_desirability = Solution.log_desirability
-    desirability = Solution.desirability
-    value = Solution.value
-    policy = Solution.policy
 
 
 @dataclass(frozen=True, eq=False)

@@ -76,8 +76,60 @@ class SolveDiagnostics:
     interpolation: str = "linear"
 
 
+def check_time(t, horizon: float) -> float:
+    """``t`` as a float in [0, T] (rounding-level excursions clipped); a clear error otherwise."""
+    try:
+        t = float(t)
+    except (TypeError, ValueError):
+        raise TypeError(f"t must be a single time (float), got {t!r}") from None
+    tol = 1e-9 * horizon
+    if not (np.isfinite(t) and -tol <= t <= horizon + tol):
+        raise ValueError(f"t must lie in [0, T] = [0, {horizon:g}], got {t!r}")
+    return min(max(t, 0.0), horizon)
+
+
+def bracket(times: np.ndarray, t: float) -> tuple[int, float]:
+    """The stored interval of ``t``: j and θ ∈ [0, 1] with t = (1 − θ) times[j] + θ times[j+1]."""
+    j = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+    theta = (t - times[j]) / (times[j + 1] - times[j])
+    return j, float(np.clip(theta, 0.0, 1.0))
+
+
+class FieldEvaluation:
+    """Value, desirability and policy anywhere from the interpolated fields (L, z, Bᵀ∇z) of
+    :meth:`scaled_fields`, with z(x, t) = z · e^L: the evaluation that :class:`Solution` and
+    :class:`gridlbc.CombinedSolution` share. Subclasses provide ``problem`` and
+    ``scaled_fields(x, t, gradient)``; both are linear in z, so the combination's evaluation is
+    exactly the composite solution's."""
+
+    @property
+    def temperature(self) -> float:
+        return self.problem.temperature
+
+    def log_desirability(self, x, t) -> np.ndarray:
+        """log z(x, t), shape ``(N,)`` (−inf where z underflowed, with an UnderflowWarning)."""
+        L, z, _ = self.scaled_fields(x, t, gradient=False)
+        return _log_checked(z) + L
+
+    def desirability(self, x, t) -> np.ndarray:
+        """z(x, t) = exp(−v/λ), shape ``(N,)``. May underflow to 0 far from the goal: use
+        :meth:`log_desirability` or :meth:`value` for the full range."""
+        L, z, _ = self.scaled_fields(x, t, gradient=False)
+        with np.errstate(under="ignore", over="ignore"):
+            return z * np.exp(L)
+
+    def value(self, x, t) -> np.ndarray:
+        """Optimal cost-to-go v(x, t) = −λ log z(x, t), shape ``(N,)``."""
+        return -self.temperature * self.log_desirability(x, t)
+
+    def policy(self, x, t) -> np.ndarray:
+        """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v, shape ``(N, m)``."""
+        _L, z, g = self.scaled_fields(x, t)
+        return policy_from_fields(self.problem, z, g)
+
+
 @dataclass(frozen=True, eq=False)
-class Solution:
+class Solution(FieldEvaluation):
     """The solved desirability of a :class:`gridlbc.Problem` (one terminal cost).
 
     Attributes
@@ -104,10 +156,6 @@ class Solution:
         return self.problem.grid
 
     @property
-    def temperature(self) -> float:
-        return self.problem.temperature
-
-    @property
     def nbytes(self) -> int:
         """Bytes held by the stored slices and their scales."""
         return int(self.slices.nbytes + self.log_scales.nbytes + self.times.nbytes)
@@ -128,20 +176,10 @@ class Solution:
     # -- evaluation anywhere --------------------------------------------------------------------
 
     def _check_time(self, t) -> float:
-        try:
-            t = float(t)
-        except (TypeError, ValueError):
-            raise TypeError(f"t must be a single time (float), got {t!r}") from None
-        T = self.problem.horizon
-        tol = 1e-9 * T
-        if not (np.isfinite(t) and -tol <= t <= T + tol):
-            raise ValueError(f"t must lie in [0, T] = [0, {T:g}], got {t!r}")
-        return min(max(t, 0.0), T)
+        return check_time(t, self.problem.horizon)
 
     def _bracket(self, t: float) -> tuple[int, float]:
-        j = int(np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 2))
-        theta = (t - self.times[j]) / (self.times[j + 1] - self.times[j])
-        return j, float(np.clip(theta, 0.0, 1.0))
+        return bracket(self.times, t)
 
     def _time_weights(self, t) -> tuple[list[int], np.ndarray, float]:
         """Slices, their weights (1−θ)·e^{ℓ−L}, θ·e^{ℓ−L}, and the common log-scale L."""
@@ -214,36 +252,16 @@ class Solution:
 
     def log_desirability(self, x, t) -> np.ndarray:
         """log z(x, t), shape ``(N,)`` (−inf where z underflowed, with an UnderflowWarning)."""
-        if _interpolates_log(self):
+        if self.diagnostics.interpolation == "log":
             return self._log_fields(x, t, gradient=False)[0]
-        L, z, _ = self.scaled_fields(x, t, gradient=False)
-        return _log_checked(z) + L
-
-    def desirability(self, x, t) -> np.ndarray:
-        """z(x, t) = exp(−v/λ), shape ``(N,)``. May underflow to 0 far from the goal: use
-        :meth:`log_desirability` or :meth:`value` for the full range."""
-        L, z, _ = self.scaled_fields(x, t, gradient=False)
-        with np.errstate(under="ignore", over="ignore"):
-            return z * np.exp(L)
-
-    def value(self, x, t) -> np.ndarray:
-        """Optimal cost-to-go v(x, t) = −λ log z(x, t), shape ``(N,)``."""
-        return -self.temperature * self.log_desirability(x, t)
+        return super().log_desirability(x, t)
 
     def policy(self, x, t) -> np.ndarray:
         """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v, shape ``(N, m)``."""
-        if _interpolates_log(self):
+        if self.diagnostics.interpolation == "log":
             _, g = self._log_fields(x, t, gradient=True)
             return self.temperature * (g @ self.problem.R_inv.T)
-        _L, z, g = self.scaled_fields(x, t)
-        return policy_from_fields(self.problem, z, g)
-
-
-def _interpolates_log(solution) -> bool:
-    """Whether ``solution`` interpolates log z (a Solution fitted to itself); the evaluation
-    methods below are shared with :class:`gridlbc.combine.CombinedSolution`, which does not."""
-    diagnostics = getattr(solution, "diagnostics", None)
-    return diagnostics is not None and diagnostics.interpolation == "log"
+        return super().policy(x, t)
 
 
 def warn_underflow(bad: np.ndarray) -> None:

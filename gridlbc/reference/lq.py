@@ -20,6 +20,7 @@ from scipy.integrate import solve_ivp
 
 from ..costs import Quadratic
 from ..problem import Problem
+from ..solution import check_time
 
 
 @dataclass(frozen=True, eq=False)
@@ -32,10 +33,7 @@ class LQSolution:
     def coefficients(self, t: float) -> tuple[np.ndarray, np.ndarray, float]:
         """(P(t), p(t), c₀(t))."""
         T = self.problem.horizon
-        t = float(t)
-        if not (-1e-9 * T <= t <= T * (1 + 1e-9)):
-            raise ValueError(f"t must lie in [0, T] = [0, {T:g}], got {t}")
-        y = self._dense(T - min(max(t, 0.0), T))
+        y = self._dense(T - check_time(t, T))
         d = self.problem.state_dim
         return y[: d * d].reshape(d, d), y[d * d : d * d + d], float(y[-1])
 

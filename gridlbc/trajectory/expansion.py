@@ -35,7 +35,7 @@ import numpy as np
 
 from ..costs import wrap_difference
 from ..problem import Problem
-from ..solution import Solution
+from ..solution import bracket, check_time
 from .ddp import sweep
 from .optimize import Trajectory, shooting_for, timed_state_cost
 
@@ -102,12 +102,9 @@ class TrajectoryExpansion:
                              f"{np.shape(x)}")
         return arr
 
-    # Times are checked and bracketed exactly as a grid Solution's slices are.
-    _check_time = Solution._check_time
-    _bracket_time = Solution._bracket
-
     def _bracket(self, t) -> tuple[int, float]:
-        return self._bracket_time(self._check_time(t))
+        """Times are checked and bracketed exactly as a grid Solution's slices are."""
+        return bracket(self.times, check_time(t, self.problem.horizon))
 
     def _at(self, field: np.ndarray, j: int, theta: float) -> np.ndarray:
         return (1.0 - theta) * field[j] + theta * field[j + 1]
