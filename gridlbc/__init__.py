@@ -13,9 +13,11 @@ from .grid import Axis, Grid
 from .io import load, save
 from .problem import Problem
 from .project import Projection, ProjectionWarning, project, projection
+from .schemes import METHODS
+from .settings import PRESETS, SolverSettings
 from .simulate import Rollouts, simulate
 from .solution import ResolutionWarning, Solution, SolveDiagnostics, UnderflowWarning
-from .solver import METHODS, PRESETS, SolverSettings, solve, solve_many
+from .solver import solve, solve_many
 from .sweep import SweepMember, sweep  # imports Dask only when a sweep runs
 
 __version__ = "0.1.0"

@@ -51,7 +51,7 @@ from . import systems
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .problem import Problem
-from .solver import SolverSettings
+from .settings import SolverSettings
 
 TOP_KEYS = ("system", "grid", "horizon", "temperature", "control_cost", "terminal_cost",
             "state_cost", "solver")

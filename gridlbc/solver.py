@@ -8,150 +8,36 @@ From the terminal data z(·, T) = exp(−g/λ) a step operator S (a monotone lin
 To keep z in range every slice is renormalised, z = Z e^ℓ with max Z = 1: the scale ℓ is carried
 exactly in the log domain, so nothing underflows as a whole and linear combinations stay exact.
 Nodes whose Z underflows to zero are counted in the diagnostics (their value is +∞).
+
+Here: the time grid, the fitting reference and the loop. How to solve is
+:mod:`gridlbc.settings`; where the slices live (memory check, storage) is :mod:`gridlbc.storage`.
 """
 
 from __future__ import annotations
 
 import hashlib
 import math
-import os
-import shutil
-import tempfile
 import time
 import warnings
-from dataclasses import dataclass
 
 import numpy as np
 
-from ._numba import jit_parallel, prange, work_blocks
+from ._numba import work_blocks
 from .problem import Problem
 from .progress import ProgressBar
-from .schemes import LINEAR_SOLVERS, METHODS
+from .schemes import METHODS
 from .schemes.splitting import SplittingStep, _flat_chunks
+from .settings import (
+    FITTED_COURANT,
+    FITTED_MIN_STEPS,
+    PLAIN_COURANT,
+    PLAIN_MIN_STEPS,
+    SolverSettings,
+    is_own_reference,
+    resolve_settings,
+)
 from .solution import ResolutionWarning, Solution, SolveDiagnostics
-
-PLAIN_COURANT, PLAIN_MIN_STEPS = 6.0, 50
-"""Default Courant number and fewest steps of the plain splitting scheme."""
-FITTED_COURANT, FITTED_MIN_STEPS = 12.0, 10
-"""The same for the fitted one (its O(h²/Δt) interpolation error wants longer steps)."""
-
-
-@dataclass(frozen=True)
-class SolverSettings:
-    """How to solve: scheme, time step, storage and progress.
-
-    Parameters
-    ----------
-    method : str
-        One of :data:`METHODS` (``"splitting"`` or ``"implicit"``).
-    dt : float, optional
-        Time step; rounded down so that it divides the horizon. Default: a Courant number
-        (``max |a_k| Δt / h_k``) of ``courant`` for the splitting scheme, and 1 for the implicit
-        one, with at least ``min_steps`` steps.
-    courant : float, optional
-        Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
-        error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
-        small steps *add* numerical diffusion (plain) or pessimism (fitted). Default 6 for the
-        plain drift and 12 when it is fitted, whose interpolation error is the larger term
-        (``benchmarks/accuracy.py`` measures both against the certified optimum).
-    min_steps : int, optional
-        At least this many steps over the horizon (default 50 plain, 10 fitted).
-    store_every : int
-        Keep every k-th slice (and always t = 0 and T); z between them is interpolated linearly
-        in time (which keeps superposition exact). This costs policy accuracy where the dynamics
-        are fast (``benchmarks/gymnast.py --memory`` measures it). Prefer ``mmap_dir`` or float32
-        slices when memory is short and the states that matter keep z above 1e-38 of the
-        slice maximum.
-    dtype : str
-        ``"float64"`` or ``"float32"`` for the stored slices (the time stepping is float64).
-        Slices are max-normalised, so float32 keeps 7 significant digits down to 1e-38 of each
-        slice's maximum and flushes only values below ~1e-45 of it to zero (value +inf there);
-        how many were flushed is reported in ``diagnostics.flushed_values``.
-    progress : bool
-        Print a progress bar (steps, elapsed, ETA, node-steps/s) to stderr.
-    mmap_dir : str, optional
-        Keep the slices in an (unlinked) memory-mapped file in this directory instead of RAM.
-    linear_solver : str
-        For ``method="implicit"``: one of :data:`gridlbc.schemes.implicit.LINEAR_SOLVERS` (``"auto"``:
-        sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
-    fitting : None, "terminal" or a terminal cost
-        For ``method="splitting"``: fit the drift's interpolation to a reference desirability
-        φ = exp(−g_ref/λ) (:mod:`gridlbc.schemes.splitting`, "Exponential fitting"): exact where z ∝ φ,
-        far less numerical diffusion where v is steep. ``None``: plain barycentric
-        interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
-        :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
-        that cost. The diffusion is fitted to the same reference, and a single solve fitted
-        to its own terminal cost runs in the log domain and interpolates v (no underflow at any
-        temperature). The step stays linear in z for a fixed reference, so superposition is exact
-        among solutions that share it; :func:`gridlbc.combine` refuses solutions fitted to
-        different references.
-    """
-
-    method: str = "splitting"
-    dt: float | None = None
-    courant: float | None = None
-    min_steps: int | None = None
-    store_every: int = 1
-    dtype: str = "float64"
-    progress: bool = False
-    mmap_dir: str | None = None
-    linear_solver: str = "auto"
-    fitting: object = None
-
-    def __post_init__(self):
-        if self.method not in METHODS:
-            raise ValueError(
-                f"unknown method {self.method!r}: choose one of {', '.join(sorted(METHODS))}"
-            )
-        if self.dt is not None and not (np.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"dt must be positive and finite, got {self.dt}")
-        if self.courant is not None and not (self.courant > 0):
-            raise ValueError(f"courant must be positive, got {self.courant}")
-        if (self.min_steps is not None and int(self.min_steps) < 1) or int(self.store_every) < 1:
-            raise ValueError("min_steps and store_every must be at least 1")
-        if self.dtype not in ("float64", "float32"):
-            raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
-        if self.linear_solver not in LINEAR_SOLVERS:
-            raise ValueError(f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
-                             f"got {self.linear_solver!r}")
-        if not (self.fitting is None or self.fitting == "terminal" or callable(self.fitting)):
-            raise ValueError(f"fitting must be None, 'terminal' or a terminal cost g(x), got "
-                             f"{self.fitting!r}")
-        if self.fitting is not None and not METHODS[self.method].supports_fitting:
-            fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
-            raise ValueError(f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
-                             f"{self.method!r}: drop fitting or use one of those methods")
-        if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
-            raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
-
-
-PRESETS = {
-    "default": SolverSettings(),
-    "reference": SolverSettings(method="implicit", courant=1.0),
-    "fast": SolverSettings(method="splitting", courant=10.0, min_steps=20),
-}
-"""Named settings; pass ``settings="fast"`` etc. to :func:`solve`."""
-
-
-def _settings(settings, options) -> SolverSettings:
-    if settings is None:
-        settings = PRESETS["default"]
-    elif isinstance(settings, str):
-        if settings not in PRESETS:
-            raise ValueError(
-                f"unknown settings preset {settings!r}: choose one of {', '.join(sorted(PRESETS))}"
-            )
-        settings = PRESETS[settings]
-    elif not isinstance(settings, SolverSettings):
-        raise TypeError("settings must be a SolverSettings or the name of a preset")
-    fields = SolverSettings.__dataclass_fields__
-    unknown = set(options) - set(fields)
-    if unknown:
-        raise TypeError(
-            f"unknown solve option(s) {', '.join(sorted(unknown))}: valid options are "
-            f"{', '.join(fields)}"
-        )
-    return SolverSettings(**{**settings.__dict__, **options})
+from .storage import check_memory, memory_estimate, slice_storage, store_kernel
 
 
 def max_courant_rate(problem: Problem) -> float:
@@ -177,82 +63,6 @@ def time_grid(problem: Problem, settings: SolverSettings, rate: float) -> tuple[
     return T / n, n
 
 
-def available_memory() -> int | None:
-    """Bytes of memory available to a new allocation (MemAvailable on Linux), or None."""
-    try:
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return None
-
-
-def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
-                    n_rhs: int = 1) -> dict[str, int]:
-    """Bytes a solve will hold: stored slices, working arrays (two float64 copies of z and the
-    terminal data) and the step operator; ``"ram"`` sums what must fit in memory (the slices
-    live on disk when ``mmap_dir`` is set)."""
-    grid = problem.grid
-    stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
-    fitted = settings.fitting is not None
-    rows = n_rhs + (1 if fitted and not _is_own_reference(settings.fitting, n_rhs) else 0)
-    working = (3 * rows + grid.ndim + (2 if fitted else 0)) * grid.size * 8  # + log φ, κ
-    operator = METHODS[settings.method].estimate_bytes(grid)
-    ram = working + operator + (0 if settings.mmap_dir else stored)
-    return {"stored": stored, "working": working, "operator": operator, "ram": ram}
-
-
-def _check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
-    available = available_memory()
-    gib = lambda b: f"{b / 2**30:.2f} GiB"
-    detail = ", ".join(f"{k} {gib(v)}" for k, v in estimate.items() if k != "ram")
-    if available is not None and estimate["ram"] > 0.9 * available:
-        raise MemoryError(
-            f"{what} needs about {gib(estimate['ram'])} of memory ({detail}) but only "
-            f"{gib(available)} is available: keep fewer slices (store_every), store float32, "
-            "put the slices in a memory-mapped file (mmap_dir), or use a coarser grid"
-        )
-    if mmap_dir is not None:
-        free = shutil.disk_usage(mmap_dir).free
-        if estimate["stored"] > 0.95 * free:
-            raise MemoryError(
-                f"{what} needs {gib(estimate['stored'])} of disk in {mmap_dir!r} for the slices but "
-                f"only {gib(free)} is free: keep fewer slices (store_every) or store float32"
-            )
-
-
-@jit_parallel
-def _store_kernel(Z, scale, out, flushed):
-    """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
-    to zero (float32 storage of values below ~1e-45 of the slice maximum), counted per work
-    block in ``flushed``."""
-    n_rhs, n_nodes = Z.shape
-    n_blocks = flushed.shape[0]
-    for b in prange(n_blocks):
-        count = 0
-        for r in range(n_rhs):
-            for p in range(b * n_nodes // n_blocks, (b + 1) * n_nodes // n_blocks):
-                value = Z[r, p] * scale[r]
-                out[r, p] = value
-                if value > 0.0 and out[r, p] == 0.0:
-                    count += 1
-        flushed[b] = count
-    return flushed.sum()
-
-
-def _slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None) -> np.ndarray:
-    if mmap_dir is None:
-        return np.empty(shape, dtype=dtype)
-    # An unlinked temporary file: its disk space is returned when the Solution is released.
-    handle = tempfile.TemporaryFile(dir=mmap_dir)  # noqa: SIM115 (the memmap owns it)
-    return np.memmap(handle, dtype=dtype, mode="w+", shape=shape)
-
-
 def _terminal_data(problem: Problem, terminal_costs) -> tuple[np.ndarray, np.ndarray]:
     """Scaled terminal desirabilities Z (K, N), max 1 per row, and their log-scales ℓ (K,)."""
     nodes = problem.grid.nodes()
@@ -268,11 +78,6 @@ def _terminal_data(problem: Problem, terminal_costs) -> tuple[np.ndarray, np.nda
     return Z, scales
 
 
-def _is_own_reference(fitting, n_rhs: int) -> bool:
-    """A single terminal cost fitted to itself is its own reference: no extra row is solved."""
-    return fitting == "terminal" and n_rhs == 1
-
-
 def _with_reference(problem: Problem, fitting, Z: np.ndarray, log_scale: np.ndarray):
     """Add the fitting reference φ to the terminal data ``Z`` (K, N) as row K, or point at row 0
     when a single terminal cost is its own reference. Returns ``(Z, ℓ, row, fingerprint)``:
@@ -281,7 +86,7 @@ def _with_reference(problem: Problem, fitting, Z: np.ndarray, log_scale: np.ndar
     if fitting is None:
         return Z, log_scale, None, "none"
     K = Z.shape[0]
-    if _is_own_reference(fitting, K):
+    if is_own_reference(fitting, K):
         return Z, log_scale, 0, _fingerprint(Z[0])
     if fitting == "terminal":  # the composite h = Σ_i h_i
         top = log_scale.max()
@@ -309,21 +114,21 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     terminal_costs = list(terminal_costs)
     if not terminal_costs:
         raise ValueError("terminal_costs is empty: give at least one terminal cost")
-    s = _settings(settings, options)
+    s = resolve_settings(settings, options)
     grid = problem.require_grid("solve")
     problem.noise_diagonal(grid.node_coordinates([0]))  # refuse cross-diffusion before any work
     started = time.perf_counter()
     K = len(terminal_costs)
     what = f"solving on {grid.describe()}"
     # Before touching the grid: the first and last slices and the working arrays must fit.
-    _check_memory(memory_estimate(problem, s, 2, K), what, s.mmap_dir)
+    check_memory(memory_estimate(problem, s, 2, K), what, s.mmap_dir)
     rate = max_courant_rate(problem)
     dt, n_steps = time_grid(problem, s, rate)
     kept = sorted(set(range(0, n_steps + 1, s.store_every)) | {n_steps})
     estimate = memory_estimate(problem, s, len(kept), K)
-    _check_memory(estimate, what, s.mmap_dir)
+    check_memory(estimate, what, s.mmap_dir)
 
-    if _is_own_reference(s.fitting, K) and s.method == "splitting":
+    if is_own_reference(s.fitting, K) and s.method == "splitting":
         return [_solve_log(problem, s, kept, dt, n_steps, rate, estimate, started)]
     Z, log_scale = _terminal_data(problem, terminal_costs)
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.fitting, Z, log_scale)
@@ -331,11 +136,11 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     step = METHODS[s.method](problem, dt, **options)
     setup_time = time.perf_counter() - started
 
-    slices = _slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
+    slices = slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty((len(kept), K))
     slot = len(kept) - 1
     blocks = np.zeros(work_blocks(grid.size), dtype=np.int64)
-    flushed = _store_kernel(Z[:K], np.ones(K), slices[:, slot], blocks)
+    flushed = store_kernel(Z[:K], np.ones(K), slices[:, slot], blocks)
     scales[slot] = log_scale[:K]
     buffer = np.empty_like(Z)
     scale = np.ones(Z.shape[0])
@@ -354,7 +159,7 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
         scale = 1.0 / peak
         if n == kept[slot - 1]:
             slot -= 1
-            flushed += _store_kernel(Z[:K], scale[:K], slices[:, slot], blocks)
+            flushed += store_kernel(Z[:K], scale[:K], slices[:, slot], blocks)
             scales[slot] = log_scale[:K]
         progress.update(n_steps - n)
     wall = time.perf_counter() - started
@@ -465,7 +270,7 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     fingerprint = _fingerprint(np.exp(ell[0]))
     step = SplittingStep(problem, dt)
     setup_time = time.perf_counter() - started
-    slices = _slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
+    slices = slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty(len(kept))
     slot = len(kept) - 1
     slices[slot], scales[slot] = ell[0], log_scale
@@ -500,7 +305,7 @@ def solve(problem: Problem, dt: float | None = None, settings=None, **options) -
     dt : float, optional
         Time step (default from the Courant number, see :class:`SolverSettings`).
     settings : SolverSettings or str, optional
-        Settings or the name of a preset in :data:`PRESETS`.
+        Settings or the name of a preset in :data:`gridlbc.PRESETS`.
     **options
         Any :class:`SolverSettings` field, e.g. ``method="implicit"``, ``store_every=5``,
         ``progress=True``.

@@ -35,8 +35,9 @@ import numpy as np
 from .io import FORMAT_VERSION, _cost_record, load, problem_record, read_metadata, save
 from .problem import Problem
 from .progress import ProgressBar
+from .settings import SolverSettings, resolve_settings
 from .solution import SolveDiagnostics
-from .solver import SolverSettings, _settings, solve
+from .solver import solve
 
 _NOT_HASHED = ("progress", "mmap_dir")
 """Settings that change how a solve runs but not its result."""
@@ -262,7 +263,7 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
                             f"{type(problem).__name__}")
     if isinstance(numba_threads, bool) or not isinstance(numba_threads, int) or numba_threads < 1:
         raise ValueError(f"numba_threads must be a positive integer, got {numba_threads!r}")
-    s = dataclasses.replace(_settings(settings, solve_options), progress=False)
+    s = dataclasses.replace(resolve_settings(settings, solve_options), progress=False)
     points = None if states is None else [p.grid.check_states(states, "states") for p in problems]
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

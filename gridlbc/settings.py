@@ -1,0 +1,145 @@
+"""How to solve: :class:`SolverSettings`, its named :data:`PRESETS`, and the default steps.
+
+Settings are separate from the problem: the same :class:`gridlbc.Problem` can be solved with any
+scheme (:data:`gridlbc.schemes.METHODS`), time step, storage and fitting reference.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from .schemes import LINEAR_SOLVERS, METHODS
+
+PLAIN_COURANT, PLAIN_MIN_STEPS = 6.0, 50
+"""Default Courant number and fewest steps of the plain splitting scheme."""
+FITTED_COURANT, FITTED_MIN_STEPS = 12.0, 10
+"""The same for the fitted one (its O(h²/Δt) interpolation error wants longer steps)."""
+
+
+
+@dataclass(frozen=True)
+class SolverSettings:
+    """How to solve: scheme, time step, storage and progress.
+
+    Parameters
+    ----------
+    method : str
+        One of :data:`METHODS` (``"splitting"`` or ``"implicit"``).
+    dt : float, optional
+        Time step; rounded down so that it divides the horizon. Default: a Courant number
+        (``max |a_k| Δt / h_k``) of ``courant`` for the splitting scheme, and 1 for the implicit
+        one, with at least ``min_steps`` steps.
+    courant : float, optional
+        Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
+        error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
+        small steps *add* numerical diffusion (plain) or pessimism (fitted). Default 6 for the
+        plain drift and 12 when it is fitted, whose interpolation error is the larger term
+        (``benchmarks/accuracy.py`` measures both against the certified optimum).
+    min_steps : int, optional
+        At least this many steps over the horizon (default 50 plain, 10 fitted).
+    store_every : int
+        Keep every k-th slice (and always t = 0 and T); z between them is interpolated linearly
+        in time (which keeps superposition exact). This costs policy accuracy where the dynamics
+        are fast (``benchmarks/gymnast.py --memory`` measures it). Prefer ``mmap_dir`` or float32
+        slices when memory is short and the states that matter keep z above 1e-38 of the
+        slice maximum.
+    dtype : str
+        ``"float64"`` or ``"float32"`` for the stored slices (the time stepping is float64).
+        Slices are max-normalised, so float32 keeps 7 significant digits down to 1e-38 of each
+        slice's maximum and flushes only values below ~1e-45 of it to zero (value +inf there);
+        how many were flushed is reported in ``diagnostics.flushed_values``.
+    progress : bool
+        Print a progress bar (steps, elapsed, ETA, node-steps/s) to stderr.
+    mmap_dir : str, optional
+        Keep the slices in an (unlinked) memory-mapped file in this directory instead of RAM.
+    linear_solver : str
+        For ``method="implicit"``: one of :data:`gridlbc.schemes.implicit.LINEAR_SOLVERS` (``"auto"``:
+        sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
+    fitting : None, "terminal" or a terminal cost
+        For ``method="splitting"``: fit the drift's interpolation to a reference desirability
+        φ = exp(−g_ref/λ) (:mod:`gridlbc.schemes.splitting`, "Exponential fitting"): exact where z ∝ φ,
+        far less numerical diffusion where v is steep. ``None``: plain barycentric
+        interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
+        :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
+        that cost. The diffusion is fitted to the same reference, and a single solve fitted
+        to its own terminal cost runs in the log domain and interpolates v (no underflow at any
+        temperature). The step stays linear in z for a fixed reference, so superposition is exact
+        among solutions that share it; :func:`gridlbc.combine` refuses solutions fitted to
+        different references.
+    """
+
+    method: str = "splitting"
+    dt: float | None = None
+    courant: float | None = None
+    min_steps: int | None = None
+    store_every: int = 1
+    dtype: str = "float64"
+    progress: bool = False
+    mmap_dir: str | None = None
+    linear_solver: str = "auto"
+    fitting: object = None
+
+    def __post_init__(self):
+        if self.method not in METHODS:
+            raise ValueError(
+                f"unknown method {self.method!r}: choose one of {', '.join(sorted(METHODS))}"
+            )
+        if self.dt is not None and not (np.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"dt must be positive and finite, got {self.dt}")
+        if self.courant is not None and not (self.courant > 0):
+            raise ValueError(f"courant must be positive, got {self.courant}")
+        if (self.min_steps is not None and int(self.min_steps) < 1) or int(self.store_every) < 1:
+            raise ValueError("min_steps and store_every must be at least 1")
+        if self.dtype not in ("float64", "float32"):
+            raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
+        if self.linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
+                             f"got {self.linear_solver!r}")
+        if not (self.fitting is None or self.fitting == "terminal" or callable(self.fitting)):
+            raise ValueError(f"fitting must be None, 'terminal' or a terminal cost g(x), got "
+                             f"{self.fitting!r}")
+        if self.fitting is not None and not METHODS[self.method].supports_fitting:
+            fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
+            raise ValueError(f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
+                             f"{self.method!r}: drop fitting or use one of those methods")
+        if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
+            raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
+
+
+PRESETS = {
+    "default": SolverSettings(),
+    "reference": SolverSettings(method="implicit", courant=1.0),
+    "fast": SolverSettings(method="splitting", courant=10.0, min_steps=20),
+}
+"""Named settings; pass ``settings="fast"`` etc. to :func:`solve`."""
+
+
+def resolve_settings(settings, options) -> SolverSettings:
+    """``settings`` (None: the default preset; a preset name; a SolverSettings) with ``options``
+    (SolverSettings fields) overriding it; unknown names are errors that list the valid ones."""
+    if settings is None:
+        settings = PRESETS["default"]
+    elif isinstance(settings, str):
+        if settings not in PRESETS:
+            raise ValueError(
+                f"unknown settings preset {settings!r}: choose one of {', '.join(sorted(PRESETS))}"
+            )
+        settings = PRESETS[settings]
+    elif not isinstance(settings, SolverSettings):
+        raise TypeError("settings must be a SolverSettings or the name of a preset")
+    fields = SolverSettings.__dataclass_fields__
+    unknown = set(options) - set(fields)
+    if unknown:
+        raise TypeError(
+            f"unknown solve option(s) {', '.join(sorted(unknown))}: valid options are "
+            f"{', '.join(fields)}"
+        )
+    return SolverSettings(**{**settings.__dict__, **options})
+
+
+def is_own_reference(fitting, n_rhs: int) -> bool:
+    """A single terminal cost fitted to itself is its own reference: no extra row is solved."""
+    return fitting == "terminal" and n_rhs == 1

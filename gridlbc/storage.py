@@ -1,0 +1,92 @@
+"""Where a solve keeps its slices: the memory estimate and check made before any work, the
+slice arrays (in RAM or an unlinked memory-mapped file) and the kernel that stores a slice.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+
+import numpy as np
+
+from ._numba import jit_parallel, prange
+from .problem import Problem
+from .schemes import METHODS
+from .settings import SolverSettings, is_own_reference
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (MemAvailable on Linux), or None."""
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
+                    n_rhs: int = 1) -> dict[str, int]:
+    """Bytes a solve will hold: stored slices, working arrays (two float64 copies of z and the
+    terminal data) and the step operator; ``"ram"`` sums what must fit in memory (the slices
+    live on disk when ``mmap_dir`` is set)."""
+    grid = problem.grid
+    stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
+    fitted = settings.fitting is not None
+    rows = n_rhs + (1 if fitted and not is_own_reference(settings.fitting, n_rhs) else 0)
+    working = (3 * rows + grid.ndim + (2 if fitted else 0)) * grid.size * 8  # + log φ, κ
+    operator = METHODS[settings.method].estimate_bytes(grid)
+    ram = working + operator + (0 if settings.mmap_dir else stored)
+    return {"stored": stored, "working": working, "operator": operator, "ram": ram}
+
+
+def check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
+    available = available_memory()
+    gib = lambda b: f"{b / 2**30:.2f} GiB"
+    detail = ", ".join(f"{k} {gib(v)}" for k, v in estimate.items() if k != "ram")
+    if available is not None and estimate["ram"] > 0.9 * available:
+        raise MemoryError(
+            f"{what} needs about {gib(estimate['ram'])} of memory ({detail}) but only "
+            f"{gib(available)} is available: keep fewer slices (store_every), store float32, "
+            "put the slices in a memory-mapped file (mmap_dir), or use a coarser grid"
+        )
+    if mmap_dir is not None:
+        free = shutil.disk_usage(mmap_dir).free
+        if estimate["stored"] > 0.95 * free:
+            raise MemoryError(
+                f"{what} needs {gib(estimate['stored'])} of disk in {mmap_dir!r} for the slices but "
+                f"only {gib(free)} is free: keep fewer slices (store_every) or store float32"
+            )
+
+
+@jit_parallel
+def store_kernel(Z, scale, out, flushed):
+    """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
+    to zero (float32 storage of values below ~1e-45 of the slice maximum), counted per work
+    block in ``flushed``."""
+    n_rhs, n_nodes = Z.shape
+    n_blocks = flushed.shape[0]
+    for b in prange(n_blocks):
+        count = 0
+        for r in range(n_rhs):
+            for p in range(b * n_nodes // n_blocks, (b + 1) * n_nodes // n_blocks):
+                value = Z[r, p] * scale[r]
+                out[r, p] = value
+                if value > 0.0 and out[r, p] == 0.0:
+                    count += 1
+        flushed[b] = count
+    return flushed.sum()
+
+
+def slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None) -> np.ndarray:
+    if mmap_dir is None:
+        return np.empty(shape, dtype=dtype)
+    # An unlinked temporary file: its disk space is returned when the Solution is released.
+    handle = tempfile.TemporaryFile(dir=mmap_dir)  # noqa: SIM115 (the memmap owns it)
+    return np.memmap(handle, dtype=dtype, mode="w+", shape=shape)
