@@ -18,6 +18,7 @@ import numpy as np
 
 import gridlbc
 from gridlbc import Quadratic
+from gridlbc.costs import wrap_angle
 from gridlbc.studies.problems import ROTOR_GOALS, ROTOR_START, ROTOR_WEIGHTS, rotor_problem
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -47,7 +48,7 @@ print("projected weights", np.round(weights, 4))
 fig, ax = plt.subplots(figsize=(8, 4.5), constrained_layout=True)
 for name, policy in controllers.items():
     cert = gridlbc.certify(lbc.problem, policy, ROTOR_START, samples, dt=dt, seed=0)
-    final = np.mod(cert.final_states[:, 0] + np.pi, 2 * np.pi) - np.pi
+    final = wrap_angle(cert.final_states[:, 0])
     print(f"{name:17s} cost {cert.policy_cost:.3f} ± {cert.policy_cost_se:.3f}, certified "
           f"optimum {cert.optimal_value:.3f} ± {cert.optimal_value_se:.3f}, median |θ_T| "
           f"{np.median(np.abs(final)):.2f}")

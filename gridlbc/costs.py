@@ -89,6 +89,11 @@ class Quadratic:
         return f"Quadratic(center={self.center.tolist()}, weights={np.asarray(w).tolist()})"
 
 
+def wrap_angle(angles) -> np.ndarray:
+    """Angles (radians) to the nearest image of 0, in [−π, π)."""
+    return np.mod(np.asarray(angles, dtype=float) + np.pi, 2 * np.pi) - np.pi
+
+
 def wrap_difference(diff: np.ndarray, periods) -> np.ndarray:
     """Differences ``(N, d)`` taken to the nearest image, in ``[−P/2, P/2)``, on the coordinates
     with a finite period (``periods`` ``(d,)``, ``inf`` or ``None`` for none); a new array."""

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic, Tracking, evaluate_cost
+from .costs import Quadratic, Tracking, evaluate_cost, wrap_angle
 from .grid import Grid, check_states
 from .systems.base import ControlAffineSystem
 
@@ -165,7 +165,7 @@ class Problem:
             return self.grid.wrap(x)
         x = np.array(x, dtype=float, copy=True)
         for k in self.periodic_axes:
-            x[..., k] = np.mod(x[..., k] + np.pi, 2 * np.pi) - np.pi
+            x[..., k] = wrap_angle(x[..., k])
         return x
 
     def check_states(self, x, name: str = "x") -> np.ndarray:

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..certify import certify
 from ..combine import CompositeCost, combine, naive_blend
-from ..costs import Quadratic
+from ..costs import Quadratic, wrap_angle
 from ..project import projection
 from ..simulate import simulate
 from ..trajectory import expand, optimize
@@ -68,11 +68,6 @@ class DiveRun:
     certificate: object = None
 
 
-def wrapped(angles) -> np.ndarray:
-    """Angles into [−π, π)."""
-    return np.mod(np.asarray(angles) + np.pi, 2 * np.pi) - np.pi
-
-
 def dive_run(problem, policy, label, momentum_scale, dt, certify_samples=0, seed=0) -> DiveRun:
     """Roll ``policy`` out noise-free from the take-off κ = ``momentum_scale`` on ``problem``
     (and certify it with ``certify_samples`` noisy samples, if any)."""
@@ -83,8 +78,8 @@ def dive_run(problem, policy, label, momentum_scale, dt, certify_samples=0, seed
     if certify_samples:
         certificate = certify(problem, policy, x0, n_samples=certify_samples, dt=dt, seed=seed)
     return DiveRun(label, momentum_scale, run.times, run.states[0], run.controls[0],
-                   float(run.costs[0]), float(abs(wrapped(final[0]))),
-                   float(np.linalg.norm(wrapped(final[1:4]))), certificate)
+                   float(run.costs[0]), float(abs(wrap_angle(final[0]))),
+                   float(np.linalg.norm(wrap_angle(final[1:4]))), certificate)
 
 
 def interpolation_weights(offset: float, temperature: float):

@@ -23,7 +23,6 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 
 from __future__ import annotations
 
-import math
 import textwrap
 import time
 import warnings
@@ -33,7 +32,7 @@ import numpy as np
 
 from ..certify import certify
 from ..combine import CompositeCost, combine, naive_blend
-from ..costs import Quadratic
+from ..costs import Quadratic, wrap_angle
 from ..problem import Problem
 from ..project import ProjectionWarning, project
 from ..project import projection as project_weights
@@ -70,11 +69,6 @@ def _save(fig, out, name: str) -> Path:
     fig.savefig(path, dpi=DPI)
     _pyplot().close(fig)
     return path
-
-
-def _wrap(theta):
-    """Angles to [−π, π)."""
-    return np.mod(np.asarray(theta) + math.pi, 2 * math.pi) - math.pi
 
 
 # -- 1. cost space vs reward space -------------------------------------------------------------------
@@ -234,7 +228,7 @@ def interpolation(out, n: int = 101, samples: int = 1000, seed: int = 0,
 
     bins = np.linspace(-np.pi, np.pi, 73)
     for (label, cert), color in zip(certificates.items(), colors):
-        final = _wrap(cert.final_states[:, 0])
+        final = wrap_angle(cert.final_states[:, 0])
         ax_hist.hist(final, bins=bins, histtype="step", lw=2 if "alone" not in label else 1,
                      color=color, label=f"{label}: median |θ_T − θ̄| = "
                                         f"{np.median(np.abs(final)):.2f}")

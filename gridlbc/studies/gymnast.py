@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..costs import wrap_angle
 from ..systems import Acrobot
 
 TRACKER_STARTS = np.radians([[-90.0, 0.0], [-110.0, -20.0], [-120.0, -5.0], [-80.0, -25.0],
@@ -103,8 +104,7 @@ def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
 def angle_distance(states) -> np.ndarray:
     """Distance of (θ1, θ2) from the handstand (0, 0), angles wrapped to [−π, π): ``(N,)``."""
     x = np.atleast_2d(np.asarray(states, dtype=float))
-    wrapped = np.mod(x[:, :2] + np.pi, 2 * np.pi) - np.pi
-    return np.linalg.norm(wrapped, axis=1)
+    return np.linalg.norm(wrap_angle(x[:, :2]), axis=1)
 
 
 def _link_points(system: Acrobot, states: np.ndarray) -> np.ndarray:
@@ -132,7 +132,7 @@ def plot_swingup(times, runs: dict, path=None, reference=None):
     for label, (states, controls) in curves.items():
         t = reference[0] if label == "deterministic optimum" else times
         style = "--" if label == "deterministic optimum" else "-"
-        wrapped = np.mod(states[:, :2] + np.pi, 2 * np.pi) - np.pi
+        wrapped = wrap_angle(states[:, :2])
         line, = ax_angle.plot(t, np.degrees(wrapped[:, 0]), style, label=f"θ1 {label}")
         ax_angle.plot(t, np.degrees(wrapped[:, 1]), style, color=line.get_color(), alpha=0.5)
         ax_mom.plot(t, states[:, 2], style, color=line.get_color(), label=f"p1 {label}")

@@ -36,7 +36,7 @@ import numpy as np
 
 from ..certify import certify
 from ..combine import combine, naive_blend
-from ..costs import Quadratic
+from ..costs import Quadratic, wrap_angle
 from ..grid import Axis, Grid
 from ..problem import Problem
 from ..project import ProjectionWarning, projection
@@ -263,7 +263,7 @@ def check_swingup_optimality(n: int = 256, dt: float | None = 0.02, samples: int
 def _final_errors(final_states, center) -> tuple[float, float]:
     """Mean |θ_T − θ̄| (to the nearest image) and mean |ω_T − ω̄|."""
     diff = np.abs(final_states - center)
-    diff[:, 0] = np.abs(np.mod(diff[:, 0] + np.pi, 2 * np.pi) - np.pi)
+    diff[:, 0] = np.abs(wrap_angle(diff[:, 0]))
     return float(diff[:, 0].mean()), float(diff[:, 1].mean())
 
 
