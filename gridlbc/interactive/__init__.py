@@ -383,8 +383,8 @@ def write_page(solutions, path, *, weights=None, state=None, nodes=None, n_times
     embedded (:func:`embed`). Returns a :class:`PageReport` with the page size and, for decimated
     solutions, how far the embedded combination is from the original one.
     """
-    solutions = _check_components(solutions)
-    embedding = embed(solutions, nodes, n_times, max_bytes, dtype)
+    solutions = tuple(solutions)
+    embedding = embed(solutions, nodes, n_times, max_bytes, dtype)  # validates the components
     w = check_weights(weights, len(solutions))
     data = page_data(embedding, w, state, title, labels, note)
     path = Path(path)
