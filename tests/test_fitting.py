@@ -165,7 +165,7 @@ def test_fitted_diffusion_kernel_matches_numpy_twin(periodic, variance, rng):
 def test_fitted_diffusion_is_exact_for_a_quadratic_log_reference():
     """ℓ(x) = −(x − c)²/(2s) (a Gaussian φ): the curved interpolant is exact, so the log-domain
     diffusion must give the exact heat-kernel result log √(s/(s+σ²)) − (x − c)²/(2(s+σ²)) to
-    rounding and the e^{−30} window, away from the mirrored ends (here > 12 σ_total). Also at a
+    rounding and the e^{−20} window, away from the mirrored ends (here > 12 σ_total). Also at a
     small variance (σ = h/10, a small temperature), where the tails are what matters."""
     n, h, c, s = 201, 0.05, 5.0, 0.4
     x = np.arange(n) * h
