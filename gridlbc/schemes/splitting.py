@@ -70,6 +70,7 @@ state cost, into the last diffusion pass), so a step streams z through memory ab
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -152,67 +153,88 @@ def feet_bytes_per_node(ndim: int, layout: str) -> int:
 # -- drift pass ---------------------------------------------------------------------------------
 
 
-@jit_parallel
+@functools.cache
+def _advect_kernels(d: int):
+    """The drift kernels of :func:`_advect_compact_kernel` and :func:`_advect_table_kernel` for
+    grids of dimension ``d``, compiled with d a constant (numba unrolls the vertex loops) and
+    with the per-node arrays read as flat rows through unsigned indices (no negative-index
+    wrapping), which lets the compiler vectorise the decoding."""
+
+    @jit_parallel
+    def compact(z, base, code, frac, offsets, scale, ell, ones_row, out):
+        n_rhs, n_nodes = z.shape
+        fitted = ell.size > 0
+        fractions = frac.reshape(-1)
+        vertex = offsets.reshape(-1)
+        for p in prange(n_nodes):
+            node = np.int64(base[p])
+            row = np.int64(code[p]) * (d + 1)
+            fit = 1.0
+            if fitted:
+                previous = _Q
+                mean = 0.0
+                for j in range(d + 1):
+                    f = np.int64(fractions[p * d + j]) if j < d else np.int64(0)
+                    mean += (previous - f) * ell[np.uint64(node + vertex[row + j])]
+                    previous = f
+                fit = np.exp(mean * (1.0 / _Q))
+            for r in range(n_rhs):
+                if r == ones_row:  # the integer weights telescope to Q: the same number, exactly
+                    acc = float(_Q)
+                else:
+                    zr = z[r]
+                    previous = _Q
+                    acc = 0.0
+                    for j in range(d):
+                        f = np.int64(fractions[p * d + j])
+                        acc += (previous - f) * zr[np.uint64(node + vertex[row + j])]
+                        previous = f
+                    acc += previous * zr[np.uint64(node + vertex[row + d])]
+                out[r, p] = acc * (fit * scale[r] * (1.0 / _Q))
+
+    @jit_parallel
+    def table(z, idx, weights, scale, ell, ones_row, out):
+        n_rhs, n_nodes = z.shape
+        fitted = ell.size > 0
+        vertices = idx.reshape(-1)
+        weight = weights.reshape(-1)
+        for p in prange(n_nodes):
+            first = p * (d + 1)
+            fit = 1.0
+            total = 0.0
+            if fitted:
+                mean = 0.0
+                for j in range(d + 1):
+                    mean += weight[first + j] * ell[np.uint64(vertices[first + j])]
+                    total += weight[first + j]
+                fit = np.exp(mean)
+            for r in range(n_rhs):
+                if r == ones_row:
+                    acc = total
+                else:
+                    zr = z[r]
+                    acc = 0.0
+                    for j in range(d + 1):
+                        acc += weight[first + j] * zr[np.uint64(vertices[first + j])]
+                out[r, p] = acc * (fit * scale[r])
+
+    return compact, table
+
+
 def _advect_compact_kernel(z, base, code, frac, offsets, scale, ell, ones_row, out):
     """out[r, p] = scale[r] · F_p · Σ_j w_j z[r, v_j] over the foot's simplex vertices
     v_j = base[p] + offsets[code[p], j] with w_j = (f_{j−1} − f_j)/Q from the sorted quantised
     fractions (f_{−1} = Q, f_d = 0). Fitted (``ell`` = log φ given, ``z`` already divided by φ
     by :func:`_fitting_kernel`): F_p = exp(Σ_j w_j ell[v_j]) = φ̄, the reference's geometric mean
     over the simplex; F_p = 1 when ``ell`` is empty. Row ``ones_row`` (−1: none) is known to be
-    all ones, so its gather is skipped: Σ_j w_j · 1 = 1 exactly."""
-    n_rhs, n_nodes = z.shape
-    d = frac.shape[1]
-    fitted = ell.size > 0
-    for p in prange(n_nodes):
-        node = np.int64(base[p])
-        c = code[p]
-        fit = 1.0
-        if fitted:
-            previous = _Q
-            mean = 0.0
-            for j in range(d + 1):
-                f = np.int64(frac[p, j]) if j < d else np.int64(0)
-                mean += (previous - f) * ell[node + offsets[c, j]]
-                previous = f
-            fit = np.exp(mean * (1.0 / _Q))
-        for r in range(n_rhs):
-            if r == ones_row:  # the integer weights telescope to Q: the same number, exactly
-                acc = float(_Q)
-            else:
-                previous = _Q
-                acc = 0.0
-                for j in range(d):
-                    f = np.int64(frac[p, j])
-                    acc += (previous - f) * z[r, node + offsets[c, j]]
-                    previous = f
-                acc += previous * z[r, node + offsets[c, d]]
-            out[r, p] = acc * (fit * scale[r] * (1.0 / _Q))
+    all ones, so its gather is skipped: Σ_j w_j · 1 = 1 exactly. All arrays C-contiguous."""
+    _advect_kernels(frac.shape[1])[0](z, base, code, frac, offsets, scale, ell, ones_row, out)
 
 
-@jit_parallel
 def _advect_table_kernel(z, idx, weights, scale, ell, ones_row, out):
     """out[r, p] = scale[r] · F_p · Σ_j weights[p, j] z[r, idx[p, j]], the fitting factor F_p and
     ``ones_row`` as in :func:`_advect_compact_kernel`."""
-    n_rhs, n_nodes = z.shape
-    n_vertices = idx.shape[1]
-    fitted = ell.size > 0
-    for p in prange(n_nodes):
-        fit = 1.0
-        total = 0.0
-        if fitted:
-            mean = 0.0
-            for j in range(n_vertices):
-                mean += weights[p, j] * ell[idx[p, j]]
-                total += weights[p, j]
-            fit = np.exp(mean)
-        for r in range(n_rhs):
-            if r == ones_row:
-                acc = total
-            else:
-                acc = 0.0
-                for j in range(n_vertices):
-                    acc += weights[p, j] * z[r, idx[p, j]]
-            out[r, p] = acc * (fit * scale[r])
+    _advect_kernels(idx.shape[1] - 1)[1](z, idx, weights, scale, ell, ones_row, out)
 
 
 @jit_parallel
