@@ -9,6 +9,7 @@ from conftest import pendulum
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.interpolate import barycentric
 from gridlbc.schemes import splitting
 from gridlbc.schemes.splitting import SplittingStep, characteristic_feet
 from gridlbc.studies.problems import (
@@ -218,3 +219,60 @@ def test_fitting_options_are_checked(tmp_path):
     solution = gridlbc.solve(problem, dt=0.1, fitting="terminal")
     gridlbc.save(solution, tmp_path / "fitted.npz")
     assert gridlbc.load(tmp_path / "fitted.npz").diagnostics.fitting == solution.diagnostics.fitting
+
+
+@pytest.mark.parametrize("feet", ["compact", "table"])
+@pytest.mark.parametrize("hip", [np.pi, None])
+def test_curvature_correction_matches_numpy_twin(feet, hip, rng):
+    """The curvature term of the fitted drift (compiled, from the stored feet) against its
+    numpy twin (from the exact feet) on a small 4-D grid with closed and periodic axes and a
+    rough ℓ. Differences: the compact layout's fractions are quantised to 1/131070 of a cell,
+    which moves the term (bilinear in them, coefficients |H| summed over d² pairs) and the
+    vertex-range limit (by the range times d/131070); the table's weights are float32; the
+    Hessian is float32 in both."""
+    from gridlbc.studies.problems import gymnast_problem
+
+    problem = gymnast_problem((7, 8, 9, 10), hip_range=hip)
+    step = SplittingStep(problem, 0.1, feet=feet)
+    ell = -problem.terminal_values(problem.grid.nodes()) + rng.normal(0, 1, problem.grid.size)
+    term = step.curvature_correction(ell)
+    twin = splitting.curvature_correction_numpy(problem.grid, ell,
+                                                characteristic_feet(problem, 0.1))
+    d, span = problem.grid.ndim, np.ptp(ell)
+    hessian = 4 * np.abs(ell).max()
+    quantum = 1 / 131070 if feet == "compact" else 2.0**-24
+    np.testing.assert_allclose(term, twin, rtol=0,
+                               atol=2 * quantum * (d * d * hessian + d * span) + 1e-6 * hessian)
+    assert np.abs(twin).max() > 1.0  # the term is not trivially zero here
+
+
+@pytest.mark.parametrize("feet", ["compact", "table"])
+def test_corrected_fitted_drift_is_exact_for_quadratic_log_desirability(feet):
+    """ℓ quadratic (with a cross term) on a closed grid: the fitted drift with its curvature
+    term reproduces ℓ(X) at every foot up to the stored weights and the float32 Hessian (here
+    below 1e-5), where the linear average of ℓ over the simplex is off by ½ Σ M_ab H_ab,
+    about h²|ℓ''|/8 (here over 1e-3): the error behind the fitted value's pessimism. The
+    exception is by design: where ℓ(X) lies above every vertex value (X near the maximum of ℓ)
+    the limiter stops the result at the largest vertex value."""
+    grid = Grid([Axis(-2, 2, 21), Axis(-3, 3, 31)])
+    from gridlbc.systems import PointMass
+
+    problem = Problem(PointMass(), grid, 1.0, Quadratic([0, 0], [1, 1]))
+    step = SplittingStep(problem, 0.13, feet=feet)
+    curvature = np.array([[-1.0, 0.4], [0.4, -0.7]])
+
+    def ell_at(x):
+        return 0.5 * np.einsum("ni,ij,nj->n", x, curvature, x) + x @ [0.3, -0.2]
+
+    ell = ell_at(grid.nodes())[None].copy()
+    linear = np.empty_like(ell)
+    step.drift(ell.copy(), linear, np.ones(1))
+    exact = ell_at(characteristic_feet(problem, 0.13))
+    corrected = linear[0] + step.curvature_correction(ell[0])
+    assert np.abs(linear[0] - exact).max() > 1e-3
+    idx, _ = barycentric(grid, characteristic_feet(problem, 0.13))
+    top = ell[0, idx].max(axis=1)
+    inside = exact <= top
+    np.testing.assert_allclose(corrected[inside], exact[inside], rtol=0, atol=1e-5)
+    np.testing.assert_allclose(corrected[~inside], top[~inside], rtol=0, atol=1e-5)
+    assert 0 < np.count_nonzero(~inside) < 0.05 * grid.size

@@ -38,9 +38,22 @@ reference is itself advanced by the fitted step, as one more right-hand side (fi
 P_φ φ = φ̄: v(x) ← Σ_j w_j v(y_j), the value-space semi-Lagrangian update). A problem fitted to
 its own terminal cost therefore has the accuracy of interpolating v rather than z, and all
 terminal costs solved with the same reference share one linear operator, so superposition stays
-exact among them (the README's swing-up tables compare the two). Where v is curved rather than steep,
-interpolating v overestimates it by about h² v''/8 per step: the fitted value errs on the
-pessimistic side.
+exact among them (the README's swing-up tables compare the two).
+
+Curvature term. Averaging log φ linearly over the simplex misses its curvature: for quadratic
+ℓ = log φ with index-unit Hessian H, Σ_j w_j ℓ(y_j) = ℓ(X) + ½ Σ_ab M_ab H_ab with the
+simplex's second moments M_ab = Σ_j w_j (y_j − X)_a (y_j − X)_b, which on the Kuhn simplex are
+min(f_a, f_b) − f_a f_b for the foot's fractional coordinates f in its cell. Where v is convex
+that bias overestimates v by about h² v''/8 per step, accumulating over the steps (pessimism
+of order h²/Δt). The fitted drift therefore uses
+
+    log φ̄(X) = Σ_j w_j ℓ(y_j) − ½ Σ_ab M_ab H_ab,
+
+H the central second differences of ℓ at the simplex's vertex of largest weight, and the result
+limited to [min_j ℓ(y_j), max_j ℓ(y_j)] so that it creates no new extrema (stable where ℓ is
+kinked; at a smooth maximum inside a cell it costs the bias back there). φ̄ is still a positive
+function of φ alone, so for a fixed reference the step stays linear and non-negative in z, and
+exact where z ∝ φ; φ̄ is now also exact for quadratic log φ.
 
 Fitted diffusion. With a reference, the half-step diffusion along each noise axis is fitted too:
 
@@ -77,7 +90,7 @@ import numpy as np
 
 from .._numba import jit, jit_parallel, prange, work_blocks
 from ..grid import Grid
-from ..interpolate import _cell, _kuhn_kernel
+from ..interpolate import _cell, _kuhn_kernel, barycentric
 from ..problem import Problem
 
 FEET_LAYOUTS = ("compact", "table")
@@ -408,33 +421,36 @@ def _limited(ell_lin, term, low, high):
 
 @jit_parallel
 def _curvature_compact_kernel(ell, base, code, frac, offsets, axes, pairs, hessian, out):
-    """out[p] = the limited −½ Σ_ab M_ab H_ab(base[p]) for the compact feet (see
+    """out[p] = the limited curvature term of the compact feet (see
     :meth:`SplittingStep.curvature_correction`): with the sorted fractions f_k of walk steps
     k along axes π_k = ``axes[code[p], k]``, M_{π_k π_k} = f_k (1 − f_k) and, for k < l,
-    M_{π_k π_l} = f_l (1 − f_k)."""
+    M_{π_k π_l} = f_l (1 − f_k); H at the vertex of largest weight (the first on a tie)."""
     n_nodes, d = frac.shape
     for p in prange(n_nodes):
         node = np.int64(base[p])
         c = code[p]
-        acc = 0.0
         previous = _Q
         lin = 0.0
         low = high = ell[node]
-        for k in range(d):
-            fk = np.int64(frac[p, k])
-            value = ell[node + offsets[c, k]]
-            lin += (previous - fk) * value
+        nearest, largest = node, -1
+        for j in range(d + 1):
+            fj = np.int64(frac[p, j]) if j < d else np.int64(0)
+            vertex = node + offsets[c, j]
+            value = ell[vertex]
+            lin += (previous - fj) * value
             low, high = min(low, value), max(high, value)
-            previous = fk
+            if previous - fj > largest:
+                nearest, largest = vertex, previous - fj
+            previous = fj
+        acc = 0.0
+        for k in range(d):
             ak = axes[c, k]
             cross = 0.0
             for m in range(k + 1, d):
-                cross += np.float64(frac[p, m]) * hessian[node, pairs[ak, axes[c, m]]]
-            f = fk * (1.0 / _Q)
-            acc += (1.0 - f) * (f * hessian[node, pairs[ak, ak]] + 2.0 * cross * (1.0 / _Q))
-        value = ell[node + offsets[c, d]]
-        lin = (lin + previous * value) * (1.0 / _Q)
-        out[p] = _limited(lin, -0.5 * acc, min(low, value), max(high, value))
+                cross += np.float64(frac[p, m]) * hessian[nearest, pairs[ak, axes[c, m]]]
+            f = np.float64(frac[p, k]) * (1.0 / _Q)
+            acc += (1.0 - f) * (f * hessian[nearest, pairs[ak, ak]] + 2.0 * cross * (1.0 / _Q))
+        out[p] = _limited(lin * (1.0 / _Q), -0.5 * acc, low, high)
 
 
 @jit_parallel
@@ -458,11 +474,13 @@ def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, o
             for a in range(d):
                 if step == strides[a] or step == -(shape[a] - 1) * strides[a]:
                     axis[j] = a
+        node, largest = np.int64(idx[p, 0]), -1.0
         for j in range(n_vertices):
             value = ell[idx[p, j]]
             lin += weights[p, j] * value
             low, high = min(low, value), max(high, value)
-        node = np.int64(idx[p, 0])
+            if weights[p, j] > largest:
+                node, largest = np.int64(idx[p, j]), weights[p, j]
         acc = 0.0
         for k in range(d):
             cross = 0.0
@@ -474,22 +492,22 @@ def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, o
 
 def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) -> np.ndarray:
     """Plain-numpy twin of :meth:`SplittingStep.curvature_correction` from the feet ``(N, d)``
-    (unquantised): −½ Σ_ab (min(f_a, f_b) − f_a f_b) H_ab at each foot's cell corner, f its
-    fractional coordinates in the cell and H the index-unit Hessian of ``ell`` there, by
-    :func:`numpy.roll` (closed ends: the neighbour's)."""
+    (unquantised): −½ Σ_ab (min(f_a, f_b) − f_a f_b) H_ab, f the foot's fractional coordinates
+    in its cell and H the index-unit Hessian of ``ell`` (by :func:`numpy.roll`; closed ends: the
+    neighbour's) at the simplex vertex of largest weight, limited to the vertices' range."""
     shape = np.array(grid.shape)
     s = (grid.clamp(feet) - grid.lo) / grid.spacing
     s = np.where(grid.periodic, np.mod(s, shape), s)
     cell = np.where(grid.periodic, np.floor(s) % shape, np.minimum(np.floor(s), shape - 2))
     f = s - cell
-    cell = cell.astype(np.int64)
+    idx, weights = barycentric(grid, feet)
+    nearest = idx[np.arange(len(feet)), np.argmax(weights, axis=1)]
     field = grid.reshape(ell)
-    d = grid.ndim
     centre = [np.arange(n) if p or n < 3 else np.clip(np.arange(n), 1, n - 2)
               for n, p in zip(grid.shape, grid.periodic)]
     total = np.zeros(len(feet))
-    for a in range(d):
-        for b in range(a, d):
+    for a in range(grid.ndim):
+        for b in range(a, grid.ndim):
             if (not grid.periodic[a] and shape[a] < 3) or (not grid.periodic[b] and shape[b] < 3):
                 continue
             if a == b:
@@ -497,10 +515,8 @@ def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) ->
             else:
                 h = 0.25 * sum(sign_a * sign_b * np.roll(field, (-sign_a, -sign_b), (a, b))
                                for sign_a in (1, -1) for sign_b in (1, -1))
-            h = h[np.ix_(*centre)]
             moment = np.minimum(f[:, a], f[:, b]) - f[:, a] * f[:, b]
-            total += (1 if a == b else 2) * moment * h[tuple(cell.T)]
-    idx, weights = barycentric(grid, feet)
+            total += (1 if a == b else 2) * moment * h[np.ix_(*centre)].reshape(-1)[nearest]
     lin = (ell[idx] * weights).sum(axis=1)
     limited = np.clip(lin - 0.5 * total, ell[idx].min(axis=1), ell[idx].max(axis=1))
     return limited - lin
