@@ -37,7 +37,7 @@ class SolverSettings:
         Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
         error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
         small steps *add* numerical diffusion (plain) or pessimism (fitted). Default 6 for the
-        plain drift, of the largest rate max_x max_k |a_k| / h_k; and 7 when it is fitted, of
+        plain drift, of the largest rate ``max_x max_k |a_k(x)| / h_k``; and 7 when it is fitted, of
         that rate's root mean square over the nodes (:func:`gridlbc.solver.time_grid`;
         ``benchmarks/accuracy.py`` and ``benchmarks/gymnast.py`` measure both against the
         certified optimum).

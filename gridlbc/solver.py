@@ -41,8 +41,8 @@ from .storage import check_memory, memory_estimate, slice_storage, store_kernel
 
 
 def courant_rates(problem: Problem) -> tuple[float, float]:
-    """The Courant rates (1/time) of the drift: the maximum over nodes of r(x) = max_k |a_k(x)| / h_k,
-    and its root mean square over the nodes, evaluated in chunks of nodes."""
+    """The Courant rates (1/time) of the drift: the maximum over the nodes of
+    ``r(x) = max_k |a_k(x)| / h_k`` and its root mean square over them (in chunks of nodes)."""
     grid = problem.grid
     spacing = grid.spacing
     peak, squares = 0.0, 0.0
