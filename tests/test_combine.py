@@ -198,22 +198,25 @@ def test_mismatched_problems_are_named(line_solution, change, match):
         g.combine([sol, other])
 
 
-def test_mismatched_system_time_grid_and_method_are_named():
+def test_mismatched_system_is_named_and_other_operators_combine_inexactly():
     grid = g.Grid([g.Axis(-2, 2, 9), g.Axis(-2, 2, 9)])
     problem = g.Problem(PointMass(), grid, 0.2, g.Quadratic([0, 0], [1, 1]))
     sol = g.solve(problem, dt=0.02)
     with pytest.raises(ValueError, match="system"):
         g.combine([sol, g.solve(problem.replace(system=PointMass(mass=2.0)), dt=0.02)])
-    with pytest.raises(ValueError, match="time grid"):
-        g.combine([sol, g.solve(problem, dt=0.01)])
-    with pytest.raises(ValueError, match="solver method"):
-        g.combine([sol, g.solve(problem, dt=0.02, method="implicit")])
+    # Same problem, other operators: combined through their values, and said to be inexact.
+    other = problem.replace(terminal_cost=g.Quadratic([1, 0], [1, 1]))
+    for solved, why in [(g.solve(other, dt=0.01), "time grid"),
+                        (g.solve(other, dt=0.02, method="implicit"), "implicit")]:
+        combo = g.combine([sol, solved])
+        assert isinstance(combo, g.Combination) and not combo.exact
+        assert why in combo.reason and "solve_many" in combo.reason
     # Equal state costs given as different objects are fine (compared at the nodes).
     q1, q2 = g.Quadratic([0, 0], [1, 1]), g.Quadratic([0, 0], [1, 1])
     a = g.solve(problem.replace(state_cost=q1), dt=0.02)
     b = g.solve(problem.replace(state_cost=q2, terminal_cost=g.Quadratic([1, 0], [1, 1])),
                 dt=0.02)
-    g.combine([a, b])
+    assert g.combine([a, b]).exact
 
 
 @pytest.mark.parametrize("weights, match", [
