@@ -123,7 +123,8 @@ def test_own_reference_row_and_explicit_reference_agree():
         np.testing.assert_allclose(own.log_desirability_nodes(j),
                                    explicit.log_desirability_nodes(j), rtol=1e-11, atol=1e-11)
     assert own.diagnostics.fitting == explicit.diagnostics.fitting != "none"
-    assert gridlbc.solve(problem, dt=0.05).diagnostics.fitting == "none"
+    assert gridlbc.solve(problem, dt=0.05).diagnostics.fitting == own.diagnostics.fitting
+    assert gridlbc.solve(problem, dt=0.05, fitting=None).diagnostics.fitting == "none"
 
 
 def test_fitting_makes_the_swingup_prediction_honest():
@@ -238,7 +239,9 @@ def test_fitting_options_are_checked(tmp_path):
     problem = _pendulum(8)
     with pytest.raises(ValueError, match="fitting applies to method='splitting'"):
         gridlbc.solve(problem, method="implicit", fitting="terminal")
-    with pytest.raises(ValueError, match="fitting must be None, 'terminal'"):
+    # the default ("auto") is the plain operator for a scheme without fitting
+    assert gridlbc.solve(problem, dt=0.1, method="implicit").diagnostics.fitting == "none"
+    with pytest.raises(ValueError, match="fitting must be 'auto', None, 'terminal'"):
         gridlbc.solve(problem, fitting="own")
     solution = gridlbc.solve(problem, dt=0.1, fitting="terminal")
     gridlbc.save(solution, tmp_path / "fitted.npz")
