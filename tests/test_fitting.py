@@ -179,8 +179,10 @@ def test_separately_fitted_components_combine_to_the_direct_solve_as_the_grid_re
         problem = _pendulum(n)
         parts = [gridlbc.solve(problem.replace(terminal_cost=c), fitting="terminal")
                  for c in (g1, g2)]
+        # the default time grid depends on the dynamics alone: only the references differ
+        np.testing.assert_array_equal(parts[0].times, parts[1].times)
         combo = gridlbc.combine(parts, [0.3, 1.7])
-        assert not combo.exact and "solve_many" in combo.reason
+        assert not combo.exact and combo.reason.startswith("solutions[1] was fitted to another")
         direct = gridlbc.solve(combo.problem, fitting="terminal")
         gaps.append((np.abs(combo.value(x, 0.0) - direct.value(x, 0.0)).max(),
                      np.abs(combo.policy(x, 0.0) - direct.policy(x, 0.0)).max()))
