@@ -80,7 +80,7 @@ def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
 
 def _options(method):
     return ({"method": "splitting", "fitting": "terminal"} if method == "fitted"
-            else {"method": method})
+            else {"method": method, "fitting": None})
 
 
 def _step(text):
@@ -97,7 +97,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[31, 41, 51])
     parser.add_argument("--methods", nargs="+", default=["fitted", "splitting"],
-                        help="splitting, fitted (splitting with fitting='terminal'), implicit")
+                        help="splitting (plain, fitting=None), fitted (fitting='terminal'), "
+                        "implicit")
     parser.add_argument("--dts", type=_step, nargs="+", default=[0.05, 0.1],
                         help="time steps, or 'default' for the solver's own choice")
     parser.add_argument("--bounds", type=float, nargs=2, default=[16.0, 9.0],
