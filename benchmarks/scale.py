@@ -27,6 +27,7 @@ per node-step and for the whole solve including setup. The gymnast's accuracy pe
     python benchmarks/scale.py                          # the full table (≈ 10 min on 2 cores)
     python benchmarks/scale.py --pendulum 201 --acrobot 21 --steps 300
     python benchmarks/scale.py --pendulum --acrobot 31 --steps 50 --layout-grid 0
+    python benchmarks/scale.py --pendulum --acrobot 51 --methods splitting --layout-grid 0
 """
 
 from __future__ import annotations
@@ -48,6 +49,8 @@ from gridlbc._numba import jit_parallel, prange, work_blocks
 from gridlbc.schemes.splitting import SplittingStep, feet_bytes_per_node
 from gridlbc.storage import store_kernel
 from gridlbc.studies.problems import gymnast_problem, swingup_problem
+
+METHODS = ("splitting", "fitted", "implicit", "scipy")
 
 
 def problem_for(system: str, n: int) -> Problem:
@@ -225,6 +228,8 @@ def main(argv=None):
                         help="skip the implicit and scipy methods above this many nodes")
     parser.add_argument("--layout-grid", type=int, default=41,
                         help="n⁴ gymnast grid for the feet layout comparison (0: skip)")
+    parser.add_argument("--methods", nargs="*", default=list(METHODS), choices=METHODS,
+                        help="methods to run (default: all)")
     parser.add_argument("--case", nargs=5, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.case:
@@ -245,7 +250,7 @@ def main(argv=None):
     for system, n in cases:
         rows = {}
         nodes = n * (n + 1) if system == "pendulum" else n**4
-        for method in ("splitting", "fitted", "implicit", "scipy"):
+        for method in args.methods:
             fast = method in ("splitting", "fitted")
             if not fast and nodes > args.implicit_max_nodes:
                 continue
