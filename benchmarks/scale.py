@@ -16,7 +16,7 @@ half-step diffusions, the drift's gather, the float32 store of a slice) with its
 and share of that bandwidth, and the same gather with every foot at its own node (Δt → 0): the
 gather's time with perfectly sequential vertices, the bound its access pattern allows.
 
-Methods: ``splitting`` (compact feet, float32 slices), ``fitted`` (the same with the drift fitted
+Methods: ``splitting`` (the plain operator, ``fitting=None``: compact feet, float32 slices), ``fitted`` (the same with the drift fitted
 to the terminal cost, ``fitting="terminal"``), ``implicit`` (Gauss–Seidel sweeps) and
 the plain-scipy baseline (scipy splu where the grid is 2D, else scipy BiCGSTAB with a Jacobi
 preconditioner). Slow methods run fewer steps (--baseline-steps) and their node-steps per second
@@ -148,9 +148,8 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
     elif method == "implicit":
         options = {"method": "implicit", "linear_solver": "gauss-seidel", "dtype": "float32"}
     else:
-        options = {"method": "splitting", "dtype": "float32"}
-        if method == "fitted":
-            options["fitting"] = "terminal"
+        options = {"method": "splitting", "dtype": "float32",
+                   "fitting": "terminal" if method == "fitted" else None}
     # warm the numba caches and the page allocator on a tiny grid of the same kind
     small = problem_for(system, 11 if system == "acrobot" else 21)
     gridlbc.solve(small.replace(horizon=2 * dt), dt=dt, **options)
