@@ -16,7 +16,7 @@ half-step diffusions, the drift's gather, the float32 store of a slice) with its
 and share of that bandwidth, and the same gather with every foot at its own node (Δt → 0): the
 gather's time with perfectly sequential vertices, the bound its access pattern allows.
 
-Methods: ``splitting`` (compact feet, float32 slices), ``fitted`` (the same with the drift fitted
+Methods: ``splitting`` (the plain operator, ``fitting=None``: compact feet, float32 slices), ``fitted`` (the same with the drift fitted
 to the terminal cost, ``fitting="terminal"``), ``implicit`` (Gauss–Seidel sweeps) and
 the plain-scipy baseline (scipy splu where the grid is 2D, else scipy BiCGSTAB with a Jacobi
 preconditioner). Slow methods run fewer steps (--baseline-steps) and their node-steps per second
@@ -27,6 +27,7 @@ per node-step and for the whole solve including setup. The gymnast's accuracy pe
     python benchmarks/scale.py                          # the full table (≈ 10 min on 2 cores)
     python benchmarks/scale.py --pendulum 201 --acrobot 21 --steps 300
     python benchmarks/scale.py --pendulum --acrobot 31 --steps 50 --layout-grid 0
+    python benchmarks/scale.py --pendulum --acrobot 51 --methods splitting --layout-grid 0
 """
 
 from __future__ import annotations
@@ -48,6 +49,8 @@ from gridlbc._numba import jit_parallel, prange, work_blocks
 from gridlbc.schemes.splitting import SplittingStep, feet_bytes_per_node
 from gridlbc.storage import store_kernel
 from gridlbc.studies.problems import gymnast_problem, swingup_problem
+
+METHODS = ("splitting", "fitted", "implicit", "scipy")
 
 
 def problem_for(system: str, n: int) -> Problem:
@@ -145,9 +148,8 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
     elif method == "implicit":
         options = {"method": "implicit", "linear_solver": "gauss-seidel", "dtype": "float32"}
     else:
-        options = {"method": "splitting", "dtype": "float32"}
-        if method == "fitted":
-            options["fitting"] = "terminal"
+        options = {"method": "splitting", "dtype": "float32",
+                   "fitting": "terminal" if method == "fitted" else None}
     # warm the numba caches and the page allocator on a tiny grid of the same kind
     small = problem_for(system, 11 if system == "acrobot" else 21)
     gridlbc.solve(small.replace(horizon=2 * dt), dt=dt, **options)
@@ -225,6 +227,8 @@ def main(argv=None):
                         help="skip the implicit and scipy methods above this many nodes")
     parser.add_argument("--layout-grid", type=int, default=41,
                         help="n⁴ gymnast grid for the feet layout comparison (0: skip)")
+    parser.add_argument("--methods", nargs="*", default=list(METHODS), choices=METHODS,
+                        help="methods to run (default: all)")
     parser.add_argument("--case", nargs=5, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.case:
@@ -245,7 +249,7 @@ def main(argv=None):
     for system, n in cases:
         rows = {}
         nodes = n * (n + 1) if system == "pendulum" else n**4
-        for method in ("splitting", "fitted", "implicit", "scipy"):
+        for method in args.methods:
             fast = method in ("splitting", "fitted")
             if not fast and nodes > args.implicit_max_nodes:
                 continue

@@ -197,7 +197,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     if reference is None:
         diffusion_step = 0.5 * dt if s.method == "splitting" else dt
         for solution in out:
-            check_resolution(solution.problem, solution, diffusion_step)
+            check_resolution(solution.problem, solution, diffusion_step,
+                             getattr(step, "diffusion", None))
     return out
 
 
@@ -214,16 +215,19 @@ def _diffusion_tail_cap(ratio: np.ndarray) -> np.ndarray:
         return np.where(ratio > 0, -np.log(rho), np.inf)
 
 
-def check_resolution(problem: Problem, solution: Solution, step: float) -> float:
+def check_resolution(problem: Problem, solution: Solution, step: float,
+                     diffusion: list | None = None) -> float:
     """Warn (:class:`ResolutionWarning`) when the plain operator's z tails, not the PDE, set the
     value: the share of nodes where v/λ at t = T (the terminal cost) or t = 0 rises from a node
     to its neighbour along a noise axis by at least 0.9 of the diffusion's tail cap
     (:func:`_diffusion_tail_cap`, for r = ``step`` D_k / h_k², ``step`` the diffusion's time
     step). The scheme cannot carry such a fall of z: it fills it with its own tails, so v is
-    underestimated, more so as λ falls. Returns that share."""
+    underestimated, more so as λ falls. ``diffusion``: the D_k of the problem if already
+    evaluated (:attr:`SplittingStep.diffusion`). Returns that share."""
     grid = problem.grid
     flagged, worst = 0, (0.0, 0.0, "")
-    diffusion = _diffusion_coefficients(problem)
+    if diffusion is None:
+        diffusion = _diffusion_coefficients(problem)
     for value in (_node_values(problem.terminal_values, grid), solution.value_nodes(0)):
         flagged, worst = _count_at_cap(problem, value, step, flagged, worst, diffusion)
     share = flagged / (2 * grid.size)

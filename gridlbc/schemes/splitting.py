@@ -906,7 +906,9 @@ class SplittingStep:
     """The splitting step operator of a problem and time step, built once per solve.
 
     Call ``step(z, out, scale)``: writes ``out = S(scale · z)`` for ``z`` ``(K, N)`` and the
-    per-row factors ``scale`` ``(K,)``, and returns the per-row maximum of ``out``.
+    per-row factors ``scale`` ``(K,)``, and returns the per-row maximum of ``out``. Its
+    ``diffusion`` holds D_k = ½ (λ B R⁻¹ Bᵀ)_kk per axis: a float where it is the same at every
+    node, else one value per node.
     """
 
     name = "splitting"
@@ -983,8 +985,8 @@ class SplittingStep:
         grid = self.grid
         self.noise = []  # (axis, periodic, data, uniform)
         self.variances = []  # per noise axis: σ² = 2 D_k Δt of the half step (one, or per node)
-        for k, (ax, diffusion) in enumerate(zip(grid.axes, _diffusion_coefficients(problem),
-                                                strict=True)):
+        self.diffusion = _diffusion_coefficients(problem)  # D_k: a float, or one per node
+        for k, (ax, diffusion) in enumerate(zip(grid.axes, self.diffusion, strict=True)):
             if not np.any(diffusion > 0):
                 continue
             ratio = dt * diffusion / ax.spacing**2
@@ -1013,7 +1015,7 @@ class SplittingStep:
     def nbytes(self) -> int:
         arrays = [*self.arrays, self.cost_factor, self.log_cost,
                   *(data for _, _, data, _ in self.noise),
-                  *self.variances]
+                  *self.variances, *(a for a in self.diffusion if np.ndim(a))]
         return int(sum(a.nbytes for a in arrays))
 
     def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
