@@ -16,16 +16,17 @@ and from the test state (the deterministic optimum), by multi-start shooting + i
 (a') Noise-free, trackers 1 and 2 from --compare-restarts restarts (another local optimum from
     (−90°, 0°)) against --restarts, each with both curvatures: v̂_i(x₀), α₁(x₀) and the costs.
 (b) v̂ at the two trackers' start states shifted towards the test state by 0 … 0.35 rad: the
-    deterministic v̂ (both curvatures) against the local optimum from there (iLQR from the
-    tracker's tape), and v̂ with the λ term against the grid value and the certified v*
+    deterministic v̂ (both curvatures) against the local optimum from there (iLQR continued in δ
+    from the tracker's tape), and v̂ with the λ term against the grid value and the certified v*
     (proposal: the grid controller).
 (c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the best of the local optima found
     by iLQR from each of the seven tapes (an upper bound on the global optimum). Share of starts
     whose noise-free cost is within 25 % of J*, for LBC of the first K trackers (both
     curvatures), the best single one of them (an oracle: the cheapest of the K rollouts), greedy
     switching (argmax α) and the grid controller.
-(d) Validity: the noisy LBC of six trackers with the feedback saturated at Mahalanobis radius
-    ρ_max (None, 5, 3, 2): noisy cost, max |u| and v*.
+(d) Validity: tracker 2, LBC of trackers 1 and 2 and LBC of six trackers with the feedback
+    saturated at Mahalanobis radius ρ_max (None, 5, 3, 2): noisy cost (mean and median), max |u|,
+    v*, and on how many noisy paths α₁ exceeds ½ somewhere.
 
 Trajectories and the grid solution are cached in --cache (a rerun reads them).
 
@@ -217,7 +218,7 @@ def main(argv=None):
     if "b" not in args.skip:
         print("\n(b) v̂ at t = 0 from each tracker's start shifted by δ towards the test state: "
               "deterministic v̂ (Newton and Gauss–Newton P) against the local optimum V from "
-              "there (DDP from the tracker's tape); v̂ with the λ term against the grid value "
+              "there (DDP continued in δ from the tracker's tape); v̂ with the λ term against the grid value "
               "and the certified v* (proposal: the grid controller)")
         print(f"{'tracker':<7} {'δ rad':>5} {'V local':>7} {'v̂ Newton':>8} {'v̂ GN':>7} | "
               f"{'v̂ (λ)':>7} {'grid v':>7} {'v*':>13} {'ESS':>5}")
@@ -230,10 +231,13 @@ def main(argv=None):
                                   curvature="gauss-newton")
             cert = gridlbc.certify(problem, grid_policy, starts, n_samples=args.samples,
                                    dt=args.noisy_dt, seed=1, progress=False)
+            tape = trackers[i].controls
             for k, d in enumerate(deltas):
                 x = starts[k]
-                local = optimize(problem, x, n_intervals=300,
-                                 initial_controls=trackers[i].controls, search=False).cost
+                local = optimize(problem, x, n_intervals=300, initial_controls=tape,
+                                 search=False)  # continuation in δ: the tape's own family
+                tape = local.controls
+                local = local.cost
                 print(f"{i + 1:<7} {d:5.2f} {local:7.2f} {c_det[i].value(x, 0.0)[0]:8.2f} "
                       f"{gauss_newton.value(x, 0.0)[0]:7.2f} | {c[i].value(x, 0.0)[0]:7.2f} "
                       f"{solution.value(x, 0.0)[0]:7.2f} {cert.optimal_value[k]:6.2f} ± "
@@ -268,18 +272,33 @@ def main(argv=None):
                   f"{np.mean(greedy / J_star):6.2f}", flush=True)
 
     if "d" not in args.skip:
-        print("\n(d) validity: noisy LBC of six trackers from the test state, feedback saturated "
-              "at Mahalanobis radius ρ_max")
-        print(f"{'ρ_max':>6} {'noise-free':>10} {'noisy J':>13} {'max|u|':>6} {'v*':>13} "
-              f"{'ESS':>5}")
+        print("\n(d) validity: from the test state, feedback saturated at Mahalanobis radius "
+              "ρ_max; the noisy cost's median and the paths (of the certificate's) on which "
+              "α₁ > ½ somewhere")
+        print(f"{'controller':<16} {'ρ_max':>6} {'noise-free':>10} {'noisy J':>13} "
+              f"{'median':>6} {'max|u|':>6} {'v*':>13} {'ESS':>5} {'α₁>½':>5}")
         for radius in (None, 5.0, 3.0, 2.0):
             parts = [expand(problem, t, radius=radius) for t in trackers]
-            policy = gridlbc.combine(parts).policy
-            run = noise_free(policy, GYMNAST_START)
-            cert, umax = certify_row(problem, policy, GYMNAST_START, args.samples, args.noisy_dt)
-            print(f"{radius!s:>6} {run.costs[0]:10.2f} {cert.policy_cost:6.2f} ± "
-                  f"{cert.policy_cost_se:4.2f} {umax:6.1f} {cert.optimal_value:6.2f} ± "
-                  f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f}", flush=True)
+            for label, policy, alpha in (
+                    ("tracker 2", parts[1].policy, None),
+                    ("LBC of 1, 2", gridlbc.combine(parts[:2]).policy,
+                     gridlbc.combine(parts[:2]).blend_weights),
+                    ("LBC of six", gridlbc.combine(parts).policy, None)):
+                run = noise_free(policy, GYMNAST_START)
+                cert = gridlbc.certify(problem, policy, GYMNAST_START, n_samples=args.samples,
+                                       dt=args.noisy_dt, seed=0, progress=False)
+                paths = gridlbc.simulate(problem, policy, GYMNAST_START, args.samples,
+                                         dt=args.noisy_dt, seed=0)  # the certificate's paths
+                switched = ""
+                if alpha is not None:
+                    a1 = np.max([alpha(paths.states[:, k], paths.times[k])[:, 0]
+                                 for k in range(0, len(paths.times) - 1, 5)], axis=0)
+                    switched = f"{int(np.sum(a1 > 0.5))}"
+                print(f"{label:<16} {radius!s:>6} {run.costs[0]:10.2f} {cert.policy_cost:6.2f} ± "
+                      f"{cert.policy_cost_se:5.2f} {np.median(paths.costs):6.1f} "
+                      f"{np.abs(paths.controls).max():6.1f} {cert.optimal_value:6.2f} ± "
+                      f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f} "
+                      f"{switched:>5}", flush=True)
 
 
 if __name__ == "__main__":

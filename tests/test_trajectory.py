@@ -519,6 +519,8 @@ def test_expand_rejects_another_problems_trajectory(lq_tracker):
         expand(problem, trajectory.states)
     with pytest.raises(ValueError, match="radius"):
         expand(problem, trajectory, radius=-1.0)
+    with pytest.raises(ValueError, match="curvature"):
+        expand(problem, trajectory, curvature="exact")
     # a different temperature is the same deterministic problem: allowed
     expand(problem.replace(temperature=2.0), trajectory)
 

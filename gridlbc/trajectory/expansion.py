@@ -21,7 +21,10 @@ with P = P⁺ and v̄_k = g(x̄_K) + Σ_{j≥k} (q(x̄_j, t_j) + ½ ū_jᵀRū_j
 trajectory, plus, with noise (``stochastic=True``, the default), the Itô correction of the
 Riccati equation
 
-    c_k = (λ/2) ∫_{t_k}^T tr(S P⁺) ds,   S = B(x̄) R⁻¹ B(x̄)ᵀ   (trapezoidal rule on the nodes),
+    c_k = (λ/2) ∫_{t_k}^T tr(S P) ds,   S = B(x̄) R⁻¹ B(x̄)ᵀ   (trapezoidal rule on the nodes),
+
+with the exact P (the expected cost of the noise to second order; clipping P's negative
+eigenvalues would overstate it).
 
 which makes v̂ exact for linear-quadratic problems (the README's LQ reference); the paper uses
 the deterministic v̄ (``stochastic=False``). Between nodes v̄, c, p, P and x̄ are linear in time,
@@ -82,7 +85,7 @@ class TrajectoryExpansion:
     gains : ndarray (K, m, d)
         K_k, the tracker's feedback on [t_k, t_k+1).
     stochastic : bool
-        Whether ``nominal_values`` include (λ/2)∫tr(SP⁺).
+        Whether ``nominal_values`` include (λ/2)∫tr(SP).
     radius : float or None
         ρ_max of the feedback saturation (None: none).
     periods : ndarray (d,)
@@ -231,7 +234,7 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     if stochastic:
         B = np.asarray(problem.system.input_matrix(states), dtype=float)  # (K+1, d, m)
         S = np.einsum("kim,mn,kjn->kij", B, problem.R_inv, B)
-        trace = np.einsum("kij,kji->k", S, P)
+        trace = np.einsum("kij,kji->k", S, back.P)  # the exact P: this term needs no sign
         step = 0.25 * problem.temperature * dt * (trace[:-1] + trace[1:])
         to_go = to_go + np.concatenate([np.cumsum(step[::-1])[::-1], [0.0]])
     return TrajectoryExpansion(problem, trajectory, to_go, back.p, P, back.gains,
