@@ -390,9 +390,11 @@ def _add_problem_arguments(parser):
     parser.add_argument("--dt", type=float, help="time step (default from the Courant number)")
     parser.add_argument("--store-every", type=int, help="keep every k-th time slice")
     parser.add_argument("--dtype", help="float64 (default) or float32 storage")
-    parser.add_argument("--fitting", choices=["terminal"],
-                       help="fit the drift's interpolation to the terminal cost (splitting only: "
-                       "far less numerical diffusion where v is steep; see README)")
+    parser.add_argument("--fitting", choices=["auto", "terminal", "none"],
+                        help="splitting only: fit the scheme to the terminal cost ('auto', the "
+                        "default, = 'terminal': far less numerical diffusion where v is steep) "
+                        "or not ('none': the plain operator, independent of the terminal cost, "
+                        "so separately solved files combine exactly); see README")
 
 
 def _add_workflow_parsers(sub):

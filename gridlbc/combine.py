@@ -23,8 +23,9 @@ so components whose scales differ by e^{±700} (1e±300) combine without overflo
 contribute what they contribute in float64, and no more.
 
 Components of any other kind (trajectory expansions from :func:`gridlbc.trajectory.expand`,
-alone or mixed with grid solutions of the same problem) combine through their values, in the
-log domain (paper §5, eq. 12):
+alone or mixed with grid solutions of the same problem), and grid solutions of different
+operators (each fitted to its own terminal cost, or solved with other time steps or schemes),
+combine through their values, in the log domain (paper §5, eq. 12):
 
     α_i = w_i exp(−(v_i − v_min)/λ) / Σ_j w_j exp(−(v_j − v_min)/λ),   u = Σ α_i u_i,
 
@@ -97,7 +98,10 @@ def _problem_differences(p0: Problem, p: Problem) -> list[str]:
     return differs
 
 
-def _check_components(solutions) -> tuple[Solution, ...]:
+def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
+    """Grid Solutions of one PDE: raise if anything but the terminal cost differs in the problem
+    or the grid. Returns the solutions and what differs in their *operators* (time grid, solver
+    method, fitting reference): empty when they combine exactly."""
     solutions = tuple(solutions)
     if not solutions:
         raise ValueError("solutions is empty: give at least one gridlbc.Solution to combine")
@@ -106,6 +110,7 @@ def _check_components(solutions) -> tuple[Solution, ...]:
             raise TypeError(f"solutions[{i}] must be a gridlbc.Solution, got {type(s).__name__}")
     ref = solutions[0]
     p0 = ref.problem
+    operators = []
     for i, s in enumerate(solutions[1:], start=1):
         p = s.problem
         differs = _problem_differences(p0, p)
@@ -113,23 +118,28 @@ def _check_components(solutions) -> tuple[Solution, ...]:
             differs.append(f"grid ({p0.grid.describe()} vs {p.grid.describe()})")
         if p.grid == p0.grid and not _same_cost(p.state_cost, p0.state_cost, p.grid.nodes()):
             differs.append("state cost q (values differ at the grid nodes)")
-        if not np.array_equal(s.times, ref.times):
-            differs.append(f"time grid ({len(ref.times)} vs {len(s.times)} stored slices, or "
-                           "different times: solve all with the same dt and store_every)")
-        if s.diagnostics.method != ref.diagnostics.method:
-            differs.append(f"solver method ({ref.diagnostics.method} vs {s.diagnostics.method})")
-        if s.diagnostics.fitting != ref.diagnostics.fitting:
-            differs.append(f"fitting reference ({ref.diagnostics.fitting} vs "
-                           f"{s.diagnostics.fitting}: solve them together with "
-                           "solve_many(..., fitting='terminal'), or pass one shared reference "
-                           "cost as fitting=)")
         if differs:
             raise ValueError(
                 f"solutions[{i}] and solutions[0] must solve the same PDE to combine, but differ "
                 f"in: {'; '.join(differs)}. Only the terminal cost may differ (gridlbc.solve_many "
                 "solves several terminal costs consistently)."
             )
-    return solutions
+        if not np.array_equal(s.times, ref.times):
+            operators.append(f"solutions[{i}] has another time grid ({len(s.times)} vs "
+                             f"{len(ref.times)} stored slices, or different times)")
+        if s.diagnostics.method != ref.diagnostics.method:
+            operators.append(f"solutions[{i}] was solved by {s.diagnostics.method}, "
+                             f"solutions[0] by {ref.diagnostics.method}")
+        if s.diagnostics.fitting != ref.diagnostics.fitting:
+            operators.append(f"solutions[{i}] was fitted to another reference "
+                             f"({s.diagnostics.fitting} vs {ref.diagnostics.fitting})")
+    return solutions, operators
+
+
+EXACT_HINT = ("for an exact combination solve the components together with "
+              "gridlbc.solve_many(problem, costs), or all with fitting=None, or all with one "
+              "shared reference cost fitting=g_ref, with the same dt and store_every")
+"""How to make a combination of grid solutions exact, for :attr:`Combination.reason`."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,12 +241,17 @@ class Combination:
         The components' problem with the composite terminal cost (a :class:`CompositeCost`).
     exact : bool
         Always False: the combination is only as accurate as its components (their values are
-        approximations of different origins, not one linear operator's solutions).
+        approximations of different origins, not one linear operator's solutions), so it
+        agrees with the direct solve of the composite cost to within the components'
+        discretisation errors, not to rounding.
+    reason : str
+        Why it is not exact (which components differ, and how to make it exact).
     """
 
     components: tuple
     weights: np.ndarray
     problem: Problem
+    reason: str = "its components are not solutions of one linear operator"
     exact: ClassVar[bool] = False
 
     @property
@@ -337,12 +352,11 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
     Parameters
     ----------
     components : sequence of Solution and/or trajectory components
-        Grid Solutions solved for different terminal costs g_i, everything else equal (system,
-        grid, horizon, stored times, state cost q, control cost R, temperature λ, solver method,
-        fitting reference); or any components with ``.value(x, t)``, ``.policy(x, t)`` and
-        ``.problem`` of one problem (system, horizon, q, R, λ), such as
-        :func:`gridlbc.trajectory.expand`, mixed with grid Solutions or not. Otherwise an error
-        names what differs.
+        Grid Solutions solved for different terminal costs g_i of one problem on one grid
+        (system, horizon, state cost q, control cost R, temperature λ), however each was
+        solved; or any components with ``.value(x, t)``, ``.policy(x, t)`` and ``.problem`` of
+        one problem, such as :func:`gridlbc.trajectory.expand`, mixed with grid Solutions or
+        not. Otherwise an error names what differs.
     weights : array_like (n,), optional
         Fixed weights w_i. ``None`` (coordination): all ones. Otherwise finite with a positive
         sum; from :func:`gridlbc.project` to interpolate a target cost.
@@ -350,10 +364,14 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
     Returns
     -------
     CombinedSolution or Combination
-        Grid Solutions only: a :class:`CombinedSolution`, exactly the solution of the composite
-        terminal cost g = −λ log Σ w_i exp(−g_i/λ) (``exact`` True). Otherwise a
-        :class:`Combination` (``exact`` False: as accurate as its components). Both have
-        ``value``, ``log_desirability``, ``desirability``, ``policy`` (u = Σ α_i u_i) and
+        Grid Solutions of one linear operator (same scheme and time grid, and ``fitting=None``
+        or one shared fitting reference, as :func:`gridlbc.solve_many` gives): a
+        :class:`CombinedSolution`, exactly the solution of the composite terminal cost
+        g = −λ log Σ w_i exp(−g_i/λ) to rounding (``exact`` True). Otherwise — grid Solutions
+        solved separately with their own fitting references (the default), other time grids or
+        schemes, or trajectory components — a :class:`Combination`, as accurate as its
+        components (``exact`` False, and ``reason`` says why). Both have ``value``,
+        ``log_desirability``, ``desirability``, ``policy`` (u = Σ α_i u_i) and
         ``blend_weights`` α_i = w_i z_i / Σ_j w_j z_j.
     """
     components = tuple(components)
@@ -361,17 +379,22 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
         raise ValueError("components is empty: give at least one gridlbc.Solution or trajectory "
                          "component to combine")
     if all(isinstance(c, Solution) for c in components):
-        solutions = _check_components(components)
+        solutions, operators = _check_components(components)
         w = check_weights(weights, len(solutions))
         base = solutions[0].problem
         cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w,
                              base.temperature)
-        return CombinedSolution(solutions, w, base.replace(terminal_cost=cost))
+        if not operators:
+            return CombinedSolution(solutions, w, base.replace(terminal_cost=cost))
+        return Combination(solutions, w, base.replace(terminal_cost=cost),
+                           f"{'; '.join(operators)}: {EXACT_HINT}")
     components = _check_general_components(components)
     w = check_weights(weights, len(components))
     base = components[0].problem
     cost = CompositeCost(tuple(c.problem.terminal_cost for c in components), w, base.temperature)
-    return Combination(components, w, base.replace(terminal_cost=cost))
+    kinds = sorted({type(c).__name__ for c in components})
+    return Combination(components, w, base.replace(terminal_cost=cost),
+                       f"components of kinds {', '.join(kinds)} combine through their values")
 
 
 BLEND_MODES = ("average", "sum")

@@ -33,6 +33,7 @@ multiple of π in a string (``"pi"``, ``"-pi"``, ``"pi/2"``, ``"2*pi"``)::
     [solver]                 # optional: any gridlbc.SolverSettings field
     method = "splitting"
     dt = 0.02
+    fitting = "none"         # the plain operator ("auto", the default: fitted to g)
 
 Every key is checked: an unknown or missing key or a bad value raises ``ValueError``, a value of
 the wrong type ``TypeError``, each naming the key.
@@ -193,6 +194,8 @@ def _quadratic(data, key: str):
 def _solver_settings(data) -> SolverSettings:
     fields = tuple(SolverSettings.__dataclass_fields__)
     data = _table(data or {}, "solver", fields)
+    if data.get("fitting") == "none":  # TOML has no null: "none" is the plain operator
+        data["fitting"] = None
     try:
         return SolverSettings(**data)
     except (TypeError, ValueError) as exc:

@@ -58,17 +58,19 @@ class SolverSettings:
     linear_solver : str
         For ``method="implicit"``: one of :data:`gridlbc.schemes.implicit.LINEAR_SOLVERS` (``"auto"``:
         sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
-    fitting : None, "terminal" or a terminal cost
+    fitting : "auto", None, "terminal" or a terminal cost
         For ``method="splitting"``: fit the drift's interpolation to a reference desirability
         φ = exp(−g_ref/λ) (:mod:`gridlbc.schemes.splitting`, "Exponential fitting"): exact where z ∝ φ,
-        far less numerical diffusion where v is steep. ``None``: plain barycentric
-        interpolation. ``"terminal"``: g_ref is the problem's terminal cost (for
-        :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
-        that cost. The diffusion is fitted to the same reference, and a single solve fitted
-        to its own terminal cost runs in the log domain and interpolates v (no underflow at any
+        far less numerical diffusion where v is steep. ``"auto"`` (the default): ``"terminal"``
+        for a scheme that supports fitting, else None. ``None``: plain barycentric
+        interpolation, an operator independent of the terminal cost (separately solved
+        solutions then combine exactly). ``"terminal"``: g_ref is the problem's terminal cost
+        (for :func:`solve_many`, the composite g_ref = −λ log Σ_i exp(−g_i/λ)). A callable g(x):
+        that cost. The diffusion is fitted to the same reference, and a single solve fitted to
+        its own terminal cost runs in the log domain and interpolates v (no underflow at any
         temperature). The step stays linear in z for a fixed reference, so superposition is exact
-        among solutions that share it; :func:`gridlbc.combine` refuses solutions fitted to
-        different references.
+        among solutions that share it; :func:`gridlbc.combine` combines solutions fitted to
+        different references through their values (``exact`` False).
     """
 
     method: str = "splitting"
@@ -80,7 +82,15 @@ class SolverSettings:
     progress: bool = False
     mmap_dir: str | None = None
     linear_solver: str = "auto"
-    fitting: object = None
+    fitting: object = "auto"
+
+    @property
+    def reference(self):
+        """The fitting reference actually used: ``fitting`` with ``"auto"`` resolved (None,
+        ``"terminal"`` or a cost)."""
+        if isinstance(self.fitting, str) and self.fitting == "auto":
+            return "terminal" if METHODS[self.method].supports_fitting else None
+        return self.fitting
 
     def __post_init__(self):
         if self.method not in METHODS:
@@ -98,10 +108,12 @@ class SolverSettings:
         if self.linear_solver not in LINEAR_SOLVERS:
             raise ValueError(f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
                              f"got {self.linear_solver!r}")
-        if not (self.fitting is None or self.fitting == "terminal" or callable(self.fitting)):
-            raise ValueError(f"fitting must be None, 'terminal' or a terminal cost g(x), got "
-                             f"{self.fitting!r}")
-        if self.fitting is not None and not METHODS[self.method].supports_fitting:
+        if not (self.fitting is None or self.fitting in ("auto", "terminal")
+                or callable(self.fitting)):
+            raise ValueError(f"fitting must be 'auto', None, 'terminal' or a terminal cost g(x), "
+                             f"got {self.fitting!r}")
+        if self.fitting != "auto" and self.fitting is not None and \
+                not METHODS[self.method].supports_fitting:
             fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
             raise ValueError(f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
                              f"{self.method!r}: drop fitting or use one of those methods")

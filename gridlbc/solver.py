@@ -55,7 +55,7 @@ def time_grid(problem: Problem, settings: SolverSettings, rate: float) -> tuple[
             raise ValueError(f"dt = {settings.dt} exceeds the horizon T = {T}")
         n = math.ceil(T / settings.dt - 1e-9)
     else:
-        fitted = settings.fitting is not None
+        fitted = settings.reference is not None
         courant = (1.0 if settings.method != "splitting" else settings.courant
                    or (FITTED_COURANT if fitted else PLAIN_COURANT))
         min_steps = settings.min_steps or (FITTED_MIN_STEPS if fitted else PLAIN_MIN_STEPS)
@@ -128,10 +128,10 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     estimate = memory_estimate(problem, s, len(kept), K)
     check_memory(estimate, what, s.mmap_dir)
 
-    if is_own_reference(s.fitting, K) and s.method == "splitting":
+    if is_own_reference(s.reference, K) and s.method == "splitting":
         return [_solve_log(problem, s, kept, dt, n_steps, rate, estimate, started)]
     Z, log_scale = _terminal_data(problem, terminal_costs)
-    Z, log_scale, reference, fingerprint = _with_reference(problem, s.fitting, Z, log_scale)
+    Z, log_scale, reference, fingerprint = _with_reference(problem, s.reference, Z, log_scale)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
     step = METHODS[s.method](problem, dt, **options)
     setup_time = time.perf_counter() - started

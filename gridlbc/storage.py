@@ -38,8 +38,8 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     live on disk when ``mmap_dir`` is set)."""
     grid = problem.grid
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
-    fitted = settings.fitting is not None
-    rows = n_rhs + (1 if fitted and not is_own_reference(settings.fitting, n_rhs) else 0)
+    fitted = settings.reference is not None
+    rows = n_rhs + (1 if fitted and not is_own_reference(settings.reference, n_rhs) else 0)
     working = (3 * rows + grid.ndim + (2 if fitted else 0)) * grid.size * 8  # + log φ, κ
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)

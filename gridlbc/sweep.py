@@ -103,7 +103,7 @@ def settings_record(problem: Problem, settings: SolverSettings, arrays: dict) ->
     """
     record = {k: v for k, v in dataclasses.asdict(settings).items()
               if k not in _NOT_HASHED and k != "fitting"}
-    fitting = settings.fitting
+    fitting = settings.reference
     record["fitting"] = fitting if fitting is None or isinstance(fitting, str) else \
         _cost_record(fitting, "fitting", problem, arrays)
     return record

@@ -64,8 +64,11 @@ def test_solve_combine_round_trip(tmp_path):
     states = np.array([[0.3, 0.2], [0.0, 0.0]])
     np.testing.assert_allclose(rows[:, 2], combined.value(states, 0.0), rtol=1e-12)
     np.testing.assert_allclose(rows[:, 4:], combined.blend_weights(states, 0.0), rtol=1e-12)
-    # at the symmetric state both goals are equally desirable
-    np.testing.assert_allclose(rows[1, 4:], [0.5, 0.5], atol=1e-12)
+    # at the symmetric state both goals are equally desirable: to rounding for the plain operator,
+    # to the fitted scheme's small mirror asymmetry (its stencils are not mirror images; measured
+    # |α − ½| ≈ 1e-6) for the default, each file fitted to its own goal
+    assert not combined.exact
+    np.testing.assert_allclose(rows[1, 4:], [0.5, 0.5], atol=1e-5)
 
 
 def test_combine_project_prints_weights_and_warnings(tmp_path):

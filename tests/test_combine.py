@@ -19,6 +19,9 @@ from gridlbc.combine import CompositeCost
 from gridlbc.systems import Pendulum, PointMass
 
 RTOL = 1e-10
+PLAIN = {"fitting": None}
+"""The plain operator (independent of the terminal cost): these tests check its exact superposition
+against direct solves; a shared fitting reference is checked in test_fitting.py."""
 
 
 @pytest.fixture(scope="module")
@@ -30,11 +33,11 @@ def pendulum():
     # The third is the first squared (h_3 = h_1²), so 2h_1 + ½h_2 − h_3 > 0 despite a negative weight.
     costs = [g.Quadratic([-1, 0], [4, 0.5]), g.Quadratic([1, 0], [4, 0.5]),
              g.Quadratic([-1, 0], [8, 1])]
-    return problem, g.solve_many(problem, costs, dt=0.01)
+    return problem, g.solve_many(problem, costs, dt=0.01, **PLAIN)
 
 
 def _direct(combined):
-    return g.solve(combined.problem, dt=combined.components[0].diagnostics.dt)
+    return g.solve(combined.problem, dt=combined.components[0].diagnostics.dt, **PLAIN)
 
 
 def _relative(a, b):
@@ -116,8 +119,8 @@ def test_components_with_scales_1e300_apart_combine_exactly(rng):
     problem = _line_problem()
     near, far = g.Quadratic([-1], [2]), g.Quadratic([1], [2])
     shifted = lambda x: far(x) + 700.0
-    plain = g.solve_many(problem, [near, far], dt=0.01)
-    scaled = g.solve_many(problem, [near, shifted], dt=0.01)
+    plain = g.solve_many(problem, [near, far], dt=0.01, **PLAIN)
+    scaled = g.solve_many(problem, [near, shifted], dt=0.01, **PLAIN)
     x = rng.uniform(-3, 3, (100, 1))
     a = g.combine(plain, [1.0, 1.0])
     b = g.combine(scaled, [1.0, np.exp(700.0)])
@@ -128,7 +131,8 @@ def test_components_with_scales_1e300_apart_combine_exactly(rng):
         np.testing.assert_allclose(b.value(x, t), a.value(x, t), rtol=1e-12, atol=v_tol)
         np.testing.assert_allclose(b.blend_weights(x, t), a.blend_weights(x, t), atol=1e-12)
     # Both components e^{−1000} small: the combination keeps the scale in the log domain.
-    huge = g.solve_many(problem, [lambda x: near(x) + 1000.0, lambda x: far(x) + 1000.0], dt=0.01)
+    huge = g.solve_many(problem, [lambda x: near(x) + 1000.0, lambda x: far(x) + 1000.0], dt=0.01,
+                        **PLAIN)
     c = g.combine(huge)
     np.testing.assert_allclose(c.value(x, 0.1), a.value(x, 0.1) + 1000.0, rtol=1e-13)
     _check_superposition(c, _direct(c), x, 0.1)
@@ -136,7 +140,8 @@ def test_components_with_scales_1e300_apart_combine_exactly(rng):
 
 def test_underflowed_combination_is_reported_not_nan():
     problem = _line_problem(n=61, horizon=0.1, temperature=0.01)
-    sols = g.solve_many(problem, [g.Quadratic([-2.5], [50]), g.Quadratic([-2], [50])], dt=0.01)
+    sols = g.solve_many(problem, [g.Quadratic([-2.5], [50]), g.Quadratic([-2], [50])], dt=0.01,
+                        **PLAIN)  # stepped in z (a single fitted solve is stepped in log z)
     combined = g.combine(sols)
     x = np.array([[-2.2], [2.9]])  # z(2.9, T) = exp(−50 · 4.4² / 0.01): zero in float64
     with pytest.warns(g.UnderflowWarning, match="underflowed at 1 of 2"):
@@ -158,7 +163,7 @@ def test_superposition_property(weights, centers, t, seed):
     grid = g.Grid([g.Axis(-3, 3, 17), g.Axis(-3, 3, 17)])
     problem = g.Problem(PointMass(), grid, 0.3, g.Quadratic([0, 0], [1, 1]), temperature=0.5)
     costs = [g.Quadratic([c, 0.5 * c], [2, 1]) for c in centers[: len(weights)]]
-    combined = g.combine(g.solve_many(problem, costs, dt=0.02), weights)
+    combined = g.combine(g.solve_many(problem, costs, dt=0.02, **PLAIN), weights)
     x = np.random.default_rng(seed).uniform(-3.5, 3.5, (40, 2))
     _check_superposition(combined, _direct(combined), x, t)
     alpha = combined.blend_weights(x, t)
@@ -198,22 +203,28 @@ def test_mismatched_problems_are_named(line_solution, change, match):
         g.combine([sol, other])
 
 
-def test_mismatched_system_time_grid_and_method_are_named():
+def test_mismatched_system_is_named_and_other_operators_combine_inexactly():
     grid = g.Grid([g.Axis(-2, 2, 9), g.Axis(-2, 2, 9)])
     problem = g.Problem(PointMass(), grid, 0.2, g.Quadratic([0, 0], [1, 1]))
     sol = g.solve(problem, dt=0.02)
     with pytest.raises(ValueError, match="system"):
         g.combine([sol, g.solve(problem.replace(system=PointMass(mass=2.0)), dt=0.02)])
-    with pytest.raises(ValueError, match="time grid"):
-        g.combine([sol, g.solve(problem, dt=0.01)])
-    with pytest.raises(ValueError, match="solver method"):
-        g.combine([sol, g.solve(problem, dt=0.02, method="implicit")])
+    # Same problem, other operators: combined through their values, and said to be inexact.
+    other = problem.replace(terminal_cost=g.Quadratic([1, 0], [1, 1]))
+    for solved, why in [(g.solve(other, dt=0.01), "time grid"),
+                        (g.solve(other, dt=0.02, method="implicit"), "implicit")]:
+        combo = g.combine([sol, solved])
+        assert isinstance(combo, g.Combination) and not combo.exact
+        assert why in combo.reason and "solve_many" in combo.reason
     # Equal state costs given as different objects are fine (compared at the nodes).
     q1, q2 = g.Quadratic([0, 0], [1, 1]), g.Quadratic([0, 0], [1, 1])
-    a = g.solve(problem.replace(state_cost=q1), dt=0.02)
+    a = g.solve(problem.replace(state_cost=q1), dt=0.02, **PLAIN)
     b = g.solve(problem.replace(state_cost=q2, terminal_cost=g.Quadratic([1, 0], [1, 1])),
-                dt=0.02)
-    g.combine([a, b])
+                dt=0.02, **PLAIN)
+    assert g.combine([a, b]).exact
+    # Solved separately with the defaults (each fitted to its own g): inexact, and said so.
+    fitted = [g.solve(p, dt=0.02) for p in (problem, other)]
+    assert "another reference" in g.combine(fitted).reason
 
 
 @pytest.mark.parametrize("weights, match", [

@@ -181,9 +181,9 @@ def _superposition_case():
 
 
 @pytest.mark.parametrize("options", [
-    {"method": "splitting"},
-    {"method": "splitting", "dtype": "float32"},
-    {"method": "splitting", "store_every": 3},
+    {"method": "splitting", "fitting": None},
+    {"method": "splitting", "fitting": None, "dtype": "float32"},
+    {"method": "splitting", "fitting": None, "store_every": 3},
     {"method": "splitting", "fitting": "g1"},
     {"method": "implicit", "linear_solver": "direct"},
     {"method": "implicit", "linear_solver": "direct", "dtype": "float32"},
@@ -224,9 +224,10 @@ def test_float32_flushes_are_counted_and_mmap_storage_is_identical(tmp_path):
     float64 keeps it down to |x| ≈ 2.7: those values are counted, not silently zeroed."""
     grid = Grid([Axis(-4.0, 4.0, 81)])
     problem = Problem(SingleIntegrator(), grid, 0.2, Quadratic([0.0], [100.0]), temperature=1.0)
-    wide = gridlbc.solve(problem, dt=0.02)
-    narrow = gridlbc.solve(problem, dt=0.02, dtype="float32")
-    mapped = gridlbc.solve(problem, dt=0.02, dtype="float32", mmap_dir=str(tmp_path))
+    plain = {"dt": 0.02, "fitting": None}  # the fitted solve stores log z, which never flushes
+    wide = gridlbc.solve(problem, **plain)
+    narrow = gridlbc.solve(problem, **plain, dtype="float32")
+    mapped = gridlbc.solve(problem, **plain, dtype="float32", mmap_dir=str(tmp_path))
     flushed = np.count_nonzero((wide.slices > 0) & (wide.slices.astype(np.float32) == 0))
     assert flushed > 0
     assert narrow.diagnostics.flushed_values == flushed
@@ -238,8 +239,8 @@ def test_float32_flushes_are_counted_and_mmap_storage_is_identical(tmp_path):
 
 def test_store_every_interpolates_linearly_in_time():
     problem = _lq_problem(2, 21)
-    every = gridlbc.solve(problem, dt=0.05)
-    sparse = gridlbc.solve(problem, dt=0.05, store_every=4)
+    every = gridlbc.solve(problem, dt=0.05, fitting=None)  # stores z (a fitted solve: log z)
+    sparse = gridlbc.solve(problem, dt=0.05, fitting=None, store_every=4)
     np.testing.assert_allclose(sparse.times, [0.0, 0.2, 0.4, 0.5])
     x = np.array([[0.2, -0.1], [1.0, 0.5]])
     # at stored times both agree exactly; between them z is the linear blend of the neighbours

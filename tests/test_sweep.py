@@ -72,7 +72,9 @@ def test_member_key_is_the_content():
                pendulum(terminal_cost=Quadratic([0.1, 0.0], [10.0, 0.5]))]
     assert len({key, *(member_key(p, s) for p in changed)}) == 5
     assert member_key(pendulum(), gridlbc.SolverSettings(dt=0.05)) != key
-    assert member_key(pendulum(), gridlbc.SolverSettings(fitting="terminal")) != key
+    assert member_key(pendulum(), gridlbc.SolverSettings(fitting=None)) != key
+    # the default "auto" is fitting="terminal": the same solve, the same key
+    assert member_key(pendulum(), gridlbc.SolverSettings(fitting="terminal")) == key
     # A cost that is not a quadratic is identified by its values at the nodes.
     quadratic = Quadratic([0.0, 0.0], [10.0, 0.5])
     custom = pendulum(terminal_cost=lambda x: quadratic(x))
@@ -204,7 +206,7 @@ def test_worker_warnings_reach_the_caller(tmp_path, client):
     problem = pendulum(temperature=0.005, horizon=0.05)
     with pytest.warns(gridlbc.UnderflowWarning, match="sweep member 0: "):
         [member] = gridlbc.sweep([problem], tmp_path, states=[-math.pi, -8.0], client=client,
-                                 progress=False, dtype="float32")
+                                 progress=False, dtype="float32", fitting=None)
     assert member.values[0] == math.inf and member.error is None
     # the plain solve at λ = 0.005 also (rightly) raises a ResolutionWarning on the worker
     assert sum("underflow" in w for w in member.warnings) == 1, member.warnings

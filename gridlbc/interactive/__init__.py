@@ -194,8 +194,11 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     :func:`decimate` them to ``dtype``, at most ``n_times`` (default :data:`DEFAULT_TIMES`)
     slices and the largest common fraction of the nodes per axis that fits; ``nodes`` or
     ``n_times`` given: decimate to them."""
-    solutions = _check_components(solutions)
+    solutions, _ = _check_components(solutions)
     first = solutions[0]
+    if any(not np.array_equal(s.times, first.times) for s in solutions):
+        raise ValueError("the page needs one time grid: solve all components with the same dt and "
+                         "store_every (their stored times differ)")
     system = first.problem.system
     if not isinstance(system, SUPPORTED_SYSTEMS) or first.grid.ndim != 2:
         raise ValueError(
