@@ -3,26 +3,38 @@
 Cases (T = 3 s, λ = 1): the pendulum swing-up (θ periodic × ω ∈ [−10, 10], g = xᵀdiag(10, ½)x) on
 n × (n+1) grids and the gymnast (:func:`gridlbc.studies.gymnast.gymnast_problem`, box ±16 × ±9) on n⁴
 grids. Each case runs in its own subprocess so that its peak RSS (VmHWM) is its own. Per case
-and method: wall time of the solve (setup included; numba kernels are cached on disk and warmed
-up by a tiny solve first), node-steps per second (stepping only), iterations per step, peak RSS,
-and the fraction of the memory bandwidth the stepping streams (a byte count per node-step from
-the arrays each pass reads and writes, divided by --bandwidth, default 27 GB/s measured here).
+and method: the solve's setup (feet, diffusion factors, terminal data), its stepping and the
+wall time of the whole call (setup, stepping and the resolution check; numba kernels are
+cached on disk and warmed up by a tiny solve first), node-steps per second (stepping only),
+iterations per step, peak RSS, and the fraction of the memory bandwidth the stepping streams:
+a byte count per node-step from the arrays each pass reads and writes, divided by the bandwidth
+that the same subprocess measures just before the solve (the faster of a numba triad
+a = b + s·c and a copy, over 2 × 128 MiB arrays and more, on all threads).
 
-Methods: ``splitting`` (compact feet, float32 slices), ``fitted`` (the same with the drift fitted
+For the plain splitting the subprocess also times each pass of a step on its own (the two
+half-step diffusions, the drift's gather, the float32 store of a slice) with its bytes per node
+and share of that bandwidth, and the same gather with every foot at its own node (Δt → 0): the
+gather's time with perfectly sequential vertices, the bound its access pattern allows.
+
+Methods: ``splitting`` (the plain operator, ``fitting=None``: compact feet, float32 slices), ``fitted`` (the same with the drift fitted
 to the terminal cost, ``fitting="terminal"``), ``implicit`` (Gauss–Seidel sweeps) and
 the plain-scipy baseline (scipy splu where the grid is 2D, else scipy BiCGSTAB with a Jacobi
 preconditioner). Slow methods run fewer steps (--baseline-steps) and their node-steps per second
-is extrapolated to the full run: marked ``*`` in the table. The gymnast's accuracy per second
+is extrapolated to the full run: marked ``*`` in the table; the ratios to scipy are printed both
+per node-step and for the whole solve including setup. The gymnast's accuracy per second
 (rollout cost against solve time, per grid, method and Δt) is ``benchmarks/gymnast.py``.
 
     python benchmarks/scale.py                          # the full table (≈ 10 min on 2 cores)
     python benchmarks/scale.py --pendulum 201 --acrobot 21 --steps 300
+    python benchmarks/scale.py --pendulum --acrobot 31 --steps 50 --layout-grid 0
+    python benchmarks/scale.py --pendulum --acrobot 51 --methods splitting --layout-grid 0
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import resource
 import subprocess
@@ -33,8 +45,12 @@ import numpy as np
 
 import gridlbc
 from gridlbc import Problem
-from gridlbc.schemes.splitting import feet_bytes_per_node
+from gridlbc._numba import jit_parallel, prange, work_blocks
+from gridlbc.schemes.splitting import SplittingStep, feet_bytes_per_node
+from gridlbc.storage import store_kernel
 from gridlbc.studies.problems import gymnast_problem, swingup_problem
+
+METHODS = ("splitting", "fitted", "implicit", "scipy")
 
 
 def problem_for(system: str, n: int) -> Problem:
@@ -60,6 +76,67 @@ def bytes_per_node_step(problem: Problem, method: str, iterations: float, store:
     return float("nan")
 
 
+@jit_parallel
+def _triad(a, b, c, s):
+    for i in prange(a.size):
+        a[i] = b[i] + s * c[i]
+
+
+@jit_parallel
+def _copy(a, b):
+    for i in prange(a.size):
+        a[i] = b[i]
+
+
+def measure_bandwidth(size: int = 1 << 24, repeats: int = 5) -> float:
+    """Bytes per second of the faster of a triad (24 B per element) and a copy (16 B), the best
+    of ``repeats`` runs each over arrays written once before (no first-write cost)."""
+    a, b, c = np.ones(size), np.ones(size), np.ones(size)
+    best = 0.0
+    for kernel, args, nbytes in ((_triad, (a, b, c, 2.0), 24), (_copy, (a, b), 16)):
+        kernel(*args)
+        for _ in range(repeats):
+            started = time.perf_counter()
+            kernel(*args)
+            best = max(best, nbytes * size / (time.perf_counter() - started))
+    return best
+
+
+def _best_time(function, repeats: int) -> float:
+    """The least wall time of ``repeats`` calls (the machine is shared: the least is the least
+    disturbed)."""
+    best = math.inf
+    for _ in range(repeats):
+        started = time.perf_counter()
+        function()
+        best = min(best, time.perf_counter() - started)
+    return best
+
+
+def pass_profile(problem: Problem, dt: float, repeats: int = 5) -> dict:
+    """Seconds per pass of one plain splitting step, K = 1, and the bytes per node each streams:
+    the half-step diffusion (each noise axis reads and writes z), the drift's gather (the feet,
+    z read once, the result written), the same gather with the feet at the nodes (Δt → 0), and
+    the float32 store of a slice (z read, the slice written)."""
+    grid = problem.grid
+    step = SplittingStep(problem, dt)
+    at_nodes = SplittingStep(problem, 1e-12 * dt)
+    z = np.exp(-problem.terminal_values()[None, :] / problem.temperature)
+    out, scale = np.empty_like(z), np.ones(1)
+    slices = np.empty((1, 3, grid.size), dtype=np.float32)
+    blocks = np.zeros(work_blocks(grid.size), dtype=np.int64)
+    slices[:] = 0.0  # written once: the store is timed without the first-write cost
+    step(z.copy(), out, scale)
+    gather = feet_bytes_per_node(grid.ndim, step.layout) + 16
+    return {
+        "diffusion": (_best_time(lambda: step._half_diffusion(z, None), repeats),
+                      16 * len(step.noise)),
+        "gather": (_best_time(lambda: step.drift(z, out, scale), repeats), gather),
+        "gather at nodes": (_best_time(lambda: at_nodes.drift(z, out, scale), repeats), gather),
+        "store": (_best_time(lambda: store_kernel(z, scale, slices[:, 1], blocks), repeats), 12),
+    }
+
+
 def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> dict:
     """Solve ``steps`` steps of the full run's Δt = T/full_steps (a shortened horizon)."""
     problem = problem_for(system, n)
@@ -71,12 +148,12 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
     elif method == "implicit":
         options = {"method": "implicit", "linear_solver": "gauss-seidel", "dtype": "float32"}
     else:
-        options = {"method": "splitting", "dtype": "float32"}
-        if method == "fitted":
-            options["fitting"] = "terminal"
+        options = {"method": "splitting", "dtype": "float32",
+                   "fitting": "terminal" if method == "fitted" else None}
     # warm the numba caches and the page allocator on a tiny grid of the same kind
     small = problem_for(system, 11 if system == "acrobot" else 21)
     gridlbc.solve(small.replace(horizon=2 * dt), dt=dt, **options)
+    bandwidth = measure_bandwidth()
     started = time.perf_counter()
     solution = gridlbc.solve(problem, dt=dt, **options)
     wall = time.perf_counter() - started
@@ -91,7 +168,8 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
         "bytes": (float("nan") if options.get("linear_solver") == "direct"
                   else bytes_per_node_step(problem, "implicit" if method == "scipy" else method,
                                            iterations, 4)),
-        "peak_rss": peak_rss(),
+        "peak_rss": peak_rss(), "bandwidth": bandwidth,
+        "passes": pass_profile(problem, dt) if method == "splitting" else {},
     }
 
 
@@ -110,7 +188,7 @@ def peak_rss() -> int:
 
 def layout_comparison(n: int, steps: int, bandwidth: float):
     """ms per splitting step on the n⁴ gymnast with each feet layout (same process, warmed up)."""
-    from gridlbc.schemes.splitting import FEET_LAYOUTS, SplittingStep
+    from gridlbc.schemes.splitting import FEET_LAYOUTS
 
     problem = gymnast_problem(n)
     z = np.exp(-problem.terminal_values()[None, :])
@@ -149,7 +227,8 @@ def main(argv=None):
                         help="skip the implicit and scipy methods above this many nodes")
     parser.add_argument("--layout-grid", type=int, default=41,
                         help="n⁴ gymnast grid for the feet layout comparison (0: skip)")
-    parser.add_argument("--bandwidth", type=float, default=27e9, help="bytes/s (default 27e9)")
+    parser.add_argument("--methods", nargs="*", default=list(METHODS), choices=METHODS,
+                        help="methods to run (default: all)")
     parser.add_argument("--case", nargs=5, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.case:
@@ -158,16 +237,19 @@ def main(argv=None):
         return
 
     print(f"load average at start: {os.getloadavg()[0]:.2f} (2 cores shared: timings vary)")
+    bandwidth = measure_bandwidth()
+    print(f"memory bandwidth (numba triad/copy, this process): {bandwidth / 1e9:.1f} GB/s; each "
+          "case's percentages use the bandwidth its own subprocess measured just before it")
     if args.layout_grid:
-        layout_comparison(args.layout_grid, 20, args.bandwidth)
-    print(f"{'case':>14} {'nodes':>9} {'method':>9} {'steps':>6} {'wall s':>8} "
-          f"{'Mnode-steps/s':>14} {'it/step':>7} {'peak RSS GiB':>12} {'B/node-step':>11} "
-          f"{'% bandwidth':>11}")
+        layout_comparison(args.layout_grid, 20, bandwidth)
+    print(f"{'case':>14} {'nodes':>9} {'method':>9} {'steps':>6} {'setup s':>8} {'step ms':>8} "
+          f"{'wall s':>8} {'Mnode-steps/s':>14} {'it/step':>7} {'peak RSS GiB':>12} "
+          f"{'B/node-step':>11} {'GB/s':>5} {'% bandwidth':>11}")
     cases = [("pendulum", n) for n in args.pendulum] + [("acrobot", n) for n in args.acrobot]
     for system, n in cases:
         rows = {}
         nodes = n * (n + 1) if system == "pendulum" else n**4
-        for method in ("splitting", "fitted", "implicit", "scipy"):
+        for method in args.methods:
             fast = method in ("splitting", "fitted")
             if not fast and nodes > args.implicit_max_nodes:
                 continue
@@ -178,19 +260,28 @@ def main(argv=None):
                 print(f"{system + ' ' + str(n):>14} {method:>9}  failed: {row['error']}")
                 continue
             mark = "*" if steps != args.steps else " "
-            full_wall = row["setup"] + args.steps * row["nodes"] / row["node_steps"]
-            rate = row["node_steps"] / 1e6
-            bandwidth = 100 * row["bytes"] * row["node_steps"] / args.bandwidth
+            per_step = row["nodes"] / row["node_steps"]
+            row["full_wall"] = row["wall"] + (args.steps - steps) * per_step  # whole call
+            share = 100 * row["bytes"] * row["node_steps"] / row["bandwidth"]
             print(f"{system + ' ' + str(n):>14} {row['nodes']:9d} {method + mark:>9} "
-                  f"{args.steps:6d} {full_wall:8.1f} {rate:14.2f} {row['iterations']:7.1f} "
-                  f"{row['peak_rss'] / 2**30:12.2f} {row['bytes']:11.0f} {bandwidth:10.0f}%", flush=True)
+                  f"{args.steps:6d} {row['setup']:8.2f} {1e3 * per_step:8.1f} "
+                  f"{row['full_wall']:8.1f} {row['node_steps'] / 1e6:14.2f} "
+                  f"{row['iterations']:7.1f} {row['peak_rss'] / 2**30:12.2f} {row['bytes']:11.0f} "
+                  f"{row['bandwidth'] / 1e9:5.1f} {share:10.0f}%", flush=True)
+            for name, (seconds, per_node) in row["passes"].items():
+                rate = per_node * row["nodes"] / seconds
+                print(f"{'':>14} pass {name:>15}: {1e3 * seconds:7.2f} ms, {per_node:3d} B/node, "
+                      f"{rate / 1e9:5.1f} GB/s = {100 * rate / row['bandwidth']:3.0f}% of "
+                      f"{row['bandwidth'] / 1e9:.1f} GB/s", flush=True)
         base = rows.get("scipy")
         if base and "error" not in base:
             for method in ("splitting", "fitted", "implicit"):
                 if method in rows and "error" not in rows[method]:
-                    print(f"{'':>14} {method} / scipy node-steps per second: "
-                          f"{rows[method]['node_steps'] / base['node_steps']:.1f}×")
-
+                    print(f"{'':>14} {method} / scipy: node-steps per second "
+                          f"{rows[method]['node_steps'] / base['node_steps']:.1f}×, whole solve "
+                          f"of {args.steps} steps including setup "
+                          f"{base['full_wall'] / rows[method]['full_wall']:.1f}× "
+                          f"({rows[method]['full_wall']:.1f} s against {base['full_wall']:.1f} s)")
 
 if __name__ == "__main__":
     main()

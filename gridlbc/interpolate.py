@@ -21,8 +21,28 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._numba import jit_parallel, prange
+from ._numba import jit, jit_parallel, prange
 from .grid import Grid
+
+
+@jit
+def _cell(x, lo, spacing, n, periodic):
+    """The cell ⌊(x − lo)/h⌋ of one coordinate and the fraction in it, (i, f): wrapped on a
+    periodic axis, clamped to the box (and to the last cell) on the others."""
+    s = (x - lo) / spacing
+    if periodic:
+        s = s - n * np.floor(s / n)
+        i = int(np.floor(s))
+        if i >= n:  # rounding can give s == n exactly
+            i -= n
+            s -= n
+        return i, s - i
+    if s < 0.0:
+        s = 0.0
+    elif s > n - 1:
+        s = n - 1.0
+    i = min(int(np.floor(s)), n - 2)
+    return i, s - i
 
 
 @jit_parallel
@@ -32,23 +52,7 @@ def _kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
         frac = np.empty(d)
         base = 0
         for k in range(d):
-            s = (x[p, k] - lo[k]) / spacing[k]
-            n = shape[k]
-            if periodic[k]:
-                s = s - n * np.floor(s / n)
-                i = int(np.floor(s))
-                if i >= n:  # rounding can give s == n exactly
-                    i -= n
-                    s -= n
-                f = s - i
-            else:
-                if s < 0.0:
-                    s = 0.0
-                elif s > n - 1:
-                    s = n - 1.0
-                i = min(int(np.floor(s)), n - 2)
-                f = s - i
-            frac[k] = f
+            i, frac[k] = _cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
             base += i * strides[k]
         order = np.argsort(-frac, kind="mergesort")
         # Walk from the base corner, one axis at a time in decreasing fractional order.

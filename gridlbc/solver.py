@@ -26,7 +26,7 @@ from ._numba import work_blocks
 from .problem import Problem
 from .progress import ProgressBar
 from .schemes import METHODS
-from .schemes.splitting import SplittingStep, _flat_chunks
+from .schemes.splitting import SplittingStep, _diffusion_coefficients, _flat_chunks, _node_values
 from .settings import (
     FITTED_COURANT,
     FITTED_MIN_STEPS,
@@ -41,10 +41,12 @@ from .storage import check_memory, memory_estimate, slice_storage, store_kernel
 
 
 def max_courant_rate(problem: Problem) -> float:
-    """max over nodes and axes of |a_k(x)| / h_k (1/time)."""
+    """max over nodes and axes of |a_k(x)| / h_k (1/time), evaluated in chunks of nodes."""
     grid = problem.grid
-    drift = np.asarray(problem.system.drift(grid.nodes()), dtype=float)
-    return float(np.max(np.abs(drift) / grid.spacing))
+    spacing = grid.spacing
+    return float(np.max([np.max(np.abs(np.asarray(problem.system.drift(grid.node_coordinates(flat)),
+                                                  dtype=float)) / spacing)
+                         for flat in _flat_chunks(grid.size)]))
 
 
 def time_grid(problem: Problem, settings: SolverSettings, rate: float) -> tuple[float, int]:
@@ -65,15 +67,17 @@ def time_grid(problem: Problem, settings: SolverSettings, rate: float) -> tuple[
 
 def _terminal_data(problem: Problem, terminal_costs) -> tuple[np.ndarray, np.ndarray]:
     """Scaled terminal desirabilities Z (K, N), max 1 per row, and their log-scales ℓ (K,)."""
-    nodes = problem.grid.nodes()
     lam = problem.temperature
     Z = np.empty((len(terminal_costs), problem.grid.size))
     scales = np.empty(len(terminal_costs))
     for r, cost in enumerate(terminal_costs):
-        g = problem.replace(terminal_cost=cost).terminal_values(nodes)
+        g = Z[r]  # g, then in place exp(−(g − min g)/λ)
+        g[:] = _node_values(problem.replace(terminal_cost=cost).terminal_values, problem.grid)
         g_min = g.min()
+        np.negative(np.subtract(g, g_min, out=g), out=g)
+        np.divide(g, lam, out=g)
         with np.errstate(under="ignore"):
-            Z[r] = np.exp(-(g - g_min) / lam)
+            np.exp(g, out=g)
         scales[r] = -g_min / lam
     return Z, scales
 
@@ -180,7 +184,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     if reference is None:
         diffusion_step = 0.5 * dt if s.method == "splitting" else dt
         for solution in out:
-            check_resolution(solution.problem, solution, diffusion_step)
+            check_resolution(solution.problem, solution, diffusion_step,
+                             getattr(step, "diffusion", None))
     return out
 
 
@@ -197,17 +202,21 @@ def _diffusion_tail_cap(ratio: np.ndarray) -> np.ndarray:
         return np.where(ratio > 0, -np.log(rho), np.inf)
 
 
-def check_resolution(problem: Problem, solution: Solution, step: float) -> float:
+def check_resolution(problem: Problem, solution: Solution, step: float,
+                     diffusion: list | None = None) -> float:
     """Warn (:class:`ResolutionWarning`) when the plain operator's z tails, not the PDE, set the
     value: the share of nodes where v/λ at t = T (the terminal cost) or t = 0 rises from a node
     to its neighbour along a noise axis by at least 0.9 of the diffusion's tail cap
     (:func:`_diffusion_tail_cap`, for r = ``step`` D_k / h_k², ``step`` the diffusion's time
     step). The scheme cannot carry such a fall of z: it fills it with its own tails, so v is
-    underestimated, more so as λ falls. Returns that share."""
+    underestimated, more so as λ falls. ``diffusion``: the D_k of the problem if already
+    evaluated (:attr:`SplittingStep.diffusion`). Returns that share."""
     grid = problem.grid
     flagged, worst = 0, (0.0, 0.0, "")
-    for value in (problem.terminal_values(grid.nodes()), solution.value_nodes(0)):
-        flagged, worst = _count_at_cap(problem, value, step, flagged, worst)
+    if diffusion is None:
+        diffusion = _diffusion_coefficients(problem)
+    for value in (_node_values(problem.terminal_values, grid), solution.value_nodes(0)):
+        flagged, worst = _count_at_cap(problem, value, step, flagged, worst, diffusion)
     share = flagged / (2 * grid.size)
     if share > TAIL_SHARE:
         warnings.warn(
@@ -221,17 +230,19 @@ def check_resolution(problem: Problem, solution: Solution, step: float) -> float
     return share
 
 
-def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int, worst):
+def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int, worst,
+                  diffusion: list):
     """Add to ``flagged`` the nodes whose v/λ rises to a noise-axis neighbour by ≥ 0.9 of the tail
-    cap, and keep the worst (rise, cap, axis) seen."""
+    cap, and keep the worst (rise, cap, axis) seen (``diffusion``: the D_k of
+    :func:`gridlbc.schemes.splitting._diffusion_coefficients`)."""
     grid, lam = problem.grid, problem.temperature
     for flat in _flat_chunks(grid.size):
-        x = grid.node_coordinates(flat)
-        diffusion = 0.5 * problem.noise_diagonal(x)
         index = np.stack(np.unravel_index(flat, grid.shape), axis=1)
         hit = np.zeros(flat.size, dtype=bool)
         for k, ax in enumerate(grid.axes):
-            if not np.any(diffusion[:, k] > 0):
+            coefficient = (np.full(flat.size, diffusion[k]) if np.ndim(diffusion[k]) == 0
+                           else diffusion[k][flat])
+            if not np.any(coefficient > 0):
                 continue
             nxt = index.copy()
             nxt[:, k] += 1
@@ -243,7 +254,7 @@ def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int
                                              grid.shape)
             with np.errstate(invalid="ignore"):  # +inf where one side underflowed, NaN both
                 rise = np.abs(value[neighbour] - value[flat]) / lam
-            cap = _diffusion_tail_cap(step * diffusion[:, k] / ax.spacing**2)
+            cap = _diffusion_tail_cap(step * coefficient / ax.spacing**2)
             at_cap = inside & ~np.isnan(rise) & (rise >= 0.9 * cap)
             hit |= at_cap
             if np.any(at_cap):

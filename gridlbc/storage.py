@@ -4,6 +4,8 @@ slice arrays (in RAM or an unlinked memory-mapped file) and the kernel that stor
 
 from __future__ import annotations
 
+import math
+import mmap
 import os
 import shutil
 import tempfile
@@ -69,24 +71,40 @@ def check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
 def store_kernel(Z, scale, out, flushed):
     """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
     to zero (float32 storage of values below ~1e-45 of the slice maximum), counted per work
-    block in ``flushed``."""
+    block in ``flushed``. The rows are read as flat arrays over unsigned ranges, which the
+    compiler vectorises."""
     n_rhs, n_nodes = Z.shape
     n_blocks = flushed.shape[0]
     for b in prange(n_blocks):
         count = 0
+        first = np.uint64(b * n_nodes // n_blocks)
+        last = np.uint64((b + 1) * n_nodes // n_blocks)
         for r in range(n_rhs):
-            for p in range(b * n_nodes // n_blocks, (b + 1) * n_nodes // n_blocks):
-                value = Z[r, p] * scale[r]
-                out[r, p] = value
-                if value > 0.0 and out[r, p] == 0.0:
-                    count += 1
+            source = Z[r]
+            target = out[r]
+            factor = scale[r]
+            for p in range(first, last):
+                value = source[p] * factor
+                target[p] = value
+                count += (value > 0.0) & (target[p] == 0.0)
         flushed[b] = count
     return flushed.sum()
 
 
 def slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None) -> np.ndarray:
+    """Uninitialised slice arrays: in RAM, or in an unlinked file in ``mmap_dir``.
+
+    In RAM they get an anonymous memory map of their own, paged as the kernel does by default:
+    numpy advises transparent huge pages for large arrays, and where the kernel then compacts
+    memory to back them, the first write of every slice is several times slower (README,
+    "Accuracy and performance")."""
     if mmap_dir is None:
-        return np.empty(shape, dtype=dtype)
+        nbytes = math.prod(shape) * np.dtype(dtype).itemsize
+        if nbytes == 0:
+            return np.empty(shape, dtype=dtype)
+        unix = hasattr(mmap, "MAP_PRIVATE") and hasattr(mmap, "MAP_ANONYMOUS")
+        private = {"flags": mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS} if unix else {}
+        return np.frombuffer(mmap.mmap(-1, nbytes, **private), dtype=dtype).reshape(shape)
     # An unlinked temporary file: its disk space is returned when the Solution is released.
     handle = tempfile.TemporaryFile(dir=mmap_dir)  # noqa: SIM115 (the memmap owns it)
     return np.memmap(handle, dtype=dtype, mode="w+", shape=shape)

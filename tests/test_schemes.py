@@ -269,3 +269,43 @@ def test_bad_storage_options_are_named():
         gridlbc.solve(problem, method="implicit", linear_solver="lu")
     with pytest.raises(ValueError, match="feet"):
         SplittingStep(problem, 0.1, feet="dense")
+
+
+@pytest.mark.parametrize("shape, periodic", [((7, 8), (True, False)), ((5, 6, 4), (False, True, False)),
+                                             ((4, 5, 4, 6), (True, True, False, False)),
+                                             ((3, 4, 3, 3, 4, 3), (True, False, False, True, False, False))])
+def test_compact_feet_kernel_matches_barycentric(shape, periodic, rng):
+    """The compiled encoding of the feet equals barycentric() followed by the numpy encoding, bit
+    for bit (the same arithmetic), and the shape codes equal np.unique's, on every kind of axis;
+    the 6-D grid takes the sorting branch of the shape codes."""
+    from gridlbc.schemes.splitting import (
+        _compact_feet,
+        _encode_compact_kernel,
+        _shape_codes,
+        _walk_steps,
+    )
+
+    grid = Grid([Axis(-1.0, 2.0, n, periodic=p) for n, p in zip(shape, periodic, strict=True)])
+    x = rng.uniform(-1.5, 2.5, (4000, grid.ndim))
+    x[:50] = grid.node_coordinates(rng.integers(0, grid.size, 50))  # on nodes: ties in the sort
+    x = grid.clamp(x)
+    base, packed, frac = _compact_feet(grid, *barycentric(grid, x))
+    out = (np.empty_like(base), np.empty_like(packed), np.empty_like(frac))
+    _encode_compact_kernel(x, *grid.kernel_arrays(), _walk_steps(grid), *out)
+    for expected, got in zip((base, packed, frac), out, strict=True):
+        np.testing.assert_array_equal(got, expected)
+    distinct, ids = _shape_codes(grid, packed)
+    unique, inverse = np.unique(packed, return_inverse=True)
+    np.testing.assert_array_equal(distinct, unique)
+    np.testing.assert_array_equal(ids, inverse)
+
+
+def test_a_drift_that_is_not_finite_is_named():
+    class _Blowup(SingleIntegrator):
+        def drift(self, x):
+            x = np.asarray(x)
+            return np.where((x > 0.5) | np.isnan(x), np.nan, 0.0)
+
+    problem = Problem(_Blowup(), Grid([Axis(-1.0, 1.0, 11)]), 1.0, Quadratic([0.0], [1.0]))
+    with pytest.raises(ValueError, match="foot of node 8 .* _Blowup.drift returned a non-finite"):
+        SplittingStep(problem, 0.1)

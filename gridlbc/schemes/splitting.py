@@ -70,13 +70,14 @@ state cost, into the last diffusion pass), so a step streams z through memory ab
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
 
 from .._numba import jit, jit_parallel, prange, work_blocks
 from ..grid import Grid
-from ..interpolate import barycentric
+from ..interpolate import _cell, _kuhn_kernel
 from ..problem import Problem
 
 FEET_LAYOUTS = ("compact", "table")
@@ -84,23 +85,35 @@ FEET_LAYOUTS = ("compact", "table")
 
 _Q = 65535  # quantisation of the fractional coordinates in the compact layout
 _MAX_COMPACT_DIM = 8  # the packed simplex shape holds 4 bits per walk step
-_FEET_CHUNK = 1 << 20  # nodes per chunk when computing feet (bounds the setup memory)
+_FEET_CHUNK = 1 << 14  # nodes per call of the system's functions: small enough that the
+# allocator reuses the chunk's temporaries (first writes to fresh memory are slow)
+_FEET_BATCH = 1 << 20  # nodes per call of the compiled foot encoding (bounds the setup memory)
 _TINY = 1e-300  # floor of the fitting reference: 1/φ and the factors stay finite
 
 
 # -- feet ---------------------------------------------------------------------------------------
 
 
-def _flat_chunks(size: int):
-    """Consecutive ranges of flat node indices, ``_FEET_CHUNK`` at a time."""
-    for start in range(0, size, _FEET_CHUNK):
-        yield np.arange(start, min(start + _FEET_CHUNK, size))
+def _flat_chunks(stop: int, start: int = 0):
+    """Consecutive ranges of the flat node indices start … stop − 1, ``_FEET_CHUNK`` at a time."""
+    for first in range(start, stop, _FEET_CHUNK):
+        yield np.arange(first, min(first + _FEET_CHUNK, stop))
 
 
-def _foot_chunks(problem: Problem, dt: float):
-    """Feet X(x) = x + Δt a(x + ½Δt a(x)) of the nodes, wrapped and clamped, in chunks."""
-    grid, system = problem.grid, problem.system
+def _node_values(function, grid: Grid) -> np.ndarray:
+    """``function(x)`` at every node of ``grid``, ``(N,)``, evaluated in chunks of nodes (the
+    full ``(N, d)`` node array is never built)."""
+    out = np.empty(grid.size)
     for flat in _flat_chunks(grid.size):
+        out[flat[0] : flat[-1] + 1] = function(grid.node_coordinates(flat))
+    return out
+
+
+def _foot_chunks(problem: Problem, dt: float, start: int = 0, stop: int | None = None):
+    """Feet X(x) = x + Δt a(x + ½Δt a(x)) of the nodes start … stop − 1 (default: all), wrapped
+    and clamped, in chunks."""
+    grid, system = problem.grid, problem.system
+    for flat in _flat_chunks(grid.size if stop is None else stop, start):
         x = grid.node_coordinates(flat)
         midpoint = grid.clamp(x + 0.5 * dt * np.asarray(system.drift(x), dtype=float))
         yield flat, grid.clamp(x + dt * np.asarray(system.drift(midpoint), dtype=float))
@@ -120,6 +133,57 @@ def _compact_feet(grid: Grid, idx: np.ndarray, weights: np.ndarray):
     tail = np.cumsum(weights[:, :0:-1], axis=1)[:, ::-1]  # f_j = w_{j+1} + … + w_d
     frac = np.rint(np.clip(tail[:, : grid.ndim], 0.0, 1.0) * _Q).astype(np.uint16)
     return idx[:, 0].astype(np.int32), shape, frac
+
+
+@jit_parallel
+def _encode_compact_kernel(x, lo, spacing, shape, strides, periodic, walk, base, packed, frac):
+    """The compact form of the feet ``x`` ``(M, d)`` (wrapped and clamped) in one pass: the
+    cell and sorted fractional coordinates of :func:`gridlbc.interpolate.barycentric` (the same
+    arithmetic), written as base corners, packed shapes and quantised fractions into ``base``,
+    ``packed`` and ``frac`` exactly as :func:`_compact_feet` encodes barycentric's output
+    (``walk``: :func:`_walk_steps`)."""
+    n_points, d = x.shape
+    n_blocks = min(n_points, 256)
+    for b in prange(n_blocks):
+        f = np.empty(d)
+        order = np.empty(d, dtype=np.int64)
+        for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
+            corner = 0
+            for k in range(d):
+                i, f[k] = _cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
+                corner += i * strides[k]
+                j = k  # insertion into the decreasing order, ties in axis order (stable)
+                while j > 0 and f[order[j - 1]] < f[k]:
+                    order[j] = order[j - 1]
+                    j -= 1
+                order[j] = k
+            base[p] = corner
+            node = corner
+            code = np.uint32(0)
+            for j in range(d):  # the Kuhn walk; each step's position in walk, 4 bits each
+                k = order[j]
+                n = shape[k]
+                step = -(n - 1) * strides[k] if (node // strides[k]) % n == n - 1 else strides[k]
+                node += step
+                position = 0
+                while position < walk.size - 1 and walk[position] < step:
+                    position += 1
+                code |= np.uint32(position) << np.uint32(4 * j)
+            packed[p] = code
+            tail = 0.0  # f_j = w_{j+1} + … + w_d, summed as the twin's cumsum does
+            for j in range(d - 1, -1, -1):
+                tail += f[order[j]] - (f[order[j + 1]] if j + 1 < d else 0.0)
+                frac[p, j] = np.uint16(np.rint(min(max(tail, 0.0), 1.0) * _Q))
+
+
+def _shape_codes(grid: Grid, shapes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(shapes, return_inverse=True)`` for the packed simplex shapes: by a table of
+    all 16^d packed values when that is small (one pass instead of a sort), else by sorting."""
+    if 16**grid.ndim > 1 << 20:
+        return np.unique(shapes, return_inverse=True)
+    present = np.bincount(shapes, minlength=16**grid.ndim) > 0
+    rank = np.cumsum(present) - 1
+    return np.flatnonzero(present).astype(np.uint32), rank[shapes]
 
 
 def _walk_steps(grid: Grid) -> np.ndarray:
@@ -152,67 +216,88 @@ def feet_bytes_per_node(ndim: int, layout: str) -> int:
 # -- drift pass ---------------------------------------------------------------------------------
 
 
-@jit_parallel
+@functools.cache
+def _advect_kernels(d: int):
+    """The drift kernels of :func:`_advect_compact_kernel` and :func:`_advect_table_kernel` for
+    grids of dimension ``d``, compiled with d a constant (numba unrolls the vertex loops) and
+    with the per-node arrays read as flat rows through unsigned indices (no negative-index
+    wrapping), which lets the compiler vectorise the decoding."""
+
+    @jit_parallel
+    def compact(z, base, code, frac, offsets, scale, ell, ones_row, out):
+        n_rhs, n_nodes = z.shape
+        fitted = ell.size > 0
+        fractions = frac.reshape(-1)
+        vertex = offsets.reshape(-1)
+        for p in prange(n_nodes):
+            node = np.int64(base[p])
+            row = np.int64(code[p]) * (d + 1)
+            fit = 1.0
+            if fitted:
+                previous = _Q
+                mean = 0.0
+                for j in range(d + 1):
+                    f = np.int64(fractions[p * d + j]) if j < d else np.int64(0)
+                    mean += (previous - f) * ell[np.uint64(node + vertex[row + j])]
+                    previous = f
+                fit = np.exp(mean * (1.0 / _Q))
+            for r in range(n_rhs):
+                if r == ones_row:  # the integer weights telescope to Q: the same number, exactly
+                    acc = float(_Q)
+                else:
+                    zr = z[r]
+                    previous = _Q
+                    acc = 0.0
+                    for j in range(d):
+                        f = np.int64(fractions[p * d + j])
+                        acc += (previous - f) * zr[np.uint64(node + vertex[row + j])]
+                        previous = f
+                    acc += previous * zr[np.uint64(node + vertex[row + d])]
+                out[r, p] = acc * (fit * scale[r] * (1.0 / _Q))
+
+    @jit_parallel
+    def table(z, idx, weights, scale, ell, ones_row, out):
+        n_rhs, n_nodes = z.shape
+        fitted = ell.size > 0
+        vertices = idx.reshape(-1)
+        weight = weights.reshape(-1)
+        for p in prange(n_nodes):
+            first = p * (d + 1)
+            fit = 1.0
+            total = 0.0
+            if fitted:
+                mean = 0.0
+                for j in range(d + 1):
+                    mean += weight[first + j] * ell[np.uint64(vertices[first + j])]
+                    total += weight[first + j]
+                fit = np.exp(mean)
+            for r in range(n_rhs):
+                if r == ones_row:
+                    acc = total
+                else:
+                    zr = z[r]
+                    acc = 0.0
+                    for j in range(d + 1):
+                        acc += weight[first + j] * zr[np.uint64(vertices[first + j])]
+                out[r, p] = acc * (fit * scale[r])
+
+    return compact, table
+
+
 def _advect_compact_kernel(z, base, code, frac, offsets, scale, ell, ones_row, out):
     """out[r, p] = scale[r] · F_p · Σ_j w_j z[r, v_j] over the foot's simplex vertices
     v_j = base[p] + offsets[code[p], j] with w_j = (f_{j−1} − f_j)/Q from the sorted quantised
     fractions (f_{−1} = Q, f_d = 0). Fitted (``ell`` = log φ given, ``z`` already divided by φ
     by :func:`_fitting_kernel`): F_p = exp(Σ_j w_j ell[v_j]) = φ̄, the reference's geometric mean
     over the simplex; F_p = 1 when ``ell`` is empty. Row ``ones_row`` (−1: none) is known to be
-    all ones, so its gather is skipped: Σ_j w_j · 1 = 1 exactly."""
-    n_rhs, n_nodes = z.shape
-    d = frac.shape[1]
-    fitted = ell.size > 0
-    for p in prange(n_nodes):
-        node = np.int64(base[p])
-        c = code[p]
-        fit = 1.0
-        if fitted:
-            previous = _Q
-            mean = 0.0
-            for j in range(d + 1):
-                f = np.int64(frac[p, j]) if j < d else np.int64(0)
-                mean += (previous - f) * ell[node + offsets[c, j]]
-                previous = f
-            fit = np.exp(mean * (1.0 / _Q))
-        for r in range(n_rhs):
-            if r == ones_row:  # the integer weights telescope to Q: the same number, exactly
-                acc = float(_Q)
-            else:
-                previous = _Q
-                acc = 0.0
-                for j in range(d):
-                    f = np.int64(frac[p, j])
-                    acc += (previous - f) * z[r, node + offsets[c, j]]
-                    previous = f
-                acc += previous * z[r, node + offsets[c, d]]
-            out[r, p] = acc * (fit * scale[r] * (1.0 / _Q))
+    all ones, so its gather is skipped: Σ_j w_j · 1 = 1 exactly. All arrays C-contiguous."""
+    _advect_kernels(frac.shape[1])[0](z, base, code, frac, offsets, scale, ell, ones_row, out)
 
 
-@jit_parallel
 def _advect_table_kernel(z, idx, weights, scale, ell, ones_row, out):
     """out[r, p] = scale[r] · F_p · Σ_j weights[p, j] z[r, idx[p, j]], the fitting factor F_p and
     ``ones_row`` as in :func:`_advect_compact_kernel`."""
-    n_rhs, n_nodes = z.shape
-    n_vertices = idx.shape[1]
-    fitted = ell.size > 0
-    for p in prange(n_nodes):
-        fit = 1.0
-        total = 0.0
-        if fitted:
-            mean = 0.0
-            for j in range(n_vertices):
-                mean += weights[p, j] * ell[idx[p, j]]
-                total += weights[p, j]
-            fit = np.exp(mean)
-        for r in range(n_rhs):
-            if r == ones_row:
-                acc = total
-            else:
-                acc = 0.0
-                for j in range(n_vertices):
-                    acc += weights[p, j] * z[r, idx[p, j]]
-            out[r, p] = acc * (fit * scale[r])
+    _advect_kernels(idx.shape[1] - 1)[1](z, idx, weights, scale, ell, ones_row, out)
 
 
 @jit_parallel
@@ -581,11 +666,33 @@ def _cost_max_kernel(z, cost, block_max):
             block_max[r, b] = peak
 
 
+def _diffusion_coefficients(problem: Problem) -> list:
+    """D_k = ½ (λ B R⁻¹ Bᵀ)_kk of every axis k, the noise evaluated once per chunk of nodes: a
+    float where D_k is the same at every node (no per-node array is then stored), else the
+    ``(N,)`` array."""
+    grid = problem.grid
+    first = None
+    columns = [None] * grid.ndim
+    for flat in _flat_chunks(grid.size):
+        diffusion = 0.5 * problem.noise_diagonal(grid.node_coordinates(flat))
+        if first is None:
+            first = diffusion[0].copy()
+        for k in range(grid.ndim):
+            if columns[k] is None and np.all(diffusion[:, k] == first[k]):
+                continue
+            if columns[k] is None:  # varies: the chunks before held the first value throughout
+                columns[k] = np.full(grid.size, first[k])
+            columns[k][flat[0] : flat[-1] + 1] = diffusion[:, k]
+    return [float(first[k]) if column is None else column for k, column in enumerate(columns)]
+
+
 class SplittingStep:
     """The splitting step operator of a problem and time step, built once per solve.
 
     Call ``step(z, out, scale)``: writes ``out = S(scale · z)`` for ``z`` ``(K, N)`` and the
-    per-row factors ``scale`` ``(K,)``, and returns the per-row maximum of ``out``.
+    per-row factors ``scale`` ``(K,)``, and returns the per-row maximum of ``out``. Its
+    ``diffusion`` holds D_k = ½ (λ B R⁻¹ Bᵀ)_kk per axis: a float where it is the same at every
+    node, else one value per node.
     """
 
     name = "splitting"
@@ -602,7 +709,7 @@ class SplittingStep:
         self.grid, self.layout = grid, feet
         self._encode_feet(problem, dt)
         self._setup_diffusion(problem, 0.5 * dt)
-        q = problem.state_cost_values()
+        q = _node_values(problem.state_cost_values, grid)
         self.log_cost = (-q * (0.5 * dt) / problem.temperature if np.any(q != 0)
                          else np.empty(0))
         self.cost_factor = np.exp(self.log_cost)
@@ -612,7 +719,8 @@ class SplittingStep:
     @staticmethod
     def estimate_bytes(grid: Grid, feet: str = "compact") -> int:
         """Memory of the operator for ``grid``, without building it (for the memory check)."""
-        return grid.size * (feet_bytes_per_node(grid.ndim, feet) + 8) + _FEET_CHUNK * grid.ndim * 64
+        batch = min(grid.size, _FEET_BATCH) * (24 * grid.ndim + 16)  # feet, vertices, weights
+        return grid.size * (feet_bytes_per_node(grid.ndim, feet) + 8) + batch
 
     def _encode_feet(self, problem: Problem, dt: float):
         grid, N, d = self.grid, self.grid.size, self.grid.ndim
@@ -623,15 +731,33 @@ class SplittingStep:
         else:
             self.idx = np.empty((N, d + 1), dtype=np.int32)
             self.weights = np.empty((N, d + 1), dtype=np.float32)
-        for flat, feet in _foot_chunks(problem, dt):
-            rows = slice(flat[0], flat[-1] + 1)
-            idx, weights = barycentric(grid, feet)
+        batch = min(N, _FEET_BATCH)
+        feet = np.empty((batch, d))
+        if self.layout == "table":
+            idx = np.empty((batch, d + 1), dtype=np.int64)
+            weights = np.empty((batch, d + 1))
+        walk = _walk_steps(grid)
+        for start in range(0, N, batch):
+            stop = min(start + batch, N)
+            m = stop - start
+            for flat, chunk in _foot_chunks(problem, dt, start, stop):
+                feet[flat[0] - start : flat[-1] + 1 - start] = chunk
+            finite = np.isfinite(feet[:m]).all(axis=1)
+            if not finite.all():
+                node = start + int(np.argmin(finite))
+                raise ValueError(
+                    f"the characteristic foot of node {node} (x = {grid.node_coordinates(node)}) is "
+                    f"not finite: {type(problem.system).__name__}.drift returned a non-finite value"
+                )
+            rows = slice(start, stop)
             if self.layout == "compact":
-                self.base[rows], shapes[rows], self.frac[rows] = _compact_feet(grid, idx, weights)
+                _encode_compact_kernel(feet[:m], *grid.kernel_arrays(), walk, self.base[rows],
+                                       shapes[rows], self.frac[rows])
             else:
-                self.idx[rows], self.weights[rows] = idx, weights
+                _kuhn_kernel(feet[:m], *grid.kernel_arrays(), idx[:m], weights[:m])
+                self.idx[rows], self.weights[rows] = idx[:m], weights[:m]
         if self.layout == "compact":
-            distinct, ids = np.unique(shapes, return_inverse=True)
+            distinct, ids = _shape_codes(grid, shapes)
             self.code = ids.astype(np.uint16 if distinct.size <= 2**16 else np.uint32)
             self.offsets = _vertex_offsets(grid, distinct)
             self.arrays = [self.base, self.code, self.frac, self.offsets]
@@ -642,18 +768,22 @@ class SplittingStep:
         grid = self.grid
         self.noise = []  # (axis, periodic, data, uniform)
         self.variances = []  # per noise axis: σ² = 2 D_k Δt of the half step (one, or per node)
-        for k, ax in enumerate(grid.axes):
-            diffusion = np.concatenate([
-                0.5 * problem.noise_diagonal(grid.node_coordinates(flat))[:, k]
-                for flat in _flat_chunks(grid.size)
-            ])
+        self.diffusion = _diffusion_coefficients(problem)  # D_k: a float, or one per node
+        for k, (ax, diffusion) in enumerate(zip(grid.axes, self.diffusion, strict=True)):
             if not np.any(diffusion > 0):
                 continue
             ratio = dt * diffusion / ax.spacing**2
             variance = 2.0 * dt * diffusion
-            self.variances.append(variance[:1] if np.all(variance == variance[0]) else variance)
+            constant = np.ndim(diffusion) == 0
+            if constant or np.all(variance == variance[0]):
+                self.variances.append(np.full(1, variance) if constant else variance[:1])
+            else:
+                self.variances.append(variance)
             if ax.periodic:
-                self.noise.append((k, True, ratio, False))
+                self.noise.append((k, True, np.full(grid.size, ratio) if constant else ratio, False))
+                continue
+            if constant:
+                self.noise.append((k, False, tridiagonal_factors(np.full(ax.n, ratio), ax.n), True))
                 continue
             lines = np.moveaxis(grid.reshape(ratio), k, -1)
             uniform = bool(np.all(lines == lines.reshape(-1, ax.n)[0]))
@@ -668,7 +798,7 @@ class SplittingStep:
     def nbytes(self) -> int:
         arrays = [*self.arrays, self.cost_factor, self.log_cost,
                   *(data for _, _, data, _ in self.noise),
-                  *self.variances]
+                  *self.variances, *(a for a in self.diffusion if np.ndim(a))]
         return int(sum(a.nbytes for a in arrays))
 
     def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
