@@ -3,28 +3,34 @@ against the grid optimum and the certified optimum.
 
 Problem: the gymnast of gridlbc.studies.problems (T 3, λ 1, R 1, g = xᵀdiag(10, 10, ½, ½)x, hip
 stops at ±180°). Trackers: gridlbc.trajectory.optimize from each start of TRACKER_STARTS at rest
-(300 RK4 intervals, expanded by gridlbc.trajectory.expand): the paper's two trackers and the
-deterministic optimum from the test state by multi-start shooting + iLQR (--restarts); the four
-further trackers by iLQR alone (search=False) from the cheapest of those three tapes.
+and from the test state (the deterministic optimum), by multi-start shooting + iLQR (--restarts,
+300 RK4 intervals), expanded by gridlbc.trajectory.expand (full DDP curvature by default).
 
 (a) Fig. 7: from (−105°, −15°) at rest: tracker 1 (−90°, 0°), tracker 2 (−110°, −20°), the naive
-    average and sum, LBC with v̂ including (λ/2)∫tr(SP) (default) and with the paper's
-    deterministic v̄, the grid-optimal controller (splitting fitted to g, --grid n⁴), and the
-    deterministic optimum from the test state (its RK4 cost, and its own tracker). Columns: the
-    controller's prediction v(x₀), the noise-free cost and final angle distance (Euler, --dt),
-    then gridlbc.certify with the controller as proposal (--samples paths at --noisy-dt): its
-    noisy cost J ± SE, max |u| over the paths, the certified optimum v* ± SE and the effective
-    sample size.
-(b) v̂ against the grid value and the certified v* (proposal: the grid controller) at the two
-    trackers' start states shifted along (θ1, θ2) by 0 … 0.35 rad.
-(c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the best local optimum from each
-    found by iLQR from the cheapest of the seven tapes (an upper bound on the global optimum). Share of starts whose noise-free cost is within 25 % of
-    J*, for LBC of the first K trackers, the best single one of them (an oracle: the cheapest of
-    the K rollouts), greedy switching (argmax α) and the grid controller.
-(d) Validity: the noisy LBC of six trackers with the feedback saturated at Mahalanobis radius
-    ρ_max (None, 5, 3, 2): noisy cost, max |u| and v*.
+    average and sum, LBC with v̂ including (λ/2)∫tr(SP) (default), with the paper's
+    deterministic v̄ and with the Gauss–Newton P, the grid-optimal controller (splitting fitted
+    to g, --grid n⁴), and the optimum's own tracker. Columns: the controller's prediction v(x₀),
+    the noise-free cost and final angle distance (Euler, --dt), then gridlbc.certify with the
+    controller as proposal (--samples paths at --noisy-dt): its noisy cost J ± SE, max |u| over
+    the paths, the certified optimum v* ± SE and the effective sample size.
+(a') Noise-free, trackers 1 and 2 from --compare-restarts restarts (another local optimum from
+    (−90°, 0°)) against --restarts, each with both curvatures: v̂_i(x₀), α₁(x₀) and the costs.
+(b) v̂ at the two trackers' start states shifted towards the test state by 0 … 0.35 rad: the
+    deterministic v̂ (both curvatures) against the local optimum from there (iLQR continued in δ
+    from the tracker's tape), and v̂ with the λ term against the grid value and the certified v*
+    (proposal: the grid controller).
+(c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the best of the local optima found
+    by iLQR from each of the seven tapes (an upper bound on the global optimum). Share of starts
+    whose noise-free cost is within 25 % of J*, for LBC of the first K trackers (both
+    curvatures), the best single one of them (an oracle: the cheapest of the K rollouts), greedy
+    switching (argmax α) and the grid controller.
+(d) Validity: tracker 2, LBC of trackers 1 and 2 and LBC of six trackers with the feedback
+    saturated at Mahalanobis radius ρ_max (None, 5, 3, 2): noisy cost (mean and median), max |u|,
+    v*, and on how many noisy paths α₁ exceeds ½ somewhere.
 
-    python benchmarks/gymnast_trackers.py --figure figures/gymnast_trackers.png   # ≈ 30 min loaded
+Trajectories and the grid solution are cached in --cache (a rerun reads them).
+
+    python benchmarks/gymnast_trackers.py --figure figures/gymnast_trackers.png
 """
 
 from __future__ import annotations
@@ -46,12 +52,12 @@ from gridlbc.studies.gymnast import (
     plot_trackers,
 )
 from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
-from gridlbc.trajectory import expand, optimize, tape_cost
+from gridlbc.trajectory import expand, optimize
 
 
 def trajectories(problem, starts, restarts, cache: Path | None, label: str, warm=None):
     """optimize from each start (cached by label, start and restarts); with ``warm`` (a list of
-    Trajectories), no search: DDP from the warm tape that is cheapest from the start."""
+    Trajectories), no search: DDP from each warm tape, the cheapest result kept."""
     out = []
     for x0 in starts:
         key = (f"{label}_{'warm' if warm else restarts}_" + "_".join(f"{v:.4f}" for v in x0)
@@ -60,30 +66,36 @@ def trajectories(problem, starts, restarts, cache: Path | None, label: str, warm
         if path is not None and path.exists():
             with open(path, "rb") as f:
                 times, states, controls, cost, converged, message = pickle.load(f)
-            trajectory = gridlbc.trajectory.Trajectory(times, states, controls, cost, problem,
-                                                       converged, message)
-        elif warm:
-            tape = min((t.controls for t in warm), key=lambda U: tape_cost(problem, x0, U)[0])
-            trajectory = optimize(problem, x0, n_intervals=300, initial_controls=tape,
-                                  search=False)
+            out.append(gridlbc.trajectory.Trajectory(times, states, controls, cost, problem,
+                                                     converged, message))
+            continue
+        if warm:
+            trajectory = min((optimize(problem, x0, n_intervals=300, initial_controls=t.controls,
+                                       search=False) for t in warm), key=lambda t: t.cost)
         else:
             trajectory = optimize(problem, x0, restarts=restarts, n_intervals=300)
-            if path is not None:
-                with open(path, "wb") as f:
-                    pickle.dump((trajectory.times, trajectory.states, trajectory.controls,
-                                 trajectory.cost, trajectory.converged, trajectory.message), f)
+        if path is not None:
+            with open(path, "wb") as f:
+                pickle.dump((trajectory.times, trajectory.states, trajectory.controls,
+                             trajectory.cost, trajectory.converged, trajectory.message), f)
         out.append(trajectory)
     return out
 
 
-def grid_controller(n, memory):
+def grid_controller(n, memory, cache: Path):
+    """The fitted n⁴ splitting solution (Δt 0.05), read from ``cache`` if solved before."""
+    path = cache / f"gymnast_grid_{n}.npz"
+    if path.exists():
+        return gridlbc.load(path), None
     problem = gymnast_problem(n)
     n_slices = round(problem.horizon / 0.05) + 1
     store_every = max(1, int(np.ceil(n_slices * problem.grid.size * 8 / memory)))
     started = time.perf_counter()
     solution = gridlbc.solve(problem, dt=0.05, method="splitting", fitting="terminal",
                              store_every=store_every)
-    return solution, time.perf_counter() - started, store_every
+    wall = time.perf_counter() - started
+    gridlbc.save(solution, path)
+    return solution, wall
 
 
 def clamped(policy, horizon):
@@ -99,13 +111,16 @@ def certify_row(problem, policy, x0, samples, dt, seed=0):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--grid", type=int, default=51, help="n of the n⁴ grid controller")
+    parser.add_argument("--grid", type=int, default=41, help="n of the n⁴ grid controller")
     parser.add_argument("--memory", type=float, default=4.0, help="GiB of stored slices")
-    parser.add_argument("--restarts", type=int, default=32)
+    parser.add_argument("--restarts", type=int, default=128)
     parser.add_argument("--dt", type=float, default=0.001, help="noise-free rollout step")
     parser.add_argument("--noisy-dt", type=float, default=0.002)
     parser.add_argument("--samples", type=int, default=300)
-    parser.add_argument("--cache", default="/tmp/gridlbc_trackers", help="trajectory cache")
+    parser.add_argument("--cache", default="/tmp/gridlbc_trackers",
+                        help="cache of the trajectories and the grid solution")
+    parser.add_argument("--compare-restarts", type=int, default=32,
+                        help="(a') also build trackers 1 and 2 from this many restarts (0: no)")
     parser.add_argument("--figure", default=None)
     parser.add_argument("--skip", nargs="*", default=[], choices=["a", "b", "c", "d"])
     args = parser.parse_args(argv)
@@ -121,16 +136,17 @@ def main(argv=None):
     first = trajectories(problem, at_rest(TRACKER_STARTS[:2]), args.restarts, cache, "tracker")
     optimum, = trajectories(problem, [GYMNAST_START], args.restarts, cache, "tracker")
     trackers = first + trajectories(problem, at_rest(TRACKER_STARTS[2:]), args.restarts, cache,
-                                    "tracker", warm=[*first, optimum])
+                                    "tracker")
     print(f"trajectories: {time.perf_counter() - started:.0f} s; costs from their own starts: "
           + ", ".join(f"{t.cost:.2f}" for t in trackers)
           + f"; deterministic optimum from the test state {optimum.cost:.3f}", flush=True)
-    solution, wall, kept = grid_controller(args.grid, args.memory * 2**30)
+    solution, wall = grid_controller(args.grid, args.memory * 2**30, cache)
     grid_policy = clamped(solution.policy, T)
-    print(f"grid controller {args.grid}⁴ fitted, Δt 0.05, every {kept}. slice: {wall:.0f} s",
-          flush=True)
+    print(f"grid controller {args.grid}⁴ fitted, Δt 0.05: "
+          + ("read from the cache" if wall is None else f"solved in {wall:.0f} s"), flush=True)
     c = [expand(problem, t) for t in trackers]
     c_det = [expand(problem, t, stochastic=False) for t in trackers]
+    c_gn = [expand(problem, t, curvature="gauss-newton") for t in trackers[:2]]
 
     def noise_free(policy, x0):
         run = gridlbc.simulate(problem, policy, x0, len(np.atleast_2d(x0)), dt=args.dt,
@@ -147,6 +163,7 @@ def main(argv=None):
             "LBC (v̂ with λ term)": (lbc.policy, lbc.value),
             "LBC (paper's v̄)": (gridlbc.combine(c_det[:2]).policy,
                                 gridlbc.combine(c_det[:2]).value),
+            "LBC (Gauss–Newton P)": (gridlbc.combine(c_gn).policy, gridlbc.combine(c_gn).value),
             f"grid {args.grid}⁴ fitted": (grid_policy, solution.value),
             "optimum's own tracker": (expand(problem, optimum).policy,
                                       expand(problem, optimum).value),
@@ -177,58 +194,111 @@ def main(argv=None):
             del fig
             print(f"wrote {args.figure}")
 
+    if "a" not in args.skip and args.compare_restarts:
+        print(f"\n(a') the same, noise-free, with tapes 1 and 2 from {args.compare_restarts} "
+              f"restarts instead of {args.restarts}, for both curvatures")
+        print(f"{'restarts':>8} {'curvature':<13} {'J1 own':>6} {'v̂1(x0)':>7} {'v̂2(x0)':>7} "
+              f"{'α1(x0)':>6} {'tracker 1':>9} {'tracker 2':>9} {'naive':>7} {'LBC':>6}")
+        other = trajectories(problem, at_rest(TRACKER_STARTS[:2]), args.compare_restarts,
+                             cache, "tracker")
+        for restarts, tapes in ((args.compare_restarts, other), (args.restarts, trackers[:2])):
+            for curvature in ("newton", "gauss-newton"):
+                parts = [expand(problem, t, stochastic=False, curvature=curvature)
+                         for t in tapes]
+                lbc_part = gridlbc.combine(parts)
+                costs = [noise_free(policy, GYMNAST_START).costs[0] for policy in
+                         (parts[0].policy, parts[1].policy,
+                          gridlbc.naive_blend(parts, None).policy, lbc_part.policy)]
+                v1, v2 = (float(part.value(GYMNAST_START, 0.0)[0]) for part in parts)
+                a1 = lbc_part.blend_weights(GYMNAST_START, 0.0)[0, 0]
+                print(f"{restarts:8d} {curvature:<13} {tapes[0].cost:6.2f} {v1:7.2f} {v2:7.2f} "
+                      f"{a1:6.2f} " + " ".join(f"{x:9.2f}" for x in costs[:2])
+                      + f" {costs[2]:7.2f} {costs[3]:6.2f}", flush=True)
+
     if "b" not in args.skip:
-        print("\n(b) v̂ against the grid value and the certified v* (proposal: grid controller), "
-              "t = 0, start shifted by δ along (θ1, θ2) = (1, 1)/√2")
-        print(f"{'tracker':<8} {'δ rad':>5} {'v̂ (λ)':>7} {'v̂ det':>7} {'grid v':>7} "
-              f"{'v*':>13} {'ESS':>5}")
-        direction = np.array([1.0, 1.0, 0.0, 0.0]) / np.sqrt(2)
+        print("\n(b) v̂ at t = 0 from each tracker's start shifted by δ towards the test state: "
+              "deterministic v̂ (Newton and Gauss–Newton P) against the local optimum V from "
+              "there (DDP continued in δ from the tracker's tape); v̂ with the λ term against the grid value "
+              "and the certified v* (proposal: the grid controller)")
+        print(f"{'tracker':<7} {'δ rad':>5} {'V local':>7} {'v̂ Newton':>8} {'v̂ GN':>7} | "
+              f"{'v̂ (λ)':>7} {'grid v':>7} {'v*':>13} {'ESS':>5}")
+        deltas = (0.0, 0.05, 0.1, 0.2, 0.35)
         for i in (0, 1):
-            starts = np.array([trackers[i].states[0] + d * direction
-                               for d in (0.0, 0.05, 0.1, 0.2, 0.35)])
+            towards = GYMNAST_START - trackers[i].states[0]
+            starts = np.array([trackers[i].states[0] + d * towards / np.linalg.norm(towards)
+                               for d in deltas])
+            gauss_newton = expand(problem, trackers[i], stochastic=False,
+                                  curvature="gauss-newton")
             cert = gridlbc.certify(problem, grid_policy, starts, n_samples=args.samples,
                                    dt=args.noisy_dt, seed=1, progress=False)
-            for k, d in enumerate((0.0, 0.05, 0.1, 0.2, 0.35)):
+            tape = trackers[i].controls
+            for k, d in enumerate(deltas):
                 x = starts[k]
-                print(f"{i + 1:<8} {d:5.2f} {c[i].value(x, 0.0)[0]:7.2f} "
-                      f"{c_det[i].value(x, 0.0)[0]:7.2f} {solution.value(x, 0.0)[0]:7.2f} "
-                      f"{cert.optimal_value[k]:6.2f} ± {cert.optimal_value_se[k]:4.2f} "
-                      f"{cert.effective_sample_size[k]:5.0f}", flush=True)
+                local = optimize(problem, x, n_intervals=300, initial_controls=tape,
+                                 search=False)  # continuation in δ: the tape's own family
+                tape = local.controls
+                local = local.cost
+                print(f"{i + 1:<7} {d:5.2f} {local:7.2f} {c_det[i].value(x, 0.0)[0]:8.2f} "
+                      f"{gauss_newton.value(x, 0.0)[0]:7.2f} | {c[i].value(x, 0.0)[0]:7.2f} "
+                      f"{solution.value(x, 0.0)[0]:7.2f} {cert.optimal_value[k]:6.2f} ± "
+                      f"{cert.optimal_value_se[k]:4.2f} {cert.effective_sample_size[k]:5.0f}",
+                      flush=True)
 
     if "c" not in args.skip:
         th1, th2 = np.meshgrid(np.radians([-120, -110, -100, -90, -80]),
                                np.radians([-30, -15, 0]), indexing="ij")
         starts = at_rest(np.stack([th1.ravel(), th2.ravel()], axis=1))
-        best = trajectories(problem, starts, None, cache, "coverage", warm=[*trackers, optimum])
+        best = trajectories(problem, starts, None, cache, f"coverage{args.restarts}",
+                            warm=[*trackers, optimum])
         J_star = np.array([t.cost for t in best])
         grid_cost = noise_free(grid_policy, starts).costs
         print(f"\n(c) coverage of {len(starts)} starts θ1 ∈ [−120°, −80°] × θ2 ∈ [−30°, 0°] at "
               f"rest: share with noise-free cost ≤ 1.25 J*(x₀); J* from {J_star.min():.1f} to "
               f"{J_star.max():.1f}")
-        print(f"{'K':>2} {'LBC':>6} {'best single':>11} {'greedy':>6} {'grid':>6} "
-              f"{'LBC mean cost/J*':>16}")
+        print(f"{'K':>2} {'LBC':>6} {'LBC GN':>6} {'best single':>11} {'greedy':>6} "
+              f"{'grid':>6} | mean cost / J*: {'LBC':>5} {'single':>6} {'greedy':>6}")
         within = lambda cost: np.mean(cost <= 1.25 * J_star)
         for K in (1, 2, 4, 6):
             combination = gridlbc.combine(c[:K])
             lbc_cost = noise_free(combination.policy, starts).costs
+            lbc_gn = noise_free(gridlbc.combine(
+                [expand(problem, t, curvature="gauss-newton") for t in trackers[:K]]).policy,
+                starts).costs
             single = np.min([noise_free(ci.policy, starts).costs for ci in c[:K]], axis=0)
             greedy = noise_free(GreedySwitch(combination).policy, starts).costs
-            print(f"{K:2d} {within(lbc_cost):6.0%} {within(single):11.0%} {within(greedy):6.0%} "
-                  f"{within(grid_cost):6.0%} {np.mean(lbc_cost / J_star):16.2f}", flush=True)
+            print(f"{K:2d} {within(lbc_cost):6.0%} {within(lbc_gn):6.0%} {within(single):11.0%} "
+                  f"{within(greedy):6.0%} {within(grid_cost):6.0%} | {'':>15} "
+                  f"{np.mean(lbc_cost / J_star):5.2f} {np.mean(single / J_star):6.2f} "
+                  f"{np.mean(greedy / J_star):6.2f}", flush=True)
 
     if "d" not in args.skip:
-        print("\n(d) validity: noisy LBC of six trackers from the test state, feedback saturated "
-              "at Mahalanobis radius ρ_max")
-        print(f"{'ρ_max':>6} {'noise-free':>10} {'noisy J':>13} {'max|u|':>6} {'v*':>13} "
-              f"{'ESS':>5}")
+        print("\n(d) validity: from the test state, feedback saturated at Mahalanobis radius "
+              "ρ_max; the noisy cost's median and the paths (of the certificate's) on which "
+              "α₁ > ½ somewhere")
+        print(f"{'controller':<16} {'ρ_max':>6} {'noise-free':>10} {'noisy J':>13} "
+              f"{'median':>6} {'max|u|':>6} {'v*':>13} {'ESS':>5} {'α₁>½':>5}")
         for radius in (None, 5.0, 3.0, 2.0):
             parts = [expand(problem, t, radius=radius) for t in trackers]
-            policy = gridlbc.combine(parts).policy
-            run = noise_free(policy, GYMNAST_START)
-            cert, umax = certify_row(problem, policy, GYMNAST_START, args.samples, args.noisy_dt)
-            print(f"{radius!s:>6} {run.costs[0]:10.2f} {cert.policy_cost:6.2f} ± "
-                  f"{cert.policy_cost_se:4.2f} {umax:6.1f} {cert.optimal_value:6.2f} ± "
-                  f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f}", flush=True)
+            for label, policy, alpha in (
+                    ("tracker 2", parts[1].policy, None),
+                    ("LBC of 1, 2", gridlbc.combine(parts[:2]).policy,
+                     gridlbc.combine(parts[:2]).blend_weights),
+                    ("LBC of six", gridlbc.combine(parts).policy, None)):
+                run = noise_free(policy, GYMNAST_START)
+                cert = gridlbc.certify(problem, policy, GYMNAST_START, n_samples=args.samples,
+                                       dt=args.noisy_dt, seed=0, progress=False)
+                paths = gridlbc.simulate(problem, policy, GYMNAST_START, args.samples,
+                                         dt=args.noisy_dt, seed=0)  # the certificate's paths
+                switched = ""
+                if alpha is not None:
+                    a1 = np.max([alpha(paths.states[:, k], paths.times[k])[:, 0]
+                                 for k in range(0, len(paths.times) - 1, 5)], axis=0)
+                    switched = f"{int(np.sum(a1 > 0.5))}"
+                print(f"{label:<16} {radius!s:>6} {run.costs[0]:10.2f} {cert.policy_cost:6.2f} ± "
+                      f"{cert.policy_cost_se:5.2f} {np.median(paths.costs):6.1f} "
+                      f"{np.abs(paths.controls).max():6.1f} {cert.optimal_value:6.2f} ± "
+                      f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f} "
+                      f"{switched:>5}", flush=True)
 
 
 if __name__ == "__main__":

@@ -104,7 +104,8 @@ def slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None)
         nbytes = math.prod(shape) * np.dtype(dtype).itemsize
         if nbytes == 0:
             return np.empty(shape, dtype=dtype)
-        private = {"flags": mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS} if hasattr(mmap, "MAP_PRIVATE") else {}
+        unix = hasattr(mmap, "MAP_PRIVATE") and hasattr(mmap, "MAP_ANONYMOUS")
+        private = {"flags": mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS} if unix else {}
         return np.frombuffer(mmap.mmap(-1, nbytes, **private), dtype=dtype).reshape(shape)
     # An unlinked temporary file: its disk space is returned when the Solution is released.
     handle = tempfile.TemporaryFile(dir=mmap_dir)  # noqa: SIM115 (the memmap owns it)

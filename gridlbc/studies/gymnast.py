@@ -84,7 +84,7 @@ def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
         ax_u.plot(times[:-1], np.ravel(controls), color=line.get_color(), lw=1, label=label)
     start = np.degrees(next(iter(runs.values()))[0][0, :2])
     ax_path.plot(*start, "k*", ms=12, label="test start")
-    for turn in (-360, 0):
+    for turn in (-720, -360, 0):
         ax_path.plot(turn, 0, "kP", ms=10, label="handstand" if turn == 0 else None)
     ax_path.set(xlabel="θ1 [deg] (0 = upright)", ylabel="θ2 [deg]",
                 title="nominal paths (dashed), noise-free rollouts from (−105°, −15°)")

@@ -23,6 +23,15 @@ u_k = ū_k + α k_k + K_k (x_k − x̄_k) is tried for several α at once (one b
 cheapest is accepted if it lowers J; otherwise Q_uu is regularised (Levenberg–Marquardt) and the
 step retried. At convergence k → 0 and ∂J/∂u_k = Q_u → 0; p_k and P_k are then the gradient and
 Gauss–Newton Hessian of the cost-to-go at x̄_k, and K_k the time-varying LQR gain.
+
+The full (Newton) DDP pass keeps the second derivatives of the dynamics: with z = (x, u) and
+F_zz the second derivatives of the RK4 map (central differences of A and B),
+
+    [[Q_xx, Q_xu], [Q_ux, Q_uu]] += Σ_i p'_i ∂²F_i/∂z²,
+
+and then P_k is the exact Hessian of the discrete cost-to-go of the neighbouring optima (no longer
+⪰ 0 by construction). :func:`gridlbc.trajectory.expand` uses it by default; the iLQR iterations
+here keep the Gauss–Newton model, which is the robust one far from a minimum.
 """
 
 from __future__ import annotations
@@ -54,25 +63,58 @@ class BackwardPass:
 def linearize(shooting: Shooting, U: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """States ``(K+1, d)`` of tape ``U`` ``(K, m)`` and the RK4 Jacobians A ``(K, d, d)``,
     B ``(K, d, m)``."""
-    K = len(U)
-    d = shooting.x0.size
+    states = shooting.rollout(U[None])[0][0]
+    A, Bd = step_jacobians(shooting, states[:-1], U)
+    return states, A, Bd
+
+
+def step_jacobians(shooting: Shooting, x: np.ndarray, u: np.ndarray
+                   ) -> tuple[np.ndarray, np.ndarray]:
+    """A = ∂F/∂x ``(P, d, d)`` and B = ∂F/∂u ``(P, d, m)`` of one RK4 step from states
+    ``(P, d)`` with controls ``(P, m)`` (the stage chain rule of the module docstring)."""
+    P, d = x.shape
     h = shooting.dt
-    states, stages, B = shooting.rollout(U[None])
-    fx = shooting.velocity_jacobian(stages.reshape(-1, d), np.repeat(U, 4, axis=0))
-    fx = fx.reshape(K, 4, d, d)
-    B = B[0]
+    k1, B1 = shooting.velocity(x, u)
+    x2 = x + 0.5 * h * k1
+    k2, B2 = shooting.velocity(x2, u)
+    x3 = x + 0.5 * h * k2
+    k3, B3 = shooting.velocity(x3, u)
+    x4 = x + h * k3
+    _, B4 = shooting.velocity(x4, u)
+    stages = np.stack([x, x2, x3, x4], axis=1)  # (P, 4, d)
+    fx = shooting.velocity_jacobian(stages.reshape(-1, d), np.repeat(u, 4, axis=0))
+    fx = fx.reshape(P, 4, d, d)
     eye = np.eye(d)
     D1 = fx[:, 0]
     D2 = fx[:, 1] @ (eye + 0.5 * h * D1)
     D3 = fx[:, 2] @ (eye + 0.5 * h * D2)
     D4 = fx[:, 3] @ (eye + h * D3)
-    E1 = B[:, 0]
-    E2 = fx[:, 1] @ (0.5 * h * E1) + B[:, 1]
-    E3 = fx[:, 2] @ (0.5 * h * E2) + B[:, 2]
-    E4 = fx[:, 3] @ (h * E3) + B[:, 3]
+    E2 = fx[:, 1] @ (0.5 * h * B1) + B2
+    E3 = fx[:, 2] @ (0.5 * h * E2) + B3
+    E4 = fx[:, 3] @ (h * E3) + B4
     A = eye + (h / 6.0) * (D1 + 2.0 * D2 + 2.0 * D3 + D4)
-    Bd = (h / 6.0) * (E1 + 2.0 * E2 + 2.0 * E3 + E4)
-    return states[0], A, Bd
+    Bd = (h / 6.0) * (B1 + 2.0 * E2 + 2.0 * E3 + E4)
+    return A, Bd
+
+
+def step_hessians(shooting: Shooting, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The second derivatives ∂²F_i/∂z_a∂z_b of one RK4 step in z = (x, u), shape
+    ``(P, d, d+m, d+m)``: central differences of :func:`step_jacobians`, symmetrised."""
+    P, d = x.shape
+    m = u.shape[1]
+    z = np.concatenate([x, u], axis=1)
+    n = d + m
+    h = _HESSIAN_STEP * np.maximum(1.0, np.abs(z))  # (P, n)
+    shifted = np.repeat(z[None, None], 2, axis=0).repeat(n, axis=1)  # (2, n, P, n)
+    for a in range(n):
+        shifted[0, a, :, a] += h[:, a]
+        shifted[1, a, :, a] -= h[:, a]
+    flat = shifted.reshape(-1, n)
+    A, B = step_jacobians(shooting, flat[:, :d], flat[:, d:])
+    J = np.concatenate([A, B], axis=2).reshape(2, n, P, d, n)  # ∂F_i/∂z_b at z ± h e_a
+    H = (J[0] - J[1]) / (2.0 * h.T[:, :, None, None])  # (a, P, i, b)
+    H = np.transpose(H, (1, 2, 0, 3))  # (P, i, a, b)
+    return 0.5 * (H + np.swapaxes(H, 2, 3))
 
 
 def cost_derivatives(cost, x: np.ndarray, t: np.ndarray | None = None
@@ -103,9 +145,16 @@ def cost_derivatives(cost, x: np.ndarray, t: np.ndarray | None = None
         step[:, j] = h[:, j]
         both = gradient(f, np.concatenate([x + step, x - step]))
         H[:, :, j] = (both[:P] - both[P:]) / (2.0 * h[:, j, None])
-    H = 0.5 * (H + np.swapaxes(H, 1, 2))
-    w, V = np.linalg.eigh(H)
-    return grad, np.einsum("pij,pj,pkj->pik", V, np.maximum(w, 0.0), V)
+    return grad, positive_part(0.5 * (H + np.swapaxes(H, 1, 2)))
+
+
+def positive_part(P: np.ndarray) -> np.ndarray:
+    """The projection of symmetric matrices ``(..., d, d)`` onto the positive semi-definite cone
+    (negative eigenvalues set to zero)."""
+    w, V = np.linalg.eigh(P)
+    if np.all(w >= 0.0):
+        return P
+    return np.einsum("...ij,...j,...kj->...ik", V, np.maximum(w, 0.0), V)
 
 
 def running_derivatives(shooting: Shooting, state_cost, states: np.ndarray
@@ -121,9 +170,13 @@ def running_derivatives(shooting: Shooting, state_cost, states: np.ndarray
 
 def backward_pass(A: np.ndarray, B: np.ndarray, U: np.ndarray, R: np.ndarray, dt: float,
                   lx: np.ndarray, lxx: np.ndarray, gx: np.ndarray, gxx: np.ndarray,
-                  regularization: float = 0.0) -> BackwardPass:
+                  regularization: float = 0.0, F2: np.ndarray | None = None) -> BackwardPass:
     """The Gauss–Newton Riccati sweep of the module docstring (``regularization`` μ adds
-    μ·RΔt to Q_uu when solving for k and K)."""
+    μ·RΔt to Q_uu when solving for k and K).
+
+    With ``F2`` (``(K, d, d+m, d+m)``, :func:`step_hessians`) it is the full (Newton) DDP sweep
+    instead: Σ_i p'_i ∂²F_i/∂z² is added to [[Q_xx, Q_xu], [Q_ux, Q_uu]], so P is the exact
+    Hessian of the discrete cost-to-go along the tape (no longer ⪰ 0 by construction)."""
     K, d, m = B.shape
     p = np.empty((K + 1, d))
     P = np.empty((K + 1, d, d))
@@ -141,6 +194,11 @@ def backward_pass(A: np.ndarray, B: np.ndarray, U: np.ndarray, R: np.ndarray, dt
         Qxx = lxx[k] + Ak.T @ Vxx @ Ak
         Quu = Ruu + Bk.T @ VB
         Qux = VB.T @ Ak
+        if F2 is not None:
+            curvature = np.einsum("i,iab->ab", Vx, F2[k])
+            Qxx = Qxx + curvature[:d, :d]
+            Qux = Qux + curvature[d:, :d]
+            Quu = Quu + curvature[d:, d:]
         solve = np.linalg.solve(Quu + regularization * Ruu, np.column_stack([Qu, Qux]))
         kk, KK = -solve[:, 0], -solve[:, 1:]
         p[k] = Qx + KK.T @ (Quu @ kk) + KK.T @ Qu + Qux.T @ kk
@@ -152,13 +210,15 @@ def backward_pass(A: np.ndarray, B: np.ndarray, U: np.ndarray, R: np.ndarray, dt
 
 
 def sweep(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
-          regularization: float = 0.0) -> tuple[np.ndarray, BackwardPass]:
-    """Linearise along tape ``U`` and run the backward pass: ``(states, BackwardPass)``."""
+          regularization: float = 0.0, newton: bool = False) -> tuple[np.ndarray, BackwardPass]:
+    """Linearise along tape ``U`` and run the backward pass: ``(states, BackwardPass)``;
+    ``newton``: with the dynamics' second derivatives (full DDP)."""
     states, A, Bd = linearize(shooting, U)
     lx, lxx = running_derivatives(shooting, state_cost, states)
     gx, gxx = cost_derivatives(terminal_cost, states[-1:])
+    F2 = step_hessians(shooting, states[:-1], U) if newton else None
     back = backward_pass(A, Bd, U, shooting.R, shooting.dt, lx, lxx, gx[0], gxx[0],
-                         regularization)
+                         regularization, F2)
     return states, back
 
 

@@ -1,17 +1,30 @@
 """The quadratic value expansion and LQR tracker along an optimised trajectory (paper §5, eq. 12).
 
-Along a trajectory (x̄_k, ū_k) of :func:`gridlbc.trajectory.optimize`, the Gauss–Newton Riccati
-pass of :mod:`gridlbc.trajectory.ddp` gives at every node t_k the gradient p_k and Hessian
-P_k ⪰ 0 of the cost-to-go and the gain K_k. The component is
+Along a trajectory (x̄_k, ū_k) of :func:`gridlbc.trajectory.optimize`, the DDP backward pass of
+:mod:`gridlbc.trajectory.ddp` gives at every node t_k the gradient p_k and Hessian P_k of the
+cost-to-go and the gain K_k. By default (``curvature="newton"``) it is the full DDP pass of
+Jacobson and Mayne, with the dynamics' second derivatives Σ_i p_i ∇²F_i: P_k is then the exact
+Hessian of the discrete cost-to-go of the tape's neighbouring optima, and K_k the exact
+first-order change of their controls. ``curvature="gauss-newton"`` drops those terms (the iLQR
+model, P_k ⪰ 0 by construction); on a swing-up it misses much of the curvature that gravity
+adds, so v̂ is optimistic off the trajectory (README, trajectory section). Where the exact P_k is
+not positive semi-definite (the neighbouring optima's cost is not convex in some direction), the
+value below uses its projection P_k⁺ onto the positive semi-definite cone (negative eigenvalues
+set to zero), so that no component's desirability grows without bound away from its
+trajectory; the gains keep the exact pass. The component is
 
     v̂(x, t) = v̄(t) + p(t)ᵀΔx + ½ Δxᵀ P(t) Δx,      Δx = x ⊖ x̄(t)   (nearest image on periodic axes)
     u(x, t) = ū(t) + K(t) Δx                                          (the LQR tracker)
     z(x, t) = exp(−v̂(x, t)/λ)
 
-with v̄_k = g(x̄_K) + Σ_{j≥k} (q(x̄_j, t_j) + ½ ū_jᵀRū_j) Δt the cost along the trajectory, plus,
-with noise (``stochastic=True``, the default), the Itô correction of the Riccati equation
+with P = P⁺ and v̄_k = g(x̄_K) + Σ_{j≥k} (q(x̄_j, t_j) + ½ ū_jᵀRū_j) Δt the cost along the
+trajectory, plus, with noise (``stochastic=True``, the default), the Itô correction of the
+Riccati equation
 
     c_k = (λ/2) ∫_{t_k}^T tr(S P) ds,   S = B(x̄) R⁻¹ B(x̄)ᵀ   (trapezoidal rule on the nodes),
+
+with the exact P (the expected cost of the noise to second order; clipping P's negative
+eigenvalues would overstate it).
 
 which makes v̂ exact for linear-quadratic problems (the README's LQ reference); the paper uses
 the deterministic v̄ (``stochastic=False``). Between nodes v̄, c, p, P and x̄ are linear in time,
@@ -36,8 +49,11 @@ import numpy as np
 from ..costs import wrap_difference
 from ..problem import Problem
 from ..solution import bracket, check_time
-from .ddp import sweep
+from .ddp import positive_part, sweep
 from .optimize import Trajectory, shooting_for, timed_state_cost
+
+CURVATURES = ("gauss-newton", "newton")
+"""How P is computed: without or with the dynamics' second derivatives."""
 
 
 class TrajectoryWarning(RuntimeWarning):
@@ -65,13 +81,17 @@ class TrajectoryExpansion:
     gradients : ndarray (K+1, d)
         p_k.
     hessians : ndarray (K+1, d, d)
-        P_k, positive semi-definite.
+        P_k⁺, positive semi-definite.
     gains : ndarray (K, m, d)
         K_k, the tracker's feedback on [t_k, t_k+1).
     stochastic : bool
         Whether ``nominal_values`` include (λ/2)∫tr(SP).
     radius : float or None
         ρ_max of the feedback saturation (None: none).
+    periods : ndarray (d,)
+        The period of each coordinate (inf where not periodic).
+    curvature : str
+        ``"newton"`` (full DDP) or ``"gauss-newton"``.
     """
 
     problem: Problem
@@ -83,6 +103,7 @@ class TrajectoryExpansion:
     stochastic: bool
     radius: float | None
     periods: np.ndarray
+    curvature: str
 
     @property
     def times(self) -> np.ndarray:
@@ -158,7 +179,7 @@ class TrajectoryExpansion:
 
 
 def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
-           radius: float | None = None) -> TrajectoryExpansion:
+           radius: float | None = None, curvature: str = "newton") -> TrajectoryExpansion:
     """The quadratic value expansion and LQR tracker of ``trajectory`` (module docstring).
 
     Parameters
@@ -173,6 +194,8 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     radius : float, optional
         Saturate the tracker's feedback at this Mahalanobis distance ρ_max (in standard
         deviations of the component's desirability); ``None``: no saturation.
+    curvature : {"newton", "gauss-newton"}
+        The full DDP pass (the default) or the Gauss–Newton one (module docstring).
 
     Returns
     -------
@@ -184,6 +207,8 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     if not isinstance(trajectory, Trajectory):
         raise TypeError("trajectory must be a gridlbc.trajectory.Trajectory (from "
                         f"gridlbc.trajectory.optimize), got {type(trajectory).__name__}")
+    if curvature not in CURVATURES:
+        raise ValueError(f"curvature must be one of {CURVATURES}, got {curvature!r}")
     if radius is not None:
         radius = float(radius)
         if not (np.isfinite(radius) and radius > 0):
@@ -196,7 +221,9 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     U, X = trajectory.controls, trajectory.states
     K = len(U)
     shooting = shooting_for(problem, X[0], K)
-    states, back = sweep(shooting, U, problem.terminal_cost, problem.state_cost)
+    states, back = sweep(shooting, U, problem.terminal_cost, problem.state_cost,
+                         newton=curvature == "newton")
+    P = positive_part(back.P)
     dt = shooting.dt
     running = 0.5 * np.einsum("ki,ij,kj->k", U, problem.R, U)
     q = timed_state_cost(problem)
@@ -207,11 +234,12 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     if stochastic:
         B = np.asarray(problem.system.input_matrix(states), dtype=float)  # (K+1, d, m)
         S = np.einsum("kim,mn,kjn->kij", B, problem.R_inv, B)
-        trace = np.einsum("kij,kji->k", S, back.P)
+        trace = np.einsum("kij,kji->k", S, back.P)  # the exact P: this term needs no sign
         step = 0.25 * problem.temperature * dt * (trace[:-1] + trace[1:])
         to_go = to_go + np.concatenate([np.cumsum(step[::-1])[::-1], [0.0]])
-    return TrajectoryExpansion(problem, trajectory, to_go, back.p, back.P, back.gains,
-                               bool(stochastic), radius, state_periods(problem))
+    return TrajectoryExpansion(problem, trajectory, to_go, back.p, P, back.gains,
+                               bool(stochastic), radius, state_periods(problem), curvature)
+
 
 
 def _check_same_problem(problem: Problem, trajectory: Trajectory) -> None:
