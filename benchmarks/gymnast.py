@@ -17,6 +17,8 @@ predictions and the policies' costs are then tabulated.
 
     python benchmarks/gymnast.py --sizes 31 41 51 61 71 81 --dts 0.05 0.1   # ≈ 20 min, 8 GiB
     python benchmarks/gymnast.py --sizes 61 --methods fitted --dts 0.05 --figures figures
+    python benchmarks/gymnast.py --sizes 31 35 --methods fitted --dts default 0.05 \
+        --noisy-samples 1500 --truth-samples 2000
 """
 
 from __future__ import annotations
@@ -31,7 +33,9 @@ import numpy as np
 
 import gridlbc
 from gridlbc.certify import CertificateWarning
+from gridlbc.settings import SolverSettings
 from gridlbc.simulate import simulate
+from gridlbc.solver import courant_rates, time_grid
 from gridlbc.studies.gymnast import angle_distance, animate_swingup, plot_swingup
 from gridlbc.studies.problems import GYMNAST_START, gymnast_problem
 from gridlbc.trajectory import optimize
@@ -52,12 +56,12 @@ def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
     # float64 slices: noisy rollouts visit states whose z is below float32's range relative to
     # the slice maximum (v − min v > 103 λ), where a float32 policy is undefined. Keep every
     # k-th slice so that the slices fit in ``memory`` bytes (linear interpolation in time).
+    if dt is None:  # the solver's default step
+        dt = time_grid(problem, SolverSettings(**_options(method)), courant_rates(problem))[0]
     n_slices = round(problem.horizon / dt) + 1
     store_every = max(1, int(np.ceil(n_slices * problem.grid.size * 8 / memory)))
     started = time.perf_counter()
-    options = ({"method": "splitting", "fitting": "terminal"} if method == "fitted"
-               else {"method": method})
-    solution = gridlbc.solve(problem, dt=dt, store_every=store_every, **options)
+    solution = gridlbc.solve(problem, dt=dt, store_every=store_every, **_options(method))
     wall = time.perf_counter() - started
     predicted = float(solution.value(GYMNAST_START, 0.0)[0])
     clean = simulate(problem, policy_of(solution), GYMNAST_START, 1, dt=rollout_dt, noise=False)
@@ -74,6 +78,15 @@ def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
     return row, solution, clean
 
 
+def _options(method):
+    return ({"method": "splitting", "fitting": "terminal"} if method == "fitted"
+            else {"method": method, "fitting": None})
+
+
+def _step(text):
+    return None if text == "default" else float(text)
+
+
 def zero_torque_cost(problem, rollout_dt):
     zero = simulate(problem, lambda x, t: np.zeros((len(x), 1)), GYMNAST_START, 1,
                     dt=rollout_dt, noise=False)
@@ -84,8 +97,10 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[31, 41, 51])
     parser.add_argument("--methods", nargs="+", default=["fitted", "splitting"],
-                        help="splitting, fitted (splitting with fitting='terminal'), implicit")
-    parser.add_argument("--dts", type=float, nargs="+", default=[0.05, 0.1])
+                        help="splitting (plain, fitting=None), fitted (fitting='terminal'), "
+                        "implicit")
+    parser.add_argument("--dts", type=_step, nargs="+", default=[0.05, 0.1],
+                        help="time steps, or 'default' for the solver's own choice")
     parser.add_argument("--bounds", type=float, nargs=2, default=[16.0, 9.0],
                         metavar=("P1", "P2"), help="momentum box ±P1 × ±P2 (default 16 9)")
     parser.add_argument("--hip", default="stops", choices=["stops", "free"],

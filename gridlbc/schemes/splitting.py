@@ -38,9 +38,23 @@ reference is itself advanced by the fitted step, as one more right-hand side (fi
 P_φ φ = φ̄: v(x) ← Σ_j w_j v(y_j), the value-space semi-Lagrangian update). A problem fitted to
 its own terminal cost therefore has the accuracy of interpolating v rather than z, and all
 terminal costs solved with the same reference share one linear operator, so superposition stays
-exact among them (the README's swing-up tables compare the two). Where v is curved rather than steep,
-interpolating v overestimates it by about h² v''/8 per step: the fitted value errs on the
-pessimistic side.
+exact among them (the README's swing-up tables compare the two).
+
+Curvature term. Averaging log φ linearly over the simplex misses its curvature: for quadratic
+ℓ = log φ with index-unit Hessian H, Σ_j w_j ℓ(y_j) = ℓ(X) + ½ Σ_ab M_ab H_ab with the
+simplex's second moments M_ab = Σ_j w_j (y_j − X)_a (y_j − X)_b, which on the Kuhn simplex are
+min(f_a, f_b) − f_a f_b for the foot's fractional coordinates f in its cell. Where v is convex
+that bias overestimates v by about h² v''/8 per step, accumulating over the steps (pessimism
+of order h²/Δt). The fitted drift therefore uses
+
+    log φ̄(X) = Σ_j w_j ℓ(y_j) − ½ Σ_ab M_ab H_ab,
+
+H the central second differences of ℓ at the simplex's vertex of largest weight, and the result
+limited to [min_j ℓ(y_j), max_j ℓ(y_j)] over the vertices of positive weight (a face's range when
+the foot lies on it, so that mirror images stay mirror images) so that it creates no new extrema (stable where ℓ is
+kinked; at a smooth maximum inside a cell it costs the bias back there). φ̄ is still a positive
+function of φ alone, so for a fixed reference the step stays linear and non-negative in z, and
+exact where z ∝ φ; φ̄ is now also exact for quadratic log φ.
 
 Fitted diffusion. With a reference, the half-step diffusion along each noise axis is fitted too:
 
@@ -77,7 +91,7 @@ import numpy as np
 
 from .._numba import jit, jit_parallel, prange, work_blocks
 from ..grid import Grid
-from ..interpolate import _cell, _kuhn_kernel
+from ..interpolate import _cell, _kuhn_kernel, barycentric
 from ..problem import Problem
 
 FEET_LAYOUTS = ("compact", "table")
@@ -203,6 +217,17 @@ def _vertex_offsets(grid: Grid, shapes: np.ndarray) -> np.ndarray:
     return offsets
 
 
+def _walk_axes(grid: Grid, offsets: np.ndarray) -> np.ndarray:
+    """The axis of each walk step per packed shape, ``(S, d)``, from the vertex offsets
+    (a step is +s_a, or −(n_a − 1) s_a across a periodic seam)."""
+    steps = np.diff(offsets, axis=1)
+    axes = np.zeros(steps.shape, dtype=np.int64)
+    for a, ax in enumerate(grid.axes):
+        stride = grid.strides[a]
+        axes[(steps == stride) | (ax.periodic & (steps == -(ax.n - 1) * stride))] = a
+    return axes
+
+
 def characteristic_feet(problem: Problem, dt: float) -> np.ndarray:
     """Feet of all nodes, ``(N, d)`` (plain numpy, for tests and plots)."""
     return np.concatenate([feet for _, feet in _foot_chunks(problem, dt)])
@@ -317,6 +342,202 @@ def _fitting_kernel(z, reference, ell):
         for r in range(n_rhs):
             z[r, p] /= phi
     return floored
+
+
+# -- curvature correction of the fitted drift ---------------------------------------------------
+
+
+def _hessian_pairs(ndim: int) -> np.ndarray:
+    """``pairs[a, b]``: the column of the index-unit Hessian component ∂_a∂_b in
+    :func:`_hessian_kernel`'s output (symmetric; d(d+1)/2 columns)."""
+    pairs = np.empty((ndim, ndim), dtype=np.int64)
+    m = 0
+    for a in range(ndim):
+        for b in range(a, ndim):
+            pairs[a, b] = pairs[b, a] = m
+            m += 1
+    return pairs
+
+
+@jit_parallel
+def _hessian_kernel(ell, shape, strides, periodic, pairs, hessian):
+    """hessian[p, pairs[a, b]] = the second difference of ``ell`` in index units at node p:
+    ℓ(+a) − 2ℓ + ℓ(−a) on the diagonal, (ℓ(+a+b) − ℓ(+a−b) − ℓ(−a+b) + ℓ(−a−b))/4 off it,
+    about the node itself, wrapped on periodic axes; on a closed axis the stencil's centre is
+    moved in from an end to its neighbour (axes of fewer than 3 nodes have no curvature).
+    Runs line by line along the last axis, so that only the line's first node is decoded."""
+    d = shape.size
+    n_last = shape[d - 1]
+    n_lines = ell.size // n_last
+    n_blocks = min(n_lines, 256)
+    for block in prange(n_blocks):
+        up = np.zeros(d, dtype=np.int64)  # offsets of centre ± e_a from the centre
+        down = np.zeros(d, dtype=np.int64)
+        for line in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
+            _hessian_line(ell, shape, strides, periodic, pairs, hessian, line * n_last, up, down)
+
+
+@jit
+def _hessian_line(ell, shape, strides, periodic, pairs, hessian, first, up, down):
+    """:func:`_hessian_kernel` on the line along the last axis that starts at node ``first``
+    (``up``, ``down``: scratch ``(d,)``)."""
+    d = shape.size
+    shift = np.int64(0)  # centre − node, from the outer axes
+    for a in range(d - 1):
+        shift += _stencil(first, a, shape, strides, periodic, up, down)
+    for i in range(shape[d - 1]):
+        node = first + i
+        centre = node + shift + _stencil(node, d - 1, shape, strides, periodic, up, down)
+        middle = ell[centre]
+        for a in range(d):
+            if up[a] == 0:
+                for b in range(a, d):
+                    hessian[node, pairs[a, b]] = 0.0
+                continue
+            hessian[node, pairs[a, a]] = ell[centre + up[a]] - 2.0 * middle + ell[centre + down[a]]
+            for b in range(a + 1, d):
+                value = 0.0
+                if up[b] != 0:
+                    value = 0.25 * (ell[centre + up[a] + up[b]] - ell[centre + up[a] + down[b]]
+                                    - ell[centre + down[a] + up[b]] + ell[centre + down[a] + down[b]])
+                hessian[node, pairs[a, b]] = value
+
+
+@jit
+def _stencil(node, a, shape, strides, periodic, up, down):
+    """For axis a at ``node``: sets up[a], down[a] to the offsets of the stencil centre's ± e_a
+    neighbours (wrapped on a periodic axis; 0 on a closed axis of fewer than 3 nodes) and
+    returns the centre's offset from the node along a (±s_a at the ends of a closed axis)."""
+    n, s = shape[a], strides[a]
+    i = (node // s) % n
+    if periodic[a]:
+        up[a] = s if i < n - 1 else -(n - 1) * s
+        down[a] = -s if i > 0 else (n - 1) * s
+        return 0
+    if n < 3:
+        up[a] = down[a] = 0
+        return 0
+    up[a], down[a] = s, -s
+    return s if i == 0 else (-s if i == n - 1 else 0)
+
+
+@jit
+def _limited(ell_lin, term, low, high):
+    """The curvature term, cut so that ℓ_lin + term stays within [low, high] (the vertex values'
+    range): no new extrema, which keeps the corrected drift stable where ℓ is kinked."""
+    return min(max(ell_lin + term, low), high) - ell_lin
+
+
+@jit_parallel
+def _curvature_compact_kernel(ell, base, code, frac, offsets, axes, pairs, hessian, out):
+    """out[p] = the limited curvature term of the compact feet (see
+    :meth:`SplittingStep.curvature_correction`): with the sorted fractions f_k of walk steps
+    k along axes π_k = ``axes[code[p], k]``, M_{π_k π_k} = f_k (1 − f_k) and, for k < l,
+    M_{π_k π_l} = f_l (1 − f_k); H at the vertex of largest weight (the first on a tie)."""
+    n_nodes, d = frac.shape
+    for p in prange(n_nodes):
+        node = np.int64(base[p])
+        c = code[p]
+        previous = _Q
+        lin = 0.0
+        low, high = np.inf, -np.inf
+        nearest, largest = node, -1
+        for j in range(d + 1):
+            fj = np.int64(frac[p, j]) if j < d else np.int64(0)
+            vertex = node + offsets[c, j]
+            value = ell[vertex]
+            lin += (previous - fj) * value
+            if previous > fj:
+                low, high = min(low, value), max(high, value)
+            if previous - fj > largest:
+                nearest, largest = vertex, previous - fj
+            previous = fj
+        acc = 0.0
+        for k in range(d):
+            ak = axes[c, k]
+            cross = 0.0
+            for m in range(k + 1, d):
+                cross += np.float64(frac[p, m]) * hessian[nearest, pairs[ak, axes[c, m]]]
+            f = np.float64(frac[p, k]) * (1.0 / _Q)
+            acc += (1.0 - f) * (f * hessian[nearest, pairs[ak, ak]] + 2.0 * cross * (1.0 / _Q))
+        out[p] = _limited(lin * (1.0 / _Q), -0.5 * acc, low, high)
+
+
+@jit_parallel
+def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, out):
+    """:func:`_curvature_compact_kernel` for the table feet: the walk step j → j + 1 runs along
+    the axis whose stride (or wrap −(n − 1) × stride) is idx[p, j+1] − idx[p, j], and its
+    fraction is f_j = Σ_{i>j} weights[p, i]. Nodes are taken in blocks, so that the scratch of
+    the walk's axes and fractions is allocated once per block."""
+    n_nodes, n_vertices = idx.shape
+    d = n_vertices - 1
+    n_blocks = min(n_nodes, 256)
+    for block in prange(n_blocks):
+        axis = np.empty(d, dtype=np.int64)
+        f = np.empty(d)
+        for p in range(block * n_nodes // n_blocks, (block + 1) * n_nodes // n_blocks):
+            tail = 0.0
+            lin = 0.0
+            low, high = np.inf, -np.inf
+            for j in range(d - 1, -1, -1):
+                tail += np.float64(weights[p, j + 1])
+                f[j] = tail
+                step = np.int64(idx[p, j + 1]) - np.int64(idx[p, j])
+                axis[j] = 0
+                for a in range(d):
+                    if step == strides[a] or step == -(shape[a] - 1) * strides[a]:
+                        axis[j] = a
+            node, largest = np.int64(idx[p, 0]), -1.0
+            for j in range(n_vertices):
+                value = ell[idx[p, j]]
+                lin += weights[p, j] * value
+                if weights[p, j] > 0:
+                    low, high = min(low, value), max(high, value)
+                if weights[p, j] > largest:
+                    node, largest = np.int64(idx[p, j]), weights[p, j]
+            acc = 0.0
+            for k in range(d):
+                cross = 0.0
+                for m in range(k + 1, d):
+                    cross += f[m] * hessian[node, pairs[axis[k], axis[m]]]
+                acc += (1.0 - f[k]) * (f[k] * hessian[node, pairs[axis[k], axis[k]]]
+                                       + 2.0 * cross)
+            out[p] = _limited(lin, -0.5 * acc, low, high)
+
+
+def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) -> np.ndarray:
+    """Plain-numpy twin of :meth:`SplittingStep.curvature_correction` from the feet ``(N, d)``
+    (unquantised): −½ Σ_ab (min(f_a, f_b) − f_a f_b) H_ab, f the foot's fractional coordinates
+    in its cell and H the index-unit Hessian of ``ell`` (by :func:`numpy.roll`; closed ends: the
+    neighbour's) at the simplex vertex of largest weight, limited to the vertices' range."""
+    shape = np.array(grid.shape)
+    s = (grid.clamp(feet) - grid.lo) / grid.spacing
+    s = np.where(grid.periodic, np.mod(s, shape), s)
+    cell = np.where(grid.periodic, np.floor(s) % shape, np.minimum(np.floor(s), shape - 2))
+    f = s - cell
+    idx, weights = barycentric(grid, feet)
+    nearest = idx[np.arange(len(feet)), np.argmax(weights, axis=1)]
+    field = grid.reshape(ell)
+    centre = [np.arange(n) if p or n < 3 else np.clip(np.arange(n), 1, n - 2)
+              for n, p in zip(grid.shape, grid.periodic)]
+    total = np.zeros(len(feet))
+    for a in range(grid.ndim):
+        for b in range(a, grid.ndim):
+            if (not grid.periodic[a] and shape[a] < 3) or (not grid.periodic[b] and shape[b] < 3):
+                continue
+            if a == b:
+                h = np.roll(field, -1, a) - 2 * field + np.roll(field, 1, a)
+            else:
+                h = 0.25 * sum(sign_a * sign_b * np.roll(field, (-sign_a, -sign_b), (a, b))
+                               for sign_a in (1, -1) for sign_b in (1, -1))
+            moment = np.minimum(f[:, a], f[:, b]) - f[:, a] * f[:, b]
+            total += (1 if a == b else 2) * moment * h[np.ix_(*centre)].reshape(-1)[nearest]
+    lin = (ell[idx] * weights).sum(axis=1)
+    carried = weights > 0  # the range of the vertices that carry weight
+    low = np.where(carried, ell[idx], np.inf).min(axis=1)
+    high = np.where(carried, ell[idx], -np.inf).max(axis=1)
+    limited = np.clip(lin - 0.5 * total, low, high)
+    return limited - lin
 
 
 # -- diffusion pass -----------------------------------------------------------------------------
@@ -459,7 +680,7 @@ def _diffuse_periodic_kernel(z, ratio, n, stride):
 
 # -- fitted diffusion ---------------------------------------------------------------------------
 
-_FIT_WINDOW = 30.0  # cells whose integrand stays below e^{−30} of the largest are skipped
+_FIT_WINDOW = 20.0  # cells whose integrand stays below e^{−20} of the largest are skipped
 _FIT_IMAGES = 16  # the fitted diffusion scans at most this many line lengths to each side
 
 
@@ -473,25 +694,38 @@ def _erfcx(x):
 
 
 @jit
-def _cell_weights(A, B, C, E):
-    """(∫₀¹ (1 − s) e^{f(s) − E} ds, ∫₀¹ s e^{f(s) − E} ds) for the concave
-    f(s) = −A s² + B s + C (A > 0), without overflow, both clamped at 0 against rounding.
+def _cell_mass(A, B, C, E):
+    """∫₀¹ e^{f(s) − E} ds for the concave f(s) = −A s² + B s + C (A > 0), without overflow.
 
-    With μ = B/(2A): ∫₀¹ e^{f} = e^{f(ŝ)} √π/(2√A) × (an erf difference, written with erfcx
-    when both ends lie on one side of μ, so that it never cancels), and
-    ∫₀¹ (s − μ) e^{f} = (e^{f(0)} − e^{f(1)})/(2A)."""
+    With μ = B/(2A) and the ends lo = −√A μ, hi = √A (1 − μ) in the Gaussian's units it is
+    e^{f(μ) − E} √π/(2√A) (erf(hi) − erf(lo)), the difference written with erfc when both ends
+    lie on one side of μ, so that it never cancels; far out on one side (|end| ≥ 25, where erfc
+    underflows) with erfcx, scaled by the larger end value instead of e^{f(μ)}."""
     root = math.sqrt(A)
     mu = B / (2.0 * A)
     lo, hi = -root * mu, root * (1.0 - mu)
-    e0, e1 = math.exp(C - E), math.exp(C + B - A - E)
     half = 0.5 * math.sqrt(math.pi) / root
-    if lo >= 0.0:  # μ ≤ 0: the integrand is largest at s = 0
-        total = e0 * half * (_erfcx(lo) - math.exp(lo * lo - hi * hi) * _erfcx(hi))
-    elif hi <= 0.0:  # μ ≥ 1: largest at s = 1
-        total = e1 * half * (_erfcx(-hi) - math.exp(hi * hi - lo * lo) * _erfcx(-lo))
+    if lo >= 25.0:  # μ ≪ 0: the integrand is largest at s = 0
+        return math.exp(C - E) * half * (_erfcx(lo) - math.exp(lo * lo - hi * hi) * _erfcx(hi))
+    if hi <= -25.0:  # μ ≫ 1: largest at s = 1
+        return (math.exp(C + B - A - E) * half
+                * (_erfcx(-hi) - math.exp(hi * hi - lo * lo) * _erfcx(-lo)))
+    if lo >= 0.0:
+        difference = math.erfc(lo) - math.erfc(hi)
+    elif hi <= 0.0:
+        difference = math.erfc(-hi) - math.erfc(-lo)
     else:
-        total = math.exp(C + A * mu * mu - E) * half * (math.erf(hi) - math.erf(lo))
-    first = max(mu * total + (e0 - e1) / (2.0 * A), 0.0)
+        difference = math.erf(hi) - math.erf(lo)
+    return max(math.exp(C + A * mu * mu - E) * half * difference, 0.0)
+
+
+@jit
+def _cell_weights(A, B, C, E):
+    """(∫₀¹ (1 − s) e^{f(s) − E} ds, ∫₀¹ s e^{f(s) − E} ds) for f as in :func:`_cell_mass`,
+    both clamped at 0 against rounding: with ∫₀¹ (s − μ) e^{f} = (e^{f(0)} − e^{f(1)})/(2A)."""
+    total = _cell_mass(A, B, C, E)
+    first = max(B / (2.0 * A) * total + (math.exp(C - E) - math.exp(C + B - A - E)) / (2.0 * A),
+                0.0)
     return max(total - first, 0.0), first
 
 
@@ -546,9 +780,9 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
 
     Each side of x_p is scanned cell by cell, twice: first for the largest peak E of the
     log-integrand −(x_p − x)²/(2σ²) + ℓ̄(x) over a cell, then to integrate the cells whose peak
-    is within 30 of E. A cell c cells away peaks at most at −A c² + ℓ (A = h²/(2σ²), ℓ its near
-    node's, plus the line's ``bulges``), and beyond c > L/(2A), L the line's ``rises``, no later
-    cell can peak higher than that: the scan stops there once it falls below E − 30, or once
+    is within 20 of E (``_FIT_WINDOW``). A cell c cells away peaks at most at −A c² + ℓ
+    (A = h²/(2σ²), ℓ its near node's, plus the line's ``bulges``), and beyond c > L/(2A), L the line's ``rises``, no later
+    cell can peak higher than that: the scan stops there once it falls below E − 20, or once
     −A c² + ``ell_max`` (plus the bulge) does (after at most ``_FIT_IMAGES`` line lengths).
 
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
@@ -557,7 +791,6 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     n_rhs, n_nodes = y.shape
     uniform = sigma2.size == 1
     reach = _FIT_IMAGES * n
-    period = n if periodic else 2 * (n - 1)
     for p in prange(n_nodes):
         i = (p // stride) % n
         line = p - i * stride
@@ -579,13 +812,14 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
                 step = 1 if side == 0 else -1
                 near = i  # unfolded index of the cell's node nearest to x_p, then the far one
                 k_near = i
+                heading = step  # the direction of the folded index (mirrors turn it round)
                 for c in range(reach):
                     far = near + step
-                    k_far = far % period
-                    if k_far < 0:
-                        k_far += period
-                    if k_far > n - 1:
-                        k_far = period - k_far
+                    k_far = k_near + heading
+                    if k_far == n:
+                        k_far, heading = (0, heading) if periodic else (n - 2, -heading)
+                    elif k_far == -1:
+                        k_far, heading = (n - 1, heading) if periodic else (1, -heading)
                     gauss = -A * c * c
                     if gauss + ell_max + bulge < peak - _FIT_WINDOW or (c > free and (
                             gauss + ell[line + k_near * stride] + bulge < peak - _FIT_WINDOW)):
@@ -604,10 +838,10 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
                         continue
                     if top < peak - _FIT_WINDOW:
                         continue
-                    w0, w1 = _cell_weights(Ac, B, C, peak)
                     if log_out:
-                        out[0, p] += w0 + w1
+                        out[0, p] += _cell_mass(Ac, B, C, peak)
                         continue
+                    w0, w1 = _cell_weights(Ac, B, C, peak)
                     for r in range(n_rhs):
                         out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
         norm = h / math.sqrt(2.0 * math.pi * s2)
@@ -714,6 +948,7 @@ class SplittingStep:
                          else np.empty(0))
         self.cost_factor = np.exp(self.log_cost)
         self._buffers = {}
+        self._hessian = None  # (N, d(d+1)/2) float32, allocated by the first fitted step
         self.iterations: list[int] = []  # direct tridiagonal solves: no iterations
 
     @staticmethod
@@ -850,6 +1085,30 @@ class SplittingStep:
                                    ones_row, out)
         else:
             _advect_table_kernel(z, self.idx, self.weights, scale, ell, ones_row, out)
+        if reference is not None:
+            out *= np.exp(self.curvature_correction(ell))
+
+    def curvature_correction(self, ell: np.ndarray) -> np.ndarray:
+        """The curvature term c(X) = −½ Σ_ab M_ab(X) H_ab of the fitted drift at every node's
+        foot X (see the module docstring): ``log φ̄ = Σ_j w_j ℓ(y_j) + c``. Returns a scratch
+        array ``(N,)`` (overwritten by the next call)."""
+        grid = self.grid
+        if self._hessian is None:
+            self._hessian = np.empty((grid.size, grid.ndim * (grid.ndim + 1) // 2), np.float32)
+            self._correction = np.empty(grid.size)
+            self._pairs = _hessian_pairs(grid.ndim)
+            if self.layout == "compact":
+                self._walk_axes = _walk_axes(grid, self.offsets)
+        shape = np.array(grid.shape, dtype=np.int64)
+        _hessian_kernel(ell, shape, grid.strides, grid.periodic, self._pairs, self._hessian)
+        out = self._correction
+        if self.layout == "compact":
+            _curvature_compact_kernel(ell, self.base, self.code, self.frac, self.offsets,
+                                      self._walk_axes, self._pairs, self._hessian, out)
+        else:
+            _curvature_table_kernel(ell, self.idx, self.weights, shape, grid.strides,
+                                    self._pairs, self._hessian, out)
+        return out
 
     def log_step(self, ell: np.ndarray, out: np.ndarray) -> float:
         """The step fitted to its own result, in the log domain: for ℓ = log z (``(1, N)``,
@@ -862,6 +1121,7 @@ class SplittingStep:
         first = self._log_half_diffusion(ell, out)
         second = out if first is ell else ell
         self.drift(first, second, np.ones(1))
+        second[0] += self.curvature_correction(first[0])
         result = self._log_half_diffusion(second, first)
         if self.log_cost.size:
             result += self.log_cost
