@@ -60,8 +60,8 @@ def time_grid(problem: Problem, settings: SolverSettings,
     The default plain splitting step holds the largest Courant number max_x r(x) Δt at
     ``courant``; the fitted one holds the root-mean-square r Δt at ``courant``, because its
     error balances an O(h²/Δt) interpolation term against the O(Δt) splitting over the nodes
-    that matter, and in 4-D the largest rate sits in far corners of the box (the gymnast's is 7×
-    its root mean square, a pendulum's under 2×)."""
+    that matter, and in 4-D the largest rate sits in far corners of the box, far above its root
+    mean square."""
     T = problem.horizon
     if settings.dt is not None:
         if settings.dt > T:
