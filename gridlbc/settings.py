@@ -115,8 +115,7 @@ class SolverSettings:
                 or callable(self.fitting)):
             raise ValueError(f"fitting must be 'auto', None, 'terminal' or a terminal cost g(x), "
                              f"got {self.fitting!r}")
-        if self.fitting != "auto" and self.fitting is not None and \
-                not METHODS[self.method].supports_fitting:
+        if self.reference is not None and not METHODS[self.method].supports_fitting:
             fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
             raise ValueError(f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
                              f"{self.method!r}: drop fitting or use one of those methods")
