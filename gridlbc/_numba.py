@@ -12,6 +12,10 @@ import numba
 jit = numba.njit(cache=True, nogil=True)
 """Decorator for serial kernels."""
 
+jit_inline = numba.njit(cache=True, nogil=True, inline="always")
+"""Decorator for small serial helpers that numba inlines into their callers (no call overhead
+inside the per-node loops of a kernel)."""
+
 jit_parallel = numba.njit(cache=True, nogil=True, parallel=True)
 """Decorator for kernels whose outer loop is a ``numba.prange`` over independent work."""
 

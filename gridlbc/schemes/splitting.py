@@ -89,7 +89,7 @@ import math
 
 import numpy as np
 
-from .._numba import jit, jit_parallel, prange, work_blocks
+from .._numba import jit, jit_inline, jit_parallel, prange, work_blocks
 from ..grid import Grid
 from ..interpolate import _cell, _kuhn_kernel, barycentric
 from ..problem import Problem
@@ -359,57 +359,67 @@ def _hessian_pairs(ndim: int) -> np.ndarray:
     return pairs
 
 
-@jit_parallel
-def _hessian_kernel(ell, shape, strides, periodic, pairs, hessian):
-    """hessian[p, pairs[a, b]] = the second difference of ``ell`` in index units at node p:
-    ℓ(+a) − 2ℓ + ℓ(−a) on the diagonal, (ℓ(+a+b) − ℓ(+a−b) − ℓ(−a+b) + ℓ(−a−b))/4 off it,
-    about the node itself, wrapped on periodic axes; on a closed axis the stencil's centre is
-    moved in from an end to its neighbour (axes of fewer than 3 nodes have no curvature).
-    Runs line by line along the last axis, so that only the line's first node is decoded."""
-    d = shape.size
-    n_last = shape[d - 1]
-    n_lines = ell.size // n_last
-    n_blocks = min(n_lines, 256)
-    for block in prange(n_blocks):
-        up = np.zeros(d, dtype=np.int64)  # offsets of centre ± e_a from the centre
-        down = np.zeros(d, dtype=np.int64)
-        for line in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
-            _hessian_line(ell, shape, strides, periodic, pairs, hessian, line * n_last, up, down)
+@functools.cache
+def _hessian_kernels(d: int):
+    """:func:`_hessian_kernel` compiled for grids of dimension ``d`` (a constant: numba unrolls
+    the loops over the axis pairs), writing the symmetric pairs in :func:`_hessian_pairs`'s
+    order into a flat view of the output."""
+
+    @jit_parallel
+    def kernel(ell, shape, strides, periodic, hessian):
+        n_last = shape[d - 1]
+        n_lines = ell.size // n_last
+        n_blocks = min(n_lines, 256)
+        flat = hessian.reshape(-1)
+        for block in prange(n_blocks):
+            up = np.zeros(d, dtype=np.int64)  # offsets of centre ± e_a from the centre
+            down = np.zeros(d, dtype=np.int64)
+            for line in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
+                first = line * n_last
+                shift = np.int64(0)  # centre − node, from the outer axes
+                for a in range(d - 1):
+                    shift += _stencil((first // strides[a]) % shape[a], a, shape, strides,
+                                      periodic, up, down)
+                for i in range(n_last):
+                    node = first + i
+                    centre = node + shift + _stencil(i, d - 1, shape, strides, periodic, up, down)
+                    middle = ell[centre]
+                    column = node * (d * (d + 1) // 2)
+                    for a in range(d):
+                        up_a, down_a = up[a], down[a]
+                        flat[column] = (ell[centre + up_a] - 2.0 * middle + ell[centre + down_a]
+                                        if up_a != 0 else 0.0)
+                        column += 1
+                        for b in range(a + 1, d):
+                            value = 0.0
+                            if up_a != 0 and up[b] != 0:
+                                value = 0.25 * (ell[centre + up_a + up[b]]
+                                                - ell[centre + up_a + down[b]]
+                                                - ell[centre + down_a + up[b]]
+                                                + ell[centre + down_a + down[b]])
+                            flat[column] = value
+                            column += 1
+
+    return kernel
 
 
-@jit
-def _hessian_line(ell, shape, strides, periodic, pairs, hessian, first, up, down):
-    """:func:`_hessian_kernel` on the line along the last axis that starts at node ``first``
-    (``up``, ``down``: scratch ``(d,)``)."""
-    d = shape.size
-    shift = np.int64(0)  # centre − node, from the outer axes
-    for a in range(d - 1):
-        shift += _stencil(first, a, shape, strides, periodic, up, down)
-    for i in range(shape[d - 1]):
-        node = first + i
-        centre = node + shift + _stencil(node, d - 1, shape, strides, periodic, up, down)
-        middle = ell[centre]
-        for a in range(d):
-            if up[a] == 0:
-                for b in range(a, d):
-                    hessian[node, pairs[a, b]] = 0.0
-                continue
-            hessian[node, pairs[a, a]] = ell[centre + up[a]] - 2.0 * middle + ell[centre + down[a]]
-            for b in range(a + 1, d):
-                value = 0.0
-                if up[b] != 0:
-                    value = 0.25 * (ell[centre + up[a] + up[b]] - ell[centre + up[a] + down[b]]
-                                    - ell[centre + down[a] + up[b]] + ell[centre + down[a] + down[b]])
-                hessian[node, pairs[a, b]] = value
+def _hessian_kernel(ell, shape, strides, periodic, hessian):
+    """hessian[p, pairs[a, b]] (:func:`_hessian_pairs`) = the second difference of ``ell`` in
+    index units at node p: ℓ(+a) − 2ℓ + ℓ(−a) on the diagonal, (ℓ(+a+b) − ℓ(+a−b) − ℓ(−a+b) +
+    ℓ(−a−b))/4 off it, about the node itself, wrapped on periodic axes; on a closed axis the
+    stencil's centre is moved in from an end to its neighbour (axes of fewer than 3 nodes have
+    no curvature). Runs line by line along the last axis, so that only the line's first node is
+    decoded. ``hessian`` C-contiguous ``(N, d(d+1)/2)``."""
+    _hessian_kernels(shape.size)(ell, shape, strides, periodic, hessian)
 
 
-@jit
-def _stencil(node, a, shape, strides, periodic, up, down):
-    """For axis a at ``node``: sets up[a], down[a] to the offsets of the stencil centre's ± e_a
-    neighbours (wrapped on a periodic axis; 0 on a closed axis of fewer than 3 nodes) and
-    returns the centre's offset from the node along a (±s_a at the ends of a closed axis)."""
+@jit_inline
+def _stencil(i, a, shape, strides, periodic, up, down):
+    """For axis a at a node of index i along it: sets up[a], down[a] to the offsets of the
+    stencil centre's ± e_a neighbours (wrapped on a periodic axis; 0 on a closed axis of fewer
+    than 3 nodes) and returns the centre's offset from the node along a (±s_a at the ends of a
+    closed axis)."""
     n, s = shape[a], strides[a]
-    i = (node // s) % n
     if periodic[a]:
         up[a] = s if i < n - 1 else -(n - 1) * s
         down[a] = -s if i > 0 else (n - 1) * s
@@ -421,46 +431,67 @@ def _stencil(node, a, shape, strides, periodic, up, down):
     return s if i == 0 else (-s if i == n - 1 else 0)
 
 
-@jit
+@jit_inline
 def _limited(ell_lin, term, low, high):
     """The curvature term, cut so that ℓ_lin + term stays within [low, high] (the vertex values'
     range): no new extrema, which keeps the corrected drift stable where ℓ is kinked."""
     return min(max(ell_lin + term, low), high) - ell_lin
 
 
-@jit_parallel
+@functools.cache
+def _curvature_compact_kernels(d: int):
+    """:func:`_curvature_compact_kernel` compiled for grids of dimension ``d`` (a constant: the
+    loops over the vertices and walk steps unroll), reading flat rows through unsigned indices
+    as :func:`_advect_kernels` does."""
+
+    @jit_parallel
+    def kernel(ell, base, code, frac, offsets, axes, pairs, hessian, out):
+        n_nodes = base.size
+        fractions = frac.reshape(-1)
+        vertex = offsets.reshape(-1)
+        walk = axes.reshape(-1)
+        columns = hessian.shape[1]
+        flat = hessian.reshape(-1)
+        for p in prange(n_nodes):
+            node = np.int64(base[p])
+            c = np.int64(code[p])
+            previous = _Q
+            lin = 0.0
+            low, high = np.inf, -np.inf
+            nearest, largest = node, -1
+            for j in range(d + 1):
+                fj = np.int64(fractions[p * d + j]) if j < d else np.int64(0)
+                v = node + vertex[c * (d + 1) + j]
+                value = ell[np.uint64(v)]
+                lin += (previous - fj) * value
+                if previous > fj:
+                    low, high = min(low, value), max(high, value)
+                if previous - fj > largest:
+                    nearest, largest = v, previous - fj
+                previous = fj
+            row = np.uint64(nearest * columns)
+            acc = 0.0
+            for k in range(d):
+                ak = walk[c * d + k]
+                cross = 0.0
+                for m in range(k + 1, d):
+                    cross += (np.float64(fractions[p * d + m])
+                              * flat[row + np.uint64(pairs[ak, walk[c * d + m]])])
+                f = np.float64(fractions[p * d + k]) * (1.0 / _Q)
+                acc += (1.0 - f) * (f * flat[row + np.uint64(pairs[ak, ak])]
+                                    + 2.0 * cross * (1.0 / _Q))
+            out[p] = _limited(lin * (1.0 / _Q), -0.5 * acc, low, high)
+
+    return kernel
+
+
 def _curvature_compact_kernel(ell, base, code, frac, offsets, axes, pairs, hessian, out):
     """out[p] = the limited curvature term of the compact feet (see
     :meth:`SplittingStep.curvature_correction`): with the sorted fractions f_k of walk steps
     k along axes π_k = ``axes[code[p], k]``, M_{π_k π_k} = f_k (1 − f_k) and, for k < l,
     M_{π_k π_l} = f_l (1 − f_k); H at the vertex of largest weight (the first on a tie)."""
-    n_nodes, d = frac.shape
-    for p in prange(n_nodes):
-        node = np.int64(base[p])
-        c = code[p]
-        previous = _Q
-        lin = 0.0
-        low, high = np.inf, -np.inf
-        nearest, largest = node, -1
-        for j in range(d + 1):
-            fj = np.int64(frac[p, j]) if j < d else np.int64(0)
-            vertex = node + offsets[c, j]
-            value = ell[vertex]
-            lin += (previous - fj) * value
-            if previous > fj:
-                low, high = min(low, value), max(high, value)
-            if previous - fj > largest:
-                nearest, largest = vertex, previous - fj
-            previous = fj
-        acc = 0.0
-        for k in range(d):
-            ak = axes[c, k]
-            cross = 0.0
-            for m in range(k + 1, d):
-                cross += np.float64(frac[p, m]) * hessian[nearest, pairs[ak, axes[c, m]]]
-            f = np.float64(frac[p, k]) * (1.0 / _Q)
-            acc += (1.0 - f) * (f * hessian[nearest, pairs[ak, ak]] + 2.0 * cross * (1.0 / _Q))
-        out[p] = _limited(lin * (1.0 / _Q), -0.5 * acc, low, high)
+    _curvature_compact_kernels(frac.shape[1])(ell, base, code, frac, offsets, axes, pairs,
+                                              hessian, out)
 
 
 @jit_parallel
@@ -788,69 +819,78 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
     the integral, log ∫ G_σ φ̄: the reference advanced alone, in the log domain (nothing
     underflows however steep ℓ is)."""
-    n_rhs, n_nodes = y.shape
+    n_nodes = y.shape[1]
     uniform = sigma2.size == 1
     reach = _FIT_IMAGES * n
-    for p in prange(n_nodes):
-        i = (p // stride) % n
-        line = p - i * stride
-        s2 = sigma2[0] if uniform else sigma2[p]
-        if s2 <= 0.0:  # no noise at this node: z' = z
-            for r in range(n_rhs):
-                out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
-            continue
-        A = h * h / (2.0 * s2)
-        line_id = (p // (n * stride)) * stride + p % stride
-        free = rises[line_id] / (2.0 * A)  # within this many cells the bound may still rise
-        bulge = bulges[line_id]
-        peak = ell[p]
-        for sweep in range(2):  # 0: the largest cell peak E; 1: integrate against it
-            if sweep == 1:
-                for r in range(n_rhs):
-                    out[r, p] = 0.0
-            for side in range(2):
-                step = 1 if side == 0 else -1
-                near = i  # unfolded index of the cell's node nearest to x_p, then the far one
-                k_near = i
-                heading = step  # the direction of the folded index (mirrors turn it round)
-                for c in range(reach):
-                    far = near + step
-                    k_far = k_near + heading
-                    if k_far == n:
-                        k_far, heading = (0, heading) if periodic else (n - 2, -heading)
-                    elif k_far == -1:
-                        k_far, heading = (n - 1, heading) if periodic else (1, -heading)
-                    gauss = -A * c * c
-                    if gauss + ell_max + bulge < peak - _FIT_WINDOW or (c > free and (
-                            gauss + ell[line + k_near * stride] + bulge < peak - _FIT_WINDOW)):
-                        break
-                    lo_node, hi_node = (k_near, k_far) if side == 0 else (k_far, k_near)
-                    a = (near - i if side == 0 else far - i) * h  # the cell's left end − x_p
-                    k0, k1 = line + lo_node * stride, line + hi_node * stride
-                    kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
-                    Ac = A - 0.5 * kappa
-                    B = ell[k1] - ell[k0] - a * h / s2 - 0.5 * kappa
-                    C = ell[k0] - a * a / (2.0 * s2)
-                    top = _cell_peak(Ac, B, C)
-                    near, k_near = far, k_far
-                    if sweep == 0:
-                        peak = max(peak, top)
-                        continue
-                    if top < peak - _FIT_WINDOW:
-                        continue
-                    if log_out:
-                        out[0, p] += _cell_mass(Ac, B, C, peak)
-                        continue
-                    w0, w1 = _cell_weights(Ac, B, C, peak)
-                    for r in range(n_rhs):
-                        out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
-        norm = h / math.sqrt(2.0 * math.pi * s2)
-        if log_out:
-            out[0, p] = peak + math.log(out[0, p] * norm)
-            continue
-        norm *= math.exp(peak)
+    for line_id in prange(n_nodes // n):  # line by line: no integer division per node
+        line = (line_id // stride) * n * stride + line_id % stride
+        for i in range(n):
+            _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n,
+                                 stride, periodic, log_out, out, uniform, reach, line_id, line, i)
+
+
+@jit_inline
+def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n, stride,
+                         periodic, log_out, out, uniform, reach, line_id, line, i):
+    """:func:`_diffuse_fitted_kernel` at node i of the line starting at ``line``."""
+    n_rhs = y.shape[0]
+    p = line + i * stride
+    s2 = sigma2[0] if uniform else sigma2[p]
+    if s2 <= 0.0:  # no noise at this node: z' = z
         for r in range(n_rhs):
-            out[r, p] *= norm
+            out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
+        return
+    A = h * h / (2.0 * s2)
+    free = rises[line_id] / (2.0 * A)  # within this many cells the bound may still rise
+    bulge = bulges[line_id]
+    peak = ell[p]
+    for sweep in range(2):  # 0: the largest cell peak E; 1: integrate against it
+        if sweep == 1:
+            for r in range(n_rhs):
+                out[r, p] = 0.0
+        for side in range(2):
+            step = 1 if side == 0 else -1
+            near = i  # unfolded index of the cell's node nearest to x_p, then the far one
+            k_near = i
+            heading = step  # the direction of the folded index (mirrors turn it round)
+            for c in range(reach):
+                far = near + step
+                k_far = k_near + heading
+                if k_far == n:
+                    k_far, heading = (0, heading) if periodic else (n - 2, -heading)
+                elif k_far == -1:
+                    k_far, heading = (n - 1, heading) if periodic else (1, -heading)
+                gauss = -A * c * c
+                if gauss + ell_max + bulge < peak - _FIT_WINDOW or (c > free and (
+                        gauss + ell[line + k_near * stride] + bulge < peak - _FIT_WINDOW)):
+                    break
+                lo_node, hi_node = (k_near, k_far) if side == 0 else (k_far, k_near)
+                a = (near - i if side == 0 else far - i) * h  # the cell's left end − x_p
+                k0, k1 = line + lo_node * stride, line + hi_node * stride
+                kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
+                Ac = A - 0.5 * kappa
+                B = ell[k1] - ell[k0] - a * h / s2 - 0.5 * kappa
+                C = ell[k0] - a * a / (2.0 * s2)
+                top = _cell_peak(Ac, B, C)
+                near, k_near = far, k_far
+                if sweep == 0:
+                    peak = max(peak, top)
+                    continue
+                if top < peak - _FIT_WINDOW:
+                    continue
+                if log_out:
+                    out[0, p] += _cell_mass(Ac, B, C, peak)
+                    continue
+                w0, w1 = _cell_weights(Ac, B, C, peak)
+                for r in range(n_rhs):
+                    out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
+    norm = h / math.sqrt(2.0 * math.pi * s2)
+    if log_out:
+        out[0, p] = peak + math.log(out[0, p] * norm)
+        return
+    norm *= math.exp(peak)
+    for r in range(n_rhs):
+        out[r, p] *= norm
 
 
 def diffuse_fitted_numpy(y: np.ndarray, ell: np.ndarray, variance: float, h: float,
@@ -1100,7 +1140,7 @@ class SplittingStep:
             if self.layout == "compact":
                 self._walk_axes = _walk_axes(grid, self.offsets)
         shape = np.array(grid.shape, dtype=np.int64)
-        _hessian_kernel(ell, shape, grid.strides, grid.periodic, self._pairs, self._hessian)
+        _hessian_kernel(ell, shape, grid.strides, grid.periodic, self._hessian)
         out = self._correction
         if self.layout == "compact":
             _curvature_compact_kernel(ell, self.base, self.code, self.frac, self.offsets,
