@@ -69,3 +69,50 @@ def test_remaining_task_shifts_horizon_and_clock():
     assert task.horizon == problem.horizon - 1.25
     assert task.terminal_cost is problem.terminal_cost
     np.testing.assert_array_equal(shifted(np.zeros((3, 2)), 0.5), np.full((3, 1), 1.75))
+
+
+def test_interpolation_final_law_is_the_components_mixture():
+    """The claims of the interpolation figure, on a small grid.
+
+    One shared (fitted) operator: LBC is exactly the direct solve of the composite cost g_w, to
+    rounding. For exact optima its final law is the mixture Σ βᵢ pᵢ of the components' final
+    laws, here β = (½, ½) by the problem's symmetry, so (a) LBC ends centred on the target, mean
+    y_T = 0, while each component ends on its own side, and (b) LBC does not end nearer the axis
+    than a component does: |y_T| has the same law as each component's (the grid solutions'
+    error makes LBC's measurably wider on this grid, so the check is one-sided). Tolerances: 4
+    standard errors of the sample means (independent samples per controller, so the SEs add in
+    quadrature).
+    """
+    from gridlbc import Quadratic, combine, project, simulate, solve, solve_many
+    from gridlbc.studies.problems import (
+        OBSTACLE_GOALS,
+        OBSTACLE_START,
+        OBSTACLE_WEIGHTS,
+        obstacle_problem,
+    )
+
+    problem = obstacle_problem(41)
+    goals = [Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
+    w = project(problem.terminal_cost, goals, problem.grid, temperature=problem.temperature)
+    upper, lower = solve_many(problem, goals, dt=0.02)
+    lbc = combine([upper, lower], w)
+    assert lbc.exact
+    direct = solve(lbc.problem, dt=0.02)
+    nodes = problem.grid.nodes()
+    np.testing.assert_allclose(lbc.value(nodes, 0.0), direct.value(nodes, 0.0), rtol=1e-9,
+                               atol=1e-9)
+
+    def final_y(policy, seed):
+        return simulate(problem, policy, OBSTACLE_START, 1500, dt=0.02,
+                        seed=seed).final_states[:, 1]
+
+    def se(a):
+        return a.std(ddof=1) / np.sqrt(a.size)
+
+    y_lbc, y_up, y_low = (final_y(p, s) for s, p in
+                          enumerate((lbc.policy, upper.policy, lower.policy)))
+    assert abs(y_lbc.mean()) < 4 * se(y_lbc)
+    assert y_up.mean() > 4 * se(y_up) and y_low.mean() < -4 * se(y_low)
+    for y in (y_up, y_low):
+        difference = np.abs(y_lbc).mean() - np.abs(y).mean()
+        assert difference > -4 * np.hypot(se(np.abs(y_lbc)), se(np.abs(y)))
