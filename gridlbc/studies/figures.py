@@ -166,15 +166,41 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
 # -- 3. interpolation -------------------------------------------------------------------------------
 
 
+def _against_lbc(problem: Problem, lbc, controllers: dict, samples: int, dt: float,
+                 seed: int) -> dict:
+    """J(u) − J(LBC) and its paired SE for each of ``controllers`` from the obstacle start,
+    with every controller driven by the same noise (one seed), on the composite task g_w of
+    ``lbc`` and on the target task of ``problem``: ``{(name, on_target): (mean, se)}``."""
+    out = {}
+    for on_target, task in ((False, lbc.problem), (True, problem)):
+        reference = simulate(task, lbc.policy, OBSTACLE_START, samples, dt=dt, seed=seed).costs
+        for name, policy in controllers.items():
+            d = simulate(task, policy, OBSTACLE_START, samples, dt=dt, seed=seed).costs - reference
+            out[name, on_target] = (d.mean(), d.std(ddof=1) / np.sqrt(samples))
+    return out
+
+
+def _combined_pair(problem: Problem, goals, dt: float):
+    """Solve the goals together (one fitted operator) and combine them with the weights
+    projected from the problem's terminal cost: ``(projection, solutions, LBC, naive blend)``."""
+    costs = [Quadratic(c, OBSTACLE_WEIGHTS) for c in goals]
+    result = project_weights(problem.terminal_cost, costs, problem.grid,
+                             temperature=problem.temperature)
+    solutions = solve_many(problem, costs, dt=dt)
+    return (result, solutions, combine(solutions, result.weights),
+            naive_blend(solutions, result.weights))
+
+
 def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
-                  traces: int = 25, dt: float = 0.01) -> list[Path]:
+                  traces: int = 25, dt: float = 0.01,
+                  spacings=(0.2, 0.35, 0.5, 0.7, 0.9)) -> list[Path]:
     """An intermediate goal behind an obstacle: LBC vs the naive blend vs each component.
 
     A point in the plane (:func:`~gridlbc.studies.problems.obstacle_problem`: dx = u dt + noise,
     a disc of state cost between the start and the goals) must come to rest at the target c̄ on
     the obstacle's axis. The components are solved for the goals on either side of the axis
-    (:data:`~gridlbc.studies.problems.OBSTACLE_GOALS`), each of which is best reached by
-    passing the obstacle on its own side. The weights come from projecting h̄ = exp(−ḡ/λ) onto
+    (:data:`~gridlbc.studies.problems.OBSTACLE_GOALS`), each of which prefers to pass the
+    obstacle on its own side. The weights come from projecting h̄ = exp(−ḡ/λ) onto
     {h_1, h_2} (:func:`gridlbc.project`). LBC is u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j,
     the optimal policy of the composite cost g_w = −λ log Σ w_i h_i; the naive blend
     u = Σ w_i u_i / Σ w_i uses the same weights at every state. On the axis the components'
@@ -194,22 +220,28 @@ def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
     Every controller is certified (:func:`gridlbc.certify`) on the composite task: its cost
     J ± SE, the certified optimum v* and the gap J − v* = λ KL(P_u ‖ P*) ± paired SE; the
     final states are those of the certified rollouts. Differences of cost against LBC are also
-    given with common random numbers (every controller driven by the same noise), whose paired
-    SE is far smaller than the SE of either cost. The exact combination's final law is the
-    mixture Σ β_i p_i of the components' final laws, β_i = w_i z_i(x₀) / Σ w_j z_j(x₀): its
-    distance to the target is distributed as a β-average of theirs (here, by symmetry, equal to
-    each one's), and it is centred on the target, not concentrated there. What LBC gains over a
-    single component is cost, at most λ log(1/β_i).
+    given with common random numbers (every controller driven by the same noise, so their
+    paired SE is far smaller than either cost's), on the composite task and on the target task
+    ḡ: LBC is optimal for the first by construction, the second is the task one wanted. The
+    bottom middle panel repeats the naive-vs-LBC comparison with the goals at ±a for each of
+    ``spacings``: the further apart the goals, the more the components' policies differ in
+    kind, and the larger the residual of the projection.
+
+    What to expect from the exact combination: its final law is the mixture Σ β_i p_i of the
+    components' final laws, β_i = w_i z_i(x₀) / Σ w_j z_j(x₀), so any statistic of the final
+    state (the distance to the target, say) is a β-average of the components' values, never
+    better than the best of them; it is centred on the target, not concentrated there. What LBC
+    gains over a single component is cost, at most λ log(1/β_i). A component decides its side
+    of the obstacle only as firmly as its own final law keeps off the other side, so the
+    naive blend's averaging of the two sides costs it much only when the goals' rewards
+    hardly overlap, which is when Σ w_i h_i represents h̄ poorly.
     """
     plt = _pyplot()
     problem = obstacle_problem(n)
     target = problem.terminal_cost
     components = [Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
     lam = problem.temperature
-    result = project_weights(target, components, problem.grid, temperature=lam)
-    upper, lower = solve_many(problem, components, dt=dt)
-    lbc = combine([upper, lower], result.weights)
-    naive = naive_blend([upper, lower], result.weights)
+    result, (upper, lower), lbc, naive = _combined_pair(problem, OBSTACLE_GOALS, dt)
     direct = solve(problem, dt=dt)
     names = {"upper": f"goal y = {OBSTACLE_GOALS[0][1]:+g} alone",
              "lower": f"goal y = {OBSTACLE_GOALS[1][1]:+g} alone",
@@ -225,17 +257,21 @@ def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
                         seed=seed + 1) for k in ("lbc", "naive")}
     # Common random numbers: the same seed drives every controller with the same noise, so
     # the per-sample differences of realised cost give a paired SE of J(u) − J(LBC).
-    costs = {k: simulate(lbc.problem, p, OBSTACLE_START, samples, dt=dt, seed=seed).costs
-             for k, p in controllers.items()}
-    paired = {k: (np.mean(c - costs[names["lbc"]]),
-                  np.std(c - costs[names["lbc"]], ddof=1) / np.sqrt(samples))
-              for k, c in costs.items()}
+    paired = _against_lbc(problem, lbc, {k: p for k, p in controllers.items()
+                                         if k != names["lbc"]}, samples, dt, seed)
+    scan = []  # (residual, naive − LBC on g_w, on ḡ) as the goals move apart
+    for spacing in spacings:
+        goals = ((OBSTACLE_TARGET[0], spacing), (OBSTACLE_TARGET[0], -spacing))
+        fit, _, pair_lbc, pair_naive = _combined_pair(problem, goals, dt)
+        versus = _against_lbc(problem, pair_lbc, {"naive": pair_naive.policy}, samples, dt,
+                              seed)
+        scan.append((fit.residual, versus["naive", False], versus["naive", True]))
 
     fig = plt.figure(figsize=(17, 10), constrained_layout=True)
     spec = fig.add_gridspec(2, 3)
     ax_lbc, ax_naive = fig.add_subplot(spec[0, 0]), fig.add_subplot(spec[0, 1])
-    ax_h, ax_final, ax_cost = (fig.add_subplot(spec[0, 2]), fig.add_subplot(spec[1, :2]),
-                               fig.add_subplot(spec[1, 2]))
+    ax_h, ax_final = fig.add_subplot(spec[0, 2]), fig.add_subplot(spec[1, 0])
+    ax_scan, ax_cost = fig.add_subplot(spec[1, 1]), fig.add_subplot(spec[1, 2])
     (x_lo, x_hi), (y_lo, y_hi) = ((a.lo, a.hi) for a in problem.grid.axes)
     X, Y = np.meshgrid(np.linspace(x_lo, x_hi, 241), np.linspace(y_lo, y_hi, 193))
     plane = np.column_stack([X.ravel(), Y.ravel()])
@@ -281,16 +317,34 @@ def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
         distance = np.hypot(*(final - np.asarray(OBSTACLE_TARGET)).T)
         ax_final.hist(final[:, 1], bins=bins, histtype="step", color=color,
                       lw=1.2 if "alone" in label else 2,
-                      label=f"{label}: mean y_T = {final[:, 1].mean():+.3f} ± "
-                            f"{final[:, 1].std(ddof=1) / np.sqrt(len(final)):.3f}, mean x_T = "
-                            f"{final[:, 0].mean():+.2f}, mean ‖x_T − c̄‖ = {distance.mean():.3f}")
+                      label=f"{label}:\nmean y_T = {final[:, 1].mean():+.3f} ± "
+                            f"{final[:, 1].std(ddof=1) / np.sqrt(len(final)):.3f}, mean "
+                            f"‖x_T − c̄‖ = {distance.mean():.3f}")
     for goal in OBSTACLE_GOALS:
         ax_final.axvline(goal[1], color="0.5", ls=":", lw=1)
     ax_final.axvline(OBSTACLE_TARGET[1], color="k", ls=":", lw=1)
-    ax_final.set(xlabel="final y_T (goals dotted grey, target black)", ylabel="samples",
-                 title=f"where each controller ends: the {samples} certified rollouts (±: SE)")
-    ax_final.set_ylim(0, 1.45 * ax_final.get_ylim()[1])
-    ax_final.legend(fontsize=8.5, loc="upper left")
+    mean_x = np.mean([c.final_states[:, 0].mean() for c in certificates.values()])
+    ax_final.set(xlim=(-1.6, 1.6), xlabel="final y_T (goals dotted grey, target black)",
+                 ylabel="samples",
+                 title=f"where each controller ends ({samples} certified rollouts, ± SE;\n"
+                       f"mean x_T = {mean_x:.2f} for all, target c̄ₓ = {OBSTACLE_TARGET[0]:g})")
+    ax_final.set_ylim(0, 2.1 * ax_final.get_ylim()[1])
+    ax_final.legend(fontsize=7, loc="upper left")
+
+    residuals, on_composite, on_target = (np.array(v) for v in zip(*scan))
+    for values, style, where in ((on_composite, "o-", "composite task g_w (LBC optimal)"),
+                                 (on_target, "s--", "target task ḡ (the one wanted)")):
+        ax_scan.errorbar(spacings, values[:, 0], 2 * values[:, 1], fmt=style, color="C1",
+                         capsize=3, label=f"on the {where}")
+    ax_scan.axhline(0, color="C0", lw=1.5, label="LBC")
+    ax_scan.axvline(OBSTACLE_GOALS[0][1], color="k", ls=":", lw=1)
+    for spacing, residual in zip(spacings, residuals):
+        ax_scan.annotate(f"{residual:.2f}", (spacing, 1.0), xycoords=("data", "axes fraction"),
+                         ha="center", va="bottom", fontsize=8)
+    ax_scan.set(xlabel="goal offset ±a (the figure's: dotted)",
+                ylabel="J(naive blend) − J(LBC) ± 2 SE (common noise)",
+                title="as the goals move apart (projection residual above)\n")
+    ax_scan.legend(fontsize=8, loc="lower left")
 
     labels = list(certificates)
     gaps = [certificates[k].gap for k in labels]
@@ -299,7 +353,8 @@ def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
     for k, label in enumerate(labels):
         c = certificates[label]
         versus = ("" if label == names["lbc"] else
-                  "\nJ − J_LBC = {:+.3f} ± {:.3f} (common noise)".format(*paired[label]))
+                  "\nJ − J_LBC = {:+.3f} ± {:.3f}; on ḡ {:+.3f} ± {:.3f}".format(
+                      *paired[label, False], *paired[label, True]))
         ax_cost.text(max(c.gap, 0) + c.gap_se + 0.01 * max(gaps), k,
                      f"J − v* = {c.gap:+.3f} ± {c.gap_se:.3f}\n(J = {c.policy_cost:.3f} ± "
                      f"{c.policy_cost_se:.3f}, v* = {c.optimal_value:.3f} ± "
@@ -307,8 +362,9 @@ def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
     ax_cost.axvline(0, color="k", lw=1)
     ax_cost.set_yticks(range(len(labels)), labels, fontsize=9)
     ax_cost.invert_yaxis()
-    ax_cost.set_xlim(min(0.0, min(gaps)) - 0.02 * max(gaps), 2.6 * max(gaps))
-    ax_cost.set(xlabel=f"gap J − v* = λ KL(P_u ‖ P*) ± paired SE ({samples} samples)",
+    ax_cost.set_xlim(min(0.0, min(gaps)) - 0.02 * max(gaps), 3.3 * max(gaps))
+    ax_cost.set(xlabel=f"gap J − v* = λ KL(P_u ‖ P*) ± paired SE ({samples} samples)\n"
+                       "text: J − J_LBC ± SE with common noise, on g_w and on ḡ",
                 title="excess cost over the certified optimum,\ncomposite task "
                       "g_w = −λ log Σ wᵢhᵢ (gridlbc.certify)")
     W = OBSTACLE_WEIGHTS
@@ -551,7 +607,7 @@ FIGURES = {
     "cost_reward_space": (cost_reward_space, {}, {"n": 61}),
     "projection": (projection, {}, {"points": 401}),
     "interpolation": (interpolation, {}, {"n": 41, "samples": 200, "traces": 10,
-                                          "dt": 0.05}),
+                                          "dt": 0.05, "spacings": (0.2, 0.5, 0.9)}),
     "coordination": (coordination, {}, {"n": 41, "samples": 200, "traces": 4, "dt": 0.02}),
     "gymnast": (gymnast, {}, {"n": 13, "reference": False}),
     "certified_convergence": (certified_convergence, {},
