@@ -134,3 +134,22 @@ def test_interpolation_claims():
     for y in (y_up, y_low):
         difference = np.abs(y_lbc).mean() - np.abs(y).mean()
         assert difference > -4 * np.hypot(se(np.abs(y_lbc)), se(np.abs(y)))
+
+
+def test_obstacle_problem_and_disc():
+    """The disc's cost is H/2 on its rim and H / (1 + e^{−r/ε}) at its centre (the logistic in
+    the distance, to rounding), and underflows gracefully (no floating-point error) far away;
+    both axes share one spacing; a node count that breaks that is refused with the fix."""
+    from gridlbc.studies.problems import OBSTACLE, DiscObstacle, obstacle_problem
+
+    disc = DiscObstacle(center=(1.0, -0.5), radius=0.5, height=30.0, edge=0.1)
+    rim = np.array([[1.5, -0.5], [1.0, 0.0], [1.0 - 0.3, -0.5 - 0.4]])
+    np.testing.assert_allclose(disc(rim), 15.0, rtol=1e-14)
+    np.testing.assert_allclose(disc([1.0, -0.5]), 30.0 / (1 + np.exp(-5.0)), rtol=1e-14)
+    far = disc(np.array([[1e6, 0.0]]))
+    assert far.shape == (1,) and 0 <= far[0] < 1e-300
+    problem = obstacle_problem(21)
+    assert problem.state_cost is OBSTACLE
+    np.testing.assert_allclose(*problem.grid.spacing, rtol=1e-12)
+    with pytest.raises(ValueError, match="5k \\+ 1 nodes"):
+        obstacle_problem(20)
