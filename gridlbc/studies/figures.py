@@ -214,8 +214,9 @@ def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
     g_w to rounding), so every difference in the figure is the combination rule, not the
     solver. (Solved one by one, each fitted to its own goal, they combine through their values
     instead, a :class:`~gridlbc.combine.Combination` only as accurate as its components.) The
-    solver's time step is ``dt``, the rollouts' too: with no drift the default step follows the
-    diffusion alone and is far too long for the stiff obstacle cost (q/λ = 300 inside).
+    solver's time step is ``dt``, the rollouts' too: the default step is set by the drift's
+    Courant number, zero here, so it falls to the minimum number of steps, far too few for the
+    stiff obstacle cost (q/λ = 300 inside).
 
     Every controller is certified (:func:`gridlbc.certify`) on the composite task: its cost
     J ± SE, the certified optimum v* and the gap J − v* = λ KL(P_u ‖ P*) ± paired SE; the
