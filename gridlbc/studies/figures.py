@@ -8,9 +8,9 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 - :func:`projection` — projecting a target reward h̄ = exp(−ḡ/λ) onto component rewards
   h_i = exp(−g_i/λ), when it works (Fig. 3), when it needs a negative weight, and when the
   components are too narrow for their spacing (Fig. 4), with the warnings said.
-- :func:`interpolation` — an intermediate goal on a rotor: linear Bellman combination with the
-  projected weights vs the naive blend of policies vs each component vs the direct solve, every
-  cost certified against the optimum (Figs. 5–6 idea).
+- :func:`interpolation` — an intermediate goal behind an obstacle: linear Bellman combination
+  with the projected weights vs the naive blend of policies vs each component vs the direct
+  solve, every cost certified against the optimum (Fig. 6 idea).
 - :func:`coordination` — blend weights α over time for a two-goal point mass pushed mid-way, with
   certified costs before and after the push (Fig. 9).
 - :func:`gymnast` — the acrobot swing-up from the paper's test state (Fig. 7 setting), a still
@@ -32,7 +32,7 @@ import numpy as np
 
 from ..certify import certify
 from ..combine import CompositeCost, combine, naive_blend
-from ..costs import Quadratic, wrap_angle
+from ..costs import Quadratic
 from ..problem import Problem
 from ..project import ProjectionWarning, project
 from ..project import projection as project_weights
@@ -41,13 +41,15 @@ from ..solver import solve, solve_many
 from .problems import (
     GOAL_WEIGHTS,
     GYMNAST_START,
-    ROTOR_GOALS,
-    ROTOR_START,
-    ROTOR_WEIGHTS,
+    OBSTACLE,
+    OBSTACLE_GOALS,
+    OBSTACLE_START,
+    OBSTACLE_TARGET,
+    OBSTACLE_WEIGHTS,
     SWINGUP_START,
     coordination_problem,
     gymnast_problem,
-    rotor_problem,
+    obstacle_problem,
     swingup_problem,
 )
 
@@ -164,99 +166,213 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
 # -- 3. interpolation -------------------------------------------------------------------------------
 
 
-def interpolation(out, n: int = 101, samples: int = 1000, seed: int = 0,
-                  traces: int = 30, dt: float = 0.01) -> list[Path]:
-    """A rotor turned half a turn to an angle between two solved goals: LBC vs naive blend.
+def _against_lbc(problem: Problem, lbc, controllers: dict, samples: int, dt: float,
+                 seed: int) -> dict:
+    """J(u) − J(LBC) and its paired SE for each of ``controllers`` from the obstacle start,
+    with every controller driven by the same noise (one seed), on the composite task g_w of
+    ``lbc`` and on the target task of ``problem``: ``{(name, on_target): (mean, se)}``."""
+    out = {}
+    for on_target, task in ((False, lbc.problem), (True, problem)):
+        reference = simulate(task, lbc.policy, OBSTACLE_START, samples, dt=dt, seed=seed).costs
+        for name, policy in controllers.items():
+            d = simulate(task, policy, OBSTACLE_START, samples, dt=dt, seed=seed).costs - reference
+            out[name, on_target] = (d.mean(), d.std(ddof=1) / np.sqrt(samples))
+    return out
 
-    Components: at rest at θ = ±0.25 (:func:`~gridlbc.studies.problems.rotor_problem`), solved
-    with one fitted operator; target θ̄ = 0. The weights come from projecting h̄ onto {h_1, h_2}
-    (:func:`gridlbc.project`); LBC is u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j, exact for the
-    composite cost g_w = −λ log Σ w_i h_i; the naive blend is u = Σ w_i u_i / Σ w_i. From the
-    start almost opposite the goals the two components turn opposite ways. Every controller is
-    certified (:func:`gridlbc.certify`) on the composite task: its cost ± SE, and the certified
-    optimum v*; the final angles are those of the certified rollouts.
+
+def _combined_pair(problem: Problem, goals, dt: float):
+    """Solve the goals together (one fitted operator) and combine them with the weights
+    projected from the problem's terminal cost: ``(projection, solutions, LBC, naive blend)``."""
+    costs = [Quadratic(c, OBSTACLE_WEIGHTS) for c in goals]
+    result = project_weights(problem.terminal_cost, costs, problem.grid,
+                             temperature=problem.temperature)
+    solutions = solve_many(problem, costs, dt=dt)
+    return (result, solutions, combine(solutions, result.weights),
+            naive_blend(solutions, result.weights))
+
+
+def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
+                  traces: int = 25, dt: float = 0.01,
+                  spacings=(0.2, 0.35, 0.5, 0.7, 0.9)) -> list[Path]:
+    """An intermediate goal behind an obstacle: LBC vs the naive blend vs each component.
+
+    A point in the plane (:func:`~gridlbc.studies.problems.obstacle_problem`: dx = u dt + noise,
+    a disc of state cost between the start and the goals) must come to rest at the target c̄ on
+    the obstacle's axis. The components are solved for the goals on either side of the axis
+    (:data:`~gridlbc.studies.problems.OBSTACLE_GOALS`), each of which prefers to pass the
+    obstacle on its own side. The weights come from projecting h̄ = exp(−ḡ/λ) onto
+    {h_1, h_2} (:func:`gridlbc.project`). LBC is u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j,
+    the optimal policy of the composite cost g_w = −λ log Σ w_i h_i; the naive blend
+    u = Σ w_i u_i / Σ w_i uses the same weights at every state. On the axis the components'
+    sideways controls cancel in both; off it, LBC's α follows the side the state is on, while
+    the naive blend keeps averaging the two sides (it leaves the axis more slowly, and near the
+    goals it steers to the average of the two goals).
+
+    The components are solved together by :func:`gridlbc.solve_many` with the default fitted
+    scheme, which fits one operator to the composite reference Σ h_i for both: they then
+    combine exactly (a :class:`~gridlbc.combine.CombinedSolution`, equal to the direct solve of
+    g_w to rounding), so every difference in the figure is the combination rule, not the
+    solver. (Solved one by one, each fitted to its own goal, they combine through their values
+    instead, a :class:`~gridlbc.combine.Combination` only as accurate as its components.) The
+    solver's time step is ``dt``, the rollouts' too: the default step is set by the drift's
+    Courant number, zero here, so it falls to the minimum number of steps, far too few for the
+    stiff obstacle cost (q/λ = 300 inside).
+
+    Every controller is certified (:func:`gridlbc.certify`) on the composite task: its cost
+    J ± SE, the certified optimum v* and the gap J − v* = λ KL(P_u ‖ P*) ± paired SE; the
+    final states are those of the certified rollouts. Differences of cost against LBC are also
+    given with common random numbers (every controller driven by the same noise, so their
+    paired SE is far smaller than either cost's), on the composite task and on the target task
+    ḡ: LBC is optimal for the first by construction, the second is the task one wanted. The
+    bottom middle panel repeats the naive-vs-LBC comparison with the goals at ±a for each of
+    ``spacings``: the further apart the goals, the more the components' policies differ in
+    kind, and the larger the residual of the projection.
+
+    What to expect from the exact combination: its final law is the mixture Σ β_i p_i of the
+    components' final laws, β_i = w_i z_i(x₀) / Σ w_j z_j(x₀), so any statistic of the final
+    state (the distance to the target, say) is a β-average of the components' values, never
+    better than the best of them; it is centred on the target, not concentrated there. What LBC
+    gains over a single component is cost, at most λ log(1/β_i). A component decides its side
+    of the obstacle only as firmly as its own final law keeps off the other side, so the
+    naive blend's averaging of the two sides costs it much only when the goals' rewards
+    hardly overlap, which is when Σ w_i h_i represents h̄ poorly.
     """
     plt = _pyplot()
-    problem = rotor_problem(n)
+    problem = obstacle_problem(n)
     target = problem.terminal_cost
-    components = [Quadratic([c, 0.0], ROTOR_WEIGHTS) for c in ROTOR_GOALS]
+    components = [Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
     lam = problem.temperature
-    result = project_weights(target, components, problem.grid, temperature=lam)
-    first, second = solve_many(problem, components, fitting="terminal")
-    direct = solve(problem, fitting="terminal")
-    lbc = combine([first, second], result.weights)
-    controllers = {
-        f"goal θ = {ROTOR_GOALS[0]:+g} alone": first.policy,
-        f"goal θ = {ROTOR_GOALS[1]:+g} alone": second.policy,
-        "naive blend Σwᵢuᵢ/Σwᵢ": naive_blend([first, second], result.weights).policy,
-        "LBC Σαᵢuᵢ": lbc.policy,
-        "direct solve of ḡ": direct.policy,
-    }
-    colors = ["0.55", "0.75", "C1", "C0", "k"]
-    certificates = {k: certify(lbc.problem, p, ROTOR_START, samples, dt=dt, seed=seed,
-                                 progress=False)
+    result, (upper, lower), lbc, naive = _combined_pair(problem, OBSTACLE_GOALS, dt)
+    direct = solve(problem, dt=dt)
+    names = {"upper": f"goal y = {OBSTACLE_GOALS[0][1]:+g} alone",
+             "lower": f"goal y = {OBSTACLE_GOALS[1][1]:+g} alone",
+             "naive": "naive blend Σwᵢuᵢ/Σwᵢ", "lbc": "LBC Σαᵢuᵢ", "direct": "direct solve of ḡ"}
+    controllers = {names["upper"]: upper.policy, names["lower"]: lower.policy,
+                   names["naive"]: naive.policy, names["lbc"]: lbc.policy,
+                   names["direct"]: direct.policy}
+    colors = ["0.5", "0.72", "C1", "C0", "k"]
+    certificates = {k: certify(lbc.problem, p, OBSTACLE_START, samples, dt=dt, seed=seed,
+                               progress=False)
                     for k, p in controllers.items()}
-    fans = {k: simulate(problem, controllers[k], ROTOR_START, traces, dt=dt, seed=seed + 1)
-            for k in ("naive blend Σwᵢuᵢ/Σwᵢ", "LBC Σαᵢuᵢ")}
+    fans = {k: simulate(problem, controllers[names[k]], OBSTACLE_START, traces, dt=dt,
+                        seed=seed + 1) for k in ("lbc", "naive")}
+    # Common random numbers: the same seed drives every controller with the same noise, so
+    # the per-sample differences of realised cost give a paired SE of J(u) − J(LBC).
+    paired = _against_lbc(problem, lbc, {k: p for k, p in controllers.items()
+                                         if k != names["lbc"]}, samples, dt, seed)
+    scan = []  # (residual, naive − LBC on g_w, on ḡ) as the goals move apart
+    for spacing in spacings:
+        goals = ((OBSTACLE_TARGET[0], spacing), (OBSTACLE_TARGET[0], -spacing))
+        fit, _, pair_lbc, pair_naive = _combined_pair(problem, goals, dt)
+        versus = _against_lbc(problem, pair_lbc, {"naive": pair_naive.policy}, samples, dt,
+                              seed)
+        scan.append((fit.residual, versus["naive", False], versus["naive", True]))
 
-    fig, axes = plt.subplots(2, 2, figsize=(14, 9), constrained_layout=True)
-    (ax_h, ax_t), (ax_hist, ax_cost) = axes
-    theta = np.linspace(-1.5, 1.5, 481)
-    states = np.column_stack([theta, np.zeros_like(theta)])
-    h = [np.exp(-c(states) / lam) for c in components]
-    for i, (h_i, w_i) in enumerate(zip(h, result.weights)):
-        ax_h.plot(theta, h_i, color=colors[i], label=f"h{i + 1} (θ = {ROTOR_GOALS[i]:+g}), "
-                  f"w{i + 1} = {w_i:.3f}")
-    ax_h.plot(theta, np.exp(-target(states) / lam), "k--", label="target h̄ (θ̄ = 0)")
-    ax_h.plot(theta, sum(w * hi for w, hi in zip(result.weights, h)), "C0", lw=2,
-              label="Σ wᵢ hᵢ (LBC's terminal reward)")
-    ax_h.set(xlabel="θ_T (rad), ω_T = 0", ylabel="terminal reward h = exp(−g/λ)",
-             title=f"projected weights (gridlbc.project): residual {result.residual:.2f}, "
-                   f"Σw = {result.weight_sum:.2f}")
-    ax_h.legend(fontsize=8, loc="lower center")
-
-    for (label, run), color in zip(fans.items(), ("C1", "C0")):
-        angle = np.unwrap(run.states[:, :, 0], axis=1)
+    fig = plt.figure(figsize=(17, 10), constrained_layout=True)
+    spec = fig.add_gridspec(2, 3)
+    ax_lbc, ax_naive = fig.add_subplot(spec[0, 0]), fig.add_subplot(spec[0, 1])
+    ax_h, ax_final = fig.add_subplot(spec[0, 2]), fig.add_subplot(spec[1, 0])
+    ax_scan, ax_cost = fig.add_subplot(spec[1, 1]), fig.add_subplot(spec[1, 2])
+    (x_lo, x_hi), (y_lo, y_hi) = ((a.lo, a.hi) for a in problem.grid.axes)
+    X, Y = np.meshgrid(np.linspace(x_lo, x_hi, 241), np.linspace(y_lo, y_hi, 193))
+    plane = np.column_stack([X.ravel(), Y.ravel()])
+    value = lbc.value(plane, 0.0).reshape(X.shape)
+    obstacle = problem.state_cost(plane).reshape(X.shape)
+    levels = np.linspace(value.min(), np.percentile(value, 98), 25)
+    for ax, key, color in ((ax_lbc, "lbc", "C0"), (ax_naive, "naive", "C1")):
+        shading = ax.contourf(X, Y, value, levels, cmap="Greys_r", extend="max")
+        ax.contour(X, Y, obstacle, [OBSTACLE.height / 2], colors="C3", linewidths=1.5)
+        run = fans[key]
         for s in range(run.n_samples):
-            ax_t.plot(run.times, angle[s], color=color, lw=0.7, alpha=0.6,
-                      label=label if s == 0 else None)
-    for goal in (0.0, 2 * np.pi):
-        ax_t.axhline(goal, color="k", ls=":", lw=1)
-    ax_t.set(xlabel="t (s)", ylabel="θ (rad, unwrapped; the target is 0 ≡ 2π)",
-             title=f"{traces} noisy rollouts each from θ = {ROTOR_START[0]:g}, at rest")
-    ax_t.legend(fontsize=8, loc="center left")
+            ax.plot(run.states[s, :, 0], run.states[s, :, 1], color=color, lw=0.7, alpha=0.7)
+        for k, goal in enumerate(OBSTACLE_GOALS):
+            ax.plot(*goal, "X", color="w", mec="k", ms=9, label="solved goals" if k == 0 else None)
+        ax.plot(*OBSTACLE_TARGET, "*", color="gold", mec="k", ms=15, label="target c̄")
+        ax.plot(*OBSTACLE_START, "o", color="w", mec="k", ms=7, label="start")
+        crossed = np.mean(problem.state_cost(run.states.reshape(-1, 2)).reshape(
+            run.states.shape[:2]).max(axis=1) > OBSTACLE.height / 2)
+        ax.set(xlabel="x", ylabel="y", aspect="equal",
+               title=f"{names[key]}: {run.n_samples} noisy rollouts\n"
+                     f"{100 * crossed:.0f} % cross the obstacle's rim (red)")
+        ax.legend(fontsize=7.5, loc="lower left")
+    fig.colorbar(shading, ax=ax_naive, shrink=0.8, label="composite value v(x, 0) (grey)")
 
-    bins = np.linspace(-np.pi, np.pi, 73)
+    y = np.linspace(y_lo, y_hi, 481)
+    line = np.column_stack([np.full_like(y, OBSTACLE_TARGET[0]), y])
+    h = [np.exp(-c(line) / lam) for c in components]
+    for i, (h_i, w_i) in enumerate(zip(h, result.weights)):
+        ax_h.plot(y, h_i, color=colors[i], lw=1.5,
+                  label=f"h{i + 1} (goal y = {OBSTACLE_GOALS[i][1]:+g}), w{i + 1} = {w_i:.3f}")
+    ax_h.plot(y, np.exp(-target(line) / lam), "k--", label="target h̄ (y = 0)")
+    ax_h.plot(y, sum(w * hi for w, hi in zip(result.weights, h)), "C0", lw=2,
+              label="Σ wᵢ hᵢ (LBC's terminal reward)")
+    ax_h.set(xlim=(-1.5, 1.5), xlabel=f"y_T at x_T = {OBSTACLE_TARGET[0]:g}",
+             ylabel="terminal reward h = exp(−g/λ)",
+             title=f"gridlbc.project: residual {result.residual:.2f}, Σw = "
+                   f"{result.weight_sum:.2f}")
+    ax_h.legend(fontsize=8, loc="upper right")
+
+    bins = np.linspace(-2.0, 2.0, 81)
     for (label, cert), color in zip(certificates.items(), colors):
-        final = wrap_angle(cert.final_states[:, 0])
-        ax_hist.hist(final, bins=bins, histtype="step", lw=2 if "alone" not in label else 1,
-                     color=color, label=f"{label}: median |θ_T − θ̄| = "
-                                        f"{np.median(np.abs(final)):.2f}")
-    ax_hist.axvline(0, color="k", ls=":", lw=1)
-    ax_hist.set(xlabel="final θ_T (rad)", ylabel="samples",
-                title=f"final angles, {samples} samples each (λ = {lam:g})")
-    ax_hist.legend(fontsize=8, loc="upper left")
+        final = cert.final_states
+        distance = np.hypot(*(final - np.asarray(OBSTACLE_TARGET)).T)
+        ax_final.hist(final[:, 1], bins=bins, histtype="step", color=color,
+                      lw=1.2 if "alone" in label else 2,
+                      label=f"{label}:\nmean y_T = {final[:, 1].mean():+.3f} ± "
+                            f"{final[:, 1].std(ddof=1) / np.sqrt(len(final)):.3f}, mean "
+                            f"‖x_T − c̄‖ = {distance.mean():.3f}")
+    for goal in OBSTACLE_GOALS:
+        ax_final.axvline(goal[1], color="0.5", ls=":", lw=1)
+    ax_final.axvline(OBSTACLE_TARGET[1], color="k", ls=":", lw=1)
+    mean_x = np.mean([c.final_states[:, 0].mean() for c in certificates.values()])
+    ax_final.set(xlim=(-1.6, 1.6), xlabel="final y_T (goals dotted grey, target black)",
+                 ylabel="samples",
+                 title=f"where each controller ends ({samples} certified rollouts, ± SE;\n"
+                       f"mean x_T = {mean_x:.2f} for all, target c̄ₓ = {OBSTACLE_TARGET[0]:g})")
+    ax_final.set_ylim(0, 2.1 * ax_final.get_ylim()[1])
+    ax_final.legend(fontsize=7, loc="upper left")
 
-    names = list(certificates)
-    gaps = [certificates[k].gap for k in names]
-    errors = [certificates[k].gap_se for k in names]
-    ax_cost.barh(range(len(names)), gaps, xerr=errors, color=colors, capsize=4)
-    for k, name in enumerate(names):
-        c = certificates[name]
-        ax_cost.text(max(c.gap, 0) + c.gap_se + 0.002, k,
-                     f"J − v* = {c.gap:+.4f} ± {c.gap_se:.4f}\n(J = {c.policy_cost:.3f} ± "
+    residuals, on_composite, on_target = (np.array(v) for v in zip(*scan))
+    for values, style, where in ((on_composite, "o-", "composite task g_w (LBC optimal)"),
+                                 (on_target, "s--", "target task ḡ (the one wanted)")):
+        ax_scan.errorbar(spacings, values[:, 0], 2 * values[:, 1], fmt=style, color="C1",
+                         capsize=3, label=f"on the {where}")
+    ax_scan.axhline(0, color="C0", lw=1.5, label="LBC")
+    ax_scan.axvline(OBSTACLE_GOALS[0][1], color="k", ls=":", lw=1)
+    for spacing, residual in zip(spacings, residuals):
+        ax_scan.annotate(f"{residual:.2f}", (spacing, 1.0), xycoords=("data", "axes fraction"),
+                         ha="center", va="bottom", fontsize=8)
+    ax_scan.set(xlabel="goal offset ±a (the figure's: dotted)",
+                ylabel="J(naive blend) − J(LBC) ± 2 SE (common noise)",
+                title="as the goals move apart (projection residual above)\n")
+    ax_scan.legend(fontsize=8, loc="lower left")
+
+    labels = list(certificates)
+    gaps = [certificates[k].gap for k in labels]
+    errors = [certificates[k].gap_se for k in labels]
+    ax_cost.barh(range(len(labels)), gaps, xerr=errors, color=colors, capsize=4)
+    for k, label in enumerate(labels):
+        c = certificates[label]
+        versus = ("" if label == names["lbc"] else
+                  "\nJ − J_LBC = {:+.3f} ± {:.3f}; on ḡ {:+.3f} ± {:.3f}".format(
+                      *paired[label, False], *paired[label, True]))
+        ax_cost.text(max(c.gap, 0) + c.gap_se + 0.01 * max(gaps), k,
+                     f"J − v* = {c.gap:+.3f} ± {c.gap_se:.3f}\n(J = {c.policy_cost:.3f} ± "
                      f"{c.policy_cost_se:.3f}, v* = {c.optimal_value:.3f} ± "
-                     f"{c.optimal_value_se:.3f})", va="center", fontsize=8)
+                     f"{c.optimal_value_se:.3f}){versus}", va="center", fontsize=7.5)
     ax_cost.axvline(0, color="k", lw=1)
-    ax_cost.set_yticks(range(len(names)), names, fontsize=9)
-    ax_cost.set_xlim(min(0.0, min(gaps)) - 0.005, 2.2 * max(gaps) + 0.01)
-    ax_cost.set(xlabel="gap J − v* = λ KL(P_u ‖ P*) ± paired SE (gridlbc.certify, "
-                       f"{samples} samples)",
-                title="excess cost over the certified optimum, composite task "
-                      "g_w = −λ log Σ wᵢhᵢ")
-    fig.suptitle(f"Interpolating an intermediate goal: a rotor (pendulum without gravity, "
-                 f"{problem.grid.describe()}, T = {problem.horizon:g}, λ = {lam:g}, "
-                 f"g = {ROTOR_WEIGHTS[0]:g}(θ − c)² + {ROTOR_WEIGHTS[1]:g}ω²)")
+    ax_cost.set_yticks(range(len(labels)), labels, fontsize=9)
+    ax_cost.invert_yaxis()
+    ax_cost.set_xlim(min(0.0, min(gaps)) - 0.02 * max(gaps), 3.3 * max(gaps))
+    ax_cost.set(xlabel=f"gap J − v* = λ KL(P_u ‖ P*) ± paired SE ({samples} samples)\n"
+                       "text: J − J_LBC ± SE with common noise, on g_w and on ḡ",
+                title="excess cost over the certified optimum,\ncomposite task "
+                      "g_w = −λ log Σ wᵢhᵢ (gridlbc.certify)")
+    W = OBSTACLE_WEIGHTS
+    fig.suptitle(f"Interpolating an intermediate goal behind an obstacle: dx = u dt + noise on a "
+                 f"{'×'.join(map(str, problem.grid.shape))} grid, T = {problem.horizon:g}, λ = {lam:g}, "
+                 f"g = {W[0]:g}(x − cₓ)² + {W[1]:g}(y − c_y)², disc obstacle q = "
+                 f"{OBSTACLE.height:g} inside radius {OBSTACLE.radius:g}")
     return [_save(fig, out, "interpolation.png")]
 
 
@@ -492,7 +608,7 @@ FIGURES = {
     "cost_reward_space": (cost_reward_space, {}, {"n": 61}),
     "projection": (projection, {}, {"points": 401}),
     "interpolation": (interpolation, {}, {"n": 41, "samples": 200, "traces": 10,
-                                          "dt": 0.05}),
+                                          "dt": 0.05, "spacings": (0.2, 0.5, 0.9)}),
     "coordination": (coordination, {}, {"n": 41, "samples": 200, "traces": 4, "dt": 0.02}),
     "gymnast": (gymnast, {}, {"n": 13, "reference": False}),
     "certified_convergence": (certified_convergence, {},

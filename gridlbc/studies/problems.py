@@ -9,7 +9,10 @@ report, the convergence studies, the figures, the benchmarks and the tests.
 - :func:`pointmass_problem`: the linear-quadratic point mass with a Riccati solution;
 - :func:`coordination_problem`: a point mass with two acceptable goals;
 - :func:`rotor_problem`: a pendulum without gravity (a rotor) turned half a turn to an angle
-  between two solved goals (the interpolation figure), from :data:`ROTOR_START`;
+  between two solved goals (the interpolation example), from :data:`ROTOR_START`;
+- :func:`obstacle_problem`: a point steered in the plane around a smooth disc obstacle
+  (:class:`DiscObstacle`) to a goal behind it (the interpolation figure), from
+  :data:`OBSTACLE_START`;
 - :func:`gymnast_problem`: the paper's acrobot swing-up (paper §6.2), from :data:`GYMNAST_START`;
 - :func:`diver_problem`: the 4-link diver beyond the grid (paper §6.1–6.2, Figs. 6 and 8), a
   grid-free problem, taking off from :func:`diver_start`.
@@ -19,13 +22,14 @@ report, the convergence studies, the figures, the benchmarks and the tests.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from ..costs import Quadratic
 from ..grid import Axis, Grid
 from ..problem import Problem
-from ..systems import Acrobot, Pendulum, PlanarChain, PointMass
+from ..systems import Acrobot, LinearSystem, Pendulum, PlanarChain, PointMass
 
 # -- pendulum --------------------------------------------------------------------------------------
 
@@ -140,6 +144,67 @@ def rotor_problem(n: int = 101, terminal_cost=None) -> Problem:
                  Axis(-3.0, 3.0, n + 1, name="omega")])
     cost = Quadratic([0.0, 0.0], ROTOR_WEIGHTS) if terminal_cost is None else terminal_cost
     return Problem(Pendulum(gravity=0.0), grid, 5.0, cost, temperature=0.2)
+
+
+# -- obstacle --------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True, eq=False)
+class DiscObstacle:
+    """A smooth disc of state cost in the plane:
+
+        q(x) = H / (1 + exp((‖x − c‖ − r) / ε)),
+
+    H (``height``) inside the disc of radius r around c, H/2 on its rim, falling to zero over a
+    few ε (``edge``) outside it. It acts on the first two coordinates of the state."""
+
+    center: tuple
+    radius: float
+    height: float
+    edge: float
+
+    def __call__(self, x) -> np.ndarray:
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        distance = np.hypot(x[:, 0] - self.center[0], x[:, 1] - self.center[1])
+        # H / (1 + e^s) = H e^{−s} / (1 + e^{−s}); both forms are kept finite for any s.
+        s = (distance - self.radius) / self.edge
+        return self.height * np.exp(-np.logaddexp(0.0, s))
+
+
+OBSTACLE = DiscObstacle(center=(1.0, 0.0), radius=0.5, height=30.0, edge=0.1)
+"""The obstacle of :func:`obstacle_problem`: a disc of radius 0.5 at (1, 0), cost 30 inside."""
+
+OBSTACLE_START = np.array([2.2, 0.0])
+"""Start of :func:`obstacle_problem` (x, y): on the axis in front of the obstacle."""
+
+OBSTACLE_TARGET = (-2.2, 0.0)
+"""The target goal, on the axis behind the obstacle."""
+
+OBSTACLE_GOALS = ((-2.2, 0.35), (-2.2, -0.35))
+"""The solved goals, behind the obstacle on either side of its axis."""
+
+OBSTACLE_WEIGHTS = (5.0, 0.5)
+"""diag W of the goals g = (x − c)ᵀW(x − c)."""
+
+
+def obstacle_problem(n: int = 101, terminal_cost=None, temperature: float = 0.1,
+                     horizon: float = 4.0) -> Problem:
+    """A point steered in the plane around an obstacle (the interpolation figure).
+
+    The single integrator dx = u dt + dξ, Cov[dξ] = λ I dt (:class:`~gridlbc.systems.LinearSystem`
+    with A = 0, B = I), on x ∈ [−3, 3] with ``n`` nodes and y ∈ [−2.4, 2.4] at the same spacing
+    (``n`` − 1 a multiple of 5), with the state cost q of :data:`OBSTACLE` between
+    :data:`OBSTACLE_START` and the goals, R = 1, T = ``horizon``, λ = ``temperature``; the
+    terminal cost defaults to the target, g = (x − c̄)ᵀW(x − c̄) with c̄ = :data:`OBSTACLE_TARGET`
+    and W = diag :data:`OBSTACLE_WEIGHTS`.
+    """
+    if n < 6 or (n - 1) % 5:
+        raise ValueError(f"n must be 5k + 1 nodes (k ≥ 1) so that both axes share one spacing, "
+                         f"e.g. 21, 61 or 101; got {n}")
+    grid = Grid([Axis(-3.0, 3.0, n, name="x"), Axis(-2.4, 2.4, 4 * (n - 1) // 5 + 1, name="y")])
+    cost = Quadratic(OBSTACLE_TARGET, OBSTACLE_WEIGHTS) if terminal_cost is None else terminal_cost
+    plane = LinearSystem(np.zeros((2, 2)), np.eye(2), state_names=("x", "y"))
+    return Problem(plane, grid, horizon, cost, state_cost=OBSTACLE, temperature=temperature)
 
 
 # -- gymnast ---------------------------------------------------------------------------------------
