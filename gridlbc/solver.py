@@ -288,7 +288,7 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     underflows however large v/λ grows across the grid.
     """
     grid = problem.grid
-    g = problem.terminal_values(grid.nodes())
+    g = _node_values(problem.terminal_values, grid)
     ell = (-(g - g.min()) / problem.temperature)[None, :]
     log_scale = -g.min() / problem.temperature
     fingerprint = _fingerprint(np.exp(ell[0]))
