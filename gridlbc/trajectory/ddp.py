@@ -30,8 +30,10 @@ F_zz the second derivatives of the RK4 map (central differences of A and B),
     [[Q_xx, Q_xu], [Q_ux, Q_uu]] += Σ_i p'_i ∂²F_i/∂z²,
 
 and then P_k is the exact Hessian of the discrete cost-to-go of the neighbouring optima (no longer
-⪰ 0 by construction). :func:`gridlbc.trajectory.expand` uses it by default; the iLQR iterations
-here keep the Gauss–Newton model, which is the robust one far from a minimum.
+⪰ 0 by construction). :func:`gridlbc.trajectory.expand` takes its value from it by default and
+its tracker's gain from the Gauss–Newton pass (:func:`sweeps` runs both on one linearisation);
+the iLQR iterations here keep the Gauss–Newton model, which is the robust one far from a
+minimum.
 """
 
 from __future__ import annotations
@@ -213,13 +215,20 @@ def sweep(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
           regularization: float = 0.0, newton: bool = False) -> tuple[np.ndarray, BackwardPass]:
     """Linearise along tape ``U`` and run the backward pass: ``(states, BackwardPass)``;
     ``newton``: with the dynamics' second derivatives (full DDP)."""
+    states, (back,) = sweeps(shooting, U, terminal_cost, state_cost, (newton,), regularization)
+    return states, back
+
+
+def sweeps(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost, newton=(False, True),
+           regularization: float = 0.0) -> tuple[np.ndarray, list[BackwardPass]]:
+    """One linearisation along tape ``U``, then one backward pass per entry of ``newton``
+    (False: Gauss–Newton, True: full DDP): ``(states, [BackwardPass, ...])``."""
     states, A, Bd = linearize(shooting, U)
     lx, lxx = running_derivatives(shooting, state_cost, states)
     gx, gxx = cost_derivatives(terminal_cost, states[-1:])
-    F2 = step_hessians(shooting, states[:-1], U) if newton else None
-    back = backward_pass(A, Bd, U, shooting.R, shooting.dt, lx, lxx, gx[0], gxx[0],
-                         regularization, F2)
-    return states, back
+    F2 = step_hessians(shooting, states[:-1], U) if any(newton) else None
+    return states, [backward_pass(A, Bd, U, shooting.R, shooting.dt, lx, lxx, gx[0], gxx[0],
+                                  regularization, F2 if full else None) for full in newton]
 
 
 def closed_loop(shooting: Shooting, states: np.ndarray, U: np.ndarray, back: BackwardPass,
