@@ -25,7 +25,8 @@ Mahalanobis radius ρ_max = 3.64).
 (c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the best of the local optima found
     by iLQR from each of the seven tapes (an upper bound on the global optimum). Share of starts
     whose noise-free cost is within 25 % of J*, for LBC of the first K trackers (the defaults,
-    the Gauss–Newton P, and the previous default: full DDP gains, unsaturated), the best single
+    the Gauss–Newton P, the full DDP gains, and the previous default: full DDP gains,
+    unsaturated), the best single
     one of them (an oracle: the cheapest of the K rollouts), greedy switching (argmax α) and the
     grid controller.
 (d) Validity treatments, noisy, from the test state: tracker 2, LBC of trackers 1 and 2 and LBC
@@ -264,9 +265,9 @@ def main(argv=None):
         print(f"\n(c) coverage of {len(starts)} starts θ1 ∈ [−120°, −80°] × θ2 ∈ [−30°, 0°] at "
               f"rest: share with noise-free cost ≤ 1.25 J*(x₀); J* from {J_star.min():.1f} to "
               f"{J_star.max():.1f}")
-        print(f"{'K':>2} {'LBC':>6} {'LBC GN':>6} {'LBC old':>7} {'best single':>11} "
-              f"{'greedy':>6} {'grid':>6} | mean cost / J*: {'LBC':>5} {'old':>5} {'single':>6} "
-              f"{'greedy':>6}")
+        print(f"{'K':>2} {'LBC':>6} {'LBC GN':>6} {'DDP K':>6} {'LBC old':>7} {'best single':>11} "
+              f"{'greedy':>6} {'grid':>6} | mean cost / J*: {'LBC':>5} {'DDP K':>5} {'old':>5} "
+              f"{'single':>6} {'greedy':>6}")
         within = lambda cost: np.mean(cost <= 1.25 * J_star)
         for K in (1, 2, 4, 6):
             combination = gridlbc.combine(c[:K])
@@ -275,11 +276,15 @@ def main(argv=None):
                 [expand(problem, t, curvature="gauss-newton") for t in trackers[:K]]).policy,
                 starts).costs
             lbc_old = noise_free(gridlbc.combine(c_old[:K]).policy, starts).costs
+            lbc_ddp = noise_free(gridlbc.combine(
+                [expand(problem, t, feedback="newton") for t in trackers[:K]]).policy,
+                starts).costs
             single = np.min([noise_free(ci.policy, starts).costs for ci in c[:K]], axis=0)
             greedy = noise_free(GreedySwitch(combination).policy, starts).costs
-            print(f"{K:2d} {within(lbc_cost):6.0%} {within(lbc_gn):6.0%} {within(lbc_old):7.0%} "
-                  f"{within(single):11.0%} {within(greedy):6.0%} {within(grid_cost):6.0%} | "
-                  f"{'':>15} {np.mean(lbc_cost / J_star):5.2f} {np.mean(lbc_old / J_star):5.2f} "
+            print(f"{K:2d} {within(lbc_cost):6.0%} {within(lbc_gn):6.0%} {within(lbc_ddp):6.0%} "
+                  f"{within(lbc_old):7.0%} {within(single):11.0%} {within(greedy):6.0%} "
+                  f"{within(grid_cost):6.0%} | {'':>15} {np.mean(lbc_cost / J_star):5.2f} "
+                  f"{np.mean(lbc_ddp / J_star):5.2f} {np.mean(lbc_old / J_star):5.2f} "
                   f"{np.mean(single / J_star):6.2f} {np.mean(greedy / J_star):6.2f}", flush=True)
 
     if "d" not in args.skip:
