@@ -5,12 +5,13 @@ Problem: the gymnast of gridlbc.studies.problems (T 3, λ 1, R 1, g = xᵀdiag(1
 stops at ±180°). Trackers: gridlbc.trajectory.optimize from each start of TRACKER_STARTS at rest
 and from the test state (the deterministic optimum), by multi-start shooting + iLQR (--restarts,
 300 RK4 intervals), expanded by gridlbc.trajectory.expand (defaults: v̂ from the full DDP
-pass, the tracker's gain from the Gauss–Newton one, feedback saturated at the χ²_4 99 %
-Mahalanobis radius ρ_max = 3.64).
+pass, the tracker's gain from the full DDP pass carrying the positive semi-definite part of
+each P, feedback saturated at the χ²_4 99 % Mahalanobis radius ρ_max = 3.64).
 
 (a) Fig. 7: from (−105°, −15°) at rest: tracker 1 (−90°, 0°), tracker 2 (−110°, −20°), the naive
     average and sum, LBC with the defaults, with the paper's deterministic v̄, with the
-    Gauss–Newton P, and with the previous default (full DDP gains, no saturation), the
+    Gauss–Newton P, with the Gauss–Newton gains, and with the previous default (full DDP gains,
+    no saturation), the
     grid-optimal controller (splitting fitted to g, --grid n⁴), and the optimum's own tracker. Columns: the controller's prediction v(x₀),
     the noise-free cost and final angle distance (Euler, --dt), then gridlbc.certify with the
     controller as proposal (--samples paths at --noisy-dt): its noisy cost J ± SE, max |u| over
@@ -25,14 +26,15 @@ Mahalanobis radius ρ_max = 3.64).
 (c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the best of the local optima found
     by iLQR from each of the seven tapes (an upper bound on the global optimum). Share of starts
     whose noise-free cost is within 25 % of J*, for LBC of the first K trackers (the defaults,
-    the Gauss–Newton P, the full DDP gains, and the previous default: full DDP gains,
-    unsaturated), the best single
+    the Gauss–Newton P, the full DDP gains, the Gauss–Newton gains, and the previous default:
+    full DDP gains, unsaturated), the best single
     one of them (an oracle: the cheapest of the K rollouts), greedy switching (argmax α) and the
     grid controller.
 (d) Validity treatments, noisy, from the test state: tracker 2, LBC of trackers 1 and 2 and LBC
-    of six, for the tracker's gain (Gauss–Newton or full DDP) × the saturation radius (None,
-    the default, 3, 5) × v̄ in α (with the λ term or deterministic), each certified at --seeds
-    seeds of --samples paths: J ± SE at each seed, the mean and worst ratio J / v* over the seeds.
+    of six, for the tracker's gain (projected full DDP, Gauss–Newton or full DDP) × the
+    saturation radius (the default, None; 3 and 5 for the default gain) × v̄ in α (with the λ
+    term or deterministic), each certified at --seeds seeds of --samples paths: J ± SE at each
+    seed, the mean and worst ratio J / v* over the seeds.
 
 Trajectories and the grid solution are cached in --cache (a rerun reads them).
 
@@ -154,7 +156,8 @@ def main(argv=None):
     c = [expand(problem, t) for t in trackers]
     c_det = [expand(problem, t, stochastic=False) for t in trackers]
     c_gn = [expand(problem, t, curvature="gauss-newton") for t in trackers[:2]]
-    c_old = [expand(problem, t, feedback="newton", radius=None) for t in trackers]
+    c_gnk = [expand(problem, t, feedback="gauss-newton") for t in trackers[:2]]
+    c_old = [expand(problem, t, feedback="newton", radius=None) for t in trackers[:2]]
 
     def noise_free(policy, x0):
         run = gridlbc.simulate(problem, policy, x0, len(np.atleast_2d(x0)), dt=args.dt,
@@ -172,21 +175,23 @@ def main(argv=None):
             "LBC (paper's v̄)": (gridlbc.combine(c_det[:2]).policy,
                                 gridlbc.combine(c_det[:2]).value),
             "LBC (Gauss–Newton P)": (gridlbc.combine(c_gn).policy, gridlbc.combine(c_gn).value),
-            "LBC (previous default)": (gridlbc.combine(c_old[:2]).policy,
-                                       gridlbc.combine(c_old[:2]).value),
+            "LBC (Gauss–Newton gains)": (gridlbc.combine(c_gnk).policy,
+                                         gridlbc.combine(c_gnk).value),
+            "LBC (previous default)": (gridlbc.combine(c_old).policy,
+                                       gridlbc.combine(c_old).value),
             f"grid {args.grid}⁴ fitted": (grid_policy, solution.value),
             "optimum's own tracker": (expand(problem, optimum).policy,
                                       expand(problem, optimum).value),
         }
         print(f"\n(a) Fig. 7 from (−105°, −15°); deterministic optimum (RK4 tape): cost "
               f"{optimum.cost:.2f}, final distance {angle_distance(optimum.states[-1:])[0]:.2f}")
-        print(f"{'controller':<24} {'v(x0)':>6} {'cost':>6} {'dist':>5} | {'noisy J':>13} "
+        print(f"{'controller':<26} {'v(x0)':>6} {'cost':>6} {'dist':>5} | {'noisy J':>13} "
               f"{'max|u|':>6} {'v*':>13} {'ESS':>5}")
         for label, (policy, value) in controllers.items():
             run = noise_free(policy, GYMNAST_START)
             cert, umax = certify_row(problem, policy, GYMNAST_START, args.samples, args.noisy_dt)
             v = "" if value is None else f"{float(value(GYMNAST_START, 0.0)[0]):6.2f}"
-            print(f"{label:<24} {v:>6} {run.costs[0]:6.2f} "
+            print(f"{label:<26} {v:>6} {run.costs[0]:6.2f} "
                   f"{angle_distance(run.final_states)[0]:5.2f} | {cert.policy_cost:6.2f} ± "
                   f"{cert.policy_cost_se:4.2f} {umax:6.1f} {cert.optimal_value:6.2f} ± "
                   f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f}", flush=True)
@@ -265,27 +270,29 @@ def main(argv=None):
         print(f"\n(c) coverage of {len(starts)} starts θ1 ∈ [−120°, −80°] × θ2 ∈ [−30°, 0°] at "
               f"rest: share with noise-free cost ≤ 1.25 J*(x₀); J* from {J_star.min():.1f} to "
               f"{J_star.max():.1f}")
-        print(f"{'K':>2} {'LBC':>6} {'LBC GN':>6} {'DDP K':>6} {'LBC old':>7} {'best single':>11} "
-              f"{'greedy':>6} {'grid':>6} | mean cost / J*: {'LBC':>5} {'DDP K':>5} {'old':>5} "
-              f"{'single':>6} {'greedy':>6}")
+        variants = {  # LBC of the first K trackers, expanded with these options
+            "LBC": {},
+            "GN P": {"curvature": "gauss-newton"},
+            "DDP K": {"feedback": "newton"},
+            "GN K": {"feedback": "gauss-newton"},
+            "old": {"feedback": "newton", "radius": None},
+        }
+        print(f"{'K':>2} " + " ".join(f"{name:>6}" for name in variants)
+              + f" {'best single':>11} {'greedy':>6} {'grid':>6} | mean cost / J*: "
+              + " ".join(f"{name:>6}" for name in variants) + f" {'single':>6} {'greedy':>6}")
         within = lambda cost: np.mean(cost <= 1.25 * J_star)
         for K in (1, 2, 4, 6):
             combination = gridlbc.combine(c[:K])
-            lbc_cost = noise_free(combination.policy, starts).costs
-            lbc_gn = noise_free(gridlbc.combine(
-                [expand(problem, t, curvature="gauss-newton") for t in trackers[:K]]).policy,
-                starts).costs
-            lbc_old = noise_free(gridlbc.combine(c_old[:K]).policy, starts).costs
-            lbc_ddp = noise_free(gridlbc.combine(
-                [expand(problem, t, feedback="newton") for t in trackers[:K]]).policy,
-                starts).costs
+            lbc = [noise_free(gridlbc.combine([expand(problem, t, **options)
+                                               for t in trackers[:K]]).policy, starts).costs
+                   for options in variants.values()]
             single = np.min([noise_free(ci.policy, starts).costs for ci in c[:K]], axis=0)
             greedy = noise_free(GreedySwitch(combination).policy, starts).costs
-            print(f"{K:2d} {within(lbc_cost):6.0%} {within(lbc_gn):6.0%} {within(lbc_ddp):6.0%} "
-                  f"{within(lbc_old):7.0%} {within(single):11.0%} {within(greedy):6.0%} "
-                  f"{within(grid_cost):6.0%} | {'':>15} {np.mean(lbc_cost / J_star):5.2f} "
-                  f"{np.mean(lbc_ddp / J_star):5.2f} {np.mean(lbc_old / J_star):5.2f} "
-                  f"{np.mean(single / J_star):6.2f} {np.mean(greedy / J_star):6.2f}", flush=True)
+            print(f"{K:2d} " + " ".join(f"{within(cost):6.0%}" for cost in lbc)
+                  + f" {within(single):11.0%} {within(greedy):6.0%} {within(grid_cost):6.0%} | "
+                  + f"{'':>15} " + " ".join(f"{np.mean(cost / J_star):6.2f}" for cost in lbc)
+                  + f" {np.mean(single / J_star):6.2f} {np.mean(greedy / J_star):6.2f}",
+                  flush=True)
 
     if "d" not in args.skip:
         seeds = range(args.seeds)
@@ -293,12 +300,14 @@ def main(argv=None):
               f"0…{args.seeds - 1} ({args.samples} paths each, Δt {args.noisy_dt}), the mean and "
               f"worst J / v* over the seeds (v* from the same paths); radius 'auto' = "
               f"{c[0].radius:.2f}")
-        print(f"{'controller':<12} {'gain':<12} {'radius':>6} {'v̄':<5} {'noise-free':>10} | "
+        print(f"{'controller':<12} {'gain':<16} {'radius':>6} {'v̄':<5} {'noise-free':>10} | "
               + " ".join(f"{'seed ' + str(k):>13}" for k in seeds) + f" | {'mean':>5} {'worst':>5}")
-        for feedback in ("gauss-newton", "newton"):
+        for feedback in ("projected-newton", "gauss-newton", "newton"):
             for radius in ("auto", None, 3.0, 5.0):
                 for stochastic in (True, False):
-                    if not stochastic and radius != "auto":
+                    if (not stochastic or feedback != "projected-newton") and radius in (3.0, 5.0):
+                        continue
+                    if not stochastic and radius is None:
                         continue
                     parts = [expand(problem, t, stochastic=stochastic, radius=radius,
                                     feedback=feedback) for t in trackers]
@@ -312,7 +321,7 @@ def main(argv=None):
                                                  n_samples=args.samples, dt=args.noisy_dt,
                                                  seed=seed, progress=False) for seed in seeds]
                         ratio = [cert.policy_cost / cert.optimal_value for cert in certs]
-                        print(f"{label:<12} {feedback:<12} {radius!s:>6} "
+                        print(f"{label:<12} {feedback:<16} {radius!s:>6} "
                               f"{'λ' if stochastic else 'det':<5} {run.costs[0]:10.2f} | "
                               + " ".join(f"{cert.policy_cost:6.2f} ± {cert.policy_cost_se:4.2f}"
                                          for cert in certs)

@@ -10,7 +10,7 @@ from gridlbc.reference import lq_solution
 from gridlbc.systems import Acrobot, Pendulum, PointMass
 from gridlbc.systems.base import ControlAffineSystem
 from gridlbc.trajectory import Trajectory, TrajectoryWarning, expand, optimize, tape_cost
-from gridlbc.trajectory.ddp import sweep
+from gridlbc.trajectory.ddp import sweep, sweeps
 from gridlbc.trajectory.expansion import default_radius
 from gridlbc.trajectory.optimize import shooting_for
 
@@ -454,11 +454,18 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
     _, gauss_newton = sweep(shooting, tape.controls, problem.terminal_cost, None)
     scale = np.abs(H).max()
     np.testing.assert_allclose(newton.P[0], H, atol=2e-4 * scale)
-    # The tracker's gain is the Gauss–Newton (LQR) one by default, the full DDP one on request.
-    np.testing.assert_array_equal(component.gains, gauss_newton.gains)
-    full = expand(problem, tape, feedback="newton")
-    np.testing.assert_array_equal(full.gains, newton.gains)
-    np.testing.assert_array_equal(full.hessians, component.hessians)
+    # The tracker's gain: by default from the full pass carrying P⁺ (then P_k ⪰ 0 at every node,
+    # and its gain differs from both others here), or the full DDP / Gauss–Newton gain.
+    _, (projected,) = sweeps(shooting, tape.controls, problem.terminal_cost, None,
+                             ("projected-newton",))
+    np.testing.assert_array_equal(component.gains, projected.gains)
+    assert np.linalg.eigvalsh(projected.P).min() > -1e-12 * scale
+    for other in (newton, gauss_newton):
+        assert np.abs(projected.gains - other.gains).max() > 1e-3 * np.abs(other.gains).max()
+    for feedback, back in (("newton", newton), ("gauss-newton", gauss_newton)):
+        other = expand(problem, tape, feedback=feedback)
+        np.testing.assert_array_equal(other.gains, back.gains)
+        np.testing.assert_array_equal(other.hessians, component.hessians)  # v̂ is unchanged
     np.testing.assert_allclose(newton.p[0], grad, atol=2e-4 * np.abs(grad).max())
     assert np.abs(gauss_newton.P[0] - H).max() > 100 * np.abs(newton.P[0] - H).max()
     w, V = np.linalg.eigh(newton.P[0])
@@ -470,10 +477,12 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
 
 def test_feedback_passes_coincide_for_linear_dynamics(lq_tracker):
     """Without second derivatives of the dynamics the full DDP pass is the Gauss–Newton one (the
-    finite-difference F_zz of linear dynamics is rounding)."""
+    finite-difference F_zz of linear dynamics is rounding), and its P ⪰ 0 needs no projection."""
     problem, trajectory = lq_tracker
-    default, full = expand(problem, trajectory), expand(problem, trajectory, feedback="newton")
-    np.testing.assert_allclose(full.gains, default.gains, rtol=1e-7, atol=1e-9)
+    default = expand(problem, trajectory)
+    for feedback in ("newton", "gauss-newton"):
+        other = expand(problem, trajectory, feedback=feedback)
+        np.testing.assert_allclose(other.gains, default.gains, rtol=1e-7, atol=1e-9)
 
 
 def test_default_radius_is_the_chi_square_quantile():

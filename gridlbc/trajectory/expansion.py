@@ -14,13 +14,15 @@ cost-to-go and the gain K_k. Two passes play different parts:
   not convex in some direction), the value uses its projection P_k⁺ onto the positive
   semi-definite cone (negative eigenvalues set to zero), so that no component's desirability
   grows without bound away from its trajectory.
-- *the tracker's gain* (``feedback="gauss-newton"``, the default) comes from the Gauss–Newton
-  (iLQR) pass: K_k = −(RΔt + B_kᵀP'B_k)⁻¹ B_kᵀP'A_k with P' = P_k+1 of the same pass
-  (positive semi-definite), the time-varying LQR gain of the tape's linearisation.
-  ``feedback="newton"`` takes the full DDP gain instead, the exact first-order change of the
-  neighbouring optima's controls: it tracks better without noise, but its curvature terms are a
-  local model that noise carries the state out of (README, Fig. 7). For linear dynamics the two
-  passes coincide.
+- *the tracker's gain* K_k = −Q_uu⁻¹Q_ux (``feedback="projected-newton"``, the default) comes
+  from the full DDP pass run with P_k+1 replaced by its positive semi-definite part P_k+1⁺ at
+  every step: each step's model keeps the curvature that the dynamics add where it is positive
+  (gravity's, on a swing-up), and no step's model rewards a deviation. ``feedback="newton"``
+  takes the exact full DDP gain, the first-order change of the neighbouring optima's controls:
+  where their cost is concave (P_k indefinite) its model rewards deviations along those
+  directions, which holds for small deviations but not for the large ones that noise causes
+  (README, Fig. 7). ``feedback="gauss-newton"`` is the iLQR gain, the LQR gain of the tape's
+  linearisation without the dynamics' curvature. For linear dynamics the three coincide.
 
 The component is
 
@@ -70,8 +72,10 @@ from .ddp import positive_part, sweeps
 from .optimize import Trajectory, shooting_for, timed_state_cost
 
 CURVATURES = ("gauss-newton", "newton")
-"""How P (``curvature``) or K (``feedback``) is computed: without or with the dynamics' second
-derivatives."""
+"""How P is computed (``curvature``): without or with the dynamics' second derivatives."""
+
+FEEDBACKS = ("projected-newton", "newton", "gauss-newton")
+"""The backward pass that gives the tracker's gain K (``feedback``)."""
 
 VALIDITY = 0.99
 """The probability mass of a component's Gaussian desirability within the default radius
@@ -121,7 +125,7 @@ class TrajectoryExpansion:
     curvature : str
         The pass that gives P: ``"newton"`` (full DDP) or ``"gauss-newton"``.
     feedback : str
-        The pass that gives K: ``"gauss-newton"`` (iLQR) or ``"newton"``.
+        The pass that gives K, one of :data:`FEEDBACKS`.
     """
 
     problem: Problem
@@ -212,7 +216,7 @@ class TrajectoryExpansion:
 
 def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
            radius: float | str | None = "auto", curvature: str = "newton",
-           feedback: str = "gauss-newton") -> TrajectoryExpansion:
+           feedback: str = "projected-newton") -> TrajectoryExpansion:
     """The quadratic value expansion and LQR tracker of ``trajectory`` (module docstring).
 
     Parameters
@@ -231,9 +235,9 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
         Riccati controller on LQ problems at every state).
     curvature : {"newton", "gauss-newton"}
         The pass that gives p and P of the value: full DDP (the default) or Gauss–Newton.
-    feedback : {"gauss-newton", "newton"}
-        The pass that gives the tracker's gain K: Gauss–Newton, the LQR gain of the
-        linearisation (the default), or full DDP.
+    feedback : {"projected-newton", "newton", "gauss-newton"}
+        The pass that gives the tracker's gain K: full DDP carrying the positive semi-definite
+        part of each P (the default), exact full DDP, or Gauss–Newton (module docstring).
 
     Returns
     -------
@@ -245,9 +249,10 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     if not isinstance(trajectory, Trajectory):
         raise TypeError("trajectory must be a gridlbc.trajectory.Trajectory (from "
                         f"gridlbc.trajectory.optimize), got {type(trajectory).__name__}")
-    for name, value in (("curvature", curvature), ("feedback", feedback)):
-        if not isinstance(value, str) or value not in CURVATURES:
-            raise ValueError(f"{name} must be one of {CURVATURES}, got {value!r}")
+    for name, value, allowed in (("curvature", curvature, CURVATURES),
+                                 ("feedback", feedback, FEEDBACKS)):
+        if not isinstance(value, str) or value not in allowed:
+            raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
     radius = _check_radius(radius, problem.system.state_dim)
     _check_same_problem(problem, trajectory)
     if not trajectory.converged:
@@ -258,8 +263,7 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     K = len(U)
     shooting = shooting_for(problem, X[0], K)
     passes = (curvature, feedback) if feedback != curvature else (curvature,)
-    states, backs = sweeps(shooting, U, problem.terminal_cost, problem.state_cost,
-                           [c == "newton" for c in passes])
+    states, backs = sweeps(shooting, U, problem.terminal_cost, problem.state_cost, passes)
     back, gains = backs[0], backs[-1].gains
     P = positive_part(back.P)
     dt = shooting.dt
