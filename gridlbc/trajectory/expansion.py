@@ -37,9 +37,10 @@ Riccati equation
     c_k = (λ/2) ∫_{t_k}^T tr(S P) ds,   S = B(x̄) R⁻¹ B(x̄)ᵀ   (trapezoidal rule on the nodes),
 
 with the exact P (the expected cost of the noise to second order; clipping P's negative
-eigenvalues would overstate it), which makes v̂ exact for linear-quadratic problems (the README's LQ reference); the paper uses
-the deterministic v̄ (``stochastic=False``). Between nodes v̄, c, p, P and x̄ are linear in time,
-ū and K are held on each interval, as the optimiser held the controls.
+eigenvalues would overstate it), which makes v̂ exact for linear-quadratic problems (the
+README's LQ reference); the paper uses the deterministic v̄ (``stochastic=False``). Between
+nodes v̄, c, p, P and x̄ are linear in time, ū and K are held on each interval, as the optimiser
+held the controls.
 
 Far from its trajectory a tracker extrapolates a local model: KΔx grows without bound. The
 feedback is therefore saturated at the Mahalanobis distance
