@@ -120,7 +120,8 @@ def test_greedy_switch_follows_the_largest_blend_weight():
     best = np.argmax(combination.blend_weights(x, 0.3), axis=1)
     assert set(best) == {0, 1}
     expected = np.stack([trackers[b].policy(x[k], 0.3)[0] for k, b in enumerate(best)])
-    np.testing.assert_array_equal(GreedySwitch(combination).policy(x, 0.3), expected)
+    # equal to rounding: the saturation's einsum sums in another order for another batch
+    np.testing.assert_allclose(GreedySwitch(combination).policy(x, 0.3), expected, rtol=1e-14)
 
 
 # -- the trackers of the paper's Fig. 7 ------------------------------------------------------------
