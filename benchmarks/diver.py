@@ -15,7 +15,7 @@ Every controller is rolled out without noise (Δt = 5 ms) and, with ``--certify 
 the noisy problem (N importance samples: its cost, the certified optimum v* and the effective
 sample size). Prints the tables of the README section "The diver".
 
-    python benchmarks/diver.py --certify 300 --figures figures      # ≈ 12 min on a loaded machine
+    python benchmarks/diver.py --certify 300 --figures figures      # ≈ 7 min on a loaded machine
 """
 
 from __future__ import annotations

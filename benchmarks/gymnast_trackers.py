@@ -4,29 +4,37 @@ against the grid optimum and the certified optimum.
 Problem: the gymnast of gridlbc.studies.problems (T 3, λ 1, R 1, g = xᵀdiag(10, 10, ½, ½)x, hip
 stops at ±180°). Trackers: gridlbc.trajectory.optimize from each start of TRACKER_STARTS at rest
 and from the test state (the deterministic optimum), by multi-start shooting + iLQR (--restarts,
-300 RK4 intervals), expanded by gridlbc.trajectory.expand (full DDP curvature by default).
+300 RK4 intervals), expanded by gridlbc.trajectory.expand (defaults: v̂ from the full DDP
+pass, the tracker's gain from the full DDP pass carrying the positive semi-definite part of
+each P, feedback saturated at the χ²_4 99 % Mahalanobis radius ρ_max = 3.64).
 
 (a) Fig. 7: from (−105°, −15°) at rest: tracker 1 (−90°, 0°), tracker 2 (−110°, −20°), the naive
-    average and sum, LBC with v̂ including (λ/2)∫tr(SP) (default), with the paper's
-    deterministic v̄ and with the Gauss–Newton P, the grid-optimal controller (splitting fitted
-    to g, --grid n⁴), and the optimum's own tracker. Columns: the controller's prediction v(x₀),
+    average and sum, LBC with the defaults, with the paper's deterministic v̄, with the
+    Gauss–Newton P, with the Gauss–Newton gains, and with the previous default (full DDP gains,
+    no saturation), the
+    grid-optimal controller (splitting fitted to g, --grid n⁴), and the optimum's own tracker. Columns: the controller's prediction v(x₀),
     the noise-free cost and final angle distance (Euler, --dt), then gridlbc.certify with the
     controller as proposal (--samples paths at --noisy-dt): its noisy cost J ± SE, max |u| over
     the paths, the certified optimum v* ± SE and the effective sample size.
 (a') Noise-free, trackers 1 and 2 from --compare-restarts restarts (another local optimum from
-    (−90°, 0°)) against --restarts, each with both curvatures: v̂_i(x₀), α₁(x₀) and the costs.
+    (−90°, 0°)) against --restarts, each with both curvatures (for P and K alike, unsaturated):
+    v̂_i(x₀), α₁(x₀) and the costs.
 (b) v̂ at the two trackers' start states shifted towards the test state by 0 … 0.35 rad: the
     deterministic v̂ (both curvatures) against the local optimum from there (iLQR continued in δ
     from the tracker's tape), and v̂ with the λ term against the grid value and the certified v*
     (proposal: the grid controller).
 (c) Coverage: the starts of a (θ1, θ2) box at rest; J*(x₀) is the best of the local optima found
     by iLQR from each of the seven tapes (an upper bound on the global optimum). Share of starts
-    whose noise-free cost is within 25 % of J*, for LBC of the first K trackers (both
-    curvatures), the best single one of them (an oracle: the cheapest of the K rollouts), greedy
-    switching (argmax α) and the grid controller.
-(d) Validity: tracker 2, LBC of trackers 1 and 2 and LBC of six trackers with the feedback
-    saturated at Mahalanobis radius ρ_max (None, 5, 3, 2): noisy cost (mean and median), max |u|,
-    v*, and on how many noisy paths α₁ exceeds ½ somewhere.
+    whose noise-free cost is within 25 % of J*, for LBC of the first K trackers (the defaults,
+    the Gauss–Newton P, the full DDP gains, the Gauss–Newton gains, and the previous default:
+    full DDP gains, unsaturated), the best single
+    one of them (an oracle: the cheapest of the K rollouts), greedy switching (argmax α) and the
+    grid controller.
+(d) Validity treatments, noisy, from the test state: tracker 2, LBC of trackers 1 and 2 and LBC
+    of six, for the tracker's gain (projected full DDP, Gauss–Newton or full DDP) × the
+    saturation radius (the default, None; 3 and 5 for the default gain) × v̄ in α (with the λ
+    term or deterministic), each certified at --seeds seeds of --samples paths: J ± SE at each
+    seed, the mean and worst ratio J / v* over the seeds.
 
 Trajectories and the grid solution are cached in --cache (a rerun reads them).
 
@@ -117,6 +125,7 @@ def main(argv=None):
     parser.add_argument("--dt", type=float, default=0.001, help="noise-free rollout step")
     parser.add_argument("--noisy-dt", type=float, default=0.002)
     parser.add_argument("--samples", type=int, default=300)
+    parser.add_argument("--seeds", type=int, default=5, help="seeds of the validity table (d)")
     parser.add_argument("--cache", default="/tmp/gridlbc_trackers",
                         help="cache of the trajectories and the grid solution")
     parser.add_argument("--compare-restarts", type=int, default=32,
@@ -147,6 +156,8 @@ def main(argv=None):
     c = [expand(problem, t) for t in trackers]
     c_det = [expand(problem, t, stochastic=False) for t in trackers]
     c_gn = [expand(problem, t, curvature="gauss-newton") for t in trackers[:2]]
+    c_gnk = [expand(problem, t, feedback="gauss-newton") for t in trackers[:2]]
+    c_old = [expand(problem, t, feedback="newton", radius=None) for t in trackers[:2]]
 
     def noise_free(policy, x0):
         run = gridlbc.simulate(problem, policy, x0, len(np.atleast_2d(x0)), dt=args.dt,
@@ -160,29 +171,33 @@ def main(argv=None):
             "tracker 2": (c[1].policy, c[1].value),
             "naive average": (gridlbc.naive_blend(c[:2], None).policy, None),
             "naive sum": (gridlbc.naive_blend(c[:2], None, mode="sum").policy, None),
-            "LBC (v̂ with λ term)": (lbc.policy, lbc.value),
+            "LBC (defaults)": (lbc.policy, lbc.value),
             "LBC (paper's v̄)": (gridlbc.combine(c_det[:2]).policy,
                                 gridlbc.combine(c_det[:2]).value),
             "LBC (Gauss–Newton P)": (gridlbc.combine(c_gn).policy, gridlbc.combine(c_gn).value),
+            "LBC (Gauss–Newton gains)": (gridlbc.combine(c_gnk).policy,
+                                         gridlbc.combine(c_gnk).value),
+            "LBC (previous default)": (gridlbc.combine(c_old).policy,
+                                       gridlbc.combine(c_old).value),
             f"grid {args.grid}⁴ fitted": (grid_policy, solution.value),
             "optimum's own tracker": (expand(problem, optimum).policy,
                                       expand(problem, optimum).value),
         }
         print(f"\n(a) Fig. 7 from (−105°, −15°); deterministic optimum (RK4 tape): cost "
               f"{optimum.cost:.2f}, final distance {angle_distance(optimum.states[-1:])[0]:.2f}")
-        print(f"{'controller':<24} {'v(x0)':>6} {'cost':>6} {'dist':>5} | {'noisy J':>13} "
+        print(f"{'controller':<26} {'v(x0)':>6} {'cost':>6} {'dist':>5} | {'noisy J':>13} "
               f"{'max|u|':>6} {'v*':>13} {'ESS':>5}")
         for label, (policy, value) in controllers.items():
             run = noise_free(policy, GYMNAST_START)
             cert, umax = certify_row(problem, policy, GYMNAST_START, args.samples, args.noisy_dt)
             v = "" if value is None else f"{float(value(GYMNAST_START, 0.0)[0]):6.2f}"
-            print(f"{label:<24} {v:>6} {run.costs[0]:6.2f} "
+            print(f"{label:<26} {v:>6} {run.costs[0]:6.2f} "
                   f"{angle_distance(run.final_states)[0]:5.2f} | {cert.policy_cost:6.2f} ± "
                   f"{cert.policy_cost_se:4.2f} {umax:6.1f} {cert.optimal_value:6.2f} ± "
                   f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f}", flush=True)
         if args.figure:
             runs = {}
-            for label in ("tracker 1", "tracker 2", "naive average", "LBC (v̂ with λ term)",
+            for label in ("tracker 1", "tracker 2", "naive average", "LBC (defaults)",
                           f"grid {args.grid}⁴ fitted"):
                 run = noise_free(controllers[label][0], GYMNAST_START)
                 runs[label.split(" (")[0]] = (run.states[0], run.controls[0])
@@ -203,8 +218,8 @@ def main(argv=None):
                              cache, "tracker")
         for restarts, tapes in ((args.compare_restarts, other), (args.restarts, trackers[:2])):
             for curvature in ("newton", "gauss-newton"):
-                parts = [expand(problem, t, stochastic=False, curvature=curvature)
-                         for t in tapes]
+                parts = [expand(problem, t, stochastic=False, curvature=curvature,
+                                feedback=curvature, radius=None) for t in tapes]
                 lbc_part = gridlbc.combine(parts)
                 costs = [noise_free(policy, GYMNAST_START).costs[0] for policy in
                          (parts[0].policy, parts[1].policy,
@@ -255,50 +270,62 @@ def main(argv=None):
         print(f"\n(c) coverage of {len(starts)} starts θ1 ∈ [−120°, −80°] × θ2 ∈ [−30°, 0°] at "
               f"rest: share with noise-free cost ≤ 1.25 J*(x₀); J* from {J_star.min():.1f} to "
               f"{J_star.max():.1f}")
-        print(f"{'K':>2} {'LBC':>6} {'LBC GN':>6} {'best single':>11} {'greedy':>6} "
-              f"{'grid':>6} | mean cost / J*: {'LBC':>5} {'single':>6} {'greedy':>6}")
+        variants = {  # LBC of the first K trackers, expanded with these options
+            "LBC": {},
+            "GN P": {"curvature": "gauss-newton"},
+            "DDP K": {"feedback": "newton"},
+            "GN K": {"feedback": "gauss-newton"},
+            "old": {"feedback": "newton", "radius": None},
+        }
+        print(f"{'K':>2} " + " ".join(f"{name:>6}" for name in variants)
+              + f" {'best single':>11} {'greedy':>6} {'grid':>6} | mean cost / J*: "
+              + " ".join(f"{name:>6}" for name in variants) + f" {'single':>6} {'greedy':>6}")
         within = lambda cost: np.mean(cost <= 1.25 * J_star)
         for K in (1, 2, 4, 6):
             combination = gridlbc.combine(c[:K])
-            lbc_cost = noise_free(combination.policy, starts).costs
-            lbc_gn = noise_free(gridlbc.combine(
-                [expand(problem, t, curvature="gauss-newton") for t in trackers[:K]]).policy,
-                starts).costs
+            lbc = [noise_free(gridlbc.combine([expand(problem, t, **options)
+                                               for t in trackers[:K]]).policy, starts).costs
+                   for options in variants.values()]
             single = np.min([noise_free(ci.policy, starts).costs for ci in c[:K]], axis=0)
             greedy = noise_free(GreedySwitch(combination).policy, starts).costs
-            print(f"{K:2d} {within(lbc_cost):6.0%} {within(lbc_gn):6.0%} {within(single):11.0%} "
-                  f"{within(greedy):6.0%} {within(grid_cost):6.0%} | {'':>15} "
-                  f"{np.mean(lbc_cost / J_star):5.2f} {np.mean(single / J_star):6.2f} "
-                  f"{np.mean(greedy / J_star):6.2f}", flush=True)
+            print(f"{K:2d} " + " ".join(f"{within(cost):6.0%}" for cost in lbc)
+                  + f" {within(single):11.0%} {within(greedy):6.0%} {within(grid_cost):6.0%} | "
+                  + f"{'':>15} " + " ".join(f"{np.mean(cost / J_star):6.2f}" for cost in lbc)
+                  + f" {np.mean(single / J_star):6.2f} {np.mean(greedy / J_star):6.2f}",
+                  flush=True)
 
     if "d" not in args.skip:
-        print("\n(d) validity: from the test state, feedback saturated at Mahalanobis radius "
-              "ρ_max; the noisy cost's median and the paths (of the certificate's) on which "
-              "α₁ > ½ somewhere")
-        print(f"{'controller':<16} {'ρ_max':>6} {'noise-free':>10} {'noisy J':>13} "
-              f"{'median':>6} {'max|u|':>6} {'v*':>13} {'ESS':>5} {'α₁>½':>5}")
-        for radius in (None, 5.0, 3.0, 2.0):
-            parts = [expand(problem, t, radius=radius) for t in trackers]
-            for label, policy, alpha in (
-                    ("tracker 2", parts[1].policy, None),
-                    ("LBC of 1, 2", gridlbc.combine(parts[:2]).policy,
-                     gridlbc.combine(parts[:2]).blend_weights),
-                    ("LBC of six", gridlbc.combine(parts).policy, None)):
-                run = noise_free(policy, GYMNAST_START)
-                cert = gridlbc.certify(problem, policy, GYMNAST_START, n_samples=args.samples,
-                                       dt=args.noisy_dt, seed=0, progress=False)
-                paths = gridlbc.simulate(problem, policy, GYMNAST_START, args.samples,
-                                         dt=args.noisy_dt, seed=0)  # the certificate's paths
-                switched = ""
-                if alpha is not None:
-                    a1 = np.max([alpha(paths.states[:, k], paths.times[k])[:, 0]
-                                 for k in range(0, len(paths.times) - 1, 5)], axis=0)
-                    switched = f"{int(np.sum(a1 > 0.5))}"
-                print(f"{label:<16} {radius!s:>6} {run.costs[0]:10.2f} {cert.policy_cost:6.2f} ± "
-                      f"{cert.policy_cost_se:5.2f} {np.median(paths.costs):6.1f} "
-                      f"{np.abs(paths.controls).max():6.1f} {cert.optimal_value:6.2f} ± "
-                      f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f} "
-                      f"{switched:>5}", flush=True)
+        seeds = range(args.seeds)
+        print(f"\n(d) validity treatments from the test state: noisy cost J ± SE at seeds "
+              f"0…{args.seeds - 1} ({args.samples} paths each, Δt {args.noisy_dt}), the mean and "
+              f"worst J / v* over the seeds (v* from the same paths); radius 'auto' = "
+              f"{c[0].radius:.2f}")
+        print(f"{'controller':<12} {'gain':<16} {'radius':>6} {'v̄':<5} {'noise-free':>10} | "
+              + " ".join(f"{'seed ' + str(k):>13}" for k in seeds) + f" | {'mean':>5} {'worst':>5}")
+        for feedback in ("projected-newton", "gauss-newton", "newton"):
+            for radius in ("auto", None, 3.0, 5.0):
+                for stochastic in (True, False):
+                    if (not stochastic or feedback != "projected-newton") and radius in (3.0, 5.0):
+                        continue
+                    if not stochastic and radius is None:
+                        continue
+                    parts = [expand(problem, t, stochastic=stochastic, radius=radius,
+                                    feedback=feedback) for t in trackers]
+                    rows = [("LBC of 1, 2", gridlbc.combine(parts[:2]).policy)]
+                    if stochastic:
+                        rows = [("tracker 2", parts[1].policy), *rows,
+                                ("LBC of six", gridlbc.combine(parts).policy)]
+                    for label, policy in rows:
+                        run = noise_free(policy, GYMNAST_START)
+                        certs = [gridlbc.certify(problem, policy, GYMNAST_START,
+                                                 n_samples=args.samples, dt=args.noisy_dt,
+                                                 seed=seed, progress=False) for seed in seeds]
+                        ratio = [cert.policy_cost / cert.optimal_value for cert in certs]
+                        print(f"{label:<12} {feedback:<16} {radius!s:>6} "
+                              f"{'λ' if stochastic else 'det':<5} {run.costs[0]:10.2f} | "
+                              + " ".join(f"{cert.policy_cost:6.2f} ± {cert.policy_cost_se:4.2f}"
+                                         for cert in certs)
+                              + f" | {np.mean(ratio):5.2f} {np.max(ratio):5.2f}", flush=True)
 
 
 if __name__ == "__main__":

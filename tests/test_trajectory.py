@@ -10,7 +10,8 @@ from gridlbc.reference import lq_solution
 from gridlbc.systems import Acrobot, Pendulum, PointMass
 from gridlbc.systems.base import ControlAffineSystem
 from gridlbc.trajectory import Trajectory, TrajectoryWarning, expand, optimize, tape_cost
-from gridlbc.trajectory.ddp import sweep
+from gridlbc.trajectory.ddp import sweep, sweeps
+from gridlbc.trajectory.expansion import default_radius
 from gridlbc.trajectory.optimize import shooting_for
 
 TWO_PI = 2 * np.pi
@@ -294,7 +295,8 @@ def test_tape_cost_rejects_bad_tape():
 # The optimiser and the expansion work on the RK4 / rectangle-rule discretisation with Δt = T/K,
 # whose value and gain differ from the continuous Riccati solution by O(Δt). The checks measure
 # the error at two K and require first order (the error halves with Δt, ratio ≥ 1.7) and a
-# small constant.
+# small constant. The trackers are unsaturated (radius=None): some of the states OFF lie beyond
+# the default validity radius, where the default tracker bounds its feedback by design.
 
 
 def lq_problem(terminal_center=(1.0, 0.0), temperature=0.7, horizon=1.0):
@@ -308,7 +310,7 @@ OFF = np.array([[0.3, -0.4], [-2.0, 1.0], [1.0, 1.0], [0.0, 0.0]])  # off the tr
 
 def _expansion_errors(problem, K, times=(0.0, 0.37, 0.81), **options):
     trajectory = optimize(problem, np.array([-1.0, 0.5]), restarts=1, n_intervals=K)
-    component = expand(problem, trajectory, **options)
+    component = expand(problem, trajectory, **{"radius": None, **options})
     exact = lq_solution(problem)
     v_err = max(np.max(np.abs(component.value(OFF, t) - exact.value(OFF, t))) for t in times)
     u_err = max(np.max(np.abs(component.policy(OFF, t) - exact.policy(OFF, t))) for t in times)
@@ -348,7 +350,8 @@ def test_combination_of_two_lq_trackers_is_the_lq_combination():
     exact Riccati solutions (both are components: value, policy, problem)."""
     left, right = lq_problem((-1.0, 0.0)), lq_problem((1.5, 0.0))
     x0 = np.array([0.0, 0.5])
-    trackers = [expand(p, optimize(p, x0, restarts=1, n_intervals=200)) for p in (left, right)]
+    trackers = [expand(p, optimize(p, x0, restarts=1, n_intervals=200), radius=None)
+                for p in (left, right)]
     exact = [lq_solution(p) for p in (left, right)]
     for weights in (None, [0.3, 2.0]):
         lbc, reference = g.combine(trackers, weights), g.combine(exact, weights)
@@ -399,7 +402,7 @@ def test_naive_blend_sum_and_average():
 # -- wrapping, saturation, tracking cost ------------------------------------------------------------
 
 
-def _pendulum_component(radius=None):
+def _pendulum_component(radius="auto"):
     problem = g.Problem(Pendulum(), box(2, periodic=(0,)), 1.0, Quadratic([0.0, 0.0], [2.0, 0.2]),
                         temperature=0.5)
     return expand(problem, optimize(problem, np.array([2.5, 0.0]), restarts=4, n_intervals=60),
@@ -451,6 +454,18 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
     _, gauss_newton = sweep(shooting, tape.controls, problem.terminal_cost, None)
     scale = np.abs(H).max()
     np.testing.assert_allclose(newton.P[0], H, atol=2e-4 * scale)
+    # The tracker's gain: by default from the full pass carrying P⁺ (then P_k ⪰ 0 at every node,
+    # and its gain differs from both others here), or the full DDP / Gauss–Newton gain.
+    _, (projected,) = sweeps(shooting, tape.controls, problem.terminal_cost, None,
+                             ("projected-newton",))
+    np.testing.assert_array_equal(component.gains, projected.gains)
+    assert np.linalg.eigvalsh(projected.P).min() > -1e-12 * scale
+    for other in (newton, gauss_newton):
+        assert np.abs(projected.gains - other.gains).max() > 1e-3 * np.abs(other.gains).max()
+    for feedback, back in (("newton", newton), ("gauss-newton", gauss_newton)):
+        other = expand(problem, tape, feedback=feedback)
+        np.testing.assert_array_equal(other.gains, back.gains)
+        np.testing.assert_array_equal(other.hessians, component.hessians)  # v̂ is unchanged
     np.testing.assert_allclose(newton.p[0], grad, atol=2e-4 * np.abs(grad).max())
     assert np.abs(gauss_newton.P[0] - H).max() > 100 * np.abs(newton.P[0] - H).max()
     w, V = np.linalg.eigh(newton.P[0])
@@ -460,8 +475,28 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
     assert np.linalg.eigvalsh(component.hessians).min() > -1e-12 * scale
 
 
+def test_feedback_passes_coincide_for_linear_dynamics(lq_tracker):
+    """Without second derivatives of the dynamics the full DDP pass is the Gauss–Newton one (the
+    finite-difference F_zz of linear dynamics is rounding), and its P ⪰ 0 needs no projection."""
+    problem, trajectory = lq_tracker
+    default = expand(problem, trajectory)
+    for feedback in ("newton", "gauss-newton"):
+        other = expand(problem, trajectory, feedback=feedback)
+        np.testing.assert_allclose(other.gains, default.gains, rtol=1e-7, atol=1e-9)
+
+
+def test_default_radius_is_the_chi_square_quantile():
+    """ρ² of a d-dimensional standard Gaussian is χ²_d; for d = 2 its 99 % quantile is
+    −2 log 0.01 in closed form."""
+    component = _pendulum_component(radius="auto")
+    assert component.radius == pytest.approx(np.sqrt(-2.0 * np.log(0.01)), rel=1e-12)
+    assert _pendulum_component().radius == component.radius  # the default
+    assert default_radius(4) > default_radius(2)
+    assert _pendulum_component(radius=None).radius is None
+
+
 def test_radius_saturates_the_feedback_only_far_away():
-    plain, capped = _pendulum_component(), _pendulum_component(radius=2.0)
+    plain, capped = _pendulum_component(radius=None), _pendulum_component(radius=2.0)
     x = plain.trajectory.states[10] + np.array([[0.01, 0.02], [1.5, -4.0]])
     t = plain.trajectory.times[10]
     rho = plain.mahalanobis(x, t)
@@ -519,8 +554,14 @@ def test_expand_rejects_another_problems_trajectory(lq_tracker):
         expand(problem, trajectory.states)
     with pytest.raises(ValueError, match="radius"):
         expand(problem, trajectory, radius=-1.0)
+    with pytest.raises(ValueError, match="radius must be 'auto', None or a positive number"):
+        expand(problem, trajectory, radius="wide")
+    with pytest.raises(TypeError, match="radius"):
+        expand(problem, trajectory, radius=True)
     with pytest.raises(ValueError, match="curvature"):
         expand(problem, trajectory, curvature="exact")
+    with pytest.raises(ValueError, match="feedback must be one of"):
+        expand(problem, trajectory, feedback="lqr")
     # a different temperature is the same deterministic problem: allowed
     expand(problem.replace(temperature=2.0), trajectory)
 

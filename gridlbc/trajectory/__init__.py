@@ -5,7 +5,7 @@ Where no grid fits the state space, each component is a locally optimal trajecto
 deterministic problem with its quadratic value expansion and LQR tracker:
 
     trajectory = optimize(problem, x0)          # multi-start shooting, polished by iLQR
-    component = expand(problem, trajectory)     # v̂ = v̄ + pᵀΔx + ½ΔxᵀPΔx, u = ū + KΔx
+    component = expand(problem, trajectory)     # v̂ = v̄ + pᵀΔx + ½ΔxᵀPΔx, u = ū + KΔx (saturated)
 
 Components combine with :func:`gridlbc.combine` (α_i ∝ w_i exp(−v̂_i/λ)), alone or with grid
 solutions of the same problem.

@@ -30,8 +30,12 @@ F_zz the second derivatives of the RK4 map (central differences of A and B),
     [[Q_xx, Q_xu], [Q_ux, Q_uu]] += Σ_i p'_i ∂²F_i/∂z²,
 
 and then P_k is the exact Hessian of the discrete cost-to-go of the neighbouring optima (no longer
-⪰ 0 by construction). :func:`gridlbc.trajectory.expand` uses it by default; the iLQR iterations
-here keep the Gauss–Newton model, which is the robust one far from a minimum.
+⪰ 0 by construction). The projected pass carries P_k⁺, the positive semi-definite part of each
+P_k, to the step before it: every step keeps the dynamics' curvature, but no step's model
+rewards a deviation. :func:`gridlbc.trajectory.expand` takes its value from the full pass and
+its tracker's gain from the projected one by default (:func:`sweeps` runs several passes on one
+linearisation); the iLQR iterations here keep the Gauss–Newton model, which is the robust one
+far from a minimum.
 """
 
 from __future__ import annotations
@@ -170,13 +174,17 @@ def running_derivatives(shooting: Shooting, state_cost, states: np.ndarray
 
 def backward_pass(A: np.ndarray, B: np.ndarray, U: np.ndarray, R: np.ndarray, dt: float,
                   lx: np.ndarray, lxx: np.ndarray, gx: np.ndarray, gxx: np.ndarray,
-                  regularization: float = 0.0, F2: np.ndarray | None = None) -> BackwardPass:
+                  regularization: float = 0.0, F2: np.ndarray | None = None,
+                  projected: bool = False) -> BackwardPass:
     """The Gauss–Newton Riccati sweep of the module docstring (``regularization`` μ adds
     μ·RΔt to Q_uu when solving for k and K).
 
     With ``F2`` (``(K, d, d+m, d+m)``, :func:`step_hessians`) it is the full (Newton) DDP sweep
     instead: Σ_i p'_i ∂²F_i/∂z² is added to [[Q_xx, Q_xu], [Q_ux, Q_uu]], so P is the exact
-    Hessian of the discrete cost-to-go along the tape (no longer ⪰ 0 by construction)."""
+    Hessian of the discrete cost-to-go along the tape (no longer ⪰ 0 by construction).
+    ``projected``: each P_k is replaced by its positive semi-definite part P_k⁺
+    (:func:`positive_part`) before the step to k − 1 uses it, so that every step's model keeps
+    the dynamics' curvature but rewards no deviation."""
     K, d, m = B.shape
     p = np.empty((K + 1, d))
     P = np.empty((K + 1, d, d))
@@ -203,23 +211,40 @@ def backward_pass(A: np.ndarray, B: np.ndarray, U: np.ndarray, R: np.ndarray, dt
         kk, KK = -solve[:, 0], -solve[:, 1:]
         p[k] = Qx + KK.T @ (Quu @ kk) + KK.T @ Qu + Qux.T @ kk
         Pk = Qxx + KK.T @ Quu @ KK + KK.T @ Qux + Qux.T @ KK
-        P[k] = 0.5 * (Pk + Pk.T)
+        P[k] = positive_part(0.5 * (Pk + Pk.T)) if projected else 0.5 * (Pk + Pk.T)
         kff[k], gains[k], Qu_all[k] = kk, KK, Qu
         decrease += float(kk @ Qu)
     return BackwardPass(p, P, kff, gains, decrease, Qu_all)
+
+
+PASSES = ("gauss-newton", "newton", "projected-newton")
+"""The backward passes of :func:`backward_pass`: Gauss–Newton, full DDP, and full DDP carrying
+the positive semi-definite part of each P_k."""
 
 
 def sweep(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
           regularization: float = 0.0, newton: bool = False) -> tuple[np.ndarray, BackwardPass]:
     """Linearise along tape ``U`` and run the backward pass: ``(states, BackwardPass)``;
     ``newton``: with the dynamics' second derivatives (full DDP)."""
+    passes = ("newton" if newton else "gauss-newton",)
+    states, (back,) = sweeps(shooting, U, terminal_cost, state_cost, passes, regularization)
+    return states, back
+
+
+def sweeps(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
+           passes=("gauss-newton", "newton"), regularization: float = 0.0
+           ) -> tuple[np.ndarray, list[BackwardPass]]:
+    """One linearisation along tape ``U``, then one backward pass per entry of ``passes``
+    (each one of :data:`PASSES`): ``(states, [BackwardPass, ...])``."""
     states, A, Bd = linearize(shooting, U)
     lx, lxx = running_derivatives(shooting, state_cost, states)
     gx, gxx = cost_derivatives(terminal_cost, states[-1:])
-    F2 = step_hessians(shooting, states[:-1], U) if newton else None
-    back = backward_pass(A, Bd, U, shooting.R, shooting.dt, lx, lxx, gx[0], gxx[0],
-                         regularization, F2)
-    return states, back
+    newton = [name != "gauss-newton" for name in passes]
+    F2 = step_hessians(shooting, states[:-1], U) if any(newton) else None
+    return states, [backward_pass(A, Bd, U, shooting.R, shooting.dt, lx, lxx, gx[0], gxx[0],
+                                  regularization, F2 if full else None,
+                                  projected=name == "projected-newton")
+                    for name, full in zip(passes, newton)]
 
 
 def closed_loop(shooting: Shooting, states: np.ndarray, U: np.ndarray, back: BackwardPass,

@@ -1,20 +1,33 @@
 """The quadratic value expansion and LQR tracker along an optimised trajectory (paper §5, eq. 12).
 
-Along a trajectory (x̄_k, ū_k) of :func:`gridlbc.trajectory.optimize`, the DDP backward pass of
-:mod:`gridlbc.trajectory.ddp` gives at every node t_k the gradient p_k and Hessian P_k of the
-cost-to-go and the gain K_k. By default (``curvature="newton"``) it is the full DDP pass of
-Jacobson and Mayne, with the dynamics' second derivatives Σ_i p_i ∇²F_i: P_k is then the exact
-Hessian of the discrete cost-to-go of the tape's neighbouring optima, and K_k the exact
-first-order change of their controls. ``curvature="gauss-newton"`` drops those terms (the iLQR
-model, P_k ⪰ 0 by construction); on a swing-up it misses much of the curvature that gravity
-adds, so v̂ is optimistic off the trajectory (README, trajectory section). Where the exact P_k is
-not positive semi-definite (the neighbouring optima's cost is not convex in some direction), the
-value below uses its projection P_k⁺ onto the positive semi-definite cone (negative eigenvalues
-set to zero), so that no component's desirability grows without bound away from its
-trajectory; the gains keep the exact pass. The component is
+Along a trajectory (x̄_k, ū_k) of :func:`gridlbc.trajectory.optimize`, the DDP backward passes of
+:mod:`gridlbc.trajectory.ddp` give at every node t_k the gradient p_k and Hessian P_k of the
+cost-to-go and the gain K_k. Two passes play different parts:
+
+- *the value* (``curvature="newton"``, the default) comes from the full DDP pass of Jacobson and
+  Mayne, with the dynamics' second derivatives Σ_i p_i ∇²F_i: P_k is then the exact Hessian of
+  the discrete cost-to-go of the tape's neighbouring optima, so v̂, and with it the blend weight
+  α, ranks the components by what they really cost off their tapes. ``curvature="gauss-newton"``
+  drops those terms (the iLQR model, P_k ⪰ 0 by construction); on a swing-up it misses much of
+  the curvature that gravity adds, so v̂ is optimistic off the trajectory (README, trajectory
+  section). Where the exact P_k is not positive semi-definite (the neighbouring optima's cost is
+  not convex in some direction), the value uses its projection P_k⁺ onto the positive
+  semi-definite cone (negative eigenvalues set to zero), so that no component's desirability
+  grows without bound away from its trajectory.
+- *the tracker's gain* K_k = −Q_uu⁻¹Q_ux (``feedback="projected-newton"``, the default) comes
+  from the full DDP pass run with P_k+1 replaced by its positive semi-definite part P_k+1⁺ at
+  every step: each step's model keeps the curvature that the dynamics add where it is positive
+  (gravity's, on a swing-up), and no step's model rewards a deviation. ``feedback="newton"``
+  takes the exact full DDP gain, the first-order change of the neighbouring optima's controls:
+  where their cost is concave (P_k indefinite) its model rewards deviations along those
+  directions, which holds for small deviations but not for the large ones that noise causes
+  (README, Fig. 7). ``feedback="gauss-newton"`` is the iLQR gain, the LQR gain of the tape's
+  linearisation without the dynamics' curvature. For linear dynamics the three coincide.
+
+The component is
 
     v̂(x, t) = v̄(t) + p(t)ᵀΔx + ½ Δxᵀ P(t) Δx,      Δx = x ⊖ x̄(t)   (nearest image on periodic axes)
-    u(x, t) = ū(t) + K(t) Δx                                          (the LQR tracker)
+    u(x, t) = ū(t) + K(t) Δx · min(1, ρ_max / ρ(x, t))                (the LQR tracker)
     z(x, t) = exp(−v̂(x, t)/λ)
 
 with P = P⁺ and v̄_k = g(x̄_K) + Σ_{j≥k} (q(x̄_j, t_j) + ½ ū_jᵀRū_j) Δt the cost along the
@@ -24,19 +37,25 @@ Riccati equation
     c_k = (λ/2) ∫_{t_k}^T tr(S P) ds,   S = B(x̄) R⁻¹ B(x̄)ᵀ   (trapezoidal rule on the nodes),
 
 with the exact P (the expected cost of the noise to second order; clipping P's negative
-eigenvalues would overstate it).
+eigenvalues would overstate it), which makes v̂ exact for linear-quadratic problems (the
+README's LQ reference); the paper uses the deterministic v̄ (``stochastic=False``). Between
+nodes v̄, c, p, P and x̄ are linear in time, ū and K are held on each interval, as the optimiser
+held the controls.
 
-which makes v̂ exact for linear-quadratic problems (the README's LQ reference); the paper uses
-the deterministic v̄ (``stochastic=False``). Between nodes v̄, c, p, P and x̄ are linear in time,
-ū and K are held on each interval, as the optimiser held the controls.
+Far from its trajectory a tracker extrapolates a local model: KΔx grows without bound. The
+feedback is therefore saturated at the Mahalanobis distance
 
-Far from its trajectory a tracker extrapolates a local model: KΔx grows without bound. With a
-``radius`` ρ_max the feedback is saturated at the Mahalanobis distance
+    ρ(x, t) = √(Δxᵀ P(t) Δx / λ),
 
-    ρ(x, t) = √(Δxᵀ P(t) Δx / λ),     u = ū + K Δx · min(1, ρ_max / ρ),
+the number of standard deviations at which x lies under the component's own Gaussian
+desirability z ∝ exp(−½ Δxᵀ(P/λ)Δx); v̂ itself is not changed. Under that Gaussian ρ² is χ²
+distributed with d degrees of freedom (d the state dimension), so the default radius
 
-the number of standard deviations of the component's Gaussian desirability
-exp(−½ Δxᵀ(P/λ)Δx) at which the state lies; v̂ itself is not changed.
+    ρ_max = √(χ²_d⁻¹(0.99))      (:data:`VALIDITY`)
+
+keeps the plain tracker u = ū + KΔx wherever the component's desirability holds 99 % of its
+mass, and bounds it beyond. ``radius=None`` never saturates: then the tracker of a
+linear-quadratic problem is the exact Riccati controller at every state.
 """
 
 from __future__ import annotations
@@ -45,15 +64,29 @@ import warnings
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.stats import chi2
 
 from ..costs import wrap_difference
 from ..problem import Problem
 from ..solution import bracket, check_time
-from .ddp import positive_part, sweep
+from .ddp import positive_part, sweeps
 from .optimize import Trajectory, shooting_for, timed_state_cost
 
 CURVATURES = ("gauss-newton", "newton")
-"""How P is computed: without or with the dynamics' second derivatives."""
+"""How P is computed (``curvature``): without or with the dynamics' second derivatives."""
+
+FEEDBACKS = ("projected-newton", "newton", "gauss-newton")
+"""The backward pass that gives the tracker's gain K (``feedback``)."""
+
+VALIDITY = 0.99
+"""The probability mass of a component's Gaussian desirability within the default radius
+ρ_max = √(χ²_d⁻¹(VALIDITY)) of its feedback saturation."""
+
+
+def default_radius(state_dim: int) -> float:
+    """ρ_max = √(χ²_d⁻¹(:data:`VALIDITY`)): the Mahalanobis radius that holds that probability
+    of a d-dimensional Gaussian."""
+    return float(np.sqrt(chi2.ppf(VALIDITY, state_dim)))
 
 
 class TrajectoryWarning(RuntimeWarning):
@@ -83,7 +116,7 @@ class TrajectoryExpansion:
     hessians : ndarray (K+1, d, d)
         P_k⁺, positive semi-definite.
     gains : ndarray (K, m, d)
-        K_k, the tracker's feedback on [t_k, t_k+1).
+        K_k, the tracker's feedback on [t_k, t_k+1) (from the ``feedback`` pass).
     stochastic : bool
         Whether ``nominal_values`` include (λ/2)∫tr(SP).
     radius : float or None
@@ -91,7 +124,9 @@ class TrajectoryExpansion:
     periods : ndarray (d,)
         The period of each coordinate (inf where not periodic).
     curvature : str
-        ``"newton"`` (full DDP) or ``"gauss-newton"``.
+        The pass that gives P: ``"newton"`` (full DDP) or ``"gauss-newton"``.
+    feedback : str
+        The pass that gives K, one of :data:`FEEDBACKS`.
     """
 
     problem: Problem
@@ -104,6 +139,7 @@ class TrajectoryExpansion:
     radius: float | None
     periods: np.ndarray
     curvature: str
+    feedback: str
 
     @property
     def times(self) -> np.ndarray:
@@ -167,7 +203,8 @@ class TrajectoryExpansion:
         return np.sqrt(np.maximum(np.einsum("ni,ij,nj->n", dx, P, dx), 0.0) / self.temperature)
 
     def policy(self, x, t) -> np.ndarray:
-        """The tracker u = ū + K Δx (feedback saturated beyond ``radius``), shape ``(N, m)``."""
+        """The tracker u = ū + K Δx · min(1, ρ_max/ρ) (no saturation when ``radius`` is None),
+        shape ``(N, m)``."""
         j, theta = self._bracket(t)
         dx = self._deviation(self._states(x), j, theta)
         if self.radius is not None:
@@ -179,23 +216,29 @@ class TrajectoryExpansion:
 
 
 def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
-           radius: float | None = None, curvature: str = "newton") -> TrajectoryExpansion:
+           radius: float | str | None = "auto", curvature: str = "newton",
+           feedback: str = "projected-newton") -> TrajectoryExpansion:
     """The quadratic value expansion and LQR tracker of ``trajectory`` (module docstring).
 
     Parameters
     ----------
     problem : Problem
         The problem the trajectory was optimised for (its temperature λ may differ: it sets the
-        Itô correction and the desirability's unit).
+        Itô correction, the desirability's unit and the Mahalanobis distance ρ).
     trajectory : Trajectory
         From :func:`gridlbc.trajectory.optimize`.
     stochastic : bool
         Include (λ/2)∫tr(B R⁻¹ Bᵀ P) in v̄ (exact for LQ); ``False``: the paper's deterministic v̄.
-    radius : float, optional
+    radius : "auto", float or None
         Saturate the tracker's feedback at this Mahalanobis distance ρ_max (in standard
-        deviations of the component's desirability); ``None``: no saturation.
+        deviations of the component's desirability). ``"auto"`` (the default):
+        ρ_max = √(χ²_d⁻¹(0.99)), :func:`default_radius`; ``None``: no saturation (the exact
+        Riccati controller on LQ problems at every state).
     curvature : {"newton", "gauss-newton"}
-        The full DDP pass (the default) or the Gauss–Newton one (module docstring).
+        The pass that gives p and P of the value: full DDP (the default) or Gauss–Newton.
+    feedback : {"projected-newton", "newton", "gauss-newton"}
+        The pass that gives the tracker's gain K: full DDP carrying the positive semi-definite
+        part of each P (the default), exact full DDP, or Gauss–Newton (module docstring).
 
     Returns
     -------
@@ -207,12 +250,11 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     if not isinstance(trajectory, Trajectory):
         raise TypeError("trajectory must be a gridlbc.trajectory.Trajectory (from "
                         f"gridlbc.trajectory.optimize), got {type(trajectory).__name__}")
-    if curvature not in CURVATURES:
-        raise ValueError(f"curvature must be one of {CURVATURES}, got {curvature!r}")
-    if radius is not None:
-        radius = float(radius)
-        if not (np.isfinite(radius) and radius > 0):
-            raise ValueError(f"radius must be None or a positive number, got {radius}")
+    for name, value, allowed in (("curvature", curvature, CURVATURES),
+                                 ("feedback", feedback, FEEDBACKS)):
+        if not isinstance(value, str) or value not in allowed:
+            raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
+    radius = _check_radius(radius, problem.system.state_dim)
     _check_same_problem(problem, trajectory)
     if not trajectory.converged:
         warnings.warn(f"the trajectory's optimisation did not converge ({trajectory.message}): "
@@ -221,8 +263,9 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     U, X = trajectory.controls, trajectory.states
     K = len(U)
     shooting = shooting_for(problem, X[0], K)
-    states, back = sweep(shooting, U, problem.terminal_cost, problem.state_cost,
-                         newton=curvature == "newton")
+    passes = (curvature, feedback) if feedback != curvature else (curvature,)
+    states, backs = sweeps(shooting, U, problem.terminal_cost, problem.state_cost, passes)
+    back, gains = backs[0], backs[-1].gains
     P = positive_part(back.P)
     dt = shooting.dt
     running = 0.5 * np.einsum("ki,ij,kj->k", U, problem.R, U)
@@ -237,9 +280,24 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
         trace = np.einsum("kij,kji->k", S, back.P)  # the exact P: this term needs no sign
         step = 0.25 * problem.temperature * dt * (trace[:-1] + trace[1:])
         to_go = to_go + np.concatenate([np.cumsum(step[::-1])[::-1], [0.0]])
-    return TrajectoryExpansion(problem, trajectory, to_go, back.p, P, back.gains,
-                               bool(stochastic), radius, state_periods(problem), curvature)
+    return TrajectoryExpansion(problem, trajectory, to_go, back.p, P, gains, bool(stochastic),
+                               radius, state_periods(problem), curvature, feedback)
 
+
+def _check_radius(radius, state_dim: int) -> float | None:
+    """``radius`` as ρ_max (None: no saturation), ``"auto"`` resolved to the default."""
+    if radius is None:
+        return None
+    if isinstance(radius, str):
+        if radius != "auto":
+            raise ValueError(f"radius must be 'auto', None or a positive number, got {radius!r}")
+        return default_radius(state_dim)
+    if isinstance(radius, bool) or not isinstance(radius, (int, float, np.integer, np.floating)):
+        raise TypeError(f"radius must be 'auto', None or a positive number, got {radius!r}")
+    radius = float(radius)
+    if not (np.isfinite(radius) and radius > 0):
+        raise ValueError(f"radius must be 'auto', None or a positive number, got {radius}")
+    return radius
 
 
 def _check_same_problem(problem: Problem, trajectory: Trajectory) -> None:

@@ -117,14 +117,15 @@ def optimize(problem: Problem, x0, restarts: int = 128, seed: int | None = 0,
         raise ValueError("search=False polishes initial_controls by DDP: give initial_controls "
                          "and keep polish=True")
     else:
-        controls, converged, message = given, False, "no search (DDP from initial_controls)"
+        controls, converged, message = given, False, ""
     if polish:
         polished, iterations, ok = ilqr(fine, controls, problem.terminal_cost,
                                         problem.state_cost)
         if not search or _tape_cost(fine, polished) <= _tape_cost(fine, controls):
             controls, converged = polished, ok
             message = (f"DDP polish {'converged' if ok else 'stopped'} after {iterations} "
-                       f"iterations (from L-BFGS-B: {message})")
+                       "iterations " + (f"(from L-BFGS-B: {message})" if search
+                                        else "from initial_controls (no search)"))
     with np.errstate(all="ignore"):
         states = fine.rollout(controls[None])[0][0]
     cost = _tape_cost(fine, controls)
