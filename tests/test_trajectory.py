@@ -295,8 +295,9 @@ def test_tape_cost_rejects_bad_tape():
 # The optimiser and the expansion work on the RK4 / rectangle-rule discretisation with Δt = T/K,
 # whose value and gain differ from the continuous Riccati solution by O(Δt). The checks measure
 # the error at two K and require first order (the error halves with Δt, ratio ≥ 1.7) and a
-# small constant. The trackers are unsaturated (radius=None): some of the states OFF lie beyond
-# the default validity radius, where the default tracker bounds its feedback by design.
+# small constant. The default trackers of these linear-quadratic problems are unsaturated
+# (their expansion is global), though some of the states OFF lie beyond the validity radius that
+# a nonlinear problem's tracker would be bounded at.
 
 
 def lq_problem(terminal_center=(1.0, 0.0), temperature=0.7, horizon=1.0):
@@ -310,7 +311,8 @@ OFF = np.array([[0.3, -0.4], [-2.0, 1.0], [1.0, 1.0], [0.0, 0.0]])  # off the tr
 
 def _expansion_errors(problem, K, times=(0.0, 0.37, 0.81), **options):
     trajectory = optimize(problem, np.array([-1.0, 0.5]), restarts=1, n_intervals=K)
-    component = expand(problem, trajectory, **{"radius": None, **options})
+    component = expand(problem, trajectory, **options)
+    assert component.radius is None
     exact = lq_solution(problem)
     v_err = max(np.max(np.abs(component.value(OFF, t) - exact.value(OFF, t))) for t in times)
     u_err = max(np.max(np.abs(component.policy(OFF, t) - exact.policy(OFF, t))) for t in times)
@@ -350,8 +352,7 @@ def test_combination_of_two_lq_trackers_is_the_lq_combination():
     exact Riccati solutions (both are components: value, policy, problem)."""
     left, right = lq_problem((-1.0, 0.0)), lq_problem((1.5, 0.0))
     x0 = np.array([0.0, 0.5])
-    trackers = [expand(p, optimize(p, x0, restarts=1, n_intervals=200), radius=None)
-                for p in (left, right)]
+    trackers = [expand(p, optimize(p, x0, restarts=1, n_intervals=200)) for p in (left, right)]
     exact = [lq_solution(p) for p in (left, right)]
     for weights in (None, [0.3, 2.0]):
         lbc, reference = g.combine(trackers, weights), g.combine(exact, weights)
@@ -493,6 +494,8 @@ def test_default_radius_is_the_chi_square_quantile():
     assert _pendulum_component().radius == component.radius  # the default
     assert default_radius(4) > default_radius(2)
     assert _pendulum_component(radius=None).radius is None
+    lq = lq_problem()  # linear-quadratic: the expansion is global, the default never saturates
+    assert expand(lq, optimize(lq, np.array([-1.0, 0.5]), restarts=1, n_intervals=20)).radius is None
 
 
 def test_radius_saturates_the_feedback_only_far_away():

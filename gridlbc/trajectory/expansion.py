@@ -54,8 +54,10 @@ distributed with d degrees of freedom (d the state dimension), so the default ra
     ρ_max = √(χ²_d⁻¹(0.99))      (:data:`VALIDITY`)
 
 keeps the plain tracker u = ū + KΔx wherever the component's desirability holds 99 % of its
-mass, and bounds it beyond. ``radius=None`` never saturates: then the tracker of a
-linear-quadratic problem is the exact Riccati controller at every state.
+mass, and bounds it beyond. On a linear-quadratic problem (linear dynamics, quadratic or no
+costs, no periodic axis) the expansion is not local: it is the Riccati solution everywhere, so
+the default does not saturate there, and the tracker is the exact Riccati controller at every
+state. ``radius=None`` never saturates.
 """
 
 from __future__ import annotations
@@ -66,7 +68,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2
 
-from ..costs import wrap_difference
+from ..costs import Quadratic, wrap_difference
 from ..problem import Problem
 from ..solution import bracket, check_time
 from .ddp import positive_part, sweeps
@@ -232,8 +234,8 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     radius : "auto", float or None
         Saturate the tracker's feedback at this Mahalanobis distance ρ_max (in standard
         deviations of the component's desirability). ``"auto"`` (the default):
-        ρ_max = √(χ²_d⁻¹(0.99)), :func:`default_radius`; ``None``: no saturation (the exact
-        Riccati controller on LQ problems at every state).
+        ρ_max = √(χ²_d⁻¹(0.99)), :func:`default_radius`, and no saturation on a
+        linear-quadratic problem, where the expansion is global; ``None``: no saturation.
     curvature : {"newton", "gauss-newton"}
         The pass that gives p and P of the value: full DDP (the default) or Gauss–Newton.
     feedback : {"projected-newton", "newton", "gauss-newton"}
@@ -254,7 +256,7 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
                                  ("feedback", feedback, FEEDBACKS)):
         if not isinstance(value, str) or value not in allowed:
             raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
-    radius = _check_radius(radius, problem.system.state_dim)
+    radius = _check_radius(radius, problem)
     _check_same_problem(problem, trajectory)
     if not trajectory.converged:
         warnings.warn(f"the trajectory's optimisation did not converge ({trajectory.message}): "
@@ -284,14 +286,23 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
                                radius, state_periods(problem), curvature, feedback)
 
 
-def _check_radius(radius, state_dim: int) -> float | None:
+def _linear_quadratic(problem: Problem) -> bool:
+    """Whether ``problem`` is linear-quadratic (a(x) = A x with constant B, Quadratic or no
+    costs, no periodic axis): then the expansion along any trajectory is the global Riccati
+    solution, not a local model."""
+    return (problem.system.linear_matrices() is not None and not problem.periodic_axes
+            and isinstance(problem.terminal_cost, Quadratic)
+            and (problem.state_cost is None or isinstance(problem.state_cost, Quadratic)))
+
+
+def _check_radius(radius, problem: Problem) -> float | None:
     """``radius`` as ρ_max (None: no saturation), ``"auto"`` resolved to the default."""
     if radius is None:
         return None
     if isinstance(radius, str):
         if radius != "auto":
             raise ValueError(f"radius must be 'auto', None or a positive number, got {radius!r}")
-        return default_radius(state_dim)
+        return None if _linear_quadratic(problem) else default_radius(problem.system.state_dim)
     if isinstance(radius, bool) or not isinstance(radius, (int, float, np.integer, np.floating)):
         raise TypeError(f"radius must be 'auto', None or a positive number, got {radius!r}")
     radius = float(radius)
