@@ -809,9 +809,10 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     one per node), continued across the ends by wrapping (periodic) or mirroring (closed). The
     curvature removes the bias of a linear ℓ̄, which overestimates v = −λℓ by h²v''/8 mid-cell.
 
-    Each side of x_p is scanned cell by cell, twice: first for the largest peak E of the
-    log-integrand −(x_p − x)²/(2σ²) + ℓ̄(x) over a cell, then to integrate the cells whose peak
-    is within 20 of E (``_FIT_WINDOW``). A cell c cells away peaks at most at −A c² + ℓ
+    Each side of x_p is scanned cell by cell once, integrating every cell whose peak of the
+    log-integrand −(x_p − x)²/(2σ²) + ℓ̄(x) is within 20 (``_FIT_WINDOW``) of the largest peak E
+    seen so far; the sums are kept relative to e^E and rescaled when E rises, so no cell within
+    20 of the final E is missed. A cell c cells away peaks at most at −A c² + ℓ
     (A = h²/(2σ²), ℓ its near node's, plus the line's ``bulges``), and beyond c > L/(2A), L the line's ``rises``, no later
     cell can peak higher than that: the scan stops there once it falls below E − 20, or once
     −A c² + ``ell_max`` (plus the bulge) does (after at most ``_FIT_IMAGES`` line lengths).
@@ -843,47 +844,50 @@ def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n
     A = h * h / (2.0 * s2)
     free = rises[line_id] / (2.0 * A)  # within this many cells the bound may still rise
     bulge = bulges[line_id]
-    peak = ell[p]
-    for sweep in range(2):  # 0: the largest cell peak E; 1: integrate against it
-        if sweep == 1:
+    peak = ell[p]  # E: the largest cell peak so far; the sums are kept relative to e^E
+    accumulated = False
+    for r in range(n_rhs):
+        out[r, p] = 0.0
+    for side in range(2):
+        step = 1 if side == 0 else -1
+        near = i  # unfolded index of the cell's node nearest to x_p, then the far one
+        k_near = i
+        heading = step  # the direction of the folded index (mirrors turn it round)
+        for c in range(reach):
+            far = near + step
+            k_far = k_near + heading
+            if k_far == n:
+                k_far, heading = (0, heading) if periodic else (n - 2, -heading)
+            elif k_far == -1:
+                k_far, heading = (n - 1, heading) if periodic else (1, -heading)
+            gauss = -A * c * c
+            if gauss + ell_max + bulge < peak - _FIT_WINDOW or (c > free and (
+                    gauss + ell[line + k_near * stride] + bulge < peak - _FIT_WINDOW)):
+                break
+            lo_node, hi_node = (k_near, k_far) if side == 0 else (k_far, k_near)
+            a = (near - i if side == 0 else far - i) * h  # the cell's left end − x_p
+            k0, k1 = line + lo_node * stride, line + hi_node * stride
+            kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
+            Ac = A - 0.5 * kappa
+            B = ell[k1] - ell[k0] - a * h / s2 - 0.5 * kappa
+            C = ell[k0] - a * a / (2.0 * s2)
+            top = _cell_peak(Ac, B, C)
+            near, k_near = far, k_far
+            if top > peak:  # a new largest peak: rescale what is summed so far to it
+                if accumulated:
+                    rescale = math.exp(peak - top)
+                    for r in range(n_rhs):
+                        out[r, p] *= rescale
+                peak = top
+            elif top < peak - _FIT_WINDOW:
+                continue
+            accumulated = True
+            if log_out:
+                out[0, p] += _cell_mass(Ac, B, C, peak)
+                continue
+            w0, w1 = _cell_weights(Ac, B, C, peak)
             for r in range(n_rhs):
-                out[r, p] = 0.0
-        for side in range(2):
-            step = 1 if side == 0 else -1
-            near = i  # unfolded index of the cell's node nearest to x_p, then the far one
-            k_near = i
-            heading = step  # the direction of the folded index (mirrors turn it round)
-            for c in range(reach):
-                far = near + step
-                k_far = k_near + heading
-                if k_far == n:
-                    k_far, heading = (0, heading) if periodic else (n - 2, -heading)
-                elif k_far == -1:
-                    k_far, heading = (n - 1, heading) if periodic else (1, -heading)
-                gauss = -A * c * c
-                if gauss + ell_max + bulge < peak - _FIT_WINDOW or (c > free and (
-                        gauss + ell[line + k_near * stride] + bulge < peak - _FIT_WINDOW)):
-                    break
-                lo_node, hi_node = (k_near, k_far) if side == 0 else (k_far, k_near)
-                a = (near - i if side == 0 else far - i) * h  # the cell's left end − x_p
-                k0, k1 = line + lo_node * stride, line + hi_node * stride
-                kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
-                Ac = A - 0.5 * kappa
-                B = ell[k1] - ell[k0] - a * h / s2 - 0.5 * kappa
-                C = ell[k0] - a * a / (2.0 * s2)
-                top = _cell_peak(Ac, B, C)
-                near, k_near = far, k_far
-                if sweep == 0:
-                    peak = max(peak, top)
-                    continue
-                if top < peak - _FIT_WINDOW:
-                    continue
-                if log_out:
-                    out[0, p] += _cell_mass(Ac, B, C, peak)
-                    continue
-                w0, w1 = _cell_weights(Ac, B, C, peak)
-                for r in range(n_rhs):
-                    out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
+                out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
     norm = h / math.sqrt(2.0 * math.pi * s2)
     if log_out:
         out[0, p] = peak + math.log(out[0, p] * norm)
