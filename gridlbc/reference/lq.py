@@ -59,6 +59,14 @@ def _quadratic_terms(cost, name: str, d: int) -> tuple[np.ndarray, np.ndarray]:
     return cost.weights, cost.center
 
 
+def is_linear_quadratic(problem: Problem) -> bool:
+    """Whether :func:`lq_solution` applies to ``problem``: a(x) = A x with constant B, Quadratic
+    (or no) terminal and state costs, and no periodic axis."""
+    return (problem.system.linear_matrices() is not None and not problem.periodic_axes
+            and isinstance(problem.terminal_cost, Quadratic)
+            and (problem.state_cost is None or isinstance(problem.state_cost, Quadratic)))
+
+
 def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
     """The exact solution for a linear system with quadratic costs.
 

@@ -820,23 +820,21 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
     the integral, log ∫ G_σ φ̄: the reference advanced alone, in the log domain (nothing
     underflows however steep ℓ is)."""
-    n_nodes = y.shape[1]
-    uniform = sigma2.size == 1
-    reach = _FIT_IMAGES * n
-    for line_id in prange(n_nodes // n):  # line by line: no integer division per node
+    for line_id in prange(y.shape[1] // n):  # line by line: no integer division per node
         line = (line_id // stride) * n * stride + line_id % stride
         for i in range(n):
             _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n,
-                                 stride, periodic, log_out, out, uniform, reach, line_id, line, i)
+                                 stride, periodic, log_out, out, line_id, line, i)
 
 
 @jit_inline
 def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n, stride,
-                         periodic, log_out, out, uniform, reach, line_id, line, i):
+                         periodic, log_out, out, line_id, line, i):
     """:func:`_diffuse_fitted_kernel` at node i of the line starting at ``line``."""
     n_rhs = y.shape[0]
     p = line + i * stride
-    s2 = sigma2[0] if uniform else sigma2[p]
+    reach = _FIT_IMAGES * n
+    s2 = sigma2[0] if sigma2.size == 1 else sigma2[p]
     if s2 <= 0.0:  # no noise at this node: z' = z
         for r in range(n_rhs):
             out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])

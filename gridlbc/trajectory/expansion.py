@@ -68,8 +68,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.stats import chi2
 
-from ..costs import Quadratic, wrap_difference
+from ..costs import wrap_difference
 from ..problem import Problem
+from ..reference.lq import is_linear_quadratic
 from ..solution import bracket, check_time
 from .ddp import positive_part, sweeps
 from .optimize import Trajectory, shooting_for, timed_state_cost
@@ -286,15 +287,6 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
                                radius, state_periods(problem), curvature, feedback)
 
 
-def _linear_quadratic(problem: Problem) -> bool:
-    """Whether ``problem`` is linear-quadratic (a(x) = A x with constant B, Quadratic or no
-    costs, no periodic axis): then the expansion along any trajectory is the global Riccati
-    solution, not a local model."""
-    return (problem.system.linear_matrices() is not None and not problem.periodic_axes
-            and isinstance(problem.terminal_cost, Quadratic)
-            and (problem.state_cost is None or isinstance(problem.state_cost, Quadratic)))
-
-
 def _check_radius(radius, problem: Problem) -> float | None:
     """``radius`` as ρ_max (None: no saturation), ``"auto"`` resolved to the default."""
     if radius is None:
@@ -302,7 +294,7 @@ def _check_radius(radius, problem: Problem) -> float | None:
     if isinstance(radius, str):
         if radius != "auto":
             raise ValueError(f"radius must be 'auto', None or a positive number, got {radius!r}")
-        return None if _linear_quadratic(problem) else default_radius(problem.system.state_dim)
+        return None if is_linear_quadratic(problem) else default_radius(problem.system.state_dim)
     if isinstance(radius, bool) or not isinstance(radius, (int, float, np.integer, np.floating)):
         raise TypeError(f"radius must be 'auto', None or a positive number, got {radius!r}")
     radius = float(radius)
