@@ -111,13 +111,16 @@ def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
     ref = solutions[0]
     p0 = ref.problem
     operators = []
+    nodes = None
     for i, s in enumerate(solutions[1:], start=1):
         p = s.problem
         differs = _problem_differences(p0, p)
         if p.grid != p0.grid:
             differs.append(f"grid ({p0.grid.describe()} vs {p.grid.describe()})")
-        if p.grid == p0.grid and not _same_cost(p.state_cost, p0.state_cost, p.grid.nodes()):
-            differs.append("state cost q (values differ at the grid nodes)")
+        if p.grid == p0.grid and p.state_cost is not p0.state_cost:
+            nodes = p0.grid.nodes() if nodes is None else nodes  # built once, only if needed
+            if not _same_cost(p.state_cost, p0.state_cost, nodes):
+                differs.append("state cost q (values differ at the grid nodes)")
         if differs:
             raise ValueError(
                 f"solutions[{i}] and solutions[0] must solve the same PDE to combine, but differ "
