@@ -600,39 +600,61 @@ def tridiagonal_factors(ratio: np.ndarray, n: int) -> np.ndarray:
     return out
 
 
+_INTERLEAVED = 8  # contiguous lines solved side by side: their recursions overlap in the core
+
+
+@jit
+def closed_line_tasks(n_nodes: int, n: int, stride: int) -> int:
+    """How many tasks :func:`_diffuse_closed_kernel` splits the lines of one closed axis into:
+    ``_INTERLEAVED`` contiguous lines (stride 1) or 64 neighbouring strided lines per task."""
+    if stride == 1:
+        return -(-(n_nodes // n) // _INTERLEAVED)
+    return n_nodes // (n * stride) * -(-stride // 64)
+
+
 @jit_parallel
-def _diffuse_closed_kernel(z, factors, uniform, n, stride, chunk, block_max):
+def _diffuse_closed_kernel(z, factors, uniform, n, stride, block_max):
     """Solve every line of one closed axis in place with precomputed Thomas factors.
 
     ``factors`` is ``(3, n)`` when the coefficients are the same on every line (``uniform``),
-    else ``(3, N)`` per node. Lines are taken ``chunk`` at a time side by side so that memory is
-    read contiguously whatever the axis. When ``block_max`` has columns, the maximum of each row
-    over each block of lines is written there (fusing the slice maximum into this pass).
+    else ``(3, N)`` per node. Lines are taken several at a time side by side
+    (:func:`closed_line_tasks`): strided lines 64 at a time, so that memory is read
+    contiguously whatever the axis; contiguous lines ``_INTERLEAVED`` at a time, so that their
+    serial recursions interleave instead of each waiting on its previous node. When
+    ``block_max`` has columns, the maximum of each row over each block of tasks is written there
+    (fusing the slice maximum into this pass).
     """
     n_rhs, n_nodes = z.shape
-    n_outer = n_nodes // (n * stride)
+    chunk = min(stride, 64)
     n_chunks = (stride + chunk - 1) // chunk
-    n_tasks = n_outer * n_chunks
+    n_tasks = closed_line_tasks(n_nodes, n, stride)
     n_blocks = block_max.shape[1] if block_max.shape[1] > 0 else min(n_tasks, 256)
     track = block_max.shape[1] > 0
+    n_lines = n_nodes // n
     for b in prange(n_blocks):
         for r in range(n_rhs):
             peak = 0.0
             for task in range(b * n_tasks // n_blocks, (b + 1) * n_tasks // n_blocks):
-                if stride == 1:  # contiguous lines: the common last-axis case, kept simple
-                    start = task * n
-                    y = z[r, start] * factors[0, 0 if uniform else start]
-                    z[r, start] = y
-                    for node in range(start + 1, start + n):
-                        f = node - start if uniform else node
-                        y = z[r, node] * factors[0, f] + factors[1, f] * y
-                        z[r, node] = y
-                    peak = max(peak, y)
-                    for node in range(start + n - 2, start - 1, -1):
-                        f = node - start if uniform else node
-                        y = z[r, node] - factors[2, f] * y
-                        z[r, node] = y
-                        peak = max(peak, y)
+                if stride == 1:  # contiguous lines, interleaved
+                    first = task * _INTERLEAVED
+                    last = min(first + _INTERLEAVED, n_lines)
+                    for i in range(n):
+                        for line in range(first, last):
+                            node = line * n + i
+                            f = i if uniform else node
+                            if i == 0:
+                                z[r, node] = z[r, node] * factors[0, f]
+                            else:
+                                z[r, node] = (z[r, node] * factors[0, f]
+                                              + factors[1, f] * z[r, node - 1])
+                    for line in range(first, last):
+                        peak = max(peak, z[r, line * n + n - 1])
+                    for i in range(n - 2, -1, -1):
+                        for line in range(first, last):
+                            node = line * n + i
+                            f = i if uniform else node
+                            z[r, node] -= factors[2, f] * z[r, node + 1]
+                            peak = max(peak, z[r, node])
                     continue
                 start = (task // n_chunks) * n * stride
                 j0 = (task % n_chunks) * chunk
@@ -1108,9 +1130,9 @@ class SplittingStep:
         block_max = None
         if self.cost_factor.size == 0 and self.noise and not self.noise[-1][1]:
             # no state cost: fuse the slice maximum into the last (closed-axis) diffusion pass
-            k, stride = self.noise[-1][0], int(self.grid.strides[self.noise[-1][0]])
-            chunk = min(stride, 64)
-            n_tasks = self.grid.size // (self.grid.axes[k].n * stride) * ((stride + chunk - 1) // chunk)
+            k = self.noise[-1][0]
+            n_tasks = closed_line_tasks(self.grid.size, self.grid.axes[k].n,
+                                        int(self.grid.strides[k]))
             block_max = self._buffer(K, work_blocks(n_tasks))
         self._half_diffusion(out, block_max)
         if block_max is None:
@@ -1220,7 +1242,7 @@ class SplittingStep:
                 _diffuse_periodic_kernel(z, data, ax.n, stride)
                 continue
             last = position == len(self.noise) - 1 and block_max is not None
-            _diffuse_closed_kernel(z, data, uniform, ax.n, stride, min(stride, 64),
+            _diffuse_closed_kernel(z, data, uniform, ax.n, stride,
                                    block_max if last else self._buffer(K, 0))
 
     def _buffer(self, rows: int, columns: int) -> np.ndarray:
