@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-from ._numba import work_blocks
+from ._numba import jit, work_blocks
 from .problem import Problem
 from .progress import ProgressBar
 from .schemes import METHODS
@@ -44,13 +44,31 @@ def courant_rates(problem: Problem) -> tuple[float, float]:
     """The Courant rates (1/time) of the drift: the maximum over the nodes of
     ``r(x) = max_k |a_k(x)| / h_k`` and its root mean square over them (in chunks of nodes)."""
     grid = problem.grid
-    spacing = grid.spacing
+    spacing = np.asarray(grid.spacing, dtype=float)
     peak, squares = 0.0, 0.0
     for flat in _flat_chunks(grid.size):
         drift = np.asarray(problem.system.drift(grid.node_coordinates(flat)), dtype=float)
-        rate = np.max(np.abs(drift) / spacing, axis=1)
-        peak, squares = max(peak, float(rate.max())), squares + float(rate @ rate)
+        chunk_peak, chunk_squares = _rate_sums(drift, spacing)
+        peak, squares = max(peak, chunk_peak), squares + chunk_squares
+    if math.isnan(squares):
+        raise ValueError("the system's drift is NaN at some nodes: check system.drift on the grid")
     return peak, math.sqrt(squares / grid.size)
+
+
+@jit
+def _rate_sums(drift, spacing):
+    """max over the rows of r = max_k |drift_k| / spacing_k, and the sum of r² (NaN if any
+    drift is NaN)."""
+    peak, squares = 0.0, 0.0
+    for i in range(drift.shape[0]):
+        rate = 0.0
+        for k in range(drift.shape[1]):
+            rate = max(rate, abs(drift[i, k]) / spacing[k])
+            if drift[i, k] != drift[i, k]:
+                squares = math.nan
+        peak = max(peak, rate)
+        squares += rate * rate
+    return peak, squares
 
 
 def time_grid(problem: Problem, settings: SolverSettings,

@@ -174,6 +174,21 @@ def test_bad_state_cost(state_cost, match):
         gridlbc.solve(problem)
 
 
+def test_nan_drift_is_an_error_not_a_silent_step():
+    """A drift that is NaN at some node would make the default step and the feet NaN: it is
+    refused before anything is solved, with or without an explicit dt."""
+
+    class Broken(PointMass):
+        def drift(self, x):
+            a = super().drift(x)
+            return np.where(np.asarray(x)[:, :1] > 0.5, np.nan, a)
+
+    problem = Problem(Broken(), _pm_grid(), 1.0, Quadratic([0, 0], [1, 1]))
+    for dt in (None, 0.1):
+        with pytest.raises(ValueError, match="drift is NaN"):
+            gridlbc.solve(problem, dt=dt)
+
+
 def test_bad_solve_options_and_queries():
     problem = Problem(PointMass(), _pm_grid(), 1.0, Quadratic([0, 0], [1, 1]))
     with pytest.raises(ValueError, match="dt must be positive"):
