@@ -58,14 +58,15 @@ def test_capsule_rejects_bad_parameters(change, match):
 
 
 def test_obstacle_problem():
-    """The wall lies between the start and the goals, across the straight path; both axes share
+    """The wall lies across the straight path from the start to the goals (its cost there is
+    below 1 % of its height); both axes share
     one spacing; a node count that breaks that is refused with the fix."""
     problem = obstacle_problem(21)
     assert problem.state_cost is OBSTACLE
     np.testing.assert_allclose(*problem.grid.spacing, rtol=1e-12)
     path = np.linspace(OBSTACLE_START, OBSTACLE_TARGET, 101)
     assert OBSTACLE(path).max() > 0.9 * OBSTACLE.height
-    assert OBSTACLE(np.array([OBSTACLE_START, OBSTACLE_TARGET, *OBSTACLE_GOALS])).max() < 1e-3
+    assert OBSTACLE(np.array([OBSTACLE_START, OBSTACLE_TARGET, *OBSTACLE_GOALS])).max() < 0.01 * OBSTACLE.height
     with pytest.raises(ValueError, match="odd number of nodes"):
         obstacle_problem(20)
 
@@ -132,10 +133,11 @@ def test_interpolation_claims():
     One operator for both goals: LBC is exactly the direct solve of the composite cost g_w, to
     rounding. On that task, with every controller driven by the same noise (common random
     numbers, so per-sample cost differences give a paired SE), the naive blend costs more than
-    LBC by at least 4 paired SE (measured: 5) and so does each component alone by at least 3
-    (measured: 3.4 and 5). LBC's rollouts end centred on the intermediate goal (mean y_T within
-    4 SE of 0), each component's on its own side; the naive blend's enter the wall more often
-    than LBC's (measured 5 % against 0 %)."""
+    LBC by at least 4 paired SE (measured: 5.3) and so does each component alone by at least 3
+    (measured: 5.3 and 3.4; on this coarse grid and step the components' policies are further
+    from optimal than at the figure's size). LBC's rollouts end centred on the intermediate goal
+    (mean y_T within 4 SE of 0), each component's on its own side; the naive blend's enter the
+    wall more often than LBC's (measured: 5.3 % against none of 2000)."""
     problem = obstacle_problem(41)
     goals = [g.Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
     w = g.project(problem.terminal_cost, goals, problem.grid, temperature=problem.temperature)
