@@ -257,7 +257,7 @@ def interpolation(out, n: int = 101, samples: int = 4000, seed: int = 0, traces:
             for s, path in enumerate(states):
                 line, = ax.plot(path[:, 0], path[:, 1], color=colors[key], lw=0.6, alpha=0.75)
             crossed = 100 * shares[key][0].mean()
-            line.set_label(f"{key}: {crossed:.1f} % cross the wall")
+            line.set_label(f"{key}: {crossed:.1f} % enter the wall")
             lines.append(line)
         for k, goal in enumerate(OBSTACLE_GOALS):
             ax.plot(*goal, "X", color="w", mec="k", ms=9, label="solved goals" if k == 0 else None)
