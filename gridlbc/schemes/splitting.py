@@ -90,6 +90,7 @@ import math
 import numpy as np
 
 from .._numba import jit, jit_inline, jit_parallel, prange, work_blocks
+from .._special import erfcx
 from ..grid import Grid
 from ..interpolate import _cell, _kuhn_kernel, barycentric
 from ..problem import Problem
@@ -715,48 +716,39 @@ _FIT_WINDOW = 20.0  # cells whose integrand stays below e^{−20} of the largest
 _FIT_IMAGES = 16  # the fitted diffusion scans at most this many line lengths to each side
 
 
-@jit
-def _erfcx(x):
-    """e^{x²} erfc(x) for x ≥ 0 (the asymptotic series beyond x = 25, where erfc underflows)."""
-    if x < 25.0:
-        return math.exp(x * x) * math.erfc(x)
-    inv = 1.0 / (x * x)
-    return (1.0 - 0.5 * inv + 0.75 * inv * inv - 1.875 * inv * inv * inv) / (x * math.sqrt(math.pi))
+@jit_inline
+def _cell_mass(A, B, C, E, F0, F1):
+    """∫₀¹ e^{f(s) − E} ds for the concave f(s) = −A s² + B s + C (A > 0), given the integrand
+    at the ends F0 = e^{f(0) − E} and F1 = e^{f(1) − E} (E ≥ max f on [0, 1], so nothing
+    overflows).
 
+    With μ = B/(2A) and the ends lo = −√A μ, hi = √A (1 − μ) in the Gaussian's units, and
+    erfc(x) e^{f(μ)} = erfcx(x) e^{f(μ) − x²}, it is √π/(2√A) times
 
-@jit
-def _cell_mass(A, B, C, E):
-    """∫₀¹ e^{f(s) − E} ds for the concave f(s) = −A s² + B s + C (A > 0), without overflow.
+        F0 erfcx(lo) − F1 erfcx(hi)                  (μ ≤ 0, the integrand falls),
+        F1 erfcx(−hi) − F0 erfcx(−lo)                (μ ≥ 1, it rises),
+        2 e^{f(μ) − E} − F1 erfcx(hi) − F0 erfcx(−lo) (its peak inside the cell),
 
-    With μ = B/(2A) and the ends lo = −√A μ, hi = √A (1 − μ) in the Gaussian's units it is
-    e^{f(μ) − E} √π/(2√A) (erf(hi) − erf(lo)), the difference written with erfc when both ends
-    lie on one side of μ, so that it never cancels; far out on one side (|end| ≥ 25, where erfc
-    underflows) with erfcx, scaled by the larger end value instead of e^{f(μ)}."""
+    every erfcx taken at a non-negative argument, so it is bounded and never underflows."""
     root = math.sqrt(A)
     mu = B / (2.0 * A)
     lo, hi = -root * mu, root * (1.0 - mu)
-    half = 0.5 * math.sqrt(math.pi) / root
-    if lo >= 25.0:  # μ ≪ 0: the integrand is largest at s = 0
-        return math.exp(C - E) * half * (_erfcx(lo) - math.exp(lo * lo - hi * hi) * _erfcx(hi))
-    if hi <= -25.0:  # μ ≫ 1: largest at s = 1
-        return (math.exp(C + B - A - E) * half
-                * (_erfcx(-hi) - math.exp(hi * hi - lo * lo) * _erfcx(-lo)))
     if lo >= 0.0:
-        difference = math.erfc(lo) - math.erfc(hi)
+        mass = F0 * erfcx(lo) - F1 * erfcx(hi)
     elif hi <= 0.0:
-        difference = math.erfc(-hi) - math.erfc(-lo)
+        mass = F1 * erfcx(-hi) - F0 * erfcx(-lo)
     else:
-        difference = math.erf(hi) - math.erf(lo)
-    return max(math.exp(C + A * mu * mu - E) * half * difference, 0.0)
+        mass = 2.0 * math.exp(C + A * mu * mu - E) - F1 * erfcx(hi) - F0 * erfcx(-lo)
+    return max(0.5 * math.sqrt(math.pi) / root * mass, 0.0)
 
 
-@jit
-def _cell_weights(A, B, C, E):
-    """(∫₀¹ (1 − s) e^{f(s) − E} ds, ∫₀¹ s e^{f(s) − E} ds) for f as in :func:`_cell_mass`,
-    both clamped at 0 against rounding: with ∫₀¹ (s − μ) e^{f} = (e^{f(0)} − e^{f(1)})/(2A)."""
-    total = _cell_mass(A, B, C, E)
-    first = max(B / (2.0 * A) * total + (math.exp(C - E) - math.exp(C + B - A - E)) / (2.0 * A),
-                0.0)
+@jit_inline
+def _cell_weights(A, B, C, E, F0, F1):
+    """(∫₀¹ (1 − s) e^{f(s) − E} ds, ∫₀¹ s e^{f(s) − E} ds) for f, F0, F1 as in
+    :func:`_cell_mass`, both clamped at 0 against rounding: with ∫₀¹ (s − μ) e^{f} =
+    (e^{f(0)} − e^{f(1)})/(2A)."""
+    total = _cell_mass(A, B, C, E, F0, F1)
+    first = max(B / (2.0 * A) * total + (F0 - F1) / (2.0 * A), 0.0)
     return max(total - first, 0.0), first
 
 
@@ -851,6 +843,8 @@ def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n
         near = i  # unfolded index of the cell's node nearest to x_p, then the far one
         k_near = i
         heading = step  # the direction of the folded index (mirrors turn it round)
+        near_log = ell[p]  # the log-integrand at the near node
+        near_value = math.exp(near_log - peak)  # and the integrand over e^E (−1: not yet known)
         for c in range(reach):
             far = near + step
             k_far = k_near + heading
@@ -858,32 +852,46 @@ def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n
                 k_far, heading = (0, heading) if periodic else (n - 2, -heading)
             elif k_far == -1:
                 k_far, heading = (n - 1, heading) if periodic else (1, -heading)
-            gauss = -A * c * c
-            if gauss + ell_max + bulge < peak - _FIT_WINDOW or (c > free and (
-                    gauss + ell[line + k_near * stride] + bulge < peak - _FIT_WINDOW)):
+            gauss = -A * c * c  # the Gaussian's log at the cell's near end
+            near_ell, far_ell = ell[line + k_near * stride], ell[line + k_far * stride]
+            if gauss + ell_max + bulge < peak - _FIT_WINDOW or (
+                    c > free and gauss + near_ell + bulge < peak - _FIT_WINDOW):
                 break
+            far_log = far_ell - A * (far - i) * (far - i)
+            if gauss + max(near_ell, far_ell) + bulge < peak - _FIT_WINDOW:  # the cell is out
+                near, k_near = far, k_far
+                near_log, near_value = far_log, -1.0
+                continue
             lo_node, hi_node = (k_near, k_far) if side == 0 else (k_far, k_near)
-            a = (near - i if side == 0 else far - i) * h  # the cell's left end − x_p
+            a = near - i if side == 0 else far - i  # (the cell's left end − x_p)/h
             k0, k1 = line + lo_node * stride, line + hi_node * stride
             kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
             Ac = A - 0.5 * kappa
-            B = ell[k1] - ell[k0] - a * h / s2 - 0.5 * kappa
-            C = ell[k0] - a * a / (2.0 * s2)
+            B = ell[k1] - ell[k0] - 2.0 * A * a - 0.5 * kappa
+            C = ell[k0] - A * a * a
             top = _cell_peak(Ac, B, C)
             near, k_near = far, k_far
             if top > peak:  # a new largest peak: rescale what is summed so far to it
+                rescale = math.exp(peak - top)
                 if accumulated:
-                    rescale = math.exp(peak - top)
                     for r in range(n_rhs):
                         out[r, p] *= rescale
+                if near_value >= 0.0:
+                    near_value *= rescale
                 peak = top
             elif top < peak - _FIT_WINDOW:
+                near_log, near_value = far_log, -1.0
                 continue
+            if near_value < 0.0:
+                near_value = math.exp(near_log - peak)
+            far_value = math.exp(far_log - peak)
+            F0, F1 = (near_value, far_value) if side == 0 else (far_value, near_value)
+            near_log, near_value = far_log, far_value
             accumulated = True
             if log_out:
-                out[0, p] += _cell_mass(Ac, B, C, peak)
+                out[0, p] += _cell_mass(Ac, B, C, peak, F0, F1)
                 continue
-            w0, w1 = _cell_weights(Ac, B, C, peak)
+            w0, w1 = _cell_weights(Ac, B, C, peak, F0, F1)
             for r in range(n_rhs):
                 out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
     norm = h / math.sqrt(2.0 * math.pi * s2)
