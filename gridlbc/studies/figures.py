@@ -8,9 +8,9 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
 - :func:`projection` — projecting a target reward h̄ = exp(−ḡ/λ) onto component rewards
   h_i = exp(−g_i/λ), when it works (Fig. 3), when it needs a negative weight, and when the
   components are too narrow for their spacing (Fig. 4), with the warnings said.
-- :func:`interpolation` — an intermediate goal behind an obstacle: linear Bellman combination
-  with the projected weights vs the naive blend of policies vs each component vs the direct
-  solve, every cost certified against the optimum (Fig. 6 idea).
+- :func:`interpolation` — an intermediate goal behind a wall: linear Bellman combination with
+  the projected weights vs the naive blend of policies vs each component vs the direct solve,
+  every cost certified against the optimum (Fig. 6 idea).
 - :func:`coordination` — blend weights α over time for a two-goal point mass pushed mid-way, with
   certified costs before and after the push (Fig. 9).
 - :func:`gymnast` — the acrobot swing-up from the paper's test state (Fig. 7 setting), a still
@@ -41,7 +41,6 @@ from ..solver import solve, solve_many
 from .problems import (
     GOAL_WEIGHTS,
     GYMNAST_START,
-    OBSTACLE,
     OBSTACLE_GOALS,
     OBSTACLE_START,
     OBSTACLE_TARGET,
@@ -166,213 +165,181 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
 # -- 3. interpolation -------------------------------------------------------------------------------
 
 
-def _against_lbc(problem: Problem, lbc, controllers: dict, samples: int, dt: float,
-                 seed: int) -> dict:
-    """J(u) − J(LBC) and its paired SE for each of ``controllers`` from the obstacle start,
-    with every controller driven by the same noise (one seed), on the composite task g_w of
-    ``lbc`` and on the target task of ``problem``: ``{(name, on_target): (mean, se)}``."""
-    out = {}
-    for on_target, task in ((False, lbc.problem), (True, problem)):
-        reference = simulate(task, lbc.policy, OBSTACLE_START, samples, dt=dt, seed=seed).costs
-        for name, policy in controllers.items():
-            d = simulate(task, policy, OBSTACLE_START, samples, dt=dt, seed=seed).costs - reference
-            out[name, on_target] = (d.mean(), d.std(ddof=1) / np.sqrt(samples))
-    return out
+WALL_BAND = 0.6
+"""|y| below which a state in front of the wall (x > 0) counts as "in front of its middle", where
+the interpolation figure's components disagree about which end to go round."""
 
 
-def _combined_pair(problem: Problem, goals, dt: float):
-    """Solve the goals together (one fitted operator) and combine them with the weights
-    projected from the problem's terminal cost: ``(projection, solutions, LBC, naive blend)``."""
-    costs = [Quadratic(c, OBSTACLE_WEIGHTS) for c in goals]
-    result = project_weights(problem.terminal_cost, costs, problem.grid,
-                             temperature=problem.temperature)
-    solutions = solve_many(problem, costs, dt=dt)
-    return (result, solutions, combine(solutions, result.weights),
-            naive_blend(solutions, result.weights))
+def _shares(problem: Problem, run) -> tuple:
+    """Per rollout of ``run`` on the wall task: whether it entered the wall (its cost above half
+    the wall's height at some step), and per time whether it is in front of the wall's middle."""
+    wall = problem.state_cost
+    states = run.states
+    inside = wall(states.reshape(-1, 2)).reshape(states.shape[:2]) > wall.height / 2
+    middle = (states[:, :, 0] > wall.start[0]) & (np.abs(states[:, :, 1]) < WALL_BAND)
+    return inside.any(axis=1), middle
 
 
-def interpolation(out, n: int = 101, samples: int = 2000, seed: int = 0,
-                  traces: int = 25, dt: float = 0.01,
-                  spacings=(0.2, 0.35, 0.5, 0.7, 0.9)) -> list[Path]:
-    """An intermediate goal behind an obstacle: LBC vs the naive blend vs each component.
+def interpolation(out, n: int = 101, samples: int = 4000, seed: int = 0, traces: int = 30,
+                  dt: float = 0.01) -> list[Path]:
+    """An intermediate goal behind a wall: LBC vs the naive blend vs each component alone.
 
     A point in the plane (:func:`~gridlbc.studies.problems.obstacle_problem`: dx = u dt + noise,
-    a disc of state cost between the start and the goals) must come to rest at the target c̄ on
-    the obstacle's axis. The components are solved for the goals on either side of the axis
-    (:data:`~gridlbc.studies.problems.OBSTACLE_GOALS`), each of which prefers to pass the
-    obstacle on its own side. The weights come from projecting h̄ = exp(−ḡ/λ) onto
-    {h_1, h_2} (:func:`gridlbc.project`). LBC is u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j,
-    the optimal policy of the composite cost g_w = −λ log Σ w_i h_i; the naive blend
-    u = Σ w_i u_i / Σ w_i uses the same weights at every state. On the axis the components'
-    sideways controls cancel in both; off it, LBC's α follows the side the state is on, while
-    the naive blend keeps averaging the two sides (it leaves the axis more slowly, and near the
-    goals it steers to the average of the two goals).
+    T = 3, λ = 0.2) starts in front of the middle of a long wall and must end at the intermediate
+    goal c̄ directly behind it. The components are solved for goals either side of the axis
+    (:data:`~gridlbc.studies.problems.OBSTACLE_GOALS`): the upper one goes round the wall's upper
+    end, the lower one round its lower end. The weights come from projecting h̄ = exp(−ḡ/λ) onto
+    {h_1, h_2} (:func:`gridlbc.project`), and the goals overlap enough that the composite cost
+    g_w = −λ log Σ w_i h_i has a single minimum, at c̄ (bottom left).
 
-    The components are solved together by :func:`gridlbc.solve_many` with the default fitted
-    scheme, which fits one operator to the composite reference Σ h_i for both: they then
-    combine exactly (a :class:`~gridlbc.combine.CombinedSolution`, equal to the direct solve of
-    g_w to rounding), so every difference in the figure is the combination rule, not the
-    solver. (Solved one by one, each fitted to its own goal, they combine through their values
-    instead, a :class:`~gridlbc.combine.Combination` only as accurate as its components.) The
-    solver's time step is ``dt``, the rollouts' too: the default step is set by the drift's
-    Courant number, zero here, so it falls to the minimum number of steps, far too few for the
-    stiff obstacle cost (q/λ = 300 inside).
+    LBC, u = Σ α_i u_i with α_i = w_i z_i / Σ w_j z_j, is the optimal policy of g_w: the
+    components are solved together by :func:`gridlbc.solve_many`, one operator, so LBC is the
+    direct solve of g_w to rounding. The naive blend u = Σ w_i u_i / Σ w_i averages the two
+    policies with fixed weights; in front of the wall's middle one says "up", the other "down",
+    and the average pushes into the wall, so its rollouts linger there (bottom middle) and some
+    cross it. The solver's time step is ``dt``, the rollouts' too (the default step, set by the
+    drift's Courant number, zero here, is far too long for the stiff wall).
 
-    Every controller is certified (:func:`gridlbc.certify`) on the composite task: its cost
-    J ± SE, the certified optimum v* and the gap J − v* = λ KL(P_u ‖ P*) ± paired SE; the
-    final states are those of the certified rollouts. Differences of cost against LBC are also
-    given with common random numbers (every controller driven by the same noise, so their
-    paired SE is far smaller than either cost's), on the composite task and on the target task
-    ḡ: LBC is optimal for the first by construction, the second is the task one wanted. The
-    bottom middle panel repeats the naive-vs-LBC comparison with the goals at ±a for each of
-    ``spacings``: the further apart the goals, the more the components' policies differ in
-    kind, and the larger the residual of the projection.
-
-    What to expect from the exact combination: its final law is the mixture Σ β_i p_i of the
-    components' final laws, β_i = w_i z_i(x₀) / Σ w_j z_j(x₀), so any statistic of the final
-    state (the distance to the target, say) is a β-average of the components' values, never
-    better than the best of them; it is centred on the target, not concentrated there. What LBC
-    gains over a single component is cost, at most λ log(1/β_i). A component decides its side
-    of the obstacle only as firmly as its own final law keeps off the other side, so the
-    naive blend's averaging of the two sides costs it much only when the goals' rewards
-    hardly overlap, which is when Σ w_i h_i represents h̄ poorly.
+    Every controller is certified on the composite task (:func:`gridlbc.certify`: J ± SE, the
+    certified optimum v* and the gap J − v* ± paired SE), and its cost difference to LBC is
+    measured with common random numbers (the same noise for every controller, so the paired SE
+    is far smaller than either cost's). What to expect, exactly: LBC's path law is the mixture
+    Σ β_i P_i of the components' optimal path laws, β_i = w_i z_i(x₀) / Σ w_j z_j(x₀), so its
+    mean final state is the β-average of theirs, and J_LBC = Σ β_i J_i − λ I with I, the
+    information a path carries about which component drew it, between 0 and H(β) ≤ log K: LBC
+    beats the best single component by at most λ log K (dashed line, bottom right), and by
+    nearly that when, as here, the components' paths go round different ends.
     """
     plt = _pyplot()
     problem = obstacle_problem(n)
-    target = problem.terminal_cost
-    components = [Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
-    lam = problem.temperature
-    result, (upper, lower), lbc, naive = _combined_pair(problem, OBSTACLE_GOALS, dt)
+    lam, start, wall = problem.temperature, OBSTACLE_START, problem.state_cost
+    goals = [Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
+    fit = project_weights(problem.terminal_cost, goals, problem.grid, temperature=lam)
+    upper, lower = solve_many(problem, goals, dt=dt)
+    lbc = combine([upper, lower], fit.weights)
+    naive = naive_blend([upper, lower], fit.weights)
     direct = solve(problem, dt=dt)
-    names = {"upper": f"goal y = {OBSTACLE_GOALS[0][1]:+g} alone",
-             "lower": f"goal y = {OBSTACLE_GOALS[1][1]:+g} alone",
-             "naive": "naive blend Σwᵢuᵢ/Σwᵢ", "lbc": "LBC Σαᵢuᵢ", "direct": "direct solve of ḡ"}
-    controllers = {names["upper"]: upper.policy, names["lower"]: lower.policy,
-                   names["naive"]: naive.policy, names["lbc"]: lbc.policy,
-                   names["direct"]: direct.policy}
-    colors = ["0.5", "0.72", "C1", "C0", "k"]
-    certificates = {k: certify(lbc.problem, p, OBSTACLE_START, samples, dt=dt, seed=seed,
-                               progress=False)
-                    for k, p in controllers.items()}
-    fans = {k: simulate(problem, controllers[names[k]], OBSTACLE_START, traces, dt=dt,
-                        seed=seed + 1) for k in ("lbc", "naive")}
-    # Common random numbers: the same seed drives every controller with the same noise, so
-    # the per-sample differences of realised cost give a paired SE of J(u) − J(LBC).
-    paired = _against_lbc(problem, lbc, {k: p for k, p in controllers.items()
-                                         if k != names["lbc"]}, samples, dt, seed)
-    scan = []  # (residual, naive − LBC on g_w, on ḡ) as the goals move apart
-    for spacing in spacings:
-        goals = ((OBSTACLE_TARGET[0], spacing), (OBSTACLE_TARGET[0], -spacing))
-        fit, _, pair_lbc, pair_naive = _combined_pair(problem, goals, dt)
-        versus = _against_lbc(problem, pair_lbc, {"naive": pair_naive.policy}, samples, dt,
-                              seed)
-        scan.append((fit.residual, versus["naive", False], versus["naive", True]))
+    beta = lbc.blend_weights(start, 0.0)[0]
+    names = ("LBC Σαᵢuᵢ", "naive blend Σwᵢuᵢ/Σwᵢ", f"upper goal (y = {OBSTACLE_GOALS[0][1]:+g}) alone",
+             f"lower goal (y = {OBSTACLE_GOALS[1][1]:+g}) alone", "direct solve of ḡ")
+    policies = dict(zip(names, (lbc.policy, naive.policy, upper.policy, lower.policy,
+                                direct.policy)))
+    colors = dict(zip(names, ("C0", "C1", "0.35", "0.65", "C2")))
+    task = lbc.problem  # the composite task g_w, LBC's own
+    certificates = {k: certify(task, p, start, samples, dt=dt, seed=seed, progress=False)
+                    for k, p in policies.items()}
+    # Common random numbers: one seed drives every controller with the same noise, so the
+    # per-sample differences of realised cost give a paired SE of J(u) − J(LBC).
+    runs = {k: simulate(task, p, start, samples, dt=dt, seed=seed + 1) for k, p in policies.items()}
+    paired = {}
+    for k, run in runs.items():
+        d = run.costs - runs[names[0]].costs
+        paired[k] = (d.mean(), d.std(ddof=1) / np.sqrt(samples))
+    shares = {k: _shares(problem, run) for k, run in runs.items()}
 
-    fig = plt.figure(figsize=(17, 10), constrained_layout=True)
+    fig = plt.figure(figsize=(18, 11), constrained_layout=True)
     spec = fig.add_gridspec(2, 3)
-    ax_lbc, ax_naive = fig.add_subplot(spec[0, 0]), fig.add_subplot(spec[0, 1])
-    ax_h, ax_final = fig.add_subplot(spec[0, 2]), fig.add_subplot(spec[1, 0])
-    ax_scan, ax_cost = fig.add_subplot(spec[1, 1]), fig.add_subplot(spec[1, 2])
+    top = [fig.add_subplot(spec[0, k]) for k in range(3)]
+    ax_goal, ax_band, ax_cost = (fig.add_subplot(spec[1, k]) for k in range(3))
     (x_lo, x_hi), (y_lo, y_hi) = ((a.lo, a.hi) for a in problem.grid.axes)
-    X, Y = np.meshgrid(np.linspace(x_lo, x_hi, 241), np.linspace(y_lo, y_hi, 193))
+    X, Y = np.meshgrid(np.linspace(x_lo, x_hi, 201), np.linspace(y_lo, y_hi, 301))
     plane = np.column_stack([X.ravel(), Y.ravel()])
     value = lbc.value(plane, 0.0).reshape(X.shape)
-    obstacle = problem.state_cost(plane).reshape(X.shape)
-    levels = np.linspace(value.min(), np.percentile(value, 98), 25)
-    for ax, key, color in ((ax_lbc, "lbc", "C0"), (ax_naive, "naive", "C1")):
-        shading = ax.contourf(X, Y, value, levels, cmap="Greys_r", extend="max")
-        ax.contour(X, Y, obstacle, [OBSTACLE.height / 2], colors="C3", linewidths=1.5)
-        run = fans[key]
-        for s in range(run.n_samples):
-            ax.plot(run.states[s, :, 0], run.states[s, :, 1], color=color, lw=0.7, alpha=0.7)
+    levels = np.linspace(value.min(), np.percentile(value, 97), 25)
+    panels = ((top[0], names[:1]), (top[1], names[1:2]), (top[2], names[2:4]))
+    for ax, keys in panels:
+        shading = ax.contourf(X, Y, value, levels, cmap="Greys_r", extend="max", alpha=0.8)
+        ax.contour(X, Y, wall(plane).reshape(X.shape), [wall.height / 2], colors="C3",
+                   linewidths=1.5)
+        lines = []
+        for key in keys:
+            states = runs[key].states[: traces // len(keys)]
+            for s, path in enumerate(states):
+                line, = ax.plot(path[:, 0], path[:, 1], color=colors[key], lw=0.6, alpha=0.75)
+            crossed = 100 * shares[key][0].mean()
+            line.set_label(f"{key}: {crossed:.1f} % enter the wall")
+            lines.append(line)
         for k, goal in enumerate(OBSTACLE_GOALS):
             ax.plot(*goal, "X", color="w", mec="k", ms=9, label="solved goals" if k == 0 else None)
-        ax.plot(*OBSTACLE_TARGET, "*", color="gold", mec="k", ms=15, label="target c̄")
-        ax.plot(*OBSTACLE_START, "o", color="w", mec="k", ms=7, label="start")
-        crossed = np.mean(problem.state_cost(run.states.reshape(-1, 2)).reshape(
-            run.states.shape[:2]).max(axis=1) > OBSTACLE.height / 2)
-        ax.set(xlabel="x", ylabel="y", aspect="equal",
-               title=f"{names[key]}: {run.n_samples} noisy rollouts\n"
-                     f"{100 * crossed:.0f} % cross the obstacle's rim (red)")
-        ax.legend(fontsize=7.5, loc="lower left")
-    fig.colorbar(shading, ax=ax_naive, shrink=0.8, label="composite value v(x, 0) (grey)")
+        ax.plot(*OBSTACLE_TARGET, "*", color="gold", mec="k", ms=15, label="intermediate goal c̄")
+        ax.plot(*start, "o", color="w", mec="k", ms=7, label="start")
+        ax.plot([], [], color="C3", label="wall (q = H/2)")
+        ax.set(xlabel="x", ylabel="y", aspect="equal", xlim=(x_lo, x_hi), ylim=(y_lo, y_hi))
+        ax.legend(fontsize=7.5, loc="lower left", framealpha=0.9)
+    top[0].set_title(f"{names[0]} (exact for g_w): {traces} noisy rollouts\n"
+                     f"β = ({beta[0]:.2f}, {beta[1]:.2f}): half go round each end")
+    top[1].set_title(f"{names[1]}: {traces} noisy rollouts\nthe two policies cancel sideways "
+                     "in front of the wall's middle")
+    top[2].set_title(f"each component alone: {traces // 2} noisy rollouts each\n"
+                     "each goes round its own end")
+    fig.colorbar(shading, ax=top[2], shrink=0.8, label="composite value v(x, 0) of LBC (grey)")
 
-    y = np.linspace(y_lo, y_hi, 481)
+    y = np.linspace(y_lo, y_hi, 6001)
     line = np.column_stack([np.full_like(y, OBSTACLE_TARGET[0]), y])
-    h = [np.exp(-c(line) / lam) for c in components]
-    for i, (h_i, w_i) in enumerate(zip(h, result.weights)):
-        ax_h.plot(y, h_i, color=colors[i], lw=1.5,
-                  label=f"h{i + 1} (goal y = {OBSTACLE_GOALS[i][1]:+g}), w{i + 1} = {w_i:.3f}")
-    ax_h.plot(y, np.exp(-target(line) / lam), "k--", label="target h̄ (y = 0)")
-    ax_h.plot(y, sum(w * hi for w, hi in zip(result.weights, h)), "C0", lw=2,
-              label="Σ wᵢ hᵢ (LBC's terminal reward)")
-    ax_h.set(xlim=(-1.5, 1.5), xlabel=f"y_T at x_T = {OBSTACLE_TARGET[0]:g}",
-             ylabel="terminal reward h = exp(−g/λ)",
-             title=f"gridlbc.project: residual {result.residual:.2f}, Σw = "
-                   f"{result.weight_sum:.2f}")
-    ax_h.legend(fontsize=8, loc="upper right")
+    for k, (cost, color) in enumerate(zip(goals, ("0.35", "0.65"))):
+        ax_goal.plot(y, cost(line), color=color, lw=1.5,
+                     label=f"g{k + 1} (goal y = {OBSTACLE_GOALS[k][1]:+g}), w{k + 1} = "
+                           f"{fit.weights[k]:.3f}")
+    ax_goal.plot(y, problem.terminal_cost(line), "k--", label="ḡ (intermediate goal, y = 0)")
+    composite = task.terminal_cost(line)
+    minima = np.flatnonzero((composite[1:-1] < composite[:-2]) & (composite[1:-1] < composite[2:]))
+    ax_goal.plot(y, composite, "C0", lw=2.5, label="g_w = −λ log Σ wᵢ exp(−gᵢ/λ) (LBC's task)")
+    ax_goal.plot(y[minima + 1], composite[minima + 1], "v", color="C0", ms=9,
+                 label=f"its minima: {len(minima)}, at y = "
+                       + ", ".join(f"{v:+.3f}" for v in y[minima + 1]))
+    ax_goal.set(xlim=(-1.5, 1.5), ylim=(-0.3, 1.2), xlabel=f"y_T at x_T = {OBSTACLE_TARGET[0]:g}",
+                ylabel="terminal cost",
+                title=f"the goals (gridlbc.project: residual {fit.residual:.2f}, Σw = "
+                      f"{fit.weight_sum:.2f});\nthe composite goal g_w has one minimum, at c̄")
+    ax_goal.legend(fontsize=8, loc="upper center")
 
-    bins = np.linspace(-2.0, 2.0, 81)
-    for (label, cert), color in zip(certificates.items(), colors):
-        final = cert.final_states
-        distance = np.hypot(*(final - np.asarray(OBSTACLE_TARGET)).T)
-        ax_final.hist(final[:, 1], bins=bins, histtype="step", color=color,
-                      lw=1.2 if "alone" in label else 2,
-                      label=f"{label}:\nmean y_T = {final[:, 1].mean():+.3f} ± "
-                            f"{final[:, 1].std(ddof=1) / np.sqrt(len(final)):.3f}, mean "
-                            f"‖x_T − c̄‖ = {distance.mean():.3f}")
-    for goal in OBSTACLE_GOALS:
-        ax_final.axvline(goal[1], color="0.5", ls=":", lw=1)
-    ax_final.axvline(OBSTACLE_TARGET[1], color="k", ls=":", lw=1)
-    mean_x = np.mean([c.final_states[:, 0].mean() for c in certificates.values()])
-    ax_final.set(xlim=(-1.6, 1.6), xlabel="final y_T (goals dotted grey, target black)",
-                 ylabel="samples",
-                 title=f"where each controller ends ({samples} certified rollouts, ± SE;\n"
-                       f"mean x_T = {mean_x:.2f} for all, target c̄ₓ = {OBSTACLE_TARGET[0]:g})")
-    ax_final.set_ylim(0, 2.1 * ax_final.get_ylim()[1])
-    ax_final.legend(fontsize=7, loc="upper left")
+    times = runs[names[0]].times
+    for key in names:
+        crossed, middle = shares[key]
+        final = runs[key].final_states
+        ax_band.plot(times, 100 * middle.mean(axis=0), color=colors[key],
+                     lw=2.5 if key in names[:2] else 1.3,
+                     label=f"{key}: ({final[:, 0].mean():+.2f}, {final[:, 1].mean():+.2f}) "
+                           f"± {final[:, 1].std(ddof=1) / np.sqrt(samples):.2f}")
+    ax_band.set(xlabel="time t", ylabel="% of rollouts in front of the wall's middle",
+                xlim=(0, problem.horizon), ylim=(0, 100),
+                title=f"the naive blend stalls in front of the wall (x > 0, |y| < {WALL_BAND:g})\n"
+                      f"{samples} rollouts each, common noise")
+    ax_band.legend(fontsize=7.5, loc="upper right", title_fontsize=8,
+                   title=f"mean final state (x̄_T, ȳ_T) ± SE of ȳ_T; c̄ = {OBSTACLE_TARGET}")
 
-    residuals, on_composite, on_target = (np.array(v) for v in zip(*scan))
-    for values, style, where in ((on_composite, "o-", "composite task g_w (LBC optimal)"),
-                                 (on_target, "s--", "target task ḡ (the one wanted)")):
-        ax_scan.errorbar(spacings, values[:, 0], 2 * values[:, 1], fmt=style, color="C1",
-                         capsize=3, label=f"on the {where}")
-    ax_scan.axhline(0, color="C0", lw=1.5, label="LBC")
-    ax_scan.axvline(OBSTACLE_GOALS[0][1], color="k", ls=":", lw=1)
-    for spacing, residual in zip(spacings, residuals):
-        ax_scan.annotate(f"{residual:.2f}", (spacing, 1.0), xycoords=("data", "axes fraction"),
-                         ha="center", va="bottom", fontsize=8)
-    ax_scan.set(xlabel="goal offset ±a (the figure's: dotted)",
-                ylabel="J(naive blend) − J(LBC) ± 2 SE (common noise)",
-                title="as the goals move apart (projection residual above)\n")
-    ax_scan.legend(fontsize=8, loc="lower left")
-
-    labels = list(certificates)
-    gaps = [certificates[k].gap for k in labels]
-    errors = [certificates[k].gap_se for k in labels]
-    ax_cost.barh(range(len(labels)), gaps, xerr=errors, color=colors, capsize=4)
+    labels = list(names[1:])
+    means = np.array([paired[k][0] for k in labels])
+    errors = np.array([paired[k][1] for k in labels])
+    rows = np.arange(len(labels))
+    ax_cost.barh(rows, means, xerr=errors, color=[colors[k] for k in labels], capsize=4)
+    bound = lam * np.log(2)
+    ax_cost.axvline(0, color="C0", lw=2, label=f"LBC: J = {certificates[names[0]].policy_cost:.3f}"
+                    f" ± {certificates[names[0]].policy_cost_se:.3f}, J − v* = "
+                    f"{certificates[names[0]].gap:+.3f} ± {certificates[names[0]].gap_se:.3f}")
+    ax_cost.axvline(bound, color="k", ls="--", lw=1,
+                    label=f"λ log K = {bound:.3f}: the most LBC can beat the best component by")
     for k, label in enumerate(labels):
         c = certificates[label]
-        versus = ("" if label == names["lbc"] else
-                  "\nJ − J_LBC = {:+.3f} ± {:.3f}; on ḡ {:+.3f} ± {:.3f}".format(
-                      *paired[label, False], *paired[label, True]))
-        ax_cost.text(max(c.gap, 0) + c.gap_se + 0.01 * max(gaps), k,
-                     f"J − v* = {c.gap:+.3f} ± {c.gap_se:.3f}\n(J = {c.policy_cost:.3f} ± "
-                     f"{c.policy_cost_se:.3f}, v* = {c.optimal_value:.3f} ± "
-                     f"{c.optimal_value_se:.3f}){versus}", va="center", fontsize=7.5)
-    ax_cost.axvline(0, color="k", lw=1)
-    ax_cost.set_yticks(range(len(labels)), labels, fontsize=9)
+        ax_cost.text(max(means[k], 0) + errors[k] + 0.01, k,
+                     f"{means[k]:+.3f} ± {errors[k]:.3f} ({means[k] / errors[k]:.0f} SE)\n"
+                     f"J = {c.policy_cost:.3f} ± {c.policy_cost_se:.3f}, J − v* = {c.gap:+.3f} ± "
+                     f"{c.gap_se:.3f}", va="center", fontsize=8)
+    ax_cost.set_yticks(rows, labels, fontsize=9)
     ax_cost.invert_yaxis()
-    ax_cost.set_xlim(min(0.0, min(gaps)) - 0.02 * max(gaps), 3.3 * max(gaps))
-    ax_cost.set(xlabel=f"gap J − v* = λ KL(P_u ‖ P*) ± paired SE ({samples} samples)\n"
-                       "text: J − J_LBC ± SE with common noise, on g_w and on ḡ",
-                title="excess cost over the certified optimum,\ncomposite task "
-                      "g_w = −λ log Σ wᵢhᵢ (gridlbc.certify)")
+    ax_cost.set_xlim(min(0.0, means.min() - errors.max()) - 0.02, 2.2 * means.max() + 0.05)
+    ax_cost.set(xlabel="J − J_LBC ± paired SE, common noise, on the composite task g_w",
+                title=f"cost above LBC's on g_w; certified v* = "
+                      f"{certificates[names[0]].optimal_value:.3f} ± "
+                      f"{certificates[names[0]].optimal_value_se:.3f}\n(gridlbc.certify, "
+                      f"{samples} samples): every other controller costs more")
+    ax_cost.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     W = OBSTACLE_WEIGHTS
-    fig.suptitle(f"Interpolating an intermediate goal behind an obstacle: dx = u dt + noise on a "
-                 f"{'×'.join(map(str, problem.grid.shape))} grid, T = {problem.horizon:g}, λ = {lam:g}, "
-                 f"g = {W[0]:g}(x − cₓ)² + {W[1]:g}(y − c_y)², disc obstacle q = "
-                 f"{OBSTACLE.height:g} inside radius {OBSTACLE.radius:g}")
+    fig.suptitle(f"Interpolating an intermediate goal behind a wall: dx = u dt + noise on a "
+                 f"{'×'.join(map(str, problem.grid.shape))} grid, T = {problem.horizon:g}, "
+                 f"λ = {lam:g} (noise √(λT) = {np.sqrt(lam * problem.horizon):.2f}), "
+                 f"g = {W[0]:g}(x − cₓ)² + {W[1]:g}(y − c_y)², wall q = {wall.height:g} within "
+                 f"{wall.radius:g} of x = 0, |y| ≤ {wall.end[1]:g}", fontsize=12)
     return [_save(fig, out, "interpolation.png")]
 
 
@@ -493,7 +460,7 @@ def coordination(out, n: int = 81, samples: int = 2000, seed: int = 0,
     ax_cost.set(xlabel="cost of the composite task ± SE (certified, "
                        f"{samples} samples)",
                 title="expected cost J of the rest of the task vs the optimum")
-    ax_cost.legend(fontsize=8, loc="lower right")
+    ax_cost.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     fig.suptitle(f"Coordination with a push: point mass with two acceptable outcomes (w = 1, 1), "
                  f"{problem.grid.describe()}, λ = {problem.temperature:g}")
     return [_save(fig, out, "coordination.png")]
@@ -607,8 +574,7 @@ def certified_convergence(out, sizes=(32, 64, 128, 256), samples: int = 400,
 FIGURES = {
     "cost_reward_space": (cost_reward_space, {}, {"n": 61}),
     "projection": (projection, {}, {"points": 401}),
-    "interpolation": (interpolation, {}, {"n": 41, "samples": 200, "traces": 10,
-                                          "dt": 0.05, "spacings": (0.2, 0.5, 0.9)}),
+    "interpolation": (interpolation, {}, {"n": 41, "samples": 300, "traces": 10, "dt": 0.02}),
     "coordination": (coordination, {}, {"n": 41, "samples": 200, "traces": 4, "dt": 0.02}),
     "gymnast": (gymnast, {}, {"n": 13, "reference": False}),
     "certified_convergence": (certified_convergence, {},

@@ -10,8 +10,8 @@ report, the convergence studies, the figures, the benchmarks and the tests.
 - :func:`coordination_problem`: a point mass with two acceptable goals;
 - :func:`rotor_problem`: a pendulum without gravity (a rotor) turned half a turn to an angle
   between two solved goals (the interpolation example), from :data:`ROTOR_START`;
-- :func:`obstacle_problem`: a point steered in the plane around a smooth disc obstacle
-  (:class:`DiscObstacle`) to a goal behind it (the interpolation figure), from
+- :func:`obstacle_problem`: a point steered in the plane round a smooth wall
+  (:class:`CapsuleObstacle`) to a goal behind it (the interpolation figure), from
   :data:`OBSTACLE_START`;
 - :func:`gymnast_problem`: the paper's acrobot swing-up (paper §6.2), from :data:`GYMNAST_START`;
 - :func:`diver_problem`: the 4-link diver beyond the grid (paper §6.1–6.2, Figs. 6 and 8), a
@@ -150,58 +150,85 @@ def rotor_problem(n: int = 101, terminal_cost=None) -> Problem:
 
 
 @dataclass(frozen=True, eq=False)
-class DiscObstacle:
-    """A smooth disc of state cost in the plane:
+class CapsuleObstacle:
+    """A smooth capsule of state cost in the plane: the points within r of the segment [a, b],
 
-        q(x) = H / (1 + exp((‖x − c‖ − r) / ε)),
+        q(x) = H / (1 + exp((d(x) − r) / ε)),      d(x) = ‖x − a − s (b − a)‖,
+        s = clip((x − a)·(b − a) / ‖b − a‖², 0, 1),
 
-    H (``height``) inside the disc of radius r around c, H/2 on its rim, falling to zero over a
-    few ε (``edge``) outside it. It acts on the first two coordinates of the state."""
+    d the distance to the segment. H (``height``) well inside, H/2 on the rim (d = r), falling to
+    zero over a few ε (``edge``) outside. ``start`` = ``end`` makes it a disc of radius r; a long
+    segment across the straight path is a wall. It acts on the first two coordinates of the
+    state."""
 
-    center: tuple
+    start: tuple
+    end: tuple
     radius: float
     height: float
     edge: float
 
+    def __post_init__(self):
+        for name in ("start", "end"):
+            point = np.asarray(getattr(self, name), dtype=float)
+            if point.shape != (2,) or not np.all(np.isfinite(point)):
+                raise ValueError(f"CapsuleObstacle {name} must be a finite point (x, y), got "
+                                 f"{getattr(self, name)!r}")
+        for name in ("radius", "edge"):
+            value = getattr(self, name)
+            if not (np.isfinite(value) and value > 0):
+                raise ValueError(f"CapsuleObstacle {name} must be a positive length, got {value!r}")
+        if not (np.isfinite(self.height) and self.height >= 0):
+            raise ValueError(f"CapsuleObstacle height must be a finite cost ≥ 0, got "
+                             f"{self.height!r}")
+
+    def distance(self, x) -> np.ndarray:
+        """d(x), the distance of each state's first two coordinates to the segment: (N,)."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))[:, :2]
+        a, b = np.asarray(self.start, dtype=float), np.asarray(self.end, dtype=float)
+        direction = b - a
+        length2 = direction @ direction
+        s = np.zeros(len(x)) if length2 == 0 else np.clip((x - a) @ direction / length2, 0, 1)
+        return np.hypot(*(x - a - s[:, None] * direction).T)
+
     def __call__(self, x) -> np.ndarray:
-        x = np.atleast_2d(np.asarray(x, dtype=float))
-        distance = np.hypot(x[:, 0] - self.center[0], x[:, 1] - self.center[1])
-        # H / (1 + e^s) = H e^{−s} / (1 + e^{−s}); both forms are kept finite for any s.
-        s = (distance - self.radius) / self.edge
-        return self.height * np.exp(-np.logaddexp(0.0, s))
+        # H / (1 + e^u) = H exp(−log(1 + e^u)), finite for any u.
+        u = (self.distance(x) - self.radius) / self.edge
+        return self.height * np.exp(-np.logaddexp(0.0, u))
 
 
-OBSTACLE = DiscObstacle(center=(1.0, 0.0), radius=0.5, height=30.0, edge=0.1)
-"""The obstacle of :func:`obstacle_problem`: a disc of radius 0.5 at (1, 0), cost 30 inside."""
+OBSTACLE = CapsuleObstacle((0.0, -1.8), (0.0, 1.8), radius=0.25, height=50.0, edge=0.08)
+"""The obstacle of :func:`obstacle_problem`: a wall, the segment x = 0, |y| ≤ 1.8, thickened by
+r = 0.25, cost 50 inside; it blocks the straight path from :data:`OBSTACLE_START` to the goals."""
 
-OBSTACLE_START = np.array([2.2, 0.0])
-"""Start of :func:`obstacle_problem` (x, y): on the axis in front of the obstacle."""
+OBSTACLE_START = np.array([1.0, 0.0])
+"""Start of :func:`obstacle_problem` (x, y): in front of the wall's centre."""
 
-OBSTACLE_TARGET = (-2.2, 0.0)
-"""The target goal, on the axis behind the obstacle."""
+OBSTACLE_TARGET = (-0.7, 0.0)
+"""The intermediate goal, directly behind the wall's centre."""
 
-OBSTACLE_GOALS = ((-2.2, 0.35), (-2.2, -0.35))
-"""The solved goals, behind the obstacle on either side of its axis."""
+OBSTACLE_GOALS = ((-0.7, 0.35), (-0.7, -0.35))
+"""The solved goals, behind the wall on either side of its axis: the first is reached round the
+wall's upper end, the second round its lower end."""
 
-OBSTACLE_WEIGHTS = (5.0, 0.5)
+OBSTACLE_WEIGHTS = (5.0, 0.75)
 """diag W of the goals g = (x − c)ᵀW(x − c)."""
 
 
-def obstacle_problem(n: int = 101, terminal_cost=None, temperature: float = 0.1,
-                     horizon: float = 4.0) -> Problem:
-    """A point steered in the plane around an obstacle (the interpolation figure).
+def obstacle_problem(n: int = 101, terminal_cost=None, temperature: float = 0.2,
+                     horizon: float = 3.0) -> Problem:
+    """A point steered in the plane round a wall to a goal behind it (the interpolation figure).
 
     The single integrator dx = u dt + dξ, Cov[dξ] = λ I dt (:class:`~gridlbc.systems.LinearSystem`
-    with A = 0, B = I), on x ∈ [−3, 3] with ``n`` nodes and y ∈ [−2.4, 2.4] at the same spacing
-    (``n`` − 1 a multiple of 5), with the state cost q of :data:`OBSTACLE` between
+    with A = 0, B = I), on x ∈ [−2, 2] with ``n`` nodes and y ∈ [−3, 3] at the same spacing
+    (``n`` odd), with the state cost q of the wall :data:`OBSTACLE` between
     :data:`OBSTACLE_START` and the goals, R = 1, T = ``horizon``, λ = ``temperature``; the
-    terminal cost defaults to the target, g = (x − c̄)ᵀW(x − c̄) with c̄ = :data:`OBSTACLE_TARGET`
-    and W = diag :data:`OBSTACLE_WEIGHTS`.
+    terminal cost defaults to the intermediate goal, g = (x − c̄)ᵀW(x − c̄) with
+    c̄ = :data:`OBSTACLE_TARGET` and W = diag :data:`OBSTACLE_WEIGHTS`.
     """
-    if n < 6 or (n - 1) % 5:
-        raise ValueError(f"n must be 5k + 1 nodes (k ≥ 1) so that both axes share one spacing, "
-                         f"e.g. 21, 61 or 101; got {n}")
-    grid = Grid([Axis(-3.0, 3.0, n, name="x"), Axis(-2.4, 2.4, 4 * (n - 1) // 5 + 1, name="y")])
+    if n < 5 or n % 2 == 0:
+        raise ValueError(f"n must be an odd number of nodes ≥ 5 so that both axes share one "
+                         f"spacing, e.g. 41, 61 or 101; got {n}")
+    grid = Grid([Axis(-2.0, 2.0, n, name="x"), Axis(-3.0, 3.0, 3 * (n - 1) // 2 + 1, name="y")])
     cost = Quadratic(OBSTACLE_TARGET, OBSTACLE_WEIGHTS) if terminal_cost is None else terminal_cost
     plane = LinearSystem(np.zeros((2, 2)), np.eye(2), state_names=("x", "y"))
     return Problem(plane, grid, horizon, cost, state_cost=OBSTACLE, temperature=temperature)

@@ -1,0 +1,169 @@
+"""The interpolation figure's task and claims: the wall (a capsule of state cost), the obstacle
+problem, the mixture law of exact linear Bellman combination and the bound it implies, and the
+figure's claims on a small grid."""
+
+import numpy as np
+import pytest
+
+import gridlbc as g
+from gridlbc.studies.problems import (
+    OBSTACLE,
+    OBSTACLE_GOALS,
+    OBSTACLE_START,
+    OBSTACLE_TARGET,
+    OBSTACLE_WEIGHTS,
+    CapsuleObstacle,
+    obstacle_problem,
+)
+
+
+def se(a):
+    return a.std(ddof=1) / np.sqrt(a.size)
+
+
+def test_capsule_distance_and_cost():
+    """d(x) is the distance to the segment (to the nearest end beyond it); the cost is H/2 on
+    the rim d = r, H / (1 + e^{−r/ε}) on the segment itself (the logistic in d, to rounding), and
+    underflows gracefully (no floating-point error) far away. A zero-length segment is a disc."""
+    wall = CapsuleObstacle((0.0, -1.0), (0.0, 1.0), radius=0.2, height=30.0, edge=0.05)
+    points = np.array([[0.5, 0.3], [-0.2, -1.0], [0.3, 1.4], [0.0, -1.5], [0.0, 0.7]])
+    np.testing.assert_allclose(wall.distance(points), [0.5, 0.2, 0.5, 0.5, 0.0], rtol=0,
+                               atol=1e-15)
+    rim = np.array([[0.2, 0.0], [-0.2, 0.9], [0.0, 1.2], [0.2 * np.cos(1), -1 - 0.2 * np.sin(1)]])
+    np.testing.assert_allclose(wall(rim), 15.0, rtol=1e-14)
+    np.testing.assert_allclose(wall([0.0, 0.3]), 30.0 / (1 + np.exp(-4.0)), rtol=1e-14)
+    far = wall(np.array([[1e6, 0.0]]))
+    assert far.shape == (1,) and 0 <= far[0] < 1e-300
+    disc = CapsuleObstacle((1.0, -0.5), (1.0, -0.5), radius=0.5, height=30.0, edge=0.1)
+    x = np.array([[1.5, -0.5], [1.0, 0.0], [0.7, -0.9], [2.0, 1.0]])
+    radial = np.hypot(x[:, 0] - 1.0, x[:, 1] + 0.5)
+    np.testing.assert_allclose(disc(x), 30.0 / (1 + np.exp((radial - 0.5) / 0.1)), rtol=1e-13)
+    states = np.column_stack([points, np.ones(len(points))])  # extra coordinates are ignored
+    np.testing.assert_array_equal(wall(states), wall(points))
+
+
+@pytest.mark.parametrize("change, match", [
+    ({"start": (0.0, np.nan)}, "start must be a finite point"),
+    ({"end": (1.0, 2.0, 3.0)}, "end must be a finite point"),
+    ({"radius": 0.0}, "radius must be a positive length"),
+    ({"edge": -0.1}, "edge must be a positive length"),
+    ({"height": -1.0}, "height must be a finite cost"),
+    ({"height": np.inf}, "height must be a finite cost"),
+])
+def test_capsule_rejects_bad_parameters(change, match):
+    options = {"start": (0.0, -1.0), "end": (0.0, 1.0), "radius": 0.2, "height": 30.0,
+               "edge": 0.05} | change
+    with pytest.raises(ValueError, match=match):
+        CapsuleObstacle(**options)
+
+
+def test_obstacle_problem():
+    """The wall lies across the straight path from the start to the goals (its cost there is
+    below 1 % of its height); both axes share
+    one spacing; a node count that breaks that is refused with the fix."""
+    problem = obstacle_problem(21)
+    assert problem.state_cost is OBSTACLE
+    np.testing.assert_allclose(*problem.grid.spacing, rtol=1e-12)
+    path = np.linspace(OBSTACLE_START, OBSTACLE_TARGET, 101)
+    assert OBSTACLE(path).max() > 0.9 * OBSTACLE.height
+    assert OBSTACLE(np.array([OBSTACLE_START, OBSTACLE_TARGET, *OBSTACLE_GOALS])).max() < 0.01 * OBSTACLE.height
+    with pytest.raises(ValueError, match="odd number of nodes"):
+        obstacle_problem(20)
+
+
+def test_composite_goal_has_one_minimum_at_the_intermediate_goal():
+    """The goals overlap enough (offset a < σ = √(λ/2W_y)) that the composite terminal cost
+    g_w = −λ log Σ wᵢ exp(−gᵢ/λ), with the projected weights, has a single minimum, at the
+    intermediate goal c̄ (checked on a fine line through the goals and, coarser, on the plane)."""
+    problem = obstacle_problem(41)
+    goals = [g.Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
+    w = g.project(problem.terminal_cost, goals, problem.grid, temperature=problem.temperature)
+    composite = g.combine(g.solve_many(problem, goals, dt=0.1), w).problem.terminal_cost
+    y = np.linspace(-3, 3, 6001)
+    along = composite(np.column_stack([np.full_like(y, OBSTACLE_TARGET[0]), y]))
+    minima = np.flatnonzero((along[1:-1] < along[:-2]) & (along[1:-1] < along[2:])) + 1
+    assert len(minima) == 1 and y[minima[0]] == pytest.approx(OBSTACLE_TARGET[1], abs=1e-9)
+    X, Y = np.meshgrid(np.linspace(-2, 2, 401), np.linspace(-3, 3, 601))
+    plane = composite(np.column_stack([X.ravel(), Y.ravel()]))
+    k = np.argmin(plane)
+    assert (X.ravel()[k], Y.ravel()[k]) == pytest.approx(OBSTACLE_TARGET, abs=0.011)
+
+
+def test_exact_combination_is_the_mixture_of_the_components():
+    """Exact LBC's path law is the mixture Σ βᵢ Pᵢ of the components' optimal path laws,
+    βᵢ = wᵢ zᵢ(x₀) / Σ wⱼ zⱼ(x₀). So (a) every expectation of the final state is the β-average of
+    the components' and (b) J_LBC = Σ βᵢ Jᵢ − λ I with 0 ≤ I ≤ H(β), all costs on the composite
+    task: LBC beats the best component by at most λ log K.
+
+    A line, two goals far apart with unequal weights (so β ≠ ½ and the components' final laws
+    barely overlap, I ≈ H(β): the lower bound is then nearly tight, and a J_LBC too low by a few
+    SE fails it). Independent seeds, so the SE of each comparison is the quadrature sum of its
+    terms' SEs; tolerance 4 SE (the grid and the time step add a bias far below the SE here)."""
+    lam = 0.5
+    problem = g.Problem(g.systems.SingleIntegrator(), g.Grid([g.Axis(-4, 4, 401)]), 1.0,
+                        g.Quadratic([0], [1]), temperature=lam)
+    goals = [g.Quadratic([-1.5], [4.0]), g.Quadratic([1.5], [4.0])]
+    components = g.solve_many(problem, goals, dt=0.01)
+    lbc = g.combine(components, [1.0, 0.6])
+    assert lbc.exact
+    x0 = np.array([0.3])
+    beta = lbc.blend_weights(x0, 0.0)[0]
+    runs = [g.simulate(lbc.problem, p, x0, 2000, dt=0.01, seed=seed) for seed, p in
+            enumerate([lbc.policy] + [c.policy for c in components])]
+    for f in (lambda x: x[:, 0], lambda x: (x[:, 0] > 0).astype(float)):
+        mine, theirs = f(runs[0].final_states), [f(r.final_states) for r in runs[1:]]
+        mixture = sum(b * t.mean() for b, t in zip(beta, theirs))
+        tolerance = 4 * np.sqrt(se(mine) ** 2 + sum((b * se(t)) ** 2 for b, t in zip(beta, theirs)))
+        assert abs(mine.mean() - mixture) < tolerance
+
+    J = runs[0].costs.mean()
+    average = sum(b * r.costs.mean() for b, r in zip(beta, runs[1:]))
+    tolerance = 4 * np.sqrt(se(runs[0].costs) ** 2 +
+                            sum((b * se(r.costs)) ** 2 for b, r in zip(beta, runs[1:])))
+    entropy = -np.sum(beta * np.log(beta))
+    assert average - lam * entropy - tolerance < J < average + tolerance
+    best = min(r.costs.mean() for r in runs[1:])
+    assert J > best - lam * np.log(2) - tolerance
+
+
+@pytest.mark.slow
+def test_interpolation_claims():
+    """The claims of the interpolation figure, on a small grid (41 × 61, Δt = 0.02).
+
+    One operator for both goals: LBC is exactly the direct solve of the composite cost g_w, to
+    rounding. On that task, with every controller driven by the same noise (common random
+    numbers, so per-sample cost differences give a paired SE), the naive blend costs more than
+    LBC by at least 4 paired SE (measured: 5.3) and so does each component alone by at least 3
+    (measured: 5.3 and 3.4; on this coarse grid and step the components' policies are further
+    from optimal than at the figure's size). LBC's rollouts end centred on the intermediate goal
+    (mean y_T within 4 SE of 0), each component's on its own side; the naive blend's enter the
+    wall more often than LBC's (measured: 5.3 % against none of 2000)."""
+    problem = obstacle_problem(41)
+    goals = [g.Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
+    w = g.project(problem.terminal_cost, goals, problem.grid, temperature=problem.temperature)
+    upper, lower = g.solve_many(problem, goals, dt=0.02)
+    lbc = g.combine([upper, lower], w)
+    assert lbc.exact
+    direct = g.solve(lbc.problem, dt=0.02)
+    nodes = problem.grid.nodes()
+    np.testing.assert_allclose(lbc.value(nodes, 0.0), direct.value(nodes, 0.0), rtol=1e-9,
+                               atol=1e-9)
+
+    runs = {name: g.simulate(lbc.problem, policy, OBSTACLE_START, 2000, dt=0.02, seed=0)
+            for name, policy in (("lbc", lbc.policy), ("upper", upper.policy),
+                                 ("lower", lower.policy),
+                                 ("naive", g.naive_blend([upper, lower], w).policy))}
+    for name, k in (("naive", 4), ("upper", 3), ("lower", 3)):
+        difference = runs[name].costs - runs["lbc"].costs
+        assert difference.mean() > k * se(difference), name
+
+    y_lbc, y_up, y_low = (runs[k].final_states[:, 1] for k in ("lbc", "upper", "lower"))
+    assert abs(y_lbc.mean()) < 4 * se(y_lbc)
+    assert y_up.mean() > 4 * se(y_up) and y_low.mean() < -4 * se(y_low)
+
+    def entered(run):
+        inside = OBSTACLE(run.states.reshape(-1, 2)).reshape(run.states.shape[:2])
+        return (inside.max(axis=1) > OBSTACLE.height / 2).astype(float)
+
+    difference = entered(runs["naive"]) - entered(runs["lbc"])
+    assert difference.mean() > 4 * se(difference)
