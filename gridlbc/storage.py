@@ -96,19 +96,16 @@ def store_kernel(Z, scale, out, flushed):
 def slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None) -> np.ndarray:
     """Uninitialised slice arrays: in RAM, or in an unlinked file in ``mmap_dir``.
 
-    In RAM they get an anonymous memory map of their own, paged as the kernel does by default
-    (numpy advises transparent huge pages for large arrays, and where the kernel then compacts
-    memory to back them, the first write of every slice is several times slower: README,
-    "Accuracy and performance"), and populated when it is made (MAP_POPULATE, where the system
-    has it): the kernel maps every page in one call, several times faster than the page faults
-    of a first write from the solver's threads. The slices are all written by the solve anyway."""
+    In RAM they get an anonymous memory map of their own, paged as the kernel does by default:
+    numpy advises transparent huge pages for large arrays, and where the kernel then compacts
+    memory to back them, the first write of every slice is several times slower (README,
+    "Accuracy and performance")."""
     if mmap_dir is None:
         nbytes = math.prod(shape) * np.dtype(dtype).itemsize
         if nbytes == 0:
             return np.empty(shape, dtype=dtype)
         unix = hasattr(mmap, "MAP_PRIVATE") and hasattr(mmap, "MAP_ANONYMOUS")
-        flags = mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS | getattr(mmap, "MAP_POPULATE", 0) if unix else 0
-        private = {"flags": flags} if unix else {}
+        private = {"flags": mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS} if unix else {}
         return np.frombuffer(mmap.mmap(-1, nbytes, **private), dtype=dtype).reshape(shape)
     # An unlinked temporary file: its disk space is returned when the Solution is released.
     handle = tempfile.TemporaryFile(dir=mmap_dir)  # noqa: SIM115 (the memmap owns it)
