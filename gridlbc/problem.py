@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._numba import jit
 from .costs import Quadratic, Tracking, evaluate_cost, wrap_angle
 from .grid import Grid, check_states
 from .systems.base import ControlAffineSystem
@@ -245,6 +246,11 @@ class Problem:
 
     def noise_covariance(self, x) -> np.ndarray:
         """Σ(x) = λ B R⁻¹ Bᵀ, shape ``(N, d, d)``."""
+        B = self._input_matrix(x)
+        return self.temperature * np.einsum("nim,mk,njk->nij", B, self.R_inv, B)
+
+    def _input_matrix(self, x) -> np.ndarray:
+        """B(x) ``(N, d, m)`` as float, its shape checked."""
         x = self.check_states(x)
         d, m = self.system.state_dim, self.system.control_dim
         B = np.asarray(self.system.input_matrix(x), dtype=float)
@@ -253,7 +259,7 @@ class Problem:
                 f"{type(self.system).__name__}.input_matrix returned shape {B.shape}, "
                 f"expected (N, d, m) = ({x.shape[0]}, {d}, {m})"
             )
-        return self.temperature * np.einsum("nim,mk,njk->nij", B, self.R_inv, B)
+        return B
 
     def noise_diagonal(self, x) -> np.ndarray:
         """The diagonal of Σ(x) = λ B R⁻¹ Bᵀ, shape ``(N, d)``; raises if Σ is not diagonal.
@@ -261,13 +267,12 @@ class Problem:
         The grid solvers need noise that is diagonal in the grid's coordinates (no cross
         derivatives ∂²z/∂x_i∂x_j).
         """
-        sigma = self.noise_covariance(x)
-        d = sigma.shape[1]
-        diag = np.einsum("nii->ni", sigma)
-        off = sigma - diag[:, :, None] * np.eye(d)
+        B = self._input_matrix(x)
+        diag, off = _covariance_diagonal(np.ascontiguousarray(B), np.asarray(self.R_inv, dtype=float),
+                                         float(self.temperature))
         scale = max(np.abs(diag).max(), np.finfo(float).tiny)
-        if np.abs(off).max() > 1e-12 * scale:
-            i, j = np.unravel_index(np.abs(off).max(axis=0).argmax(), (d, d))
+        if off.max() > 1e-12 * scale:
+            i, j = np.unravel_index(off.argmax(), off.shape)
             raise ValueError(
                 f"the noise covariance λ B R⁻¹ Bᵀ is not diagonal in the grid coordinates "
                 f"(entry ({i}, {j}) is nonzero): the grid solvers need each control to drive its "
@@ -281,3 +286,24 @@ class Problem:
         where = (self.grid.describe() if self.grid is not None
                  else f"no grid (periodic {list(self.periodic_axes)})")
         return f"{type(self.system).__name__} on {where}, T={self.horizon:g}, λ={self.temperature:g}"
+
+
+@jit
+def _covariance_diagonal(B, R_inv, lam):
+    """The diagonal of λ B R⁻¹ Bᵀ per state, ``(N, d)``, and the largest |entry| off it, ``(d, d)``
+    over all states, in one pass (no ``(N, d, d)`` array)."""
+    n, d, m = B.shape
+    diag = np.empty((n, d))
+    off = np.zeros((d, d))
+    for p in range(n):
+        for i in range(d):
+            for j in range(d):
+                total = 0.0
+                for a in range(m):
+                    for b in range(m):
+                        total += B[p, i, a] * R_inv[a, b] * B[p, j, b]
+                if i == j:
+                    diag[p, i] = lam * total
+                else:
+                    off[i, j] = max(off[i, j], abs(lam * total))
+    return diag, off

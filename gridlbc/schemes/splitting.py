@@ -2,7 +2,7 @@
 
 One backward step from t + Δt to t composes linear, monotone operators, symmetrically (Strang):
 
-    z(·, t) = C½ D½ P D½ C½ z(·, t + Δt)
+    z(·, t) = C D½ M P D½ C z(·, t + Δt)
 
 - P, drift along characteristics: (P z)(x) = z(X(x)) with the second-order (midpoint) foot
   X(x) = x + Δt a(x + ½Δt a(x)), evaluated by barycentric interpolation (weights ≥ 0, sum 1);
@@ -11,7 +11,13 @@ One backward step from t + Δt to t composes linear, monotone operators, symmetr
   (I − ½Δt D_k(x) δ²_k) z' = z,  D_k = ½ (λ B R⁻¹ Bᵀ)_kk, δ²_k the three-point second
   difference; each line is a tridiagonal M-matrix (cyclic on a periodic axis; on a closed axis the
   jumps out of the box are suppressed, a reflecting state constraint);
-- C½, the state cost over half a step, exactly: z' = exp(−q Δt/(2λ)) z.
+- C and M, the state cost, by Simpson's rule along the characteristic: ∫ q dt over the step is
+  Δt (q(start) + 4 q(middle) + q(end))/6, so C: z' = exp(−q Δt/(6λ)) z at the nodes (a path's
+  ends), and M: z' = exp(−2 q(m(x)) Δt/(3λ)) z applied between the drift and the first half
+  diffusion, with m(x) = x + ½Δt a(x + ¼Δt a(x)) where the characteristic from x is half a step
+  on (the first half diffusion then averages it over that half's noise). The trapezoid of the
+  ends alone misses how q changes along a characteristic that crosses many cells per step, and
+  a cost that is stiff across one step's noise.
 
 Every stage maps non-negative z to non-negative z and constants to constants (before the cost),
 so the step is the transition of a Markov chain (with killing at rate q/λ), and it is
@@ -132,6 +138,14 @@ def _foot_chunks(problem: Problem, dt: float, start: int = 0, stop: int | None =
         x = grid.node_coordinates(flat)
         midpoint = grid.clamp(x + 0.5 * dt * np.asarray(system.drift(x), dtype=float))
         yield flat, grid.clamp(x + dt * np.asarray(system.drift(midpoint), dtype=float))
+
+
+def _half_step_midpoint(problem: Problem, x: np.ndarray, dt: float) -> np.ndarray:
+    """Where the characteristic from x is half a step on, by the midpoint rule over that half:
+    x + ½Δt a(x + ¼Δt a(x)), wrapped and clamped."""
+    grid, system = problem.grid, problem.system
+    quarter = grid.clamp(x + 0.25 * dt * np.asarray(system.drift(x), dtype=float))
+    return grid.clamp(x + 0.5 * dt * np.asarray(system.drift(quarter), dtype=float))
 
 
 def _compact_feet(grid: Grid, idx: np.ndarray, weights: np.ndarray):
@@ -1016,9 +1030,15 @@ class SplittingStep:
         self._encode_feet(problem, dt)
         self._setup_diffusion(problem, 0.5 * dt)
         q = _node_values(problem.state_cost_values, grid)
-        self.log_cost = (-q * (0.5 * dt) / problem.temperature if np.any(q != 0)
-                         else np.empty(0))
+        lam = problem.temperature
+        if np.any(q != 0):  # Simpson's rule along the characteristic (module docstring)
+            self.log_cost = -q * dt / (6.0 * lam)
+            self.log_mid_cost = (-2.0 * dt / (3.0 * lam)) * _node_values(
+                lambda x: problem.state_cost_values(_half_step_midpoint(problem, x, dt)), grid)
+        else:
+            self.log_cost = self.log_mid_cost = np.empty(0)
         self.cost_factor = np.exp(self.log_cost)
+        self.mid_cost_factor = np.exp(self.log_mid_cost)
         self._buffers = {}
         self._hessian = None  # (N, d(d+1)/2) float32, allocated by the first fitted step
         self.iterations: list[int] = []  # direct tridiagonal solves: no iterations
@@ -1103,14 +1123,15 @@ class SplittingStep:
 
     @property
     def nbytes(self) -> int:
-        arrays = [*self.arrays, self.cost_factor, self.log_cost,
+        arrays = [*self.arrays, self.cost_factor, self.log_cost, self.mid_cost_factor,
+                  self.log_mid_cost,
                   *(data for _, _, data, _ in self.noise),
                   *self.variances, *(a for a in self.diffusion if np.ndim(a))]
         return int(sum(a.nbytes for a in arrays))
 
     def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
                  reference: int | None = None) -> np.ndarray:
-        """out = C½ D½ P D½ C½ (scale · z); ``z`` is consumed (overwritten). With ``reference``
+        """out = C D½ M P D½ C (scale · z); ``z`` is consumed (overwritten). With ``reference``
         (a row of ``z``) the drift P is fitted to that row (see the module docstring). Returns
         the row maxima of ``out``."""
         K = z.shape[0]
@@ -1121,12 +1142,16 @@ class SplittingStep:
             first = self.fitted_half_diffusion(z, out, reference)
             second = out if first is z else z
             self.drift(first, second, scale, reference)
+            if self.mid_cost_factor.size:
+                second *= self.mid_cost_factor
             self.fitted_half_diffusion(second, first, reference)
             block_max = self._buffer(K, work_blocks(self.grid.size))
             _cost_max_kernel(out, self.cost_factor, block_max)
             return block_max.max(axis=1)
         self._half_diffusion(z, None)
         self.drift(z, out, scale, reference)
+        if self.mid_cost_factor.size:
+            out *= self.mid_cost_factor
         block_max = None
         if self.cost_factor.size == 0 and self.noise and not self.noise[-1][1]:
             # no state cost: fuse the slice maximum into the last (closed-axis) diffusion pass
@@ -1186,14 +1211,16 @@ class SplittingStep:
         """The step fitted to its own result, in the log domain: for ℓ = log z (``(1, N)``,
         consumed), out = log S_z z with S_z the step fitted to z itself. The drift is then the
         value-space semi-Lagrangian update ℓ(x) ← Σ_j w_j ℓ(y_j), the diffusion log ∫ G_σ e^ℓ̄
-        and the cost ℓ ← ℓ − q Δt/(2λ), so nothing underflows however steep v/λ is. Returns
-        max out."""
+        and the cost ℓ ← ℓ − (its Simpson share)/λ, so nothing underflows however steep v/λ
+        is. Returns max out."""
         if self.log_cost.size:
             ell += self.log_cost
         first = self._log_half_diffusion(ell, out)
         second = out if first is ell else ell
         self.drift(first, second, np.ones(1))
         second[0] += self.curvature_correction(first[0])
+        if self.log_mid_cost.size:
+            second[0] += self.log_mid_cost
         result = self._log_half_diffusion(second, first)
         if self.log_cost.size:
             result += self.log_cost
