@@ -169,6 +169,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.reference, Z, log_scale)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
     step = METHODS[s.method](problem, dt, **options)
+    if isinstance(step, SplittingStep):
+        check_cost_sampling(problem, step, dt)
     setup_time = time.perf_counter() - started
 
     slices = slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
@@ -231,6 +233,47 @@ def _diffusion_tail_cap(ratio: np.ndarray) -> np.ndarray:
     with np.errstate(divide="ignore", invalid="ignore"):
         rho = ((1 + 2 * ratio) - np.sqrt(1 + 4 * ratio)) / (2 * ratio)
         return np.where(ratio > 0, -np.log(rho), np.inf)
+
+
+COST_NOISE_SCALE = 0.5
+"""A splitting solve with a state cost warns when one step's noise moves a path by more than this
+fraction of the state cost's length scale along some noise axis."""
+
+
+def check_cost_sampling(problem: Problem, step: SplittingStep, dt: float) -> float:
+    """Warn (:class:`ResolutionWarning`) when the splitting samples the state cost too sparsely
+    for the noise. It takes ∫ q dt over a step at three points of a path (Simpson's rule along
+    the characteristic); where one step's noise carries a path across much of the distance over
+    which q rises (a wall, a narrow well), it steps over the cost. The measure, per noise axis k,
+    is √(2 D_k Δt) / ℓ_k with ℓ_k = (max q − min q) / max |∂_k q| (the steepest rise, from the
+    nodes); it warns above :data:`COST_NOISE_SCALE` and returns the largest (0 without a state
+    cost)."""
+    if step.log_cost.size == 0:
+        return 0.0
+    grid = problem.grid
+    q = grid.reshape(-6.0 * problem.temperature * step.log_cost / dt)
+    span = float(q.max() - q.min())
+    worst, axis, limit = 0.0, "", math.inf
+    for k, (ax, coefficient) in enumerate(zip(grid.axes, step.diffusion, strict=True)):
+        largest = float(np.max(coefficient))
+        if largest <= 0.0 or span <= 0.0:
+            continue
+        wrapped = np.concatenate([q, q.take([0], axis=k)], axis=k) if ax.periodic else q
+        rises = np.abs(np.diff(wrapped, axis=k))
+        length = span * ax.spacing / max(float(rises.max()), np.finfo(float).tiny)
+        ratio = math.sqrt(2.0 * largest * dt) / length
+        limit = min(limit, (COST_NOISE_SCALE * length) ** 2 / (2.0 * largest))
+        if ratio > worst:
+            worst, axis = ratio, ax.name or f"axis {k}"
+    if worst > COST_NOISE_SCALE:
+        warnings.warn(
+            f"with Δt = {dt:.3g} one step's noise moves a path {worst:.2f} of the distance over "
+            f"which the state cost rises (along {axis}), and the splitting samples that cost at "
+            "three points per step: it steps over a steep cost (a wall, a narrow well), and v and "
+            f"the policy can be far off. Pass dt ≤ {limit:.3g} and check with gridlbc.certify.",
+            ResolutionWarning, stacklevel=4,
+        )
+    return worst
 
 
 def check_resolution(problem: Problem, solution: Solution, step: float,
@@ -311,6 +354,7 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     log_scale = -g.min() / problem.temperature
     fingerprint = _fingerprint(np.exp(ell[0]))
     step = SplittingStep(problem, dt)
+    check_cost_sampling(problem, step, dt)
     setup_time = time.perf_counter() - started
     slices = slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty(len(kept))
