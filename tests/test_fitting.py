@@ -149,21 +149,6 @@ def test_fitting_makes_the_swingup_prediction_honest():
     assert errors[None] < -0.12, errors
 
 
-def test_tabulated_erfcx_matches_scipy():
-    """The piecewise-polynomial erfcx of the fitted diffusion's cell integrals against
-    scipy.special.erfcx: relative error below 1e-13 on [0, 26) (the Chebyshev interpolants) and
-    beyond (the asymptotic series), at every interval's ends and in between."""
-    from scipy import special
-
-    from gridlbc._special import erfcx
-
-    x = np.concatenate([np.linspace(0.0, 30.0, 240_001), np.geomspace(26.0, 1e12, 200)])
-    values = np.array([erfcx(v) for v in x[::97]] + [erfcx(v) for v in x[-200:]])
-    reference = special.erfcx(np.concatenate([x[::97], x[-200:]]))
-    np.testing.assert_allclose(values, reference, rtol=1e-13, atol=0)
-    assert np.isnan(erfcx(np.nan))
-
-
 @pytest.mark.parametrize("periodic", [False, True])
 @pytest.mark.parametrize("variance", [0.05, 0.003])
 def test_fitted_diffusion_kernel_matches_numpy_twin(periodic, variance, rng):
