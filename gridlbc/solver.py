@@ -71,15 +71,16 @@ def _rate_sums(drift, spacing):
     return peak, squares
 
 
-def time_grid(problem: Problem, settings: SolverSettings,
-              rates: tuple[float, float]) -> tuple[float, int]:
+def time_grid(problem: Problem, settings: SolverSettings, rates: tuple[float, float],
+              max_step: float = math.inf) -> tuple[float, int]:
     """The step Δt and the number of steps n with n Δt = T; ``rates`` from :func:`courant_rates`.
 
     The default plain splitting step holds the largest Courant number max_x r(x) Δt at
     ``courant``; the fitted one holds the root-mean-square r Δt at ``courant``, because its
     error balances an O(h²/Δt) interpolation term against the O(Δt) splitting over the nodes
     that matter, and in 4-D the largest rate sits in far corners of the box, far above its root
-    mean square."""
+    mean square. The default step is also at most ``max_step`` (for the splitting scheme
+    :func:`cost_sampling_step`, where a steep state cost needs it)."""
     T = problem.horizon
     if settings.dt is not None:
         if settings.dt > T:
@@ -91,7 +92,8 @@ def time_grid(problem: Problem, settings: SolverSettings,
                    or (FITTED_COURANT if fitted else PLAIN_COURANT))
         rate = rates[1] if fitted else rates[0]
         min_steps = settings.min_steps or (FITTED_MIN_STEPS if fitted else PLAIN_MIN_STEPS)
-        n = max(int(min_steps), math.ceil(T * rate / courant - 1e-9))
+        n = max(int(min_steps), math.ceil(T * rate / courant - 1e-9),
+                math.ceil(T / max_step - 1e-9) if max_step < math.inf else 1)
     return T / n, n
 
 
@@ -158,7 +160,12 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     check_memory(memory_estimate(problem, s, 2, K), what, s.mmap_dir)
     rates = courant_rates(problem)
     rate = rates[0]
-    dt, n_steps = time_grid(problem, s, rates)
+    max_step = math.inf
+    if s.method == "splitting" and s.dt is None:
+        q = _node_values(problem.state_cost_values, grid)
+        if np.any(q != 0):
+            max_step = cost_sampling_step(problem, q, _diffusion_coefficients(problem))
+    dt, n_steps = time_grid(problem, s, rates, max_step)
     kept = sorted(set(range(0, n_steps + 1, s.store_every)) | {n_steps})
     estimate = memory_estimate(problem, s, len(kept), K)
     check_memory(estimate, what, s.mmap_dir)
@@ -240,37 +247,53 @@ COST_NOISE_SCALE = 0.5
 fraction of the state cost's length scale along some noise axis."""
 
 
-def check_cost_sampling(problem: Problem, step: SplittingStep, dt: float) -> float:
-    """Warn (:class:`ResolutionWarning`) when the splitting samples the state cost too sparsely
-    for the noise. It takes ∫ q dt over a step at three points of a path (Simpson's rule along
-    the characteristic); where one step's noise carries a path across much of the distance over
-    which q rises (a wall, a narrow well), it steps over the cost. The measure, per noise axis k,
-    is √(2 D_k Δt) / ℓ_k with ℓ_k = (max q − min q) / max |∂_k q| (the steepest rise, from the
-    nodes); it warns above :data:`COST_NOISE_SCALE` and returns the largest (0 without a state
-    cost)."""
-    if step.log_cost.size == 0:
-        return 0.0
+def _cost_rise_lengths(problem: Problem, q: np.ndarray, diffusion: list) -> list:
+    """Per noise axis k along which q varies: (name, ℓ_k, max D_k), with ℓ_k =
+    (max q − min q) / max |∂_k q| the distance over which the state cost rises (from the nodes;
+    ``q`` its values there, ``diffusion`` the D_k)."""
     grid = problem.grid
-    q = grid.reshape(-6.0 * problem.temperature * step.log_cost / dt)
+    q = grid.reshape(q)
     span = float(q.max() - q.min())
-    worst, axis, limit = 0.0, "", math.inf
-    for k, (ax, coefficient) in enumerate(zip(grid.axes, step.diffusion, strict=True)):
+    lengths = []
+    for k, (ax, coefficient) in enumerate(zip(grid.axes, diffusion, strict=True)):
         largest = float(np.max(coefficient))
         if largest <= 0.0 or span <= 0.0:
             continue
         wrapped = np.concatenate([q, q.take([0], axis=k)], axis=k) if ax.periodic else q
         rises = np.abs(np.diff(wrapped, axis=k))
         length = span * ax.spacing / max(float(rises.max()), np.finfo(float).tiny)
-        ratio = math.sqrt(2.0 * largest * dt) / length
-        limit = min(limit, (COST_NOISE_SCALE * length) ** 2 / (2.0 * largest))
-        if ratio > worst:
-            worst, axis = ratio, ax.name or f"axis {k}"
-    if worst > COST_NOISE_SCALE:
+        lengths.append((ax.name or f"axis {k}", length, largest))
+    return lengths
+
+
+def cost_sampling_step(problem: Problem, q: np.ndarray, diffusion: list) -> float:
+    """The largest Δt at which one step's noise, √(2 D_k Δt), moves a path no more than
+    :data:`COST_NOISE_SCALE` of the distance ℓ_k over which the state cost rises, along every
+    noise axis (∞ without a state cost or noise). The splitting takes ∫ q dt over a step at three
+    points of a path (Simpson's rule along the characteristic), so a longer step steps over a
+    steep cost (a wall, a narrow well): the default step is held below this."""
+    return min(((COST_NOISE_SCALE * length) ** 2 / (2.0 * largest)
+                for _, length, largest in _cost_rise_lengths(problem, q, diffusion)),
+               default=math.inf)
+
+
+def check_cost_sampling(problem: Problem, step: SplittingStep, dt: float) -> float:
+    """Warn (:class:`ResolutionWarning`) when ``dt`` is longer than :func:`cost_sampling_step`
+    allows (only a given ``dt`` can be: the default step is held below it). Returns the largest
+    √(2 D_k Δt)/ℓ_k (0 without a state cost)."""
+    if step.log_cost.size == 0:
+        return 0.0
+    q = -6.0 * problem.temperature * step.log_cost / dt  # the nodes' q, from C = e^{−qΔt/(6λ)}
+    lengths = _cost_rise_lengths(problem, q, step.diffusion)
+    worst, axis = max(((math.sqrt(2.0 * largest * dt) / length, name)
+                       for name, length, largest in lengths), default=(0.0, ""))
+    if worst > COST_NOISE_SCALE * (1.0 + 1e-9):  # not at the limit itself, to rounding
         warnings.warn(
             f"with Δt = {dt:.3g} one step's noise moves a path {worst:.2f} of the distance over "
             f"which the state cost rises (along {axis}), and the splitting samples that cost at "
             "three points per step: it steps over a steep cost (a wall, a narrow well), and v and "
-            f"the policy can be far off. Pass dt ≤ {limit:.3g} and check with gridlbc.certify.",
+            f"the policy can be far off. Pass dt ≤ {cost_sampling_step(problem, q, step.diffusion):.3g}"
+            " (or leave dt to the default) and check with gridlbc.certify.",
             ResolutionWarning, stacklevel=4,
         )
     return worst
