@@ -160,12 +160,11 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     check_memory(memory_estimate(problem, s, 2, K), what, s.mmap_dir)
     rates = courant_rates(problem)
     rate = rates[0]
-    max_step = math.inf
-    if s.method == "splitting" and s.dt is None:
-        q = _node_values(problem.state_cost_values, grid)
-        if np.any(q != 0):
-            max_step = cost_sampling_step(problem, q, _diffusion_coefficients(problem))
-    dt, n_steps = time_grid(problem, s, rates, max_step)
+    cost_step, cost_axis = (cost_sampling_step(problem) if s.method == "splitting"
+                            else (math.inf, ""))
+    dt, n_steps = time_grid(problem, s, rates, cost_step)
+    if dt > cost_step * (1.0 + 1e-9):  # only a given dt can be: the default is held below it
+        _warn_cost_sampling(dt, cost_step, cost_axis)
     kept = sorted(set(range(0, n_steps + 1, s.store_every)) | {n_steps})
     estimate = memory_estimate(problem, s, len(kept), K)
     check_memory(estimate, what, s.mmap_dir)
@@ -176,8 +175,6 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.reference, Z, log_scale)
     options = {"linear_solver": s.linear_solver} if s.method == "implicit" else {}
     step = METHODS[s.method](problem, dt, **options)
-    if isinstance(step, SplittingStep):
-        check_cost_sampling(problem, step, dt)
     setup_time = time.perf_counter() - started
 
     slices = slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
@@ -247,56 +244,46 @@ COST_NOISE_SCALE = 0.5
 fraction of the state cost's length scale along some noise axis."""
 
 
-def _cost_rise_lengths(problem: Problem, q: np.ndarray, diffusion: list) -> list:
-    """Per noise axis k along which q varies: (name, ℓ_k, max D_k), with ℓ_k =
-    (max q − min q) / max |∂_k q| the distance over which the state cost rises (from the nodes;
-    ``q`` its values there, ``diffusion`` the D_k)."""
+def cost_sampling_step(problem: Problem) -> tuple[float, str]:
+    """The largest Δt at which one step's noise, √(2 D_k Δt), moves a path no more than
+    :data:`COST_NOISE_SCALE` of the distance ℓ_k = (max q − min q) / max |∂_k q| over which the
+    state cost rises (from the nodes), along every noise axis k; and the axis that sets it
+    (∞ and "" without a state cost or noise). The splitting takes ∫ q dt over a step at three
+    points of a path (Simpson's rule along the characteristic), so a longer step steps over a
+    steep cost (a wall, a narrow well): the default step is held below this."""
+    if problem.state_cost is None:
+        return math.inf, ""
     grid = problem.grid
-    q = grid.reshape(q)
+    q = grid.reshape(_node_values(problem.state_cost_values, grid))
     span = float(q.max() - q.min())
-    lengths = []
-    for k, (ax, coefficient) in enumerate(zip(grid.axes, diffusion, strict=True)):
+    limit, axis = math.inf, ""
+    if span <= 0.0:
+        return limit, axis
+    for k, (ax, coefficient) in enumerate(zip(grid.axes, _diffusion_coefficients(problem),
+                                              strict=True)):
         largest = float(np.max(coefficient))
-        if largest <= 0.0 or span <= 0.0:
+        if largest <= 0.0:
             continue
         wrapped = np.concatenate([q, q.take([0], axis=k)], axis=k) if ax.periodic else q
         rises = np.abs(np.diff(wrapped, axis=k))
         length = span * ax.spacing / max(float(rises.max()), np.finfo(float).tiny)
-        lengths.append((ax.name or f"axis {k}", length, largest))
-    return lengths
+        step = (COST_NOISE_SCALE * length) ** 2 / (2.0 * largest)
+        if step < limit:
+            limit, axis = step, ax.name or f"axis {k}"
+    return limit, axis
 
 
-def cost_sampling_step(problem: Problem, q: np.ndarray, diffusion: list) -> float:
-    """The largest Δt at which one step's noise, √(2 D_k Δt), moves a path no more than
-    :data:`COST_NOISE_SCALE` of the distance ℓ_k over which the state cost rises, along every
-    noise axis (∞ without a state cost or noise). The splitting takes ∫ q dt over a step at three
-    points of a path (Simpson's rule along the characteristic), so a longer step steps over a
-    steep cost (a wall, a narrow well): the default step is held below this."""
-    return min(((COST_NOISE_SCALE * length) ** 2 / (2.0 * largest)
-                for _, length, largest in _cost_rise_lengths(problem, q, diffusion)),
-               default=math.inf)
-
-
-def check_cost_sampling(problem: Problem, step: SplittingStep, dt: float) -> float:
-    """Warn (:class:`ResolutionWarning`) when ``dt`` is longer than :func:`cost_sampling_step`
-    allows (only a given ``dt`` can be: the default step is held below it). Returns the largest
-    √(2 D_k Δt)/ℓ_k (0 without a state cost)."""
-    if step.log_cost.size == 0:
-        return 0.0
-    q = -6.0 * problem.temperature * step.log_cost / dt  # the nodes' q, from C = e^{−qΔt/(6λ)}
-    lengths = _cost_rise_lengths(problem, q, step.diffusion)
-    worst, axis = max(((math.sqrt(2.0 * largest * dt) / length, name)
-                       for name, length, largest in lengths), default=(0.0, ""))
-    if worst > COST_NOISE_SCALE * (1.0 + 1e-9):  # not at the limit itself, to rounding
-        warnings.warn(
-            f"with Δt = {dt:.3g} one step's noise moves a path {worst:.2f} of the distance over "
-            f"which the state cost rises (along {axis}), and the splitting samples that cost at "
-            "three points per step: it steps over a steep cost (a wall, a narrow well), and v and "
-            f"the policy can be far off. Pass dt ≤ {cost_sampling_step(problem, q, step.diffusion):.3g}"
-            " (or leave dt to the default) and check with gridlbc.certify.",
-            ResolutionWarning, stacklevel=4,
-        )
-    return worst
+def _warn_cost_sampling(dt: float, limit: float, axis: str):
+    """The :class:`ResolutionWarning` for a given ``dt`` above :func:`cost_sampling_step`."""
+    warnings.warn(
+        f"with Δt = {dt:.3g} one step's noise moves a path "
+        f"{COST_NOISE_SCALE * math.sqrt(dt / limit):.2f} of the distance over which the state "
+        f"cost rises (along {axis}), and the splitting samples that cost at three points per "
+        "step: it steps over a steep cost (a wall, a narrow well), and v and the policy can be "
+        f"far off. Pass dt ≤ {limit:.3g} (or leave dt to the default) and check with "
+        "gridlbc.certify.",
+        ResolutionWarning, stacklevel=4,
+    )
 
 
 def check_resolution(problem: Problem, solution: Solution, step: float,
@@ -377,7 +364,6 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     log_scale = -g.min() / problem.temperature
     fingerprint = _fingerprint(np.exp(ell[0]))
     step = SplittingStep(problem, dt)
-    check_cost_sampling(problem, step, dt)
     setup_time = time.perf_counter() - started
     slices = slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty(len(kept))
