@@ -14,10 +14,10 @@ One backward step from t + Δt to t composes linear, monotone operators, symmetr
 - C and M, the state cost, by Simpson's rule along the characteristic: ∫ q dt over the step is
   Δt (q(start) + 4 q(middle) + q(end))/6, so C: z' = exp(−q Δt/(6λ)) z at the nodes (a path's
   ends), and M: z' = exp(−2 q(m(x)) Δt/(3λ)) z applied between the drift and the first half
-  diffusion, with m(x) = x + ½Δt a(x + ¼Δt a(x)) where the characteristic from x is half a step
-  on (the first half diffusion then averages it over that half's noise). The trapezoid of the
-  ends alone misses how q changes along a characteristic that crosses many cells per step, and
-  a cost that is stiff across one step's noise.
+  diffusion, with m(x) = x + ½Δt a(x + ¼Δt a(x)), the foot of half a step, where the
+  characteristic from x is half a step on (the first half diffusion then averages it over that
+  half's noise). The trapezoid of the ends alone misses how q changes along a characteristic
+  that crosses many cells per step, and a cost that is stiff across one step's noise.
 
 Every stage maps non-negative z to non-negative z and constants to constants (before the cost),
 so the step is the transition of a Markov chain (with killing at rate q/λ), and it is
@@ -130,22 +130,19 @@ def _node_values(function, grid: Grid) -> np.ndarray:
     return out
 
 
+def _foot(problem: Problem, x: np.ndarray, dt: float) -> np.ndarray:
+    """The second-order (midpoint) foot X(x) = x + Δt a(x + ½Δt a(x)) of the states x after a
+    time dt, wrapped and clamped."""
+    grid, system = problem.grid, problem.system
+    midpoint = grid.clamp(x + 0.5 * dt * np.asarray(system.drift(x), dtype=float))
+    return grid.clamp(x + dt * np.asarray(system.drift(midpoint), dtype=float))
+
+
 def _foot_chunks(problem: Problem, dt: float, start: int = 0, stop: int | None = None):
-    """Feet X(x) = x + Δt a(x + ½Δt a(x)) of the nodes start … stop − 1 (default: all), wrapped
-    and clamped, in chunks."""
-    grid, system = problem.grid, problem.system
+    """Feet X(x) (:func:`_foot`) of the nodes start … stop − 1 (default: all), in chunks."""
+    grid = problem.grid
     for flat in _flat_chunks(grid.size if stop is None else stop, start):
-        x = grid.node_coordinates(flat)
-        midpoint = grid.clamp(x + 0.5 * dt * np.asarray(system.drift(x), dtype=float))
-        yield flat, grid.clamp(x + dt * np.asarray(system.drift(midpoint), dtype=float))
-
-
-def _half_step_midpoint(problem: Problem, x: np.ndarray, dt: float) -> np.ndarray:
-    """Where the characteristic from x is half a step on, by the midpoint rule over that half:
-    x + ½Δt a(x + ¼Δt a(x)), wrapped and clamped."""
-    grid, system = problem.grid, problem.system
-    quarter = grid.clamp(x + 0.25 * dt * np.asarray(system.drift(x), dtype=float))
-    return grid.clamp(x + 0.5 * dt * np.asarray(system.drift(quarter), dtype=float))
+        yield flat, _foot(problem, grid.node_coordinates(flat), dt)
 
 
 def _compact_feet(grid: Grid, idx: np.ndarray, weights: np.ndarray):
@@ -1034,7 +1031,7 @@ class SplittingStep:
         if np.any(q != 0):  # Simpson's rule along the characteristic (module docstring)
             self.log_cost = -q * dt / (6.0 * lam)
             self.log_mid_cost = (-2.0 * dt / (3.0 * lam)) * _node_values(
-                lambda x: problem.state_cost_values(_half_step_midpoint(problem, x, dt)), grid)
+                lambda x: problem.state_cost_values(_foot(problem, x, 0.5 * dt)), grid)
         else:
             self.log_cost = self.log_mid_cost = np.empty(0)
         self.cost_factor = np.exp(self.log_cost)
