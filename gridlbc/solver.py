@@ -22,7 +22,7 @@ import warnings
 
 import numpy as np
 
-from ._numba import jit, work_blocks
+from ._numba import jit, jit_parallel, prange, work_blocks
 from .problem import Problem
 from .progress import ProgressBar
 from .schemes import METHODS
@@ -179,30 +179,13 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
 
     slices = slice_storage((K, len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty((len(kept), K))
-    slot = len(kept) - 1
     blocks = np.zeros(work_blocks(grid.size), dtype=np.int64)
-    flushed = store_kernel(Z[:K], np.ones(K), slices[:, slot], blocks)
-    scales[slot] = log_scale[:K]
-    buffer = np.empty_like(Z)
-    scale = np.ones(Z.shape[0])
+    flushed = store_kernel(Z[:K], np.ones(K), slices[:, -1], blocks)
+    scales[-1] = log_scale[:K]
     progress = ProgressBar(n_steps, s.progress, f"{s.method} {grid.describe()}",
                            work_per_item=grid.size)
-    for n in range(n_steps - 1, -1, -1):  # step n+1 → n, t_n = n Δt
-        peak = step(Z, buffer, scale, reference)  # buffer = S(scale · Z), its row maxima
-        Z, buffer = buffer, Z
-        if not np.all(peak > 0) or not np.all(np.isfinite(peak)):
-            raise FloatingPointError(
-                f"desirability vanished or overflowed everywhere at t = {n * dt:g}: the costs are "
-                "too large for this temperature (rescale them or raise the temperature)"
-            )
-        # z = Z e^ℓ; renormalise lazily: the next step and the storage multiply by 1/peak.
-        log_scale = log_scale + np.log(peak)
-        scale = 1.0 / peak
-        if n == kept[slot - 1]:
-            slot -= 1
-            flushed += store_kernel(Z[:K], scale[:K], slices[:, slot], blocks)
-            scales[slot] = log_scale[:K]
-        progress.update(n_steps - n)
+    march = _march if reference is None else _march_fitted
+    flushed += march(step, Z, log_scale, reference, kept, dt, slices, scales, progress)
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
@@ -224,6 +207,114 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
             check_resolution(solution.problem, solution, diffusion_step,
                              getattr(step, "diffusion", None))
     return out
+
+
+def _march(step, Z: np.ndarray, log_scale: np.ndarray, reference: None, kept: list[int],
+           dt: float, slices: np.ndarray, scales: np.ndarray, progress: ProgressBar) -> int:
+    """Apply the step operator n times from the terminal data ``Z`` (K, N) with log-scales
+    ``log_scale`` (K,) (z = Z e^ℓ, renormalised lazily: the next step and the storage multiply
+    by 1/peak), storing the ``kept`` steps' slices and scales (the terminal one is stored).
+    Returns the number of values the float32 storage flushed to zero."""
+    K = slices.shape[0]
+    blocks = np.zeros(work_blocks(Z.shape[1]), dtype=np.int64)
+    buffer = np.empty_like(Z)
+    scale = np.ones(Z.shape[0])
+    slot, flushed = len(kept) - 1, 0
+    for n in range(kept[-1] - 1, -1, -1):  # step n+1 → n, t_n = n Δt
+        peak = step(Z, buffer, scale)  # buffer = S(scale · Z), its row maxima
+        Z, buffer = buffer, Z
+        _check_peak(peak, n * dt)
+        log_scale = log_scale + np.log(peak)
+        scale = 1.0 / peak
+        if n == kept[slot - 1]:
+            slot -= 1
+            flushed += store_kernel(Z[:K], scale[:K], slices[:, slot], blocks)
+            scales[slot] = log_scale[:K]
+        progress.update(kept[-1] - n)
+    return flushed
+
+
+def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, reference: int,
+                  kept: list[int], dt: float, slices: np.ndarray, scales: np.ndarray,
+                  progress: ProgressBar) -> int:
+    """:func:`_march` for the splitting fitted to row ``reference`` of ``Z``: n steps of
+    C D½ M P D½ C (:class:`SplittingStep`; P fitted by :meth:`SplittingStep.drift`, D½ by
+    :meth:`SplittingStep.fitted_diffusion`).
+
+    Without a state cost (C = M = 1) the two half diffusions that meet between consecutive
+    steps are one diffusion over the whole step: the Gaussian's semigroup, D½ D½ = D, which the
+    fitted diffusion keeps exactly where log φ is quadratic (elsewhere it differs by the refit of
+    ℓ̄ half way). So n steps take n − 1 whole diffusions and two halves, about half the fitted
+    diffusion's work,
+
+        z_0 = D½ P (D P)ⁿ⁻¹ D½ z_T.
+
+    A slice t_k (0 < k < n) then lies half way through a whole diffusion; it is stored as
+    ½(y + D y), y = P …, the desirability before and after it, which is D½ y to O(Δt²) and a
+    linear, non-negative function of z_T like every slice. With a state cost the two halves
+    stay apart, so that the cost between them is taken half way through the diffusion, where
+    Simpson's rule along the path wants it (merged, a steep cost would be sampled at the
+    diffusion's ends)."""
+    K = slices.shape[0]
+    blocks = np.zeros(work_blocks(Z.shape[1]), dtype=np.int64)
+    merge = step.cost_factor.size == 0
+    if not merge:
+        Z *= step.cost_factor
+    x = step.fitted_diffusion(Z, np.empty_like(Z), reference)  # D½ C z_T
+    free = [np.empty_like(Z), Z if x is not Z else np.empty_like(Z)]
+    scale = np.ones(Z.shape[0])
+    slot, flushed = len(kept) - 1, 0
+    for n in range(kept[-1] - 1, -1, -1):
+        y, other = free
+        step.drift(x, y, scale, reference)  # y = MP x (x is consumed)
+        if step.mid_cost_factor.size:
+            y *= step.mid_cost_factor
+        storing = n == kept[slot - 1]
+        whole = merge and n > 0
+        if whole and storing:
+            np.copyto(x, y)
+        result = step.fitted_diffusion(y, other, reference, full=whole)
+        peak = step.row_maxima(result, cost=not merge)  # and result *= C
+        _check_peak(peak, n * dt)
+        if storing:
+            slot -= 1
+            stored, top = result, peak
+            if whole:  # ½(y + D y)
+                stored = x
+                stored += result
+                stored *= 0.5
+                top = step.row_maxima(stored)
+            flushed += store_kernel(stored[:K], 1.0 / top[:K], slices[:, slot], blocks)
+            scales[slot] = log_scale[:K] + np.log(top[:K])
+        log_scale = log_scale + np.log(peak)
+        scale = 1.0 / peak
+        spare = x
+        if n > 0 and not merge:  # the next step opens with its own D½ C
+            result *= step.cost_factor
+            result = step.fitted_diffusion(result, spare, reference)
+        free = [a for a in (x, y, other) if a is not result]
+        x = result
+        progress.update(kept[-1] - n)
+    return flushed
+
+
+_LOG2 = math.log(2.0)
+
+
+@jit_parallel
+def _log_mean_kernel(a, b, out):
+    """out = log ½(e^a + e^b), per node, without overflow; −∞ where both are."""
+    for p in prange(a.size):
+        top, low = max(a[p], b[p]), min(a[p], b[p])
+        out[p] = top if top == -np.inf else top + math.log1p(math.exp(low - top)) - _LOG2
+
+
+def _check_peak(peak: np.ndarray, t: float):
+    if not np.all(peak > 0) or not np.all(np.isfinite(peak)):
+        raise FloatingPointError(
+            f"desirability vanished or overflowed everywhere at t = {t:g}: the costs are "
+            "too large for this temperature (rescale them or raise the temperature)"
+        )
 
 
 TAIL_SHARE = 0.01
@@ -353,10 +444,13 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
                rate: float, estimate: dict[str, int], started: float) -> Solution:
     """A single terminal cost fitted to itself, stepped in the log domain.
 
-    ℓ = log z − (its maximum) is advanced by :meth:`SplittingStep.log_step` and stored as it is
-    (slices of log z relative to their maximum, ``interpolation="log"``: the solution then
-    interpolates v = −λ log z, not z), so that neither the solve nor the stored solution
-    underflows however large v/λ grows across the grid.
+    ℓ = log z is advanced by the same composition as :func:`_march_fitted` (whole diffusions
+    between the steps when there is no state cost), with the parts in the log domain
+    (:meth:`SplittingStep.log_drift`, :meth:`SplittingStep.log_diffusion`; the state cost C an
+    addition). The slices are stored as log z relative to their maximum
+    (``interpolation="log"``: the solution then interpolates v = −λ log z, not z), so that
+    neither the solve nor the stored solution underflows however large v/λ grows across the
+    grid.
     """
     grid = problem.grid
     g = _node_values(problem.terminal_values, grid)
@@ -364,21 +458,42 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     log_scale = -g.min() / problem.temperature
     fingerprint = _fingerprint(np.exp(ell[0]))
     step = SplittingStep(problem, dt)
+    cost = step.log_cost[None, :] if step.log_cost.size else None  # C: log z += cost
     setup_time = time.perf_counter() - started
     slices = slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir)
     scales = np.empty(len(kept))
     slot = len(kept) - 1
     slices[slot], scales[slot] = ell[0], log_scale
-    buffer = np.empty_like(ell)
+    spares = (np.empty_like(ell), np.empty_like(ell))
+    if cost is not None:
+        ell += cost
+    x = step.log_diffusion(ell, spares)  # D½ C ℓ_T
+    free = [a for a in (ell, *spares) if a is not x]
     progress = ProgressBar(n_steps, s.progress, f"fitted {grid.describe()}", work_per_item=grid.size)
     for n in range(n_steps - 1, -1, -1):
-        peak = step.log_step(ell, buffer)
-        ell, buffer = buffer, ell
-        ell -= peak
-        log_scale += peak
+        y, other = free
+        step.log_drift(x, y)  # y = MP x
+        whole = cost is None and n > 0  # merged with the next step's D½ (_march_fitted)
+        result = step.log_diffusion(y, (x, other), full=whole)
+        if cost is not None:
+            result += cost
         if n == kept[slot - 1]:
             slot -= 1
-            slices[slot], scales[slot] = ell[0], log_scale
+            stored = result
+            if whole:  # log ½(e^y + e^{D y}), as _march_fitted stores the same slice in z
+                stored = x if result is other else other
+                _log_mean_kernel(y[0], result[0], stored[0])
+            top = float(stored.max())
+            np.subtract(stored[0], top, out=slices[slot])
+            scales[slot] = log_scale + top
+        peak = float(result.max())
+        result -= peak
+        log_scale += peak
+        if n > 0 and cost is not None:  # the next step opens with its own D½ C
+            result += cost
+            result = step.log_diffusion(result, [a for a in (x, y, other) if a is not result])
+        free = [a for a in (x, y, other) if a is not result]
+        x = result
         progress.update(n_steps - n)
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon

@@ -23,12 +23,12 @@ class StepOperator(Protocol):
 
     Built as ``Scheme(problem, dt, **options)``; then for K right-hand sides at once,
 
-        peak = step(z, out, scale, reference=None)      out[r] = S (scale[r] · z[r]),  r < K
+        peak = step(z, out, scale)      out[r] = S (scale[r] · z[r]),  r < K
 
     with ``z`` and ``out`` float64 arrays of shape (K, N) (``z`` may be overwritten) and
-    ``peak[r] = max out[r]`` (the solver renormalises with it). ``reference`` is a row index of
-    ``z`` holding the fitting reference φ for schemes that support exponential fitting
-    (:attr:`supports_fitting`); the others are never given one.
+    ``peak[r] = max out[r]`` (the solver renormalises with it). A scheme that supports
+    exponential fitting (:attr:`supports_fitting`, the splitting) also offers the fitted
+    operator's parts, which the solver composes over all steps (:mod:`gridlbc.solver`).
     """
 
     supports_fitting: bool
@@ -43,8 +43,7 @@ class StepOperator(Protocol):
     def estimate_bytes(grid: Grid) -> int:
         """Memory the operator will hold on ``grid``, without building it."""
 
-    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
-                 reference: int | None = None) -> np.ndarray: ...
+    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray) -> np.ndarray: ...
 
 
 METHODS: dict[str, type[StepOperator]] = {"splitting": SplittingStep, "implicit": ImplicitStep}

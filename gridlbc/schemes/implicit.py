@@ -172,12 +172,8 @@ class ImplicitStep:
         self.iterations.append(sweeps)
         return float(out.max())
 
-    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
-                 reference: int | None = None) -> np.ndarray:
-        """out = A⁻¹ (scale · z) for every row of ``z`` ``(K, N)``; returns the row maxima.
-        ``reference`` must be None: the upwind scheme has no fitted variant."""
-        if reference is not None:
-            raise ValueError("the implicit scheme does not support fitting (reference must be None)")
+    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray) -> np.ndarray:
+        """out = A⁻¹ (scale · z) for every row of ``z`` ``(K, N)``; returns the row maxima."""
         b = z * scale[:, None]
         if self.direct:
             out[...] = self._lu.solve(np.ascontiguousarray(b.T)).T

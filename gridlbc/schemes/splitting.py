@@ -73,7 +73,9 @@ fixed φ this is again linear and non-negative and exact where z ∝ φ (for a G
 the heat kernel's result). Its tails are Gaussian, so moving k cells costs the control's true
 (kh)²/(2 (B R⁻¹ Bᵀ)_kk Δt/2) at any λ; the tridiagonal solve's tails decay only geometrically,
 which caps the rise of −λ log z per cell at λ log(1/ρ), a cap that vanishes with λ. A single
-solve fitted to itself runs in the log domain (:meth:`SplittingStep.log_step`).
+solve fitted to itself runs in the log domain (:meth:`SplittingStep.log_drift`,
+:meth:`SplittingStep.log_diffusion`; how :func:`gridlbc.solve` composes them is in
+:mod:`gridlbc.solver`).
 
 Large grids. The feet are computed once per solve, in chunks, and stored compactly
 (:data:`FEET_LAYOUTS`): ``"compact"`` keeps per node the base corner (int32), the index (uint16) of its
@@ -457,12 +459,12 @@ def _curvature_compact_kernels(d: int):
     as :func:`_advect_kernels` does."""
 
     @jit_parallel
-    def kernel(ell, base, code, frac, offsets, axes, pairs, hessian, out):
+    def kernel(ell, base, code, frac, offsets, columns, hessian, add_mean, out):
         n_nodes = base.size
         fractions = frac.reshape(-1)
         vertex = offsets.reshape(-1)
-        walk = axes.reshape(-1)
-        columns = hessian.shape[1]
+        column = columns.reshape(-1)
+        width = hessian.shape[1]
         flat = hessian.reshape(-1)
         for p in prange(n_nodes):
             node = np.int64(base[p])
@@ -481,36 +483,45 @@ def _curvature_compact_kernels(d: int):
                 if previous - fj > largest:
                     nearest, largest = v, previous - fj
                 previous = fj
-            row = np.uint64(nearest * columns)
+            row = np.uint64(nearest * width)
             acc = 0.0
             for k in range(d):
-                ak = walk[c * d + k]
                 cross = 0.0
                 for m in range(k + 1, d):
                     cross += (np.float64(fractions[p * d + m])
-                              * flat[row + np.uint64(pairs[ak, walk[c * d + m]])])
+                              * flat[row + np.uint64(column[(c * d + k) * d + m])])
                 f = np.float64(fractions[p * d + k]) * (1.0 / _Q)
-                acc += (1.0 - f) * (f * flat[row + np.uint64(pairs[ak, ak])]
+                acc += (1.0 - f) * (f * flat[row + np.uint64(column[(c * d + k) * d + k])]
                                     + 2.0 * cross * (1.0 / _Q))
-            out[p] = _limited(lin * (1.0 / _Q), -0.5 * acc, low, high)
+            mean = lin * (1.0 / _Q)
+            term = _limited(mean, -0.5 * acc, low, high)
+            out[p] = mean + term if add_mean else term
 
     return kernel
 
 
-def _curvature_compact_kernel(ell, base, code, frac, offsets, axes, pairs, hessian, out):
+def _curvature_compact_kernel(ell, base, code, frac, offsets, columns, hessian, add_mean, out):
     """out[p] = the limited curvature term of the compact feet (see
-    :meth:`SplittingStep.curvature_correction`): with the sorted fractions f_k of walk steps
-    k along axes π_k = ``axes[code[p], k]``, M_{π_k π_k} = f_k (1 − f_k) and, for k < l,
-    M_{π_k π_l} = f_l (1 − f_k); H at the vertex of largest weight (the first on a tie)."""
-    _curvature_compact_kernels(frac.shape[1])(ell, base, code, frac, offsets, axes, pairs,
-                                              hessian, out)
+    :meth:`SplittingStep.curvature_correction`), plus the linear mean Σ_j w_j ell[v_j] when
+    ``add_mean`` (the fitted log drift in one pass): with the sorted fractions f_k of walk steps
+    k along axes π_k, M_{π_k π_k} = f_k (1 − f_k) and, for k < l, M_{π_k π_l} = f_l (1 − f_k);
+    H at the vertex of largest weight (the first on a tie), its component ∂_{π_k}∂_{π_l} in
+    column ``columns[code[p], k, l]`` of ``hessian`` (:func:`_hessian_columns`)."""
+    _curvature_compact_kernels(frac.shape[1])(ell, base, code, frac, offsets, columns, hessian,
+                                              add_mean, out)
+
+
+def _hessian_columns(walk_axes: np.ndarray, pairs: np.ndarray) -> np.ndarray:
+    """``columns[c, k, l]`` = the Hessian column (:func:`_hessian_pairs`) of ∂_{π_k}∂_{π_l}
+    for the walk axes π = ``walk_axes[c]`` of each simplex shape c (:func:`_walk_axes`)."""
+    return np.ascontiguousarray(pairs[walk_axes[:, :, None], walk_axes[:, None, :]])
 
 
 @jit_parallel
-def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, out):
+def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, add_mean, out):
     """:func:`_curvature_compact_kernel` for the table feet: the walk step j → j + 1 runs along
     the axis whose stride (or wrap −(n − 1) × stride) is idx[p, j+1] − idx[p, j], and its
-    fraction is f_j = Σ_{i>j} weights[p, i]. Nodes are taken in blocks, so that the scratch of
+    fraction is f_j = Σ_{i>j} weights[p, i]; ``add_mean`` as there. Nodes are taken in blocks, so that the scratch of
     the walk's axes and fractions is allocated once per block."""
     n_nodes, n_vertices = idx.shape
     d = n_vertices - 1
@@ -545,7 +556,8 @@ def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, o
                     cross += f[m] * hessian[node, pairs[axis[k], axis[m]]]
                 acc += (1.0 - f[k]) * (f[k] * hessian[node, pairs[axis[k], axis[k]]]
                                        + 2.0 * cross)
-            out[p] = _limited(lin, -0.5 * acc, low, high)
+            term = _limited(lin, -0.5 * acc, low, high)
+            out[p] = lin + term if add_mean else term
 
 
 def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) -> np.ndarray:
@@ -750,46 +762,37 @@ _FIT_IMAGES = 16  # the fitted diffusion scans at most this many line lengths to
 
 
 @jit_inline
-def _cell_mass(A, B, C, E, F0, F1):
-    """∫₀¹ e^{f(s) − E} ds for the concave f(s) = −A s² + B s + C (A > 0), given the integrand
-    at the ends F0 = e^{f(0) − E} and F1 = e^{f(1) − E} (E ≥ max f on [0, 1], so nothing
-    overflows).
+def _cell_constants(A, kappa):
+    """(A_c, √A_c, 1/(2A_c), √π/(2√A_c)) of a cell whose log-integrand is −A_c s² + B s + C,
+    A_c = A − κ/2 > 0: the Gaussian's A = h²/(2σ²) less the cell's curvature κ (≤ A)."""
+    Ac = A - 0.5 * kappa
+    root = math.sqrt(Ac)
+    return Ac, root, 0.5 / Ac, 0.5 * math.sqrt(math.pi) / root
 
-    With μ = B/(2A) and the ends lo = −√A μ, hi = √A (1 − μ) in the Gaussian's units, and
+
+@jit_inline
+def _cell_mass(root, mu, top, E, F0, F1, prefactor):
+    """∫₀¹ e^{f(s) − E} ds for the concave f(s) = −A s² + B s + C (A > 0) with its vertex at
+    μ = B/(2A), its largest value on [0, 1] ``top`` and the integrand at the ends F0 =
+    e^{f(0) − E}, F1 = e^{f(1) − E} (E ≥ ``top``, so nothing overflows); ``root`` = √A and
+    ``prefactor`` = √π/(2√A) (:func:`_cell_constants`).
+
+    With the ends lo = −√A μ, hi = √A (1 − μ) in the Gaussian's units, and
     erfc(x) e^{f(μ)} = erfcx(x) e^{f(μ) − x²}, it is √π/(2√A) times
 
         F0 erfcx(lo) − F1 erfcx(hi)                  (μ ≤ 0, the integrand falls),
         F1 erfcx(−hi) − F0 erfcx(−lo)                (μ ≥ 1, it rises),
-        2 e^{f(μ) − E} − F1 erfcx(hi) − F0 erfcx(−lo) (its peak inside the cell),
+        2 e^{f(μ) − E} − F1 erfcx(hi) − F0 erfcx(−lo) (its peak inside the cell, f(μ) = top),
 
     every erfcx taken at a non-negative argument, so it is bounded and never underflows."""
-    root = math.sqrt(A)
-    mu = B / (2.0 * A)
     lo, hi = -root * mu, root * (1.0 - mu)
     if lo >= 0.0:
         mass = F0 * erfcx(lo) - F1 * erfcx(hi)
     elif hi <= 0.0:
         mass = F1 * erfcx(-hi) - F0 * erfcx(-lo)
     else:
-        mass = 2.0 * math.exp(C + A * mu * mu - E) - F1 * erfcx(hi) - F0 * erfcx(-lo)
-    return max(0.5 * math.sqrt(math.pi) / root * mass, 0.0)
-
-
-@jit_inline
-def _cell_weights(A, B, C, E, F0, F1):
-    """(∫₀¹ (1 − s) e^{f(s) − E} ds, ∫₀¹ s e^{f(s) − E} ds) for f, F0, F1 as in
-    :func:`_cell_mass`, both clamped at 0 against rounding: with ∫₀¹ (s − μ) e^{f} =
-    (e^{f(0)} − e^{f(1)})/(2A)."""
-    total = _cell_mass(A, B, C, E, F0, F1)
-    first = max(B / (2.0 * A) * total + (F0 - F1) / (2.0 * A), 0.0)
-    return max(total - first, 0.0), first
-
-
-@jit
-def _cell_peak(A, B, C):
-    """max over s ∈ [0, 1] of −A s² + B s + C."""
-    s = min(max(B / (2.0 * A), 0.0), 1.0)
-    return C + s * (B - A * s)
+        mass = 2.0 * math.exp(top - E) - F1 * erfcx(hi) - F0 * erfcx(-lo)
+    return max(prefactor * mass, 0.0)
 
 
 @jit_parallel
@@ -842,35 +845,60 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     cell can peak higher than that: the scan stops there once it falls below E − 20, or once
     −A c² + ``ell_max`` (plus the bulge) does (after at most ``_FIT_IMAGES`` line lengths).
 
+    With one σ² for all nodes, each cell's constants (:func:`_cell_constants`) are computed once
+    per line, not once per node that integrates the cell; the lines are taken in blocks, each
+    with its own table of them.
+
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
     the integral, log ∫ G_σ φ̄: the reference advanced alone, in the log domain (nothing
     underflows however steep ℓ is)."""
-    for line_id in prange(y.shape[1] // n):  # line by line: no integer division per node
-        line = (line_id // stride) * n * stride + line_id % stride
-        for i in range(n):
-            _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n,
-                                 stride, periodic, log_out, out, line_id, line, i)
+    n_lines = y.shape[1] // n
+    n_blocks = min(n_lines, 256)
+    uniform = sigma2.size == 1
+    for block in prange(n_blocks):
+        cells = np.empty((5, n))  # per cell k (nodes k, k + 1): κ, A_c, √A_c, 1/(2A_c), prefactor
+        A = free = norm = 0.0
+        for line_id in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
+            line = (line_id // stride) * n * stride + line_id % stride  # no division per node
+            if uniform and sigma2[0] > 0.0:
+                A = h * h / (2.0 * sigma2[0])
+                free = rises[line_id] / (2.0 * A)
+                norm = h / math.sqrt(2.0 * math.pi * sigma2[0])
+                for k in range(n if periodic else n - 1):
+                    right = line + (k + 1 if k + 1 < n else 0) * stride
+                    kappa = min(0.5 * (curvature[line + k * stride] + curvature[right]), A)
+                    cells[0, k] = kappa
+                    cells[1, k], cells[2, k], cells[3, k], cells[4, k] = _cell_constants(A, kappa)
+            for i in range(n):
+                p = line + i * stride
+                if not uniform and sigma2[p] > 0.0:
+                    A = h * h / (2.0 * sigma2[p])
+                    free = rises[line_id] / (2.0 * A)
+                    norm = h / math.sqrt(2.0 * math.pi * sigma2[p])
+                if sigma2[0 if uniform else p] <= 0.0:  # no noise at this node: z' = z
+                    for r in range(y.shape[0]):
+                        out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
+                    continue
+                _diffuse_fitted_node(y, ell, curvature, bulges[line_id], ell_max, A, free, norm,
+                                     n, stride, periodic, log_out, out, line, i, cells,
+                                     uniform)
 
 
 @jit_inline
-def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n, stride,
-                         periodic, log_out, out, line_id, line, i):
-    """:func:`_diffuse_fitted_kernel` at node i of the line starting at ``line``."""
+def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, stride, periodic,
+                         log_out, out, line, i, cells, uniform):
+    """:func:`_diffuse_fitted_kernel` at node i of the line starting at ``line``, for the
+    Gaussian's A = h²/(2σ²) there, ``free`` = the line's rises/(2A), ``norm`` = h/√(2πσ²),
+    ``bulge`` the line's; ``cells``: the line's cell constants when ``uniform`` (one σ²)."""
     n_rhs = y.shape[0]
     p = line + i * stride
     reach = _FIT_IMAGES * n
-    s2 = sigma2[0] if sigma2.size == 1 else sigma2[p]
-    if s2 <= 0.0:  # no noise at this node: z' = z
-        for r in range(n_rhs):
-            out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
-        return
-    A = h * h / (2.0 * s2)
-    free = rises[line_id] / (2.0 * A)  # within this many cells the bound may still rise
-    bulge = bulges[line_id]
     peak = ell[p]  # E: the largest cell peak so far; the sums are kept relative to e^E
     accumulated = False
-    for r in range(n_rhs):
-        out[r, p] = 0.0
+    mass = 0.0  # log_out: ∫ G_σ φ̄ over e^E (in a register, not in ``out``)
+    if not log_out:
+        for r in range(n_rhs):
+            out[r, p] = 0.0
     for side in range(2):
         step = 1 if side == 0 else -1
         near = i  # unfolded index of the cell's node nearest to x_p, then the far one
@@ -898,15 +926,25 @@ def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n
             lo_node, hi_node = (k_near, k_far) if side == 0 else (k_far, k_near)
             a = near - i if side == 0 else far - i  # (the cell's left end − x_p)/h
             k0, k1 = line + lo_node * stride, line + hi_node * stride
-            kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
-            Ac = A - 0.5 * kappa
+            cell = min(lo_node, hi_node)  # its folded index (a periodic line's seam: n − 1)
+            if max(lo_node, hi_node) - cell > 1:
+                cell = n - 1
+            if uniform:
+                kappa, Ac, root = cells[0, cell], cells[1, cell], cells[2, cell]
+                half_inverse, prefactor = cells[3, cell], cells[4, cell]
+            else:
+                kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
+                Ac, root, half_inverse, prefactor = _cell_constants(A, kappa)
             B = ell[k1] - ell[k0] - 2.0 * A * a - 0.5 * kappa
             C = ell[k0] - A * a * a
-            top = _cell_peak(Ac, B, C)
+            mu = B * half_inverse
+            s = min(max(mu, 0.0), 1.0)
+            top = C + s * (B - Ac * s)  # the cell's peak
             near, k_near = far, k_far
             if top > peak:  # a new largest peak: rescale what is summed so far to it
                 rescale = math.exp(peak - top)
-                if accumulated:
+                mass *= rescale
+                if accumulated and not log_out:
                     for r in range(n_rhs):
                         out[r, p] *= rescale
                 if near_value >= 0.0:
@@ -921,15 +959,17 @@ def _diffuse_fitted_node(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n
             F0, F1 = (near_value, far_value) if side == 0 else (far_value, near_value)
             near_log, near_value = far_log, far_value
             accumulated = True
+            total = _cell_mass(root, mu, top, peak, F0, F1, prefactor)
             if log_out:
-                out[0, p] += _cell_mass(Ac, B, C, peak, F0, F1)
+                mass += total
                 continue
-            w0, w1 = _cell_weights(Ac, B, C, peak, F0, F1)
+            # ∫₀¹ s e^{f} ds from ∫₀¹ (s − μ) e^{f} ds = (e^{f(0)} − e^{f(1)})/(2A_c)
+            w1 = max(mu * total + (F0 - F1) * half_inverse, 0.0)
+            w0 = max(total - w1, 0.0)
             for r in range(n_rhs):
                 out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
-    norm = h / math.sqrt(2.0 * math.pi * s2)
     if log_out:
-        out[0, p] = peak + math.log(out[0, p] * norm)
+        out[0, p] = peak + math.log(mass * norm)
         return
     norm *= math.exp(peak)
     for r in range(n_rhs):
@@ -1126,27 +1166,15 @@ class SplittingStep:
                   *self.variances, *(a for a in self.diffusion if np.ndim(a))]
         return int(sum(a.nbytes for a in arrays))
 
-    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
-                 reference: int | None = None) -> np.ndarray:
-        """out = C D½ M P D½ C (scale · z); ``z`` is consumed (overwritten). With ``reference``
-        (a row of ``z``) the drift P is fitted to that row (see the module docstring). Returns
-        the row maxima of ``out``."""
+    def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray) -> np.ndarray:
+        """out = C D½ M P D½ C (scale · z), the plain step; ``z`` is consumed (overwritten).
+        Returns the row maxima of ``out``. (The fitted operator is composed over all steps by
+        the solver, from :meth:`drift` and :meth:`fitted_diffusion`.)"""
         K = z.shape[0]
         if self.cost_factor.size:
             z *= self.cost_factor
-        if reference is not None:
-            # fitted: D½ z → out (or back into z), P into the other, D½ ends in out
-            first = self.fitted_half_diffusion(z, out, reference)
-            second = out if first is z else z
-            self.drift(first, second, scale, reference)
-            if self.mid_cost_factor.size:
-                second *= self.mid_cost_factor
-            self.fitted_half_diffusion(second, first, reference)
-            block_max = self._buffer(K, work_blocks(self.grid.size))
-            _cost_max_kernel(out, self.cost_factor, block_max)
-            return block_max.max(axis=1)
         self._half_diffusion(z, None)
-        self.drift(z, out, scale, reference)
+        self.drift(z, out, scale)
         if self.mid_cost_factor.size:
             out *= self.mid_cost_factor
         block_max = None
@@ -1158,8 +1186,7 @@ class SplittingStep:
             block_max = self._buffer(K, work_blocks(n_tasks))
         self._half_diffusion(out, block_max)
         if block_max is None:
-            block_max = self._buffer(K, work_blocks(self.grid.size))
-            _cost_max_kernel(out, self.cost_factor, block_max)
+            return self.row_maxima(out, cost=True)
         return block_max.max(axis=1)
 
     def drift(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
@@ -1182,68 +1209,64 @@ class SplittingStep:
         if reference is not None:
             out *= np.exp(self.curvature_correction(ell))
 
-    def curvature_correction(self, ell: np.ndarray) -> np.ndarray:
+    def curvature_correction(self, ell: np.ndarray, out: np.ndarray | None = None,
+                             add_mean: bool = False) -> np.ndarray:
         """The curvature term c(X) = −½ Σ_ab M_ab(X) H_ab of the fitted drift at every node's
-        foot X (see the module docstring): ``log φ̄ = Σ_j w_j ℓ(y_j) + c``. Returns a scratch
-        array ``(N,)`` (overwritten by the next call)."""
+        foot X (see the module docstring): ``log φ̄ = Σ_j w_j ℓ(y_j) + c``; with ``add_mean``,
+        log φ̄ itself (the fitted log drift in one pass). Written into ``out`` ``(N,)``, by
+        default a scratch array (overwritten by the next call), which is returned."""
         grid = self.grid
         if self._hessian is None:
             self._hessian = np.empty((grid.size, grid.ndim * (grid.ndim + 1) // 2), np.float32)
             self._correction = np.empty(grid.size)
             self._pairs = _hessian_pairs(grid.ndim)
             if self.layout == "compact":
-                self._walk_axes = _walk_axes(grid, self.offsets)
+                self._columns = _hessian_columns(_walk_axes(grid, self.offsets), self._pairs)
         shape = np.array(grid.shape, dtype=np.int64)
         _hessian_kernel(ell, shape, grid.strides, grid.periodic, self._hessian)
-        out = self._correction
+        out = self._correction if out is None else out
         if self.layout == "compact":
             _curvature_compact_kernel(ell, self.base, self.code, self.frac, self.offsets,
-                                      self._walk_axes, self._pairs, self._hessian, out)
+                                      self._columns, self._hessian, add_mean, out)
         else:
             _curvature_table_kernel(ell, self.idx, self.weights, shape, grid.strides,
-                                    self._pairs, self._hessian, out)
+                                    self._pairs, self._hessian, add_mean, out)
         return out
 
-    def log_step(self, ell: np.ndarray, out: np.ndarray) -> float:
-        """The step fitted to its own result, in the log domain: for ℓ = log z (``(1, N)``,
-        consumed), out = log S_z z with S_z the step fitted to z itself. The drift is then the
-        value-space semi-Lagrangian update ℓ(x) ← Σ_j w_j ℓ(y_j), the diffusion log ∫ G_σ e^ℓ̄
-        and the cost ℓ ← ℓ − (its Simpson share)/λ, so nothing underflows however steep v/λ
-        is. Returns max out."""
-        if self.log_cost.size:
-            ell += self.log_cost
-        first = self._log_half_diffusion(ell, out)
-        second = out if first is ell else ell
-        self.drift(first, second, np.ones(1))
-        second[0] += self.curvature_correction(first[0])
+    def log_drift(self, ell: np.ndarray, out: np.ndarray):
+        """out = log M P_z z for ℓ = log z (``(1, N)``, consumed): the drift fitted to z itself,
+        in the log domain. That is the value-space semi-Lagrangian update ℓ(x) ← Σ_j w_j ℓ(y_j)
+        with the curvature term, then the middle share of the state cost (Simpson's rule)."""
+        self.curvature_correction(ell[0], out[0], add_mean=True)
         if self.log_mid_cost.size:
-            second[0] += self.log_mid_cost
-        result = self._log_half_diffusion(second, first)
-        if self.log_cost.size:
-            result += self.log_cost
-        if result is not out:
-            out[:] = result
-        return float(out.max())
+            out[0] += self.log_mid_cost
 
-    def _log_half_diffusion(self, ell: np.ndarray, spare: np.ndarray) -> np.ndarray:
-        """D½ of e^ℓ fitted to itself, in the log domain; returns the array holding the result
-        (alternating between ``ell`` and ``spare`` as :meth:`fitted_half_diffusion`)."""
-        source, target = ell, spare
+    def log_diffusion(self, ell: np.ndarray, spares: tuple, full: bool = False) -> np.ndarray:
+        """log D z for ℓ = log z (``(1, N)``, not written): the diffusion fitted to z itself,
+        log ∫ G_σ e^ℓ̄ along each noise axis in turn, over half a step (σ² = 2 D_k Δt/2) or,
+        with ``full``, a whole one (σ² = 2 D_k Δt: two half steps in one pass, the Gaussian's
+        semigroup). The passes alternate between the two arrays ``spares``; returns the one that
+        holds the result."""
+        source, targets = ell, spares
         curvature = self._buffer(2, self.grid.size)[1]
-        for (k, periodic, _, _), variance in zip(self.noise, self.variances, strict=True):
+        for axis, ((k, periodic, _, _), variance) in enumerate(zip(self.noise, self.variances,
+                                                                   strict=True)):
             ax, stride = self.grid.axes[k], int(self.grid.strides[k])
+            target = targets[axis % 2]
             rises, bulges = self._buffer(2, self.grid.size // ax.n)
             _line_bounds(source[0], ax.n, stride, periodic, curvature, rises, bulges)
             _diffuse_fitted_kernel(source, source[0], curvature, rises, bulges,
-                                   float(source.max()), variance, ax.spacing, ax.n, stride,
-                                   periodic, True, target)
-            source, target = target, source
+                                   float(source.max()), variance * (2.0 if full else 1.0),
+                                   ax.spacing, ax.n, stride, periodic, True, target)
+            source = target
         return source
 
-    def fitted_half_diffusion(self, z: np.ndarray, spare: np.ndarray, reference: int) -> np.ndarray:
-        """D½ fitted to row ``reference`` (see the module docstring), one noise axis at a time,
-        alternating between ``z`` and ``spare`` (both are overwritten). Returns the array that
-        holds the result: ``spare`` after an odd number of noise axes, ``z`` after an even one."""
+    def fitted_diffusion(self, z: np.ndarray, spare: np.ndarray, reference: int,
+                         full: bool = False) -> np.ndarray:
+        """D fitted to row ``reference`` (see the module docstring) over half a step or, with
+        ``full``, a whole one (as :meth:`log_diffusion`), one noise axis at a time, alternating
+        between ``z`` and ``spare`` (both are overwritten). Returns the array that holds the
+        result: ``spare`` after an odd number of noise axes, ``z`` after an even one."""
         source, target = z, spare
         ell, curvature = self._buffer(2, self.grid.size)
         for (k, periodic, _, _), variance in zip(self.noise, self.variances, strict=True):
@@ -1252,9 +1275,17 @@ class SplittingStep:
             rises, bulges = self._buffer(2, self.grid.size // ax.n)
             _line_bounds(ell, ax.n, stride, periodic, curvature, rises, bulges)
             _diffuse_fitted_kernel(source, ell, curvature, rises, bulges, float(ell.max()),
-                                   variance, ax.spacing, ax.n, stride, periodic, False, target)
+                                   variance * (2.0 if full else 1.0), ax.spacing, ax.n, stride,
+                                   periodic, False, target)
             source, target = target, source
         return source
+
+    def row_maxima(self, z: np.ndarray, cost: bool = False) -> np.ndarray:
+        """The row maxima of ``z`` ``(K, N)``, after multiplying it by the nodes' share of the
+        state cost C when ``cost`` (one pass)."""
+        block_max = self._buffer(z.shape[0], work_blocks(self.grid.size))
+        _cost_max_kernel(z, self.cost_factor if cost else self.cost_factor[:0], block_max)
+        return block_max.max(axis=1)
 
     def _half_diffusion(self, z: np.ndarray, block_max: np.ndarray | None):
         """D½ in place on every noise axis; the last pass also records row maxima per block in
