@@ -136,6 +136,11 @@ def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
         if s.diagnostics.fitting != ref.diagnostics.fitting:
             operators.append(f"solutions[{i}] was fitted to another reference "
                              f"({s.diagnostics.fitting} vs {ref.diagnostics.fitting})")
+        elif s.diagnostics.interpolation != ref.diagnostics.interpolation:
+            operators.append(f"solutions[{i}] and solutions[0] were fitted to the same reference, "
+                             "but only one was stepped in the log domain (a solve fitted to its "
+                             "own terminal cost), whose slices between t = 0 and T are not "
+                             "linear in z")
     return solutions, operators
 
 

@@ -72,10 +72,12 @@ mirroring (closed, the reflecting constraint); each cell's integral is closed-fo
 fixed φ this is again linear and non-negative and exact where z ∝ φ (for a Gaussian φ exactly
 the heat kernel's result). Its tails are Gaussian, so moving k cells costs the control's true
 (kh)²/(2 (B R⁻¹ Bᵀ)_kk Δt/2) at any λ; the tridiagonal solve's tails decay only geometrically,
-which caps the rise of −λ log z per cell at λ log(1/ρ), a cap that vanishes with λ. A single
-solve fitted to itself runs in the log domain (:meth:`SplittingStep.log_drift`,
-:meth:`SplittingStep.log_diffusion`; how :func:`gridlbc.solve` composes them is in
-:mod:`gridlbc.solver`).
+which caps the rise of −λ log z per cell at λ log(1/ρ), a cap that vanishes with λ. The solver
+composes the fitted operator over all steps (:func:`gridlbc.solver._march_fitted`): without a
+state cost the half diffusions that meet between steps are taken as one over the whole step
+(``full=True``: σ² doubled, the Gaussian semigroup), which halves this, the fitted step's most
+expensive part. A single solve fitted to itself runs in the log domain
+(:meth:`SplittingStep.log_drift`, :meth:`SplittingStep.log_diffusion`).
 
 Large grids. The feet are computed once per solve, in chunks, and stored compactly
 (:data:`FEET_LAYOUTS`): ``"compact"`` keeps per node the base corner (int32), the index (uint16) of its
