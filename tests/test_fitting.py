@@ -215,14 +215,16 @@ def test_separately_fitted_components_combine_to_the_direct_solve_as_the_grid_re
     assert gaps[1][1] < gaps[0][1]
 
 
-def test_fitted_diffusion_is_exact_for_a_quadratic_log_reference():
+@pytest.mark.parametrize("s", [0.4, 0.02])
+def test_fitted_diffusion_is_exact_for_a_quadratic_log_reference(s):
     """ℓ(x) = −(x − c)²/(2s) (a Gaussian φ): the curved interpolant is exact, so the log-domain
     diffusion must give the exact heat-kernel result log √(s/(s+σ²)) − (x − c)²/(2(s+σ²)) to
     rounding and the window (cells below e^{−W} of the peak are skipped, W = ``_FIT_WINDOW``:
     each moves log z by less than e^{−W}), away from the mirrored ends (here > 12 σ_total).
     Also at a small variance (σ = h/10, a small temperature), where the tails are what
-    matters."""
-    n, h, c, s = 201, 0.05, 5.0, 0.4
+    matters. With s = 0.02 the line's ℓ spans 625, and the kernel takes every integrand by an
+    exp instead of from its per-line tables (``_FIT_TABLE_RANGE``)."""
+    n, h, c = 201, 0.05, 5.0
     x = np.arange(n) * h
     ell = -((x - c) ** 2) / (2 * s)
     interior = np.abs(x - c) < 2.5

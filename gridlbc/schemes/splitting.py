@@ -761,6 +761,7 @@ def _diffuse_periodic_kernel(z, ratio, n, stride):
 
 _FIT_WINDOW = 20.0  # cells whose integrand stays below e^{−20} of the largest are skipped
 _FIT_IMAGES = 16  # the fitted diffusion scans at most this many line lengths to each side
+_FIT_TABLE_RANGE = 600.0  # lines whose ℓ spans at most this take the integrand from tables
 
 
 @jit_inline
@@ -849,7 +850,12 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
 
     With one σ² for all nodes, each cell's constants (:func:`_cell_constants`) are computed once
     per line, not once per node that integrates the cell; the lines are taken in blocks, each
-    with its own table of them.
+    with its own table of them. The integrand at a node k, c cells from x_p, over e^E is then
+    e^{ℓ_k − L} · e^{−A c²} · e^{L − E} (L the line's largest ℓ): the first factor tabulated
+    once per line, the second once per call, the third updated with E, so that it costs two
+    products instead of an exp. Only where the line's ℓ spans at most 600
+    (``_FIT_TABLE_RANGE``): every factor of a cell within the window is then far from
+    underflow and overflow (elsewhere, at small temperatures, each is an exp as before).
 
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
     the integral, log ∫ G_σ φ̄: the reference advanced alone, in the log domain (nothing
@@ -857,13 +863,20 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     n_lines = y.shape[1] // n
     n_blocks = min(n_lines, 256)
     uniform = sigma2.size == 1
+    reach = _FIT_IMAGES * n
     for block in prange(n_blocks):
         cells = np.empty((5, n))  # per cell k (nodes k, k + 1): κ, A_c, √A_c, 1/(2A_c), prefactor
-        A = free = norm = 0.0
+        nodes = np.empty(n)  # e^{ℓ_k − L} per node k of the line
+        gaussian = np.empty(reach + 2)  # e^{−A c²}
+        A = free = norm = top = 0.0
+        tables = False
+        if uniform and sigma2[0] > 0.0:
+            A = h * h / (2.0 * sigma2[0])
+            for c in range(reach + 2):
+                gaussian[c] = math.exp(-A * c * c)
         for line_id in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
             line = (line_id // stride) * n * stride + line_id % stride  # no division per node
             if uniform and sigma2[0] > 0.0:
-                A = h * h / (2.0 * sigma2[0])
                 free = rises[line_id] / (2.0 * A)
                 norm = h / math.sqrt(2.0 * math.pi * sigma2[0])
                 for k in range(n if periodic else n - 1):
@@ -871,6 +884,13 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
                     kappa = min(0.5 * (curvature[line + k * stride] + curvature[right]), A)
                     cells[0, k] = kappa
                     cells[1, k], cells[2, k], cells[3, k], cells[4, k] = _cell_constants(A, kappa)
+                top, low = -np.inf, np.inf
+                for k in range(n):
+                    top, low = max(top, ell[line + k * stride]), min(low, ell[line + k * stride])
+                tables = top - low <= _FIT_TABLE_RANGE
+                if tables:
+                    for k in range(n):
+                        nodes[k] = math.exp(ell[line + k * stride] - top)
             for i in range(n):
                 p = line + i * stride
                 if not uniform and sigma2[p] > 0.0:
@@ -883,19 +903,23 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
                     continue
                 _diffuse_fitted_node(y, ell, curvature, bulges[line_id], ell_max, A, free, norm,
                                      n, stride, periodic, log_out, out, line, i, cells,
-                                     uniform)
+                                     uniform, tables, nodes, gaussian, top)
 
 
 @jit_inline
 def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, stride, periodic,
-                         log_out, out, line, i, cells, uniform):
+                         log_out, out, line, i, cells, uniform, tables, nodes, gaussian,
+                         line_top):
     """:func:`_diffuse_fitted_kernel` at node i of the line starting at ``line``, for the
     Gaussian's A = h²/(2σ²) there, ``free`` = the line's rises/(2A), ``norm`` = h/√(2πσ²),
-    ``bulge`` the line's; ``cells``: the line's cell constants when ``uniform`` (one σ²)."""
+    ``bulge`` the line's; ``cells``: the line's cell constants when ``uniform`` (one σ²); with
+    ``tables``, ``nodes`` = e^{ℓ_k − L}, ``gaussian`` = e^{−A c²} and ``line_top`` = L (the
+    kernel's docstring)."""
     n_rhs = y.shape[0]
     p = line + i * stride
     reach = _FIT_IMAGES * n
     peak = ell[p]  # E: the largest cell peak so far; the sums are kept relative to e^E
+    factor = math.exp(line_top - peak) if tables else 0.0  # e^{L − E}
     accumulated = False
     mass = 0.0  # log_out: ∫ G_σ φ̄ over e^E (in a register, not in ``out``)
     if not log_out:
@@ -907,7 +931,8 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
         k_near = i
         heading = step  # the direction of the folded index (mirrors turn it round)
         near_log = ell[p]  # the log-integrand at the near node
-        near_value = math.exp(near_log - peak)  # and the integrand over e^E (−1: not yet known)
+        near_value = (nodes[i] * factor if tables  # and the integrand over e^E (−1: not known)
+                      else math.exp(near_log - peak))
         for c in range(reach):
             far = near + step
             k_far = k_near + heading
@@ -942,6 +967,7 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
             mu = B * half_inverse
             s = min(max(mu, 0.0), 1.0)
             top = C + s * (B - Ac * s)  # the cell's peak
+            k_cell_near = k_near
             near, k_near = far, k_far
             if top > peak:  # a new largest peak: rescale what is summed so far to it
                 rescale = math.exp(peak - top)
@@ -951,13 +977,19 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
                         out[r, p] *= rescale
                 if near_value >= 0.0:
                     near_value *= rescale
+                factor *= rescale
                 peak = top
             elif top < peak - _FIT_WINDOW:
                 near_log, near_value = far_log, -1.0
                 continue
-            if near_value < 0.0:
-                near_value = math.exp(near_log - peak)
-            far_value = math.exp(far_log - peak)
+            if tables:
+                if near_value < 0.0:
+                    near_value = nodes[k_cell_near] * factor * gaussian[c]
+                far_value = nodes[k_far] * factor * gaussian[c + 1]
+            else:
+                if near_value < 0.0:
+                    near_value = math.exp(near_log - peak)
+                far_value = math.exp(far_log - peak)
             F0, F1 = (near_value, far_value) if side == 0 else (far_value, near_value)
             near_log, near_value = far_log, far_value
             accumulated = True
