@@ -243,9 +243,9 @@ def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, ref
 
     Without a state cost (C = M = 1) the two half diffusions that meet between consecutive
     steps are one diffusion over the whole step: the Gaussian's semigroup, D½ D½ = D, which the
-    fitted diffusion keeps exactly where log φ is quadratic (elsewhere it differs by the refit of
-    ℓ̄ half way). So n steps take n − 1 whole diffusions and two halves, about half the fitted
-    diffusion's work,
+    fitted diffusion keeps exactly where z ∝ φ with a quadratic log φ (elsewhere the two differ
+    by the interpolation half way, which the whole step skips). So n steps take n − 1 whole
+    diffusions and two halves, about half the fitted diffusion's work,
 
         z_0 = D½ P (D P)ⁿ⁻¹ D½ z_T.
 
