@@ -864,16 +864,17 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     n_blocks = min(n_lines, 256)
     uniform = sigma2.size == 1
     reach = _FIT_IMAGES * n
+    gaussian = np.zeros(reach + 2)  # e^{−A c²} for the one σ², shared by all lines
+    if uniform and sigma2[0] > 0.0:
+        for c in range(reach + 2):
+            gaussian[c] = math.exp(-h * h / (2.0 * sigma2[0]) * c * c)
     for block in prange(n_blocks):
         cells = np.empty((5, n))  # per cell k (nodes k, k + 1): κ, A_c, √A_c, 1/(2A_c), prefactor
         nodes = np.empty(n)  # e^{ℓ_k − L} per node k of the line
-        gaussian = np.empty(reach + 2)  # e^{−A c²}
         A = free = norm = top = 0.0
         tables = False
         if uniform and sigma2[0] > 0.0:
             A = h * h / (2.0 * sigma2[0])
-            for c in range(reach + 2):
-                gaussian[c] = math.exp(-A * c * c)
         for line_id in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
             line = (line_id // stride) * n * stride + line_id % stride  # no division per node
             if uniform and sigma2[0] > 0.0:
