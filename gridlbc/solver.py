@@ -443,6 +443,7 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     with one fitted to the same cost explicitly (``fitting=g``) at t = 0 and T to rounding, and
     at the slices between only to O(Δt²) where the halves are merged: :func:`gridlbc.combine`
     does not combine the two exactly.
+
     The slices are stored as log z relative to their maximum (``interpolation="log"``: the
     solution then interpolates v = −λ log z, not z), so that neither the solve nor the stored
     solution underflows however large v/λ grows across the grid.
