@@ -184,8 +184,11 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     scales[-1] = log_scale[:K]
     progress = ProgressBar(n_steps, s.progress, f"{s.method} {grid.describe()}",
                            work_per_item=grid.size)
-    march = _march if reference is None else _march_fitted
-    flushed += march(step, Z, log_scale, reference, kept, dt, slices, scales, progress)
+    if reference is None:
+        flushed += _march(step, Z, log_scale, kept, dt, slices, scales, blocks, progress)
+    else:
+        flushed += _march_fitted(step, Z, log_scale, reference, kept, dt, slices, scales,
+                                 blocks, progress)
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
@@ -209,14 +212,15 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     return out
 
 
-def _march(step, Z: np.ndarray, log_scale: np.ndarray, reference: None, kept: list[int],
-           dt: float, slices: np.ndarray, scales: np.ndarray, progress: ProgressBar) -> int:
+def _march(step, Z: np.ndarray, log_scale: np.ndarray, kept: list[int], dt: float,
+           slices: np.ndarray, scales: np.ndarray, blocks: np.ndarray,
+           progress: ProgressBar) -> int:
     """Apply the step operator n times from the terminal data ``Z`` (K, N) with log-scales
     ``log_scale`` (K,) (z = Z e^ℓ, renormalised lazily: the next step and the storage multiply
-    by 1/peak), storing the ``kept`` steps' slices and scales (the terminal one is stored).
-    Returns the number of values the float32 storage flushed to zero."""
+    by 1/peak), storing the ``kept`` steps' slices and scales (the terminal one is stored;
+    ``blocks``: :func:`~gridlbc.storage.store_kernel`'s counts). Returns the number of values
+    the float32 storage flushed to zero."""
     K = slices.shape[0]
-    blocks = np.zeros(work_blocks(Z.shape[1]), dtype=np.int64)
     buffer = np.empty_like(Z)
     scale = np.ones(Z.shape[0])
     slot, flushed = len(kept) - 1, 0
@@ -236,7 +240,7 @@ def _march(step, Z: np.ndarray, log_scale: np.ndarray, reference: None, kept: li
 
 def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, reference: int,
                   kept: list[int], dt: float, slices: np.ndarray, scales: np.ndarray,
-                  progress: ProgressBar) -> int:
+                  blocks: np.ndarray, progress: ProgressBar) -> int:
     """:func:`_march` for the splitting fitted to row ``reference`` of ``Z``: n steps of
     C D½ M P D½ C (:class:`SplittingStep`; P fitted by :meth:`SplittingStep.drift`, D½ by
     :meth:`SplittingStep.fitted_diffusion`).
@@ -256,7 +260,6 @@ def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, ref
     Simpson's rule along the path wants it (merged, a steep cost would be sampled at the
     diffusion's ends)."""
     K = slices.shape[0]
-    blocks = np.zeros(work_blocks(Z.shape[1]), dtype=np.int64)
     merge = step.cost_factor.size == 0
     if not merge:
         Z *= step.cost_factor
@@ -288,10 +291,9 @@ def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, ref
             scales[slot] = log_scale[:K] + np.log(top[:K])
         log_scale = log_scale + np.log(peak)
         scale = 1.0 / peak
-        spare = x
-        if n > 0 and not merge:  # the next step opens with its own D½ C
+        if n > 0 and not merge:  # the next step opens with its own D½ C (x is free)
             result *= step.cost_factor
-            result = step.fitted_diffusion(result, spare, reference)
+            result = step.fitted_diffusion(result, x, reference)
         free = [a for a in (x, y, other) if a is not result]
         x = result
         progress.update(kept[-1] - n)

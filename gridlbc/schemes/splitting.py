@@ -864,22 +864,23 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     n_blocks = min(n_lines, 256)
     uniform = sigma2.size == 1
     reach = _FIT_IMAGES * n
+    shared = uniform and sigma2[0] > 0.0  # one Gaussian for every node
+    A_shared = h * h / (2.0 * sigma2[0]) if shared else 0.0
+    norm_shared = h / math.sqrt(2.0 * math.pi * sigma2[0]) if shared else 0.0
     gaussian = np.zeros(reach + 2)  # e^{−A c²} for the one σ², shared by all lines
-    if uniform and sigma2[0] > 0.0:
+    if shared:
         for c in range(reach + 2):
-            gaussian[c] = math.exp(-h * h / (2.0 * sigma2[0]) * c * c)
+            gaussian[c] = math.exp(-A_shared * c * c)
     for block in prange(n_blocks):
         cells = np.empty((5, n))  # per cell k (nodes k, k + 1): κ, A_c, √A_c, 1/(2A_c), prefactor
         nodes = np.empty(n)  # e^{ℓ_k − L} per node k of the line
-        A = free = norm = top = 0.0
+        A, norm = A_shared, norm_shared
+        free = top = 0.0
         tables = False
-        if uniform and sigma2[0] > 0.0:
-            A = h * h / (2.0 * sigma2[0])
         for line_id in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
             line = (line_id // stride) * n * stride + line_id % stride  # no division per node
-            if uniform and sigma2[0] > 0.0:
+            if shared:
                 free = rises[line_id] / (2.0 * A)
-                norm = h / math.sqrt(2.0 * math.pi * sigma2[0])
                 for k in range(n if periodic else n - 1):
                     right = line + (k + 1 if k + 1 < n else 0) * stride
                     kappa = min(0.5 * (curvature[line + k * stride] + curvature[right]), A)
@@ -1282,17 +1283,10 @@ class SplittingStep:
         with ``full``, a whole one (σ² = 2 D_k Δt: two half steps in one pass, the Gaussian's
         semigroup). The passes alternate between the two arrays ``spares``; returns the one that
         holds the result."""
-        source, targets = ell, spares
-        curvature = self._buffer(2, self.grid.size)[1]
-        for axis, ((k, periodic, _, _), variance) in enumerate(zip(self.noise, self.variances,
-                                                                   strict=True)):
-            ax, stride = self.grid.axes[k], int(self.grid.strides[k])
-            target = targets[axis % 2]
-            rises, bulges = self._buffer(2, self.grid.size // ax.n)
-            _line_bounds(source[0], ax.n, stride, periodic, curvature, rises, bulges)
-            _diffuse_fitted_kernel(source, source[0], curvature, rises, bulges,
-                                   float(source.max()), variance * (2.0 if full else 1.0),
-                                   ax.spacing, ax.n, stride, periodic, True, target)
+        source = ell
+        for axis, noise in enumerate(zip(self.noise, self.variances, strict=True)):
+            target = spares[axis % 2]
+            self._fitted_pass(noise, source, source[0], full, True, target)
             source = target
         return source
 
@@ -1303,17 +1297,26 @@ class SplittingStep:
         between ``z`` and ``spare`` (both are overwritten). Returns the array that holds the
         result: ``spare`` after an odd number of noise axes, ``z`` after an even one."""
         source, target = z, spare
-        ell, curvature = self._buffer(2, self.grid.size)
-        for (k, periodic, _, _), variance in zip(self.noise, self.variances, strict=True):
-            ax, stride = self.grid.axes[k], int(self.grid.strides[k])
+        ell = self._buffer(2, self.grid.size)[0]
+        for noise in zip(self.noise, self.variances, strict=True):
             _fitting_kernel(source, reference, ell)
-            rises, bulges = self._buffer(2, self.grid.size // ax.n)
-            _line_bounds(ell, ax.n, stride, periodic, curvature, rises, bulges)
-            _diffuse_fitted_kernel(source, ell, curvature, rises, bulges, float(ell.max()),
-                                   variance * (2.0 if full else 1.0), ax.spacing, ax.n, stride,
-                                   periodic, False, target)
+            self._fitted_pass(noise, source, ell, full, False, target)
             source, target = target, source
         return source
+
+    def _fitted_pass(self, noise, source: np.ndarray, ell: np.ndarray, full: bool,
+                     log_out: bool, target: np.ndarray):
+        """One noise axis (``noise`` = (an entry of :attr:`noise`, its variances)) of the fitted
+        diffusion of ``source`` with log φ = ``ell``, into ``target``
+        (:func:`_diffuse_fitted_kernel`)."""
+        (k, periodic, _, _), variance = noise
+        ax, stride = self.grid.axes[k], int(self.grid.strides[k])
+        curvature = self._buffer(2, self.grid.size)[1]
+        rises, bulges = self._buffer(2, self.grid.size // ax.n)
+        _line_bounds(ell, ax.n, stride, periodic, curvature, rises, bulges)
+        _diffuse_fitted_kernel(source, ell, curvature, rises, bulges, float(ell.max()),
+                               variance * (2.0 if full else 1.0), ax.spacing, ax.n, stride,
+                               periodic, log_out, target)
 
     def row_maxima(self, z: np.ndarray, cost: bool = False) -> np.ndarray:
         """The row maxima of ``z`` ``(K, N)``, after multiplying it by the nodes' share of the
