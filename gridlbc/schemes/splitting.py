@@ -365,7 +365,7 @@ def _fitting_kernel(z, reference, ell):
 
 def _hessian_pairs(ndim: int) -> np.ndarray:
     """``pairs[a, b]``: the column of the index-unit Hessian component ∂_a∂_b in
-    :func:`_hessian_kernel`'s output (symmetric; d(d+1)/2 columns)."""
+    :func:`_hessian_at` (symmetric; d(d+1)/2 columns)."""
     pairs = np.empty((ndim, ndim), dtype=np.int64)
     m = 0
     for a in range(ndim):
@@ -375,76 +375,59 @@ def _hessian_pairs(ndim: int) -> np.ndarray:
     return pairs
 
 
-@functools.cache
-def _hessian_kernels(d: int):
-    """:func:`_hessian_kernel` compiled for grids of dimension ``d`` (a constant: numba unrolls
-    the loops over the axis pairs), writing the symmetric pairs in :func:`_hessian_pairs`'s
-    order into a flat view of the output."""
-
-    @jit_parallel
-    def kernel(ell, shape, strides, periodic, hessian):
-        n_last = shape[d - 1]
-        n_lines = ell.size // n_last
-        n_blocks = min(n_lines, 256)
-        flat = hessian.reshape(-1)
-        for block in prange(n_blocks):
-            up = np.zeros(d, dtype=np.int64)  # offsets of centre ± e_a from the centre
-            down = np.zeros(d, dtype=np.int64)
-            for line in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
-                first = line * n_last
-                shift = np.int64(0)  # centre − node, from the outer axes
-                for a in range(d - 1):
-                    shift += _stencil((first // strides[a]) % shape[a], a, shape, strides,
-                                      periodic, up, down)
-                for i in range(n_last):
-                    node = first + i
-                    centre = node + shift + _stencil(i, d - 1, shape, strides, periodic, up, down)
-                    middle = ell[centre]
-                    column = node * (d * (d + 1) // 2)
-                    for a in range(d):
-                        up_a, down_a = up[a], down[a]
-                        flat[column] = (ell[centre + up_a] - 2.0 * middle + ell[centre + down_a]
-                                        if up_a != 0 else 0.0)
-                        column += 1
-                        for b in range(a + 1, d):
-                            value = 0.0
-                            if up_a != 0 and up[b] != 0:
-                                value = 0.25 * (ell[centre + up_a + up[b]]
-                                                - ell[centre + up_a + down[b]]
-                                                - ell[centre + down_a + up[b]]
-                                                + ell[centre + down_a + down[b]])
-                            flat[column] = value
-                            column += 1
-
-    return kernel
-
-
-def _hessian_kernel(ell, shape, strides, periodic, hessian):
-    """hessian[p, pairs[a, b]] (:func:`_hessian_pairs`) = the second difference of ``ell`` in
-    index units at node p: ℓ(+a) − 2ℓ + ℓ(−a) on the diagonal, (ℓ(+a+b) − ℓ(+a−b) − ℓ(−a+b) +
-    ℓ(−a−b))/4 off it, about the node itself, wrapped on periodic axes; on a closed axis the
-    stencil's centre is moved in from an end to its neighbour (axes of fewer than 3 nodes have
-    no curvature). Runs line by line along the last axis, so that only the line's first node is
-    decoded. ``hessian`` C-contiguous ``(N, d(d+1)/2)``."""
-    _hessian_kernels(shape.size)(ell, shape, strides, periodic, hessian)
+def _stencils(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+    """Where :func:`_hessian_at` centres its stencil at each node, as (``place``, ``stencils``):
+    ``place`` (N,) numbers the node's position along each axis (0 inside, 1 at the first node,
+    2 at the last) as the base-3 digits Σ_a 3^a position_a, and row ``place`` of ``stencils``
+    ``(3^d, 1 + 2d)`` holds the stencil's centre offset from the node, then the offsets of its
+    +e_a and −e_a neighbours from the centre: ±s_a, wrapped on a periodic axis; on a closed axis
+    the centre is moved in from an end to its neighbour, and an axis of fewer than 3 nodes has
+    no neighbours (offsets 0). One byte per node up to d = 5 (two up to 10), against d(d+1)/2
+    numbers per node for a stored Hessian."""
+    d = grid.ndim
+    place = np.zeros(grid.shape, dtype=np.min_scalar_type(3**d - 1))
+    for a, n in enumerate(grid.shape):
+        position = np.zeros(n, dtype=place.dtype)
+        position[0], position[-1] = 1, 2
+        place += (3**a * position).astype(place.dtype).reshape([-1 if b == a else 1
+                                                                for b in range(d)])
+    stencils = np.zeros((3**d, 1 + 2 * d), dtype=np.int64)
+    for row in range(3**d):
+        for a, (n, s, periodic) in enumerate(zip(grid.shape, grid.strides, grid.periodic,
+                                                 strict=True)):
+            position = row // 3**a % 3
+            if periodic:
+                up, down = (s if position != 2 else -(n - 1) * s,
+                            -s if position != 1 else (n - 1) * s)
+            elif n < 3:
+                up = down = 0
+            else:
+                up, down = s, -s
+                stencils[row, 0] += {0: 0, 1: s, 2: -s}[position]
+            stencils[row, 1 + a], stencils[row, 1 + d + a] = up, down
+    return place.reshape(-1), stencils
 
 
 @jit_inline
-def _stencil(i, a, shape, strides, periodic, up, down):
-    """For axis a at a node of index i along it: sets up[a], down[a] to the offsets of the
-    stencil centre's ± e_a neighbours (wrapped on a periodic axis; 0 on a closed axis of fewer
-    than 3 nodes) and returns the centre's offset from the node along a (±s_a at the ends of a
-    closed axis)."""
-    n, s = shape[a], strides[a]
-    if periodic[a]:
-        up[a] = s if i < n - 1 else -(n - 1) * s
-        down[a] = -s if i > 0 else (n - 1) * s
-        return 0
-    if n < 3:
-        up[a] = down[a] = 0
-        return 0
-    up[a], down[a] = s, -s
-    return s if i == 0 else (-s if i == n - 1 else 0)
+def _hessian_at(ell, node, stencil, d, hessian):
+    """``hessian[pairs[a, b]]`` (:func:`_hessian_pairs`) = the second difference of ``ell`` in
+    index units at ``node``, on ``stencil``, the row of :func:`_stencils` for the node's place:
+    ℓ(+a) − 2ℓ + ℓ(−a) on the diagonal, ((ℓ(+a+b) − ℓ(−a+b)) − (ℓ(+a−b) − ℓ(−a−b)))/4 off it,
+    exactly 0 along an axis of fewer than 3 nodes (its offsets are 0) without a branch. ``d``
+    is the grid's dimension, a compile-time constant where the caller's is (the loops unroll)."""
+    centre = np.int64(node) + stencil[0]
+    middle = ell[centre]
+    column = 0
+    for a in range(d):
+        up_a, down_a = stencil[1 + a], stencil[1 + d + a]
+        hessian[column] = ell[centre + up_a] - 2.0 * middle + ell[centre + down_a]
+        column += 1
+        for b in range(a + 1, d):
+            up_b, down_b = stencil[1 + b], stencil[1 + d + b]
+            hessian[column] = 0.25 * ((ell[centre + up_a + up_b] - ell[centre + down_a + up_b])
+                                      - (ell[centre + up_a + down_b]
+                                         - ell[centre + down_a + down_b]))
+            column += 1
 
 
 @jit_inline
@@ -461,56 +444,65 @@ def _curvature_compact_kernels(d: int):
     as :func:`_advect_kernels` does."""
 
     @jit_parallel
-    def kernel(ell, base, code, frac, offsets, columns, hessian, add_mean, out):
+    def kernel(ell, base, code, frac, offsets, columns, place, stencils, record, places,
+               add_mean, out):
         n_nodes = base.size
+        n_blocks = min(n_nodes, 256)
         fractions = frac.reshape(-1)
         vertex = offsets.reshape(-1)
         column = columns.reshape(-1)
-        width = hessian.shape[1]
-        flat = hessian.reshape(-1)
-        for p in prange(n_nodes):
-            node = np.int64(base[p])
-            c = np.int64(code[p])
-            previous = _Q
-            lin = 0.0
-            low, high = np.inf, -np.inf
-            nearest, largest = node, -1
-            for j in range(d + 1):
-                fj = np.int64(fractions[p * d + j]) if j < d else np.int64(0)
-                v = node + vertex[c * (d + 1) + j]
-                value = ell[np.uint64(v)]
-                lin += (previous - fj) * value
-                if previous > fj:
-                    low, high = min(low, value), max(high, value)
-                if previous - fj > largest:
-                    nearest, largest = v, previous - fj
-                previous = fj
-            row = np.uint64(nearest * width)
-            acc = 0.0
-            for k in range(d):
-                cross = 0.0
-                for m in range(k + 1, d):
-                    cross += (np.float64(fractions[p * d + m])
-                              * flat[row + np.uint64(column[(c * d + k) * d + m])])
-                f = np.float64(fractions[p * d + k]) * (1.0 / _Q)
-                acc += (1.0 - f) * (f * flat[row + np.uint64(column[(c * d + k) * d + k])]
-                                    + 2.0 * cross * (1.0 / _Q))
-            mean = lin * (1.0 / _Q)
-            term = _limited(mean, -0.5 * acc, low, high)
-            out[p] = mean + term if add_mean else term
+        for block in prange(n_blocks):
+            hessian = np.empty(d * (d + 1) // 2)  # scratch
+            for p in range(block * n_nodes // n_blocks, (block + 1) * n_nodes // n_blocks):
+                node = np.int64(base[p])
+                c = np.int64(code[p])
+                previous = _Q
+                lin = 0.0
+                low, high = np.inf, -np.inf
+                nearest, largest = node, -1
+                for j in range(d + 1):
+                    fj = np.int64(fractions[p * d + j]) if j < d else np.int64(0)
+                    v = node + vertex[c * (d + 1) + j]
+                    value = ell[np.uint64(v)]
+                    lin += (previous - fj) * value
+                    if previous > fj:
+                        low, high = min(low, value), max(high, value)
+                    if previous - fj > largest:
+                        nearest, largest = v, previous - fj
+                    previous = fj
+                if record:
+                    places[p] = place[nearest]
+                _hessian_at(ell, nearest, stencils[np.int64(places[p])], d, hessian)
+                acc = 0.0
+                for k in range(d):
+                    cross = 0.0
+                    for m in range(k + 1, d):
+                        cross += (np.float64(fractions[p * d + m])
+                                  * hessian[column[(c * d + k) * d + m]])
+                    f = np.float64(fractions[p * d + k]) * (1.0 / _Q)
+                    acc += (1.0 - f) * (f * hessian[column[(c * d + k) * d + k]]
+                                        + 2.0 * cross * (1.0 / _Q))
+                mean = lin * (1.0 / _Q)
+                term = _limited(mean, -0.5 * acc, low, high)
+                out[p] = mean + term if add_mean else term
 
     return kernel
 
 
-def _curvature_compact_kernel(ell, base, code, frac, offsets, columns, hessian, add_mean, out):
+def _curvature_compact_kernel(ell, base, code, frac, offsets, columns, place, stencils, record,
+                              places, add_mean, out):
     """out[p] = the limited curvature term of the compact feet (see
     :meth:`SplittingStep.curvature_correction`), plus the linear mean Σ_j w_j ell[v_j] when
     ``add_mean`` (the fitted log drift in one pass): with the sorted fractions f_k of walk steps
     k along axes π_k, M_{π_k π_k} = f_k (1 − f_k) and, for k < l, M_{π_k π_l} = f_l (1 − f_k);
-    H at the vertex of largest weight (the first on a tie), its component ∂_{π_k}∂_{π_l} in
-    column ``columns[code[p], k, l]`` of ``hessian`` (:func:`_hessian_columns`)."""
-    _curvature_compact_kernels(frac.shape[1])(ell, base, code, frac, offsets, columns, hessian,
-                                              add_mean, out)
+    H at the vertex of largest weight (the first on a tie), computed there from ``ell``
+    (:func:`_hessian_at`; a stored table of it would be gathered at the feet, five times the
+    bytes of ``ell``), its component ∂_{π_k}∂_{π_l} at :func:`_hessian_pairs` index
+    ``columns[code[p], k, l]`` (:func:`_hessian_columns`). The stencil's row is ``places[p]``,
+    the ``place`` (:func:`_stencils`) of that vertex; the feet being fixed, it is gathered once,
+    by a call with ``record``, and read in order by the later ones."""
+    _curvature_compact_kernels(frac.shape[1])(ell, base, code, frac, offsets, columns, place,
+                                              stencils, record, places, add_mean, out)
 
 
 def _hessian_columns(walk_axes: np.ndarray, pairs: np.ndarray) -> np.ndarray:
@@ -520,17 +512,20 @@ def _hessian_columns(walk_axes: np.ndarray, pairs: np.ndarray) -> np.ndarray:
 
 
 @jit_parallel
-def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, add_mean, out):
+def _curvature_table_kernel(ell, idx, weights, place, stencils, shape, strides, pairs, add_mean,
+                            out):
     """:func:`_curvature_compact_kernel` for the table feet: the walk step j → j + 1 runs along
     the axis whose stride (or wrap −(n − 1) × stride) is idx[p, j+1] − idx[p, j], and its
-    fraction is f_j = Σ_{i>j} weights[p, i]; ``add_mean`` as there. Nodes are taken in blocks, so that the scratch of
-    the walk's axes and fractions is allocated once per block."""
+    fraction is f_j = Σ_{i>j} weights[p, i]; ``add_mean`` as there. Nodes are taken in blocks, so
+    that the scratch of the walk's axes and fractions and of the Hessian is allocated once per
+    block."""
     n_nodes, n_vertices = idx.shape
     d = n_vertices - 1
     n_blocks = min(n_nodes, 256)
     for block in prange(n_blocks):
         axis = np.empty(d, dtype=np.int64)
         f = np.empty(d)
+        hessian = np.empty(d * (d + 1) // 2)
         for p in range(block * n_nodes // n_blocks, (block + 1) * n_nodes // n_blocks):
             tail = 0.0
             lin = 0.0
@@ -551,13 +546,13 @@ def _curvature_table_kernel(ell, idx, weights, shape, strides, pairs, hessian, a
                     low, high = min(low, value), max(high, value)
                 if weights[p, j] > largest:
                     node, largest = np.int64(idx[p, j]), weights[p, j]
+            _hessian_at(ell, node, stencils[np.int64(place[node])], d, hessian)
             acc = 0.0
             for k in range(d):
                 cross = 0.0
                 for m in range(k + 1, d):
-                    cross += f[m] * hessian[node, pairs[axis[k], axis[m]]]
-                acc += (1.0 - f[k]) * (f[k] * hessian[node, pairs[axis[k], axis[k]]]
-                                       + 2.0 * cross)
+                    cross += f[m] * hessian[pairs[axis[k], axis[m]]]
+                acc += (1.0 - f[k]) * (f[k] * hessian[pairs[axis[k], axis[k]]] + 2.0 * cross)
             term = _limited(lin, -0.5 * acc, low, high)
             out[p] = lin + term if add_mean else term
 
@@ -762,6 +757,7 @@ def _diffuse_periodic_kernel(z, ratio, n, stride):
 _FIT_WINDOW = 20.0  # cells whose integrand stays below e^{−20} of the largest are skipped
 _FIT_IMAGES = 16  # the fitted diffusion scans at most this many line lengths to each side
 _FIT_TABLE_RANGE = 600.0  # lines whose ℓ spans at most this take the integrand from tables
+_FIT_SLACK = 30.0  # the sums are rescaled only when a cell peaks this far above their scale
 
 
 @jit_inline
@@ -794,59 +790,57 @@ def _cell_mass(root, mu, top, E, F0, F1, prefactor):
     elif hi <= 0.0:
         mass = F1 * erfcx(-hi) - F0 * erfcx(-lo)
     else:
-        mass = 2.0 * math.exp(top - E) - F1 * erfcx(hi) - F0 * erfcx(-lo)
+        peak = 1.0 if top == E else math.exp(top - E)  # the cell that set E: no exp
+        mass = 2.0 * peak - F1 * erfcx(hi) - F0 * erfcx(-lo)
     return max(prefactor * mass, 0.0)
 
 
-@jit_parallel
-def _line_bounds(ell, n, stride, periodic, curvature, rises, bulges):
-    """Per node p of one axis: ``curvature[p]`` = ℓ_{k−1} − 2ℓ_k + ℓ_{k+1} (wrapped on a periodic
-    line; at the ends of a closed one, the neighbour's). Per line: ``rises`` the largest
-    |ℓ_{k+1} − ℓ_k| between neighbours and ``bulges`` the most the curved interpolant of the
-    fitted diffusion rises above the nodes, max(0, −min κ)/8: together they bound how far the
-    fitted diffusion scans."""
-    n_lines = ell.size // n
-    for task in prange(n_lines):
-        line = (task // stride) * n * stride + task % stride
-        rise = 0.0
-        lowest = 0.0
-        for i in range(n):
-            left = i - 1 if i > 0 else (n - 1 if periodic else 1)
-            right = i + 1 if i < n - 1 else (0 if periodic else n - 2)
-            if not periodic and (i == 0 or i == n - 1):
-                inner = 1 if i == 0 else n - 2  # the neighbour's curvature
-                left, right, centre = inner - 1, inner + 1, inner
-            else:
-                centre = i
-            kappa = (ell[line + left * stride] - 2.0 * ell[line + centre * stride]
-                     + ell[line + right * stride])
-            curvature[line + i * stride] = kappa
-            lowest = min(lowest, kappa)
-            if periodic or i < n - 1:
-                j = i + 1 if i + 1 < n else 0
-                rise = max(rise, abs(ell[line + j * stride] - ell[line + i * stride]))
-        rises[task] = rise
-        bulges[task] = -lowest / 8.0
+@jit_inline
+def _line_bounds(ell, line, n, stride, periodic, curvature):
+    """For the line starting at ``line``: ``curvature[i]`` = ℓ_{i−1} − 2ℓ_i + ℓ_{i+1} at its node
+    i (wrapped on a periodic line; at the ends of a closed one, the neighbour's), and returns
+    (rise, bulge): the largest |ℓ_{i+1} − ℓ_i| between neighbours, and the most the curved
+    interpolant of the fitted diffusion rises above the nodes, max(0, −min κ)/8. Together
+    they bound how far the fitted diffusion scans."""
+    rise = 0.0
+    lowest = 0.0
+    for i in range(n):
+        left = i - 1 if i > 0 else (n - 1 if periodic else 1)
+        right = i + 1 if i < n - 1 else (0 if periodic else n - 2)
+        if not periodic and (i == 0 or i == n - 1):
+            inner = 1 if i == 0 else n - 2  # the neighbour's curvature
+            left, right, centre = inner - 1, inner + 1, inner
+        else:
+            centre = i
+        kappa = (ell[line + left * stride] - 2.0 * ell[line + centre * stride]
+                 + ell[line + right * stride])
+        curvature[i] = kappa
+        lowest = min(lowest, kappa)
+        if periodic or i < n - 1:
+            j = i + 1 if i + 1 < n else 0
+            rise = max(rise, abs(ell[line + j * stride] - ell[line + i * stride]))
+    return rise, -lowest / 8.0
 
 
 @jit_parallel
-def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h, n, stride,
-                           periodic, log_out, out):
+def _diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_out, out):
     """out[r, p] = ∫ G_σ(x_p − x) φ̄(x) ȳ_r(x) dx along one axis, for y = z/φ and ell = log φ at
     the nodes: ȳ_r the piecewise-linear interpolant of y_r, φ̄ = exp(ℓ̄) with ℓ̄ on each cell the
-    quadratic through its two nodes with the cell's mean second difference κ (from
-    ``curvature``, capped at A below so that every cell's integrand stays concave in the
-    exponent; exact for quadratic ℓ), G_σ the Gaussian of variance σ² = ``sigma2`` (one value, or
+    quadratic through its two nodes with the mean of their second differences κ
+    (:func:`_line_bounds`), capped at A below so that every cell's integrand stays concave in
+    the exponent (exact for quadratic ℓ), G_σ the Gaussian of variance σ² = ``sigma2`` (one value, or
     one per node), continued across the ends by wrapping (periodic) or mirroring (closed). The
     curvature removes the bias of a linear ℓ̄, which overestimates v = −λℓ by h²v''/8 mid-cell.
 
     Each side of x_p is scanned cell by cell once, integrating every cell whose peak of the
-    log-integrand −(x_p − x)²/(2σ²) + ℓ̄(x) is within 20 (``_FIT_WINDOW``) of the largest peak E
-    seen so far; the sums are kept relative to e^E and rescaled when E rises, so no cell within
-    20 of the final E is missed. A cell c cells away peaks at most at −A c² + ℓ
-    (A = h²/(2σ²), ℓ its near node's, plus the line's ``bulges``), and beyond c > L/(2A), L the line's ``rises``, no later
-    cell can peak higher than that: the scan stops there once it falls below E − 20, or once
-    −A c² + ``ell_max`` (plus the bulge) does (after at most ``_FIT_IMAGES`` line lengths).
+    log-integrand −(x_p − x)²/(2σ²) + ℓ̄(x) is within 20 (``_FIT_WINDOW``) of the largest peak
+    seen so far, so no cell within 20 of the final largest peak is missed. The sums are kept
+    relative to a scale e^E, E raised to a cell's peak (and the sums rescaled) only when that
+    peak passes E + 30 (``_FIT_SLACK``): nothing overflows, and few nodes pay an exp for it. A
+    cell c cells away peaks at most at −A c² + ℓ (A = h²/(2σ²), ℓ its near node's, plus the
+    line's bulge), and beyond c > L/(2A), L the line's rise (:func:`_line_bounds`), no later
+    cell can peak higher than that: the scan stops there once it falls below the window, or
+    once −A c² + ``ell_max`` (plus the bulge) does (after at most ``_FIT_IMAGES`` line lengths).
 
     With one σ² for all nodes, each cell's constants (:func:`_cell_constants`) are computed once
     per line, not once per node that integrates the cell; the lines are taken in blocks, each
@@ -874,16 +868,17 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
     for block in prange(n_blocks):
         cells = np.empty((5, n))  # per cell k (nodes k, k + 1): κ, A_c, √A_c, 1/(2A_c), prefactor
         nodes = np.empty(n)  # e^{ℓ_k − L} per node k of the line
+        curvature = np.empty(n)  # κ per node of the line
         A, norm = A_shared, norm_shared
         free = top = 0.0
         tables = False
         for line_id in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
             line = (line_id // stride) * n * stride + line_id % stride  # no division per node
+            rise, bulge = _line_bounds(ell, line, n, stride, periodic, curvature)
             if shared:
-                free = rises[line_id] / (2.0 * A)
+                free = rise / (2.0 * A)
                 for k in range(n if periodic else n - 1):
-                    right = line + (k + 1 if k + 1 < n else 0) * stride
-                    kappa = min(0.5 * (curvature[line + k * stride] + curvature[right]), A)
+                    kappa = min(0.5 * (curvature[k] + curvature[k + 1 if k + 1 < n else 0]), A)
                     cells[0, k] = kappa
                     cells[1, k], cells[2, k], cells[3, k], cells[4, k] = _cell_constants(A, kappa)
                 top, low = -np.inf, np.inf
@@ -897,13 +892,13 @@ def _diffuse_fitted_kernel(y, ell, curvature, rises, bulges, ell_max, sigma2, h,
                 p = line + i * stride
                 if not uniform and sigma2[p] > 0.0:
                     A = h * h / (2.0 * sigma2[p])
-                    free = rises[line_id] / (2.0 * A)
+                    free = rise / (2.0 * A)
                     norm = h / math.sqrt(2.0 * math.pi * sigma2[p])
                 if sigma2[0 if uniform else p] <= 0.0:  # no noise at this node: z' = z
                     for r in range(y.shape[0]):
                         out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
                     continue
-                _diffuse_fitted_node(y, ell, curvature, bulges[line_id], ell_max, A, free, norm,
+                _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm,
                                      n, stride, periodic, log_out, out, line, i, cells,
                                      uniform, tables, nodes, gaussian, top)
 
@@ -913,15 +908,16 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
                          log_out, out, line, i, cells, uniform, tables, nodes, gaussian,
                          line_top):
     """:func:`_diffuse_fitted_kernel` at node i of the line starting at ``line``, for the
-    Gaussian's A = h²/(2σ²) there, ``free`` = the line's rises/(2A), ``norm`` = h/√(2πσ²),
+    Gaussian's A = h²/(2σ²) there, ``free`` = the line's rise/(2A), ``norm`` = h/√(2πσ²),
     ``bulge`` the line's; ``cells``: the line's cell constants when ``uniform`` (one σ²); with
     ``tables``, ``nodes`` = e^{ℓ_k − L}, ``gaussian`` = e^{−A c²} and ``line_top`` = L (the
     kernel's docstring)."""
     n_rhs = y.shape[0]
     p = line + i * stride
     reach = _FIT_IMAGES * n
-    peak = ell[p]  # E: the largest cell peak so far; the sums are kept relative to e^E
-    factor = math.exp(line_top - peak) if tables else 0.0  # e^{L − E}
+    peak = ell[p]  # the largest cell peak so far, which sets the window
+    scale = peak  # E: the sums are kept relative to e^E, raised only when a peak passes E + 30
+    factor = 1.0 / nodes[i] if tables else 0.0  # e^{L − E}, E = ℓ_i: no exp
     accumulated = False
     mass = 0.0  # log_out: ∫ G_σ φ̄ over e^E (in a register, not in ``out``)
     if not log_out:
@@ -934,7 +930,7 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
         heading = step  # the direction of the folded index (mirrors turn it round)
         near_log = ell[p]  # the log-integrand at the near node
         near_value = (nodes[i] * factor if tables  # and the integrand over e^E (−1: not known)
-                      else math.exp(near_log - peak))
+                      else math.exp(near_log - scale))
         for c in range(reach):
             far = near + step
             k_far = k_near + heading
@@ -962,7 +958,7 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
                 kappa, Ac, root = cells[0, cell], cells[1, cell], cells[2, cell]
                 half_inverse, prefactor = cells[3, cell], cells[4, cell]
             else:
-                kappa = min(0.5 * (curvature[k0] + curvature[k1]), A)
+                kappa = min(0.5 * (curvature[lo_node] + curvature[hi_node]), A)
                 Ac, root, half_inverse, prefactor = _cell_constants(A, kappa)
             B = ell[k1] - ell[k0] - 2.0 * A * a - 0.5 * kappa
             C = ell[k0] - A * a * a
@@ -971,8 +967,13 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
             top = C + s * (B - Ac * s)  # the cell's peak
             k_cell_near = k_near
             near, k_near = far, k_far
-            if top > peak:  # a new largest peak: rescale what is summed so far to it
-                rescale = math.exp(peak - top)
+            if top > peak:
+                peak = top
+            elif top < peak - _FIT_WINDOW:
+                near_log, near_value = far_log, -1.0
+                continue
+            if top > scale + _FIT_SLACK:  # rescale what is summed so far to e^top
+                rescale = math.exp(scale - top)
                 mass *= rescale
                 if accumulated and not log_out:
                     for r in range(n_rhs):
@@ -980,22 +981,19 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
                 if near_value >= 0.0:
                     near_value *= rescale
                 factor *= rescale
-                peak = top
-            elif top < peak - _FIT_WINDOW:
-                near_log, near_value = far_log, -1.0
-                continue
+                scale = top
             if tables:
                 if near_value < 0.0:
                     near_value = nodes[k_cell_near] * factor * gaussian[c]
                 far_value = nodes[k_far] * factor * gaussian[c + 1]
             else:
                 if near_value < 0.0:
-                    near_value = math.exp(near_log - peak)
-                far_value = math.exp(far_log - peak)
+                    near_value = math.exp(near_log - scale)
+                far_value = math.exp(far_log - scale)
             F0, F1 = (near_value, far_value) if side == 0 else (far_value, near_value)
             near_log, near_value = far_log, far_value
             accumulated = True
-            total = _cell_mass(root, mu, top, peak, F0, F1, prefactor)
+            total = _cell_mass(root, mu, top, scale, F0, F1, prefactor)
             if log_out:
                 mass += total
                 continue
@@ -1005,9 +1003,9 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
             for r in range(n_rhs):
                 out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
     if log_out:
-        out[0, p] = peak + math.log(mass * norm)
+        out[0, p] = scale + math.log(mass * norm)
         return
-    norm *= math.exp(peak)
+    norm *= math.exp(scale)
     for r in range(n_rhs):
         out[r, p] *= norm
 
@@ -1113,7 +1111,7 @@ class SplittingStep:
         self.cost_factor = np.exp(self.log_cost)
         self.mid_cost_factor = np.exp(self.log_mid_cost)
         self._buffers = {}
-        self._hessian = None  # (N, d(d+1)/2) float32, allocated by the first fitted step
+        self._stencils = None  # where the Hessian's stencils sit (_stencils; first fitted step)
         self.iterations: list[int] = []  # direct tridiagonal solves: no iterations
 
     @staticmethod
@@ -1252,21 +1250,24 @@ class SplittingStep:
         log φ̄ itself (the fitted log drift in one pass). Written into ``out`` ``(N,)``, by
         default a scratch array (overwritten by the next call), which is returned."""
         grid = self.grid
-        if self._hessian is None:
-            self._hessian = np.empty((grid.size, grid.ndim * (grid.ndim + 1) // 2), np.float32)
+        record = self._stencils is None
+        if record:
+            self._stencils = _stencils(grid)
+            self._places = np.empty(grid.size if self.layout == "compact" else 0,
+                                    self._stencils[0].dtype)
             self._correction = np.empty(grid.size)
             self._pairs = _hessian_pairs(grid.ndim)
             if self.layout == "compact":
                 self._columns = _hessian_columns(_walk_axes(grid, self.offsets), self._pairs)
         shape = np.array(grid.shape, dtype=np.int64)
-        _hessian_kernel(ell, shape, grid.strides, grid.periodic, self._hessian)
         out = self._correction if out is None else out
         if self.layout == "compact":
             _curvature_compact_kernel(ell, self.base, self.code, self.frac, self.offsets,
-                                      self._columns, self._hessian, add_mean, out)
+                                      self._columns, *self._stencils, record, self._places,
+                                      add_mean, out)
         else:
-            _curvature_table_kernel(ell, self.idx, self.weights, shape, grid.strides,
-                                    self._pairs, self._hessian, add_mean, out)
+            _curvature_table_kernel(ell, self.idx, self.weights, *self._stencils, shape,
+                                    grid.strides, self._pairs, add_mean, out)
         return out
 
     def log_drift(self, ell: np.ndarray, out: np.ndarray):
@@ -1311,10 +1312,7 @@ class SplittingStep:
         (:func:`_diffuse_fitted_kernel`)."""
         (k, periodic, _, _), variance = noise
         ax, stride = self.grid.axes[k], int(self.grid.strides[k])
-        curvature = self._buffer(2, self.grid.size)[1]
-        rises, bulges = self._buffer(2, self.grid.size // ax.n)
-        _line_bounds(ell, ax.n, stride, periodic, curvature, rises, bulges)
-        _diffuse_fitted_kernel(source, ell, curvature, rises, bulges, float(ell.max()),
+        _diffuse_fitted_kernel(source, ell, float(ell.max()),
                                variance * (2.0 if full else 1.0), ax.spacing, ax.n, stride,
                                periodic, log_out, target)
 
