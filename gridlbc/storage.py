@@ -42,8 +42,8 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
     stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
     fitted = settings.reference is not None
     rows = n_rhs + (1 if fitted and not is_own_reference(settings.reference, n_rhs) else 0)
-    # + log φ, κ, the curvature term and its float32 Hessian (d(d+1)/2 per node) when fitted
-    curved = 3 + grid.ndim * (grid.ndim + 1) / 4 if fitted else 0
+    # + log φ, the curvature term and (at most two bytes per node) its stencils' places, fitted
+    curved = 2.25 if fitted else 0
     working = int((3 * rows + grid.ndim + curved) * grid.size * 8)
     operator = METHODS[settings.method].estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)

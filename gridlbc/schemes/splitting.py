@@ -1112,6 +1112,7 @@ class SplittingStep:
         self.mid_cost_factor = np.exp(self.log_mid_cost)
         self._buffers = {}
         self._stencils = None  # where the Hessian's stencils sit (_stencils; first fitted step)
+        self._correction = None  # the curvature term's default output (first call without one)
         self.iterations: list[int] = []  # direct tridiagonal solves: no iterations
 
     @staticmethod
@@ -1232,7 +1233,7 @@ class SplittingStep:
         if reference is None:
             ell = np.empty(0)
         else:
-            ell = self._buffer(2, self.grid.size)[0]  # log φ of the reference
+            ell = self._buffer(1, self.grid.size)[0]  # log φ of the reference
             if _fitting_kernel(z, reference, ell) == 0:
                 ones_row = reference
         if self.layout == "compact":
@@ -1255,12 +1256,14 @@ class SplittingStep:
             self._stencils = _stencils(grid)
             self._places = np.empty(grid.size if self.layout == "compact" else 0,
                                     self._stencils[0].dtype)
-            self._correction = np.empty(grid.size)
             self._pairs = _hessian_pairs(grid.ndim)
             if self.layout == "compact":
                 self._columns = _hessian_columns(_walk_axes(grid, self.offsets), self._pairs)
         shape = np.array(grid.shape, dtype=np.int64)
-        out = self._correction if out is None else out
+        if out is None:
+            if self._correction is None:
+                self._correction = np.empty(grid.size)
+            out = self._correction
         if self.layout == "compact":
             _curvature_compact_kernel(ell, self.base, self.code, self.frac, self.offsets,
                                       self._columns, *self._stencils, record, self._places,
@@ -1298,7 +1301,7 @@ class SplittingStep:
         between ``z`` and ``spare`` (both are overwritten). Returns the array that holds the
         result: ``spare`` after an odd number of noise axes, ``z`` after an even one."""
         source, target = z, spare
-        ell = self._buffer(2, self.grid.size)[0]
+        ell = self._buffer(1, self.grid.size)[0]
         for noise in zip(self.noise, self.variances, strict=True):
             _fitting_kernel(source, reference, ell)
             self._fitted_pass(noise, source, ell, full, False, target)
