@@ -170,6 +170,33 @@ def test_fitting_makes_the_swingup_prediction_honest():
     assert errors[None] < -0.12, errors
 
 
+def test_fitted_diffusion_never_raises_the_line_maximum():
+    """Discrete maximum principle. The line is the 21⁴ gymnast's p₂ line where v(x₀) ran away to
+    −1115 at Δt = 0.023 (a two-node plateau of log z between cliffs: the cell's quadratic, with
+    its nodes' mean second difference −112, bulges 14 above both nodes; one uncapped pass lifted
+    the plateau by 8.3). Capped, log ∫ G_σ φ̄ stays at or below the line's largest ℓ (to
+    rounding), the plateau itself is what moves, and the linear path scales all rows by the
+    same factor of φ: its reference row is capped at e^{max ℓ} and the step is still additive
+    in y."""
+    ell = np.array([-168.92, -168.8, -170.0, -169.61, -168.42, -144.25, -142.49, -97.32, 0.0,
+                    0.0, -127.08, -134.24, -125.54, -153.9, -210.59, -223.22, -224.49, -221.81,
+                    -221.61, -221.32, -221.17])
+    n, h, variance = ell.size, 0.9, np.array([0.02])
+    out = np.empty((1, n))
+    splitting._diffuse_fitted_kernel(ell[None], ell, ell.max(), variance, h, n, 1, False, True,
+                                     out)
+    assert out.max() <= ell.max() + 1e-12
+    assert out[0, 8] == pytest.approx(0.0, abs=1e-12)  # the cap binds on the plateau
+    rng = np.random.default_rng(3)
+    y = np.vstack([np.ones(n), rng.random(n), np.zeros(n)])
+    y[2] = y[0] + y[1]
+    linear = np.empty((3, n))
+    splitting._diffuse_fitted_kernel(y, ell, ell.max(), variance, h, n, 1, False, False, linear)
+    assert linear[0].max() <= np.exp(ell.max()) * (1 + 1e-12)
+    np.testing.assert_allclose(np.log(linear[0]), out[0], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(linear[2], linear[0] + linear[1], rtol=1e-12)
+
+
 @pytest.mark.parametrize("periodic", [False, True])
 @pytest.mark.parametrize("variance", [0.05, 0.003])
 def test_fitted_diffusion_kernel_matches_numpy_twin(periodic, variance, rng):

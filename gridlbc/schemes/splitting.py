@@ -851,9 +851,17 @@ def _diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_
     (``_FIT_TABLE_RANGE``): every factor of a cell within the window is then far from
     underflow and overflow (elsewhere, at small temperatures, each is an exp as before).
 
+    A discrete maximum principle: where the reference's own result ψ(x_p) = ∫ G_σ φ̄ exceeds
+    e^L, L the line's largest ℓ, every row at p is scaled by e^L/ψ(x_p) (a factor of φ alone,
+    so the step stays linear and non-negative in y). The exact heat kernel never does that
+    where φ's peaks are resolved (a Gaussian peak of variance s between two nodes lifts them
+    only if h > 2√s); on a grid too coarse for ℓ, ℓ̄'s quadratics bulge above their nodes, and
+    without the cap each step would lift the largest value again, a growth of z that sends v
+    below zero (the 21⁴ gymnast at Δt = 0.023 reached v(x₀) = −1115).
+
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
-    the integral, log ∫ G_σ φ̄: the reference advanced alone, in the log domain (nothing
-    underflows however steep ℓ is)."""
+    the integral, log ∫ G_σ φ̄ (capped at L): the reference advanced alone, in the log domain
+    (nothing underflows however steep ℓ is)."""
     n_lines = y.shape[1] // n
     n_blocks = min(n_lines, 256)
     uniform = sigma2.size == 1
@@ -875,15 +883,15 @@ def _diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_
         for line_id in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
             line = (line_id // stride) * n * stride + line_id % stride  # no division per node
             rise, bulge = _line_bounds(ell, line, n, stride, periodic, curvature)
+            top, low = -np.inf, np.inf
+            for k in range(n):
+                top, low = max(top, ell[line + k * stride]), min(low, ell[line + k * stride])
             if shared:
                 free = rise / (2.0 * A)
                 for k in range(n if periodic else n - 1):
                     kappa = min(0.5 * (curvature[k] + curvature[k + 1 if k + 1 < n else 0]), A)
                     cells[0, k] = kappa
                     cells[1, k], cells[2, k], cells[3, k], cells[4, k] = _cell_constants(A, kappa)
-                top, low = -np.inf, np.inf
-                for k in range(n):
-                    top, low = max(top, ell[line + k * stride]), min(low, ell[line + k * stride])
                 tables = top - low <= _FIT_TABLE_RANGE
                 if tables:
                     for k in range(n):
@@ -994,18 +1002,19 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
             near_log, near_value = far_log, far_value
             accumulated = True
             total = _cell_mass(root, mu, top, scale, F0, F1, prefactor)
+            mass += total
             if log_out:
-                mass += total
                 continue
             # ∫₀¹ s e^{f} ds from ∫₀¹ (s − μ) e^{f} ds = (e^{f(0)} − e^{f(1)})/(2A_c)
             w1 = max(mu * total + (F0 - F1) * half_inverse, 0.0)
             w0 = max(total - w1, 0.0)
             for r in range(n_rhs):
                 out[r, p] += w0 * y[r, k0] + w1 * y[r, k1]
+    excess = scale + math.log(mass * norm) - line_top  # log ∫ G_σ φ̄ above the line's top
     if log_out:
-        out[0, p] = scale + math.log(mass * norm)
+        out[0, p] = line_top + min(excess, 0.0)
         return
-    norm *= math.exp(scale)
+    norm *= math.exp(scale - max(excess, 0.0))
     for r in range(n_rhs):
         out[r, p] *= norm
 
@@ -1014,7 +1023,8 @@ def diffuse_fitted_numpy(y: np.ndarray, ell: np.ndarray, variance: float, h: flo
                          periodic: bool, points: int = 64, images: int = 3) -> np.ndarray:
     """Plain-numpy twin of :func:`_diffuse_fitted_kernel` on one line (``y`` ``(K, n)``, ``ell``
     ``(n,)``): the same integral by the midpoint rule with ``points`` per cell over ``images``
-    line lengths to each side, every cell taken (no window)."""
+    line lengths to each side, every cell taken (no window), and the kernel's cap at the line's
+    largest φ."""
     n = ell.size
     period = n if periodic else 2 * (n - 1)
     if periodic:
@@ -1037,7 +1047,9 @@ def diffuse_fitted_numpy(y: np.ndarray, ell: np.ndarray, variance: float, h: flo
     for i in range(n):
         x = (m[:, None] - i + s) * h
         weight = np.exp(-x * x / (2 * variance) + log_phi) * h / points
-        out[:, i] = (y_bar * weight).sum(axis=(1, 2)) / np.sqrt(2 * np.pi * variance)
+        reference = weight.sum() / np.sqrt(2 * np.pi * variance)  # ∫ G_σ φ̄, capped at e^{max ℓ}
+        cap = min(1.0, np.exp(ell.max()) / reference)
+        out[:, i] = cap * (y_bar * weight).sum(axis=(1, 2)) / np.sqrt(2 * np.pi * variance)
     return out
 
 
