@@ -92,8 +92,8 @@ for name, policy in controllers.items():
     print(f"{name:17s} {cert.policy_cost:7.3f} ± {cert.policy_cost_se:.3f} "
           f"{cert.gap:+8.3f} ± {cert.gap_se:.3f} "
           f"{d.mean():+8.3f} ± {d.std(ddof=1) / np.sqrt(samples):.3f} "
-          f"{100 * np.mean(entered > OBSTACLE.height / 2):9.1f} % {100 * np.mean(distance < RADIUS):10.1f} % "
-          f"{np.median(distance):17.3f}")
+          f"{100 * np.mean(entered > OBSTACLE.height / 2):9.1f} % "
+          f"{100 * np.mean(distance < RADIUS):10.1f} % {np.median(distance):17.3f}")
 best = certificates["exact LBC (grid)"]  # the optimum as proposal: the smallest SE of v*
 print(f"(certified optimum v* = {best.optimal_value:.3f} ± {best.optimal_value_se:.3f} with the "
       f"exact LBC as proposal)")
@@ -108,7 +108,7 @@ for ax, name in zip(axes, list(runs)[:4]):
     ax.plot(*np.transpose(OBSTACLE_GOALS), "kx")
     ax.set(title=name, xlabel="x", aspect="equal")
 axes[0].set_ylabel("y")
-fig.suptitle(f"Wall task, trajectory components: 20 noisy rollouts per controller")
+fig.suptitle("Wall task, trajectory components: 20 noisy rollouts per controller")
 out = Path(args.out)
 out.mkdir(parents=True, exist_ok=True)
 fig.savefig(out / "interpolation_example.png", dpi=90)

@@ -269,7 +269,7 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
         ax.set(xlabel="x", ylabel="y", aspect="equal", xlim=(x_lo, x_hi), ylim=(y_lo, y_hi))
         ax.legend(fontsize=7, loc="lower left", framealpha=0.9)
     top[0].set_title(f"{names[0]}: {traces} noisy rollouts\nβ = ({beta[0]:.2f}, {beta[1]:.2f}): "
-                     "the noise picks an end; it ends at c̄")
+                     "the noise picks an end; it ends beside c̄")
     top[1].set_title(f"{names[1]}: {traces} noisy rollouts\nit tracks the average path, "
                      "through the wall")
     top[2].set_title(f"each component alone: {traces // 2} noisy rollouts each\n"
