@@ -195,8 +195,10 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
 
     LBC, u = Σ α_i u_i with α_i = w_i exp(−v̂_i/λ) / Σ_j w_j exp(−v̂_j/λ), follows whichever path
     the noise has made cheaper and ends where that component ends, beside c̄. The naive blend
-    u = Σ w_i u_i / Σ w_i averages the two trackers with fixed weights: u_i = ū_i + K_i (x − x̄_i)
-    averaged is a tracker of the average path, which runs straight through the wall.
+    u = Σ w_i u_i / Σ w_i averages the two trackers u_i = ū_i + K_i (x − x̄_i) with fixed, equal
+    weights. The lower tracker is the upper one mirrored (y → −y), so the average maps mirrored
+    states to mirrored controls: on the axis y = 0 its sideways control vanishes, and without
+    noise it drives straight along the axis, through the wall.
 
     Every controller is certified on g_w (:func:`gridlbc.certify`: J ± SE, the certified
     optimum v* and the gap J − v* ± paired SE), and its cost difference to LBC is measured with
@@ -269,8 +271,8 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
         ax.set(xlabel="x", ylabel="y", aspect="equal", xlim=(x_lo, x_hi), ylim=(y_lo, y_hi))
         ax.legend(fontsize=7, loc="lower left", framealpha=0.9)
     top[0].set_title(f"{names[0]}: {traces} noisy rollouts\nβ = ({beta[0]:.2f}, {beta[1]:.2f}): "
-                     "the noise picks an end; it ends beside c̄")
-    top[1].set_title(f"{names[1]}: {traces} noisy rollouts\nit tracks the average path, "
+                     "the noise picks an end")
+    top[1].set_title(f"{names[1]}: {traces} noisy rollouts\nno sideways push: "
                      "through the wall")
     top[2].set_title(f"each component alone: {traces // 2} noisy rollouts each\n"
                      "each goes round its own end")
