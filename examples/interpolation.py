@@ -9,10 +9,12 @@ LQR tracker and quadratic value expansion (the task of ``figures/interpolation.p
 expect:
 
 - LBC, u = Σ αᵢuᵢ with αᵢ ∝ wᵢ exp(−v̂ᵢ/λ), follows whichever path the noise has made cheaper
-  and ends at c̄ (nearly all rollouts within 0.25 of it, as for the intermediate goal's own
-  optimal controller, the direct grid solve of ḡ);
-- the naive blend u = Σ wᵢuᵢ / Σ wᵢ is a tracker of the average path, which runs straight
-  through the wall: every rollout enters it, and it costs far more than LBC;
+  and ends beside c̄, where that path ends: a little further from c̄ than the exact optimum of
+  its composite task (the grid components combined) and than the intermediate goal's own
+  optimal controller (the direct grid solve of ḡ);
+- the naive blend u = Σ wᵢuᵢ / Σ wᵢ averages a tracker and its mirror image (y → −y), so it
+  has no sideways push on the axis y = 0 and drives along it, through the wall: every rollout
+  enters it, and it costs far more than LBC;
 - each component alone goes round its own end and costs a little more than LBC, measured with
   common noise (the same noise for every controller, so per-sample differences give a paired
   standard error); the margin needs many samples.
