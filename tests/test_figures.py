@@ -14,7 +14,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
 @pytest.mark.parametrize("name, options", [
     ("cost_reward_space", {"n": 21}),
     ("projection", {"points": 101}),
-    ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1}),
+    ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1, "restarts": 2}),
     ("coordination", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
     ("gymnast", {"n": 5, "reference": False}),
     ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),

@@ -12,7 +12,7 @@ report, the convergence studies, the figures, the benchmarks and the tests.
   between two solved goals (the interpolation example), from :data:`ROTOR_START`;
 - :func:`obstacle_problem`: a point steered in the plane round a smooth wall
   (:class:`CapsuleObstacle`) to a goal behind it (the interpolation figure), from
-  :data:`OBSTACLE_START`;
+  :data:`OBSTACLE_START`, and :func:`obstacle_trajectories`, its trajectory components;
 - :func:`gymnast_problem`: the paper's acrobot swing-up (paper §6.2), from :data:`GYMNAST_START`;
 - :func:`diver_problem`: the 4-link diver beyond the grid (paper §6.1–6.2, Figs. 6 and 8), a
   grid-free problem, taking off from :func:`diver_start`.
@@ -30,6 +30,7 @@ from ..costs import Quadratic
 from ..grid import Axis, Grid
 from ..problem import Problem
 from ..systems import Acrobot, LinearSystem, Pendulum, PlanarChain, PointMass
+from ..trajectory import expand, optimize
 
 # -- pendulum --------------------------------------------------------------------------------------
 
@@ -206,15 +207,15 @@ OBSTACLE_START = np.array([1.0, 0.0])
 OBSTACLE_TARGET = (-0.7, 0.0)
 """The intermediate goal, directly behind the wall's centre."""
 
-OBSTACLE_GOALS = ((-0.7, 0.35), (-0.7, -0.35))
-"""The solved goals, behind the wall on either side of its axis: the first is reached round the
-wall's upper end, the second round its lower end."""
+OBSTACLE_GOALS = ((-0.7, 0.09), (-0.7, -0.09))
+"""The solved goals, just above and just below the intermediate goal: the first is reached round
+the wall's upper end, the second round its lower end."""
 
-OBSTACLE_WEIGHTS = (5.0, 0.75)
+OBSTACLE_WEIGHTS = (20.0, 10.0)
 """diag W of the goals g = (x − c)ᵀW(x − c)."""
 
 
-def obstacle_problem(n: int = 101, terminal_cost=None, temperature: float = 0.2,
+def obstacle_problem(n: int = 151, terminal_cost=None, temperature: float = 0.2,
                      horizon: float = 3.0) -> Problem:
     """A point steered in the plane round a wall to a goal behind it (the interpolation figure).
 
@@ -227,11 +228,39 @@ def obstacle_problem(n: int = 101, terminal_cost=None, temperature: float = 0.2,
     """
     if n < 5 or n % 2 == 0:
         raise ValueError(f"n must be an odd number of nodes ≥ 5 so that both axes share one "
-                         f"spacing, e.g. 41, 61 or 101; got {n}")
+                         f"spacing, e.g. 41, 101 or 151; got {n}")
     grid = Grid([Axis(-2.0, 2.0, n, name="x"), Axis(-3.0, 3.0, 3 * (n - 1) // 2 + 1, name="y")])
     cost = Quadratic(OBSTACLE_TARGET, OBSTACLE_WEIGHTS) if terminal_cost is None else terminal_cost
     plane = LinearSystem(np.zeros((2, 2)), np.eye(2), state_names=("x", "y"))
     return Problem(plane, grid, horizon, cost, state_cost=OBSTACLE, temperature=temperature)
+
+
+def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int = 300) -> list:
+    """The trajectory components of the interpolation figure: one per goal of
+    :data:`OBSTACLE_GOALS`, each a locally optimal path of the noise-free problem with its
+    quadratic value expansion and LQR tracker (:func:`gridlbc.trajectory.expand`).
+
+    The upper goal's path is the best of the multi-start search
+    (:func:`gridlbc.trajectory.optimize`) and of a tape that flies at constant speed on each
+    leg of start → (0, y_e + r + 0.3) → goal, round the wall's upper end (y_e its end, r its
+    radius), so the search cannot settle on a path through the wall. The task is symmetric
+    under y → −y, so the lower goal's optimum is the upper's mirror image: its path starts from
+    the mirrored controls (u_y → −u_y) and is polished by DDP.
+    """
+    wall = problem.state_cost
+    upper_goal, lower_goal = (problem.replace(terminal_cost=Quadratic(c, OBSTACLE_WEIGHTS))
+                              for c in OBSTACLE_GOALS)
+    corner = (0.0, wall.end[1] + wall.radius + 0.3)
+    legs = np.diff([OBSTACLE_START, corner, OBSTACLE_GOALS[0]], axis=0)
+    lengths = np.hypot(*legs.T)
+    velocities = legs / lengths[:, None] * (lengths.sum() / problem.horizon)  # one speed
+    first_leg = np.arange(n_intervals) < n_intervals * lengths[0] / lengths.sum()
+    tape = np.where(first_leg[:, None], velocities[0], velocities[1])
+    upper = optimize(upper_goal, OBSTACLE_START, restarts=restarts, seed=0,
+                     n_intervals=n_intervals, initial_controls=tape)
+    lower = optimize(lower_goal, OBSTACLE_START, n_intervals=n_intervals,
+                     initial_controls=upper.controls * [1.0, -1.0], search=False)
+    return [expand(upper_goal, upper), expand(lower_goal, lower)]
 
 
 # -- gymnast ---------------------------------------------------------------------------------------
