@@ -385,10 +385,9 @@ def check_control_step(problem: Problem, solution: Solution) -> float:
     spaced) at t = 0 of max_k |(B u*)_k| Δt / h_k is above :data:`CONTROL_STEP_CELLS`. The
     splitting applies the control (its diffusion) and the drift one after the other; its error
     is of order Δt², but with a cheap control (small R) that jumps the state across much of the
-    grid in one step it is several percent (Pendulum-v1, R = 0.04: about 90 cells per step at
-    the default, v(x₀) 8 % low; 27 cells and −0.8 % at a quarter of it). The step it suggests
-    aims at two thirds of the threshold, since u* itself changes with the step. Returns that
-    root mean square."""
+    grid in one step it is several percent (Pendulum-v1: README, "Limitations"). The step it
+    suggests aims at two thirds of the threshold, since u* itself changes with the step.
+    Returns that root mean square."""
     grid, dt = problem.grid, solution.diagnostics.dt
     x = grid.node_coordinates(np.arange(0, grid.size, max(1, grid.size // _CONTROL_SAMPLE)))
     with np.errstate(invalid="ignore"), warnings.catch_warnings():

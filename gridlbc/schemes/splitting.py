@@ -856,8 +856,8 @@ def _diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_
     so the step stays linear and non-negative in y). The exact heat kernel never does that
     where φ's peaks are resolved (a Gaussian peak of variance s between two nodes lifts them
     only if h > 2√s); on a grid too coarse for ℓ, ℓ̄'s quadratics bulge above their nodes, and
-    without the cap each step would lift the largest value again, a growth of z that sends v
-    below zero (the 21⁴ gymnast at Δt = 0.023 reached v(x₀) = −1115).
+    without the cap each step would lift the largest value again, a growth of z that can send v
+    below zero (README, "Limitations").
 
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
     the integral, log ∫ G_σ φ̄ (capped at L): the reference advanced alone, in the log domain
