@@ -170,8 +170,9 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     check_memory(estimate, what, s.mmap_dir)
 
     if is_own_reference(s.reference, K) and s.method == "splitting":
-        solution = _solve_log(problem, s, kept, dt, n_steps, rate, estimate, started)
+        solution, diffusion = _solve_log(problem, s, kept, dt, n_steps, rate, estimate, started)
         check_control_step(problem, solution)
+        check_fitted_resolution(problem, solution, diffusion)
         return [solution]
     Z, log_scale = _terminal_data(problem, terminal_costs)
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.reference, Z, log_scale)
@@ -214,6 +215,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     if s.method == "splitting":
         for solution in out:
             check_control_step(solution.problem, solution)
+            if reference is not None:
+                check_fitted_resolution(solution.problem, solution, step.diffusion)
     return out
 
 
@@ -412,6 +415,51 @@ def check_control_step(problem: Problem, solution: Solution) -> float:
     return rms
 
 
+FIT_CURVATURE_JUMP = 0.6
+"""A fitted solve warns when the second difference of log z along a noise axis changes from one
+node to the next by more than this fraction of itself (median over the cells that matter)."""
+_FIT_RELEVANT = 20.0  # cells whose log z is within this of the largest at t = 0 are judged
+
+
+def check_fitted_resolution(problem: Problem, solution: Solution, diffusion: list) -> float:
+    """Warn (:class:`ResolutionWarning`) when the grid does not resolve the curvature of
+    ℓ = log z along a noise axis, which the fitted diffusion models by a quadratic per cell:
+    the median, over the cells whose ℓ at t = 0 is within ``_FIT_RELEVANT`` of its largest
+    value, of |κ_{i+1} − κ_i| / (|κ_i + κ_{i+1}|/2 + 1), κ_i = ℓ_{i−1} − 2ℓ_i + ℓ_{i+1}, is
+    above :data:`FIT_CURVATURE_JUMP` on some axis. A smooth ℓ keeps it near h|ℓ‴|/|ℓ″|, far
+    below one; where it is of order one the quadratics bulge between nodes, and the value is
+    off by far more than the scheme's order suggests and moves with Δt (README, "Limitations",
+    for the calibration). ``diffusion``: the D_k per axis. Returns the largest median."""
+    grid = problem.grid
+    ell = -solution.value_nodes(0) / problem.temperature
+    finite = np.isfinite(ell)
+    top = float(ell[finite].max()) if finite.any() else 0.0
+    worst, worst_axis = 0.0, ""
+    for k, (ax, coefficient) in enumerate(zip(grid.axes, diffusion, strict=True)):
+        if ax.n < 4 or not np.any(np.asarray(coefficient) > 0):
+            continue
+        lines = np.moveaxis(grid.reshape(ell), k, -1).reshape(-1, ax.n)
+        kappa = lines[:, :-2] - 2.0 * lines[:, 1:-1] + lines[:, 2:]
+        with np.errstate(invalid="ignore"):
+            jump = np.abs(np.diff(kappa, axis=1)) / (0.5 * np.abs(kappa[:, 1:] + kappa[:, :-1]) + 1)
+            judged = (lines[:, 2:-1] >= top - _FIT_RELEVANT) & np.isfinite(jump)
+        if np.any(judged):
+            median = float(np.median(jump[judged]))
+            if median > worst:
+                worst, worst_axis = median, ax.name or f"axis {k}"
+    if worst > FIT_CURVATURE_JUMP:
+        warnings.warn(
+            f"the grid does not resolve the curvature of log z along {worst_axis}: its second "
+            f"difference changes by {worst:.2f} of itself from node to node (median over the "
+            f"nodes that carry the solution, at t = 0; resolved grids stay well below "
+            f"{FIT_CURVATURE_JUMP}). The fitted diffusion's quadratics then bulge between nodes, "
+            "and v can be off by tens of percent and move with dt. Refine that axis (or the "
+            "grid), or raise the temperature, and compare.",
+            ResolutionWarning, stacklevel=3,
+        )
+    return worst
+
+
 def check_resolution(problem: Problem, solution: Solution, step: float,
                      diffusion: list | None = None) -> float:
     """Warn (:class:`ResolutionWarning`) when the plain operator's z tails, not the PDE, set the
@@ -476,8 +524,9 @@ def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int
 
 
 def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, n_steps: int,
-               rate: float, estimate: dict[str, int], started: float) -> Solution:
-    """A single terminal cost fitted to itself, stepped in the log domain.
+               rate: float, estimate: dict[str, int], started: float):
+    """A single terminal cost fitted to itself, stepped in the log domain; returns the
+    :class:`Solution` and the D_k of its axes (:attr:`SplittingStep.diffusion`).
 
     ℓ = log z is advanced by the same composition as :func:`_march_fitted` (whole diffusions
     between the steps when there is no state cost), with the parts in the log domain
@@ -546,7 +595,7 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
         stored_bytes=int(slices.nbytes), operator_bytes=step.nbytes, courant=rate * dt,
         memory_estimate=estimate["ram"], fitting=fingerprint, interpolation="log",
     )
-    return Solution(problem, times, slices, scales, diagnostics)
+    return Solution(problem, times, slices, scales, diagnostics), step.diffusion
 
 
 def solve(problem: Problem, dt: float | None = None, settings=None, **options) -> Solution:

@@ -228,3 +228,19 @@ def test_a_control_that_jumps_many_cells_per_step_is_warned():
         fine = gridlbc.solve(problem, dt=coarse.diagnostics.dt / 4)
         gridlbc.solve(mild_pendulum_problem(64))
     assert coarse.value(x0, 0.0)[0] < 0.95 * fine.value(x0, 0.0)[0]
+
+
+def test_a_grid_that_does_not_resolve_log_z_is_warned():
+    """The 21⁴ gymnast: its default fitted solve is 18 % above the certified optimum and moves by
+    tens of percent with Δt (README, limitations), and the second difference of log z along p₂
+    changes by 0.86 of itself from node to node (median over the cells that matter; the
+    threshold is 0.6): it warns, naming p₂. The 31⁴ grid (0.46; value within 9 % of v*) and
+    the mild pendulum (about 0.001) do not."""
+    from gridlbc.studies.problems import gymnast_problem, mild_pendulum_problem
+
+    with pytest.warns(gridlbc.ResolutionWarning, match="curvature of log z along p2"):
+        gridlbc.solve(gymnast_problem(21))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", gridlbc.ResolutionWarning)
+        gridlbc.solve(gymnast_problem(31))
+        gridlbc.solve(mild_pendulum_problem(64))
