@@ -171,8 +171,7 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
 
     if is_own_reference(s.reference, K) and s.method == "splitting":
         solution, diffusion = _solve_log(problem, s, kept, dt, n_steps, rate, estimate, started)
-        check_control_step(problem, solution)
-        check_fitted_resolution(problem, solution, diffusion)
+        _check_splitting([solution], diffusion, fitted=True)
         return [solution]
     Z, log_scale = _terminal_data(problem, terminal_costs)
     Z, log_scale, reference, fingerprint = _with_reference(problem, s.reference, Z, log_scale)
@@ -213,11 +212,18 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
             check_resolution(solution.problem, solution, diffusion_step,
                              getattr(step, "diffusion", None))
     if s.method == "splitting":
-        for solution in out:
-            check_control_step(solution.problem, solution)
-            if reference is not None:
-                check_fitted_resolution(solution.problem, solution, step.diffusion)
+        _check_splitting(out, step.diffusion, fitted=reference is not None)
     return out
+
+
+def _check_splitting(solutions: list[Solution], diffusion: list, fitted: bool):
+    """The splitting's checks of its solutions: the control's step (:func:`check_control_step`)
+    and, fitted, the resolution of log z (:func:`check_fitted_resolution`; ``diffusion`` the
+    D_k per axis)."""
+    for solution in solutions:
+        check_control_step(solution.problem, solution)
+        if fitted:
+            check_fitted_resolution(solution.problem, solution, diffusion)
 
 
 def _march(step, Z: np.ndarray, log_scale: np.ndarray, kept: list[int], dt: float,
@@ -568,17 +574,17 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
         result = step.log_diffusion(y, (x, other), full=whole)
         if cost is not None:
             result += cost
+        peak = float(result.max())
         if n == kept[slot - 1]:
             slot -= 1
-            stored = result
+            stored, top = result, peak
             if whole:  # ½(y + D y): half way through the whole diffusion, in log z
                 stored = x if result is other else other
                 np.add(y, result, out=stored)
                 stored *= 0.5
-            top = float(stored.max())
+                top = float(stored.max())
             np.subtract(stored[0], top, out=slices[slot])
             scales[slot] = log_scale + top
-        peak = float(result.max())
         result -= peak
         log_scale += peak
         if n > 0 and cost is not None:  # the next step opens with its own D½ C

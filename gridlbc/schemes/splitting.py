@@ -799,12 +799,15 @@ def _cell_mass(root, mu, top, E, F0, F1, prefactor):
 def _line_bounds(ell, line, n, stride, periodic, curvature):
     """For the line starting at ``line``: ``curvature[i]`` = ℓ_{i−1} − 2ℓ_i + ℓ_{i+1} at its node
     i (wrapped on a periodic line; at the ends of a closed one, the neighbour's), and returns
-    (rise, bulge): the largest |ℓ_{i+1} − ℓ_i| between neighbours, and the most the curved
-    interpolant of the fitted diffusion rises above the nodes, max(0, −min κ)/8. Together
-    they bound how far the fitted diffusion scans."""
+    (rise, bulge, top, low): the largest |ℓ_{i+1} − ℓ_i| between neighbours, and the most the
+    curved interpolant of the fitted diffusion rises above the nodes, max(0, −min κ)/8,
+    which together bound how far the fitted diffusion scans; and the line's largest and
+    smallest ℓ."""
     rise = 0.0
     lowest = 0.0
+    top, low = -np.inf, np.inf
     for i in range(n):
+        top, low = max(top, ell[line + i * stride]), min(low, ell[line + i * stride])
         left = i - 1 if i > 0 else (n - 1 if periodic else 1)
         right = i + 1 if i < n - 1 else (0 if periodic else n - 2)
         if not periodic and (i == 0 or i == n - 1):
@@ -819,7 +822,14 @@ def _line_bounds(ell, line, n, stride, periodic, curvature):
         if periodic or i < n - 1:
             j = i + 1 if i + 1 < n else 0
             rise = max(rise, abs(ell[line + j * stride] - ell[line + i * stride]))
-    return rise, -lowest / 8.0
+    return rise, -lowest / 8.0, top, low
+
+
+@jit_inline
+def _cell_curvature(curvature, cell, n, A):
+    """κ of cell ``cell`` of a line (nodes cell and cell + 1, wrapped: a periodic line's seam is
+    cell n − 1): the mean of its nodes' second differences, capped at A."""
+    return min(0.5 * (curvature[cell] + curvature[cell + 1 if cell + 1 < n else 0]), A)
 
 
 @jit_parallel
@@ -882,14 +892,11 @@ def _diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_
         tables = False
         for line_id in range(block * n_lines // n_blocks, (block + 1) * n_lines // n_blocks):
             line = (line_id // stride) * n * stride + line_id % stride  # no division per node
-            rise, bulge = _line_bounds(ell, line, n, stride, periodic, curvature)
-            top, low = -np.inf, np.inf
-            for k in range(n):
-                top, low = max(top, ell[line + k * stride]), min(low, ell[line + k * stride])
+            rise, bulge, top, low = _line_bounds(ell, line, n, stride, periodic, curvature)
             if shared:
                 free = rise / (2.0 * A)
                 for k in range(n if periodic else n - 1):
-                    kappa = min(0.5 * (curvature[k] + curvature[k + 1 if k + 1 < n else 0]), A)
+                    kappa = _cell_curvature(curvature, k, n, A)
                     cells[0, k] = kappa
                     cells[1, k], cells[2, k], cells[3, k], cells[4, k] = _cell_constants(A, kappa)
                 tables = top - low <= _FIT_TABLE_RANGE
@@ -966,7 +973,7 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
                 kappa, Ac, root = cells[0, cell], cells[1, cell], cells[2, cell]
                 half_inverse, prefactor = cells[3, cell], cells[4, cell]
             else:
-                kappa = min(0.5 * (curvature[lo_node] + curvature[hi_node]), A)
+                kappa = _cell_curvature(curvature, cell, n, A)
                 Ac, root, half_inverse, prefactor = _cell_constants(A, kappa)
             B = ell[k1] - ell[k0] - 2.0 * A * a - 0.5 * kappa
             C = ell[k0] - A * a * a
@@ -1271,7 +1278,6 @@ class SplittingStep:
             self._pairs = _hessian_pairs(grid.ndim)
             if self.layout == "compact":
                 self._columns = _hessian_columns(_walk_axes(grid, self.offsets), self._pairs)
-        shape = np.array(grid.shape, dtype=np.int64)
         if out is None:
             if self._correction is None:
                 self._correction = np.empty(grid.size)
@@ -1281,8 +1287,9 @@ class SplittingStep:
                                       self._columns, *self._stencils, record, self._places,
                                       add_mean, out)
         else:
-            _curvature_table_kernel(ell, self.idx, self.weights, *self._stencils, shape,
-                                    grid.strides, self._pairs, add_mean, out)
+            _curvature_table_kernel(ell, self.idx, self.weights, *self._stencils,
+                                    np.array(grid.shape, dtype=np.int64), grid.strides,
+                                    self._pairs, add_mean, out)
         return out
 
     def log_drift(self, ell: np.ndarray, out: np.ndarray):

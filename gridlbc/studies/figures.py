@@ -225,6 +225,9 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     policies = dict(zip(names, (lbc.policy, naive.policy, upper.policy, lower.policy,
                                 exact.policy, direct.policy)))
     colors = dict(zip(names, ("C0", "C1", "0.35", "0.65", "C4", "C2")))
+    # the two controllers compared bold, the grid references dashed
+    styles = {k: {"color": colors[k], "lw": 2.5 if k in names[:2] else 1.3,
+                  "ls": "--" if k in names[4:] else "-"} for k in names}
     task = lbc.problem  # the composite task g_w
     certificates = {k: certify(task, p, start, samples, dt=dt, seed=seed, progress=False)
                     for k, p in policies.items()}
@@ -281,8 +284,7 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     radius = np.linspace(0, 0.6, 241)
     for key in names:
         share = 100 * np.mean(distance[key][:, None] < radius, axis=0)
-        ax_reach.plot(radius, share, color=colors[key], lw=2.5 if key in names[:2] else 1.3,
-                      ls="--" if key in names[4:] else "-",
+        ax_reach.plot(radius, share, **styles[key],
                       label=f"{key}: median {np.median(distance[key]):.3f}")
     ax_reach.axvline(COMPLETION_RADIUS, color="k", lw=0.8, ls=":")
     ax_reach.set(xlabel="r", ylabel="% of rollouts ending within r of c̄", xlim=(0, radius[-1]),
@@ -293,8 +295,7 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
 
     times = runs[names[0]].times
     for key in names:
-        ax_wall.plot(times, 100 * inside[key].mean(axis=0), color=colors[key],
-                     lw=2.5 if key in names[:2] else 1.3, ls="--" if key in names[4:] else "-",
+        ax_wall.plot(times, 100 * inside[key].mean(axis=0), **styles[key],
                      label=f"{key}: {100 * inside[key].any(axis=1).mean():.1f} % ever")
     ax_wall.set(xlabel="time t", ylabel="% of rollouts inside the wall (q > H/2)",
                 xlim=(0, problem.horizon), ylim=(0, 100),
