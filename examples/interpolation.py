@@ -8,10 +8,13 @@ wall's upper end, and its mirror image to a goal just below, round the lower end
 LQR tracker and quadratic value expansion (the task of ``figures/interpolation.png``). What to
 expect:
 
-- LBC, u = Σ αᵢuᵢ with αᵢ ∝ wᵢ exp(−v̂ᵢ/λ), follows whichever path the noise has made cheaper
-  and ends beside c̄, where that path ends: a little further from c̄ than the exact optimum of
-  its composite task (the grid components combined) and than the intermediate goal's own
-  optimal controller (the direct grid solve of ḡ);
+- LBC, u = Σ αᵢuᵢ with αᵢ ∝ wᵢ exp(−v̂ᵢ/λ), follows whichever path the noise has made cheaper;
+  behind the wall, where both expansions hold, the other component's weight rises and its
+  tracker pulls towards its own goal, so LBC stops nearer c̄ than either component alone: the
+  final y signed towards the end of the wall a rollout went round ("stops at") is smaller for
+  LBC, by many paired SE, and about that of the exact optimum of its composite task (the grid
+  components combined); the intermediate goal's own optimal controller (the direct grid solve
+  of ḡ) stops nearer still;
 - the naive blend u = Σ wᵢuᵢ / Σ wᵢ averages a tracker and its mirror image (y → −y), so it
   has no sideways push on the axis y = 0 and drives along it, through the wall: every rollout
   enters it, and it costs far more than LBC;
@@ -44,6 +47,7 @@ from gridlbc.studies.problems import (
     obstacle_problem,
     obstacle_trajectories,
 )
+from gridlbc.studies.figures import route_signed_final_y as stops_at
 
 RADIUS = 0.25  # a rollout "reaches" c̄ when it ends within this distance
 
@@ -82,20 +86,32 @@ task = lbc.problem
 runs = {name: gridlbc.simulate(task, policy, OBSTACLE_START, samples, dt=dt, seed=1)
         for name, policy in controllers.items()}
 print(f"{'controller':17s} {'J ± SE':>15s} {'J − v* ± SE':>16s} {'J − J_LBC ± SE':>16s} "
-      f"{'enter wall':>11s} {'within ' + str(RADIUS):>12s} {'median |x_T − c̄|':>17s}")
+      f"{'enter wall':>11s} {'within ' + str(RADIUS):>12s} {'median |x_T − c̄|':>17s} "
+      f"{'stops at ± SE':>15s} {'− LBC’s ± SE':>16s}")
+
+
+def se(a):
+    return a.std(ddof=1) / np.sqrt(a.size)
+
+
 certificates = {}
 for name, policy in controllers.items():
     cert = certificates[name] = gridlbc.certify(task, policy, OBSTACLE_START, samples, dt=dt,
                                                 seed=0, progress=False)
     run = runs[name]
     d = run.costs - runs["LBC"].costs
+    # final y signed towards the end of the wall the rollout went round: how far short of c̄
+    # (y = 0) it stops on the side it comes from
+    stop = stops_at(run)
+    shift = stop - stops_at(runs["LBC"])  # paired: the same noise
     entered = OBSTACLE(run.states.reshape(-1, 2)).reshape(run.states.shape[:2]).max(axis=1)
     distance = np.linalg.norm(run.final_states - OBSTACLE_TARGET, axis=1)
     print(f"{name:17s} {cert.policy_cost:7.3f} ± {cert.policy_cost_se:.3f} "
           f"{cert.gap:+8.3f} ± {cert.gap_se:.3f} "
-          f"{d.mean():+8.3f} ± {d.std(ddof=1) / np.sqrt(samples):.3f} "
+          f"{d.mean():+8.3f} ± {se(d):.3f} "
           f"{100 * np.mean(entered > OBSTACLE.height / 2):9.1f} % "
-          f"{100 * np.mean(distance < RADIUS):10.1f} % {np.median(distance):17.3f}")
+          f"{100 * np.mean(distance < RADIUS):10.1f} % {np.median(distance):17.3f} "
+          f"{stop.mean():+8.3f} ± {se(stop):.3f} {shift.mean():+8.3f} ± {se(shift):.3f}")
 best = certificates["exact LBC (grid)"]  # the optimum as proposal: the smallest SE of v*
 print(f"(certified optimum v* = {best.optimal_value:.3f} ± {best.optimal_value_se:.3f} with the "
       f"exact LBC as proposal)")

@@ -18,6 +18,7 @@ from gridlbc.studies.problems import (
     obstacle_problem,
     obstacle_trajectories,
 )
+from gridlbc.studies.figures import route_signed_final_y
 
 
 def se(a):
@@ -138,11 +139,16 @@ def test_interpolation_claims():
     controller driven by the same noise (common random numbers, so per-sample differences give
     a paired SE; 16000 rollouts): the naive blend enters the wall far more often than LBC and
     costs more, each by at least 4 paired SE (it tracks the average path, through the wall);
-    each component alone costs more than LBC by at least 3 paired SE (the margin is small, so
-    many samples; measured 5.1 and 3.3 SE, the naive blend 183 SE and 100 % in the wall against
-    4.5 %). LBC's rollouts end centred on c̄ (mean y_T within 4 SE of 0) and most of them
-    near it: the share ending within 0.25 of c̄ is above one half by more than 4 binomial SE.
-    The exact LBC of grid components is the direct solve of g_w to rounding."""
+    each component alone costs more than LBC by at least 4 paired SE (measured 9.6 and 7.9 SE,
+    +0.148 and +0.120; the naive blend 390 SE and 100 % in the wall against 4 %). LBC reaches
+    the intermediate goal: its rollouts end centred on c̄ (mean y_T within 4 SE of 0), and on
+    the side of the wall each went round they stop nearer c̄ than either component alone does
+    (final y signed towards that side, :func:`route_signed_final_y`: each component's exceeds
+    LBC's by at least 8 paired SE; measured +0.029 and +0.028 ± 0.001, 22 and 21 SE; with
+    saturated trackers, the library's default for a nonlinear problem, LBC stops where a
+    component stops, README). Most of LBC's rollouts end near c̄: the share within 0.25 is
+    above one half by more than 4 binomial SE. The exact LBC of grid components is the direct
+    solve of g_w to rounding."""
     problem = obstacle_problem(41)
     goals = [g.Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
     w = g.project(problem.terminal_cost, goals, problem.grid, temperature=problem.temperature)
@@ -163,9 +169,12 @@ def test_interpolation_claims():
             for name, policy in (("lbc", lbc.policy), ("upper", upper.policy),
                                  ("lower", lower.policy),
                                  ("naive", g.naive_blend([upper, lower], w).policy))}
-    for name, k in (("naive", 4), ("upper", 3), ("lower", 3)):
+    for name in ("naive", "upper", "lower"):
         difference = runs[name].costs - runs["lbc"].costs
-        assert difference.mean() > k * se(difference), name
+        assert difference.mean() > 4 * se(difference), name
+    for name in ("upper", "lower"):
+        nearer = route_signed_final_y(runs[name]) - route_signed_final_y(runs["lbc"])
+        assert nearer.mean() > 8 * se(nearer), name
 
     def entered(run):
         inside = OBSTACLE(run.states.reshape(-1, 2)).reshape(run.states.shape[:2])

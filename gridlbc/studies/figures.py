@@ -179,6 +179,17 @@ def _inside_wall(problem: Problem, run) -> np.ndarray:
     return wall(states.reshape(-1, 2)).reshape(states.shape[:2]) > wall.height / 2
 
 
+def route_signed_final_y(run) -> np.ndarray:
+    """Per rollout of ``run`` on the wall task: its final y, signed towards the end of the wall
+    it went round (+ for the upper end, − for the lower; the end is the side of its largest
+    excursion |y|), shape (n,). Its mean is how far the rollouts stop short of the intermediate
+    goal c̄ (y = 0) on the side they come from, the sign of a route-conditioned mean removed;
+    a solved goal lies at +0.09 on this scale."""
+    y = run.states[..., 1]
+    side = np.where(y.max(axis=1) >= -y.min(axis=1), 1.0, -1.0)
+    return side * run.final_states[:, 1]
+
+
 def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces: int = 30,
                   dt: float = 0.01, restarts: int = 32) -> list[Path]:
     """An intermediate goal behind a wall: LBC vs the naive blend vs each component alone.
@@ -194,11 +205,14 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     cost g_w = −λ log Σ w_i h_i has a single minimum, at c̄.
 
     LBC, u = Σ α_i u_i with α_i = w_i exp(−v̂_i/λ) / Σ_j w_j exp(−v̂_j/λ), follows whichever path
-    the noise has made cheaper and ends where that component ends, beside c̄. The naive blend
-    u = Σ w_i u_i / Σ w_i averages the two trackers u_i = ū_i + K_i (x − x̄_i) with fixed, equal
-    weights. The lower tracker is the upper one mirrored (y → −y), so the average maps mirrored
-    states to mirrored controls: on the axis y = 0 its sideways control vanishes, and without
-    noise it drives straight along the axis, through the wall.
+    the noise has made cheaper; behind the wall, where both expansions hold, the other
+    component's weight rises (α ≈ 0.16) and its unsaturated tracker pulls towards its own goal,
+    so LBC stops nearer c̄ than either component alone (the route-signed final y,
+    :func:`route_signed_final_y`: mean ± SE, and its difference to LBC's ± paired SE). The
+    naive blend u = Σ w_i u_i / Σ w_i averages the two trackers u_i = ū_i + K_i (x − x̄_i) with
+    fixed, equal weights. The lower tracker is the upper one mirrored (y → −y), so the average
+    maps mirrored states to mirrored controls: on the axis y = 0 its sideways control vanishes,
+    and without noise it drives straight along the axis, through the wall.
 
     Every controller is certified on g_w (:func:`gridlbc.certify`: J ± SE, the certified
     optimum v* and the gap J − v* ± paired SE), and its cost difference to LBC is measured with
@@ -241,11 +255,12 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     inside = {k: _inside_wall(problem, run) for k, run in runs.items()}
     distance = {k: np.linalg.norm(run.final_states - OBSTACLE_TARGET, axis=1)
                 for k, run in runs.items()}
+    stop = {k: route_signed_final_y(run) for k, run in runs.items()}
 
-    fig = plt.figure(figsize=(18, 11), constrained_layout=True)
-    spec = fig.add_gridspec(2, 3)
-    top = [fig.add_subplot(spec[0, k]) for k in range(3)]
-    ax_reach, ax_wall, ax_cost = (fig.add_subplot(spec[1, k]) for k in range(3))
+    fig = plt.figure(figsize=(24, 13), constrained_layout=True)
+    upper_row, lower_row = fig.subfigures(2, 1, height_ratios=(1.1, 1))
+    top = list(upper_row.subplots(1, 3))
+    ax_reach, ax_stop, ax_wall, ax_cost = lower_row.subplots(1, 4)
     (x_lo, x_hi), (y_lo, y_hi) = ((a.lo, a.hi) for a in problem.grid.axes)
     X, Y = np.meshgrid(np.linspace(x_lo, x_hi, 201), np.linspace(y_lo, y_hi, 301))
     plane = np.column_stack([X.ravel(), Y.ravel()])
@@ -274,12 +289,13 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
         ax.set(xlabel="x", ylabel="y", aspect="equal", xlim=(x_lo, x_hi), ylim=(y_lo, y_hi))
         ax.legend(fontsize=7, loc="lower left", framealpha=0.9)
     top[0].set_title(f"{names[0]}: {traces} noisy rollouts\nβ = ({beta[0]:.2f}, {beta[1]:.2f}): "
-                     "the noise picks an end")
+                     "the noise picks an end; behind the wall it mixes towards c̄")
     top[1].set_title(f"{names[1]}: {traces} noisy rollouts\nno sideways push: "
                      "through the wall")
     top[2].set_title(f"each component alone: {traces // 2} noisy rollouts each\n"
                      "each goes round its own end")
-    fig.colorbar(shading, ax=top[2], shrink=0.8, label="optimal value v(x, 0) of g_w (grid, grey)")
+    upper_row.colorbar(shading, ax=top[2], shrink=0.8,
+                       label="optimal value v(x, 0) of g_w (grid, grey)")
 
     radius = np.linspace(0, 0.6, 241)
     for key in names:
@@ -292,6 +308,27 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
                  f"{samples} rollouts each, final distance |x_T − c̄|")
     ax_reach.legend(fontsize=7.5, loc="lower right", title="median final distance",
                     title_fontsize=8)
+
+    bins = np.linspace(-0.35, 0.65, 81)
+    shown = [names[0], *names[2:]]  # the naive blend's route is not one end: it goes through
+    for key in shown:
+        y = stop[key]
+        d = y - stop[names[0]]
+        mean, error = y.mean(), y.std(ddof=1) / np.sqrt(samples)
+        extra = ("" if key == names[0] else
+                 f", {d.mean():+.3f} ± {d.std(ddof=1) / np.sqrt(samples):.3f} vs LBC")
+        ax_stop.hist(y, bins, histtype="step", density=True, **styles[key],
+                     label=f"{key}: {mean:+.3f} ± {error:.3f}{extra}")
+        ax_stop.axvline(mean, **(styles[key] | {"lw": 1.0}))
+    ax_stop.axvline(0.0, color="gold", lw=3, alpha=0.7, zorder=0)
+    ax_stop.axvline(abs(OBSTACLE_GOALS[0][1]), color="k", lw=0.8, ls=":")
+    ax_stop.set(xlabel="final y, signed towards the end of the wall the rollout went round",
+                ylabel="density", xlim=(bins[0], bins[-1]),
+                title=f"how far short of c̄ (y = 0, gold) the rollouts stop\non the side they "
+                      f"come from (dotted: that side's goal, {abs(OBSTACLE_GOALS[0][1]):g})")
+    ax_stop.set_ylim(0, 1.7 * ax_stop.get_ylim()[1])
+    ax_stop.legend(fontsize=7.5, loc="upper left", title="mean ± SE, difference ± paired SE",
+                   title_fontsize=8)
 
     times = runs[names[0]].times
     for key in names:
@@ -322,10 +359,11 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     ax_cost.set_xscale("symlog", linthresh=0.1)
     ax_cost.set_yticks(rows, labels, fontsize=9)
     ax_cost.invert_yaxis()
-    ax_cost.set(xlabel="J − J_LBC ± paired SE (symlog), common noise, on the composite task g_w",
-                title=f"cost above LBC's on g_w; certified v* = {reference.optimal_value:.3f} ± "
-                      f"{reference.optimal_value_se:.3f}\n(gridlbc.certify, {samples} samples): "
-                      "the naive blend and each component cost more")
+    ax_cost.set(xlabel="J − J_LBC ± paired SE (symlog), common noise, task g_w",
+                title=f"cost above LBC's on g_w (gridlbc.certify, {samples} samples)\n"
+                      f"certified v* = {reference.optimal_value:.3f} ± "
+                      f"{reference.optimal_value_se:.3f}\nthe naive blend and each component "
+                      "cost more")
     ax_cost.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     W = OBSTACLE_WEIGHTS
     fig.suptitle(f"Interpolating an intermediate goal behind a wall with trajectory components: "

@@ -235,7 +235,8 @@ def obstacle_problem(n: int = 151, terminal_cost=None, temperature: float = 0.2,
     return Problem(plane, grid, horizon, cost, state_cost=OBSTACLE, temperature=temperature)
 
 
-def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int = 300) -> list:
+def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int = 300,
+                          radius: float | str | None = None) -> list:
     """The trajectory components of the interpolation figure: one per goal of
     :data:`OBSTACLE_GOALS`, each a locally optimal path of the noise-free problem with its
     quadratic value expansion and LQR tracker (:func:`gridlbc.trajectory.expand`).
@@ -246,6 +247,18 @@ def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int
     radius), so the search cannot settle on a path through the wall. The task is symmetric
     under y → −y, so the lower goal's optimum is the upper's mirror image: its path starts from
     the mirrored controls (u_y → −u_y) and is polished by DDP.
+
+    ``radius`` is the trackers' saturation (:func:`gridlbc.trajectory.expand`); the default here,
+    ``None``, leaves them unsaturated. The dynamics are linear with B = I, so the plain tracker
+    ū + KΔx is, to O(Δt), the gradient control −∇v̂ of the component's own value expansion,
+    also far from its tape. LBC needs that where its blend weights mix: on the way down behind
+    the wall the other route's component gets α ≈ 0.16 (its v̂ there is an obstacle-free
+    quadratic, close to the grid's value), and its unsaturated control points to its own goal,
+    pulling LBC's rollouts toward c̄. Saturated at the general default ρ_max ≈ 3, that control
+    is the other tape's velocity (upwards, towards its goal from below) plus a bounded downward
+    pull, about zero sideways, and it slows LBC's descent instead: LBC then ends where a single
+    component ends (README, Interpolation). A component alone stays near its tape, where the
+    two trackers agree.
     """
     wall = problem.state_cost
     upper_goal, lower_goal = (problem.replace(terminal_cost=Quadratic(c, OBSTACLE_WEIGHTS))
@@ -260,7 +273,7 @@ def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int
                      n_intervals=n_intervals, initial_controls=tape)
     lower = optimize(lower_goal, OBSTACLE_START, n_intervals=n_intervals,
                      initial_controls=upper.controls * [1.0, -1.0], search=False)
-    return [expand(upper_goal, upper), expand(lower_goal, lower)]
+    return [expand(upper_goal, upper, radius=radius), expand(lower_goal, lower, radius=radius)]
 
 
 # -- gymnast ---------------------------------------------------------------------------------------
