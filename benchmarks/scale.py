@@ -14,12 +14,15 @@ a = b + s·c and a copy, on all threads, over arrays of at least twice the last-
 For the plain splitting the subprocess also times each pass of a step on its own (the two
 half-step diffusions, the drift's gather, the float32 store of a slice) with its bytes per node
 and share of that bandwidth, and the same gather with every foot at its own node (Δt → 0): the
-gather's time with perfectly sequential vertices, the bound its access pattern allows. A pass is
+gather's time with perfectly sequential vertices, the bound its access pattern allows. For the
+fitted default it times the fitted drift and the whole-step fitted diffusion, whose cost is
+arithmetic (a Gaussian integrated against each cell near a node), far below the bandwidth. A pass is
 timed by repeating it on the same arrays, so where its bytes fit in the last-level cache it runs
 from that cache and can exceed the memory bandwidth: such passes are marked "in cache".
 
-Methods: ``splitting`` (the plain operator, ``fitting=None``: compact feet, float32 slices), ``fitted`` (the same with the drift fitted
-to the terminal cost, ``fitting="terminal"``), ``implicit`` (Gauss–Seidel sweeps) and
+Methods: ``splitting`` (the plain operator, ``fitting=None``: compact feet, float32 slices),
+``fitted`` (the default, ``fitting="terminal"``: drift and diffusion fitted to the terminal cost,
+a single cost stepped in the log domain), ``implicit`` (Gauss–Seidel sweeps) and
 the plain-scipy baseline (scipy splu where the grid is 2D, else scipy BiCGSTAB with a Jacobi
 preconditioner). Slow methods run fewer steps (--baseline-steps) and their node-steps per second
 is extrapolated to the full run: marked ``*`` in the table; the ratios to scipy are printed both
@@ -63,15 +66,16 @@ def problem_for(system: str, n: int) -> Problem:
 def bytes_per_node_step(problem: Problem, method: str, iterations: float, store: int) -> float:
     """Bytes streamed per node and step (a lower bound: gathers counted once)."""
     d = problem.grid.ndim
-    if method in ("splitting", "fitted"):
-        noise_axes = 1  # both systems: noise on the last momentum only
+    noise_axes = 1  # both systems: noise on the last momentum only
+    if method == "splitting":
         # feet + read z + write z*, two half-step tridiagonal read/writes (before and after the
-        # drift), renormalised store (read z, write); fitted: the fitting pass reads z and
-        # writes z/φ and log φ (the drift then reads log φ instead of z: the reference row,
-        # fitted to itself, needs no gather of z).
-        fitting = 24 if method == "fitted" else 0
-        return (feet_bytes_per_node(d, "compact") + 16 + 2 * 16 * noise_axes + (8 + store)
-                + fitting)
+        # drift), renormalised store (read z, write).
+        return feet_bytes_per_node(d, "compact") + 16 + 2 * 16 * noise_axes + (8 + store)
+    if method == "fitted":
+        # a single cost fitted to itself runs in the log domain: feet + read log z + write the
+        # drifted log z, one whole-step fitted diffusion per noise axis (read, write: the half
+        # diffusions of neighbouring steps are merged), the store (read, write).
+        return feet_bytes_per_node(d, "compact") + 16 + 16 * noise_axes + (8 + store)
     if method == "implicit":
         # per sweep: off-diagonal CSR (value 8 + column 4 per entry, 2d entries), row pointer,
         # inverse diagonal, b and x (read and written).
@@ -153,6 +157,26 @@ def pass_profile(problem: Problem, dt: float, repeats: int = 5) -> dict:
     }
 
 
+def fitted_pass_profile(problem: Problem, dt: float, repeats: int = 3) -> dict:
+    """Seconds per pass of one step of the default (fitted, log-domain) solve, and the bytes per
+    node each streams: the fitted drift (the feet and log z read, the drifted log z written) and
+    one whole-step fitted diffusion (log z read and written per noise axis), on log z of the
+    terminal cost. The diffusion integrates a Gaussian against every cell within e^{−20} of a
+    node's peak, so its time is arithmetic (erfcx and exp per cell), not memory traffic."""
+    grid = problem.grid
+    step = SplittingStep(problem, dt)
+    ell = -problem.terminal_values()[None, :] / problem.temperature
+    ell -= ell.max()
+    out, spares = np.empty_like(ell), (np.empty_like(ell), np.empty_like(ell))
+    step.log_drift(ell.copy(), out)  # records the stencil places, as a solve's first step does
+    drift = feet_bytes_per_node(grid.ndim, step.layout) + 16
+    return {
+        "fitted drift": (_best_time(lambda: step.log_drift(ell, out), repeats), drift),
+        "fitted diffusion": (_best_time(lambda: step.log_diffusion(ell, spares, full=True),
+                                        repeats), 16 * len(step.noise)),
+    }
+
+
 def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> dict:
     """Solve ``steps`` steps of the full run's Δt = T/full_steps (a shortened horizon)."""
     problem = problem_for(system, n)
@@ -186,7 +210,8 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
                   else bytes_per_node_step(problem, "implicit" if method == "scipy" else method,
                                            iterations, 4)),
         "peak_rss": rss, "bandwidth": bandwidth,
-        "passes": pass_profile(problem, dt) if method == "splitting" else {},
+        "passes": (pass_profile(problem, dt) if method == "splitting"
+                   else fitted_pass_profile(problem, dt) if method == "fitted" else {}),
     }
 
 

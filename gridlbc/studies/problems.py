@@ -251,14 +251,14 @@ def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int
     ``radius`` is the trackers' saturation (:func:`gridlbc.trajectory.expand`); the default here,
     ``None``, leaves them unsaturated. The dynamics are linear with B = I, so the plain tracker
     ū + KΔx is, to O(Δt), the gradient control −∇v̂ of the component's own value expansion,
-    also far from its tape. LBC needs that where its blend weights mix: on the way down behind
-    the wall the other route's component gets α ≈ 0.16 (its v̂ there is an obstacle-free
-    quadratic, close to the grid's value), and its unsaturated control points to its own goal,
-    pulling LBC's rollouts toward c̄. Saturated at the general default ρ_max ≈ 3, that control
-    is the other tape's velocity (upwards, towards its goal from below) plus a bounded downward
-    pull, about zero sideways, and it slows LBC's descent instead: LBC then ends where a single
-    component ends (README, Interpolation). A component alone stays near its tape, where the
-    two trackers agree.
+    also far from its tape. LBC needs that where its blend weights mix: behind the wall the
+    other route's component gets a share of the weight (its v̂ there is an obstacle-free
+    quadratic), and its unsaturated control points to its own goal, pulling LBC's rollouts
+    toward c̄. Saturated (the library's default on a problem that is not linear-quadratic),
+    that control is mostly the other tape's velocity, pointing towards its goal from the other
+    side, and it slows LBC's descent instead: LBC then stops where a single component stops
+    (README, Interpolation, which measures both). A component alone stays near its tape, where
+    the two trackers agree.
     """
     wall = problem.state_cost
     upper_goal, lower_goal = (problem.replace(terminal_cost=Quadratic(c, OBSTACLE_WEIGHTS))
