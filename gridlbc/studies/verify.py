@@ -42,6 +42,7 @@ from ..problem import Problem
 from ..project import ProjectionWarning, projection
 from ..reference import lq_solution
 from ..simulate import simulate
+from ..solution import ResolutionWarning
 from ..solver import solve, solve_many
 from ..systems import Pendulum, PointMass
 from .problems import SWINGUP_START, pendulum_grid, swingup_problem
@@ -137,10 +138,18 @@ def check_superposition(n: int = 64, n_states: int = 1000, seed: int = 0) -> lis
     costs = [Quadratic([-1, 0], [4, 0.5]), Quadratic([1, 0], [4, 0.5]),
              Quadratic([2.5, 1], [4, 0.5])]
     weights = np.array([0.3, 1.2, 0.5])
-    # the plain operator (independent of g): the components and the direct solve share it
-    sols = solve_many(problem, costs, dt=0.01, fitting=None)
-    combined = combine(sols, weights)
-    direct = solve(combined.problem, dt=0.01, fitting=None)
+    # the plain operator (independent of g): the components and the direct solve share it. Its
+    # tails under-resolve this pendulum's steepest costs, which the solver rightly warns about;
+    # that is the value's accuracy, not superposition, which holds on any grid: the warning
+    # goes into this check's note instead of the output.
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ResolutionWarning)
+        sols = solve_many(problem, costs, dt=0.01, fitting=None)
+        combined = combine(sols, weights)
+        direct = solve(combined.problem, dt=0.01, fitting=None)
+    for w in caught:
+        if not issubclass(w.category, ResolutionWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     lam = problem.temperature
     rng = np.random.default_rng(seed)
     places = {"grid nodes": (grid.nodes(), 0.0),
@@ -163,7 +172,10 @@ def check_superposition(n: int = 64, n_states: int = 1000, seed: int = 0) -> lis
     rows[-1] = CheckResult(**{**asdict(rows[-1]), "note": (
         f"pendulum {_shape(grid)}, 3 goals, w = {weights.tolist()}: relative errors (z, v per "
         "point; u in max norm; α absolute) of combine against the direct solve of "
-        "g = −λ log Σ w_i exp(−g_i/λ)")})
+        "g = −λ log Σ w_i exp(−g_i/λ)"
+        + ("; the plain solves warn that their tails under-resolve the steepest costs (the "
+           "value's accuracy, not superposition's)"
+           if any(issubclass(w.category, ResolutionWarning) for w in caught) else ""))})
     return rows
 
 
