@@ -38,6 +38,7 @@ import numpy as np
 
 import gridlbc
 from gridlbc import Quadratic
+from gridlbc.studies.figures import route_signed_final_y as stops_at
 from gridlbc.studies.problems import (
     OBSTACLE,
     OBSTACLE_GOALS,
@@ -47,7 +48,6 @@ from gridlbc.studies.problems import (
     obstacle_problem,
     obstacle_trajectories,
 )
-from gridlbc.studies.figures import route_signed_final_y as stops_at
 
 RADIUS = 0.25  # a rollout "reaches" c̄ when it ends within this distance
 

@@ -19,9 +19,11 @@ interpolated Bᵀ∇z stays linear in z (the superposition guarantee of the READ
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from ._numba import jit, jit_parallel, prange
+from ._numba import jit, jit_inline, jit_parallel, prange
 from .grid import Grid
 
 
@@ -125,9 +127,19 @@ def barycentric_numpy(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     return idx, weights
 
 
+@jit_inline
+def _ratio(z, log_divisor, r, node):
+    """z[r, node] / e^{log_divisor[r, node]} in float64, by way of logarithms (zero where z is)."""
+    value = np.float64(z[r, node])  # (numba's float() keeps a float32 in single precision)
+    return math.exp(math.log(value) - np.float64(log_divisor[r, node])) if value > 0.0 else 0.0
+
+
 @jit_parallel
-def _central_gradient_kernel(z, nodes, axis, shape, strides, spacing, periodic, out):
-    """∂z/∂x_axis at the given flat nodes: central differences, one-sided at closed ends."""
+def _central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacing, periodic,
+                             out):
+    """∂y/∂x_axis at the given flat nodes for y = z (in z's precision), or y = z / e^{log_divisor}
+    when ``log_divisor`` has columns (:func:`_ratio`): central differences, one-sided at closed
+    ends."""
     k = axis
     n = shape[k]
     s = strides[k]
@@ -147,20 +159,28 @@ def _central_gradient_kernel(z, nodes, axis, shape, strides, spacing, periodic, 
         else:
             up, down, scale = node + s, node - s, 0.5 / h
         for r in range(n_rows):
-            out[r, p] = (z[r, up] - z[r, down]) * scale
+            if log_divisor.shape[1] == 0:
+                out[r, p] = (z[r, up] - z[r, down]) * scale
+            else:
+                out[r, p] = (_ratio(z, log_divisor, r, up)
+                             - _ratio(z, log_divisor, r, down)) * scale
 
 
-def node_gradient(grid: Grid, values: np.ndarray, nodes: np.ndarray, axis: int) -> np.ndarray:
-    """Finite-difference derivative along ``axis`` of nodal ``values`` ``(K, size)`` at flat ``nodes``.
+def node_gradient(grid: Grid, values: np.ndarray, nodes: np.ndarray, axis: int,
+                  log_divisor: np.ndarray | None = None) -> np.ndarray:
+    """Finite-difference derivative along ``axis`` of nodal ``values`` ``(K, size)`` at flat ``nodes``
+    (of values / e^{log_divisor} when ``log_divisor`` ``(K, size)`` is given).
 
     Second-order central differences in the interior and on periodic axes, first-order one-sided
     differences at the ends of a non-periodic axis. Returns ``(K, len(nodes))``; linear in values.
     """
     values = np.ascontiguousarray(values)
     nodes = np.ascontiguousarray(nodes, dtype=np.int64).reshape(-1)
+    divisor = (np.empty((values.shape[0], 0)) if log_divisor is None
+               else np.ascontiguousarray(log_divisor))
     out = np.empty((values.shape[0], nodes.size), dtype=np.result_type(values.dtype, np.float64))
     _central_gradient_kernel(
-        values, nodes, int(axis), np.array(grid.shape, dtype=np.int64), grid.strides,
+        values, divisor, nodes, int(axis), np.array(grid.shape, dtype=np.int64), grid.strides,
         grid.spacing, bool(grid.axes[axis].periodic), out,
     )
     return out

@@ -10,7 +10,11 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   the solver diagnostics, and ``sha256``: a digest of the three arrays, checked on load;
 - ``terminal_nodes``, ``state_cost_nodes``: a cost that is not a :class:`gridlbc.Quadratic` (an
   arbitrary callable) is stored by its values at the nodes and comes back as a
-  :class:`GridCost`, which interpolates them (exact at the nodes).
+  :class:`GridCost`, which interpolates them (exact at the nodes);
+- ``reference_log_slices`` (S, N), ``reference_log_scales`` (S,): for a solution fitted to a
+  shared reference (``interpolation == "fitted"``), log φ at the stored times, which its
+  evaluation needs (:class:`gridlbc.solution.FittingReference`), with its own digest
+  ``reference_sha256`` in the metadata.
 
 Loading refuses a different ``format_version`` and a truncated or corrupted file with a clear
 message.
@@ -31,7 +35,7 @@ from .costs import Quadratic
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
-from .solution import Solution, SolveDiagnostics
+from .solution import FittingReference, Solution, SolveDiagnostics
 
 FORMAT = "gridlbc-solution"
 FORMAT_VERSION = 1
@@ -114,6 +118,10 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
         path = path.with_name(path.name + ".npz")
     arrays = {"times": solution.times, "slices": solution.slices,
               "log_scales": solution.log_scales}
+    reference = solution.reference
+    if reference is not None:  # log φ of a fitted operator: the solution is evaluated relative to it
+        arrays["reference_log_slices"] = reference.log_slices
+        arrays["reference_log_scales"] = reference.log_scales
     meta = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
@@ -122,6 +130,8 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
         "diagnostics": asdict(solution.diagnostics),
         "sha256": _digest(solution.times, solution.slices, solution.log_scales),
     }
+    if reference is not None:
+        meta["reference_sha256"] = _digest(reference.log_slices, reference.log_scales)
     if annotations is not None:
         meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
@@ -176,6 +186,16 @@ def load(path) -> Solution:
     times, slices, scales = contents["times"], contents["slices"], contents["log_scales"]
     if _digest(times, slices, scales) != meta["sha256"]:
         raise ValueError(f"{str(path)!r} is corrupted: its arrays do not match their checksum")
+    reference = None
+    if "reference_sha256" in meta:
+        try:
+            reference = FittingReference(contents["reference_log_slices"],
+                                         contents["reference_log_scales"])
+        except KeyError:
+            raise ValueError(f"{str(path)!r} is corrupted: its fitting reference is missing") from None
+        if _digest(reference.log_slices, reference.log_scales) != meta["reference_sha256"]:
+            raise ValueError(f"{str(path)!r} is corrupted: its fitting reference does not match "
+                             "its checksum")
     grid = Grid([Axis(**a) for a in meta["grid"]])
     problem = Problem(
         _system_from_record(meta["system"]), grid, meta["horizon"],
@@ -187,4 +207,4 @@ def load(path) -> Solution:
     diag["iterations"] = tuple(diag.get("iterations", ()))
     known = SolveDiagnostics.__dataclass_fields__
     return Solution(problem, times, slices, scales,
-                    SolveDiagnostics(**{k: v for k, v in diag.items() if k in known}))
+                    SolveDiagnostics(**{k: v for k, v in diag.items() if k in known}), reference)

@@ -14,11 +14,24 @@ and time t ∈ [t_j, t_{j+1}] (θ = (t − t_j)/(t_{j+1} − t_j)):
 with ∇z by finite differences at the simplex vertices. All three interpolants are linear in the
 nodal z, so combinations of solutions evaluate exactly as the solution of the combined problem.
 
-A solve fitted to its own terminal cost is not linear in its terminal data anyway (its operator
-is built from it); it stores log z instead (``diagnostics.interpolation == "log"``) and
-interpolates that, v(x, t) = −λ Σ w I[log z], u* = λ R⁻¹ Bᵀ I[∇ log z]: the interpolation its
-fitted step uses, and one that neither underflows nor caps ∇z/z at about 1/h where v/λ rises
-steeply from node to node.
+Linear interpolation of z is poor where v/λ changes by more than about one per cell: there z
+varies by a large factor across a cell, and the central difference of z overstates ∇z/z by
+sinh(Δ)/Δ for a rise Δ of v/λ per cell (a factor of 3 at Δ = 3, and far more beyond). The
+fitted solvers therefore interpolate as their fitted step does:
+
+- A solve fitted to its own terminal cost is not linear in its terminal data anyway (its
+  operator is built from it); it stores log z (``diagnostics.interpolation == "log"``) and
+  interpolates that, v(x, t) = −λ Σ w I[log z], u* = λ R⁻¹ Bᵀ I[∇ log z].
+- Solutions fitted to a shared reference φ (:func:`gridlbc.solve_many`, an explicit
+  ``fitting=``) keep log φ at the stored times (:class:`FittingReference`,
+  ``interpolation == "fitted"``) and interpolate relative to it:
+
+      z(x, t) = exp(I[log φ](x, t)) · I[y](x, t),     y = z/φ at the nodes,
+      Bᵀ∇z    = z · Bᵀ I[∇ log φ] + exp(I[log φ]) · Bᵀ I[∇y],
+
+  both linear in time between slices. For the fixed φ these are linear in the nodal z, so
+  solutions sharing φ still combine exactly as the solution of the combined problem; they are
+  exact wherever z ∝ φ with log-affine φ, and y = z/φ varies far more slowly than z.
 """
 
 from __future__ import annotations
@@ -55,8 +68,10 @@ class SolveDiagnostics:
     bytes of memory the solve was estimated to need (checked before allocating); ``fitting``:
     ``"none"``, or a fingerprint of the reference the drift was fitted to (solutions combine
     exactly only when it matches); ``interpolation``: ``"linear"`` (the slices hold scaled z,
-    interpolated linearly) or ``"log"`` (a solve fitted to its own terminal cost: the slices
-    hold log z relative to its maximum, and v = −λ log z is interpolated linearly).
+    interpolated linearly), ``"fitted"`` (scaled z too, interpolated relative to the operator's
+    reference φ, :attr:`Solution.reference`) or ``"log"`` (a solve fitted to its own terminal
+    cost: the slices hold log z relative to its maximum, and v = −λ log z is interpolated
+    linearly).
     """
 
     method: str
@@ -129,6 +144,16 @@ class FieldEvaluation:
 
 
 @dataclass(frozen=True, eq=False)
+class FittingReference:
+    """log φ of a fitted operator's reference at a solution's stored times: log φ(x_node, t_j) =
+    ``log_slices[j, node]`` + ``log_scales[j]`` (max 0 per slice). Solutions solved together
+    share one instance; their evaluation is relative to it (the module docstring)."""
+
+    log_slices: np.ndarray
+    log_scales: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
 class Solution(FieldEvaluation):
     """The solved desirability of a :class:`gridlbc.Problem` (one terminal cost).
 
@@ -142,6 +167,9 @@ class Solution(FieldEvaluation):
     log_scales : ndarray (S,)
         ℓ_j, so that z = Z · exp(ℓ_j).
     diagnostics : SolveDiagnostics
+    reference : FittingReference or None
+        log φ of the fitted operator's reference at the same times, for ``interpolation ==
+        "fitted"`` (None otherwise).
     """
 
     problem: Problem
@@ -149,6 +177,7 @@ class Solution(FieldEvaluation):
     slices: np.ndarray
     log_scales: np.ndarray
     diagnostics: SolveDiagnostics
+    reference: FittingReference | None = None
     _B_cache: dict = field(default_factory=dict, repr=False, compare=False)
 
     @property
@@ -215,6 +244,14 @@ class Solution(FieldEvaluation):
             with np.errstate(under="ignore"):
                 z = np.exp(ell - L)
             return L, z, None if g is None else g * z[:, None]
+        if self.reference is not None:
+            ell, y, C, g_ell, g_y = self._fitted_fields(x, t, gradient)
+            top = float(ell.max())
+            with np.errstate(under="ignore"):
+                phi = np.exp(ell - top)
+            z = phi * y
+            g = None if g_ell is None else phi[:, None] * (g_ell * y[:, None] + g_y)
+            return top + C, z, g
         grid = self.grid
         x = grid.check_states(x)
         js, tw, L = self._time_weights(t)
@@ -250,10 +287,45 @@ class Solution(FieldEvaluation):
             g += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], np.einsum("s,snv->nv", tw, dl))
         return ell, g
 
+    def _fitted_fields(self, x, t, gradient: bool):
+        """For a reference (``interpolation="fitted"``): I[log φ] ``(N,)``, I[y] ``(N,)`` up to
+        the factor e^C, C, and Bᵀ I[∇ log φ], Bᵀ I[∇y] ``(N, m)`` (``None`` without
+        ``gradient``), all linear in time between the two slices around t, y = z/φ linear in
+        the nodal z (the module docstring)."""
+        grid = self.grid
+        x = grid.check_states(x)
+        j, theta = self._bracket(self._check_time(t))
+        ref = self.reference
+        tw = np.array([1.0 - theta, theta])
+        offsets = self.log_scales[j: j + 2] - ref.log_scales[j: j + 2]  # log of z's scale / φ's
+        C = float(offsets.max())
+        ty = tw * np.exp(offsets - C)  # the time weights of y, relative to e^C
+        idx, bw = barycentric(grid, x)
+        Z, R = self.slices[j: j + 2], ref.log_slices[j: j + 2]
+        ell = np.einsum("s,snv,nv->n", tw, R[:, idx], bw) + tw @ ref.log_scales[j: j + 2]
+        Zv, Rv = Z[:, idx].astype(float), R[:, idx].astype(float)
+        with np.errstate(divide="ignore", under="ignore"):
+            yv = np.where(Zv > 0, np.exp(np.log(np.where(Zv > 0, Zv, 1.0)) - Rv), 0.0)
+        y = np.einsum("s,snv,nv->n", ty, yv, bw)
+        if not gradient:
+            return ell, y, C, None, None
+        B = self._input_matrix_at(idx)
+        shape = (x.shape[0], self.problem.system.control_dim)
+        g_ell, g_y = np.zeros(shape), np.zeros(shape)
+        for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
+            d_ell = node_gradient(grid, R, idx.ravel(), k).reshape((2,) + idx.shape)
+            d_y = node_gradient(grid, Z, idx.ravel(), k, log_divisor=R).reshape((2,) + idx.shape)
+            g_ell += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], np.einsum("s,snv->nv", tw, d_ell))
+            g_y += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], np.einsum("s,snv->nv", ty, d_y))
+        return ell, y, C, g_ell, g_y
+
     def log_desirability(self, x, t) -> np.ndarray:
         """log z(x, t), shape ``(N,)`` (−inf where z underflowed, with an UnderflowWarning)."""
         if self.diagnostics.interpolation == "log":
             return self._log_fields(x, t, gradient=False)[0]
+        if self.reference is not None:
+            ell, y, C, _, _ = self._fitted_fields(x, t, gradient=False)
+            return ell + C + _log_checked(y)
         return super().log_desirability(x, t)
 
     def policy(self, x, t) -> np.ndarray:
@@ -261,6 +333,9 @@ class Solution(FieldEvaluation):
         if self.diagnostics.interpolation == "log":
             _, g = self._log_fields(x, t, gradient=True)
             return self.temperature * (g @ self.problem.R_inv.T)
+        if self.reference is not None:  # u = λ R⁻¹ Bᵀ (∇ log φ + ∇y / y)
+            _, y, _, g_ell, g_y = self._fitted_fields(x, t, gradient=True)
+            return policy_from_fields(self.problem, y, g_ell * y[:, None] + g_y)
         return super().policy(x, t)
 
 

@@ -35,13 +35,14 @@ def available_memory() -> int | None:
 
 def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
                     n_rhs: int = 1) -> dict[str, int]:
-    """Bytes a solve will hold: stored slices, working arrays (two float64 copies of z and the
-    terminal data) and the step operator; ``"ram"`` sums what must fit in memory (the slices
+    """Bytes a solve will hold: stored slices (and the fitting reference's, when it is a row of
+    its own), working arrays (two float64 copies of z and the terminal data) and the step
+    operator; ``"ram"`` sums what must fit in memory (the slices
     live on disk when ``mmap_dir`` is set)."""
     grid = problem.grid
-    stored = n_slices * n_rhs * grid.size * np.dtype(settings.dtype).itemsize
     fitted = settings.reference is not None
     rows = n_rhs + (1 if fitted and not is_own_reference(settings.reference, n_rhs) else 0)
+    stored = n_slices * rows * grid.size * np.dtype(settings.dtype).itemsize  # + log φ, fitted
     # + log φ, the curvature term and (at most two bytes per node) its stencils' places, fitted
     curved = 2.25 if fitted else 0
     working = int((3 * rows + grid.ndim + curved) * grid.size * 8)

@@ -131,7 +131,7 @@ def test_own_reference_row_and_explicit_reference_agree():
     problem = _pendulum()
     own = gridlbc.solve(problem, dt=0.05, fitting="terminal")
     explicit = gridlbc.solve(problem, dt=0.05, fitting=problem.terminal_cost)
-    assert own.diagnostics.interpolation == "log" and explicit.diagnostics.interpolation == "linear"
+    assert own.diagnostics.interpolation == "log" and explicit.diagnostics.interpolation == "fitted"
     for j in (0, len(own.times) - 1):
         np.testing.assert_allclose(own.log_desirability_nodes(j),
                                    explicit.log_desirability_nodes(j), rtol=1e-11,
@@ -365,3 +365,36 @@ def test_corrected_fitted_drift_is_exact_for_quadratic_log_desirability(feet):
         assert np.all(exact_there | np.any(np.abs(corrected[:, None] - ell[0, idx]) < 1e-5, 1))
         assert np.mean(exact_there) > 0.95
     assert 0 < np.count_nonzero(~inside) < 0.05 * grid.size
+
+
+def test_fitted_evaluation_is_the_log_interpolation_where_z_is_the_reference(rng):
+    """Fitted to an explicit reference φ (here the terminal cost itself), a solution is evaluated
+    as z = exp(I[log φ]) I[z/φ]. At t = T, z = φ exactly, so y ≡ 1 and value and policy are the
+    interpolation of log z that the solve fitted to its own cost uses: equal to rounding (the
+    two store log φ by different roundings) at any state, on and off the nodes."""
+    problem = _pendulum()
+    explicit = gridlbc.solve(problem, dt=0.05, fitting=problem.terminal_cost)
+    own = gridlbc.solve(problem, dt=0.05)
+    assert explicit.diagnostics.interpolation == "fitted" and explicit.reference is not None
+    assert own.diagnostics.interpolation == "log"
+    x = np.column_stack([rng.uniform(-np.pi, np.pi, 200), rng.uniform(-6, 6, 200)])
+    T = problem.horizon
+    np.testing.assert_allclose(explicit.value(x, T), own.value(x, T), rtol=1e-12)
+    np.testing.assert_allclose(explicit.policy(x, T), own.policy(x, T), rtol=1e-9, atol=1e-9)
+
+
+def test_solve_many_components_keep_an_optimal_policy_at_small_temperature():
+    """A component of solve_many is fitted to the composite reference and stored as z; its
+    policy λ R⁻¹ Bᵀ∇z/z used to come from z interpolated linearly with central differences of z,
+    which overstate ∇z/z by sinh(Δ)/Δ where v/λ rises by Δ per cell: at λ = 0.1 on 64² the
+    component's own policy certified at J = 185.5 against v* = 9.91 (v/λ rises by up to ~10
+    per cell along ω). Evaluated relative to the reference it is as good as the solve fitted to
+    its own cost. Bound: the certified gap J − v* within 2 % of v* plus 4 paired SE (measured
+    0.076 ± 0.064; the own solve's 0.029 ± 0.065)."""
+    problem = swingup_problem(64, temperature=0.1)
+    goal = Quadratic([-0.6, 0], [10, 0.5])
+    component, _ = gridlbc.solve_many(problem, [goal, Quadratic([0.6, 0], [10, 0.5])])
+    assert component.diagnostics.interpolation == "fitted"
+    cert = gridlbc.certify(component.problem, component.policy, [2.8, 0.0], 400, seed=1,
+                           dt=0.002, progress=False)
+    assert cert.gap < 0.02 * cert.optimal_value + 4 * cert.gap_se, cert.summary()

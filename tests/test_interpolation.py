@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import gridlbc as g
+from gridlbc.studies.figures import route_signed_final_y
 from gridlbc.studies.problems import (
     OBSTACLE,
     OBSTACLE_GOALS,
@@ -18,7 +19,6 @@ from gridlbc.studies.problems import (
     obstacle_problem,
     obstacle_trajectories,
 )
-from gridlbc.studies.figures import route_signed_final_y
 
 
 def se(a):

@@ -38,7 +38,8 @@ from ..combine import _check_components, check_weights
 from ..costs import Quadratic
 from ..grid import Axis, Grid
 from ..project import CONDITION_LIMIT, NEGATIVE_TOLERANCE, RESIDUAL_TOLERANCE, SUM_TOLERANCE
-from ..solution import Solution
+from ..schemes.splitting import _TINY
+from ..solution import FittingReference, Solution
 from ..systems import Pendulum, PointMass
 
 SUPPORTED_SYSTEMS = (Pendulum, PointMass)
@@ -98,6 +99,9 @@ def decimate(solution: Solution, nodes=None, n_times: int | None = None,
     Solution
         Slices Z(x_node, t_j) = z(x_node, t_j) / max_node z(·, t_j) with z the original's
         interpolant (:meth:`Solution.scaled_fields`), on the coarse grid at the kept times.
+        The original interpolates log z or is fitted to a reference: the result is fitted too
+        (``interpolation == "fitted"``), to the original's interpolated log z or log φ at the
+        coarse nodes, so that the page evaluates it as the original is evaluated.
     """
     grid = solution.grid
     shape = grid.shape if nodes is None else tuple(np.atleast_1d(np.asarray(nodes, dtype=int)))
@@ -119,6 +123,9 @@ def decimate(solution: Solution, nodes=None, n_times: int | None = None,
     X = coarse.nodes()
     slices = np.empty((kept.size, coarse.size))
     scales = np.empty(kept.size)
+    fitted = solution.diagnostics.interpolation != "linear"
+    reference = FittingReference(np.empty((kept.size, coarse.size), dtype),
+                                 np.empty(kept.size)) if fitted else None
     for r, j in enumerate(kept):
         L, z, _ = solution.scaled_fields(X, solution.times[j], gradient=False)
         top = z.max()
@@ -127,14 +134,21 @@ def decimate(solution: Solution, nodes=None, n_times: int | None = None,
                              f"{solution.times[j]:g}: the solution cannot be decimated")
         slices[r] = z / top
         scales[r] = L + math.log(top)
+        if fitted:  # log φ at the coarse nodes: the original's own log z, or its I[log φ]
+            ell = (solution.log_desirability(X, solution.times[j]) if solution.reference is None
+                   else solution._fitted_fields(X, solution.times[j], gradient=False)[0])
+            ell = np.maximum(ell, ell.max() + math.log(_TINY))  # finite where z underflowed
+            reference.log_slices[r] = ell - ell.max()
+            reference.log_scales[r] = ell.max()
     stored = slices.astype(dtype)
     flushed = int(np.count_nonzero(slices) - np.count_nonzero(stored))
     diagnostics = replace(
         solution.diagnostics, stored_bytes=int(stored.nbytes), flushed_values=flushed,
-        underflow_nodes=int(np.count_nonzero(stored[0] == 0)), interpolation="linear",
+        underflow_nodes=int(np.count_nonzero(stored[0] == 0)),
+        interpolation="fitted" if fitted else "linear",
     )
     return Solution(solution.problem.replace(grid=coarse), solution.times[kept].copy(), stored,
-                    scales, diagnostics)
+                    scales, diagnostics, reference)
 
 
 @dataclass(frozen=True)
@@ -172,7 +186,7 @@ class Embedding:
 
     @property
     def nbytes(self) -> int:
-        return sum(int(s.slices.nbytes) for s in self.components)
+        return sum(int(s.slices.nbytes) + _reference_bytes(s) for s in self.components)
 
     def describe(self) -> str:
         shape = "×".join(map(str, self.shape))
@@ -210,12 +224,13 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     if max_bytes <= 0:
         raise ValueError(f"max_bytes must be positive, got {max_bytes}")
     shape, n_stored = first.grid.shape, len(first.times)
-    whole = sum(int(s.slices.nbytes) for s in solutions)
+    whole = sum(int(s.slices.nbytes) + _reference_bytes(s) for s in solutions)
     if nodes is None and n_times is None and whole <= max_bytes:
-        # The page interpolates z: a solution that stores log z is converted to z at its own
-        # nodes and reported as decimated (the page is exact for the converted solution, and the
-        # report gives its error against the original).
-        converted = [s.diagnostics.interpolation != "linear" for s in solutions]
+        # The page interpolates z, or z relative to a reference: a solution that stores log z is
+        # converted to z at its own nodes, fitted to its own log z, and reported as decimated
+        # (the page is exact for the converted solution, and the report gives its error against
+        # the original).
+        converted = [s.diagnostics.interpolation == "log" for s in solutions]
         return Embedding(tuple(decimate(s, None, None, dtype) if c else s
                                for s, c in zip(solutions, converted)),
                          shape, n_stored, any(converted))
@@ -258,6 +273,17 @@ def _component_label(solution: Solution, i: int) -> str:
     return f"component {i + 1}"
 
 
+def _reference_bytes(solution: Solution) -> int:
+    """Bytes of a solution's fitting reference (what the page embeds besides its slices)."""
+    return 0 if solution.reference is None else int(solution.reference.log_slices.nbytes)
+
+
+def _base64(array: np.ndarray) -> str:
+    """The array's bytes, little-endian, as base64 text."""
+    return base64.b64encode(np.ascontiguousarray(array, dtype=array.dtype.newbyteorder("<"))
+                            .tobytes()).decode("ascii")
+
+
 def page_data(embedding: Embedding, weights=None, state=None, title: str | None = None,
               labels=None, note: str = "") -> dict:
     """The JSON document the page reads (everything it shows comes from here)."""
@@ -288,10 +314,10 @@ def page_data(embedding: Embedding, weights=None, state=None, title: str | None 
         "dtype": embedding.dtype,
         "components": [
             {"label": lab, "terminal_cost": _cost_record(s.problem.terminal_cost),
-             "log_scales": s.log_scales.tolist(),
-             "slices": base64.b64encode(
-                 np.ascontiguousarray(s.slices, dtype=s.slices.dtype.newbyteorder("<"))
-                 .tobytes()).decode("ascii")}
+             "log_scales": s.log_scales.tolist(), "slices": _base64(s.slices),
+             "reference": None if s.reference is None else {
+                 "log_scales": s.reference.log_scales.tolist(),
+                 "log_slices": _base64(s.reference.log_slices.astype(s.slices.dtype))}}
             for lab, s in zip(labels, comps)
         ],
         "initial": {"weights": w.tolist(), "state": np.asarray(x0, float).tolist(), "time": 0.0},

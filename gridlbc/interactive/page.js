@@ -1,7 +1,8 @@
 "use strict";
 // gridlbc interactive page: linear Bellman combination evaluated in the browser.
 // Mirrors gridlbc.interpolate (Kuhn barycentric), gridlbc.solution (log-scaled slices, linear
-// time interpolation, finite-difference B^T grad z), gridlbc.combine (common scale, alpha),
+// time interpolation, finite-difference B^T grad z, fitted components relative to their
+// reference's log phi), gridlbc.combine (common scale, alpha),
 // gridlbc.project (Gram system) and gridlbc.simulate (noise-free Euler rollout).
 (function () {
   const started = performance.now();
@@ -39,6 +40,9 @@
   }
   const comps = DATA.components.map((c) => ({
     label: c.label, cost: c.terminal_cost, logScales: c.log_scales, Z: decode(c.slices),
+    // a fitted component: log phi of its reference (gridlbc.solution.FittingReference)
+    R: c.reference ? decode(c.reference.log_slices) : null,
+    refScales: c.reference ? c.reference.log_scales : null,
   }));
   const n = comps.length;
   const decodeMs = performance.now() - started;
@@ -83,19 +87,24 @@
     }
   }
 
-  // dZ/dx_k at a node of slice offset `off`: central, one-sided at closed ends
-  function gradient(Z, off, node, k) {
+  // the nodes and factor of the derivative along k at a node: central, one-sided at closed ends
+  const stencil = { up: 0, down: 0, scale: 0 };
+  function neighbours(node, k) {
     const s = strides[k], nk = shape[k], h = spacing[k];
     const i = Math.floor(node / s) % nk;
-    let up, down, scale;
     if (periodic[k]) {
-      up = i < nk - 1 ? node + s : node - (nk - 1) * s;
-      down = i > 0 ? node - s : node + (nk - 1) * s;
-      scale = 0.5 / h;
-    } else if (i === 0) { up = node + s; down = node; scale = 1 / h; }
-    else if (i === nk - 1) { up = node; down = node - s; scale = 1 / h; }
-    else { up = node + s; down = node - s; scale = 0.5 / h; }
-    return diff(Z[off + up], Z[off + down]) * scale;
+      stencil.up = i < nk - 1 ? node + s : node - (nk - 1) * s;
+      stencil.down = i > 0 ? node - s : node + (nk - 1) * s;
+      stencil.scale = 0.5 / h;
+    } else if (i === 0) { stencil.up = node + s; stencil.down = node; stencil.scale = 1 / h; }
+    else if (i === nk - 1) { stencil.up = node; stencil.down = node - s; stencil.scale = 1 / h; }
+    else { stencil.up = node + s; stencil.down = node - s; stencil.scale = 0.5 / h; }
+    return stencil;
+  }
+  // dZ/dx_k at a node of slice offset `off`
+  function gradient(Z, off, node, k) {
+    const st = neighbours(node, k);
+    return diff(Z[off + st.up], Z[off + st.down]) * st.scale;
   }
   // the difference in the stored precision, as the compiled kernel takes it
   const diff = DATA.dtype === "float32" ? (a, b) => Math.fround(a - b) : (a, b) => a - b;
@@ -107,24 +116,68 @@
     }
     return Math.min(Math.max(t, 0), T);
   }
-  // per component: slice j, weights tau of slices j, j+1 and the common log scale L
+  // per component: slice j, weights tau of slices j, j+1 and the common log scale L; for a
+  // fitted component tau weights y = z/phi (relative to e^C, C the larger of log(z's scale /
+  // phi's)), theta0/1 weight log phi, and L = C + the larger of phi's scales
   function timeWeights(t) {
     let j = 0; // searchsorted(times, t, "right") - 1, clipped to [0, S-2]
     while (j < S && times[j] <= t) j++;
     j = Math.min(Math.max(j - 1, 0), S - 2);
     const theta = Math.min(Math.max((t - times[j]) / (times[j + 1] - times[j]), 0), 1);
     return comps.map((c) => {
-      const a = c.logScales[j], b = c.logScales[j + 1];
-      const L = Math.max(a, b);
-      return { j: j, L: L, tau0: (1 - theta) * Math.exp(a - L), tau1: theta * Math.exp(b - L) };
+      let a = c.logScales[j], b = c.logScales[j + 1];
+      let top = 0;
+      if (c.R) {
+        a -= c.refScales[j]; b -= c.refScales[j + 1];
+        top = Math.max(c.refScales[j], c.refScales[j + 1]);
+      }
+      const C = Math.max(a, b);
+      return { j: j, L: C + top, tau0: (1 - theta) * Math.exp(a - C),
+        tau1: theta * Math.exp(b - C), theta0: 1 - theta, theta1: theta, top: top };
     });
+  }
+
+  // y = z/phi at a node of slice offset `off`, and its central difference along k (in double)
+  function ratio(c, off, node) {
+    const z = c.Z[off + node];
+    return z > 0 ? Math.exp(Math.log(z) - c.R[off + node]) : 0;
+  }
+  function ratioGradient(c, off, node, k) {
+    const st = neighbours(node, k);
+    return (ratio(c, off, st.up) - ratio(c, off, st.down)) * st.scale;
   }
 
   // scaled z and B^T grad z of component c at x (up to e^L); writes g (length m)
   const idxV = new Int32Array(d + 1);
   const bwV = new Float64Array(d + 1);
+  const gEll = new Float64Array(m), gY = new Float64Array(m);
+  function fittedFields(c, tw, x, g) { // z = e^{I[log phi]} I[y], grad z = z grad I[log phi] + e^{..} grad I[y]
+    const R = c.R, off0 = tw.j * size, off1 = off0 + size;
+    let ell = tw.theta0 * c.refScales[tw.j] + tw.theta1 * c.refScales[tw.j + 1], y = 0;
+    for (let v = 0; v <= d; v++) {
+      const node = idxV[v];
+      ell += bwV[v] * (tw.theta0 * R[off0 + node] + tw.theta1 * R[off1 + node]);
+      y += bwV[v] * (tw.tau0 * ratio(c, off0, node) + tw.tau1 * ratio(c, off1, node));
+    }
+    gEll.fill(0); gY.fill(0);
+    for (const k of axesWithB) {
+      for (let v = 0; v <= d; v++) {
+        const node = idxV[v];
+        const dl = tw.theta0 * gradient(R, off0, node, k) + tw.theta1 * gradient(R, off1, node, k);
+        const dy = tw.tau0 * ratioGradient(c, off0, node, k) + tw.tau1 * ratioGradient(c, off1, node, k);
+        for (let r = 0; r < m; r++) {
+          gEll[r] += bwV[v] * B[k][r] * dl;
+          gY[r] += bwV[v] * B[k][r] * dy;
+        }
+      }
+    }
+    const phi = Math.exp(ell - tw.top);
+    for (let r = 0; r < m; r++) g[r] = phi * (gEll[r] * y + gY[r]);
+    return phi * y;
+  }
   function componentFields(c, tw, x, g) {
     barycentric(x, idxV, bwV);
+    if (c.R) return fittedFields(c, tw, x, g);
     const Z = c.Z, off0 = tw.j * size, off1 = off0 + size;
     let z = 0;
     for (let v = 0; v <= d; v++) {
