@@ -186,7 +186,8 @@ class Embedding:
 
     @property
     def nbytes(self) -> int:
-        return sum(int(s.slices.nbytes) + _reference_bytes(s) for s in self.components)
+        return (sum(int(s.slices.nbytes) for s in self.components)
+                + sum(int(r.log_slices.nbytes) for r in _shared_references(self.components)[0]))
 
     def describe(self) -> str:
         shape = "×".join(map(str, self.shape))
@@ -224,7 +225,8 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     if max_bytes <= 0:
         raise ValueError(f"max_bytes must be positive, got {max_bytes}")
     shape, n_stored = first.grid.shape, len(first.times)
-    whole = sum(int(s.slices.nbytes) + _reference_bytes(s) for s in solutions)
+    whole = (sum(int(s.slices.nbytes) for s in solutions)
+             + sum(int(r.log_slices.nbytes) for r in _shared_references(solutions)[0]))
     if nodes is None and n_times is None and whole <= max_bytes:
         # The page interpolates z, or z relative to a reference: a solution that stores log z is
         # converted to z at its own nodes, fitted to its own log z, and reported as decimated
@@ -237,8 +239,11 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     if n_times is None:
         n_times = min(n_stored, DEFAULT_TIMES)
     if nodes is None:
-        per_node = len(solutions) * _slice_indices(n_stored, int(n_times)).size * \
-            np.dtype(dtype).itemsize
+        # a decimated solution that interpolates log z or a reference keeps a reference: the
+        # references of solutions solved together are one, embedded once
+        rows = len(solutions) + len(_shared_references(solutions)[0]) + sum(
+            s.diagnostics.interpolation == "log" for s in solutions)
+        per_node = rows * _slice_indices(n_stored, int(n_times)).size * np.dtype(dtype).itemsize
         top = max(shape)
         for m in range(top, 2, -1):
             nodes = [max(3, round(n * m / top)) for n in shape]
@@ -273,9 +278,25 @@ def _component_label(solution: Solution, i: int) -> str:
     return f"component {i + 1}"
 
 
-def _reference_bytes(solution: Solution) -> int:
-    """Bytes of a solution's fitting reference (what the page embeds besides its slices)."""
-    return 0 if solution.reference is None else int(solution.reference.log_slices.nbytes)
+def _shared_references(solutions) -> tuple[list, list]:
+    """The distinct fitting references of ``solutions`` (equal arrays count once: solutions
+    solved together, or decimated from such, share theirs) and, per solution, the index of its
+    own in that list (None without one)."""
+    distinct, index = [], []
+    for s in solutions:
+        ref = s.reference
+        if ref is None:
+            index.append(None)
+            continue
+        for k, other in enumerate(distinct):
+            if other is ref or (np.array_equal(other.log_scales, ref.log_scales)
+                                and np.array_equal(other.log_slices, ref.log_slices)):
+                index.append(k)
+                break
+        else:
+            index.append(len(distinct))
+            distinct.append(ref)
+    return distinct, index
 
 
 def _base64(array: np.ndarray) -> str:
@@ -296,6 +317,7 @@ def page_data(embedding: Embedding, weights=None, state=None, title: str | None 
     B = np.asarray(system.input_matrix(grid.nodes()[:1]), dtype=float)[0]
     names = [a.name or n for a, n in zip(grid.axes, system.state_names)]
     labels = labels or [_component_label(s, i) for i, s in enumerate(comps)]
+    references = _shared_references(comps)
     return {
         "format": "gridlbc-interactive",
         "title": title or f"Linear Bellman combination: {type(system).__name__}",
@@ -315,11 +337,12 @@ def page_data(embedding: Embedding, weights=None, state=None, title: str | None 
         "components": [
             {"label": lab, "terminal_cost": _cost_record(s.problem.terminal_cost),
              "log_scales": s.log_scales.tolist(), "slices": _base64(s.slices),
-             "reference": None if s.reference is None else {
-                 "log_scales": s.reference.log_scales.tolist(),
-                 "log_slices": _base64(s.reference.log_slices.astype(s.slices.dtype))}}
-            for lab, s in zip(labels, comps)
+             "reference": k}
+            for lab, s, k in zip(labels, comps, references[1])
         ],
+        "references": [{"log_scales": r.log_scales.tolist(),
+                        "log_slices": _base64(r.log_slices.astype(first.slices.dtype))}
+                       for r in references[0]],
         "initial": {"weights": w.tolist(), "state": np.asarray(x0, float).tolist(), "time": 0.0},
         "embedding": embedding.describe(),
         "raster": list(RASTER),

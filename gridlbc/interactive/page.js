@@ -38,11 +38,12 @@
     for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
     return DATA.dtype === "float32" ? new Float32Array(bytes.buffer) : new Float64Array(bytes.buffer);
   }
+  // fitting references (log phi, gridlbc.solution.FittingReference), shared by components
+  const refs = DATA.references.map((r) => ({ R: decode(r.log_slices), scales: r.log_scales }));
   const comps = DATA.components.map((c) => ({
     label: c.label, cost: c.terminal_cost, logScales: c.log_scales, Z: decode(c.slices),
-    // a fitted component: log phi of its reference (gridlbc.solution.FittingReference)
-    R: c.reference ? decode(c.reference.log_slices) : null,
-    refScales: c.reference ? c.reference.log_scales : null,
+    R: c.reference === null ? null : refs[c.reference].R,
+    refScales: c.reference === null ? null : refs[c.reference].scales,
   }));
   const n = comps.length;
   const decodeMs = performance.now() - started;

@@ -345,14 +345,15 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     means = np.array([paired[k][0] for k in labels])
     errors = np.array([paired[k][1] for k in labels])
     rows = np.arange(len(labels))
-    ax_cost.barh(rows, means, xerr=errors, color=[colors[k] for k in labels], capsize=4)
+    ax_cost.barh(rows, means, xerr=errors, color=[colors[k] for k in labels], capsize=4,
+                 height=0.5)  # its label below it, clear of the bar
     reference = certificates[names[4]]  # the exact optimum as proposal: the smallest SE of v*
     ours = certificates[names[0]]
     ax_cost.axvline(0, color="C0", lw=2, label=f"LBC: J = {ours.policy_cost:.3f} ± "
                     f"{ours.policy_cost_se:.3f}, J − v* = {ours.gap:+.3f} ± {ours.gap_se:.3f}")
     for k, label in enumerate(labels):
         c = certificates[label]
-        ax_cost.text(0.02, k + 0.32, f"{means[k]:+.3f} ± {errors[k]:.3f} "
+        ax_cost.text(0.02, k + 0.42, f"{means[k]:+.3f} ± {errors[k]:.3f} "
                      f"({means[k] / errors[k]:+.0f} SE); J = {c.policy_cost:.3f} ± "
                      f"{c.policy_cost_se:.3f}, J − v* = {c.gap:+.3f} ± {c.gap_se:.3f}",
                      transform=ax_cost.get_yaxis_transform(), va="center", fontsize=8)
