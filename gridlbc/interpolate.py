@@ -168,8 +168,8 @@ def _central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacin
 
 def node_gradient(grid: Grid, values: np.ndarray, nodes: np.ndarray, axis: int,
                   log_divisor: np.ndarray | None = None) -> np.ndarray:
-    """Finite-difference derivative along ``axis`` of nodal ``values`` ``(K, size)`` at flat ``nodes``
-    (of values / e^{log_divisor} when ``log_divisor`` ``(K, size)`` is given).
+    """Finite-difference derivative along ``axis`` of nodal ``values`` ``(K, size)`` at flat
+    ``nodes`` (of values / e^{log_divisor} when ``log_divisor`` ``(K, size)`` is given).
 
     Second-order central differences in the interior and on periodic axes, first-order one-sided
     differences at the ends of a non-periodic axis. Returns ``(K, len(nodes))``; linear in values.

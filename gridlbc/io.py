@@ -119,7 +119,7 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
     arrays = {"times": solution.times, "slices": solution.slices,
               "log_scales": solution.log_scales}
     reference = solution.reference
-    if reference is not None:  # log φ of a fitted operator: the solution is evaluated relative to it
+    if reference is not None:  # log φ of a fitted operator: the solution's evaluation needs it
         arrays["reference_log_slices"] = reference.log_slices
         arrays["reference_log_scales"] = reference.log_scales
     meta = {
@@ -192,7 +192,8 @@ def load(path) -> Solution:
             reference = FittingReference(contents["reference_log_slices"],
                                          contents["reference_log_scales"])
         except KeyError:
-            raise ValueError(f"{str(path)!r} is corrupted: its fitting reference is missing") from None
+            raise ValueError(
+                f"{str(path)!r} is corrupted: its fitting reference is missing") from None
         if _digest(reference.log_slices, reference.log_scales) != meta["reference_sha256"]:
             raise ValueError(f"{str(path)!r} is corrupted: its fitting reference does not match "
                              "its checksum")

@@ -315,8 +315,9 @@ class Solution(FieldEvaluation):
         for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
             d_ell = node_gradient(grid, R, idx.ravel(), k).reshape((2,) + idx.shape)
             d_y = node_gradient(grid, Z, idx.ravel(), k, log_divisor=R).reshape((2,) + idx.shape)
-            g_ell += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], np.einsum("s,snv->nv", tw, d_ell))
-            g_y += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], np.einsum("s,snv->nv", ty, d_y))
+            Bk = B[:, :, k, :]
+            g_ell += np.einsum("nv,nvm,nv->nm", bw, Bk, np.einsum("s,snv->nv", tw, d_ell))
+            g_y += np.einsum("nv,nvm,nv->nm", bw, Bk, np.einsum("s,snv->nv", ty, d_y))
         return ell, y, C, g_ell, g_y
 
     def log_desirability(self, x, t) -> np.ndarray:
