@@ -192,16 +192,16 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     scales[-1] = log_scale[:K]
     progress = ProgressBar(n_steps, s.progress, f"{s.method} {grid.describe()}",
                            work_per_item=grid.size)
-    fitting = None
+    log_phi = None  # the reference's log φ at the stored times (fitted)
     if reference is None:
         flushed += _march(step, Z, log_scale, kept, dt, slices, scales, blocks, progress)
     else:  # log φ at the stored times, shared by the solutions: they are evaluated relative to it
-        fitting = FittingReference(
+        log_phi = FittingReference(
             slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir),
             np.empty(len(kept)))
-        _store_reference(Z[reference], log_scale[reference], fitting, -1)
+        _store_reference(Z[reference], log_scale[reference], log_phi, -1)
         flushed += _march_fitted(step, Z, log_scale, reference, kept, dt, slices, scales,
-                                 blocks, progress, fitting)
+                                 blocks, progress, log_phi)
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
@@ -214,10 +214,10 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
             stored_bytes=int(slices[r].nbytes), operator_bytes=step.nbytes,
             courant=rate * dt, iterations=iterations, flushed_values=int(flushed),
             memory_estimate=estimate["ram"], fitting=fingerprint,
-            interpolation="linear" if fitting is None else "fitted",
+            interpolation="linear" if log_phi is None else "fitted",
         )
         out.append(Solution(problem.replace(terminal_cost=cost), times, slices[r],
-                            scales[:, r].copy(), diagnostics, fitting))
+                            scales[:, r].copy(), diagnostics, log_phi))
     if reference is None:
         diffusion_step = 0.5 * dt if s.method == "splitting" else dt
         for solution in out:
@@ -264,18 +264,18 @@ def _march(step, Z: np.ndarray, log_scale: np.ndarray, kept: list[int], dt: floa
     return flushed
 
 
-def _store_reference(phi: np.ndarray, log_scale: float, fitting: FittingReference, slot: int):
-    """Slot ``slot`` of ``fitting``: log φ relative to its maximum (floored where φ underflowed)
+def _store_reference(phi: np.ndarray, log_scale: float, log_phi: FittingReference, slot: int):
+    """Slot ``slot`` of ``log_phi``: log φ relative to its maximum (floored where φ underflowed)
     and its log-scale, for φ = ``phi`` · e^{log_scale}."""
     top = float(phi.max())
     with np.errstate(divide="ignore"):
-        np.log(np.maximum(phi / top, _TINY), out=fitting.log_slices[slot], casting="unsafe")
-    fitting.log_scales[slot] = log_scale + math.log(top)
+        np.log(np.maximum(phi / top, _TINY), out=log_phi.log_slices[slot], casting="unsafe")
+    log_phi.log_scales[slot] = log_scale + math.log(top)
 
 
 def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, reference: int,
                   kept: list[int], dt: float, slices: np.ndarray, scales: np.ndarray,
-                  blocks: np.ndarray, progress: ProgressBar, fitting: FittingReference) -> int:
+                  blocks: np.ndarray, progress: ProgressBar, log_phi: FittingReference) -> int:
     """:func:`_march` for the splitting fitted to row ``reference`` of ``Z``: n steps of
     C D½ M P D½ C (:class:`SplittingStep`; P fitted by :meth:`SplittingStep.drift`, D½ by
     :meth:`SplittingStep.fitted_diffusion`).
@@ -293,7 +293,7 @@ def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, ref
     linear, non-negative function of z_T like every slice. With a state cost the two halves
     stay apart, so that the cost between them is taken half way through the diffusion, where
     Simpson's rule along the path wants it (merged, a steep cost would be sampled at the
-    diffusion's ends). The reference row's log is stored in ``fitting`` at the same times."""
+    diffusion's ends). The reference row's log is stored in ``log_phi`` at the same times."""
     K = slices.shape[0]
     merge = step.cost_factor.size == 0
     if not merge:
@@ -324,7 +324,7 @@ def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, ref
                 top = step.row_maxima(stored)
             flushed += store_kernel(stored[:K], 1.0 / top[:K], slices[:, slot], blocks)
             scales[slot] = log_scale[:K] + np.log(top[:K])
-            _store_reference(stored[reference], log_scale[reference], fitting, slot)
+            _store_reference(stored[reference], log_scale[reference], log_phi, slot)
         log_scale = log_scale + np.log(peak)
         scale = 1.0 / peak
         if n > 0 and not merge:  # the next step opens with its own D½ C (x is free)

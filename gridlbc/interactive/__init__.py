@@ -225,8 +225,9 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     if max_bytes <= 0:
         raise ValueError(f"max_bytes must be positive, got {max_bytes}")
     shape, n_stored = first.grid.shape, len(first.times)
+    references = _shared_references(solutions)[0]
     whole = (sum(int(s.slices.nbytes) for s in solutions)
-             + sum(int(r.log_slices.nbytes) for r in _shared_references(solutions)[0]))
+             + sum(int(r.log_slices.nbytes) for r in references))
     if nodes is None and n_times is None and whole <= max_bytes:
         # The page interpolates z, or z relative to a reference: a solution that stores log z is
         # converted to z at its own nodes, fitted to its own log z, and reported as decimated
@@ -241,7 +242,7 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     if nodes is None:
         # a decimated solution that interpolates log z or a reference keeps a reference: the
         # references of solutions solved together are one, embedded once
-        rows = len(solutions) + len(_shared_references(solutions)[0]) + sum(
+        rows = len(solutions) + len(references) + sum(
             s.diagnostics.interpolation == "log" for s in solutions)
         per_node = rows * _slice_indices(n_stored, int(n_times)).size * np.dtype(dtype).itemsize
         top = max(shape)

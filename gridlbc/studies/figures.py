@@ -206,7 +206,7 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
 
     LBC, u = Σ α_i u_i with α_i = w_i exp(−v̂_i/λ) / Σ_j w_j exp(−v̂_j/λ), follows whichever path
     the noise has made cheaper; behind the wall, where both expansions hold, the other
-    component's weight rises (α ≈ 0.16) and its unsaturated tracker pulls towards its own goal,
+    component's weight rises and its unsaturated tracker pulls towards its own goal,
     so LBC stops nearer c̄ than either component alone (the route-signed final y,
     :func:`route_signed_final_y`: mean ± SE, and its difference to LBC's ± paired SE). The
     naive blend u = Σ w_i u_i / Σ w_i averages the two trackers u_i = ū_i + K_i (x − x̄_i) with
