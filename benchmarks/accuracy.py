@@ -53,13 +53,16 @@ def _row(name, problem, scheme, solution, wall, warned, x0, cert, reference):
     v = float(solution.value(x0, 0.0)[0])
     d = solution.diagnostics
     grid = "×".join(str(n) for n in problem.grid.shape)
-    print(f"{name:<7}{problem.temperature:>7g} {scheme:<7}{grid:>9}{d.dt:>8.4f}{wall:>8.2f}"
-          f"{v:>10.3f}{cert.optimal_value:>9.3f}{cert.optimal_value_se:>7.3f}"
-          f"{100 * (v / reference - 1):>+8.1f}%{cert.policy_cost:>9.3f}{cert.policy_cost_se:>7.3f}"
-          f"{100 * (cert.policy_cost / reference - 1):>+8.1f}%"
-          f"{100 * cert.gap / cert.optimal_value:>+8.2f}%{100 * cert.gap_se / cert.optimal_value:>6.2f}%"
-          f"{cert.effective_sample_size:>7.0f}"
-          f"{'  warned' if warned else ''}", flush=True)
+    print(
+        f"{name:<7}{problem.temperature:>7g} {scheme:<7}{grid:>9}{d.dt:>8.4f}{wall:>8.2f}"
+        f"{v:>10.3f}{cert.optimal_value:>9.3f}{cert.optimal_value_se:>7.3f}"
+        f"{100 * (v / reference - 1):>+8.1f}%{cert.policy_cost:>9.3f}{cert.policy_cost_se:>7.3f}"
+        f"{100 * (cert.policy_cost / reference - 1):>+8.1f}%"
+        f"{100 * cert.gap / cert.optimal_value:>+8.2f}%{100 * cert.gap_se / cert.optimal_value:>6.2f}%"
+        f"{cert.effective_sample_size:>7.0f}"
+        f"{'  warned' if warned else ''}",
+        flush=True,
+    )
 
 
 def main(argv=None):
@@ -73,20 +76,25 @@ def main(argv=None):
 
     for options in ({"fitting": None}, {"fitting": "terminal"}):  # compile outside the timings
         gridlbc.solve(mild_pendulum_problem(16), **options)
-    header = (f"{'problem':<7}{'λ':>7} {'scheme':<7}{'grid':>9}{'dt':>8}{'solve s':>8}"
-              f"{'predicted':>10}{'v*':>9}{'± SE':>7}{'error':>9}{'policy J':>9}{'± SE':>7}"
-              f"{'excess':>9}{'gap':>9}{'± SE':>7}{'ESS':>7}")
-    print("error = predicted / reference − 1, excess = J / reference − 1; the reference is v*, "
-          f"or {STEEP_DETERMINISTIC_OPTIMUM} (the deterministic optimum) where v* has ESS < 20; "
-          "gap = (J − v*)/v* from the same samples, with its paired SE")
+    header = (
+        f"{'problem':<7}{'λ':>7} {'scheme':<7}{'grid':>9}{'dt':>8}{'solve s':>8}"
+        f"{'predicted':>10}{'v*':>9}{'± SE':>7}{'error':>9}{'policy J':>9}{'± SE':>7}"
+        f"{'excess':>9}{'gap':>9}{'± SE':>7}{'ESS':>7}"
+    )
+    print(
+        "error = predicted / reference − 1, excess = J / reference − 1; the reference is v*, "
+        f"or {STEEP_DETERMINISTIC_OPTIMUM} (the deterministic optimum) where v* has ESS < 20; "
+        "gap = (J − v*)/v* from the same samples, with its paired SE"
+    )
     print(header)
     print("-" * len(header))
     problem = mild_pendulum_problem(args.mild)
     for scheme, options in _schemes(args.fitted_dts):
         solution, wall, warned = _solve(problem, options)
         for x0 in MILD_STATES:
-            cert = gridlbc.certify(problem, solution.policy, x0, args.samples, dt=ROLLOUT_DT,
-                                   seed=1, progress=False)
+            cert = gridlbc.certify(
+                problem, solution.policy, x0, args.samples, dt=ROLLOUT_DT, seed=1, progress=False
+            )
             _row("mild", problem, scheme, solution, wall, warned, x0, cert, cert.optimal_value)
     for lam in args.temperatures:
         problem = steep_swingup_problem(args.steep, lam)
@@ -95,19 +103,31 @@ def main(argv=None):
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # underflowed policies, few effective samples
                 policy = _finite(solution.policy)
-                cert = gridlbc.certify(problem, policy, STEEP_START, args.samples,
-                                       dt=ROLLOUT_DT, seed=0, progress=False)
-            reference = (cert.optimal_value if cert.effective_sample_size >= 20
-                         else STEEP_DETERMINISTIC_OPTIMUM)
+                cert = gridlbc.certify(
+                    problem,
+                    policy,
+                    STEEP_START,
+                    args.samples,
+                    dt=ROLLOUT_DT,
+                    seed=0,
+                    progress=False,
+                )
+            reference = (
+                cert.optimal_value
+                if cert.effective_sample_size >= 20
+                else STEEP_DETERMINISTIC_OPTIMUM
+            )
             _row("steep", problem, scheme, solution, wall, warned, STEEP_START, cert, reference)
 
 
 def _finite(policy):
     """The policy with undefined controls (where z underflowed) replaced by zero torque, so that
     the certificate can still be computed for the plain scheme at small λ."""
+
     def wrapped(x, t):
         u = policy(x, t)
         return np.where(np.isfinite(u), u, 0.0)
+
     return wrapped
 
 

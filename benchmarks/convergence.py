@@ -34,19 +34,43 @@ from gridlbc.studies.problems import pendulum_problem
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--spacings", type=int, nargs="+", default=[4, 8, 16, 32],
-                        help="PointMass grid spacings as 1/h (default: 4 8 16 32)")
-    parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256],
-                        help="pendulum nodes per angle, doubling (default: 64 128 256)")
-    parser.add_argument("--temperatures", type=float, nargs="+",
-                        default=[1.0, 0.3, 0.1, 0.03, 0.01])
-    parser.add_argument("--temperature-grid", type=int, default=128,
-                        help="pendulum nodes per angle for the λ → 0 study (default: 128)")
-    parser.add_argument("--start", type=float, nargs=2, default=[1.5, 0.0],
-                        metavar=("THETA", "OMEGA"),
-                        help="start state of the certified pendulum comparison (default 1.5 0)")
-    parser.add_argument("--samples", type=int, default=400,
-                        help="samples of each solver's own certificate (default 400)")
+    parser.add_argument(
+        "--spacings",
+        type=int,
+        nargs="+",
+        default=[4, 8, 16, 32],
+        help="PointMass grid spacings as 1/h (default: 4 8 16 32)",
+    )
+    parser.add_argument(
+        "--sizes",
+        type=int,
+        nargs="+",
+        default=[64, 128, 256],
+        help="pendulum nodes per angle, doubling (default: 64 128 256)",
+    )
+    parser.add_argument(
+        "--temperatures", type=float, nargs="+", default=[1.0, 0.3, 0.1, 0.03, 0.01]
+    )
+    parser.add_argument(
+        "--temperature-grid",
+        type=int,
+        default=128,
+        help="pendulum nodes per angle for the λ → 0 study (default: 128)",
+    )
+    parser.add_argument(
+        "--start",
+        type=float,
+        nargs=2,
+        default=[1.5, 0.0],
+        metavar=("THETA", "OMEGA"),
+        help="start state of the certified pendulum comparison (default 1.5 0)",
+    )
+    parser.add_argument(
+        "--samples",
+        type=int,
+        default=400,
+        help="samples of each solver's own certificate (default 400)",
+    )
     parser.add_argument("--truth-samples", type=int, default=2000)
     parser.add_argument("--out", default="figures", help="folder for the figures")
     args = parser.parse_args(argv)
@@ -60,16 +84,23 @@ def main(argv=None):
     print(f"Pendulum ({pendulum.points} points, v < min v + {pendulum.band:g})")
     print(pendulum.format(), "\n", flush=True)
     plot_convergence([pointmass, pendulum], out / "convergence.png")
-    certified = certified_study(pendulum_problem, args.sizes, args.start,
-                                (("splitting", None), ("hjb", None), ("fitted", None)),
-                                samples=args.samples, truth_samples=args.truth_samples,
-                                rollout_dt=0.002)
+    certified = certified_study(
+        pendulum_problem,
+        args.sizes,
+        args.start,
+        (("splitting", None), ("hjb", None), ("fitted", None)),
+        samples=args.samples,
+        truth_samples=args.truth_samples,
+        rollout_dt=0.002,
+    )
     print("Pendulum against the certified optimum (rollouts at Δt = 0.002)")
     print(certified.format(), "\n", flush=True)
 
     study = temperature_study(temperatures=tuple(args.temperatures), n=args.temperature_grid)
-    print(f"Pendulum as λ → 0 ({args.temperature_grid} nodes per angle); z underflows in float64 "
-          "where (v − min v)/λ > 744")
+    print(
+        f"Pendulum as λ → 0 ({args.temperature_grid} nodes per angle); z underflows in float64 "
+        "where (v − min v)/λ > 744"
+    )
     print(study.format())
     plot_temperature(study, out / "temperature.png")
     print(f"\nwrote {out / 'convergence.png'} and {out / 'temperature.png'}")

@@ -41,29 +41,44 @@ def _certified(run) -> str:
     c = run.certificate
     if c is None:
         return "| — | — | — "
-    return (f"| {c.policy_cost:.3g} ± {c.policy_cost_se:.2g} | {c.optimal_value:.3g} ± "
-            f"{c.optimal_value_se:.2g} | {c.effective_sample_size:.0f}"
-            f"{'' if c.trusted else ' (untrusted)'} ")
+    return (
+        f"| {c.policy_cost:.3g} ± {c.policy_cost_se:.2g} | {c.optimal_value:.3g} ± "
+        f"{c.optimal_value_se:.2g} | {c.effective_sample_size:.0f}"
+        f"{'' if c.trusted else ' (untrusted)'} "
+    )
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--offset", type=float, default=0.25,
-                        help="δ: the components enter at ∓δ rad from vertical")
+    parser.add_argument(
+        "--offset", type=float, default=0.25, help="δ: the components enter at ∓δ rad from vertical"
+    )
     parser.add_argument("--restarts", type=int, default=8, help="trajectory optimisation starts")
     parser.add_argument("--intervals", type=int, default=100, help="control intervals per dive")
     parser.add_argument("--dt", type=float, default=0.005, help="rollout step (s)")
     parser.add_argument("--certify", type=int, default=0, help="noisy samples per certificate")
     parser.add_argument("--tests", type=int, default=8, help="test κ values in [0.8, 1.2]")
-    parser.add_argument("--temperature", type=float, default=DIVER_TEMPERATURE,
-                        help="λ (the noise level and the scale of α); the projection needs λ ≈ 1")
-    parser.add_argument("--only", choices=("interpolation", "coordination"), default=None,
-                        help="run one experiment (no figures)")
+    parser.add_argument(
+        "--temperature",
+        type=float,
+        default=DIVER_TEMPERATURE,
+        help="λ (the noise level and the scale of α); the projection needs λ ≈ 1",
+    )
+    parser.add_argument(
+        "--only",
+        choices=("interpolation", "coordination"),
+        default=None,
+        help="run one experiment (no figures)",
+    )
     parser.add_argument("--figures", default=None, help="folder for diver.png and diver.gif")
     args = parser.parse_args(argv)
 
-    options = {"restarts": args.restarts, "n_intervals": args.intervals,
-               "screen_intervals": min(50, args.intervals), "temperature": args.temperature}
+    options = {
+        "restarts": args.restarts,
+        "n_intervals": args.intervals,
+        "screen_intervals": min(50, args.intervals),
+        "temperature": args.temperature,
+    }
     if args.only != "coordination":
         runs = interpolation(args, options)
     if args.only != "interpolation":
@@ -79,20 +94,26 @@ def main(argv=None):
 def interpolation(args, options):
     started = time.perf_counter()
     fit, runs = run_interpolation(args.offset, args.dt, args.certify, **options)
-    print(f"## Interpolation (Fig. 6): components entering at ∓{args.offset:g} rad, "
-          f"projected weights {np.round(fit.weights, 4).tolist()} (residual {fit.residual:.2f})\n")
+    print(
+        f"## Interpolation (Fig. 6): components entering at ∓{args.offset:g} rad, "
+        f"projected weights {np.round(fit.weights, 4).tolist()} (residual {fit.residual:.2f})\n"
+    )
     angles = np.array([-1.5, -1.0, -0.5, 0.0, 0.5, 1.0, 1.5]) * args.offset
     profile = composite_profile(args.offset, args.temperature, angles)
     print("composite entry cost −λ log Σ w_i exp(−g_i/λ), body straight, against θ1 (rad):")
     print("| θ1 | " + " | ".join(f"{a:+.3f}" for a in angles) + " |")
     print("|---" * (len(angles) + 1) + "|")
     print("| g | " + " | ".join(f"{v:.4f}" for v in profile) + " |\n")
-    print("| controller | noise-free J | entry error (°) | shape error (°) | noisy J(u) | "
-          "certified v* | ESS |")
+    print(
+        "| controller | noise-free J | entry error (°) | shape error (°) | noisy J(u) | "
+        "certified v* | ESS |"
+    )
     print("|---|---|---|---|---|---|---|")
     for r in runs:
-        print(f"| {r.label} | {r.cost:.4g} | {np.degrees(r.entry_error):.1f} | "
-              f"{np.degrees(r.shape_error):.1f} {_certified(r)}|")
+        print(
+            f"| {r.label} | {r.cost:.4g} | {np.degrees(r.entry_error):.1f} | "
+            f"{np.degrees(r.shape_error):.1f} {_certified(r)}|"
+        )
     print(f"\n({time.perf_counter() - started:.0f} s)\n")
     return runs
 
@@ -101,31 +122,53 @@ def coordination_tables(args, options):
     started = time.perf_counter()
     tests = np.linspace(0.8, 1.2, args.tests)
     components, deterministic, coordination = run_coordination(
-        tests=tests, dt=args.dt, certify_samples=args.certify, **options)
-    print(f"## Coordination (Fig. 8): components from κ = 0.85, 1, 1.15, λ = {args.temperature:g}\n")
-    print("| κ | controller | noise-free J | J / optimum | entry error (°) | noisy J(u) | "
-          "certified v* | ESS |")
+        tests=tests, dt=args.dt, certify_samples=args.certify, **options
+    )
+    print(
+        f"## Coordination (Fig. 8): components from κ = 0.85, 1, 1.15, λ = {args.temperature:g}\n"
+    )
+    print(
+        "| κ | controller | noise-free J | J / optimum | entry error (°) | noisy J(u) | "
+        "certified v* | ESS |"
+    )
     print("|---|---|---|---|---|---|---|---|")
     for kappa in tests:
         rows = [r for r in coordination if r.momentum_scale == kappa]
         best = next(r for r in rows if r.label == "optimum")
         for r in rows:
-            print(f"| {kappa:.3f} | {r.label} | {r.cost:.4g} | {r.cost / best.cost:.2f} | "
-                  f"{np.degrees(r.entry_error):.1f} {_certified(r)}|")
+            print(
+                f"| {kappa:.3f} | {r.label} | {r.cost:.4g} | {r.cost / best.cost:.2f} | "
+                f"{np.degrees(r.entry_error):.1f} {_certified(r)}|"
+            )
     labels = ("LBC", "LBC, deterministic v̄", "naive blend", "single tracker (κ = 1)")
     print("\n| controller | mean J / optimum | worst J / optimum | best at (of κ) |")
     print("|---|---|---|---|")
-    table = {label: np.array([next(r.cost for r in coordination if r.label == label
-                                   and r.momentum_scale == k) for k in tests]) for label in labels}
-    optimum = np.array([next(r.cost for r in coordination if r.label == "optimum"
-                             and r.momentum_scale == k) for k in tests])
+    table = {
+        label: np.array(
+            [
+                next(r.cost for r in coordination if r.label == label and r.momentum_scale == k)
+                for k in tests
+            ]
+        )
+        for label in labels
+    }
+    optimum = np.array(
+        [
+            next(r.cost for r in coordination if r.label == "optimum" and r.momentum_scale == k)
+            for k in tests
+        ]
+    )
     winner = np.argmin(np.stack([table[label] for label in labels]), axis=0)
     for i, label in enumerate(labels):
         ratio = table[label] / optimum
-        print(f"| {label} | {ratio.mean():.2f} | {ratio.max():.2f} | "
-              f"{int(np.sum(winner == i))} of {len(tests)} |")
-    print("\nWhat α sees at take-off: v̂_i(x0, 0) of the components κ = 0.85, 1, 1.15 (with the "
-          "Itô term (λ/2)∫tr(BR⁻¹BᵀP), and the paper's deterministic v̄) and α_i(x0, 0)\n")
+        print(
+            f"| {label} | {ratio.mean():.2f} | {ratio.max():.2f} | "
+            f"{int(np.sum(winner == i))} of {len(tests)} |"
+        )
+    print(
+        "\nWhat α sees at take-off: v̂_i(x0, 0) of the components κ = 0.85, 1, 1.15 (with the "
+        "Itô term (λ/2)∫tr(BR⁻¹BᵀP), and the paper's deterministic v̄) and α_i(x0, 0)\n"
+    )
     print("| κ | v̂ (with Itô term) | α | v̂ (deterministic) | α |")
     print("|---|---|---|---|---|")
     for kappa in tests:

@@ -48,14 +48,30 @@ def _clipped(policy):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=2000)
-    parser.add_argument("--sizes", type=int, nargs="+", default=[101, 201],
-                        help="grid nodes per axis for the HJB solves")
-    parser.add_argument("--temperature", type=float, default=1e-4,
-                        help="λ of the HJB solves (gym is deterministic: small)")
-    parser.add_argument("--linear-size", type=int, default=201,
-                        help="grid nodes per axis for the linearly solvable sweep")
-    parser.add_argument("--quick", action="store_true",
-                        help="a look in seconds: 51² grids, 50 episodes, one linear setting")
+    parser.add_argument(
+        "--sizes",
+        type=int,
+        nargs="+",
+        default=[101, 201],
+        help="grid nodes per axis for the HJB solves",
+    )
+    parser.add_argument(
+        "--temperature",
+        type=float,
+        default=1e-4,
+        help="λ of the HJB solves (gym is deterministic: small)",
+    )
+    parser.add_argument(
+        "--linear-size",
+        type=int,
+        default=201,
+        help="grid nodes per axis for the linearly solvable sweep",
+    )
+    parser.add_argument(
+        "--quick",
+        action="store_true",
+        help="a look in seconds: 51² grids, 50 episodes, one linear setting",
+    )
     args = parser.parse_args(argv)
     sweep = [(lam, r) for lam in (0.2, 0.5, 1.0) for r in (0.04, 0.4, 4.0)]
     if args.quick:
@@ -78,30 +94,47 @@ def main(argv=None):
         problem = pendulum_v1_problem(n, temperature=lam, control_cost=r)
         started = time.perf_counter()
         solution = gridlbc.solve(problem)
-        add(f"linearly solvable, clipped (λ={lam:g}, R={r:g})", f"{n}²",
-            time.perf_counter() - started, _clipped(solution.policy))
+        add(
+            f"linearly solvable, clipped (λ={lam:g}, R={r:g})",
+            f"{n}²",
+            time.perf_counter() - started,
+            _clipped(solution.policy),
+        )
     for n in args.sizes:
         problem = pendulum_v1_problem(n, temperature=args.temperature)
         started = time.perf_counter()
         free = solve_hjb(problem)
-        add(f"HJB unbounded, clipped (λ={args.temperature:g})", f"{n}²",
-            time.perf_counter() - started, _clipped(free.policy))
+        add(
+            f"HJB unbounded, clipped (λ={args.temperature:g})",
+            f"{n}²",
+            time.perf_counter() - started,
+            _clipped(free.policy),
+        )
         started = time.perf_counter()
         boxed = solve_hjb(problem, control_bounds=(-2.0, 2.0))
-        add(f"HJB control_bounds=(-2, 2) (λ={args.temperature:g})", f"{n}²",
-            time.perf_counter() - started, boxed.policy, boxed.value)
+        add(
+            f"HJB control_bounds=(-2, 2) (λ={args.temperature:g})",
+            f"{n}²",
+            time.perf_counter() - started,
+            boxed.policy,
+            boxed.value,
+        )
 
     print()
-    print(f"Pendulum-v1, {args.episodes} episodes (seeds 0–{args.episodes - 1}), score = gym's "
-          "summed reward; machine shared, times noisy")
+    print(
+        f"Pendulum-v1, {args.episodes} episodes (seeds 0–{args.episodes - 1}), score = gym's "
+        "summed reward; machine shared, times noisy"
+    )
     header = "| policy | grid | solve | predicted −v(x₀) | score ± SE |"
     print(header)
     print("|---|---|---|---|---|")
     for name, grid, seconds, predicted, episodes in rows:
         solve = "–" if seconds is None else f"{seconds:.1f} s"
         pred = "–" if predicted is None else f"{predicted:.1f}"
-        print(f"| {name} | {grid} | {solve} | {pred} | {episodes.mean:.1f} ± "
-              f"{episodes.standard_error:.1f} |")
+        print(
+            f"| {name} | {grid} | {solve} | {pred} | {episodes.mean:.1f} ± "
+            f"{episodes.standard_error:.1f} |"
+        )
     for name, mean, se, source in REFERENCES:
         print(f"| {name} (quoted: {source}) | – | – | – | {mean:.1f} ± {se:.1f} |")
 

@@ -48,6 +48,7 @@ def deterministic_optimum(problem):
 def policy_of(solution):
     def policy(x, t):
         return solution.policy(x, min(t, solution.problem.horizon))
+
     return policy
 
 
@@ -65,22 +66,39 @@ def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
     wall = time.perf_counter() - started
     predicted = float(solution.value(GYMNAST_START, 0.0)[0])
     clean = simulate(problem, policy_of(solution), GYMNAST_START, 1, dt=rollout_dt, noise=False)
-    noisy = gridlbc.certify(problem, policy_of(solution), GYMNAST_START, n_noisy, dt=rollout_dt,
-                            seed=seed, min_effective_sample_size=0)  # J and the ESS are used
-    row = {"grid": f"{n}^4", "method": method, "dt": solution.diagnostics.dt, "bounds": bounds,
-               "store_every": store_every,
-               "wall": wall, "predicted": predicted, "clean_cost": float(clean.costs[0]),
-               "clean_distance": float(angle_distance(clean.final_states)[0]),
-               "noisy_cost": noisy.policy_cost, "noisy_se": noisy.policy_cost_se,
-               "ess": noisy.effective_sample_size,
-               "noisy_distance": float(np.median(angle_distance(noisy.final_states))),
-               }
+    noisy = gridlbc.certify(
+        problem,
+        policy_of(solution),
+        GYMNAST_START,
+        n_noisy,
+        dt=rollout_dt,
+        seed=seed,
+        min_effective_sample_size=0,
+    )  # J and the ESS are used
+    row = {
+        "grid": f"{n}^4",
+        "method": method,
+        "dt": solution.diagnostics.dt,
+        "bounds": bounds,
+        "store_every": store_every,
+        "wall": wall,
+        "predicted": predicted,
+        "clean_cost": float(clean.costs[0]),
+        "clean_distance": float(angle_distance(clean.final_states)[0]),
+        "noisy_cost": noisy.policy_cost,
+        "noisy_se": noisy.policy_cost_se,
+        "ess": noisy.effective_sample_size,
+        "noisy_distance": float(np.median(angle_distance(noisy.final_states))),
+    }
     return row, solution, clean
 
 
 def _options(method):
-    return ({"method": "splitting", "fitting": "terminal"} if method == "fitted"
-            else {"method": method, "fitting": None})
+    return (
+        {"method": "splitting", "fitting": "terminal"}
+        if method == "fitted"
+        else {"method": method, "fitting": None}
+    )
 
 
 def _step(text):
@@ -88,58 +106,103 @@ def _step(text):
 
 
 def zero_torque_cost(problem, rollout_dt):
-    zero = simulate(problem, lambda x, t: np.zeros((len(x), 1)), GYMNAST_START, 1,
-                    dt=rollout_dt, noise=False)
+    zero = simulate(
+        problem, lambda x, t: np.zeros((len(x), 1)), GYMNAST_START, 1, dt=rollout_dt, noise=False
+    )
     return float(zero.costs[0]), float(angle_distance(zero.final_states)[0])
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[31, 41, 51])
-    parser.add_argument("--methods", nargs="+", default=["fitted", "splitting"],
-                        help="splitting (plain, fitting=None), fitted (fitting='terminal'), "
-                        "implicit")
-    parser.add_argument("--dts", type=_step, nargs="+", default=[0.05, 0.1],
-                        help="time steps, or 'default' for the solver's own choice")
-    parser.add_argument("--bounds", type=float, nargs=2, default=[16.0, 9.0],
-                        metavar=("P1", "P2"), help="momentum box ±P1 × ±P2 (default 16 9)")
-    parser.add_argument("--hip", default="stops", choices=["stops", "free"],
-                        help="hip stops at ±180° (default, the issue's problem) or a free hip")
+    parser.add_argument(
+        "--methods",
+        nargs="+",
+        default=["fitted", "splitting"],
+        help="splitting (plain, fitting=None), fitted (fitting='terminal'), implicit",
+    )
+    parser.add_argument(
+        "--dts",
+        type=_step,
+        nargs="+",
+        default=[0.05, 0.1],
+        help="time steps, or 'default' for the solver's own choice",
+    )
+    parser.add_argument(
+        "--bounds",
+        type=float,
+        nargs=2,
+        default=[16.0, 9.0],
+        metavar=("P1", "P2"),
+        help="momentum box ±P1 × ±P2 (default 16 9)",
+    )
+    parser.add_argument(
+        "--hip",
+        default="stops",
+        choices=["stops", "free"],
+        help="hip stops at ±180° (default, the issue's problem) or a free hip",
+    )
     parser.add_argument("--noisy-samples", type=int, default=100)
-    parser.add_argument("--truth-samples", type=int, default=2000,
-                        help="samples of the certified optimum (default 2000)")
+    parser.add_argument(
+        "--truth-samples",
+        type=int,
+        default=2000,
+        help="samples of the certified optimum (default 2000)",
+    )
     parser.add_argument("--rollout-dt", type=float, default=0.002)
-    parser.add_argument("--memory", type=float, default=6.0,
-                        help="GiB for the stored float64 slices of one solve (default 6; the "
-                        "best solve so far is kept as the certificate's proposal, so up to "
-                        "twice this is held)")
+    parser.add_argument(
+        "--memory",
+        type=float,
+        default=6.0,
+        help="GiB for the stored float64 slices of one solve (default 6; the "
+        "best solve so far is kept as the certificate's proposal, so up to "
+        "twice this is held)",
+    )
     parser.add_argument("--figures", default=None, help="folder for the swing-up plot and GIF")
     args = parser.parse_args(argv)
     hip = np.pi if args.hip == "stops" else None
 
     reference = deterministic_optimum(gymnast_problem(11, args.bounds, hip))
     ref_distance = float(angle_distance(reference.states[-1:])[0])
-    zero_cost, zero_distance = zero_torque_cost(gymnast_problem(11, args.bounds, hip),
-                                              args.rollout_dt)
-    print(f"deterministic optimum (trajectory.optimize): cost {reference.cost:.2f}, final angle distance "
-          f"{ref_distance:.2f} rad, max |p1| {np.abs(reference.states[:, 2]).max():.1f}, "
-          f"max |p2| {np.abs(reference.states[:, 3]).max():.1f}")
+    zero_cost, zero_distance = zero_torque_cost(
+        gymnast_problem(11, args.bounds, hip), args.rollout_dt
+    )
+    print(
+        f"deterministic optimum (trajectory.optimize): cost {reference.cost:.2f}, final angle distance "
+        f"{ref_distance:.2f} rad, max |p1| {np.abs(reference.states[:, 2]).max():.1f}, "
+        f"max |p2| {np.abs(reference.states[:, 3]).max():.1f}"
+    )
     print(f"zero torque: cost {zero_cost:.2f}, final angle distance {zero_distance:.2f} rad")
-    print(f"target: noise-free rollout cost ≤ {1.25 * reference.cost:.2f} (+25 %) and final "
-          "distance < 1 rad")
-    header = (f"{'grid':>6} {'method':>9} {'dt':>6} {'box':>8} {'wall s':>7} {'v(x0)':>6} "
-              f"{'cost':>6} {'dist':>5} {'noisy cost':>13} {'dist':>5} {'ESS':>4} {'kept':>4}")
+    print(
+        f"target: noise-free rollout cost ≤ {1.25 * reference.cost:.2f} (+25 %) and final "
+        "distance < 1 rad"
+    )
+    header = (
+        f"{'grid':>6} {'method':>9} {'dt':>6} {'box':>8} {'wall s':>7} {'v(x0)':>6} "
+        f"{'cost':>6} {'dist':>5} {'noisy cost':>13} {'dist':>5} {'ESS':>4} {'kept':>4}"
+    )
     print(header)
     best = None
     rows, proposal = [], None
     for n, method, dt in itertools.product(args.sizes, args.methods, args.dts):
-        row, solution, clean = study_row(n, method, dt, tuple(args.bounds), hip,
-                                         args.noisy_samples, args.rollout_dt, args.memory * 2**30)
-        print(f"{row['grid']:>6} {method:>9} {row['dt']:6.3f} "
-              f"{args.bounds[0]:>3g}×{args.bounds[1]:<4g} {row['wall']:7.1f} "
-              f"{row['predicted']:6.2f} {row['clean_cost']:6.2f} {row['clean_distance']:5.2f} "
-              f"{row['noisy_cost']:7.2f} ± {row['noisy_se']:4.2f} {row['noisy_distance']:5.2f} "
-              f"{row['ess']:4.0f} {row['store_every']:4d}", flush=True)
+        row, solution, clean = study_row(
+            n,
+            method,
+            dt,
+            tuple(args.bounds),
+            hip,
+            args.noisy_samples,
+            args.rollout_dt,
+            args.memory * 2**30,
+        )
+        print(
+            f"{row['grid']:>6} {method:>9} {row['dt']:6.3f} "
+            f"{args.bounds[0]:>3g}×{args.bounds[1]:<4g} {row['wall']:7.1f} "
+            f"{row['predicted']:6.2f} {row['clean_cost']:6.2f} {row['clean_distance']:5.2f} "
+            f"{row['noisy_cost']:7.2f} ± {row['noisy_se']:4.2f} {row['noisy_distance']:5.2f} "
+            f"{row['ess']:4.0f} {row['store_every']:4d}",
+            flush=True,
+        )
         if best is None or row["clean_cost"] < best[0]["clean_cost"]:
             best = (row, clean)
         rows.append(row)
@@ -150,32 +213,48 @@ def main(argv=None):
         row, solution = proposal
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", CertificateWarning)
-            truth = gridlbc.certify(solution.problem, policy_of(solution), GYMNAST_START,
-                                    args.truth_samples, dt=args.rollout_dt, seed=1)
+            truth = gridlbc.certify(
+                solution.problem,
+                policy_of(solution),
+                GYMNAST_START,
+                args.truth_samples,
+                dt=args.rollout_dt,
+                seed=1,
+            )
         del proposal, solution
         v, se = truth.optimal_value, truth.optimal_value_se
-        print(f"\ncertified optimum v*(x0) = {v:.2f} ± {se:.2f} (SE), proposal {row['grid']} "
-              f"{row['method']} dt {row['dt']:.3f}, {args.truth_samples} samples, effective "
-              f"sample size {truth.effective_sample_size:.0f}")
+        print(
+            f"\ncertified optimum v*(x0) = {v:.2f} ± {se:.2f} (SE), proposal {row['grid']} "
+            f"{row['method']} dt {row['dt']:.3f}, {args.truth_samples} samples, effective "
+            f"sample size {truth.effective_sample_size:.0f}"
+        )
         for w in caught:
             print(f"warning: {w.message}")
-        print(f"{'grid':>6} {'method':>9} {'dt':>6} {'v(x0)':>6} {'error':>7} {'noisy cost':>13} "
-              f"{'gap J − v*':>11}")
+        print(
+            f"{'grid':>6} {'method':>9} {'dt':>6} {'v(x0)':>6} {'error':>7} {'noisy cost':>13} "
+            f"{'gap J − v*':>11}"
+        )
         for r in rows:
-            print(f"{r['grid']:>6} {r['method']:>9} {r['dt']:6.3f} {r['predicted']:6.2f} "
-                  f"{100 * (r['predicted'] - v) / v:6.1f}% {r['noisy_cost']:7.2f} ± "
-                  f"{r['noisy_se']:4.2f} {r['noisy_cost'] - v:6.2f} ± "
-                  f"{np.hypot(r['noisy_se'], se):4.2f}")
+            print(
+                f"{r['grid']:>6} {r['method']:>9} {r['dt']:6.3f} {r['predicted']:6.2f} "
+                f"{100 * (r['predicted'] - v) / v:6.1f}% {r['noisy_cost']:7.2f} ± "
+                f"{r['noisy_se']:4.2f} {r['noisy_cost'] - v:6.2f} ± "
+                f"{np.hypot(r['noisy_se'], se):4.2f}"
+            )
     if args.figures and best is not None:
         row, clean = best
         out = Path(args.figures)
         out.mkdir(exist_ok=True)
         label = f"grid {row['grid']} {row['method']} Δt={row['dt']:.3f}"
-        plot_swingup(clean.times, {label: (clean.states[0], clean.controls[0])},
-                     out / "gymnast_swingup.png",
-                     reference=(reference.times, reference.states, reference.controls))
-        animate_swingup(clean.times, clean.states[0], out / "gymnast.gif",
-                        title=f"gymnast, {row['grid']}")
+        plot_swingup(
+            clean.times,
+            {label: (clean.states[0], clean.controls[0])},
+            out / "gymnast_swingup.png",
+            reference=(reference.times, reference.states, reference.controls),
+        )
+        animate_swingup(
+            clean.times, clean.states[0], out / "gymnast.gif", title=f"gymnast, {row['grid']}"
+        )
         print(f"wrote {out / 'gymnast_swingup.png'} and {out / 'gymnast.gif'}")
 
 

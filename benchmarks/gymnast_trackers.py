@@ -68,24 +68,42 @@ def trajectories(problem, starts, restarts, cache: Path | None, label: str, warm
     Trajectories), no search: DDP from each warm tape, the cheapest result kept."""
     out = []
     for x0 in starts:
-        key = (f"{label}_{'warm' if warm else restarts}_" + "_".join(f"{v:.4f}" for v in x0)
-               + ".pkl")
+        key = f"{label}_{'warm' if warm else restarts}_" + "_".join(f"{v:.4f}" for v in x0) + ".pkl"
         path = None if cache is None else cache / key
         if path is not None and path.exists():
             with open(path, "rb") as f:
                 times, states, controls, cost, converged, message = pickle.load(f)
-            out.append(gridlbc.trajectory.Trajectory(times, states, controls, cost, problem,
-                                                     converged, message))
+            out.append(
+                gridlbc.trajectory.Trajectory(
+                    times, states, controls, cost, problem, converged, message
+                )
+            )
             continue
         if warm:
-            trajectory = min((optimize(problem, x0, n_intervals=300, initial_controls=t.controls,
-                                       search=False) for t in warm), key=lambda t: t.cost)
+            trajectory = min(
+                (
+                    optimize(
+                        problem, x0, n_intervals=300, initial_controls=t.controls, search=False
+                    )
+                    for t in warm
+                ),
+                key=lambda t: t.cost,
+            )
         else:
             trajectory = optimize(problem, x0, restarts=restarts, n_intervals=300)
         if path is not None:
             with open(path, "wb") as f:
-                pickle.dump((trajectory.times, trajectory.states, trajectory.controls,
-                             trajectory.cost, trajectory.converged, trajectory.message), f)
+                pickle.dump(
+                    (
+                        trajectory.times,
+                        trajectory.states,
+                        trajectory.controls,
+                        trajectory.cost,
+                        trajectory.converged,
+                        trajectory.message,
+                    ),
+                    f,
+                )
         out.append(trajectory)
     return out
 
@@ -99,8 +117,9 @@ def grid_controller(n, memory, cache: Path):
     n_slices = round(problem.horizon / 0.05) + 1
     store_every = max(1, int(np.ceil(n_slices * problem.grid.size * 8 / memory)))
     started = time.perf_counter()
-    solution = gridlbc.solve(problem, dt=0.05, method="splitting", fitting="terminal",
-                             store_every=store_every)
+    solution = gridlbc.solve(
+        problem, dt=0.05, method="splitting", fitting="terminal", store_every=store_every
+    )
     wall = time.perf_counter() - started
     gridlbc.save(solution, path)
     return solution, wall
@@ -111,8 +130,7 @@ def clamped(policy, horizon):
 
 
 def certify_row(problem, policy, x0, samples, dt, seed=0):
-    cert = gridlbc.certify(problem, policy, x0, n_samples=samples, dt=dt, seed=seed,
-                           progress=False)
+    cert = gridlbc.certify(problem, policy, x0, n_samples=samples, dt=dt, seed=seed, progress=False)
     runs = gridlbc.simulate(problem, policy, x0, samples, dt=dt, seed=seed)  # same paths: max |u|
     return cert, float(np.abs(runs.controls).max())
 
@@ -126,10 +144,17 @@ def main(argv=None):
     parser.add_argument("--noisy-dt", type=float, default=0.002)
     parser.add_argument("--samples", type=int, default=300)
     parser.add_argument("--seeds", type=int, default=5, help="seeds of the validity table (d)")
-    parser.add_argument("--cache", default="/tmp/gridlbc_trackers",
-                        help="cache of the trajectories and the grid solution")
-    parser.add_argument("--compare-restarts", type=int, default=32,
-                        help="(a') also build trackers 1 and 2 from this many restarts (0: no)")
+    parser.add_argument(
+        "--cache",
+        default="/tmp/gridlbc_trackers",
+        help="cache of the trajectories and the grid solution",
+    )
+    parser.add_argument(
+        "--compare-restarts",
+        type=int,
+        default=32,
+        help="(a') also build trackers 1 and 2 from this many restarts (0: no)",
+    )
     parser.add_argument("--figure", default=None)
     parser.add_argument("--skip", nargs="*", default=[], choices=["a", "b", "c", "d"])
     args = parser.parse_args(argv)
@@ -143,16 +168,23 @@ def main(argv=None):
 
     started = time.perf_counter()
     first = trajectories(problem, at_rest(TRACKER_STARTS[:2]), args.restarts, cache, "tracker")
-    optimum, = trajectories(problem, [GYMNAST_START], args.restarts, cache, "tracker")
-    trackers = first + trajectories(problem, at_rest(TRACKER_STARTS[2:]), args.restarts, cache,
-                                    "tracker")
-    print(f"trajectories: {time.perf_counter() - started:.0f} s; costs from their own starts: "
-          + ", ".join(f"{t.cost:.2f}" for t in trackers)
-          + f"; deterministic optimum from the test state {optimum.cost:.3f}", flush=True)
+    (optimum,) = trajectories(problem, [GYMNAST_START], args.restarts, cache, "tracker")
+    trackers = first + trajectories(
+        problem, at_rest(TRACKER_STARTS[2:]), args.restarts, cache, "tracker"
+    )
+    print(
+        f"trajectories: {time.perf_counter() - started:.0f} s; costs from their own starts: "
+        + ", ".join(f"{t.cost:.2f}" for t in trackers)
+        + f"; deterministic optimum from the test state {optimum.cost:.3f}",
+        flush=True,
+    )
     solution, wall = grid_controller(args.grid, args.memory * 2**30, cache)
     grid_policy = clamped(solution.policy, T)
-    print(f"grid controller {args.grid}⁴ fitted, Δt 0.05: "
-          + ("read from the cache" if wall is None else f"solved in {wall:.0f} s"), flush=True)
+    print(
+        f"grid controller {args.grid}⁴ fitted, Δt 0.05: "
+        + ("read from the cache" if wall is None else f"solved in {wall:.0f} s"),
+        flush=True,
+    )
     c = [expand(problem, t) for t in trackers]
     c_det = [expand(problem, t, stochastic=False) for t in trackers]
     c_gn = [expand(problem, t, curvature="gauss-newton") for t in trackers[:2]]
@@ -160,8 +192,7 @@ def main(argv=None):
     c_old = [expand(problem, t, feedback="newton", radius=None) for t in trackers[:2]]
 
     def noise_free(policy, x0):
-        run = gridlbc.simulate(problem, policy, x0, len(np.atleast_2d(x0)), dt=args.dt,
-                               noise=False)
+        run = gridlbc.simulate(problem, policy, x0, len(np.atleast_2d(x0)), dt=args.dt, noise=False)
         return run
 
     if "a" not in args.skip:
@@ -172,104 +203,169 @@ def main(argv=None):
             "naive average": (gridlbc.naive_blend(c[:2], None).policy, None),
             "naive sum": (gridlbc.naive_blend(c[:2], None, mode="sum").policy, None),
             "LBC (defaults)": (lbc.policy, lbc.value),
-            "LBC (paper's v̄)": (gridlbc.combine(c_det[:2]).policy,
-                                gridlbc.combine(c_det[:2]).value),
+            "LBC (paper's v̄)": (
+                gridlbc.combine(c_det[:2]).policy,
+                gridlbc.combine(c_det[:2]).value,
+            ),
             "LBC (Gauss–Newton P)": (gridlbc.combine(c_gn).policy, gridlbc.combine(c_gn).value),
-            "LBC (Gauss–Newton gains)": (gridlbc.combine(c_gnk).policy,
-                                         gridlbc.combine(c_gnk).value),
-            "LBC (previous default)": (gridlbc.combine(c_old).policy,
-                                       gridlbc.combine(c_old).value),
+            "LBC (Gauss–Newton gains)": (
+                gridlbc.combine(c_gnk).policy,
+                gridlbc.combine(c_gnk).value,
+            ),
+            "LBC (previous default)": (gridlbc.combine(c_old).policy, gridlbc.combine(c_old).value),
             f"grid {args.grid}⁴ fitted": (grid_policy, solution.value),
-            "optimum's own tracker": (expand(problem, optimum).policy,
-                                      expand(problem, optimum).value),
+            "optimum's own tracker": (
+                expand(problem, optimum).policy,
+                expand(problem, optimum).value,
+            ),
         }
-        print(f"\n(a) Fig. 7 from (−105°, −15°); deterministic optimum (RK4 tape): cost "
-              f"{optimum.cost:.2f}, final distance {angle_distance(optimum.states[-1:])[0]:.2f}")
-        print(f"{'controller':<26} {'v(x0)':>6} {'cost':>6} {'dist':>5} | {'noisy J':>13} "
-              f"{'max|u|':>6} {'v*':>13} {'ESS':>5}")
+        print(
+            f"\n(a) Fig. 7 from (−105°, −15°); deterministic optimum (RK4 tape): cost "
+            f"{optimum.cost:.2f}, final distance {angle_distance(optimum.states[-1:])[0]:.2f}"
+        )
+        print(
+            f"{'controller':<26} {'v(x0)':>6} {'cost':>6} {'dist':>5} | {'noisy J':>13} "
+            f"{'max|u|':>6} {'v*':>13} {'ESS':>5}"
+        )
         for label, (policy, value) in controllers.items():
             run = noise_free(policy, GYMNAST_START)
             cert, umax = certify_row(problem, policy, GYMNAST_START, args.samples, args.noisy_dt)
             v = "" if value is None else f"{float(value(GYMNAST_START, 0.0)[0]):6.2f}"
-            print(f"{label:<26} {v:>6} {run.costs[0]:6.2f} "
-                  f"{angle_distance(run.final_states)[0]:5.2f} | {cert.policy_cost:6.2f} ± "
-                  f"{cert.policy_cost_se:4.2f} {umax:6.1f} {cert.optimal_value:6.2f} ± "
-                  f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f}", flush=True)
+            print(
+                f"{label:<26} {v:>6} {run.costs[0]:6.2f} "
+                f"{angle_distance(run.final_states)[0]:5.2f} | {cert.policy_cost:6.2f} ± "
+                f"{cert.policy_cost_se:4.2f} {umax:6.1f} {cert.optimal_value:6.2f} ± "
+                f"{cert.optimal_value_se:4.2f} {cert.effective_sample_size:5.0f}",
+                flush=True,
+            )
         if args.figure:
             runs = {}
-            for label in ("tracker 1", "tracker 2", "naive average", "LBC (defaults)",
-                          f"grid {args.grid}⁴ fitted"):
+            for label in (
+                "tracker 1",
+                "tracker 2",
+                "naive average",
+                "LBC (defaults)",
+                f"grid {args.grid}⁴ fitted",
+            ):
                 run = noise_free(controllers[label][0], GYMNAST_START)
                 runs[label.split(" (")[0]] = (run.states[0], run.controls[0])
             lbc_states = runs["LBC"][0]
-            alpha = np.array([lbc.blend_weights(x, min(t, T))[0]
-                              for x, t in zip(lbc_states, run.times)])
-            fig = plot_trackers({"tracker 1": trackers[0], "tracker 2": trackers[1]}, runs,
-                                run.times, alpha, args.figure)
+            alpha = np.array(
+                [lbc.blend_weights(x, min(t, T))[0] for x, t in zip(lbc_states, run.times)]
+            )
+            fig = plot_trackers(
+                {"tracker 1": trackers[0], "tracker 2": trackers[1]},
+                runs,
+                run.times,
+                alpha,
+                args.figure,
+            )
             del fig
             print(f"wrote {args.figure}")
 
     if "a" not in args.skip and args.compare_restarts:
-        print(f"\n(a') the same, noise-free, with tapes 1 and 2 from {args.compare_restarts} "
-              f"restarts instead of {args.restarts}, for both curvatures")
-        print(f"{'restarts':>8} {'curvature':<13} {'J1 own':>6} {'v̂1(x0)':>7} {'v̂2(x0)':>7} "
-              f"{'α1(x0)':>6} {'tracker 1':>9} {'tracker 2':>9} {'naive':>7} {'LBC':>6}")
-        other = trajectories(problem, at_rest(TRACKER_STARTS[:2]), args.compare_restarts,
-                             cache, "tracker")
+        print(
+            f"\n(a') the same, noise-free, with tapes 1 and 2 from {args.compare_restarts} "
+            f"restarts instead of {args.restarts}, for both curvatures"
+        )
+        print(
+            f"{'restarts':>8} {'curvature':<13} {'J1 own':>6} {'v̂1(x0)':>7} {'v̂2(x0)':>7} "
+            f"{'α1(x0)':>6} {'tracker 1':>9} {'tracker 2':>9} {'naive':>7} {'LBC':>6}"
+        )
+        other = trajectories(
+            problem, at_rest(TRACKER_STARTS[:2]), args.compare_restarts, cache, "tracker"
+        )
         for restarts, tapes in ((args.compare_restarts, other), (args.restarts, trackers[:2])):
             for curvature in ("newton", "gauss-newton"):
-                parts = [expand(problem, t, stochastic=False, curvature=curvature,
-                                feedback=curvature, radius=None) for t in tapes]
+                parts = [
+                    expand(
+                        problem,
+                        t,
+                        stochastic=False,
+                        curvature=curvature,
+                        feedback=curvature,
+                        radius=None,
+                    )
+                    for t in tapes
+                ]
                 lbc_part = gridlbc.combine(parts)
-                costs = [noise_free(policy, GYMNAST_START).costs[0] for policy in
-                         (parts[0].policy, parts[1].policy,
-                          gridlbc.naive_blend(parts, None).policy, lbc_part.policy)]
+                costs = [
+                    noise_free(policy, GYMNAST_START).costs[0]
+                    for policy in (
+                        parts[0].policy,
+                        parts[1].policy,
+                        gridlbc.naive_blend(parts, None).policy,
+                        lbc_part.policy,
+                    )
+                ]
                 v1, v2 = (float(part.value(GYMNAST_START, 0.0)[0]) for part in parts)
                 a1 = lbc_part.blend_weights(GYMNAST_START, 0.0)[0, 0]
-                print(f"{restarts:8d} {curvature:<13} {tapes[0].cost:6.2f} {v1:7.2f} {v2:7.2f} "
-                      f"{a1:6.2f} " + " ".join(f"{x:9.2f}" for x in costs[:2])
-                      + f" {costs[2]:7.2f} {costs[3]:6.2f}", flush=True)
+                print(
+                    f"{restarts:8d} {curvature:<13} {tapes[0].cost:6.2f} {v1:7.2f} {v2:7.2f} "
+                    f"{a1:6.2f} "
+                    + " ".join(f"{x:9.2f}" for x in costs[:2])
+                    + f" {costs[2]:7.2f} {costs[3]:6.2f}",
+                    flush=True,
+                )
 
     if "b" not in args.skip:
-        print("\n(b) v̂ at t = 0 from each tracker's start shifted by δ towards the test state: "
-              "deterministic v̂ (Newton and Gauss–Newton P) against the local optimum V from "
-              "there (DDP continued in δ from the tracker's tape); v̂ with the λ term against the grid value "
-              "and the certified v* (proposal: the grid controller)")
-        print(f"{'tracker':<7} {'δ rad':>5} {'V local':>7} {'v̂ Newton':>8} {'v̂ GN':>7} | "
-              f"{'v̂ (λ)':>7} {'grid v':>7} {'v*':>13} {'ESS':>5}")
+        print(
+            "\n(b) v̂ at t = 0 from each tracker's start shifted by δ towards the test state: "
+            "deterministic v̂ (Newton and Gauss–Newton P) against the local optimum V from "
+            "there (DDP continued in δ from the tracker's tape); v̂ with the λ term against the grid value "
+            "and the certified v* (proposal: the grid controller)"
+        )
+        print(
+            f"{'tracker':<7} {'δ rad':>5} {'V local':>7} {'v̂ Newton':>8} {'v̂ GN':>7} | "
+            f"{'v̂ (λ)':>7} {'grid v':>7} {'v*':>13} {'ESS':>5}"
+        )
         deltas = (0.0, 0.05, 0.1, 0.2, 0.35)
         for i in (0, 1):
             towards = GYMNAST_START - trackers[i].states[0]
-            starts = np.array([trackers[i].states[0] + d * towards / np.linalg.norm(towards)
-                               for d in deltas])
-            gauss_newton = expand(problem, trackers[i], stochastic=False,
-                                  curvature="gauss-newton")
-            cert = gridlbc.certify(problem, grid_policy, starts, n_samples=args.samples,
-                                   dt=args.noisy_dt, seed=1, progress=False)
+            starts = np.array(
+                [trackers[i].states[0] + d * towards / np.linalg.norm(towards) for d in deltas]
+            )
+            gauss_newton = expand(problem, trackers[i], stochastic=False, curvature="gauss-newton")
+            cert = gridlbc.certify(
+                problem,
+                grid_policy,
+                starts,
+                n_samples=args.samples,
+                dt=args.noisy_dt,
+                seed=1,
+                progress=False,
+            )
             tape = trackers[i].controls
             for k, d in enumerate(deltas):
                 x = starts[k]
-                local = optimize(problem, x, n_intervals=300, initial_controls=tape,
-                                 search=False)  # continuation in δ: the tape's own family
+                local = optimize(
+                    problem, x, n_intervals=300, initial_controls=tape, search=False
+                )  # continuation in δ: the tape's own family
                 tape = local.controls
                 local = local.cost
-                print(f"{i + 1:<7} {d:5.2f} {local:7.2f} {c_det[i].value(x, 0.0)[0]:8.2f} "
-                      f"{gauss_newton.value(x, 0.0)[0]:7.2f} | {c[i].value(x, 0.0)[0]:7.2f} "
-                      f"{solution.value(x, 0.0)[0]:7.2f} {cert.optimal_value[k]:6.2f} ± "
-                      f"{cert.optimal_value_se[k]:4.2f} {cert.effective_sample_size[k]:5.0f}",
-                      flush=True)
+                print(
+                    f"{i + 1:<7} {d:5.2f} {local:7.2f} {c_det[i].value(x, 0.0)[0]:8.2f} "
+                    f"{gauss_newton.value(x, 0.0)[0]:7.2f} | {c[i].value(x, 0.0)[0]:7.2f} "
+                    f"{solution.value(x, 0.0)[0]:7.2f} {cert.optimal_value[k]:6.2f} ± "
+                    f"{cert.optimal_value_se[k]:4.2f} {cert.effective_sample_size[k]:5.0f}",
+                    flush=True,
+                )
 
     if "c" not in args.skip:
-        th1, th2 = np.meshgrid(np.radians([-120, -110, -100, -90, -80]),
-                               np.radians([-30, -15, 0]), indexing="ij")
+        th1, th2 = np.meshgrid(
+            np.radians([-120, -110, -100, -90, -80]), np.radians([-30, -15, 0]), indexing="ij"
+        )
         starts = at_rest(np.stack([th1.ravel(), th2.ravel()], axis=1))
-        best = trajectories(problem, starts, None, cache, f"coverage{args.restarts}",
-                            warm=[*trackers, optimum])
+        best = trajectories(
+            problem, starts, None, cache, f"coverage{args.restarts}", warm=[*trackers, optimum]
+        )
         J_star = np.array([t.cost for t in best])
         grid_cost = noise_free(grid_policy, starts).costs
-        print(f"\n(c) coverage of {len(starts)} starts θ1 ∈ [−120°, −80°] × θ2 ∈ [−30°, 0°] at "
-              f"rest: share with noise-free cost ≤ 1.25 J*(x₀); J* from {J_star.min():.1f} to "
-              f"{J_star.max():.1f}")
+        print(
+            f"\n(c) coverage of {len(starts)} starts θ1 ∈ [−120°, −80°] × θ2 ∈ [−30°, 0°] at "
+            f"rest: share with noise-free cost ≤ 1.25 J*(x₀); J* from {J_star.min():.1f} to "
+            f"{J_star.max():.1f}"
+        )
         variants = {  # LBC of the first K trackers, expanded with these options
             "LBC": {},
             "GN P": {"curvature": "gauss-newton"},
@@ -277,31 +373,51 @@ def main(argv=None):
             "GN K": {"feedback": "gauss-newton"},
             "old": {"feedback": "newton", "radius": None},
         }
-        print(f"{'K':>2} " + " ".join(f"{name:>6}" for name in variants)
-              + f" {'best single':>11} {'greedy':>6} {'grid':>6} | mean cost / J*: "
-              + " ".join(f"{name:>6}" for name in variants) + f" {'single':>6} {'greedy':>6}")
-        within = lambda cost: np.mean(cost <= 1.25 * J_star)
+        print(
+            f"{'K':>2} "
+            + " ".join(f"{name:>6}" for name in variants)
+            + f" {'best single':>11} {'greedy':>6} {'grid':>6} | mean cost / J*: "
+            + " ".join(f"{name:>6}" for name in variants)
+            + f" {'single':>6} {'greedy':>6}"
+        )
+
+        def within(cost):
+            return np.mean(cost <= 1.25 * J_star)
+
         for K in (1, 2, 4, 6):
             combination = gridlbc.combine(c[:K])
-            lbc = [noise_free(gridlbc.combine([expand(problem, t, **options)
-                                               for t in trackers[:K]]).policy, starts).costs
-                   for options in variants.values()]
+            lbc = [
+                noise_free(
+                    gridlbc.combine([expand(problem, t, **options) for t in trackers[:K]]).policy,
+                    starts,
+                ).costs
+                for options in variants.values()
+            ]
             single = np.min([noise_free(ci.policy, starts).costs for ci in c[:K]], axis=0)
             greedy = noise_free(GreedySwitch(combination).policy, starts).costs
-            print(f"{K:2d} " + " ".join(f"{within(cost):6.0%}" for cost in lbc)
-                  + f" {within(single):11.0%} {within(greedy):6.0%} {within(grid_cost):6.0%} | "
-                  + f"{'':>15} " + " ".join(f"{np.mean(cost / J_star):6.2f}" for cost in lbc)
-                  + f" {np.mean(single / J_star):6.2f} {np.mean(greedy / J_star):6.2f}",
-                  flush=True)
+            print(
+                f"{K:2d} "
+                + " ".join(f"{within(cost):6.0%}" for cost in lbc)
+                + f" {within(single):11.0%} {within(greedy):6.0%} {within(grid_cost):6.0%} | "
+                + f"{'':>15} "
+                + " ".join(f"{np.mean(cost / J_star):6.2f}" for cost in lbc)
+                + f" {np.mean(single / J_star):6.2f} {np.mean(greedy / J_star):6.2f}",
+                flush=True,
+            )
 
     if "d" not in args.skip:
         seeds = range(args.seeds)
-        print(f"\n(d) validity treatments from the test state: noisy cost J ± SE at seeds "
-              f"0…{args.seeds - 1} ({args.samples} paths each, Δt {args.noisy_dt}), the mean and "
-              f"worst J / v* over the seeds (v* from the same paths); radius 'auto' = "
-              f"{c[0].radius:.2f}")
-        print(f"{'controller':<12} {'gain':<16} {'radius':>6} {'v̄':<5} {'noise-free':>10} | "
-              + " ".join(f"{'seed ' + str(k):>13}" for k in seeds) + f" | {'mean':>5} {'worst':>5}")
+        print(
+            f"\n(d) validity treatments from the test state: noisy cost J ± SE at seeds "
+            f"0…{args.seeds - 1} ({args.samples} paths each, Δt {args.noisy_dt}), the mean and "
+            f"worst J / v* over the seeds (v* from the same paths); radius 'auto' = "
+            f"{c[0].radius:.2f}"
+        )
+        print(
+            f"{'controller':<12} {'gain':<16} {'radius':>6} {'v̄':<5} {'noise-free':>10} | "
+            + " ".join(f"{'seed ' + str(k):>13}" for k in seeds)
+            + f" | {'mean':>5} {'worst':>5}"
+        )
         for feedback in ("projected-newton", "gauss-newton", "newton"):
             for radius in ("auto", None, 3.0, 5.0):
                 for stochastic in (True, False):
@@ -309,23 +425,42 @@ def main(argv=None):
                         continue
                     if not stochastic and radius is None:
                         continue
-                    parts = [expand(problem, t, stochastic=stochastic, radius=radius,
-                                    feedback=feedback) for t in trackers]
+                    parts = [
+                        expand(problem, t, stochastic=stochastic, radius=radius, feedback=feedback)
+                        for t in trackers
+                    ]
                     rows = [("LBC of 1, 2", gridlbc.combine(parts[:2]).policy)]
                     if stochastic:
-                        rows = [("tracker 2", parts[1].policy), *rows,
-                                ("LBC of six", gridlbc.combine(parts).policy)]
+                        rows = [
+                            ("tracker 2", parts[1].policy),
+                            *rows,
+                            ("LBC of six", gridlbc.combine(parts).policy),
+                        ]
                     for label, policy in rows:
                         run = noise_free(policy, GYMNAST_START)
-                        certs = [gridlbc.certify(problem, policy, GYMNAST_START,
-                                                 n_samples=args.samples, dt=args.noisy_dt,
-                                                 seed=seed, progress=False) for seed in seeds]
+                        certs = [
+                            gridlbc.certify(
+                                problem,
+                                policy,
+                                GYMNAST_START,
+                                n_samples=args.samples,
+                                dt=args.noisy_dt,
+                                seed=seed,
+                                progress=False,
+                            )
+                            for seed in seeds
+                        ]
                         ratio = [cert.policy_cost / cert.optimal_value for cert in certs]
-                        print(f"{label:<12} {feedback:<16} {radius!s:>6} "
-                              f"{'λ' if stochastic else 'det':<5} {run.costs[0]:10.2f} | "
-                              + " ".join(f"{cert.policy_cost:6.2f} ± {cert.policy_cost_se:4.2f}"
-                                         for cert in certs)
-                              + f" | {np.mean(ratio):5.2f} {np.max(ratio):5.2f}", flush=True)
+                        print(
+                            f"{label:<12} {feedback:<16} {radius!s:>6} "
+                            f"{'λ' if stochastic else 'det':<5} {run.costs[0]:10.2f} | "
+                            + " ".join(
+                                f"{cert.policy_cost:6.2f} ± {cert.policy_cost_se:4.2f}"
+                                for cert in certs
+                            )
+                            + f" | {np.mean(ratio):5.2f} {np.max(ratio):5.2f}",
+                            flush=True,
+                        )
 
 
 if __name__ == "__main__":

@@ -27,16 +27,33 @@ import gridlbc
 from gridlbc.interactive import RASTER
 from gridlbc.studies.demo import INTERACTIVE_WEIGHTS, interactive_demo
 
-FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
 
 
 def page_timing(page: Path, repeats: int) -> dict:
     with tempfile.TemporaryDirectory() as profile:
         dom = subprocess.run(
-            ["chromium", *FLAGS, f"--user-data-dir={profile}", "--dump-dom",
-             f"{page.resolve().as_uri()}?bench={repeats}"],
-            capture_output=True, text=True, timeout=300, check=True).stdout
+            [
+                "chromium",
+                *FLAGS,
+                f"--user-data-dir={profile}",
+                "--dump-dom",
+                f"{page.resolve().as_uri()}?bench={repeats}",
+            ],
+            capture_output=True,
+            text=True,
+            timeout=300,
+            check=True,
+        ).stdout
     return json.loads(re.search(r'<pre id="timing">([^<]*)</pre>', dom).group(1))
 
 
@@ -70,17 +87,23 @@ def main(argv=None):
     timing = page_timing(report.path, args.repeats)
     baseline = numpy_baseline(report.embedding.components, args.repeats)
     w, t = timing["weights_change_ms"], timing["time_change_ms"]
-    weights_row = (f"{w['total']:.0f} ms (recombine {w['combine']:.0f}, rollout "
-                   f"{w['rollout']:.1f}, draw {w['draw']:.0f})")
+    weights_row = (
+        f"{w['total']:.0f} ms (recombine {w['combine']:.0f}, rollout "
+        f"{w['rollout']:.1f}, draw {w['draw']:.0f})"
+    )
     rows = [
         ("page size", f"{report.size / 1e6:.2f} MB"),
         ("decode the embedded slices", f"{timing['decode_ms']:.0f} ms"),
         ("first render (fields, maps, rollout)", f"{timing['first_render_ms']:.0f} ms"),
         ("new weights: recombine 2 maps + rollout + draw", weights_row),
-        ("new time: fields + recombine + rollout + draw",
-         f"{t['total']:.0f} ms (fields {t['fields']:.0f})"),
-        ("baseline: gridlbc.combine value + policy, numpy",
-         f"{1e3 * baseline:.0f} ms ({RASTER[0]}×{RASTER[1]} states)"),
+        (
+            "new time: fields + recombine + rollout + draw",
+            f"{t['total']:.0f} ms (fields {t['fields']:.0f})",
+        ),
+        (
+            "baseline: gridlbc.combine value + policy, numpy",
+            f"{1e3 * baseline:.0f} ms ({RASTER[0]}×{RASTER[1]} states)",
+        ),
     ]
     width = max(len(r[0]) for r in rows)
     for name, value in rows:

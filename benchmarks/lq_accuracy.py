@@ -31,8 +31,14 @@ LAM, T = 0.5, 2.0
 
 def problem(n: int) -> Problem:
     grid = Grid([Axis(-4.0, 4.0, n), Axis(-6.0, 6.0, n)])
-    return Problem(PointMass(), grid, T, Quadratic([1.0, 0.0], [2.0, 0.5]),
-                   state_cost=Quadratic([0.0, 0.0], [0.5, 0.05]), temperature=LAM)
+    return Problem(
+        PointMass(),
+        grid,
+        T,
+        Quadratic([1.0, 0.0], [2.0, 0.5]),
+        state_cost=Quadratic([0.0, 0.0], [0.5, 0.05]),
+        temperature=LAM,
+    )
 
 
 def region(prob: Problem, exact) -> np.ndarray:
@@ -57,8 +63,11 @@ def scipy_baseline(n: int, steps: int = 200) -> np.ndarray:
     second = (fwd - bwd).tocsr()  # z_{i+1} − 2z_i + z_{i−1} with reflecting ends
     eye = sp.identity(n)
     vp, vm = np.maximum(V.ravel(), 0), np.maximum(-V.ravel(), 0)
-    L = (sp.diags(vp / h0) @ sp.kron(fwd, eye) - sp.diags(vm / h0) @ sp.kron(bwd, eye)
-         + (0.5 * LAM / h1**2) * sp.kron(eye, second))
+    L = (
+        sp.diags(vp / h0) @ sp.kron(fwd, eye)
+        - sp.diags(vm / h0) @ sp.kron(bwd, eye)
+        + (0.5 * LAM / h1**2) * sp.kron(eye, second)
+    )
     q = 0.5 * P.ravel() ** 2 + 0.05 * V.ravel() ** 2
     A = (sp.identity(n * n) + sp.diags(dt * q / LAM) - dt * L).tocsc()
     lu = spla.splu(A)
@@ -87,15 +96,21 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[101, 201, 401, 801])
     parser.add_argument("--no-baseline", action="store_true")
-    parser.add_argument("--max-implicit", type=int, default=401,
-                        help="largest n for the implicit scheme (its Courant-1 default is slow)")
+    parser.add_argument(
+        "--max-implicit",
+        type=int,
+        default=401,
+        help="largest n for the implicit scheme (its Courant-1 default is slow)",
+    )
     args = parser.parse_args(argv)
 
     gridlbc.solve(problem(21))  # compile the kernels outside the timings
     gridlbc.solve(problem(21), method="implicit")
     gridlbc.solve(problem(21), fitting=None)
-    header = (f"{'method':<17}{'grid':>8}{'dt':>9}{'steps':>7}{'time s':>9}{'node-steps/s':>14}"
-              f"{'peak MB':>9}{'max|Δv|':>9}{'mean|Δv|':>10}{'max|Δu|':>9}")
+    header = (
+        f"{'method':<17}{'grid':>8}{'dt':>9}{'steps':>7}{'time s':>9}{'node-steps/s':>14}"
+        f"{'peak MB':>9}{'max|Δv|':>9}{'mean|Δv|':>10}{'max|Δu|':>9}"
+    )
     print(header)
     print("-" * len(header))
     rows = []
@@ -109,11 +124,12 @@ def main(argv=None):
         # drift) and at 2, which suits this slow-drift problem better (its O(Δt) splitting error
         # dominates), and the default, fitted to the terminal cost: exact for quadratic log z,
         # so on this LQ problem only its time step errs.
-        runs = [("plain", lambda prob=prob: gridlbc.solve(prob, fitting=None)),
-                ("plain C=2", lambda prob=prob: gridlbc.solve(prob, fitting=None, courant=2.0)),
-                ("fitted (default)", lambda prob=prob: gridlbc.solve(prob)),
-                ("implicit", lambda prob=prob: gridlbc.solve(prob, method="implicit"))][
-            : 4 if n <= args.max_implicit else 3]
+        runs = [
+            ("plain", lambda prob=prob: gridlbc.solve(prob, fitting=None)),
+            ("plain C=2", lambda prob=prob: gridlbc.solve(prob, fitting=None, courant=2.0)),
+            ("fitted (default)", lambda prob=prob: gridlbc.solve(prob)),
+            ("implicit", lambda prob=prob: gridlbc.solve(prob, method="implicit")),
+        ][: 4 if n <= args.max_implicit else 3]
         if not args.no_baseline and n <= 401:
             runs.append(("scipy baseline", lambda n=n: scipy_baseline(n)))
         for name, run in runs:
@@ -127,19 +143,26 @@ def main(argv=None):
             du = "-" if u is None else f"{np.abs(u - u_exact).max():.3f}"
             rate = n * n * steps / wall
             rows.append((name, n, wall, dv.max(), dv.mean()))
-            print(f"{name:<17}{f'{n}²':>8}{dt:>9.4f}{steps:>7}{wall:>9.2f}{rate:>14.3g}"
-                  f"{peak / 2**20:>9.0f}{dv.max():>9.3f}{dv.mean():>10.4f}{du:>9}", flush=True)
+            print(
+                f"{name:<17}{f'{n}²':>8}{dt:>9.4f}{steps:>7}{wall:>9.2f}{rate:>14.3g}"
+                f"{peak / 2**20:>9.0f}{dv.max():>9.3f}{dv.mean():>10.4f}{du:>9}",
+                flush=True,
+            )
     base = [r for r in rows if r[0] == "scipy baseline"]
     if base:
         b = base[-1]
-        print(f"\nEqual-accuracy speed-up against the scipy baseline at {b[1]}² "
-              f"(max|Δv| = {b[3]:.3f}, mean = {b[4]:.4f}, {b[2]:.2f} s):")
+        print(
+            f"\nEqual-accuracy speed-up against the scipy baseline at {b[1]}² "
+            f"(max|Δv| = {b[3]:.3f}, mean = {b[4]:.4f}, {b[2]:.2f} s):"
+        )
         for name in ("plain", "plain C=2", "fitted (default)", "implicit"):
             good = [r for r in rows if r[0] == name and r[3] <= b[3] * 1.05 and r[4] <= b[4] * 1.05]
             if good:
                 r = min(good, key=lambda r: r[2])
-                print(f"  {name:<16} at {r[1]}²: {r[2]:.2f} s → {b[2] / r[2]:.1f}× faster "
-                      f"(max|Δv| = {r[3]:.3f}, mean = {r[4]:.4f})")
+                print(
+                    f"  {name:<16} at {r[1]}²: {r[2]:.2f} s → {b[2] / r[2]:.1f}× faster "
+                    f"(max|Δv| = {r[3]:.3f}, mean = {r[4]:.4f})"
+                )
             else:
                 print(f"  {name:<16}: no size reached the baseline's accuracy")
 

@@ -149,8 +149,10 @@ def pass_profile(problem: Problem, dt: float, repeats: int = 5) -> dict:
     step(z.copy(), out, scale)
     gather = feet_bytes_per_node(grid.ndim, step.layout) + 16
     return {
-        "diffusion": (_best_time(lambda: step._half_diffusion(z, None), repeats),
-                      16 * len(step.noise)),
+        "diffusion": (
+            _best_time(lambda: step._half_diffusion(z, None), repeats),
+            16 * len(step.noise),
+        ),
         "gather": (_best_time(lambda: step.drift(z, out, scale), repeats), gather),
         "gather at nodes": (_best_time(lambda: at_nodes.drift(z, out, scale), repeats), gather),
         "store": (_best_time(lambda: store_kernel(z, scale, slices[:, 1], blocks), repeats), 12),
@@ -172,8 +174,10 @@ def fitted_pass_profile(problem: Problem, dt: float, repeats: int = 3) -> dict:
     drift = feet_bytes_per_node(grid.ndim, step.layout) + 16
     return {
         "fitted drift": (_best_time(lambda: step.log_drift(ell, out), repeats), drift),
-        "fitted diffusion": (_best_time(lambda: step.log_diffusion(ell, spares, full=True),
-                                        repeats), 16 * len(step.noise)),
+        "fitted diffusion": (
+            _best_time(lambda: step.log_diffusion(ell, spares, full=True), repeats),
+            16 * len(step.noise),
+        ),
     }
 
 
@@ -188,8 +192,11 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
     elif method == "implicit":
         options = {"method": "implicit", "linear_solver": "gauss-seidel", "dtype": "float32"}
     else:
-        options = {"method": "splitting", "dtype": "float32",
-                   "fitting": "terminal" if method == "fitted" else None}
+        options = {
+            "method": "splitting",
+            "dtype": "float32",
+            "fitting": "terminal" if method == "fitted" else None,
+        }
     # warm the numba caches and the page allocator on a tiny grid of the same kind
     small = problem_for(system, 11 if system == "acrobot" else 21)
     gridlbc.solve(small.replace(horizon=2 * dt), dt=dt, **options)
@@ -202,16 +209,32 @@ def run_case(system: str, n: int, method: str, steps: int, full_steps: int) -> d
     stepping = diag.wall_time - diag.setup_time
     iterations = float(np.mean(diag.iterations)) if diag.iterations else 0.0
     return {
-        "system": system, "n": n, "nodes": problem.grid.size, "method": method,
-        "solver": options.get("linear_solver", "splitting"), "steps": steps, "wall": wall,
-        "setup": diag.setup_time, "node_steps": problem.grid.size * steps / stepping,
+        "system": system,
+        "n": n,
+        "nodes": problem.grid.size,
+        "method": method,
+        "solver": options.get("linear_solver", "splitting"),
+        "steps": steps,
+        "wall": wall,
+        "setup": diag.setup_time,
+        "node_steps": problem.grid.size * steps / stepping,
         "iterations": iterations,
-        "bytes": (float("nan") if options.get("linear_solver") == "direct"
-                  else bytes_per_node_step(problem, "implicit" if method == "scipy" else method,
-                                           iterations, 4)),
-        "peak_rss": rss, "bandwidth": bandwidth,
-        "passes": (pass_profile(problem, dt) if method == "splitting"
-                   else fitted_pass_profile(problem, dt) if method == "fitted" else {}),
+        "bytes": (
+            float("nan")
+            if options.get("linear_solver") == "direct"
+            else bytes_per_node_step(
+                problem, "implicit" if method == "scipy" else method, iterations, 4
+            )
+        ),
+        "peak_rss": rss,
+        "bandwidth": bandwidth,
+        "passes": (
+            pass_profile(problem, dt)
+            if method == "splitting"
+            else fitted_pass_profile(problem, dt)
+            if method == "fitted"
+            else {}
+        ),
     }
 
 
@@ -244,17 +267,28 @@ def layout_comparison(n: int, steps: int, bandwidth: float):
             step(z, out, scale)
         per_step = (time.perf_counter() - started) / steps
         streamed = (feet_bytes_per_node(4, layout) + 16 + 2 * 16) * problem.grid.size
-        print(f"  feet layout {layout:>7} on {n}^4: {1e3 * per_step:6.1f} ms/step, "
-              f"{feet_bytes_per_node(4, layout)} B/node of feet, "
-              f"{100 * streamed / per_step / bandwidth:4.0f}% of bandwidth", flush=True)
+        print(
+            f"  feet layout {layout:>7} on {n}^4: {1e3 * per_step:6.1f} ms/step, "
+            f"{feet_bytes_per_node(4, layout)} B/node of feet, "
+            f"{100 * streamed / per_step / bandwidth:4.0f}% of bandwidth",
+            flush=True,
+        )
 
 
 def in_subprocess(system: str, n: int, method: str, steps: int, full_steps: int) -> dict:
-    out = subprocess.run([sys.executable, __file__, "--case", system, str(n), method, str(steps),
-                          str(full_steps)],
-                         capture_output=True, text=True, check=False)
+    out = subprocess.run(
+        [sys.executable, __file__, "--case", system, str(n), method, str(steps), str(full_steps)],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
     if out.returncode != 0:
-        return {"system": system, "n": n, "method": method, "error": out.stderr.strip().splitlines()[-1]}
+        return {
+            "system": system,
+            "n": n,
+            "method": method,
+            "error": out.stderr.strip().splitlines()[-1],
+        }
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
@@ -263,14 +297,31 @@ def main(argv=None):
     parser.add_argument("--pendulum", type=int, nargs="*", default=[201, 401, 801])
     parser.add_argument("--acrobot", type=int, nargs="*", default=[21, 31, 41, 51])
     parser.add_argument("--steps", type=int, default=300)
-    parser.add_argument("--baseline-steps", type=int, default=10,
-                        help="steps for the slow methods on 4D grids (extrapolated)")
-    parser.add_argument("--implicit-max-nodes", type=int, default=3_000_000,
-                        help="skip the implicit and scipy methods above this many nodes")
-    parser.add_argument("--layout-grid", type=int, default=41,
-                        help="n⁴ gymnast grid for the feet layout comparison (0: skip)")
-    parser.add_argument("--methods", nargs="*", default=list(METHODS), choices=METHODS,
-                        help="methods to run (default: all)")
+    parser.add_argument(
+        "--baseline-steps",
+        type=int,
+        default=10,
+        help="steps for the slow methods on 4D grids (extrapolated)",
+    )
+    parser.add_argument(
+        "--implicit-max-nodes",
+        type=int,
+        default=3_000_000,
+        help="skip the implicit and scipy methods above this many nodes",
+    )
+    parser.add_argument(
+        "--layout-grid",
+        type=int,
+        default=41,
+        help="n⁴ gymnast grid for the feet layout comparison (0: skip)",
+    )
+    parser.add_argument(
+        "--methods",
+        nargs="*",
+        default=list(METHODS),
+        choices=METHODS,
+        help="methods to run (default: all)",
+    )
     parser.add_argument("--case", nargs=5, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
     if args.case:
@@ -280,14 +331,18 @@ def main(argv=None):
 
     print(f"load average at start: {os.getloadavg()[0]:.2f} (2 cores shared: timings vary)")
     bandwidth, cache = measure_bandwidth(), last_level_cache_bytes()
-    print(f"memory bandwidth (numba triad/copy, this process): {bandwidth / 1e9:.1f} GB/s; each "
-          "case's percentages use the bandwidth its own subprocess measured just after it; "
-          f"last-level cache {cache / 2**20:.0f} MiB")
+    print(
+        f"memory bandwidth (numba triad/copy, this process): {bandwidth / 1e9:.1f} GB/s; each "
+        "case's percentages use the bandwidth its own subprocess measured just after it; "
+        f"last-level cache {cache / 2**20:.0f} MiB"
+    )
     if args.layout_grid:
         layout_comparison(args.layout_grid, 20, bandwidth)
-    print(f"{'case':>14} {'nodes':>9} {'method':>9} {'steps':>6} {'setup s':>8} {'step ms':>8} "
-          f"{'wall s':>8} {'Mnode-steps/s':>14} {'it/step':>7} {'peak RSS GiB':>12} "
-          f"{'B/node-step':>11} {'GB/s':>5} {'% bandwidth':>11}")
+    print(
+        f"{'case':>14} {'nodes':>9} {'method':>9} {'steps':>6} {'setup s':>8} {'step ms':>8} "
+        f"{'wall s':>8} {'Mnode-steps/s':>14} {'it/step':>7} {'peak RSS GiB':>12} "
+        f"{'B/node-step':>11} {'GB/s':>5} {'% bandwidth':>11}"
+    )
     cases = [("pendulum", n) for n in args.pendulum] + [("acrobot", n) for n in args.acrobot]
     for system, n in cases:
         rows = {}
@@ -306,26 +361,35 @@ def main(argv=None):
             per_step = row["nodes"] / row["node_steps"]
             row["full_wall"] = row["wall"] + (args.steps - steps) * per_step  # whole call
             share = 100 * row["bytes"] * row["node_steps"] / row["bandwidth"]
-            print(f"{system + ' ' + str(n):>14} {row['nodes']:9d} {method + mark:>9} "
-                  f"{args.steps:6d} {row['setup']:8.2f} {1e3 * per_step:8.1f} "
-                  f"{row['full_wall']:8.1f} {row['node_steps'] / 1e6:14.2f} "
-                  f"{row['iterations']:7.1f} {row['peak_rss'] / 2**30:12.2f} {row['bytes']:11.0f} "
-                  f"{row['bandwidth'] / 1e9:5.1f} {share:10.0f}%", flush=True)
+            print(
+                f"{system + ' ' + str(n):>14} {row['nodes']:9d} {method + mark:>9} "
+                f"{args.steps:6d} {row['setup']:8.2f} {1e3 * per_step:8.1f} "
+                f"{row['full_wall']:8.1f} {row['node_steps'] / 1e6:14.2f} "
+                f"{row['iterations']:7.1f} {row['peak_rss'] / 2**30:12.2f} {row['bytes']:11.0f} "
+                f"{row['bandwidth'] / 1e9:5.1f} {share:10.0f}%",
+                flush=True,
+            )
             for name, (seconds, per_node) in row["passes"].items():
                 rate = per_node * row["nodes"] / seconds
                 cached = " (in cache)" if per_node * row["nodes"] < cache else ""
-                print(f"{'':>14} pass {name:>15}: {1e3 * seconds:7.2f} ms, {per_node:3d} B/node, "
-                      f"{rate / 1e9:5.1f} GB/s = {100 * rate / row['bandwidth']:3.0f}% of "
-                      f"{row['bandwidth'] / 1e9:.1f} GB/s{cached}", flush=True)
+                print(
+                    f"{'':>14} pass {name:>15}: {1e3 * seconds:7.2f} ms, {per_node:3d} B/node, "
+                    f"{rate / 1e9:5.1f} GB/s = {100 * rate / row['bandwidth']:3.0f}% of "
+                    f"{row['bandwidth'] / 1e9:.1f} GB/s{cached}",
+                    flush=True,
+                )
         base = rows.get("scipy")
         if base and "error" not in base:
             for method in ("splitting", "fitted", "implicit"):
                 if method in rows and "error" not in rows[method]:
-                    print(f"{'':>14} {method} / scipy: node-steps per second "
-                          f"{rows[method]['node_steps'] / base['node_steps']:.1f}×, whole solve "
-                          f"of {args.steps} steps including setup "
-                          f"{base['full_wall'] / rows[method]['full_wall']:.1f}× "
-                          f"({rows[method]['full_wall']:.1f} s against {base['full_wall']:.1f} s)")
+                    print(
+                        f"{'':>14} {method} / scipy: node-steps per second "
+                        f"{rows[method]['node_steps'] / base['node_steps']:.1f}×, whole solve "
+                        f"of {args.steps} steps including setup "
+                        f"{base['full_wall'] / rows[method]['full_wall']:.1f}× "
+                        f"({rows[method]['full_wall']:.1f} s against {base['full_wall']:.1f} s)"
+                    )
+
 
 if __name__ == "__main__":
     main()

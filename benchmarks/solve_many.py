@@ -35,8 +35,10 @@ def main(argv=None) -> None:
     parser.add_argument("--dt", type=float, default=0.02)
     args = parser.parse_args(argv)
 
-    print(f"{'grid':>9} {'K':>3} {'separate s':>11} {'solve_many s':>13} {'speed-up':>9} "
-          f"{'max |Δ log z|':>14}")
+    print(
+        f"{'grid':>9} {'K':>3} {'separate s':>11} {'solve_many s':>13} {'speed-up':>9} "
+        f"{'max |Δ log z|':>14}"
+    )
     for n in args.grids:
         grid = g.Grid([g.Axis(-np.pi, np.pi, n, periodic=True), g.Axis(-10, 10, n + 1)])
         problem = g.Problem(Pendulum(), grid, 3.0, g.Quadratic([0, 0], [10, 0.5]))
@@ -44,15 +46,22 @@ def main(argv=None) -> None:
         for K in args.counts:
             costs = [g.Quadratic([c, 0], [10, 0.5]) for c in np.linspace(-1, 1, K)]
             t_sep, separate = _best_time(
-                lambda p=problem, cs=costs: [g.solve(p.replace(terminal_cost=c), dt=args.dt)
-                                             for c in cs],
-                args.repeat)
-            t_many, many = _best_time(lambda p=problem, cs=costs: g.solve_many(p, cs, dt=args.dt),
-                                      args.repeat)
-            diff = max(np.max(np.abs(a.log_desirability_nodes(0) - b.log_desirability_nodes(0)))
-                       for a, b in zip(separate, many))
-            print(f"{n:>4}×{n + 1:<4} {K:>3} {t_sep:>11.2f} {t_many:>13.2f} "
-                  f"{t_sep / t_many:>8.2f}× {diff:>14.2e}")
+                lambda p=problem, cs=costs: [
+                    g.solve(p.replace(terminal_cost=c), dt=args.dt) for c in cs
+                ],
+                args.repeat,
+            )
+            t_many, many = _best_time(
+                lambda p=problem, cs=costs: g.solve_many(p, cs, dt=args.dt), args.repeat
+            )
+            diff = max(
+                np.max(np.abs(a.log_desirability_nodes(0) - b.log_desirability_nodes(0)))
+                for a, b in zip(separate, many)
+            )
+            print(
+                f"{n:>4}×{n + 1:<4} {K:>3} {t_sep:>11.2f} {t_many:>13.2f} "
+                f"{t_sep / t_many:>8.2f}× {diff:>14.2e}"
+            )
 
 
 if __name__ == "__main__":

@@ -63,9 +63,11 @@ def _identical(members, solutions) -> bool:
         if m.error is not None:
             return False
         stored = g.load(m.path)
-        if not (np.array_equal(stored.slices, s.slices)
-                and np.array_equal(stored.log_scales, s.log_scales)
-                and np.array_equal(m.values, s.value(X0, 0.0))):
+        if not (
+            np.array_equal(stored.slices, s.slices)
+            and np.array_equal(stored.log_scales, s.log_scales)
+            and np.array_equal(m.values, s.value(X0, 0.0))
+        ):
             return False
     return True
 
@@ -87,8 +89,14 @@ def main(argv=None) -> None:
         tmp = Path(tmp)
         t0 = time.perf_counter()
         serial = _serial(members, options, tmp)
-        rows.append((f"serial, {numba.get_num_threads()} numba threads",
-                     time.perf_counter() - t0, _mean_solve(serial), "-"))
+        rows.append(
+            (
+                f"serial, {numba.get_num_threads()} numba threads",
+                time.perf_counter() - t0,
+                _mean_solve(serial),
+                "-",
+            )
+        )
         default_threads = numba.get_num_threads()
         numba.set_num_threads(1)
         t0, cpu0 = time.perf_counter(), time.process_time()
@@ -98,42 +106,71 @@ def main(argv=None) -> None:
         numba.set_num_threads(default_threads)
 
         t0 = time.perf_counter()
-        with LocalCluster(n_workers=args.workers, threads_per_worker=1, dashboard_address=":0",
-                          env={"NUMBA_NUM_THREADS": "1"}) as cluster, Client(cluster) as client:
+        with (
+            LocalCluster(
+                n_workers=args.workers,
+                threads_per_worker=1,
+                dashboard_address=":0",
+                env={"NUMBA_NUM_THREADS": "1"},
+            ) as cluster,
+            Client(cluster) as client,
+        ):
             client.run(_warm_up)
             start = time.perf_counter() - t0
             t0, cpu0 = time.perf_counter(), sum(client.run(time.process_time).values())
-            swept = g.sweep(members, tmp / "warm", states=X0, client=client, progress=False,
-                            **options)
+            swept = g.sweep(
+                members, tmp / "warm", states=X0, client=client, progress=False, **options
+            )
             sweep_cpu = sum(client.run(time.process_time).values()) - cpu0
-            rows.append((f"sweep, {args.workers} workers, warm cluster",
-                         time.perf_counter() - t0, _mean_solve(swept), _identical(swept, serial)))
+            rows.append(
+                (
+                    f"sweep, {args.workers} workers, warm cluster",
+                    time.perf_counter() - t0,
+                    _mean_solve(swept),
+                    _identical(swept, serial),
+                )
+            )
         rows.append((f"  (cluster start and warm-up: {start:.1f} s)", None, None, ""))
         t0 = time.perf_counter()
-        swept = g.sweep(members, tmp / "cold", states=X0, workers=args.workers, progress=False,
-                        **options)
-        rows.append((f"sweep, {args.workers} workers, from cold", time.perf_counter() - t0,
-                     _mean_solve(swept), _identical(swept, serial)))
+        swept = g.sweep(
+            members, tmp / "cold", states=X0, workers=args.workers, progress=False, **options
+        )
+        rows.append(
+            (
+                f"sweep, {args.workers} workers, from cold",
+                time.perf_counter() - t0,
+                _mean_solve(swept),
+                _identical(swept, serial),
+            )
+        )
     load_after = os.getloadavg()
 
-    print(f"{args.members} pendulum solves on {args.grid}×{args.grid + 1}, "
-          f"{serial[0].diagnostics.steps} steps each; {os.cpu_count()} cores; load average "
-          f"before {load_before[0]:.2f}, after {load_after[0]:.2f} (1 min)")
+    print(
+        f"{args.members} pendulum solves on {args.grid}×{args.grid + 1}, "
+        f"{serial[0].diagnostics.steps} steps each; {os.cpu_count()} cores; load average "
+        f"before {load_before[0]:.2f}, after {load_after[0]:.2f} (1 min)"
+    )
     base, one = rows[0][1], rows[1][1]
-    print(f"{'case':<40} {'wall s':>7} {'per solve s':>12} {'vs serial':>10} {'vs 1 thread':>12} "
-          f"{'bitwise':>8}")
+    print(
+        f"{'case':<40} {'wall s':>7} {'per solve s':>12} {'vs serial':>10} {'vs 1 thread':>12} "
+        f"{'bitwise':>8}"
+    )
     for name, wall, per_solve, same in rows:
         if wall is None:
             print(name)
             continue
-        print(f"{name:<40} {wall:>7.2f} {per_solve:>12.2f} {base / wall:>9.2f}× "
-              f"{one / wall:>11.2f}× {same!s:>8}")
+        print(
+            f"{name:<40} {wall:>7.2f} {per_solve:>12.2f} {base / wall:>9.2f}× "
+            f"{one / wall:>11.2f}× {same!s:>8}"
+        )
     # Under load the wall times say little (the kernel shares the cores between sessions, not
     # processes); CPU time does not depend on the share. The bound is W × (serial CPU / sweep
     # CPU): the speed-up over one thread on an otherwise idle machine, less load imbalance.
-    print(f"CPU time: serial 1 thread {serial_cpu:.2f} s, sweep workers {sweep_cpu:.2f} s in "
-          f"all; on {args.workers} idle cores at most {args.workers * serial_cpu / sweep_cpu:.2f}× "
-          "the 1-thread serial")
+    print(
+        f"CPU time: serial 1 thread {serial_cpu:.2f} s, sweep workers {sweep_cpu:.2f} s in "
+        f"all; on {args.workers} idle cores at most {args.workers * serial_cpu / sweep_cpu:.2f}× "
+        "the 1-thread serial"
+    )
 
 
 if __name__ == "__main__":

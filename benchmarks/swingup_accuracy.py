@@ -26,30 +26,57 @@ from gridlbc.studies.convergence import certified_study
 from gridlbc.studies.figures import plot_certified_convergence
 from gridlbc.studies.problems import SWINGUP_START, swingup_problem
 
-CONFIGS = [("splitting", None), ("splitting", 0.02), ("fitted", None), ("implicit", 0.01),
-           ("fitted", 0.02)]
+CONFIGS = [
+    ("splitting", None),
+    ("splitting", 0.02),
+    ("fitted", None),
+    ("implicit", 0.01),
+    ("fitted", 0.02),
+]
 
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sizes", type=int, nargs="+", default=[64, 128, 256, 512])
-    parser.add_argument("--samples", type=int, default=400,
-                        help="samples of each row's own certificate (default 400)")
+    parser.add_argument(
+        "--samples",
+        type=int,
+        default=400,
+        help="samples of each row's own certificate (default 400)",
+    )
     parser.add_argument("--truth-samples", type=int, default=4000)
-    parser.add_argument("--rollout-dt", type=float, default=0.002,
-                        help="Euler–Maruyama step of the rollouts (default 0.002: at 0.01 the "
-                        "scheme's O(Δt) bias lowers this problem's costs by about 1)")
+    parser.add_argument(
+        "--rollout-dt",
+        type=float,
+        default=0.002,
+        help="Euler–Maruyama step of the rollouts (default 0.002: at 0.01 the "
+        "scheme's O(Δt) bias lowers this problem's costs by about 1)",
+    )
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--figure", metavar="PNG", help="also plot the default-dt schemes "
-                        "(gridlbc.studies.figures.plot_certified_convergence)")
+    parser.add_argument(
+        "--figure",
+        metavar="PNG",
+        help="also plot the default-dt schemes "
+        "(gridlbc.studies.figures.plot_certified_convergence)",
+    )
     args = parser.parse_args(argv)
 
     for scheme in ("splitting", "fitted", "implicit"):  # compile outside the timings
-        gridlbc.solve(swingup_problem(16), fitting="terminal" if scheme == "fitted" else None,
-                      method="implicit" if scheme == "implicit" else "splitting")
-    study = certified_study(swingup_problem, args.sizes, SWINGUP_START, CONFIGS,
-                            samples=args.samples, truth_samples=args.truth_samples,
-                            rollout_dt=args.rollout_dt, seed=args.seed)
+        gridlbc.solve(
+            swingup_problem(16),
+            fitting="terminal" if scheme == "fitted" else None,
+            method="implicit" if scheme == "implicit" else "splitting",
+        )
+    study = certified_study(
+        swingup_problem,
+        args.sizes,
+        SWINGUP_START,
+        CONFIGS,
+        samples=args.samples,
+        truth_samples=args.truth_samples,
+        rollout_dt=args.rollout_dt,
+        seed=args.seed,
+    )
     print(study.format())
     if args.figure:
         fig = plot_certified_convergence(study, labels=["splitting", "fitted", "implicit dt 0.01"])

@@ -42,8 +42,11 @@ print("observed orders:", np.round(orders, 2).tolist())
 fig, ax = plt.subplots(figsize=(5, 4), constrained_layout=True)
 ax.loglog(spacings, errors, "o-", label="splitting scheme")
 ax.loglog(spacings, errors[0] * (np.array(spacings) / spacings[0]), "k:", label="order 1")
-ax.set(xlabel="grid spacing h", ylabel="max |v − v_Riccati| at t = 0",
-       title="PointMass LQ: value error under refinement")
+ax.set(
+    xlabel="grid spacing h",
+    ylabel="max |v − v_Riccati| at t = 0",
+    title="PointMass LQ: value error under refinement",
+)
 ax.legend()
 out = Path(args.out)
 out.mkdir(parents=True, exist_ok=True)

@@ -38,9 +38,15 @@ fig, axes = plt.subplots(1, 3, figsize=(15, 4.2), constrained_layout=True)
 for ax, (title, values) in zip(axes, fields.items()):
     signed = title.startswith("policy")  # torque: white at zero
     limit = np.abs(values).max() if signed else None
-    image = ax.pcolormesh(theta, omega, values.reshape(theta.shape), shading="auto",
-                          cmap="RdBu_r" if signed else "viridis",
-                          vmin=-limit if signed else None, vmax=limit)
+    image = ax.pcolormesh(
+        theta,
+        omega,
+        values.reshape(theta.shape),
+        shading="auto",
+        cmap="RdBu_r" if signed else "viridis",
+        vmin=-limit if signed else None,
+        vmax=limit,
+    )
     fig.colorbar(image, ax=ax)
     ax.set(title=title, xlabel="θ (rad from upright)", ylabel="ω (rad/s)")
 fig.suptitle(f"Pendulum swing-up on {problem.grid.describe()}: cost space vs reward space")

@@ -32,10 +32,15 @@ n, episodes = (81, 50) if args.quick else (201, 500)
 
 # Gym's episode: 200 steps of 0.05 s, ω clipped to ±8 (a closed axis), no terminal cost.
 grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-8, 8, n)])
-problem = Problem(Pendulum(mass=0.75, length=2 / 3, gravity=10), grid, horizon=10.0,
-                  terminal_cost=lambda x: np.zeros(len(x)),
-                  state_cost=Quadratic([0, 0], [20, 2]), control_cost=0.04,
-                  temperature=1e-4)  # gym is deterministic: little noise
+problem = Problem(
+    Pendulum(mass=0.75, length=2 / 3, gravity=10),
+    grid,
+    horizon=10.0,
+    terminal_cost=lambda x: np.zeros(len(x)),
+    state_cost=Quadratic([0, 0], [20, 2]),
+    control_cost=0.04,
+    temperature=1e-4,
+)  # gym is deterministic: little noise
 solution = solve_hjb(problem, control_bounds=(-2, 2))  # u minimised over |u| ≤ 2
 
 # One episode by hand: observations (cos θ, sin θ, ω) → state (θ, ω) → torque.
@@ -54,8 +59,10 @@ print(f"seed 0: score {score:.1f}, predicted {-solution.value(states[0], 0.0)[0]
 # Many episodes (seeds 0, 1, …), scored by gym, against the zero-torque baseline.
 result = run_episodes(solution.policy, episodes)
 print(f"bounded HJB policy: {result.summary()}")
-print("references (quoted): dynamic programming on gym's map −140.4 ± 1.7, "
-      "TD3 −151.9, SAC −157.0 (rl-baselines3-zoo)")
+print(
+    "references (quoted): dynamic programming on gym's map −140.4 ± 1.7, "
+    "TD3 −151.9, SAC −157.0 (rl-baselines3-zoo)"
+)
 
 # The policy at t = 0: saturated at ±2 over most of the state space, with episode 0 on it.
 theta, omega = (ax.points() for ax in grid.axes)
@@ -68,8 +75,11 @@ wrapped = np.angle(np.exp(1j * states[:, 0]))
 breaks = np.flatnonzero(np.abs(np.diff(wrapped)) > np.pi) + 1
 for piece in np.split(np.column_stack([wrapped, states[:, 1]]), breaks):
     ax.plot(piece[:, 0], piece[:, 1], "k.-", ms=3, lw=1)
-ax.set(xlabel="θ (rad, from the upright)", ylabel="ω (rad/s)",
-       title=f"Pendulum-v1, bounded HJB on {n}²: seed 0 scores {score:.0f}")
+ax.set(
+    xlabel="θ (rad, from the upright)",
+    ylabel="ω (rad/s)",
+    title=f"Pendulum-v1, bounded HJB on {n}²: seed 0 scores {score:.0f}",
+)
 out = Path(args.out)
 out.mkdir(parents=True, exist_ok=True)
 fig.savefig(out / "gym_pendulum.png", dpi=120)

@@ -27,8 +27,10 @@ solution = gridlbc.solve(problem, dt=0.05, dtype="float32", fitting="terminal", 
 print(f"predicted v(x0, 0) = {solution.value(GYMNAST_START, 0.0)[0]:.2f}")
 
 run = gridlbc.simulate(problem, solution.policy, GYMNAST_START, dt=0.002, noise=False)
-print(f"noise-free cost {run.costs[0]:.2f}, final distance from the handstand "
-      f"{angle_distance(run.final_states)[0]:.2f} rad")
+print(
+    f"noise-free cost {run.costs[0]:.2f}, final distance from the handstand "
+    f"{angle_distance(run.final_states)[0]:.2f} rad"
+)
 
 out = Path(args.out)
 out.mkdir(parents=True, exist_ok=True)

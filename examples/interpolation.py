@@ -64,8 +64,9 @@ n, samples, dt = (41, 300, 0.02) if args.quick else (args.n, args.samples, 0.01)
 problem = obstacle_problem(n)
 goals = [Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]  # (−0.7, ±0.09)
 upper, lower = obstacle_trajectories(problem)
-weights = gridlbc.project(problem.terminal_cost, goals, problem.grid,
-                          temperature=problem.temperature)
+weights = gridlbc.project(
+    problem.terminal_cost, goals, problem.grid, temperature=problem.temperature
+)
 lbc = gridlbc.combine([upper, lower], weights)  # α_i ∝ w_i exp(−v̂_i/λ)
 *grid_components, direct = gridlbc.solve_many(problem, [*goals, problem.terminal_cost], dt=dt)
 controllers = {
@@ -76,18 +77,24 @@ controllers = {
     "exact LBC (grid)": gridlbc.combine(grid_components, weights).policy,
     "direct ḡ (grid)": direct.policy,
 }
-print(f"{problem.grid.describe()}, Δt = {dt:g}, {samples} samples; projected weights "
-      f"{np.round(weights, 3)}, β = {np.round(lbc.blend_weights(OBSTACLE_START, 0.0)[0], 3)}")
+print(
+    f"{problem.grid.describe()}, Δt = {dt:g}, {samples} samples; projected weights "
+    f"{np.round(weights, 3)}, β = {np.round(lbc.blend_weights(OBSTACLE_START, 0.0)[0], 3)}"
+)
 
 # Certify each controller on the composite task g_w (importance sampling, any policy as
 # proposal). Then roll each out with the same seed, so every controller meets the same noise and
 # the per-sample cost differences to LBC give a paired standard error.
 task = lbc.problem
-runs = {name: gridlbc.simulate(task, policy, OBSTACLE_START, samples, dt=dt, seed=1)
-        for name, policy in controllers.items()}
-print(f"{'controller':17s} {'J ± SE':>15s} {'J − v* ± SE':>16s} {'J − J_LBC ± SE':>16s} "
-      f"{'enter wall':>11s} {'within ' + str(RADIUS):>12s} {'median |x_T − c̄|':>17s} "
-      f"{'stops at ± SE':>15s} {'− LBC’s ± SE':>16s}")
+runs = {
+    name: gridlbc.simulate(task, policy, OBSTACLE_START, samples, dt=dt, seed=1)
+    for name, policy in controllers.items()
+}
+print(
+    f"{'controller':17s} {'J ± SE':>15s} {'J − v* ± SE':>16s} {'J − J_LBC ± SE':>16s} "
+    f"{'enter wall':>11s} {'within ' + str(RADIUS):>12s} {'median |x_T − c̄|':>17s} "
+    f"{'stops at ± SE':>15s} {'− LBC’s ± SE':>16s}"
+)
 
 
 def se(a):
@@ -96,8 +103,9 @@ def se(a):
 
 certificates = {}
 for name, policy in controllers.items():
-    cert = certificates[name] = gridlbc.certify(task, policy, OBSTACLE_START, samples, dt=dt,
-                                                seed=0, progress=False)
+    cert = certificates[name] = gridlbc.certify(
+        task, policy, OBSTACLE_START, samples, dt=dt, seed=0, progress=False
+    )
     run = runs[name]
     d = run.costs - runs["LBC"].costs
     # final y signed towards the end of the wall the rollout went round: how far short of c̄
@@ -106,15 +114,19 @@ for name, policy in controllers.items():
     shift = stop - stops_at(runs["LBC"])  # paired: the same noise
     entered = OBSTACLE(run.states.reshape(-1, 2)).reshape(run.states.shape[:2]).max(axis=1)
     distance = np.linalg.norm(run.final_states - OBSTACLE_TARGET, axis=1)
-    print(f"{name:17s} {cert.policy_cost:7.3f} ± {cert.policy_cost_se:.3f} "
-          f"{cert.gap:+8.3f} ± {cert.gap_se:.3f} "
-          f"{d.mean():+8.3f} ± {se(d):.3f} "
-          f"{100 * np.mean(entered > OBSTACLE.height / 2):9.1f} % "
-          f"{100 * np.mean(distance < RADIUS):10.1f} % {np.median(distance):17.3f} "
-          f"{stop.mean():+8.3f} ± {se(stop):.3f} {shift.mean():+8.3f} ± {se(shift):.3f}")
+    print(
+        f"{name:17s} {cert.policy_cost:7.3f} ± {cert.policy_cost_se:.3f} "
+        f"{cert.gap:+8.3f} ± {cert.gap_se:.3f} "
+        f"{d.mean():+8.3f} ± {se(d):.3f} "
+        f"{100 * np.mean(entered > OBSTACLE.height / 2):9.1f} % "
+        f"{100 * np.mean(distance < RADIUS):10.1f} % {np.median(distance):17.3f} "
+        f"{stop.mean():+8.3f} ± {se(stop):.3f} {shift.mean():+8.3f} ± {se(shift):.3f}"
+    )
 best = certificates["exact LBC (grid)"]  # the optimum as proposal: the smallest SE of v*
-print(f"(certified optimum v* = {best.optimal_value:.3f} ± {best.optimal_value_se:.3f} with the "
-      f"exact LBC as proposal)")
+print(
+    f"(certified optimum v* = {best.optimal_value:.3f} ± {best.optimal_value_se:.3f} with the "
+    f"exact LBC as proposal)"
+)
 
 fig, axes = plt.subplots(1, 4, figsize=(14, 5), sharey=True, constrained_layout=True)
 X, Y = np.meshgrid(np.linspace(-2, 2, 161), np.linspace(-3, 3, 241))

@@ -40,8 +40,7 @@ for ax, (title, (centres, W, c_target)) in zip(axes, cases.items()):
     for message in said:
         print("   ProjectionWarning:", message.message)
     ax.plot(x, np.exp(-target(x) / lam), "k--", label="target h̄")
-    ax.plot(x, sum(wi * np.exp(-c(x) / lam) for wi, c in zip(w, components)), "C3",
-            label="Σ wᵢ hᵢ")
+    ax.plot(x, sum(wi * np.exp(-c(x) / lam) for wi, c in zip(w, components)), "C3", label="Σ wᵢ hᵢ")
     ax.set(title=f"{title}: w = {np.round(w, 2)}", xlabel="x", ylabel="h = exp(−g/λ)")
     ax.legend(fontsize=8)
 out = Path(args.out)

@@ -38,7 +38,7 @@ def _erfcx_table(points: int = 32) -> np.ndarray:
         chebyshev = 2.0 / points * (cosines * values).sum(axis=1)
         chebyshev[0] /= 2.0
         power = np.polynomial.chebyshev.cheb2poly(chebyshev)
-        row[:power.size] = power
+        row[: power.size] = power
     return table
 
 
@@ -57,5 +57,6 @@ def erfcx(x):
     t = 2.0 * (u - i) - 1.0
     c = _ERFCX[i]
     t2 = t * t
-    return (((c[0] + c[1] * t) + t2 * (c[2] + c[3] * t))
-            + (t2 * t2) * ((c[4] + c[5] * t) + t2 * (c[6] + c[7] * t)))
+    return ((c[0] + c[1] * t) + t2 * (c[2] + c[3] * t)) + (t2 * t2) * (
+        (c[4] + c[5] * t) + t2 * (c[6] + c[7] * t)
+    )

@@ -57,8 +57,17 @@ PROGRESS_DELAY = 2.0
 """Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
 
 
-_ESTIMATES = ("optimal_value", "optimal_value_se", "policy_cost", "policy_cost_se", "gap", "gap_se",
-              "effective_sample_size", "left_box_fraction", "optimal_left_box_fraction")
+_ESTIMATES = (
+    "optimal_value",
+    "optimal_value_se",
+    "policy_cost",
+    "policy_cost_se",
+    "gap",
+    "gap_se",
+    "effective_sample_size",
+    "left_box_fraction",
+    "optimal_left_box_fraction",
+)
 """The per-start-state fields of :class:`Certificate`, in the order :func:`_estimates` returns."""
 
 
@@ -131,8 +140,11 @@ class Certificate:
         lines = []
         for i, x0 in enumerate(self.start_states):
             v, v_se, J, J_se, gap, gap_se, ess, left, left_opt = (r[i] for r in rows)
-            flag = "" if ess >= self.min_effective_sample_size else \
-                " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
+            flag = (
+                ""
+                if ess >= self.min_effective_sample_size
+                else " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
+            )
             lines.append(
                 f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
                 f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
@@ -140,8 +152,9 @@ class Certificate:
                 f"({100 * ess / self.n_samples:.0f} %), left the box {100 * left:.1f} % "
                 f"({100 * left_opt:.1f} % under the optimum){flag}"
             )
-        lines.append(f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, "
-                     f"seed {self.seed}")
+        lines.append(
+            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}"
+        )
         return "\n".join(lines)
 
 
@@ -161,13 +174,29 @@ def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tu
     else:
         value_se = cost_se = gap_se = math.nan
     cost = C.mean()
-    return (value, value_se, cost, cost_se, cost - value, gap_se, ess, left.mean(),
-            np.dot(w, left) / w.sum())
+    return (
+        value,
+        value_se,
+        cost,
+        cost_se,
+        cost - value,
+        gap_se,
+        ess,
+        left.mean(),
+        np.dot(w, left) / w.sum(),
+    )
 
 
-def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | None = None,
-            seed: int | None = None, progress: bool | None = None,
-            min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE) -> Certificate:
+def certify(
+    problem: Problem,
+    policy,
+    x0,
+    n_samples: int = 2000,
+    dt: float | None = None,
+    seed: int | None = None,
+    progress: bool | None = None,
+    min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
+) -> Certificate:
     """Estimate the true optimal cost v*(x₀) by importance sampling with ``policy`` as proposal.
 
     v*(x₀) = −λ log E_u[exp(−S_u/λ)] with S_u = g(x_T) + ∫(q + ½uᵀRu) dt + ∫uᵀR dε holds for any
@@ -210,11 +239,23 @@ def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | Non
     K = _step_count(problem.horizon, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
-    bar = ProgressBar(K, progress is not False, f"certify {k}×{n} samples",
-                      work_per_item=x.shape[0], work_unit="sample-steps",
-                      delay=PROGRESS_DELAY if progress is None else 0.0)
-    path = _euler_maruyama(problem, policy, x, K, np.random.default_rng(seed), True,
-                           lambda step, x_new, u: bar.update(step + 1))
+    bar = ProgressBar(
+        K,
+        progress is not False,
+        f"certify {k}×{n} samples",
+        work_per_item=x.shape[0],
+        work_unit="sample-steps",
+        delay=PROGRESS_DELAY if progress is None else 0.0,
+    )
+    path = _euler_maruyama(
+        problem,
+        policy,
+        x,
+        K,
+        np.random.default_rng(seed),
+        True,
+        lambda step, x_new, u: bar.update(step + 1),
+    )
     lam = problem.temperature
     C = (path.running_cost + path.terminal_cost).reshape(k, n)
     S = C + path.ito.reshape(k, n)
@@ -230,10 +271,17 @@ def certify(problem: Problem, policy, x0, n_samples: int = 2000, dt: float | Non
             "proposal closer to optimal (a finer or fitted grid solution), more samples, or note "
             f"that the temperature λ = {lam:g} is small relative to the costs, which sharpens "
             "the weights.",
-            CertificateWarning, stacklevel=2,
+            CertificateWarning,
+            stacklevel=2,
         )
     final = path.final_states.reshape(k, n, -1)
     return Certificate(
-        starts, **{name: float(c[0]) if single else c for name, c in estimates.items()},
-        final_states=final[0] if single else final, n_samples=n, dt=problem.horizon / K,
-        temperature=lam, min_effective_sample_size=float(min_effective_sample_size), seed=seed)
+        starts,
+        **{name: float(c[0]) if single else c for name, c in estimates.items()},
+        final_states=final[0] if single else final,
+        n_samples=n,
+        dt=problem.horizon / K,
+        temperature=lam,
+        min_effective_sample_size=float(min_effective_sample_size),
+        seed=seed,
+    )

@@ -23,23 +23,35 @@ def _cmd_verify(args) -> int:
     """Exit status 0 when every check passes, 1 when one fails (the table says which)."""
     from .studies.verify import run_verification
 
-    report = run_verification(grid_size=args.grid, samples=args.samples, seed=args.seed,
-                              quick=args.quick, progress=not args.quiet)
+    report = run_verification(
+        grid_size=args.grid,
+        samples=args.samples,
+        seed=args.seed,
+        quick=args.quick,
+        progress=not args.quiet,
+    )
     print(report.table())
     if args.convergence:
         from .studies.convergence import pendulum_study, pointmass_study
 
-        spacings, sizes = ((1 / 4, 1 / 8, 1 / 16), (32, 64, 128)) if args.quick else \
-            ((1 / 4, 1 / 8, 1 / 16, 1 / 32), (64, 128, 256))
-        for name, table in (("PointMass vs Riccati", pointmass_study(spacings)),
-                            ("Pendulum: z-space vs value-space HJB", pendulum_study(sizes))):
+        spacings, sizes = (
+            ((1 / 4, 1 / 8, 1 / 16), (32, 64, 128))
+            if args.quick
+            else ((1 / 4, 1 / 8, 1 / 16, 1 / 32), (64, 128, 256))
+        )
+        for name, table in (
+            ("PointMass vs Riccati", pointmass_study(spacings)),
+            ("Pendulum: z-space vs value-space HJB", pendulum_study(sizes)),
+        ):
             print(f"\n{name} ({table.points} points, v < min v + {table.band:g})")
             print(table.format())
     if args.json:
         report.to_json(Path(args.json))
         print(f"wrote {args.json}")
-    print(f"{'all checks passed' if report.passed else 'SOME CHECKS FAILED'} "
-          f"({report.wall_time:.0f} s)")
+    print(
+        f"{'all checks passed' if report.passed else 'SOME CHECKS FAILED'} "
+        f"({report.wall_time:.0f} s)"
+    )
     return 0 if report.passed else 1
 
 
@@ -78,10 +90,11 @@ def _description_from_flags(data: dict, args) -> dict:
             periodic = parts[-1] == "periodic"
             parts = parts[:-1] if periodic else parts
             if len(parts) != 3 or not parts[2].isdigit():
-                raise ValueError(f"--axis expects LO,HI,N[,periodic] (e.g. --axis=-pi,pi,101,"
-                                 f"periodic), got {item!r}")
-            axes.append({"lo": parts[0], "hi": parts[1], "n": int(parts[2]),
-                         "periodic": periodic})
+                raise ValueError(
+                    f"--axis expects LO,HI,N[,periodic] (e.g. --axis=-pi,pi,101,"
+                    f"periodic), got {item!r}"
+                )
+            axes.append({"lo": parts[0], "hi": parts[1], "n": int(parts[2]), "periodic": periodic})
         data["grid"] = {"axes": axes}
     for key in ("horizon", "temperature"):
         if getattr(args, key) is not None:
@@ -121,9 +134,12 @@ def _config(data: dict, args):
         return problem_from_dict(data)
     except (TypeError, ValueError) as exc:
         message = str(exc)
-        for key, flags in (("'system'", "--system"), ("'grid'", "--grid or --axis"),
-                           ("'horizon'", "--horizon"),
-                           ("'terminal_cost'", "--terminal-center and --terminal-weights")):
+        for key, flags in (
+            ("'system'", "--system"),
+            ("'grid'", "--grid or --axis"),
+            ("'horizon'", "--horizon"),
+            ("'terminal_cost'", "--terminal-center and --terminal-weights"),
+        ):
             if message == f"missing key {key}":
                 message += f": give {flags} or a --config file"
         from_file = args.config and not message.startswith("--")
@@ -138,12 +154,15 @@ def _cmd_solve(args) -> int:
     problem = config.problem
     if not args.quiet:
         print(f"solving {problem.describe()}", flush=True)
-    solution = solve(problem, settings=config.settings,
-                     progress=not args.quiet or config.settings.progress)
+    solution = solve(
+        problem, settings=config.settings, progress=not args.quiet or config.settings.progress
+    )
     d = solution.diagnostics
     path = save(solution, args.out)
-    print(f"wrote {path}: {d.method}, {d.steps} steps of dt = {d.dt:.4g} in {d.wall_time:.1f} s"
-          + (f", {d.underflow_nodes} nodes underflowed" if d.underflow_nodes else ""))
+    print(
+        f"wrote {path}: {d.method}, {d.steps} steps of dt = {d.dt:.4g} in {d.wall_time:.1f} s"
+        + (f", {d.underflow_nodes} nodes underflowed" if d.underflow_nodes else "")
+    )
     return 0
 
 
@@ -161,8 +180,10 @@ def _sweep_axes(args) -> list[tuple[str, list]]:
     if args.goal:
         axes.append(("goal", [_vector(goal, "--goal") for goal in args.goal]))
     if not axes:
-        raise ValueError("nothing to sweep: give --param-values, --temperatures, --horizons "
-                         "and/or --goal (repeatable)")
+        raise ValueError(
+            "nothing to sweep: give --param-values, --temperatures, --horizons "
+            "and/or --goal (repeatable)"
+        )
     return axes
 
 
@@ -210,15 +231,23 @@ def _cmd_sweep(args) -> int:
     if args.at:
         states = np.array([_vector(x, "--at") for x in args.at])
         states = configs[0].problem.grid.check_states(states, "--at")
-    members = sweep([c.problem for c in configs], args.out, states=states,
-                    client=args.scheduler, workers=args.workers, progress=not args.quiet,
-                    settings=configs[0].settings)
-    header = ["#", *names] + [f"v({','.join(f'{c:g}' for c in x)})" for x in
-                              ([] if states is None else states)] + ["solve s", "status"]
+    members = sweep(
+        [c.problem for c in configs],
+        args.out,
+        states=states,
+        client=args.scheduler,
+        workers=args.workers,
+        progress=not args.quiet,
+        settings=configs[0].settings,
+    )
+    header = (
+        ["#", *names]
+        + [f"v({','.join(f'{c:g}' for c in x)})" for x in ([] if states is None else states)]
+        + ["solve s", "status"]
+    )
     rows = []
     for m, combo in zip(members, combos):
-        swept = [",".join(f"{c:g}" for c in v) if isinstance(v, list) else f"{v:g}"
-                 for v in combo]
+        swept = [",".join(f"{c:g}" for c in v) if isinstance(v, list) else f"{v:g}" for v in combo]
         values = [] if m.values is None else [f"{v:.6g}" for v in m.values]
         if m.error:
             values = ["-"] * (0 if states is None else len(states))
@@ -232,8 +261,10 @@ def _cmd_sweep(args) -> int:
         print("  ".join(c.rjust(w) for c, w in zip(row, widths)) + "  " + row[-1])
     failed = sum(m.error is not None for m in members)
     reused = sum(m.reused for m in members)
-    print(f"{len(members)} members: {len(members) - failed - reused} solved, {reused} reused, "
-          f"{failed} failed; files in {args.out}")
+    print(
+        f"{len(members)} members: {len(members) - failed - reused} solved, {reused} reused, "
+        f"{failed} failed; files in {args.out}"
+    )
     return 1 if failed else 0
 
 
@@ -259,14 +290,18 @@ def _cmd_combine(args) -> int:
         elif isinstance(costs[0], Quadratic):
             target_weights = costs[0].weights
         else:
-            raise ValueError("--project needs --project-weights: the first solution's terminal "
-                             "cost is not a quadratic to copy W from")
+            raise ValueError(
+                "--project needs --project-weights: the first solution's terminal "
+                "cost is not a quadratic to copy W from"
+            )
         target = Quadratic(_vector(args.project, "--project"), target_weights)
         target = target.with_periods(grid.periods)
         result = projection(target, costs, grid, temperature=solutions[0].temperature)
         weights = result.weights
-        print(f"projected weights {np.round(weights, 6).tolist()} (sum {result.weight_sum:.4g}, "
-              f"residual {result.residual:.3g}, {result.method})")
+        print(
+            f"projected weights {np.round(weights, 6).tolist()} (sum {result.weight_sum:.4g}, "
+            f"residual {result.residual:.3g}, {result.method})"
+        )
         for message in result.messages:
             print(f"warning: {message}", file=sys.stderr)
     combined = combine(solutions, weights)
@@ -284,8 +319,12 @@ def _cmd_combine(args) -> int:
     policy = combined.policy(states, t)
     alpha = combined.blend_weights(states, t)
     names = [a.name or f"x{k}" for k, a in enumerate(grid.axes)]
-    header = names + ["value"] + [f"u{k}" for k in range(policy.shape[1])] + \
-        [f"alpha{i}" for i in range(alpha.shape[1])]
+    header = (
+        names
+        + ["value"]
+        + [f"u{k}" for k in range(policy.shape[1])]
+        + [f"alpha{i}" for i in range(alpha.shape[1])]
+    )
     rows = np.column_stack([states, value, policy, alpha])
     if args.table:
         np.savetxt(args.table, rows, delimiter=",", header=",".join(header), comments="")
@@ -314,17 +353,35 @@ def _cmd_certify(args) -> int:
     states = grid.check_states(np.array([_vector(x, "--state") for x in args.state]), "--state")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CertificateWarning)
-        cert = certify(solution.problem, solution.policy, states, n_samples=args.samples,
-                       dt=args.dt, seed=args.seed, progress=None if not args.quiet else False)
+        cert = certify(
+            solution.problem,
+            solution.policy,
+            states,
+            n_samples=args.samples,
+            dt=args.dt,
+            seed=args.seed,
+            progress=None if not args.quiet else False,
+        )
     predicted = solution.value(states, 0.0)
     print(f"proposal: the policy of {args.solution} ({solution.problem.describe()})")
     print(cert.summary())
-    print(" ".join(f"{h:>12}" for h in ("predicted v", "certified v*", "± SE", "error",
-                                          "policy cost", "gap", "ESS")))
+    print(
+        " ".join(
+            f"{h:>12}"
+            for h in ("predicted v", "certified v*", "± SE", "error", "policy cost", "gap", "ESS")
+        )
+    )
     for i in range(states.shape[0]):
         v, se = cert.optimal_value[i], cert.optimal_value_se[i]
-        row = (predicted[i], v, se, predicted[i] - v, cert.policy_cost[i], cert.gap[i],
-               cert.effective_sample_size[i])
+        row = (
+            predicted[i],
+            v,
+            se,
+            predicted[i] - v,
+            cert.policy_cost[i],
+            cert.gap[i],
+            cert.effective_sample_size[i],
+        )
         print(" ".join(f"{x:12.5g}" for x in row))
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)
@@ -361,8 +418,10 @@ def _cmd_interactive(args) -> int:
         from .studies.demo import interactive_demo
 
         if not args.quiet:
-            print(f"solving the built-in pendulum demo (three goals) on {args.demo_grid} θ "
-                  "nodes ...", flush=True)
+            print(
+                f"solving the built-in pendulum demo (three goals) on {args.demo_grid} θ nodes ...",
+                flush=True,
+            )
         report = interactive_demo(args.out, args.demo_grid, progress=not args.quiet, **options)
     print(report.summary())
     return 0
@@ -371,35 +430,50 @@ def _cmd_interactive(args) -> int:
 def _add_problem_arguments(parser):
     """The flags that describe a problem and its solver settings (``solve`` and ``sweep``)."""
     parser.add_argument("--config", metavar="TOML", help="problem description file")
-    parser.add_argument("--system", help="SingleIntegrator, PointMass, Pendulum, Acrobot or "
-                       "package.module.Class")
-    parser.add_argument("--param", action="append", metavar="KEY=VALUE",
-                       help="system constructor parameter (repeatable), e.g. damping=0.1")
-    parser.add_argument("--grid", metavar="N[,N...]",
-                       help="nodes per axis on the system's default box")
-    parser.add_argument("--axis", action="append", metavar="LO,HI,N[,periodic]",
-                       help="one axis per state coordinate, in order (repeatable)")
+    parser.add_argument(
+        "--system", help="SingleIntegrator, PointMass, Pendulum, Acrobot or package.module.Class"
+    )
+    parser.add_argument(
+        "--param",
+        action="append",
+        metavar="KEY=VALUE",
+        help="system constructor parameter (repeatable), e.g. damping=0.1",
+    )
+    parser.add_argument(
+        "--grid", metavar="N[,N...]", help="nodes per axis on the system's default box"
+    )
+    parser.add_argument(
+        "--axis",
+        action="append",
+        metavar="LO,HI,N[,periodic]",
+        help="one axis per state coordinate, in order (repeatable)",
+    )
     parser.add_argument("--horizon", metavar="T", help="horizon T in seconds")
     parser.add_argument("--temperature", metavar="LAMBDA", help="temperature λ (default 1)")
     parser.add_argument("--control-cost", metavar="R", help="R: a number or one per control")
     for cost, what in (("terminal", "terminal cost g"), ("state", "state cost q")):
-        parser.add_argument(f"--{cost}-center", metavar="C", help=f"centre c of the {what}, "
-                           "comma-separated")
+        parser.add_argument(
+            f"--{cost}-center", metavar="C", help=f"centre c of the {what}, comma-separated"
+        )
         parser.add_argument(f"--{cost}-weights", metavar="W", help=f"diagonal of W of the {what}")
     parser.add_argument("--method", help="splitting (default) or implicit")
     parser.add_argument("--dt", type=float, help="time step (default from the Courant number)")
     parser.add_argument("--store-every", type=int, help="keep every k-th time slice")
     parser.add_argument("--dtype", help="float64 (default) or float32 storage")
-    parser.add_argument("--fitting", choices=["auto", "terminal", "none"],
-                        help="splitting only: fit the scheme to the terminal cost ('auto', the "
-                        "default, = 'terminal': far less numerical diffusion where v is steep) "
-                        "or not ('none': the plain operator, independent of the terminal cost, "
-                        "so separately solved files combine exactly); see README")
+    parser.add_argument(
+        "--fitting",
+        choices=["auto", "terminal", "none"],
+        help="splitting only: fit the scheme to the terminal cost ('auto', the "
+        "default, = 'terminal': far less numerical diffusion where v is steep) "
+        "or not ('none': the plain operator, independent of the terminal cost, "
+        "so separately solved files combine exactly); see README",
+    )
 
 
 def _add_workflow_parsers(sub):
     solve = sub.add_parser(
-        "solve", help="solve a problem from flags or a TOML file and save the Solution",
+        "solve",
+        help="solve a problem from flags or a TOML file and save the Solution",
         description="Solve the linear Bellman PDE of a problem given by a TOML description "
         "(--config, see gridlbc.config) and/or flags (flags win) and save it with gridlbc.save. "
         "Negative numbers need '=': --axis=-pi,pi,101,periodic; multiples of pi are allowed.",
@@ -410,33 +484,54 @@ def _add_workflow_parsers(sub):
     solve.set_defaults(func=_cmd_solve)
 
     sweep = sub.add_parser(
-        "sweep", help="solve a grid of problems in parallel on Dask and print their values",
+        "sweep",
+        help="solve a grid of problems in parallel on Dask and print their values",
         description="Solve every combination of the swept values (--param-values, "
         "--temperatures, --horizons, --goal) around a base problem given as for solve, in "
-        "parallel on Dask distributed (pip install \"gridlbc[dask]\"): a local cluster of "
+        'parallel on Dask distributed (pip install "gridlbc[dask]"): a local cluster of '
         "--workers processes, or the cluster at --scheduler. Each member is saved in --out "
         "under a hash of its problem and settings; a rerun reuses finished members. Prints a "
         "table of v(x, 0) at the --at states; exit status 1 if a member failed.",
     )
     _add_problem_arguments(sweep)
-    sweep.add_argument("--param-values", action="append", metavar="KEY=V1,V2,...",
-                       help="values of a system parameter (repeatable), e.g. damping=0,0.1,0.2")
+    sweep.add_argument(
+        "--param-values",
+        action="append",
+        metavar="KEY=V1,V2,...",
+        help="values of a system parameter (repeatable), e.g. damping=0,0.1,0.2",
+    )
     sweep.add_argument("--temperatures", metavar="L1,L2,...", help="temperatures λ")
     sweep.add_argument("--horizons", metavar="T1,T2,...", help="horizons T")
-    sweep.add_argument("--goal", action="append", metavar="C",
-                       help="a terminal-cost centre (repeatable: one member per goal)")
-    sweep.add_argument("--at", action="append", metavar="STATE",
-                       help="report v(x, 0) at this state (comma-separated, repeatable)")
+    sweep.add_argument(
+        "--goal",
+        action="append",
+        metavar="C",
+        help="a terminal-cost centre (repeatable: one member per goal)",
+    )
+    sweep.add_argument(
+        "--at",
+        action="append",
+        metavar="STATE",
+        help="report v(x, 0) at this state (comma-separated, repeatable)",
+    )
     sweep.add_argument("--out", required=True, help="folder for the Solution files")
-    sweep.add_argument("--scheduler", metavar="ADDRESS",
-                       help="a Dask scheduler, e.g. tcp://host:8786 (default: a local cluster)")
-    sweep.add_argument("--workers", type=int, metavar="N",
-                       help="processes of the local cluster (default: the available cores)")
+    sweep.add_argument(
+        "--scheduler",
+        metavar="ADDRESS",
+        help="a Dask scheduler, e.g. tcp://host:8786 (default: a local cluster)",
+    )
+    sweep.add_argument(
+        "--workers",
+        type=int,
+        metavar="N",
+        help="processes of the local cluster (default: the available cores)",
+    )
     sweep.add_argument("--quiet", action="store_true", help="no progress output")
     sweep.set_defaults(func=_cmd_sweep)
 
     combine = sub.add_parser(
-        "combine", help="combine saved solutions and evaluate value, policy and blend weights",
+        "combine",
+        help="combine saved solutions and evaluate value, policy and blend weights",
         description="Linear Bellman combination z = Σ w_i z_i of saved solutions (same problem, "
         "different terminal costs). Weights: all ones (coordination), --weights, or --project "
         "TARGET (the centre of a quadratic target cost; weights from gridlbc.project). States: "
@@ -446,16 +541,24 @@ def _add_workflow_parsers(sub):
     combine.add_argument("solutions", nargs="+", help="solution files written by gridlbc solve")
     combine.add_argument("--weights", metavar="W1,W2,...", help="fixed weights w_i")
     combine.add_argument("--project", metavar="CENTER", help="target cost centre, e.g. 0.2,0")
-    combine.add_argument("--project-weights", metavar="W",
-                         help="diagonal of the target's W (default: the first solution's)")
-    combine.add_argument("--at", action="append", metavar="STATE",
-                         help="evaluate at this state (comma-separated, repeatable)")
+    combine.add_argument(
+        "--project-weights",
+        metavar="W",
+        help="diagonal of the target's W (default: the first solution's)",
+    )
+    combine.add_argument(
+        "--at",
+        action="append",
+        metavar="STATE",
+        help="evaluate at this state (comma-separated, repeatable)",
+    )
     combine.add_argument("--time", type=float, default=0.0, help="time t (default 0)")
     combine.add_argument("--table", metavar="CSV", help="write the evaluations as CSV")
     combine.set_defaults(func=_cmd_combine)
 
     certify = sub.add_parser(
-        "certify", help="the true optimal cost from start states, with a saved solution's policy "
+        "certify",
+        help="the true optimal cost from start states, with a saved solution's policy "
         "as the importance-sampling proposal",
         description="Certify a saved solution: roll out its policy on the problem's SDE and "
         "estimate the true optimal cost v*(x0) = −λ log E[exp(−S/λ)] (Feynman–Kac and Girsanov; "
@@ -464,18 +567,24 @@ def _add_workflow_parsers(sub):
         "estimate is not to be trusted (a warning says what to do).",
     )
     certify.add_argument("solution", help="a solution file written by gridlbc solve")
-    certify.add_argument("--state", action="append", metavar="X",
-                         help="start state, comma-separated, multiples of pi allowed "
-                         "(repeatable; negative numbers need '=': --state=-pi,0)")
-    certify.add_argument("--samples", type=int, default=2000,
-                         help="samples per start state (default: 2000)")
+    certify.add_argument(
+        "--state",
+        action="append",
+        metavar="X",
+        help="start state, comma-separated, multiples of pi allowed "
+        "(repeatable; negative numbers need '=': --state=-pi,0)",
+    )
+    certify.add_argument(
+        "--samples", type=int, default=2000, help="samples per start state (default: 2000)"
+    )
     certify.add_argument("--dt", type=float, help="Euler–Maruyama step (default: T/300)")
     certify.add_argument("--seed", type=int, help="random seed")
     certify.add_argument("--quiet", action="store_true", help="no progress output")
     certify.set_defaults(func=_cmd_certify)
 
     interactive = sub.add_parser(
-        "interactive", help="write a self-contained web page that recombines solutions live",
+        "interactive",
+        help="write a self-contained web page that recombines solutions live",
         description="Write one HTML file (nothing loaded from the network) that recombines saved "
         "solutions in the browser: drag weights, pick a goal (weights by projection), click a "
         "state to roll out the combined controller on the value and policy maps. Without files "
@@ -490,36 +599,59 @@ def _add_workflow_parsers(sub):
     )
     interactive.add_argument("solutions", nargs="*", help="solution files (gridlbc solve)")
     interactive.add_argument("--out", required=True, help="the page to write (.html)")
-    interactive.add_argument("--weights", metavar="W1,W2,...",
-                             help="initial weights (default: all ones)")
+    interactive.add_argument(
+        "--weights", metavar="W1,W2,...", help="initial weights (default: all ones)"
+    )
     interactive.add_argument("--state", metavar="X", help="initial rollout start state")
-    interactive.add_argument("--max-mb", type=float,
-                             help="embed the solutions whole up to this many MB of slices, "
-                             "else decimate to fit (default: 16; the built-in demo: 4)")
-    interactive.add_argument("--nodes", metavar="N[,N]",
-                             help="decimate to this many nodes per axis")
-    interactive.add_argument("--times", type=int, metavar="K",
-                             help="decimate to at most K stored time slices, denser towards "
-                             "T (default 41 when decimating)")
-    interactive.add_argument("--dtype", choices=["float32", "float64"], default="float32",
-                             help="precision of decimated slices (default float32: half the "
-                             "bytes; float64 keeps z below 1e-45 of each slice's maximum)")
-    interactive.add_argument("--demo-grid", type=int, default=101,
-                             help="nodes per axis of the built-in demo's solve (default: 101)")
+    interactive.add_argument(
+        "--max-mb",
+        type=float,
+        help="embed the solutions whole up to this many MB of slices, "
+        "else decimate to fit (default: 16; the built-in demo: 4)",
+    )
+    interactive.add_argument(
+        "--nodes", metavar="N[,N]", help="decimate to this many nodes per axis"
+    )
+    interactive.add_argument(
+        "--times",
+        type=int,
+        metavar="K",
+        help="decimate to at most K stored time slices, denser towards "
+        "T (default 41 when decimating)",
+    )
+    interactive.add_argument(
+        "--dtype",
+        choices=["float32", "float64"],
+        default="float32",
+        help="precision of decimated slices (default float32: half the "
+        "bytes; float64 keeps z below 1e-45 of each slice's maximum)",
+    )
+    interactive.add_argument(
+        "--demo-grid",
+        type=int,
+        default=101,
+        help="nodes per axis of the built-in demo's solve (default: 101)",
+    )
     interactive.add_argument("--quiet", action="store_true", help="no progress output")
     interactive.set_defaults(func=_cmd_interactive)
 
     from .studies.figures import FIGURES
 
     figures = sub.add_parser(
-        "figures", help="regenerate the figure gallery",
+        "figures",
+        help="regenerate the figure gallery",
         description="Write every figure of the gallery (gridlbc.studies.figures) to a folder. The full "
         "sizes take several minutes; --quick runs small grids in about a minute.",
     )
     figures.add_argument("--out", default="figures", help="folder (default: figures)")
     figures.add_argument("--quick", action="store_true", help="small grids and sample counts")
-    figures.add_argument("--only", action="append", choices=list(FIGURES), metavar="NAME",
-                         help=f"only this figure (repeatable): {', '.join(FIGURES)}")
+    figures.add_argument(
+        "--only",
+        action="append",
+        choices=list(FIGURES),
+        metavar="NAME",
+        help=f"only this figure (repeatable): {', '.join(FIGURES)}",
+    )
     figures.add_argument("--quiet", action="store_true", help="no progress output")
     figures.set_defaults(func=_cmd_figures)
 
@@ -539,8 +671,9 @@ def build_parser() -> argparse.ArgumentParser:
         "sampling, gridlbc.certify), and write figures.",
     )
     demo.add_argument("--out", default="figures", help="folder for the figures (default: figures)")
-    demo.add_argument("--grid", type=int, default=201,
-                      help="nodes per axis of the pendulum grid (default: 201)")
+    demo.add_argument(
+        "--grid", type=int, default=201, help="nodes per axis of the pendulum grid (default: 201)"
+    )
     demo.add_argument("--quiet", action="store_true", help="no progress output")
     demo.set_defaults(func=_cmd_demo)
 
@@ -550,19 +683,29 @@ def build_parser() -> argparse.ArgumentParser:
         description="Check the linear Bellman combination claims against exact answers "
         "(direct solves, Riccati, Monte Carlo) and print a table. Exit status 1 if a check fails.",
     )
-    verify.add_argument("--grid", type=int, default=256,
-                        help="θ nodes of the pendulum swing-up grid (default: 256)")
-    verify.add_argument("--samples", type=int, default=8000,
-                        help="Monte-Carlo samples of the swing-up (default: 8000)")
+    verify.add_argument(
+        "--grid", type=int, default=256, help="θ nodes of the pendulum swing-up grid (default: 256)"
+    )
+    verify.add_argument(
+        "--samples",
+        type=int,
+        default=8000,
+        help="Monte-Carlo samples of the swing-up (default: 8000)",
+    )
     verify.add_argument("--seed", type=int, default=0, help="random seed (default: 0)")
     verify.add_argument("--json", metavar="PATH", help="also write the results as JSON")
-    verify.add_argument("--quick", action="store_true",
-                        help="smoke-test sizes (bounds not expected to hold; use with small "
-                        "--grid and --samples)")
+    verify.add_argument(
+        "--quick",
+        action="store_true",
+        help="smoke-test sizes (bounds not expected to hold; use with small --grid and --samples)",
+    )
     verify.add_argument("--quiet", action="store_true", help="no progress output")
-    verify.add_argument("--convergence", action="store_true",
-                        help="also run the convergence study: both z-space schemes and the "
-                        "value-space HJB solver under grid refinement (a few minutes)")
+    verify.add_argument(
+        "--convergence",
+        action="store_true",
+        help="also run the convergence study: both z-space schemes and the "
+        "value-space HJB solver under grid refinement (a few minutes)",
+    )
     verify.set_defaults(func=_cmd_verify)
     _add_workflow_parsers(sub)
     return parser

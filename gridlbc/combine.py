@@ -128,25 +128,35 @@ def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
                 "solves several terminal costs consistently)."
             )
         if not np.array_equal(s.times, ref.times):
-            operators.append(f"solutions[{i}] has another time grid ({len(s.times)} vs "
-                             f"{len(ref.times)} stored slices, or different times)")
+            operators.append(
+                f"solutions[{i}] has another time grid ({len(s.times)} vs "
+                f"{len(ref.times)} stored slices, or different times)"
+            )
         if s.diagnostics.method != ref.diagnostics.method:
-            operators.append(f"solutions[{i}] was solved by {s.diagnostics.method}, "
-                             f"solutions[0] by {ref.diagnostics.method}")
+            operators.append(
+                f"solutions[{i}] was solved by {s.diagnostics.method}, "
+                f"solutions[0] by {ref.diagnostics.method}"
+            )
         if s.diagnostics.fitting != ref.diagnostics.fitting:
-            operators.append(f"solutions[{i}] was fitted to another reference "
-                             f"({s.diagnostics.fitting} vs {ref.diagnostics.fitting})")
+            operators.append(
+                f"solutions[{i}] was fitted to another reference "
+                f"({s.diagnostics.fitting} vs {ref.diagnostics.fitting})"
+            )
         elif s.diagnostics.interpolation != ref.diagnostics.interpolation:
-            operators.append(f"solutions[{i}] and solutions[0] were fitted to the same reference, "
-                             "but only one was stepped in the log domain (a solve fitted to its "
-                             "own terminal cost), whose slices between t = 0 and T are not "
-                             "linear in z")
+            operators.append(
+                f"solutions[{i}] and solutions[0] were fitted to the same reference, "
+                "but only one was stepped in the log domain (a solve fitted to its "
+                "own terminal cost), whose slices between t = 0 and T are not "
+                "linear in z"
+            )
     return solutions, operators
 
 
-EXACT_HINT = ("for an exact combination solve the components together with "
-              "gridlbc.solve_many(problem, costs), or all with fitting=None, or all with one "
-              "shared reference cost fitting=g_ref, with the same dt and store_every")
+EXACT_HINT = (
+    "for an exact combination solve the components together with "
+    "gridlbc.solve_many(problem, costs), or all with fitting=None, or all with one "
+    "shared reference cost fitting=g_ref, with the same dt and store_every"
+)
 """How to make a combination of grid solutions exact, for :attr:`Combination.reason`."""
 
 
@@ -336,15 +346,18 @@ def _check_general_components(components) -> tuple:
                     "gridlbc.trajectory.expand(problem, trajectory))"
                 )
         if not isinstance(getattr(c, "problem", None), Problem):
-            raise TypeError(f"components[{i}] ({type(c).__name__}) has no .problem: combine "
-                            "checks that all components solve the same problem")
+            raise TypeError(
+                f"components[{i}] ({type(c).__name__}) has no .problem: combine "
+                "checks that all components solve the same problem"
+            )
     p0 = components[0].problem
     sample = next((c.trajectory for c in components if hasattr(c, "trajectory")), None)
     for i, c in enumerate(components[1:], start=1):
         p = c.problem
         differs = _problem_differences(p0, p)
-        if sample is not None and not _same_cost(p.state_cost, p0.state_cost, sample.states,
-                                                 sample.times):
+        if sample is not None and not _same_cost(
+            p.state_cost, p0.state_cost, sample.states, sample.times
+        ):
             differs.append("state cost q (values differ along a component's trajectory)")
         if differs:
             raise ValueError(
@@ -384,25 +397,31 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
     """
     components = tuple(components)
     if not components:
-        raise ValueError("components is empty: give at least one gridlbc.Solution or trajectory "
-                         "component to combine")
+        raise ValueError(
+            "components is empty: give at least one gridlbc.Solution or trajectory "
+            "component to combine"
+        )
     if all(isinstance(c, Solution) for c in components):
         solutions, operators = _check_components(components)
         w = check_weights(weights, len(solutions))
         base = solutions[0].problem
-        cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w,
-                             base.temperature)
+        cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w, base.temperature)
         if not operators:
             return CombinedSolution(solutions, w, base.replace(terminal_cost=cost))
-        return Combination(solutions, w, base.replace(terminal_cost=cost),
-                           f"{'; '.join(operators)}: {EXACT_HINT}")
+        return Combination(
+            solutions, w, base.replace(terminal_cost=cost), f"{'; '.join(operators)}: {EXACT_HINT}"
+        )
     components = _check_general_components(components)
     w = check_weights(weights, len(components))
     base = components[0].problem
     cost = CompositeCost(tuple(c.problem.terminal_cost for c in components), w, base.temperature)
     kinds = sorted({type(c).__name__ for c in components})
-    return Combination(components, w, base.replace(terminal_cost=cost),
-                       f"components of kinds {', '.join(kinds)} combine through their values")
+    return Combination(
+        components,
+        w,
+        base.replace(terminal_cost=cost),
+        f"components of kinds {', '.join(kinds)} combine through their values",
+    )
 
 
 BLEND_MODES = ("average", "sum")

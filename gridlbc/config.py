@@ -54,8 +54,16 @@ from .grid import Axis, Grid
 from .problem import Problem
 from .settings import SolverSettings
 
-TOP_KEYS = ("system", "grid", "horizon", "temperature", "control_cost", "terminal_cost",
-            "state_cost", "solver")
+TOP_KEYS = (
+    "system",
+    "grid",
+    "horizon",
+    "temperature",
+    "control_cost",
+    "terminal_cost",
+    "state_cost",
+    "solver",
+)
 REQUIRED_KEYS = ("system", "grid", "horizon", "terminal_cost")
 
 _PI = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)?)\s*\*?\s*pi\s*(?:/\s*(\d+(?:\.\d*)?))?\s*$")
@@ -88,8 +96,9 @@ def number(value, key: str) -> float:
         coefficient = float(match[1]) if coefficient is None else coefficient
         result = coefficient * math.pi / (float(match[2]) if match[2] else 1.0)
     else:
-        raise ValueError(f"{key} must be a number (or a multiple of pi such as \"-pi\", "
-                         f"\"pi/2\"), got {value!r}")
+        raise ValueError(
+            f'{key} must be a number (or a multiple of pi such as "-pi", "pi/2"), got {value!r}'
+        )
     if not math.isfinite(result):
         raise ValueError(f"{key} must be finite, got {value!r}")
     return result
@@ -107,8 +116,10 @@ def _table(data, key: str, allowed, required=()) -> dict:
         raise TypeError(f"{key} must be a table (section), got {type(data).__name__}")
     unknown = sorted(set(data) - set(allowed))
     if unknown:
-        raise ValueError(f"unknown key {'.'.join(filter(None, (key, unknown[0])))!r}: valid keys "
-                         f"{'in ' + key + ' ' if key else ''}are {', '.join(allowed)}")
+        raise ValueError(
+            f"unknown key {'.'.join(filter(None, (key, unknown[0])))!r}: valid keys "
+            f"{'in ' + key + ' ' if key else ''}are {', '.join(allowed)}"
+        )
     missing = [k for k in required if k not in data]
     if missing:
         raise ValueError(f"missing key {'.'.join(filter(None, (key, missing[0])))!r}")
@@ -118,23 +129,30 @@ def _table(data, key: str, allowed, required=()) -> dict:
 def system_from_name(name, parameters=None):
     """A system by class name in :mod:`gridlbc.systems` (case-insensitive) or by import path."""
     if not isinstance(name, str) or not name:
-        raise ValueError(f"system.name must be a class name such as \"Pendulum\", got {name!r}")
+        raise ValueError(f'system.name must be a class name such as "Pendulum", got {name!r}')
     parameters = {} if parameters is None else dict(parameters)
-    builtin = {n.lower(): getattr(systems, n) for n in systems.__all__
-               if n not in ("ControlAffineSystem", "LinearSystem")}
+    builtin = {
+        n.lower(): getattr(systems, n)
+        for n in systems.__all__
+        if n not in ("ControlAffineSystem", "LinearSystem")
+    }
     if "." in name:
         module_name, _, qualname = name.rpartition(".")
         try:
             cls = getattr(importlib.import_module(module_name), qualname)
         except (ImportError, AttributeError):
-            raise ValueError(f"system.name {name!r} cannot be imported: give a class of "
-                             "gridlbc.systems or an importable \"package.module.Class\"") from None
+            raise ValueError(
+                f"system.name {name!r} cannot be imported: give a class of "
+                'gridlbc.systems or an importable "package.module.Class"'
+            ) from None
     elif name.lower() in builtin:
         cls = builtin[name.lower()]
     else:
-        raise ValueError(f"unknown system.name {name!r}: choose one of "
-                         f"{', '.join(cls.__name__ for cls in builtin.values())} or give "
-                         "\"package.module.Class\"")
+        raise ValueError(
+            f"unknown system.name {name!r}: choose one of "
+            f"{', '.join(cls.__name__ for cls in builtin.values())} or give "
+            '"package.module.Class"'
+        )
     try:
         return cls(**parameters)
     except TypeError as exc:
@@ -152,13 +170,17 @@ def _count(value, key: str) -> int:
 def _grid(data, system) -> Grid:
     data = _table(data, "grid", ("n", "axes"))
     if ("n" in data) == ("axes" in data):
-        raise ValueError("grid needs exactly one of grid.n (node counts with the system's default "
-                         "box) or grid.axes (a table per coordinate with lo, hi, n, periodic)")
+        raise ValueError(
+            "grid needs exactly one of grid.n (node counts with the system's default "
+            "box) or grid.axes (a table per coordinate with lo, hi, n, periodic)"
+        )
     if "n" in data:
         counts = data["n"] if isinstance(data["n"], list) else [data["n"]]
         if not system.default_box:
-            raise ValueError(f"{type(system).__name__} has no default box: give grid.axes (lo, "
-                             "hi, n per coordinate)")
+            raise ValueError(
+                f"{type(system).__name__} has no default box: give grid.axes (lo, "
+                "hi, n per coordinate)"
+            )
         try:
             return system.default_grid([_count(n, f"grid.n[{i}]") for i, n in enumerate(counts)])
         except ValueError as exc:
@@ -173,8 +195,15 @@ def _grid(data, system) -> Grid:
         if not isinstance(periodic, bool):
             raise TypeError(f"{key}.periodic must be true or false, got {periodic!r}")
         try:
-            axes.append(Axis(number(axis["lo"], f"{key}.lo"), number(axis["hi"], f"{key}.hi"),
-                             _count(axis["n"], f"{key}.n"), periodic, axis.get("name")))
+            axes.append(
+                Axis(
+                    number(axis["lo"], f"{key}.lo"),
+                    number(axis["hi"], f"{key}.hi"),
+                    _count(axis["n"], f"{key}.n"),
+                    periodic,
+                    axis.get("name"),
+                )
+            )
         except (TypeError, ValueError) as exc:
             raise ValueError(f"{key}: {exc}") from None
     return Grid(axes)
@@ -185,8 +214,9 @@ def _quadratic(data, key: str):
         return None
     data = _table(data, key, ("center", "weights"), ("center", "weights"))
     try:
-        return Quadratic(numbers(data["center"], f"{key}.center"),
-                         numbers(data["weights"], f"{key}.weights"))
+        return Quadratic(
+            numbers(data["center"], f"{key}.center"), numbers(data["weights"], f"{key}.weights")
+        )
     except ValueError as exc:
         raise ValueError(f"{key}: {exc}") from None
 
@@ -213,11 +243,15 @@ def problem_from_dict(data: dict) -> ProblemConfig:
     grid = _grid(data["grid"], system)
     control_cost = numbers(data.get("control_cost", 1.0), "control_cost")
     try:
-        problem = Problem(system, grid, number(data["horizon"], "horizon"),
-                          _quadratic(data["terminal_cost"], "terminal_cost"),
-                          state_cost=_quadratic(data.get("state_cost"), "state_cost"),
-                          control_cost=control_cost,
-                          temperature=number(data.get("temperature", 1.0), "temperature"))
+        problem = Problem(
+            system,
+            grid,
+            number(data["horizon"], "horizon"),
+            _quadratic(data["terminal_cost"], "terminal_cost"),
+            state_cost=_quadratic(data.get("state_cost"), "state_cost"),
+            control_cost=control_cost,
+            temperature=number(data.get("temperature", 1.0), "temperature"),
+        )
     except TypeError as exc:
         raise ValueError(str(exc)) from None
     return ProblemConfig(problem, _solver_settings(data.get("solver")))
@@ -241,5 +275,6 @@ def load_config(path) -> ProblemConfig:
         return problem_from_dict(read_description(path))
     except (TypeError, ValueError) as exc:
         message = str(exc)
-        raise type(exc)(message if message.startswith(str(path)) else f"{path}: {message}") \
-            from None
+        raise type(exc)(
+            message if message.startswith(str(path)) else f"{path}: {message}"
+        ) from None

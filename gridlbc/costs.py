@@ -53,7 +53,9 @@ class Quadratic:
         if not np.all(np.isfinite(W)) or not np.allclose(W, W.T, rtol=1e-12, atol=0):
             raise ValueError("Quadratic weights must be a finite symmetric matrix")
         if np.linalg.eigvalsh(W).min() < -1e-12 * max(1.0, np.abs(W).max()):
-            raise ValueError("Quadratic weights must be positive semi-definite (a cost, not a reward)")
+            raise ValueError(
+                "Quadratic weights must be positive semi-definite (a cost, not a reward)"
+            )
         object.__setattr__(self, "center", c)
         object.__setattr__(self, "weights", W)
         if self.periods is not None:
@@ -84,8 +86,11 @@ class Quadratic:
         return np.einsum("ni,ij,nj->n", diff, self.weights, diff)
 
     def __repr__(self):
-        w = np.diag(self.weights) if np.count_nonzero(self.weights - np.diag(np.diag(self.weights))) == 0 \
+        w = (
+            np.diag(self.weights)
+            if np.count_nonzero(self.weights - np.diag(np.diag(self.weights))) == 0
             else self.weights
+        )
         return f"Quadratic(center={self.center.tolist()}, weights={np.asarray(w).tolist()})"
 
 
@@ -152,8 +157,10 @@ class Tracking:
         if t.ndim != 1 or t.size < 1 or not np.all(np.isfinite(t)) or np.any(np.diff(t) <= 0):
             raise ValueError("Tracking times must be a non-empty increasing vector of finite times")
         if x.ndim != 2 or x.shape[0] != t.size or not np.all(np.isfinite(x)):
-            raise ValueError(f"Tracking states must be finite with shape ({t.size}, d), one row "
-                             f"per time, got shape {np.shape(self.states)}")
+            raise ValueError(
+                f"Tracking states must be finite with shape ({t.size}, d), one row "
+                f"per time, got shape {np.shape(self.states)}"
+            )
         shape = Quadratic(x[0], self.weights, self.periods)  # validates weights and periods
         object.__setattr__(self, "times", t)
         object.__setattr__(self, "states", x)
@@ -170,8 +177,9 @@ class Tracking:
     def reference(self, t) -> np.ndarray:
         """x̃(t) for times ``(N,)`` (or one time), shape ``(N, d)``."""
         t = np.atleast_1d(np.asarray(t, dtype=float))
-        return np.stack([np.interp(t, self.times, self.states[:, k]) for k in range(self.dim)],
-                        axis=1)
+        return np.stack(
+            [np.interp(t, self.times, self.states[:, k]) for k in range(self.dim)], axis=1
+        )
 
     def difference(self, x, t) -> np.ndarray:
         """x − x̃(t), nearest image on periodic coordinates, shape ``(N, d)``."""

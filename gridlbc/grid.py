@@ -136,8 +136,13 @@ class Grid:
     def kernel_arrays(self) -> tuple[np.ndarray, ...]:
         """``(lo, spacing, shape, strides, periodic)``: the grid as the arrays compiled kernels
         take (float64, float64, int64, int64, bool; each of shape ``(d,)``)."""
-        return (self.lo, self.spacing, np.array(self.shape, dtype=np.int64), self.strides,
-                self.periodic)
+        return (
+            self.lo,
+            self.spacing,
+            np.array(self.shape, dtype=np.int64),
+            self.strides,
+            self.periodic,
+        )
 
     def points(self) -> list[np.ndarray]:
         """Node coordinates per axis."""
@@ -152,8 +157,9 @@ class Grid:
         """Coordinates of nodes given by flat index, shape ``(..., d)``."""
         flat = np.asarray(flat, dtype=np.int64)
         multi = np.unravel_index(flat, self.shape)
-        return np.stack([self._lo[k] + self.axes[k].spacing * multi[k] for k in range(self.ndim)],
-                        axis=-1)
+        return np.stack(
+            [self._lo[k] + self.axes[k].spacing * multi[k] for k in range(self.ndim)], axis=-1
+        )
 
     def wrap(self, x) -> np.ndarray:
         """Map states into the box: periodic coordinates modulo their period into ``[lo, hi)``.

@@ -135,8 +135,7 @@ def _ratio(z, log_divisor, r, node):
 
 
 @jit_parallel
-def _central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacing, periodic,
-                             out):
+def _central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out):
     """∂y/∂x_axis at the given flat nodes for y = z (in z's precision), or y = z / e^{log_divisor}
     when ``log_divisor`` has columns (:func:`_ratio`): central differences, one-sided at closed
     ends."""
@@ -162,12 +161,18 @@ def _central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacin
             if log_divisor.shape[1] == 0:
                 out[r, p] = (z[r, up] - z[r, down]) * scale
             else:
-                out[r, p] = (_ratio(z, log_divisor, r, up)
-                             - _ratio(z, log_divisor, r, down)) * scale
+                out[r, p] = (
+                    _ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)
+                ) * scale
 
 
-def node_gradient(grid: Grid, values: np.ndarray, nodes: np.ndarray, axis: int,
-                  log_divisor: np.ndarray | None = None) -> np.ndarray:
+def node_gradient(
+    grid: Grid,
+    values: np.ndarray,
+    nodes: np.ndarray,
+    axis: int,
+    log_divisor: np.ndarray | None = None,
+) -> np.ndarray:
     """Finite-difference derivative along ``axis`` of nodal ``values`` ``(K, size)`` at flat
     ``nodes`` (of values / e^{log_divisor} when ``log_divisor`` ``(K, size)`` is given).
 
@@ -176,11 +181,19 @@ def node_gradient(grid: Grid, values: np.ndarray, nodes: np.ndarray, axis: int,
     """
     values = np.ascontiguousarray(values)
     nodes = np.ascontiguousarray(nodes, dtype=np.int64).reshape(-1)
-    divisor = (np.empty((values.shape[0], 0)) if log_divisor is None
-               else np.ascontiguousarray(log_divisor))
+    divisor = (
+        np.empty((values.shape[0], 0)) if log_divisor is None else np.ascontiguousarray(log_divisor)
+    )
     out = np.empty((values.shape[0], nodes.size), dtype=np.result_type(values.dtype, np.float64))
     _central_gradient_kernel(
-        values, divisor, nodes, int(axis), np.array(grid.shape, dtype=np.int64), grid.strides,
-        grid.spacing, bool(grid.axes[axis].periodic), out,
+        values,
+        divisor,
+        nodes,
+        int(axis),
+        np.array(grid.shape, dtype=np.int64),
+        grid.strides,
+        grid.spacing,
+        bool(grid.axes[axis].periodic),
+        out,
     )
     return out

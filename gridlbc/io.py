@@ -67,8 +67,12 @@ def _cost_record(cost, name: str, problem: Problem, arrays: dict):
         return None
     if isinstance(cost, Quadratic):
         periods = None if cost.periods is None else [float(p) for p in cost.periods]
-        return {"kind": "quadratic", "center": cost.center.tolist(),
-                "weights": cost.weights.tolist(), "periods": periods}
+        return {
+            "kind": "quadratic",
+            "center": cost.center.tolist(),
+            "weights": cost.weights.tolist(),
+            "periods": periods,
+        }
     arrays[f"{name}_nodes"] = np.asarray(cost(problem.grid.nodes()), dtype=float)
     return {"kind": "nodes", "type": f"{type(cost).__module__}.{type(cost).__qualname__}"}
 
@@ -78,8 +82,11 @@ def _cost_from_record(record, name: str, grid: Grid, data):
         return None
     if record["kind"] == "quadratic":
         periods = record["periods"]
-        return Quadratic(record["center"], record["weights"],
-                         None if periods is None else np.array(periods, dtype=float))
+        return Quadratic(
+            record["center"],
+            record["weights"],
+            None if periods is None else np.array(periods, dtype=float),
+        )
     return GridCost(grid, data[f"{name}_nodes"])
 
 
@@ -91,10 +98,14 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
     """
     system = problem.system
     return {
-        "grid": [{"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": a.name}
-                 for a in problem.grid.axes],
-        "system": {"class": f"{type(system).__module__}.{type(system).__qualname__}",
-                   "parameters": system.parameters()},
+        "grid": [
+            {"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": a.name}
+            for a in problem.grid.axes
+        ],
+        "system": {
+            "class": f"{type(system).__module__}.{type(system).__qualname__}",
+            "parameters": system.parameters(),
+        },
         "horizon": problem.horizon,
         "temperature": problem.temperature,
         "control_cost": problem.control_cost.tolist(),
@@ -116,8 +127,7 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
     path = Path(path)
     if path.suffix != ".npz":
         path = path.with_name(path.name + ".npz")
-    arrays = {"times": solution.times, "slices": solution.slices,
-              "log_scales": solution.log_scales}
+    arrays = {"times": solution.times, "slices": solution.slices, "log_scales": solution.log_scales}
     reference = solution.reference
     if reference is not None:  # log φ of a fitted operator: the solution's evaluation needs it
         arrays["reference_log_slices"] = reference.log_slices
@@ -189,23 +199,35 @@ def load(path) -> Solution:
     reference = None
     if "reference_sha256" in meta:
         try:
-            reference = FittingReference(contents["reference_log_slices"],
-                                         contents["reference_log_scales"])
+            reference = FittingReference(
+                contents["reference_log_slices"], contents["reference_log_scales"]
+            )
         except KeyError:
             raise ValueError(
-                f"{str(path)!r} is corrupted: its fitting reference is missing") from None
+                f"{str(path)!r} is corrupted: its fitting reference is missing"
+            ) from None
         if _digest(reference.log_slices, reference.log_scales) != meta["reference_sha256"]:
-            raise ValueError(f"{str(path)!r} is corrupted: its fitting reference does not match "
-                             "its checksum")
+            raise ValueError(
+                f"{str(path)!r} is corrupted: its fitting reference does not match its checksum"
+            )
     grid = Grid([Axis(**a) for a in meta["grid"]])
     problem = Problem(
-        _system_from_record(meta["system"]), grid, meta["horizon"],
+        _system_from_record(meta["system"]),
+        grid,
+        meta["horizon"],
         _cost_from_record(meta["terminal_cost"], "terminal", grid, contents),
         state_cost=_cost_from_record(meta["state_cost"], "state_cost", grid, contents),
-        control_cost=np.array(meta["control_cost"]), temperature=meta["temperature"],
+        control_cost=np.array(meta["control_cost"]),
+        temperature=meta["temperature"],
     )
     diag = dict(meta["diagnostics"])
     diag["iterations"] = tuple(diag.get("iterations", ()))
     known = SolveDiagnostics.__dataclass_fields__
-    return Solution(problem, times, slices, scales,
-                    SolveDiagnostics(**{k: v for k, v in diag.items() if k in known}), reference)
+    return Solution(
+        problem,
+        times,
+        slices,
+        scales,
+        SolveDiagnostics(**{k: v for k, v in diag.items() if k in known}),
+        reference,
+    )

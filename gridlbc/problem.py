@@ -33,14 +33,20 @@ def _control_cost_matrix(control_cost, m: int) -> np.ndarray:
         R = np.full(m, float(R))
     if R.ndim == 1:
         if R.shape != (m,):
-            raise ValueError(f"control_cost must be a scalar, ({m},) or ({m}, {m}), got shape {R.shape}")
+            raise ValueError(
+                f"control_cost must be a scalar, ({m},) or ({m}, {m}), got shape {R.shape}"
+            )
         R = np.diag(R)
     if R.shape != (m, m):
-        raise ValueError(f"control_cost must be a scalar, ({m},) or ({m}, {m}), got shape {R.shape}")
+        raise ValueError(
+            f"control_cost must be a scalar, ({m},) or ({m}, {m}), got shape {R.shape}"
+        )
     if not np.all(np.isfinite(R)) or not np.allclose(R, R.T, rtol=1e-12, atol=0):
         raise ValueError("control_cost R must be a finite symmetric matrix")
     if np.linalg.eigvalsh(R).min() <= 0:
-        raise ValueError("control_cost R must be positive definite (every control must cost effort)")
+        raise ValueError(
+            "control_cost R must be positive definite (every control must cost effort)"
+        )
     return R
 
 
@@ -109,7 +115,10 @@ class Problem:
                 f"grid has {grid.ndim} axes but the {type(sys).__name__} state has "
                 f"{sys.state_dim} coordinates: give one Axis per state coordinate"
             )
-        set_ = lambda k, v: object.__setattr__(self, k, v)
+
+        def set_(k, v):
+            return object.__setattr__(self, k, v)
+
         set_("periodic", self._check_periodic(self.periodic))
         set_("horizon", _positive_float("horizon", self.horizon))
         set_("temperature", _positive_float("temperature", self.temperature))
@@ -125,10 +134,13 @@ class Problem:
         try:
             axes = tuple(sorted({int(k) for k in periodic}))
         except (TypeError, ValueError):
-            raise TypeError(f"periodic must be a sequence of coordinate indices, got {periodic!r}") from None
-        if axes and not (0 <= axes[0] and axes[-1] < d):
-            raise ValueError(f"periodic indices must lie in 0 … {d - 1} (state coordinates), "
-                             f"got {periodic!r}")
+            raise TypeError(
+                f"periodic must be a sequence of coordinate indices, got {periodic!r}"
+            ) from None
+        if axes and not (axes[0] >= 0 and axes[-1] < d):
+            raise ValueError(
+                f"periodic indices must lie in 0 … {d - 1} (state coordinates), got {periodic!r}"
+            )
         if self.grid is not None:
             on_grid = tuple(int(k) for k in np.flatnonzero(self.grid.periodic))
             if axes != on_grid:
@@ -188,10 +200,14 @@ class Problem:
 
     def _bind_cost(self, cost, name):
         if not callable(cost):
-            raise TypeError(f"{name} must be callable on (N, d) states, e.g. gridlbc.costs.Quadratic")
+            raise TypeError(
+                f"{name} must be callable on (N, d) states, e.g. gridlbc.costs.Quadratic"
+            )
         if getattr(cost, "time_dependent", False) and name == "terminal_cost":
-            raise TypeError("terminal_cost must be a function of the state alone, g(x): a "
-                            "time-dependent cost (costs.Tracking) can only be a state_cost")
+            raise TypeError(
+                "terminal_cost must be a function of the state alone, g(x): a "
+                "time-dependent cost (costs.Tracking) can only be a state_cost"
+            )
         if isinstance(cost, (Quadratic, Tracking)):
             if cost.dim != self.state_dim:
                 raise ValueError(
@@ -268,8 +284,9 @@ class Problem:
         derivatives ∂²z/∂x_i∂x_j).
         """
         B = self._input_matrix(x)
-        diag, off = _covariance_diagonal(np.ascontiguousarray(B), np.asarray(self.R_inv, dtype=float),
-                                         float(self.temperature))
+        diag, off = _covariance_diagonal(
+            np.ascontiguousarray(B), np.asarray(self.R_inv, dtype=float), float(self.temperature)
+        )
         scale = max(np.abs(diag).max(), np.finfo(float).tiny)
         if off.max() > 1e-12 * scale:
             i, j = np.unravel_index(off.argmax(), off.shape)
@@ -283,9 +300,14 @@ class Problem:
         return diag
 
     def describe(self) -> str:
-        where = (self.grid.describe() if self.grid is not None
-                 else f"no grid (periodic {list(self.periodic_axes)})")
-        return f"{type(self.system).__name__} on {where}, T={self.horizon:g}, λ={self.temperature:g}"
+        where = (
+            self.grid.describe()
+            if self.grid is not None
+            else f"no grid (periodic {list(self.periodic_axes)})"
+        )
+        return (
+            f"{type(self.system).__name__} on {where}, T={self.horizon:g}, λ={self.temperature:g}"
+        )
 
 
 @jit

@@ -29,8 +29,17 @@ class ProgressBar:
         Print only once the run has taken this many seconds (quiet for short runs).
     """
 
-    def __init__(self, total: int, enabled: bool, label: str, *, items: str = "steps",
-                 work_per_item: int = 0, work_unit: str = "node-steps", delay: float = 0.0):
+    def __init__(
+        self,
+        total: int,
+        enabled: bool,
+        label: str,
+        *,
+        items: str = "steps",
+        work_per_item: int = 0,
+        work_unit: str = "node-steps",
+        delay: float = 0.0,
+    ):
         self.total, self.enabled, self.label, self.items = total, enabled, label, items
         self.work_per_item, self.work_unit, self.delay = work_per_item, work_unit, delay
         self.start = time.perf_counter()
@@ -49,8 +58,10 @@ class ProgressBar:
         fraction = done / self.total if self.total else 1.0
         bar = "#" * int(25 * fraction)
         eta = elapsed * (1 - fraction) / fraction if done else math.nan
-        line = (f"\r{self.label} [{bar:<25}] {done}/{self.total} {self.items}{note} "
-                f"{elapsed:6.1f}s ETA {eta:6.1f}s")
+        line = (
+            f"\r{self.label} [{bar:<25}] {done}/{self.total} {self.items}{note} "
+            f"{elapsed:6.1f}s ETA {eta:6.1f}s"
+        )
         if self.work_per_item:
             rate = done * self.work_per_item / elapsed / 1e6 if elapsed > 0 else math.nan
             line += f" {rate:7.1f} M {self.work_unit}/s"

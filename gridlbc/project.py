@@ -155,8 +155,10 @@ def _choose_method(method, costs, grid) -> str:
         if method == "analytic" and any(np.linalg.eigvalsh(c.weights).min() <= 0 for c in costs):
             method = "quadrature"  # a flat direction: the integral over Rᵈ diverges
     if method == "analytic" and not (quadratic and not periodic):
-        raise ValueError("method='analytic' needs Quadratic costs on a non-periodic space; use "
-                         "method='quadrature' with a grid")
+        raise ValueError(
+            "method='analytic' needs Quadratic costs on a non-periodic space; use "
+            "method='quadrature' with a grid"
+        )
     if method == "quadrature" and grid is None:
         raise ValueError(
             "these costs need the inner products sampled on a grid (periodic axes, callables, or "
@@ -165,13 +167,19 @@ def _choose_method(method, costs, grid) -> str:
     return method
 
 
-def projection(target_cost, component_costs, grid: Grid | None = None, *,
-               temperature: float = 1.0, method: str = "auto") -> Projection:
+def projection(
+    target_cost,
+    component_costs,
+    grid: Grid | None = None,
+    *,
+    temperature: float = 1.0,
+    method: str = "auto",
+) -> Projection:
     """Project h̄ = exp(−ḡ/λ) onto span{exp(−g_i/λ)}; the full report (see :func:`project`)."""
     costs = list(component_costs)
     if not costs:
         raise ValueError("component_costs is empty: give at least one component cost")
-    for i, c in enumerate([target_cost] + costs):
+    for i, c in enumerate([target_cost, *costs]):
         if not callable(c):
             name = "target_cost" if i == 0 else f"component_costs[{i - 1}]"
             raise TypeError(f"{name} must be a cost callable on (N, d) states, e.g. Quadratic")
@@ -180,8 +188,8 @@ def projection(target_cost, component_costs, grid: Grid | None = None, *,
     lam = float(temperature)
     if not (np.isfinite(lam) and lam > 0):
         raise ValueError(f"temperature must be positive and finite, got {temperature}")
-    method = _choose_method(method, [target_cost] + costs, grid)
-    everything = costs + [target_cost]
+    method = _choose_method(method, [target_cost, *costs], grid)
+    everything = [*costs, target_cost]
     if method == "analytic":
         dims = {c.dim for c in everything}
         if len(dims) != 1:
@@ -206,30 +214,51 @@ def projection(target_cost, component_costs, grid: Grid | None = None, *,
     # Undo the node scaling h_i = e^{s_i} h̃_i: w_i = w̃_i e^{s_target − s_i}.
     weights = D * w_hat * np.exp(scales[n] - scales[:n])
     messages = _diagnose(weights, residual, condition)
-    return Projection(weights, G[:n, :n] * np.exp(np.add.outer(scales[:n], scales[:n])),
-                      G[:n, n] * np.exp(scales[:n] + scales[n]), residual, condition, method, lam,
-                      messages)
+    return Projection(
+        weights,
+        G[:n, :n] * np.exp(np.add.outer(scales[:n], scales[:n])),
+        G[:n, n] * np.exp(scales[:n] + scales[n]),
+        residual,
+        condition,
+        method,
+        lam,
+        messages,
+    )
 
 
 def _diagnose(w: np.ndarray, residual: float, condition: float) -> tuple[str, ...]:
     out = []
     if w.min() < -NEGATIVE_TOLERANCE * np.abs(w).max():
-        out.append(f"negative weights {np.round(w, 4).tolist()}: the blended cost has minima away "
-                   "from the target; place components around the target (paper Fig. 4)")
+        out.append(
+            f"negative weights {np.round(w, 4).tolist()}: the blended cost has minima away "
+            "from the target; place components around the target (paper Fig. 4)"
+        )
     if abs(w.sum() - 1) > SUM_TOLERANCE:
-        out.append(f"weights sum to {w.sum():.3g}, far from 1: the components are too far apart or "
-                   "too narrow to interpolate the target (paper Fig. 4)")
+        out.append(
+            f"weights sum to {w.sum():.3g}, far from 1: the components are too far apart or "
+            "too narrow to interpolate the target (paper Fig. 4)"
+        )
     if residual > RESIDUAL_TOLERANCE:
-        out.append(f"relative residual {residual:.2g}: the target reward lies far from the span "
-                   "of the component rewards")
+        out.append(
+            f"relative residual {residual:.2g}: the target reward lies far from the span "
+            "of the component rewards"
+        )
     if condition > CONDITION_LIMIT:
-        out.append(f"Gram condition number {condition:.3g}: components nearly dependent, the "
-                   "weights are sensitive to rounding")
+        out.append(
+            f"Gram condition number {condition:.3g}: components nearly dependent, the "
+            "weights are sensitive to rounding"
+        )
     return tuple(out)
 
 
-def project(target_cost, component_costs, grid: Grid | None = None, *,
-            temperature: float = 1.0, method: str = "auto") -> np.ndarray:
+def project(
+    target_cost,
+    component_costs,
+    grid: Grid | None = None,
+    *,
+    temperature: float = 1.0,
+    method: str = "auto",
+) -> np.ndarray:
     """Weights w (n,) with Σ w_i exp(−g_i/λ) the L² projection of exp(−ḡ/λ) (paper §3–4).
 
     Parameters
@@ -249,8 +278,7 @@ def project(target_cost, component_costs, grid: Grid | None = None, *,
     Warns :class:`ProjectionWarning` when the weights are negative, far from summing to one, the
     residual is large or the Gram matrix ill-conditioned; :func:`projection` returns all of it.
     """
-    result = projection(target_cost, component_costs, grid, temperature=temperature,
-                        method=method)
+    result = projection(target_cost, component_costs, grid, temperature=temperature, method=method)
     for message in result.messages:
         warnings.warn(message, ProjectionWarning, stacklevel=2)
     return result.weights

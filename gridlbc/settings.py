@@ -20,7 +20,6 @@ FITTED_COURANT, FITTED_MIN_STEPS = 7.0, 10
 than the largest (see :func:`gridlbc.solver.time_grid`)."""
 
 
-
 @dataclass(frozen=True)
 class SolverSettings:
     """How to solve: scheme, time step, storage and progress.
@@ -112,16 +111,23 @@ class SolverSettings:
         if self.dtype not in ("float64", "float32"):
             raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
         if self.linear_solver not in LINEAR_SOLVERS:
-            raise ValueError(f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
-                             f"got {self.linear_solver!r}")
-        if not (self.fitting is None or self.fitting in ("auto", "terminal")
-                or callable(self.fitting)):
-            raise ValueError(f"fitting must be 'auto', None, 'terminal' or a terminal cost g(x), "
-                             f"got {self.fitting!r}")
+            raise ValueError(
+                f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
+                f"got {self.linear_solver!r}"
+            )
+        if not (
+            self.fitting is None or self.fitting in ("auto", "terminal") or callable(self.fitting)
+        ):
+            raise ValueError(
+                f"fitting must be 'auto', None, 'terminal' or a terminal cost g(x), "
+                f"got {self.fitting!r}"
+            )
         if self.reference is not None and not METHODS[self.method].supports_fitting:
             fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
-            raise ValueError(f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
-                             f"{self.method!r}: drop fitting or use one of those methods")
+            raise ValueError(
+                f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
+                f"{self.method!r}: drop fitting or use one of those methods"
+            )
         if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
             raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
 

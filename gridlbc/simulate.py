@@ -66,8 +66,11 @@ def em_step_numpy(x, drift, B, u, eps, noise, R, dt):
     sample."""
     kick = eps @ noise.T
     x_new = x + (drift + np.einsum("ndm,nm->nd", B, u)) * dt + np.einsum("ndm,nm->nd", B, kick)
-    return (x_new, 0.5 * np.einsum("ni,ij,nj->n", u, R, u) * dt,
-            np.einsum("ni,ij,nj->n", u, R, kick))
+    return (
+        x_new,
+        0.5 * np.einsum("ni,ij,nj->n", u, R, u) * dt,
+        np.einsum("ni,ij,nj->n", u, R, kick),
+    )
 
 
 @dataclass(frozen=True, eq=False)
@@ -130,8 +133,10 @@ class Rollouts:
         return int(self.left_box.sum())
 
     def summary(self) -> str:
-        return (f"cost {self.mean_cost:.4g} ± {self.standard_error:.2g} (SE) over "
-                f"{self.n_samples} samples, Δt = {self.dt:.3g}, {self.n_left_box} left the box")
+        return (
+            f"cost {self.mean_cost:.4g} ± {self.standard_error:.2g} (SE) over "
+            f"{self.n_samples} samples, Δt = {self.dt:.3g}, {self.n_left_box} left the box"
+        )
 
 
 def _check_sample_count(n_samples) -> int:
@@ -184,8 +189,15 @@ def _controls(policy, x: np.ndarray, t: float, m: int, step: int) -> np.ndarray:
     return u
 
 
-def simulate(problem: Problem, policy, x0, n_samples: int = 1, dt: float | None = None,
-             seed: int | None = None, noise: bool = True) -> Rollouts:
+def simulate(
+    problem: Problem,
+    policy,
+    x0,
+    n_samples: int = 1,
+    dt: float | None = None,
+    seed: int | None = None,
+    noise: bool = True,
+) -> Rollouts:
     """Roll out ``policy`` on the SDE of ``problem`` and accumulate each sample's cost.
 
     Parameters
@@ -250,8 +262,9 @@ class _Path:
     left_box: np.ndarray
 
 
-def _euler_maruyama(problem: Problem, policy, x: np.ndarray, n_steps: int, rng, noise: bool = True,
-                    on_step=None) -> _Path:
+def _euler_maruyama(
+    problem: Problem, policy, x: np.ndarray, n_steps: int, rng, noise: bool = True, on_step=None
+) -> _Path:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
 
     ``on_step(k, x_{k+1}, u_k)`` is called after each step (recording, progress).

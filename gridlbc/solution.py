@@ -256,14 +256,14 @@ class Solution(FieldEvaluation):
         x = grid.check_states(x)
         js, tw, L = self._time_weights(t)
         idx, bw = barycentric(grid, x)
-        Z = self.slices[js[0]: js[0] + 2]  # (2, N), a view: no copy of the stored slices
+        Z = self.slices[js[0] : js[0] + 2]  # (2, N), a view: no copy of the stored slices
         z = np.einsum("s,snv,nv->n", tw, Z[:, idx], bw)
         if not gradient:
             return L, z, None
         B = self._input_matrix_at(idx)  # (N, d+1, d, m)
         g = np.zeros((x.shape[0], self.problem.system.control_dim))
         for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
-            dz = node_gradient(grid, Z, idx.ravel(), k).reshape((2,) + idx.shape)
+            dz = node_gradient(grid, Z, idx.ravel(), k).reshape((2, *idx.shape))
             dz = np.einsum("s,snv->nv", tw, dz)  # ∂_k z at the vertices, time-interpolated
             g += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], dz)
         return L, z, g
@@ -276,14 +276,14 @@ class Solution(FieldEvaluation):
         j, theta = self._bracket(self._check_time(t))
         tw = np.array([1.0 - theta, theta])
         idx, bw = barycentric(grid, x)
-        S = self.slices[j: j + 2]
-        ell = np.einsum("s,snv,nv->n", tw, S[:, idx], bw) + tw @ self.log_scales[j: j + 2]
+        S = self.slices[j : j + 2]
+        ell = np.einsum("s,snv,nv->n", tw, S[:, idx], bw) + tw @ self.log_scales[j : j + 2]
         if not gradient:
             return ell, None
         B = self._input_matrix_at(idx)
         g = np.zeros((x.shape[0], self.problem.system.control_dim))
         for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
-            dl = node_gradient(grid, S, idx.ravel(), k).reshape((2,) + idx.shape)
+            dl = node_gradient(grid, S, idx.ravel(), k).reshape((2, *idx.shape))
             g += np.einsum("nv,nvm,nv->nm", bw, B[:, :, k, :], np.einsum("s,snv->nv", tw, dl))
         return ell, g
 
@@ -297,12 +297,12 @@ class Solution(FieldEvaluation):
         j, theta = self._bracket(self._check_time(t))
         ref = self.reference
         tw = np.array([1.0 - theta, theta])
-        offsets = self.log_scales[j: j + 2] - ref.log_scales[j: j + 2]  # log of z's scale / φ's
+        offsets = self.log_scales[j : j + 2] - ref.log_scales[j : j + 2]  # log of z's scale / φ's
         C = float(offsets.max())
         ty = tw * np.exp(offsets - C)  # the time weights of y, relative to e^C
         idx, bw = barycentric(grid, x)
-        Z, R = self.slices[j: j + 2], ref.log_slices[j: j + 2]
-        ell = np.einsum("s,snv,nv->n", tw, R[:, idx], bw) + tw @ ref.log_scales[j: j + 2]
+        Z, R = self.slices[j : j + 2], ref.log_slices[j : j + 2]
+        ell = np.einsum("s,snv,nv->n", tw, R[:, idx], bw) + tw @ ref.log_scales[j : j + 2]
         Zv, Rv = Z[:, idx].astype(float), R[:, idx].astype(float)
         with np.errstate(divide="ignore", under="ignore"):
             yv = np.where(Zv > 0, np.exp(np.log(np.where(Zv > 0, Zv, 1.0)) - Rv), 0.0)
@@ -313,8 +313,8 @@ class Solution(FieldEvaluation):
         shape = (x.shape[0], self.problem.system.control_dim)
         g_ell, g_y = np.zeros(shape), np.zeros(shape)
         for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
-            d_ell = node_gradient(grid, R, idx.ravel(), k).reshape((2,) + idx.shape)
-            d_y = node_gradient(grid, Z, idx.ravel(), k, log_divisor=R).reshape((2,) + idx.shape)
+            d_ell = node_gradient(grid, R, idx.ravel(), k).reshape((2, *idx.shape))
+            d_y = node_gradient(grid, Z, idx.ravel(), k, log_divisor=R).reshape((2, *idx.shape))
             Bk = B[:, :, k, :]
             g_ell += np.einsum("nv,nvm,nv->nm", bw, Bk, np.einsum("s,snv->nv", tw, d_ell))
             g_y += np.einsum("nv,nvm,nv->nm", bw, Bk, np.einsum("s,snv->nv", ty, d_y))

@@ -77,8 +77,12 @@ def _rate_sums(drift, spacing):
     return peak, squares
 
 
-def time_grid(problem: Problem, settings: SolverSettings, rates: tuple[float, float],
-              max_step: float = math.inf) -> tuple[float, int]:
+def time_grid(
+    problem: Problem,
+    settings: SolverSettings,
+    rates: tuple[float, float],
+    max_step: float = math.inf,
+) -> tuple[float, int]:
     """The step Δt and the number of steps n with n Δt = T; ``rates`` from :func:`courant_rates`.
 
     The default plain splitting step holds the largest Courant number max_x r(x) Δt at
@@ -94,12 +98,18 @@ def time_grid(problem: Problem, settings: SolverSettings, rates: tuple[float, fl
         n = math.ceil(T / settings.dt - 1e-9)
     else:
         fitted = settings.reference is not None
-        courant = (1.0 if settings.method != "splitting" else settings.courant
-                   or (FITTED_COURANT if fitted else PLAIN_COURANT))
+        courant = (
+            1.0
+            if settings.method != "splitting"
+            else settings.courant or (FITTED_COURANT if fitted else PLAIN_COURANT)
+        )
         rate = rates[1] if fitted else rates[0]
         min_steps = settings.min_steps or (FITTED_MIN_STEPS if fitted else PLAIN_MIN_STEPS)
-        n = max(int(min_steps), math.ceil(T * rate / courant - 1e-9),
-                math.ceil(T / max_step - 1e-9) if max_step < math.inf else 1)
+        n = max(
+            int(min_steps),
+            math.ceil(T * rate / courant - 1e-9),
+            math.ceil(T / max_step - 1e-9) if max_step < math.inf else 1,
+        )
     return T / n, n
 
 
@@ -166,8 +176,9 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     check_memory(memory_estimate(problem, s, 2, K), what, s.mmap_dir)
     rates = courant_rates(problem)
     rate = rates[0]
-    cost_step, cost_axis = (cost_sampling_step(problem) if s.method == "splitting"
-                            else (math.inf, ""))
+    cost_step, cost_axis = (
+        cost_sampling_step(problem) if s.method == "splitting" else (math.inf, "")
+    )
     dt, n_steps = time_grid(problem, s, rates, cost_step)
     if dt > cost_step * (1.0 + 1e-9):  # only a given dt can be: the default is held below it
         _warn_cost_sampling(dt, cost_step, cost_axis)
@@ -190,18 +201,21 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     blocks = np.zeros(work_blocks(grid.size), dtype=np.int64)
     flushed = store_kernel(Z[:K], np.ones(K), slices[:, -1], blocks)
     scales[-1] = log_scale[:K]
-    progress = ProgressBar(n_steps, s.progress, f"{s.method} {grid.describe()}",
-                           work_per_item=grid.size)
+    progress = ProgressBar(
+        n_steps, s.progress, f"{s.method} {grid.describe()}", work_per_item=grid.size
+    )
     log_phi = None  # the reference's log φ at the stored times (fitted)
     if reference is None:
         flushed += _march(step, Z, log_scale, kept, dt, slices, scales, blocks, progress)
     else:  # log φ at the stored times, shared by the solutions: they are evaluated relative to it
         log_phi = FittingReference(
             slice_storage((len(kept), grid.size), np.dtype(s.dtype), s.mmap_dir),
-            np.empty(len(kept)))
+            np.empty(len(kept)),
+        )
         _store_reference(Z[reference], log_scale[reference], log_phi, -1)
-        flushed += _march_fitted(step, Z, log_scale, reference, kept, dt, slices, scales,
-                                 blocks, progress, log_phi)
+        flushed += _march_fitted(
+            step, Z, log_scale, reference, kept, dt, slices, scales, blocks, progress, log_phi
+        )
     wall = time.perf_counter() - started
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
@@ -209,20 +223,38 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     out = []
     for r, cost in enumerate(terminal_costs):
         diagnostics = SolveDiagnostics(
-            method=s.method, dt=dt, steps=n_steps, store_every=s.store_every, wall_time=wall,
-            setup_time=setup_time, underflow_nodes=int(np.count_nonzero(slices[r, 0] <= 0)),
-            stored_bytes=int(slices[r].nbytes), operator_bytes=step.nbytes,
-            courant=rate * dt, iterations=iterations, flushed_values=int(flushed),
-            memory_estimate=estimate["ram"], fitting=fingerprint,
+            method=s.method,
+            dt=dt,
+            steps=n_steps,
+            store_every=s.store_every,
+            wall_time=wall,
+            setup_time=setup_time,
+            underflow_nodes=int(np.count_nonzero(slices[r, 0] <= 0)),
+            stored_bytes=int(slices[r].nbytes),
+            operator_bytes=step.nbytes,
+            courant=rate * dt,
+            iterations=iterations,
+            flushed_values=int(flushed),
+            memory_estimate=estimate["ram"],
+            fitting=fingerprint,
             interpolation="linear" if log_phi is None else "fitted",
         )
-        out.append(Solution(problem.replace(terminal_cost=cost), times, slices[r],
-                            scales[:, r].copy(), diagnostics, log_phi))
+        out.append(
+            Solution(
+                problem.replace(terminal_cost=cost),
+                times,
+                slices[r],
+                scales[:, r].copy(),
+                diagnostics,
+                log_phi,
+            )
+        )
     if reference is None:
         diffusion_step = 0.5 * dt if s.method == "splitting" else dt
         for solution in out:
-            check_resolution(solution.problem, solution, diffusion_step,
-                             getattr(step, "diffusion", None))
+            check_resolution(
+                solution.problem, solution, diffusion_step, getattr(step, "diffusion", None)
+            )
     if s.method == "splitting":
         _check_splitting(out, step.diffusion, fitted=reference is not None)
     return out
@@ -238,9 +270,17 @@ def _check_splitting(solutions: list[Solution], diffusion: list, fitted: bool):
             check_fitted_resolution(solution.problem, solution, diffusion)
 
 
-def _march(step, Z: np.ndarray, log_scale: np.ndarray, kept: list[int], dt: float,
-           slices: np.ndarray, scales: np.ndarray, blocks: np.ndarray,
-           progress: ProgressBar) -> int:
+def _march(
+    step,
+    Z: np.ndarray,
+    log_scale: np.ndarray,
+    kept: list[int],
+    dt: float,
+    slices: np.ndarray,
+    scales: np.ndarray,
+    blocks: np.ndarray,
+    progress: ProgressBar,
+) -> int:
     """Apply the step operator n times from the terminal data ``Z`` (K, N) with log-scales
     ``log_scale`` (K,) (z = Z e^ℓ, renormalised lazily: the next step and the storage multiply
     by 1/peak), storing the ``kept`` steps' slices and scales (the terminal one is stored;
@@ -273,9 +313,19 @@ def _store_reference(phi: np.ndarray, log_scale: float, log_phi: FittingReferenc
     log_phi.log_scales[slot] = log_scale + math.log(top)
 
 
-def _march_fitted(step: SplittingStep, Z: np.ndarray, log_scale: np.ndarray, reference: int,
-                  kept: list[int], dt: float, slices: np.ndarray, scales: np.ndarray,
-                  blocks: np.ndarray, progress: ProgressBar, log_phi: FittingReference) -> int:
+def _march_fitted(
+    step: SplittingStep,
+    Z: np.ndarray,
+    log_scale: np.ndarray,
+    reference: int,
+    kept: list[int],
+    dt: float,
+    slices: np.ndarray,
+    scales: np.ndarray,
+    blocks: np.ndarray,
+    progress: ProgressBar,
+    log_phi: FittingReference,
+) -> int:
     """:func:`_march` for the splitting fitted to row ``reference`` of ``Z``: n steps of
     C D½ M P D½ C (:class:`SplittingStep`; P fitted by :meth:`SplittingStep.drift`, D½ by
     :meth:`SplittingStep.fitted_diffusion`).
@@ -377,8 +427,9 @@ def cost_sampling_step(problem: Problem) -> tuple[float, str]:
     limit, axis = math.inf, ""
     if span <= 0.0:
         return limit, axis
-    for k, (ax, coefficient) in enumerate(zip(grid.axes, _diffusion_coefficients(problem),
-                                              strict=True)):
+    for k, (ax, coefficient) in enumerate(
+        zip(grid.axes, _diffusion_coefficients(problem), strict=True)
+    ):
         largest = float(np.max(coefficient))
         if largest <= 0.0:
             continue
@@ -400,7 +451,8 @@ def _warn_cost_sampling(dt: float, limit: float, axis: str):
         "step: it steps over a steep cost (a wall, a narrow well), and v and the policy can be "
         f"far off. Pass dt ≤ {limit:.3g} (or leave dt to the default) and check with "
         "gridlbc.certify.",
-        ResolutionWarning, stacklevel=4,
+        ResolutionWarning,
+        stacklevel=4,
     )
 
 
@@ -438,7 +490,8 @@ def check_control_step(problem: Problem, solution: Solution) -> float:
             f"the drift one after the other, and at such steps v and the policy can be several "
             f"percent off (its error falls as Δt²). Pass dt ≤ "
             f"{dt * CONTROL_STEP_CELLS / (1.5 * rms):.3g} and compare.",
-            ResolutionWarning, stacklevel=3,
+            ResolutionWarning,
+            stacklevel=3,
         )
     return rms
 
@@ -483,13 +536,15 @@ def check_fitted_resolution(problem: Problem, solution: Solution, diffusion: lis
             f"{FIT_CURVATURE_JUMP}). The fitted diffusion's quadratics then bulge between nodes, "
             "and v can be off by tens of percent and move with dt. Refine that axis (or the "
             "grid), or raise the temperature, and compare.",
-            ResolutionWarning, stacklevel=3,
+            ResolutionWarning,
+            stacklevel=3,
         )
     return worst
 
 
-def check_resolution(problem: Problem, solution: Solution, step: float,
-                     diffusion: list | None = None) -> float:
+def check_resolution(
+    problem: Problem, solution: Solution, step: float, diffusion: list | None = None
+) -> float:
     """Warn (:class:`ResolutionWarning`) when the plain operator's z tails, not the PDE, set the
     value: the share of nodes where v/λ at t = T (the terminal cost) or t = 0 rises from a node
     to its neighbour along a noise axis by at least 0.9 of the diffusion's tail cap
@@ -511,13 +566,15 @@ def check_resolution(problem: Problem, solution: Solution, step: float,
             f"(up to {worst[0]:.3g} per cell along {worst[2]}, where the tails cap it at "
             f"{worst[1]:.3g}), so v is underestimated there, increasingly as λ falls. Solve with "
             "fitting='terminal' (exact tails), or refine that axis, or raise the temperature.",
-            ResolutionWarning, stacklevel=3,
+            ResolutionWarning,
+            stacklevel=3,
         )
     return share
 
 
-def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int, worst,
-                  diffusion: list):
+def _count_at_cap(
+    problem: Problem, value: np.ndarray, step: float, flagged: int, worst, diffusion: list
+):
     """Add to ``flagged`` the nodes whose v/λ rises to a noise-axis neighbour by ≥ 0.9 of the tail
     cap, and keep the worst (rise, cap, axis) seen (``diffusion``: the D_k of
     :func:`gridlbc.schemes.splitting._diffusion_coefficients`)."""
@@ -526,8 +583,11 @@ def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int
         index = np.stack(np.unravel_index(flat, grid.shape), axis=1)
         hit = np.zeros(flat.size, dtype=bool)
         for k, ax in enumerate(grid.axes):
-            coefficient = (np.full(flat.size, diffusion[k]) if np.ndim(diffusion[k]) == 0
-                           else diffusion[k][flat])
+            coefficient = (
+                np.full(flat.size, diffusion[k])
+                if np.ndim(diffusion[k]) == 0
+                else diffusion[k][flat]
+            )
             if not np.any(coefficient > 0):
                 continue
             nxt = index.copy()
@@ -536,8 +596,9 @@ def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int
             if ax.periodic:
                 nxt[:, k] %= ax.n
                 inside[:] = True
-            neighbour = np.ravel_multi_index(tuple(np.minimum(nxt, np.array(grid.shape) - 1).T),
-                                             grid.shape)
+            neighbour = np.ravel_multi_index(
+                tuple(np.minimum(nxt, np.array(grid.shape) - 1).T), grid.shape
+            )
             with np.errstate(invalid="ignore"):  # +inf where one side underflowed, NaN both
                 rise = np.abs(value[neighbour] - value[flat]) / lam
             cap = _diffusion_tail_cap(step * coefficient / ax.spacing**2)
@@ -551,8 +612,16 @@ def _count_at_cap(problem: Problem, value: np.ndarray, step: float, flagged: int
     return flagged, worst
 
 
-def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, n_steps: int,
-               rate: float, estimate: dict[str, int], started: float):
+def _solve_log(
+    problem: Problem,
+    s: SolverSettings,
+    kept: list[int],
+    dt: float,
+    n_steps: int,
+    rate: float,
+    estimate: dict[str, int],
+    started: float,
+):
     """A single terminal cost fitted to itself, stepped in the log domain; returns the
     :class:`Solution` and the D_k of its axes (:attr:`SplittingStep.diffusion`).
 
@@ -588,7 +657,9 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
         ell += cost
     x = step.log_diffusion(ell, spares)  # D½ C ℓ_T
     free = [a for a in (ell, *spares) if a is not x]
-    progress = ProgressBar(n_steps, s.progress, f"fitted {grid.describe()}", work_per_item=grid.size)
+    progress = ProgressBar(
+        n_steps, s.progress, f"fitted {grid.describe()}", work_per_item=grid.size
+    )
     for n in range(n_steps - 1, -1, -1):
         y, other = free
         step.log_drift(x, y)  # y = MP x
@@ -618,10 +689,19 @@ def _solve_log(problem: Problem, s: SolverSettings, kept: list[int], dt: float, 
     times = np.array(kept, dtype=float) * dt
     times[-1] = problem.horizon
     diagnostics = SolveDiagnostics(
-        method=s.method, dt=dt, steps=n_steps, store_every=s.store_every,
-        wall_time=time.perf_counter() - started, setup_time=setup_time, underflow_nodes=0,
-        stored_bytes=int(slices.nbytes), operator_bytes=step.nbytes, courant=rate * dt,
-        memory_estimate=estimate["ram"], fitting=fingerprint, interpolation="log",
+        method=s.method,
+        dt=dt,
+        steps=n_steps,
+        store_every=s.store_every,
+        wall_time=time.perf_counter() - started,
+        setup_time=setup_time,
+        underflow_nodes=0,
+        stored_bytes=int(slices.nbytes),
+        operator_bytes=step.nbytes,
+        courant=rate * dt,
+        memory_estimate=estimate["ram"],
+        fitting=fingerprint,
+        interpolation="log",
     )
     return Solution(problem, times, slices, scales, diagnostics), step.diffusion
 

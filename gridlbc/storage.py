@@ -33,8 +33,9 @@ def available_memory() -> int | None:
         return None
 
 
-def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
-                    n_rhs: int = 1) -> dict[str, int]:
+def memory_estimate(
+    problem: Problem, settings: SolverSettings, n_slices: int, n_rhs: int = 1
+) -> dict[str, int]:
     """Bytes a solve will hold: stored slices (and the fitting reference's, when it is a row of
     its own), working arrays (two float64 copies of z and the terminal data) and the step
     operator; ``"ram"`` sums what must fit in memory (the slices
@@ -53,7 +54,10 @@ def memory_estimate(problem: Problem, settings: SolverSettings, n_slices: int,
 
 def check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
     available = available_memory()
-    gib = lambda b: f"{b / 2**30:.2f} GiB"
+
+    def gib(b):
+        return f"{b / 2**30:.2f} GiB"
+
     detail = ", ".join(f"{k} {gib(v)}" for k, v in estimate.items() if k != "ram")
     if available is not None and estimate["ram"] > 0.9 * available:
         raise MemoryError(

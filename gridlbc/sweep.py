@@ -101,11 +101,17 @@ def settings_record(problem: Problem, settings: SolverSettings, arrays: dict) ->
 
     A fitting cost that is not a quadratic goes into ``arrays`` by its values at the nodes.
     """
-    record = {k: v for k, v in dataclasses.asdict(settings).items()
-              if k not in _NOT_HASHED and k != "fitting"}
+    record = {
+        k: v
+        for k, v in dataclasses.asdict(settings).items()
+        if k not in _NOT_HASHED and k != "fitting"
+    }
     fitting = settings.reference
-    record["fitting"] = fitting if fitting is None or isinstance(fitting, str) else \
-        _cost_record(fitting, "fitting", problem, arrays)
+    record["fitting"] = (
+        fitting
+        if fitting is None or isinstance(fitting, str)
+        else _cost_record(fitting, "fitting", problem, arrays)
+    )
     return record
 
 
@@ -114,9 +120,12 @@ def member_key(problem: Problem, settings: SolverSettings) -> str:
     from . import __version__
 
     arrays: dict = {}
-    description = {"library_version": __version__, "format_version": FORMAT_VERSION,
-                   "problem": problem_record(problem, arrays),
-                   "settings": settings_record(problem, settings, arrays)}
+    description = {
+        "library_version": __version__,
+        "format_version": FORMAT_VERSION,
+        "problem": problem_record(problem, arrays),
+        "settings": settings_record(problem, settings, arrays),
+    }
     h = hashlib.sha256(json.dumps(description, sort_keys=True, default=_json_default).encode())
     for name in sorted(arrays):
         a = np.ascontiguousarray(arrays[name])
@@ -145,8 +154,9 @@ def _save_atomic(solution, path: Path, key: str) -> None:
         partial.unlink(missing_ok=True)
 
 
-def _run_member(problem: Problem, settings: SolverSettings, states, path: str, key: str,
-                numba_threads: int) -> _Outcome:
+def _run_member(
+    problem: Problem, settings: SolverSettings, states, path: str, key: str, numba_threads: int
+) -> _Outcome:
     """Solve (or reuse) one member on a worker; every failure is returned, never raised."""
     import numba
 
@@ -162,11 +172,16 @@ def _run_member(problem: Problem, settings: SolverSettings, states, path: str, k
                 _save_atomic(solution, path, key)
             values = None if states is None else solution.value(states, 0.0)
             error = None
-        except Exception as exc:  # noqa: BLE001 (a member's failure is its result)
+        except Exception as exc:
             values, error, reused = None, f"{type(exc).__name__}: {exc}", False
             solution = None
-    return _Outcome(values, None if solution is None else solution.diagnostics, error, reused,
-                    tuple((w.category, str(w.message)) for w in caught))
+    return _Outcome(
+        values,
+        None if solution is None else solution.diagnostics,
+        error,
+        reused,
+        tuple((w.category, str(w.message)) for w in caught),
+    )
 
 
 def _import_distributed():
@@ -175,7 +190,7 @@ def _import_distributed():
     except ImportError as exc:
         raise ImportError(
             "gridlbc.sweep needs Dask distributed, which is not installed: install the extra "
-            "with pip install \"gridlbc[dask]\" (or pip install \"dask[distributed]\")"
+            'with pip install "gridlbc[dask]" (or pip install "dask[distributed]")'
         ) from exc
     return distributed
 
@@ -193,8 +208,10 @@ def _connect(client, workers, numba_threads):
     """A Dask client: the given one, one connected to an address, or a new local cluster."""
     distributed = _import_distributed()
     if client is not None and workers is not None:
-        raise ValueError("workers sizes the local cluster started when client is None: drop "
-                         "workers, or size your own cluster")
+        raise ValueError(
+            "workers sizes the local cluster started when client is None: drop "
+            "workers, or size your own cluster"
+        )
     if isinstance(client, distributed.Client):
         yield client
         return
@@ -203,15 +220,20 @@ def _connect(client, workers, numba_threads):
             yield connected
         return
     if client is not None:
-        raise TypeError(f"client must be None, a dask.distributed.Client or a scheduler address "
-                        f"such as 'tcp://host:8786', got {type(client).__name__}")
+        raise TypeError(
+            f"client must be None, a dask.distributed.Client or a scheduler address "
+            f"such as 'tcp://host:8786', got {type(client).__name__}"
+        )
     workers = available_cores() if workers is None else workers
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a positive integer, got {workers!r}")
     env = {"NUMBA_NUM_THREADS": str(numba_threads)}
-    with distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                  dashboard_address=":0", env=env) as cluster, \
-            distributed.Client(cluster) as local:
+    with (
+        distributed.LocalCluster(
+            n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=":0", env=env
+        ) as cluster,
+        distributed.Client(cluster) as local,
+    ):
         yield local
 
 
@@ -220,9 +242,18 @@ def _describe(client) -> str:
     return f"{n} worker{'s' * (n != 1)} at {client.scheduler.address}"
 
 
-def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = None,
-          numba_threads: int = 1, progress: bool = True, settings=None,
-          **solve_options) -> list[SweepMember]:
+def sweep(
+    problems,
+    out_dir,
+    states=None,
+    client=None,
+    *,
+    workers: int | None = None,
+    numba_threads: int = 1,
+    progress: bool = True,
+    settings=None,
+    **solve_options,
+) -> list[SweepMember]:
     """Solve many problems in parallel on Dask distributed; one saved Solution per problem.
 
     Parameters
@@ -259,8 +290,9 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
     problems = list(problems)
     for i, problem in enumerate(problems):
         if not isinstance(problem, Problem):
-            raise TypeError(f"problems[{i}] must be a gridlbc.Problem, got "
-                            f"{type(problem).__name__}")
+            raise TypeError(
+                f"problems[{i}] must be a gridlbc.Problem, got {type(problem).__name__}"
+            )
     if isinstance(numba_threads, bool) or not isinstance(numba_threads, int) or numba_threads < 1:
         raise ValueError(f"numba_threads must be a positive integer, got {numba_threads!r}")
     s = dataclasses.replace(resolve_settings(settings, solve_options), progress=False)
@@ -268,10 +300,15 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     keys = [member_key(p, s) for p in problems]
-    paths = [(out_dir / f"{type(p.system).__name__.lower()}-{k[:16]}.npz").resolve()
-             for p, k in zip(problems, keys)]
-    state_tag = "none" if states is None else \
-        hashlib.sha256(np.ascontiguousarray(points[0]).tobytes()).hexdigest()[:16]
+    paths = [
+        (out_dir / f"{type(p.system).__name__.lower()}-{k[:16]}.npz").resolve()
+        for p, k in zip(problems, keys)
+    ]
+    state_tag = (
+        "none"
+        if states is None
+        else hashlib.sha256(np.ascontiguousarray(points[0]).tobytes()).hexdigest()[:16]
+    )
     outcomes: dict[str, _Outcome] = {}
     with _connect(client, workers, numba_threads) as c:
         pending, submitted = {}, set()
@@ -280,10 +317,17 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
                 continue  # the same problem twice: solved once, reported for both
             submitted.add(key)
             try:
-                future = c.submit(_run_member, problem, s, None if points is None else points[i],
-                                  str(path), key, numba_threads,
-                                  key=f"gridlbc-sweep-{key[:32]}-{state_tag}")
-            except Exception as exc:  # noqa: BLE001 (e.g. a problem that cannot be pickled)
+                future = c.submit(
+                    _run_member,
+                    problem,
+                    s,
+                    None if points is None else points[i],
+                    str(path),
+                    key,
+                    numba_threads,
+                    key=f"gridlbc-sweep-{key[:32]}-{state_tag}",
+                )
+            except Exception as exc:
                 outcomes[key] = _Outcome(None, None, f"{type(exc).__name__}: {exc}", False, ())
                 continue
             pending[future] = key
@@ -297,7 +341,7 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
         for future in distributed.as_completed(list(pending)):
             try:
                 outcome = future.result()
-            except Exception as exc:  # noqa: BLE001 (a worker died or could not unpickle it)
+            except Exception as exc:
                 outcome = _Outcome(None, None, f"{type(exc).__name__}: {exc}", False, ())
             outcomes[pending[future]] = outcome
             failed += outcome.error is not None
@@ -309,6 +353,16 @@ def sweep(problems, out_dir, states=None, client=None, *, workers: int | None = 
         o = outcomes[key]
         for category, message in o.warnings:
             warnings.warn(f"sweep member {i}: {message}", category, stacklevel=2)
-        members.append(SweepMember(i, key, None if o.error else path, o.values, o.diagnostics,
-                                   o.error, o.reused, tuple(m for _, m in o.warnings)))
+        members.append(
+            SweepMember(
+                i,
+                key,
+                None if o.error else path,
+                o.values,
+                o.diagnostics,
+                o.error,
+                o.reused,
+                tuple(m for _, m in o.warnings),
+            )
+        )
     return members

@@ -31,17 +31,27 @@ def rng():
 # gridlbc.studies.problems; these are the small variants the unit tests use) ----------------------
 
 
-def pendulum(n=24, omega_max=6.0, omega_nodes=None, horizon=1.0, weights=(2.0, 0.2), system=None,
-             **options):
+def pendulum(
+    n=24, omega_max=6.0, omega_nodes=None, horizon=1.0, weights=(2.0, 0.2), system=None, **options
+):
     """Pendulum on θ periodic [−π, π) (``n`` nodes) × ω ∈ [−ω_max, ω_max] (``omega_nodes``,
     default n + 1), g = xᵀdiag(weights)x; ``options`` go to :class:`gridlbc.Problem`."""
     import gridlbc as g
     from gridlbc.systems import Pendulum
 
-    grid = g.Grid([g.Axis(-np.pi, np.pi, n, periodic=True),
-                   g.Axis(-omega_max, omega_max, n + 1 if omega_nodes is None else omega_nodes)])
-    return g.Problem(Pendulum() if system is None else system, grid, horizon,
-                     g.Quadratic([0.0, 0.0], list(weights)), **options)
+    grid = g.Grid(
+        [
+            g.Axis(-np.pi, np.pi, n, periodic=True),
+            g.Axis(-omega_max, omega_max, n + 1 if omega_nodes is None else omega_nodes),
+        ]
+    )
+    return g.Problem(
+        Pendulum() if system is None else system,
+        grid,
+        horizon,
+        g.Quadratic([0.0, 0.0], list(weights)),
+        **options,
+    )
 
 
 def line(n=41, horizon=1.0, **options):
@@ -49,8 +59,9 @@ def line(n=41, horizon=1.0, **options):
     import gridlbc as g
     from gridlbc.systems import SingleIntegrator
 
-    return g.Problem(SingleIntegrator(), g.Grid([g.Axis(-3, 3, n)]), horizon,
-                     g.Quadratic([0], [1]), **options)
+    return g.Problem(
+        SingleIntegrator(), g.Grid([g.Axis(-3, 3, n)]), horizon, g.Quadratic([0], [1]), **options
+    )
 
 
 POINTMASS_TOML = """

@@ -32,8 +32,10 @@ def linear_clipped(x, t):
     return np.clip(linear.policy(x, t), -2, 2)
 
 
-scores = {"bounded HJB": run_episodes(bounded.policy, episodes),
-          "linearly solvable, clipped": run_episodes(linear_clipped, episodes)}
+scores = {
+    "bounded HJB": run_episodes(bounded.policy, episodes),
+    "linearly solvable, clipped": run_episodes(linear_clipped, episodes),
+}
 for name, result in scores.items():
     print(f"{name}: {result.summary()}")
 
@@ -46,10 +48,12 @@ omega = np.linspace(-8, 8, 101)
 T, W = np.meshgrid(theta, omega, indexing="ij")
 states = np.column_stack([T.ravel(), W.ravel()])
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True, sharey=True)
-for ax, (name, policy) in zip(axes, [("bounded HJB", bounded.policy),
-                                      ("linearly solvable, clipped", linear_clipped)]):
-    mesh = ax.pcolormesh(T, W, policy(states, 0.0).reshape(T.shape), cmap="RdBu_r",
-                         vmin=-2, vmax=2, shading="auto")
+for ax, (name, policy) in zip(
+    axes, [("bounded HJB", bounded.policy), ("linearly solvable, clipped", linear_clipped)]
+):
+    mesh = ax.pcolormesh(
+        T, W, policy(states, 0.0).reshape(T.shape), cmap="RdBu_r", vmin=-2, vmax=2, shading="auto"
+    )
     ax.set(title=f"{name}: {scores[name].mean:.0f} per episode", xlabel="θ (rad)")
 axes[0].set_ylabel("ω (rad/s)")
 fig.colorbar(mesh, ax=axes, label="torque at t = 0")

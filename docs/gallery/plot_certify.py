@@ -27,8 +27,9 @@ for n in (48, 96):
         solution = gridlbc.solve(problem, fitting=fitting)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", gridlbc.CertificateWarning)  # shown below instead
-            certificate = gridlbc.certify(problem, solution.policy, x0, n_samples=300, seed=0,
-                                          progress=False)
+            certificate = gridlbc.certify(
+                problem, solution.policy, x0, n_samples=300, seed=0, progress=False
+            )
         rows.append((n, fitting or "plain", solution.value(x0, 0.0)[0], certificate))
         print(f"{n}², {fitting or 'plain'}: predicted v(x0, 0) = {rows[-1][2]:.2f}")
         print("   ", certificate.summary().splitlines()[0])
@@ -42,12 +43,23 @@ for n in (48, 96):
 # prediction sits inside the certified band, the claim holds at this sample size; a policy cost
 # above the band is the policy's suboptimality, J(u) − v* = λ KL(P_u ‖ P*).
 fig, ax = plt.subplots(figsize=(6.5, 3.8), constrained_layout=True)
-for k, (n, kind, predicted, c) in enumerate(rows):
+for k, (_n, _kind, predicted, c) in enumerate(rows):
     if not c.trusted:
-        ax.annotate("untrusted", (k, c.optimal_value), textcoords="offset points",
-                    xytext=(6, -12), fontsize=8)
-    ax.errorbar(k, c.optimal_value, yerr=2 * c.optimal_value_se, fmt="o", color="k",
-                label="certified v* ± 2 SE" if k == 0 else None)
+        ax.annotate(
+            "untrusted",
+            (k, c.optimal_value),
+            textcoords="offset points",
+            xytext=(6, -12),
+            fontsize=8,
+        )
+    ax.errorbar(
+        k,
+        c.optimal_value,
+        yerr=2 * c.optimal_value_se,
+        fmt="o",
+        color="k",
+        label="certified v* ± 2 SE" if k == 0 else None,
+    )
     ax.plot(k, predicted, "s", color="C0", label="predicted v(x₀, 0)" if k == 0 else None)
     ax.plot(k, c.policy_cost, "^", color="C3", label="policy cost J(u)" if k == 0 else None)
 ax.set_xticks(range(len(rows)), [f"{n}²\n{kind}" for n, kind, *_ in rows])

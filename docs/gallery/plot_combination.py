@@ -16,8 +16,9 @@ from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.systems import PointMass
 
 grid = Grid([Axis(-3, 3, 81), Axis(-4, 4, 81)])
-problem = Problem(PointMass(), grid, horizon=2.0, terminal_cost=Quadratic([1, 0], [4, 1]),
-                  temperature=0.5)
+problem = Problem(
+    PointMass(), grid, horizon=2.0, terminal_cost=Quadratic([1, 0], [4, 1]), temperature=0.5
+)
 goals = [Quadratic([-1, 0], [4, 1]), Quadratic([1, 0], [4, 1])]
 left, right = (gridlbc.solve(problem.replace(terminal_cost=g)) for g in goals)
 both = gridlbc.combine([left, right])  # w = (1, 1)
@@ -34,8 +35,7 @@ def either(x):
 
 direct = gridlbc.solve(problem.replace(terminal_cost=either))
 x = np.random.default_rng(0).uniform([-2, -3], [2, 3], size=(500, 2))
-print("max |v_combined − v_direct| =",
-      np.abs(both.value(x, 0.0) - direct.value(x, 0.0)).max())
+print("max |v_combined − v_direct| =", np.abs(both.value(x, 0.0) - direct.value(x, 0.0)).max())
 
 # %%
 # The blend weight of the right-hand goal over the state space at t = 0: each state is handed
@@ -43,8 +43,7 @@ print("max |v_combined − v_direct| =",
 P, V = np.meshgrid(np.linspace(-2.5, 2.5, 151), np.linspace(-3, 3, 121), indexing="ij")
 alpha = both.blend_weights(np.column_stack([P.ravel(), V.ravel()]), 0.0)[:, 1]
 fig, ax = plt.subplots(figsize=(6, 4), constrained_layout=True)
-mesh = ax.pcolormesh(P, V, alpha.reshape(P.shape), cmap="coolwarm", vmin=0, vmax=1,
-                     shading="auto")
+mesh = ax.pcolormesh(P, V, alpha.reshape(P.shape), cmap="coolwarm", vmin=0, vmax=1, shading="auto")
 fig.colorbar(mesh, label="α of the goal x = +1")
 ax.set(xlabel="position", ylabel="velocity", title="Coordination of two solved controllers")
 

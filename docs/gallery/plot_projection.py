@@ -22,8 +22,10 @@ grid = Grid([Axis(-2, 3, 501)])
 x = grid.nodes()
 lam = 1.0
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.4), constrained_layout=True, sharey=True)
-for ax, width, title in [(axes[0], 1.0, "wide rewards: a good fit"),
-                         (axes[1], 20.0, "narrow rewards: a poor fit")]:
+for ax, width, title in [
+    (axes[0], 1.0, "wide rewards: a good fit"),
+    (axes[1], 20.0, "narrow rewards: a poor fit"),
+]:
     # the goal x = 0.5 halfway between components solved for x = 0 and x = 1
     target = Quadratic([0.5], [width])
     components = [Quadratic([0.0], [width]), Quadratic([1.0], [width])]
@@ -36,8 +38,10 @@ for ax, width, title in [(axes[0], 1.0, "wide rewards: a good fit"),
     for i, hi in enumerate(h):
         ax.plot(x[:, 0], hi, "--", label=f"h_{i + 1}")
     ax.plot(x[:, 0], result.weights @ h, "C3", label="Σ w_i h_i")
-    ax.set(title=f"{title}\nw = {np.round(result.weights, 3)}, residual {result.residual:.2f}",
-           xlabel="x")
+    ax.set(
+        title=f"{title}\nw = {np.round(result.weights, 3)}, residual {result.residual:.2f}",
+        xlabel="x",
+    )
     print(f"{title}: w = {result.weights}, residual {result.residual:.3f}")
     for w in caught:
         print(f"    {type(w.message).__name__}: {w.message}")

@@ -35,9 +35,14 @@ states = np.column_stack([T.ravel(), W.ravel()])
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
 u = solution.policy(states, 0.0)[:, 0]
 for ax, field, label, style in [
-        (axes[0], solution.value(states, 0.0), "value v(θ, ω, 0)", {"cmap": "viridis"}),
-        (axes[1], u, "policy u*(θ, ω, 0)",
-         {"cmap": "RdBu_r", "vmin": -np.abs(u).max(), "vmax": np.abs(u).max()})]:
+    (axes[0], solution.value(states, 0.0), "value v(θ, ω, 0)", {"cmap": "viridis"}),
+    (
+        axes[1],
+        u,
+        "policy u*(θ, ω, 0)",
+        {"cmap": "RdBu_r", "vmin": -np.abs(u).max(), "vmax": np.abs(u).max()},
+    ),
+]:
     mesh = ax.pcolormesh(T, W, field.reshape(T.shape), shading="auto", **style)
     fig.colorbar(mesh, ax=ax, label=label)
     ax.set(xlabel="θ (rad from the upright)", ylabel="ω (rad/s)")

@@ -75,8 +75,9 @@ def _slice_indices(n_stored: int, n_times: int) -> np.ndarray:
     return best
 
 
-def decimate(solution: Solution, nodes=None, n_times: int | None = None,
-             dtype: str = "float32") -> Solution:
+def decimate(
+    solution: Solution, nodes=None, n_times: int | None = None, dtype: str = "float32"
+) -> Solution:
     """A coarser Solution built from ``solution``'s own evaluation.
 
     Parameters
@@ -108,12 +109,14 @@ def decimate(solution: Solution, nodes=None, n_times: int | None = None,
     if len(shape) == 1:
         shape = shape * grid.ndim
     if len(shape) != grid.ndim:
-        raise ValueError(f"nodes must be one count or {grid.ndim} (one per axis), got "
-                         f"{list(shape)}")
+        raise ValueError(
+            f"nodes must be one count or {grid.ndim} (one per axis), got {list(shape)}"
+        )
     if any(int(n) < 3 for n in shape):
         raise ValueError(f"nodes must be at least 3 per axis, got {list(shape)}")
-    coarse = Grid([Axis(a.lo, a.hi, min(int(n), a.n), a.periodic, a.name)
-                   for a, n in zip(grid.axes, shape)])
+    coarse = Grid(
+        [Axis(a.lo, a.hi, min(int(n), a.n), a.periodic, a.name) for a, n in zip(grid.axes, shape)]
+    )
     n_stored = len(solution.times)
     if n_times is not None and (int(n_times) < 2):
         raise ValueError(f"n_times must be at least 2 (t = 0 and T), got {n_times}")
@@ -124,31 +127,47 @@ def decimate(solution: Solution, nodes=None, n_times: int | None = None,
     slices = np.empty((kept.size, coarse.size))
     scales = np.empty(kept.size)
     fitted = solution.diagnostics.interpolation != "linear"
-    reference = FittingReference(np.empty((kept.size, coarse.size), dtype),
-                                 np.empty(kept.size)) if fitted else None
+    reference = (
+        FittingReference(np.empty((kept.size, coarse.size), dtype), np.empty(kept.size))
+        if fitted
+        else None
+    )
     for r, j in enumerate(kept):
         L, z, _ = solution.scaled_fields(X, solution.times[j], gradient=False)
         top = z.max()
         if not top > 0:
-            raise ValueError(f"the desirability underflowed at every coarse node at t = "
-                             f"{solution.times[j]:g}: the solution cannot be decimated")
+            raise ValueError(
+                f"the desirability underflowed at every coarse node at t = "
+                f"{solution.times[j]:g}: the solution cannot be decimated"
+            )
         slices[r] = z / top
         scales[r] = L + math.log(top)
         if fitted:  # log φ at the coarse nodes: the original's own log z, or its I[log φ]
-            ell = (solution.log_desirability(X, solution.times[j]) if solution.reference is None
-                   else solution._fitted_fields(X, solution.times[j], gradient=False)[0])
+            ell = (
+                solution.log_desirability(X, solution.times[j])
+                if solution.reference is None
+                else solution._fitted_fields(X, solution.times[j], gradient=False)[0]
+            )
             ell = np.maximum(ell, ell.max() + math.log(_TINY))  # finite where z underflowed
             reference.log_slices[r] = ell - ell.max()
             reference.log_scales[r] = ell.max()
     stored = slices.astype(dtype)
     flushed = int(np.count_nonzero(slices) - np.count_nonzero(stored))
     diagnostics = replace(
-        solution.diagnostics, stored_bytes=int(stored.nbytes), flushed_values=flushed,
+        solution.diagnostics,
+        stored_bytes=int(stored.nbytes),
+        flushed_values=flushed,
         underflow_nodes=int(np.count_nonzero(stored[0] == 0)),
         interpolation="fitted" if fitted else "linear",
     )
-    return Solution(solution.problem.replace(grid=coarse), solution.times[kept].copy(), stored,
-                    scales, diagnostics, reference)
+    return Solution(
+        solution.problem.replace(grid=coarse),
+        solution.times[kept].copy(),
+        stored,
+        scales,
+        diagnostics,
+        reference,
+    )
 
 
 @dataclass(frozen=True)
@@ -186,25 +205,31 @@ class Embedding:
 
     @property
     def nbytes(self) -> int:
-        return (sum(int(s.slices.nbytes) for s in self.components)
-                + sum(int(r.log_slices.nbytes) for r in _shared_references(self.components)[0]))
+        return sum(int(s.slices.nbytes) for s in self.components) + sum(
+            int(r.log_slices.nbytes) for r in _shared_references(self.components)[0]
+        )
 
     def describe(self) -> str:
         shape = "×".join(map(str, self.shape))
-        text = (f"{len(self.components)} components × {self.n_times} time slices × {shape} nodes "
-                f"({self.dtype}, {self.nbytes / 1e6:.2f} MB)")
+        text = (
+            f"{len(self.components)} components × {self.n_times} time slices × {shape} nodes "
+            f"({self.dtype}, {self.nbytes / 1e6:.2f} MB)"
+        )
         if self.decimated:
             source = "×".join(map(str, self.source_shape))
             text += f", decimated from {source} nodes × {self.source_times} slices"
         flushed = sum(s.diagnostics.flushed_values for s in self.components)
         if flushed:
-            text += (f"; {flushed} nodal values (v more than 103 λ above the slice's minimum) "
-                     "flushed to zero by float32, grey on the maps (use float64 to keep them)")
+            text += (
+                f"; {flushed} nodal values (v more than 103 λ above the slice's minimum) "
+                "flushed to zero by float32, grey on the maps (use float64 to keep them)"
+            )
         return text
 
 
-def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTES,
-          dtype: str = "float32") -> Embedding:
+def embed(
+    solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTES, dtype: str = "float32"
+) -> Embedding:
     """Choose what to embed: the solutions as they are when they fit in ``max_bytes``, else
     :func:`decimate` them to ``dtype``, at most ``n_times`` (default :data:`DEFAULT_TIMES`)
     slices and the largest common fraction of the nodes per axis that fits; ``nodes`` or
@@ -212,8 +237,10 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
     solutions, _ = _check_components(solutions)
     first = solutions[0]
     if any(not np.array_equal(s.times, first.times) for s in solutions):
-        raise ValueError("the page needs one time grid: solve all components with the same dt and "
-                         "store_every (their stored times differ)")
+        raise ValueError(
+            "the page needs one time grid: solve all components with the same dt and "
+            "store_every (their stored times differ)"
+        )
     system = first.problem.system
     if not isinstance(system, SUPPORTED_SYSTEMS) or first.grid.ndim != 2:
         raise ValueError(
@@ -226,40 +253,51 @@ def embed(solutions, nodes=None, n_times=None, max_bytes: int = DEFAULT_MAX_BYTE
         raise ValueError(f"max_bytes must be positive, got {max_bytes}")
     shape, n_stored = first.grid.shape, len(first.times)
     references = _shared_references(solutions)[0]
-    whole = (sum(int(s.slices.nbytes) for s in solutions)
-             + sum(int(r.log_slices.nbytes) for r in references))
+    whole = sum(int(s.slices.nbytes) for s in solutions) + sum(
+        int(r.log_slices.nbytes) for r in references
+    )
     if nodes is None and n_times is None and whole <= max_bytes:
         # The page interpolates z, or z relative to a reference: a solution that stores log z is
         # converted to z at its own nodes, fitted to its own log z, and reported as decimated
         # (the page is exact for the converted solution, and the report gives its error against
         # the original).
         converted = [s.diagnostics.interpolation == "log" for s in solutions]
-        return Embedding(tuple(decimate(s, None, None, dtype) if c else s
-                               for s, c in zip(solutions, converted)),
-                         shape, n_stored, any(converted))
+        return Embedding(
+            tuple(decimate(s, None, None, dtype) if c else s for s, c in zip(solutions, converted)),
+            shape,
+            n_stored,
+            any(converted),
+        )
     if n_times is None:
         n_times = min(n_stored, DEFAULT_TIMES)
     if nodes is None:
         # a decimated solution that interpolates log z or a reference keeps a reference: the
         # references of solutions solved together are one, embedded once
-        rows = len(solutions) + len(references) + sum(
-            s.diagnostics.interpolation == "log" for s in solutions)
+        rows = (
+            len(solutions)
+            + len(references)
+            + sum(s.diagnostics.interpolation == "log" for s in solutions)
+        )
         per_node = rows * _slice_indices(n_stored, int(n_times)).size * np.dtype(dtype).itemsize
         top = max(shape)
         for m in range(top, 2, -1):
             nodes = [max(3, round(n * m / top)) for n in shape]
             if per_node * math.prod(nodes) <= max_bytes:
                 break
-    return Embedding(tuple(decimate(s, nodes, n_times, dtype) for s in solutions), shape,
-                     n_stored, True)
+    return Embedding(
+        tuple(decimate(s, nodes, n_times, dtype) for s in solutions), shape, n_stored, True
+    )
 
 
 def _cost_record(cost):
     """A Quadratic as JSON (periods ``None`` where not periodic), else ``None``."""
     if not isinstance(cost, Quadratic):
         return None
-    periods = None if cost.periods is None else \
-        [float(p) if np.isfinite(p) else None for p in cost.periods]
+    periods = (
+        None
+        if cost.periods is None
+        else [float(p) if np.isfinite(p) else None for p in cost.periods]
+    )
     return {"center": cost.center.tolist(), "weights": cost.weights.tolist(), "periods": periods}
 
 
@@ -290,8 +328,10 @@ def _shared_references(solutions) -> tuple[list, list]:
             index.append(None)
             continue
         for k, other in enumerate(distinct):
-            if other is ref or (np.array_equal(other.log_scales, ref.log_scales)
-                                and np.array_equal(other.log_slices, ref.log_slices)):
+            if other is ref or (
+                np.array_equal(other.log_scales, ref.log_scales)
+                and np.array_equal(other.log_slices, ref.log_slices)
+            ):
                 index.append(k)
                 break
         else:
@@ -302,19 +342,29 @@ def _shared_references(solutions) -> tuple[list, list]:
 
 def _base64(array: np.ndarray) -> str:
     """The array's bytes, little-endian, as base64 text."""
-    return base64.b64encode(np.ascontiguousarray(array, dtype=array.dtype.newbyteorder("<"))
-                            .tobytes()).decode("ascii")
+    return base64.b64encode(
+        np.ascontiguousarray(array, dtype=array.dtype.newbyteorder("<")).tobytes()
+    ).decode("ascii")
 
 
-def page_data(embedding: Embedding, weights=None, state=None, title: str | None = None,
-              labels=None, note: str = "") -> dict:
+def page_data(
+    embedding: Embedding,
+    weights=None,
+    state=None,
+    title: str | None = None,
+    labels=None,
+    note: str = "",
+) -> dict:
     """The JSON document the page reads (everything it shows comes from here)."""
     comps = embedding.components
     first = comps[0]
     problem, grid, system = first.problem, first.grid, first.problem.system
     w = check_weights(weights, len(comps))
-    x0 = grid.lo + 0.5 * (grid.hi - grid.lo) if state is None else \
-        grid.check_states(state, "state")[0]
+    x0 = (
+        grid.lo + 0.5 * (grid.hi - grid.lo)
+        if state is None
+        else grid.check_states(state, "state")[0]
+    )
     B = np.asarray(system.input_matrix(grid.nodes()[:1]), dtype=float)[0]
     names = [a.name or n for a, n in zip(grid.axes, system.state_names)]
     labels = labels or [_component_label(s, i) for i, s in enumerate(comps)]
@@ -324,33 +374,47 @@ def page_data(embedding: Embedding, weights=None, state=None, title: str | None 
         "title": title or f"Linear Bellman combination: {type(system).__name__}",
         "note": note,
         "system": {"name": type(system).__name__, "parameters": system.parameters()},
-        "axes": [{"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": nm}
-                 for a, nm in zip(grid.axes, names)],
+        "axes": [
+            {"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": nm}
+            for a, nm in zip(grid.axes, names)
+        ],
         "horizon": problem.horizon,
         "temperature": problem.temperature,
         "R": problem.R.tolist(),
         "R_inv": problem.R_inv.tolist(),
         "B": B.tolist(),
-        "state_cost": None if problem.state_cost is None else
-        (_cost_record(problem.state_cost) or "other"),
+        "state_cost": None
+        if problem.state_cost is None
+        else (_cost_record(problem.state_cost) or "other"),
         "times": first.times.tolist(),
         "dtype": embedding.dtype,
         "components": [
-            {"label": lab, "terminal_cost": _cost_record(s.problem.terminal_cost),
-             "log_scales": s.log_scales.tolist(), "slices": _base64(s.slices),
-             "reference": k}
+            {
+                "label": lab,
+                "terminal_cost": _cost_record(s.problem.terminal_cost),
+                "log_scales": s.log_scales.tolist(),
+                "slices": _base64(s.slices),
+                "reference": k,
+            }
             for lab, s, k in zip(labels, comps, references[1])
         ],
-        "references": [{"log_scales": r.log_scales.tolist(),
-                        "log_slices": _base64(r.log_slices.astype(first.slices.dtype))}
-                       for r in references[0]],
+        "references": [
+            {
+                "log_scales": r.log_scales.tolist(),
+                "log_slices": _base64(r.log_slices.astype(first.slices.dtype)),
+            }
+            for r in references[0]
+        ],
         "initial": {"weights": w.tolist(), "state": np.asarray(x0, float).tolist(), "time": 0.0},
         "embedding": embedding.describe(),
         "raster": list(RASTER),
         "rollout_steps": ROLLOUT_STEPS,
-        "projection": {"negative_tolerance": NEGATIVE_TOLERANCE, "sum_tolerance": SUM_TOLERANCE,
-                       "residual_tolerance": RESIDUAL_TOLERANCE,
-                       "condition_limit": CONDITION_LIMIT},
+        "projection": {
+            "negative_tolerance": NEGATIVE_TOLERANCE,
+            "sum_tolerance": SUM_TOLERANCE,
+            "residual_tolerance": RESIDUAL_TOLERANCE,
+            "condition_limit": CONDITION_LIMIT,
+        },
         "colormaps": {"value": _colormap("viridis"), "policy": _colormap("RdBu_r")},
     }
 
@@ -364,8 +428,12 @@ def page_html(data: dict) -> str:
     # "<" escaped so that no string in the data can close the script element
     payload = json.dumps(data, separators=(",", ":"), allow_nan=False).replace("<", "\\u003c")
     title = data["title"].replace("&", "&amp;").replace("<", "&lt;")
-    return (template.replace("{{TITLE}}", title).replace("{{STYLE}}", style)
-            .replace("{{DATA}}", payload).replace("{{SCRIPT}}", script))
+    return (
+        template.replace("{{TITLE}}", title)
+        .replace("{{STYLE}}", style)
+        .replace("{{DATA}}", payload)
+        .replace("{{SCRIPT}}", script)
+    )
 
 
 @dataclass(frozen=True)
@@ -395,11 +463,13 @@ class PageReport:
     def summary(self) -> str:
         text = f"wrote {self.path} ({self.size / 1e6:.2f} MB): {self.embedding.describe()}"
         if self.embedding.decimated:
-            text += (f"; the page evaluates gridlbc.combine exactly on the decimated solutions, "
-                     f"which differ from the originals in v by "
-                     f"{self.median_value_error:.3g} (median) and at most "
-                     f"{self.max_value_error:.3g} (v spans {self.max_value_spread:.3g}) at 2000 "
-                     "random states and 5 times")
+            text += (
+                f"; the page evaluates gridlbc.combine exactly on the decimated solutions, "
+                f"which differ from the originals in v by "
+                f"{self.median_value_error:.3g} (median) and at most "
+                f"{self.max_value_error:.3g} (v spans {self.max_value_spread:.3g}) at 2000 "
+                "random states and 5 times"
+            )
         return text
 
 
@@ -426,9 +496,20 @@ def _decimation_error(originals, embedding: Embedding, weights, seed: int = 0):
     return float(errors.max()), float(np.median(errors)), spread
 
 
-def write_page(solutions, path, *, weights=None, state=None, nodes=None, n_times=None,
-               max_bytes: int = DEFAULT_MAX_BYTES, dtype: str = "float32",
-               title: str | None = None, labels=None, note: str = "") -> PageReport:
+def write_page(
+    solutions,
+    path,
+    *,
+    weights=None,
+    state=None,
+    nodes=None,
+    n_times=None,
+    max_bytes: int = DEFAULT_MAX_BYTES,
+    dtype: str = "float32",
+    title: str | None = None,
+    labels=None,
+    note: str = "",
+) -> PageReport:
     """Write the interactive page for ``solutions`` (sequence of :class:`gridlbc.Solution`).
 
     ``weights`` and ``state`` are the initial blend weights (default all ones) and rollout start

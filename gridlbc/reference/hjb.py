@@ -63,8 +63,23 @@ from ..problem import Problem
 
 
 @jit
-def _hamiltonian_kernel(v, drift, gain, control_axis, r, bounds, diffusion, q, shape, strides,
-                        spacing, periodic, out, rate, control):
+def _hamiltonian_kernel(
+    v,
+    drift,
+    gain,
+    control_axis,
+    r,
+    bounds,
+    diffusion,
+    q,
+    shape,
+    strides,
+    spacing,
+    periodic,
+    out,
+    rate,
+    control,
+):
     """H[v] and the jump rate ρ at every node, and the minimising control (see module docstring).
 
     ``gain[i, j]`` is B_kj at node i for the axis k = ``control_axis[j]``; axes without a control
@@ -106,8 +121,11 @@ def _hamiltonian_kernel(v, drift, gain, control_axis, r, bounds, diffusion, q, s
                     # the control moves nothing: minimise ½ r u² over the box alone
                     u_best = min(max(0.0, lo), hi)
                     b = a
-                    best = (0.5 * r[j] * u_best * u_best + max(b, 0.0) * forward
-                            - max(-b, 0.0) * backward)
+                    best = (
+                        0.5 * r[j] * u_best * u_best
+                        + max(b, 0.0) * forward
+                        - max(-b, 0.0) * backward
+                    )
                 else:
                     # Branch b ≥ 0 is the half-line of u on one side of the kink −a/β, branch
                     # b ≤ 0 the other; on each, the objective is a convex quadratic, so its
@@ -124,8 +142,7 @@ def _hamiltonian_kernel(v, drift, gain, control_axis, r, bounds, diffusion, q, s
                         if low <= high:
                             u = min(max(-beta * slope / r[j], low), high)
                             b = a + beta * u
-                            f = (0.5 * r[j] * u * u + max(b, 0.0) * forward
-                                 - max(-b, 0.0) * backward)
+                            f = 0.5 * r[j] * u * u + max(b, 0.0) * forward - max(-b, 0.0) * backward
                             if f < best:
                                 best, u_best = f, u
                     b = a + beta * u_best
@@ -187,8 +204,9 @@ def multilinear(grid: Grid, values, x) -> np.ndarray:
         raise ValueError(f"values must have {grid.size} nodal entries, got shape {values.shape}")
     _, spacing, shape, strides, periodic = grid.kernel_arrays()
     out = np.empty((values.shape[0], x.shape[0]))
-    _multilinear_kernel(values, np.ascontiguousarray(x), grid.lo, spacing, shape, strides,
-                        periodic, out)
+    _multilinear_kernel(
+        values, np.ascontiguousarray(x), grid.lo, spacing, shape, strides, periodic, out
+    )
     return out
 
 
@@ -239,7 +257,9 @@ def control_box(control_bounds, m: int) -> np.ndarray:
             f"one pair per control; got shape {box.shape}"
         )
     if np.any(np.isnan(box)) or np.any(box[:, 0] == np.inf) or np.any(box[:, 1] == -np.inf):
-        raise ValueError(f"control_bounds must be numbers (±inf for an open side), got {box.tolist()}")
+        raise ValueError(
+            f"control_bounds must be numbers (±inf for an open side), got {box.tolist()}"
+        )
     if np.any(box[:, 0] > box[:, 1]):
         j = int(np.flatnonzero(box[:, 0] > box[:, 1])[0])
         raise ValueError(
@@ -253,7 +273,7 @@ def control_structure(problem: Problem, x: np.ndarray, control_bounds=None) -> C
     """Check that each control drives its own axis with a diagonal R, and return the structure
     with the box of ``control_bounds`` (see :func:`control_box`)."""
     R = problem.R
-    if np.any(R != np.diag(np.diag(R))):
+    if np.any(np.diag(np.diag(R)) != R):
         raise ValueError(
             "solve_hjb minimises over each control separately and needs a diagonal control_cost R "
             "(with control_bounds, the box minimiser is the clipped unconstrained one only then); "
@@ -269,12 +289,17 @@ def control_structure(problem: Problem, x: np.ndarray, control_bounds=None) -> C
             "does (e.g. canonical momenta)"
         )
     gain = np.ascontiguousarray(B[:, axis, np.arange(axis.size)])
-    return ControlStructure(axis.astype(np.int64), gain, np.ascontiguousarray(np.diag(R)),
-                            control_box(control_bounds, axis.size))
+    return ControlStructure(
+        axis.astype(np.int64),
+        gain,
+        np.ascontiguousarray(np.diag(R)),
+        control_box(control_bounds, axis.size),
+    )
 
 
-def hamiltonian_numpy(problem: Problem, v: np.ndarray,
-                      control_bounds=None) -> tuple[np.ndarray, np.ndarray]:
+def hamiltonian_numpy(
+    problem: Problem, v: np.ndarray, control_bounds=None
+) -> tuple[np.ndarray, np.ndarray]:
     """Plain-numpy H[v] and ρ of the module docstring, for testing the compiled kernel.
 
     Minimises over each control by brute force over candidate points that contain the minimiser:
@@ -397,8 +422,14 @@ class HJBSolution:
         return np.clip(u, self.control_bounds[:, 0], self.control_bounds[:, 1])
 
 
-def solve_hjb(problem: Problem, dt: float | None = None, control_bounds=None, *,
-              courant: float = 0.9, slices: int = 50) -> HJBSolution:
+def solve_hjb(
+    problem: Problem,
+    dt: float | None = None,
+    control_bounds=None,
+    *,
+    courant: float = 0.9,
+    slices: int = 50,
+) -> HJBSolution:
     """Solve the nonlinear HJB of ``problem`` in value space, backward from v(T) = g.
 
     Parameters
@@ -454,9 +485,23 @@ def solve_hjb(problem: Problem, dt: float | None = None, control_bounds=None, *,
     for j in range(slices - 1, -1, -1):
         remaining = interval
         while remaining > 1e-12 * interval:
-            _hamiltonian_kernel(v, drift, structure.gain, structure.axis, structure.r,
-                                structure.bounds, diffusion, q, shape, strides, spacing,
-                                periodic, H, rate, control)
+            _hamiltonian_kernel(
+                v,
+                drift,
+                structure.gain,
+                structure.axis,
+                structure.r,
+                structure.bounds,
+                diffusion,
+                q,
+                shape,
+                strides,
+                spacing,
+                periodic,
+                H,
+                rate,
+                control,
+            )
             limit = min(max_step, courant / max(rate.max(), 1e-300))
             n_sub = max(1, math.ceil(remaining / limit - 1e-9))
             step = remaining / n_sub
@@ -468,8 +513,13 @@ def solve_hjb(problem: Problem, dt: float | None = None, control_bounds=None, *,
             raise FloatingPointError(f"the HJB value became non-finite at t = {j * interval:g}")
         values[j] = v
     diagnostics = HJBDiagnostics(
-        method="markov-chain", dt=T / steps, min_step=smallest, max_step=largest, steps=steps,
-        courant=courant, wall_time=time.perf_counter() - started,
+        method="markov-chain",
+        dt=T / steps,
+        min_step=smallest,
+        max_step=largest,
+        steps=steps,
+        courant=courant,
+        wall_time=time.perf_counter() - started,
     )
     times = np.linspace(0.0, T, slices + 1)
     return HJBSolution(problem, times, values, diagnostics, structure.bounds)

@@ -62,9 +62,12 @@ def _quadratic_terms(cost, name: str, d: int) -> tuple[np.ndarray, np.ndarray]:
 def is_linear_quadratic(problem: Problem) -> bool:
     """Whether :func:`lq_solution` applies to ``problem``: a(x) = A x with constant B, Quadratic
     (or no) terminal and state costs, and no periodic axis."""
-    return (problem.system.linear_matrices() is not None and not problem.periodic_axes
-            and isinstance(problem.terminal_cost, Quadratic)
-            and (problem.state_cost is None or isinstance(problem.state_cost, Quadratic)))
+    return (
+        problem.system.linear_matrices() is not None
+        and not problem.periodic_axes
+        and isinstance(problem.terminal_cost, Quadratic)
+        and (problem.state_cost is None or isinstance(problem.state_cost, Quadratic))
+    )
 
 
 def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
@@ -81,8 +84,10 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
             f"{type(problem.system).__name__} is not: use reference.solve_hjb instead"
         )
     if problem.periodic_axes:
-        raise ValueError("lq_solution is the solution on all of Rᵈ: the problem must have no "
-                         f"periodic axis, got {list(problem.periodic_axes)}")
+        raise ValueError(
+            "lq_solution is the solution on all of Rᵈ: the problem must have no "
+            f"periodic axis, got {list(problem.periodic_axes)}"
+        )
     A, B = matrices
     d = A.shape[0]
     S = B @ problem.R_inv @ B.T
@@ -99,8 +104,9 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
         return np.concatenate([dP.ravel(), dp, [dc]])
 
     y0 = np.concatenate([(2 * WT).ravel(), -2 * WT @ cT, [cT @ WT @ cT]])
-    sol = solve_ivp(rhs, (0.0, problem.horizon), y0, method="DOP853", rtol=rtol, atol=1e-14,
-                    dense_output=True)
+    sol = solve_ivp(
+        rhs, (0.0, problem.horizon), y0, method="DOP853", rtol=rtol, atol=1e-14, dense_output=True
+    )
     if not sol.success:
         raise RuntimeError(f"Riccati integration failed: {sol.message}")
     return LQSolution(problem, sol.sol)

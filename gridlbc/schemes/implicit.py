@@ -111,16 +111,24 @@ class ImplicitStep:
     name = "implicit"
     supports_fitting = False
 
-    def __init__(self, problem: Problem, dt: float, linear_solver: str = "auto",
-                 tol: float = 1e-10, max_iterations: int = 10_000):
+    def __init__(
+        self,
+        problem: Problem,
+        dt: float,
+        linear_solver: str = "auto",
+        tol: float = 1e-10,
+        max_iterations: int = 10_000,
+    ):
         if linear_solver not in LINEAR_SOLVERS:
-            raise ValueError(f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "
-                             f"got {linear_solver!r}")
+            raise ValueError(
+                f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, got {linear_solver!r}"
+            )
         grid = problem.grid
         q = problem.state_cost_values()
         L = generator_matrix(problem)
-        self.matrix = (sp.identity(grid.size, format="csr") + sp.diags(dt * q / problem.temperature)
-                       - dt * L).tocsr()
+        self.matrix = (
+            sp.identity(grid.size, format="csr") + sp.diags(dt * q / problem.temperature) - dt * L
+        ).tocsr()
         if linear_solver == "auto":
             small = grid.size <= DIRECT_LIMIT and grid.ndim <= 2
             linear_solver = "direct" if small else "gauss-seidel"
@@ -148,8 +156,9 @@ class ImplicitStep:
     def nbytes(self) -> int:
         total = self.matrix.data.nbytes + self.matrix.indices.nbytes + self.matrix.indptr.nbytes
         if self.direct:
-            total += sum(m.data.nbytes + m.indices.nbytes + m.indptr.nbytes
-                         for m in (self._lu.L, self._lu.U))
+            total += sum(
+                m.data.nbytes + m.indices.nbytes + m.indptr.nbytes for m in (self._lu.L, self._lu.U)
+            )
         elif self.linear_solver == "gauss-seidel":
             total += sum(a.nbytes for a in self._off) + self._inv_diag.nbytes
         return int(total)
@@ -162,8 +171,9 @@ class ImplicitStep:
 
     def _gauss_seidel(self, b: np.ndarray, out: np.ndarray) -> float:
         out[...] = b  # warm start: z(t) ≈ z(t + Δt)
-        sweeps = _gauss_seidel_kernel(*self._off, self._inv_diag, b, out, self.tol,
-                                      self.max_iterations)
+        sweeps = _gauss_seidel_kernel(
+            *self._off, self._inv_diag, b, out, self.tol, self.max_iterations
+        )
         if sweeps < 0:
             raise RuntimeError(
                 f"Gauss–Seidel did not converge in {self.max_iterations} sweeps (contraction "
@@ -186,8 +196,16 @@ class ImplicitStep:
             def _count(_, count=count):
                 count[0] += 1
 
-            sol, info = spla.bicgstab(self.matrix, b[r], x0=b[r], rtol=self.tol, atol=0.0,
-                                      M=self._preconditioner, callback=_count, maxiter=10_000)
+            sol, info = spla.bicgstab(
+                self.matrix,
+                b[r],
+                x0=b[r],
+                rtol=self.tol,
+                atol=0.0,
+                M=self._preconditioner,
+                callback=_count,
+                maxiter=10_000,
+            )
             if info != 0:
                 raise RuntimeError(f"BiCGSTAB did not converge in the implicit step (info={info})")
             self.iterations.append(count[0])

@@ -389,16 +389,20 @@ def _stencils(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
     for a, n in enumerate(grid.shape):
         position = np.zeros(n, dtype=place.dtype)
         position[0], position[-1] = 1, 2
-        place += (3**a * position).astype(place.dtype).reshape([-1 if b == a else 1
-                                                                for b in range(d)])
+        place += (
+            (3**a * position).astype(place.dtype).reshape([-1 if b == a else 1 for b in range(d)])
+        )
     stencils = np.zeros((3**d, 1 + 2 * d), dtype=np.int64)
     for row in range(3**d):
-        for a, (n, s, periodic) in enumerate(zip(grid.shape, grid.strides, grid.periodic,
-                                                 strict=True)):
+        for a, (n, s, periodic) in enumerate(
+            zip(grid.shape, grid.strides, grid.periodic, strict=True)
+        ):
             position = row // 3**a % 3
             if periodic:
-                up, down = (s if position != 2 else -(n - 1) * s,
-                            -s if position != 1 else (n - 1) * s)
+                up, down = (
+                    s if position != 2 else -(n - 1) * s,
+                    -s if position != 1 else (n - 1) * s,
+                )
             elif n < 3:
                 up = down = 0
             else:
@@ -424,9 +428,10 @@ def _hessian_at(ell, node, stencil, d, hessian):
         column += 1
         for b in range(a + 1, d):
             up_b, down_b = stencil[1 + b], stencil[1 + d + b]
-            hessian[column] = 0.25 * ((ell[centre + up_a + up_b] - ell[centre + down_a + up_b])
-                                      - (ell[centre + up_a + down_b]
-                                         - ell[centre + down_a + down_b]))
+            hessian[column] = 0.25 * (
+                (ell[centre + up_a + up_b] - ell[centre + down_a + up_b])
+                - (ell[centre + up_a + down_b] - ell[centre + down_a + down_b])
+            )
             column += 1
 
 
@@ -444,8 +449,9 @@ def _curvature_compact_kernels(d: int):
     as :func:`_advect_kernels` does."""
 
     @jit_parallel
-    def kernel(ell, base, code, frac, offsets, columns, place, stencils, record, places,
-               add_mean, out):
+    def kernel(
+        ell, base, code, frac, offsets, columns, place, stencils, record, places, add_mean, out
+    ):
         n_nodes = base.size
         n_blocks = min(n_nodes, 256)
         fractions = frac.reshape(-1)
@@ -477,11 +483,13 @@ def _curvature_compact_kernels(d: int):
                 for k in range(d):
                     cross = 0.0
                     for m in range(k + 1, d):
-                        cross += (np.float64(fractions[p * d + m])
-                                  * hessian[column[(c * d + k) * d + m]])
+                        cross += (
+                            np.float64(fractions[p * d + m]) * hessian[column[(c * d + k) * d + m]]
+                        )
                     f = np.float64(fractions[p * d + k]) * (1.0 / _Q)
-                    acc += (1.0 - f) * (f * hessian[column[(c * d + k) * d + k]]
-                                        + 2.0 * cross * (1.0 / _Q))
+                    acc += (1.0 - f) * (
+                        f * hessian[column[(c * d + k) * d + k]] + 2.0 * cross * (1.0 / _Q)
+                    )
                 mean = lin * (1.0 / _Q)
                 term = _limited(mean, -0.5 * acc, low, high)
                 out[p] = mean + term if add_mean else term
@@ -489,8 +497,9 @@ def _curvature_compact_kernels(d: int):
     return kernel
 
 
-def _curvature_compact_kernel(ell, base, code, frac, offsets, columns, place, stencils, record,
-                              places, add_mean, out):
+def _curvature_compact_kernel(
+    ell, base, code, frac, offsets, columns, place, stencils, record, places, add_mean, out
+):
     """out[p] = the limited curvature term of the compact feet (see
     :meth:`SplittingStep.curvature_correction`), plus the linear mean Σ_j w_j ell[v_j] when
     ``add_mean`` (the fitted log drift in one pass): with the sorted fractions f_k of walk steps
@@ -501,8 +510,9 @@ def _curvature_compact_kernel(ell, base, code, frac, offsets, columns, place, st
     ``columns[code[p], k, l]`` (:func:`_hessian_columns`). The stencil's row is ``places[p]``,
     the ``place`` (:func:`_stencils`) of that vertex; the feet being fixed, it is gathered once,
     by a call with ``record``, and read in order by the later ones."""
-    _curvature_compact_kernels(frac.shape[1])(ell, base, code, frac, offsets, columns, place,
-                                              stencils, record, places, add_mean, out)
+    _curvature_compact_kernels(frac.shape[1])(
+        ell, base, code, frac, offsets, columns, place, stencils, record, places, add_mean, out
+    )
 
 
 def _hessian_columns(walk_axes: np.ndarray, pairs: np.ndarray) -> np.ndarray:
@@ -512,8 +522,9 @@ def _hessian_columns(walk_axes: np.ndarray, pairs: np.ndarray) -> np.ndarray:
 
 
 @jit_parallel
-def _curvature_table_kernel(ell, idx, weights, place, stencils, shape, strides, pairs, add_mean,
-                            out):
+def _curvature_table_kernel(
+    ell, idx, weights, place, stencils, shape, strides, pairs, add_mean, out
+):
     """:func:`_curvature_compact_kernel` for the table feet: the walk step j → j + 1 runs along
     the axis whose stride (or wrap −(n − 1) × stride) is idx[p, j+1] − idx[p, j], and its
     fraction is f_j = Σ_{i>j} weights[p, i]; ``add_mean`` as there. Nodes are taken in blocks, so
@@ -570,8 +581,10 @@ def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) ->
     idx, weights = barycentric(grid, feet)
     nearest = idx[np.arange(len(feet)), np.argmax(weights, axis=1)]
     field = grid.reshape(ell)
-    centre = [np.arange(n) if p or n < 3 else np.clip(np.arange(n), 1, n - 2)
-              for n, p in zip(grid.shape, grid.periodic)]
+    centre = [
+        np.arange(n) if p or n < 3 else np.clip(np.arange(n), 1, n - 2)
+        for n, p in zip(grid.shape, grid.periodic)
+    ]
     total = np.zeros(len(feet))
     for a in range(grid.ndim):
         for b in range(a, grid.ndim):
@@ -580,8 +593,11 @@ def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) ->
             if a == b:
                 h = np.roll(field, -1, a) - 2 * field + np.roll(field, 1, a)
             else:
-                h = 0.25 * sum(sign_a * sign_b * np.roll(field, (-sign_a, -sign_b), (a, b))
-                               for sign_a in (1, -1) for sign_b in (1, -1))
+                h = 0.25 * sum(
+                    sign_a * sign_b * np.roll(field, (-sign_a, -sign_b), (a, b))
+                    for sign_a in (1, -1)
+                    for sign_b in (1, -1)
+                )
             moment = np.minimum(f[:, a], f[:, b]) - f[:, a] * f[:, b]
             total += (1 if a == b else 2) * moment * h[np.ix_(*centre)].reshape(-1)[nearest]
     lin = (ell[idx] * weights).sum(axis=1)
@@ -609,7 +625,7 @@ def tridiagonal_factors(ratio: np.ndarray, n: int) -> np.ndarray:
     upper = ratio.copy()
     upper[..., n - 1] = 0.0
     diag = 1.0 + lower + upper
-    out = np.empty((3,) + ratio.shape)
+    out = np.empty((3, *ratio.shape))
     c_prev = np.zeros(ratio.shape[:-1])
     for i in range(n):
         m = diag[..., i] + lower[..., i] * c_prev
@@ -665,8 +681,9 @@ def _diffuse_closed_kernel(z, factors, uniform, n, stride, block_max):
                             if i == 0:
                                 z[r, node] = z[r, node] * factors[0, f]
                             else:
-                                z[r, node] = (z[r, node] * factors[0, f]
-                                              + factors[1, f] * z[r, node - 1])
+                                z[r, node] = (
+                                    z[r, node] * factors[0, f] + factors[1, f] * z[r, node - 1]
+                                )
                     for line in range(first, last):
                         peak = max(peak, z[r, line * n + n - 1])
                     for i in range(n - 2, -1, -1):
@@ -686,8 +703,9 @@ def _diffuse_closed_kernel(z, factors, uniform, n, stride, block_max):
                         if i == 0:
                             z[r, node] = z[r, node] * factors[0, f]
                         else:
-                            z[r, node] = (z[r, node] * factors[0, f]
-                                          + factors[1, f] * z[r, node - stride])
+                            z[r, node] = (
+                                z[r, node] * factors[0, f] + factors[1, f] * z[r, node - stride]
+                            )
                 if track:
                     row = start + (n - 1) * stride
                     for node in range(row + j0, row + j1):
@@ -746,8 +764,9 @@ def _diffuse_periodic_kernel(z, ratio, n, stride):
             for i in range(n - 2, -1, -1):
                 y[i] -= cp[i] * y[i + 1]
                 q[i] -= cp[i] * q[i + 1]
-            factor = ((y[0] + corner_low / gamma * y[n - 1])
-                      / (1.0 + q[0] + corner_low / gamma * q[n - 1]))
+            factor = (y[0] + corner_low / gamma * y[n - 1]) / (
+                1.0 + q[0] + corner_low / gamma * q[n - 1]
+            )
             for i in range(n):
                 z[r_idx, base + i * stride] = y[i] - factor * q[i]
 
@@ -815,8 +834,11 @@ def _line_bounds(ell, line, n, stride, periodic, curvature):
             left, right, centre = inner - 1, inner + 1, inner
         else:
             centre = i
-        kappa = (ell[line + left * stride] - 2.0 * ell[line + centre * stride]
-                 + ell[line + right * stride])
+        kappa = (
+            ell[line + left * stride]
+            - 2.0 * ell[line + centre * stride]
+            + ell[line + right * stride]
+        )
         curvature[i] = kappa
         lowest = min(lowest, kappa)
         if periodic or i < n - 1:
@@ -913,15 +935,55 @@ def _diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_
                     for r in range(y.shape[0]):
                         out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
                     continue
-                _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm,
-                                     n, stride, periodic, log_out, out, line, i, cells,
-                                     uniform, tables, nodes, gaussian, top)
+                _diffuse_fitted_node(
+                    y,
+                    ell,
+                    curvature,
+                    bulge,
+                    ell_max,
+                    A,
+                    free,
+                    norm,
+                    n,
+                    stride,
+                    periodic,
+                    log_out,
+                    out,
+                    line,
+                    i,
+                    cells,
+                    uniform,
+                    tables,
+                    nodes,
+                    gaussian,
+                    top,
+                )
 
 
 @jit_inline
-def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, stride, periodic,
-                         log_out, out, line, i, cells, uniform, tables, nodes, gaussian,
-                         line_top):
+def _diffuse_fitted_node(
+    y,
+    ell,
+    curvature,
+    bulge,
+    ell_max,
+    A,
+    free,
+    norm,
+    n,
+    stride,
+    periodic,
+    log_out,
+    out,
+    line,
+    i,
+    cells,
+    uniform,
+    tables,
+    nodes,
+    gaussian,
+    line_top,
+):
     """:func:`_diffuse_fitted_kernel` at node i of the line starting at ``line``, for the
     Gaussian's A = h²/(2σ²) there, ``free`` = the line's rise/(2A), ``norm`` = h/√(2πσ²),
     ``bulge`` the line's; ``cells``: the line's cell constants when ``uniform`` (one σ²); with
@@ -944,8 +1006,11 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
         k_near = i
         heading = step  # the direction of the folded index (mirrors turn it round)
         near_log = ell[p]  # the log-integrand at the near node
-        near_value = (nodes[i] * factor if tables  # and the integrand over e^E (−1: not known)
-                      else math.exp(near_log - scale))
+        near_value = (
+            nodes[i] * factor
+            if tables  # and the integrand over e^E (−1: not known)
+            else math.exp(near_log - scale)
+        )
         for c in range(reach):
             far = near + step
             k_far = k_near + heading
@@ -956,7 +1021,8 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
             gauss = -A * c * c  # the Gaussian's log at the cell's near end
             near_ell, far_ell = ell[line + k_near * stride], ell[line + k_far * stride]
             if gauss + ell_max + bulge < peak - _FIT_WINDOW or (
-                    c > free and gauss + near_ell + bulge < peak - _FIT_WINDOW):
+                c > free and gauss + near_ell + bulge < peak - _FIT_WINDOW
+            ):
                 break
             far_log = far_ell - A * (far - i) * (far - i)
             if gauss + max(near_ell, far_ell) + bulge < peak - _FIT_WINDOW:  # the cell is out
@@ -1026,8 +1092,15 @@ def _diffuse_fitted_node(y, ell, curvature, bulge, ell_max, A, free, norm, n, st
         out[r, p] *= norm
 
 
-def diffuse_fitted_numpy(y: np.ndarray, ell: np.ndarray, variance: float, h: float,
-                         periodic: bool, points: int = 64, images: int = 3) -> np.ndarray:
+def diffuse_fitted_numpy(
+    y: np.ndarray,
+    ell: np.ndarray,
+    variance: float,
+    h: float,
+    periodic: bool,
+    points: int = 64,
+    images: int = 3,
+) -> np.ndarray:
     """Plain-numpy twin of :func:`_diffuse_fitted_kernel` on one line (``y`` ``(K, n)``, ``ell``
     ``(n,)``): the same integral by the midpoint rule with ``points`` per cell over ``images``
     line lengths to each side, every cell taken (no window), and the kernel's cap at the line's
@@ -1124,7 +1197,8 @@ class SplittingStep:
         if np.any(q != 0):  # Simpson's rule along the characteristic (module docstring)
             self.log_cost = -q * dt / (6.0 * lam)
             self.log_mid_cost = (-2.0 * dt / (3.0 * lam)) * _node_values(
-                lambda x: problem.state_cost_values(_foot(problem, x, 0.5 * dt)), grid)
+                lambda x: problem.state_cost_values(_foot(problem, x, 0.5 * dt)), grid
+            )
         else:
             self.log_cost = self.log_mid_cost = np.empty(0)
         self.cost_factor = np.exp(self.log_cost)
@@ -1169,8 +1243,14 @@ class SplittingStep:
                 )
             rows = slice(start, stop)
             if self.layout == "compact":
-                _encode_compact_kernel(feet[:m], *grid.kernel_arrays(), walk, self.base[rows],
-                                       shapes[rows], self.frac[rows])
+                _encode_compact_kernel(
+                    feet[:m],
+                    *grid.kernel_arrays(),
+                    walk,
+                    self.base[rows],
+                    shapes[rows],
+                    self.frac[rows],
+                )
             else:
                 _kuhn_kernel(feet[:m], *grid.kernel_arrays(), idx[:m], weights[:m])
                 self.idx[rows], self.weights[rows] = idx[:m], weights[:m]
@@ -1198,7 +1278,9 @@ class SplittingStep:
             else:
                 self.variances.append(variance)
             if ax.periodic:
-                self.noise.append((k, True, np.full(grid.size, ratio) if constant else ratio, False))
+                self.noise.append(
+                    (k, True, np.full(grid.size, ratio) if constant else ratio, False)
+                )
                 continue
             if constant:
                 self.noise.append((k, False, tridiagonal_factors(np.full(ax.n, ratio), ax.n), True))
@@ -1214,10 +1296,16 @@ class SplittingStep:
 
     @property
     def nbytes(self) -> int:
-        arrays = [*self.arrays, self.cost_factor, self.log_cost, self.mid_cost_factor,
-                  self.log_mid_cost,
-                  *(data for _, _, data, _ in self.noise),
-                  *self.variances, *(a for a in self.diffusion if np.ndim(a))]
+        arrays = [
+            *self.arrays,
+            self.cost_factor,
+            self.log_cost,
+            self.mid_cost_factor,
+            self.log_mid_cost,
+            *(data for _, _, data, _ in self.noise),
+            *self.variances,
+            *(a for a in self.diffusion if np.ndim(a)),
+        ]
         return int(sum(a.nbytes for a in arrays))
 
     def __call__(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray) -> np.ndarray:
@@ -1235,16 +1323,18 @@ class SplittingStep:
         if self.cost_factor.size == 0 and self.noise and not self.noise[-1][1]:
             # no state cost: fuse the slice maximum into the last (closed-axis) diffusion pass
             k = self.noise[-1][0]
-            n_tasks = closed_line_tasks(self.grid.size, self.grid.axes[k].n,
-                                        int(self.grid.strides[k]))
+            n_tasks = closed_line_tasks(
+                self.grid.size, self.grid.axes[k].n, int(self.grid.strides[k])
+            )
             block_max = self._buffer(K, work_blocks(n_tasks))
         self._half_diffusion(out, block_max)
         if block_max is None:
             return self.row_maxima(out, cost=True)
         return block_max.max(axis=1)
 
-    def drift(self, z: np.ndarray, out: np.ndarray, scale: np.ndarray,
-              reference: int | None = None):
+    def drift(
+        self, z: np.ndarray, out: np.ndarray, scale: np.ndarray, reference: int | None = None
+    ):
         """out = P (scale · z): the semi-Lagrangian drift alone, fitted to row ``reference`` of
         ``z`` when it is given (``z`` is then consumed: divided by that row in place). The
         reference row fitted to itself needs no gather of z, only of log φ: P_φ φ = φ̄."""
@@ -1256,15 +1346,17 @@ class SplittingStep:
             if _fitting_kernel(z, reference, ell) == 0:
                 ones_row = reference
         if self.layout == "compact":
-            _advect_compact_kernel(z, self.base, self.code, self.frac, self.offsets, scale, ell,
-                                   ones_row, out)
+            _advect_compact_kernel(
+                z, self.base, self.code, self.frac, self.offsets, scale, ell, ones_row, out
+            )
         else:
             _advect_table_kernel(z, self.idx, self.weights, scale, ell, ones_row, out)
         if reference is not None:
             out *= np.exp(self.curvature_correction(ell))
 
-    def curvature_correction(self, ell: np.ndarray, out: np.ndarray | None = None,
-                             add_mean: bool = False) -> np.ndarray:
+    def curvature_correction(
+        self, ell: np.ndarray, out: np.ndarray | None = None, add_mean: bool = False
+    ) -> np.ndarray:
         """The curvature term c(X) = −½ Σ_ab M_ab(X) H_ab of the fitted drift at every node's
         foot X (see the module docstring): ``log φ̄ = Σ_j w_j ℓ(y_j) + c``; with ``add_mean``,
         log φ̄ itself (the fitted log drift in one pass). Written into ``out`` ``(N,)``, by
@@ -1273,8 +1365,9 @@ class SplittingStep:
         record = self._stencils is None
         if record:
             self._stencils = _stencils(grid)
-            self._places = np.empty(grid.size if self.layout == "compact" else 0,
-                                    self._stencils[0].dtype)
+            self._places = np.empty(
+                grid.size if self.layout == "compact" else 0, self._stencils[0].dtype
+            )
             self._pairs = _hessian_pairs(grid.ndim)
             if self.layout == "compact":
                 self._columns = _hessian_columns(_walk_axes(grid, self.offsets), self._pairs)
@@ -1283,13 +1376,31 @@ class SplittingStep:
                 self._correction = np.empty(grid.size)
             out = self._correction
         if self.layout == "compact":
-            _curvature_compact_kernel(ell, self.base, self.code, self.frac, self.offsets,
-                                      self._columns, *self._stencils, record, self._places,
-                                      add_mean, out)
+            _curvature_compact_kernel(
+                ell,
+                self.base,
+                self.code,
+                self.frac,
+                self.offsets,
+                self._columns,
+                *self._stencils,
+                record,
+                self._places,
+                add_mean,
+                out,
+            )
         else:
-            _curvature_table_kernel(ell, self.idx, self.weights, *self._stencils,
-                                    np.array(grid.shape, dtype=np.int64), grid.strides,
-                                    self._pairs, add_mean, out)
+            _curvature_table_kernel(
+                ell,
+                self.idx,
+                self.weights,
+                *self._stencils,
+                np.array(grid.shape, dtype=np.int64),
+                grid.strides,
+                self._pairs,
+                add_mean,
+                out,
+            )
         return out
 
     def log_drift(self, ell: np.ndarray, out: np.ndarray):
@@ -1313,8 +1424,9 @@ class SplittingStep:
             source = target
         return source
 
-    def fitted_diffusion(self, z: np.ndarray, spare: np.ndarray, reference: int,
-                         full: bool = False) -> np.ndarray:
+    def fitted_diffusion(
+        self, z: np.ndarray, spare: np.ndarray, reference: int, full: bool = False
+    ) -> np.ndarray:
         """D fitted to row ``reference`` (see the module docstring) over half a step or, with
         ``full``, a whole one (as :meth:`log_diffusion`), one noise axis at a time, alternating
         between ``z`` and ``spare`` (both are overwritten). Returns the array that holds the
@@ -1327,16 +1439,32 @@ class SplittingStep:
             source, target = target, source
         return source
 
-    def _fitted_pass(self, noise, source: np.ndarray, ell: np.ndarray, full: bool,
-                     log_out: bool, target: np.ndarray):
+    def _fitted_pass(
+        self,
+        noise,
+        source: np.ndarray,
+        ell: np.ndarray,
+        full: bool,
+        log_out: bool,
+        target: np.ndarray,
+    ):
         """One noise axis (``noise`` = (an entry of :attr:`noise`, its variances)) of the fitted
         diffusion of ``source`` with log φ = ``ell``, into ``target``
         (:func:`_diffuse_fitted_kernel`)."""
         (k, periodic, _, _), variance = noise
         ax, stride = self.grid.axes[k], int(self.grid.strides[k])
-        _diffuse_fitted_kernel(source, ell, float(ell.max()),
-                               variance * (2.0 if full else 1.0), ax.spacing, ax.n, stride,
-                               periodic, log_out, target)
+        _diffuse_fitted_kernel(
+            source,
+            ell,
+            float(ell.max()),
+            variance * (2.0 if full else 1.0),
+            ax.spacing,
+            ax.n,
+            stride,
+            periodic,
+            log_out,
+            target,
+        )
 
     def row_maxima(self, z: np.ndarray, cost: bool = False) -> np.ndarray:
         """The row maxima of ``z`` ``(K, N)``, after multiplying it by the nodes' share of the
@@ -1355,8 +1483,9 @@ class SplittingStep:
                 _diffuse_periodic_kernel(z, data, ax.n, stride)
                 continue
             last = position == len(self.noise) - 1 and block_max is not None
-            _diffuse_closed_kernel(z, data, uniform, ax.n, stride,
-                                   block_max if last else self._buffer(K, 0))
+            _diffuse_closed_kernel(
+                z, data, uniform, ax.n, stride, block_max if last else self._buffer(K, 0)
+            )
 
     def _buffer(self, rows: int, columns: int) -> np.ndarray:
         """A scratch array of this shape, allocated (zeroed) once and reused by later steps."""

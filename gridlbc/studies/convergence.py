@@ -83,8 +83,9 @@ class ConvergenceTable:
 
     def select(self, case: str, solver: str, reference: str) -> tuple[ConvergenceRow, ...]:
         """The rows of one case, solver and reference, coarse to fine."""
-        return tuple(r for r in self.rows
-                     if (r.case, r.solver, r.reference) == (case, solver, reference))
+        return tuple(
+            r for r in self.rows if (r.case, r.solver, r.reference) == (case, solver, reference)
+        )
 
     def series(self) -> list[tuple[str, str, str]]:
         """The distinct (case, solver, reference) triples, in order of appearance."""
@@ -92,9 +93,11 @@ class ConvergenceTable:
 
     def format(self) -> str:
         """The table as fixed-width text."""
-        head = (f"{'case':<9} {'solver':<20} {'reference':<21} {'grid':>9} {'h':>7} {'dt':>8} "
-                f"{'max|dv|':>8} {'mean|dv|':>8} {'max|du|':>8} {'p(v)':>5} {'p(u)':>5} "
-                f"{'time s':>7}")
+        head = (
+            f"{'case':<9} {'solver':<20} {'reference':<21} {'grid':>9} {'h':>7} {'dt':>8} "
+            f"{'max|dv|':>8} {'mean|dv|':>8} {'max|du|':>8} {'p(v)':>5} {'p(u)':>5} "
+            f"{'time s':>7}"
+        )
         lines = [head, "-" * len(head)]
         for r in self.rows:
             grid = "×".join(map(str, r.shape))
@@ -108,6 +111,7 @@ class ConvergenceTable:
 
 
 # -- the two test problems -----------------------------------------------------------------------
+
 
 def pointmass_points() -> np.ndarray:
     """Evaluation lattice |position| ≤ 2, |velocity| ≤ 3 (41 × 61 points)."""
@@ -125,6 +129,7 @@ def _lattice(*axes) -> np.ndarray:
 
 # -- measuring -----------------------------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class _Run:
     """One solve, reduced to what the table needs: v and u at the evaluation points at t = 0."""
@@ -140,9 +145,14 @@ class _Run:
 
 def _run(solver: str, problem: Problem, points: np.ndarray):
     solution = SOLVERS[solver](problem)
-    run = _Run(problem.grid.shape, float(problem.grid.spacing.max()), solution.diagnostics.dt,
-               solution.value(points, 0.0), solution.policy(points, 0.0),
-               solution.diagnostics.wall_time)
+    run = _Run(
+        problem.grid.shape,
+        float(problem.grid.spacing.max()),
+        solution.diagnostics.dt,
+        solution.value(points, 0.0),
+        solution.policy(points, 0.0),
+        solution.diagnostics.wall_time,
+    )
     return run, solution
 
 
@@ -173,21 +183,40 @@ def _rows(case, solver, reference, runs, ref_values, ref_policies, mask):
         keep = mask if run.valid is None else mask & run.valid
         dv = np.abs(run.value - v_ref)[keep]
         du = np.abs(run.policy - u_ref)[keep]
-        errors = (float(dv.max()), float(dv.mean()), float(du.max())) if dv.size else (math.nan,) * 3
+        errors = (
+            (float(dv.max()), float(dv.mean()), float(du.max())) if dv.size else (math.nan,) * 3
+        )
         orders = (math.nan, math.nan)
         if previous is not None:
             ratio = math.log(previous[0].h / run.h)
-            orders = tuple(math.log(a / b) / ratio if a > 0 and b > 0 else math.nan
-                           for a, b in ((previous[1][0], errors[0]), (previous[1][2], errors[2])))
-        rows.append(ConvergenceRow(case, solver, reference, run.shape, run.h, run.dt, *errors,
-                                   *orders, run.wall_time, int(mask.sum() - keep.sum())))
+            orders = tuple(
+                math.log(a / b) / ratio if a > 0 and b > 0 else math.nan
+                for a, b in ((previous[1][0], errors[0]), (previous[1][2], errors[2]))
+            )
+        rows.append(
+            ConvergenceRow(
+                case,
+                solver,
+                reference,
+                run.shape,
+                run.h,
+                run.dt,
+                *errors,
+                *orders,
+                run.wall_time,
+                int(mask.sum() - keep.sum()),
+            )
+        )
         previous = (run, errors)
     return rows
 
 
-def pointmass_study(spacings=(1 / 4, 1 / 8, 1 / 16, 1 / 32),
-                    solvers=("splitting", "implicit", "hjb"), band: float = 5.0,
-                    richardson=("splitting", "implicit")) -> ConvergenceTable:
+def pointmass_study(
+    spacings=(1 / 4, 1 / 8, 1 / 16, 1 / 32),
+    solvers=("splitting", "implicit", "hjb"),
+    band: float = 5.0,
+    richardson=("splitting", "implicit"),
+) -> ConvergenceTable:
     """Every solver against the Riccati solution on PointMass, over grid spacings ``spacings``.
 
     For the z-space solvers named in ``richardson`` also their z extrapolated across successive
@@ -201,16 +230,33 @@ def pointmass_study(spacings=(1 / 4, 1 / 8, 1 / 16, 1 / 32),
     rows = []
     for solver in solvers:
         runs, solutions = zip(*(_run(solver, pointmass_problem(h), points) for h in spacings))
-        rows += _rows("pointmass", solver, "riccati", runs, [v_exact] * len(runs),
-                      [u_exact] * len(runs), mask)
+        rows += _rows(
+            "pointmass", solver, "riccati", runs, [v_exact] * len(runs), [u_exact] * len(runs), mask
+        )
         if solver in richardson and len(runs) > 1:
             extrapolated = []
             for k in range(1, len(runs)):
                 value, policy, valid = richardson_z(solutions[k], solutions[k - 1], points)
-                extrapolated.append(_Run(runs[k].shape, runs[k].h, runs[k].dt, value, policy,
-                                         runs[k].wall_time + runs[k - 1].wall_time, valid))
-            rows += _rows("pointmass", f"{solver}+richardson", "riccati", extrapolated,
-                          [v_exact] * len(extrapolated), [u_exact] * len(extrapolated), mask)
+                extrapolated.append(
+                    _Run(
+                        runs[k].shape,
+                        runs[k].h,
+                        runs[k].dt,
+                        value,
+                        policy,
+                        runs[k].wall_time + runs[k - 1].wall_time,
+                        valid,
+                    )
+                )
+            rows += _rows(
+                "pointmass",
+                f"{solver}+richardson",
+                "riccati",
+                extrapolated,
+                [v_exact] * len(extrapolated),
+                [u_exact] * len(extrapolated),
+                mask,
+            )
     return ConvergenceTable(tuple(rows), int(mask.sum()), band)
 
 
@@ -232,8 +278,9 @@ def richardson_estimate(fields, mask, order=None) -> tuple[np.ndarray, float]:
     return fields[-1] + (fields[-1] - fields[-2]) / (2.0**order - 1.0), order
 
 
-def pendulum_study(sizes=(64, 128, 256), solvers=("splitting", "hjb"), band: float = 5.0,
-                   **problem_options) -> ConvergenceTable:
+def pendulum_study(
+    sizes=(64, 128, 256), solvers=("splitting", "hjb"), band: float = 5.0, **problem_options
+) -> ConvergenceTable:
     """The z-space and HJB solvers on the pendulum (:func:`pendulum_problem`), ``sizes`` nodes per
     angle (doubling), against Richardson estimates (:func:`richardson_estimate`, order observed
     from the last three grids) and each other.
@@ -246,8 +293,10 @@ def pendulum_study(sizes=(64, 128, 256), solvers=("splitting", "hjb"), band: flo
     if len(sizes) < 2:
         raise ValueError("pendulum_study needs at least two grid sizes for a Richardson estimate")
     points = pendulum_points()
-    runs = {s: [_run(s, pendulum_problem(n, **problem_options), points)[0] for n in sizes]
-            for s in solvers}
+    runs = {
+        s: [_run(s, pendulum_problem(n, **problem_options), points)[0] for n in sizes]
+        for s in solvers
+    }
     finest = runs[solvers[0]][-1].value
     mask = finest < finest.min() + band
     estimate, notes = {}, []
@@ -255,18 +304,33 @@ def pendulum_study(sizes=(64, 128, 256), solvers=("splitting", "hjb"), band: flo
         v_R, p_v = richardson_estimate([run.value for run in r], mask)
         u_R, p_u = richardson_estimate([run.policy for run in r], mask)
         estimate[s] = (v_R, u_R)
-        notes.append(f"{s} Richardson estimate with observed order p(v) = {p_v:.2f}, "
-                     f"p(u) = {p_u:.2f}")
+        notes.append(
+            f"{s} Richardson estimate with observed order p(v) = {p_v:.2f}, p(u) = {p_u:.2f}"
+        )
     rows = []
     for s in solvers:
         count = len(runs[s])
         for other in solvers:
             name = "own richardson" if other == s else f"{other} richardson"
-            rows += _rows("pendulum", s, name, runs[s], [estimate[other][0]] * count,
-                          [estimate[other][1]] * count, mask)
-        for other in solvers[solvers.index(s) + 1:]:  # each pair once
-            rows += _rows("pendulum", s, f"{other} same grid", runs[s],
-                          [r.value for r in runs[other]], [r.policy for r in runs[other]], mask)
+            rows += _rows(
+                "pendulum",
+                s,
+                name,
+                runs[s],
+                [estimate[other][0]] * count,
+                [estimate[other][1]] * count,
+                mask,
+            )
+        for other in solvers[solvers.index(s) + 1 :]:  # each pair once
+            rows += _rows(
+                "pendulum",
+                s,
+                f"{other} same grid",
+                runs[s],
+                [r.value for r in runs[other]],
+                [r.policy for r in runs[other]],
+                mask,
+            )
     return ConvergenceTable(tuple(rows), int(mask.sum()), band, tuple(notes))
 
 
@@ -287,10 +351,20 @@ def plot_convergence(tables, path=None):
             h = [r.h for r in rows]
             hs += h
             color = f"C{k % 10}"
-            ax.loglog(h, [r.value_max for r in rows], "o-", color=color,
-                      label=f"{solver} vs {reference}: max|Δv|")
-            ax.loglog(h, [r.policy_max for r in rows], "s--", color=color,
-                      label=f"{solver} vs {reference}: max|Δu|")
+            ax.loglog(
+                h,
+                [r.value_max for r in rows],
+                "o-",
+                color=color,
+                label=f"{solver} vs {reference}: max|Δv|",
+            )
+            ax.loglog(
+                h,
+                [r.policy_max for r in rows],
+                "s--",
+                color=color,
+                label=f"{solver} vs {reference}: max|Δu|",
+            )
         guide = np.array([min(hs), max(hs)])
         ax.loglog(guide, guide / guide.max(), "k:", label="slope 1")
         ax.set_xlabel("grid spacing h")
@@ -335,21 +409,26 @@ class TemperatureStudy:
 
     def format(self) -> str:
         """One line per temperature: span of v in units of λ and the underflowed nodes."""
-        head = (f"{'λ':>6} {'span(v_hjb)/λ':>14} {'span(v_z)/λ':>12} {'underflowed nodes':>18} "
-                f"{'max|v_z − v_hjb| at ω = 0':>26}")
+        head = (
+            f"{'λ':>6} {'span(v_hjb)/λ':>14} {'span(v_z)/λ':>12} {'underflowed nodes':>18} "
+            f"{'max|v_z − v_hjb| at ω = 0':>26}"
+        )
         lines = [head]
         for k, lam in enumerate(self.temperatures):
             finite = np.isfinite(self.value_z[k])
             gap = np.abs(self.value_z[k] - self.value_hjb[k])[finite]
-            lines.append(f"{lam:6.3g} {self.value_span[k] / lam:14.1f} "
-                         f"{self.value_span_z[k] / lam:12.1f} "
-                         f"{self.underflow_nodes[k]:>8d} of {self.grid_size:<7d} "
-                         f"{gap.max() if gap.size else math.nan:26.3f}")
+            lines.append(
+                f"{lam:6.3g} {self.value_span[k] / lam:14.1f} "
+                f"{self.value_span_z[k] / lam:12.1f} "
+                f"{self.underflow_nodes[k]:>8d} of {self.grid_size:<7d} "
+                f"{gap.max() if gap.size else math.nan:26.3f}"
+            )
         return "\n".join(lines)
 
 
-def temperature_study(temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), n: int = 128,
-                      **problem_options) -> TemperatureStudy:
+def temperature_study(
+    temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), n: int = 128, **problem_options
+) -> TemperatureStudy:
     """Solve :func:`pendulum_problem` (``n`` nodes per angle) at each temperature with the
     splitting z solver and the HJB solver, and sample both along ω = 0 at t = 0."""
     theta = np.linspace(-math.pi, math.pi, 361)[:-1]
@@ -370,10 +449,15 @@ def temperature_study(temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), n: int = 128,
         span.append(float(np.ptp(nonlinear.values[0])))
         value_z = linear.value_nodes(0)
         span_z.append(float(np.ptp(value_z[np.isfinite(value_z)])))
-    return TemperatureStudy(np.array(temperatures, dtype=float), theta,
-                            **{k: np.array(v) for k, v in fields.items()},
-                            underflow_nodes=np.array(underflow), value_span=np.array(span),
-                            value_span_z=np.array(span_z), grid_size=pendulum_problem(n).grid.size)
+    return TemperatureStudy(
+        np.array(temperatures, dtype=float),
+        theta,
+        **{k: np.array(v) for k, v in fields.items()},
+        underflow_nodes=np.array(underflow),
+        value_span=np.array(span),
+        value_span_z=np.array(span_z),
+        grid_size=pendulum_problem(n).grid.size,
+    )
 
 
 def plot_temperature(study: TemperatureStudy, path=None):
@@ -385,8 +469,9 @@ def plot_temperature(study: TemperatureStudy, path=None):
     for k, lam in enumerate(study.temperatures):
         color = f"C{k % 10}"
         value_z = np.where(np.isfinite(study.value_z[k]), study.value_z[k], np.nan)
-        label = f"λ = {lam:g}" + (f" ({study.underflow_nodes[k]} nodes underflow)"
-                                  if study.underflow_nodes[k] else "")
+        label = f"λ = {lam:g}" + (
+            f" ({study.underflow_nodes[k]} nodes underflow)" if study.underflow_nodes[k] else ""
+        )
         ax_v.plot(study.theta, value_z, "-", color=color, label=label)
         ax_v.plot(study.theta, study.value_hjb[k], "--", color=color)
         ax_u.plot(study.theta, study.policy_z[k], "-", color=color, label=f"λ = {lam:g}")
@@ -458,13 +543,18 @@ class CertifiedStudy:
     def format(self) -> str:
         v, se = self.truth.optimal_value, self.truth.optimal_value_se
         scheme, n, dt = self.proposal
-        lines = [f"certified optimum v*({np.array2string(self.start, precision=3)}) = {v:.3f} ± "
-                 f"{se:.3f} (SE): proposal {scheme} n = {n}"
-                 + (f" dt {dt:g}" if dt is not None else "") + f", {self.truth.n_samples} "
-                 f"samples at Δt = {self.truth.dt:g}, effective sample size "
-                 f"{self.truth.effective_sample_size:.0f}"]
-        head = (f"{'scheme':<16}{'grid':>10}{'dt':>8}{'steps':>6}{'time s':>8}{'predicted':>10}"
-                f"{'error':>8}{'policy cost':>12}{'± SE':>6}{'gap':>7}{'ESS':>6}")
+        lines = [
+            f"certified optimum v*({np.array2string(self.start, precision=3)}) = {v:.3f} ± "
+            f"{se:.3f} (SE): proposal {scheme} n = {n}"
+            + (f" dt {dt:g}" if dt is not None else "")
+            + f", {self.truth.n_samples} "
+            f"samples at Δt = {self.truth.dt:g}, effective sample size "
+            f"{self.truth.effective_sample_size:.0f}"
+        ]
+        head = (
+            f"{'scheme':<16}{'grid':>10}{'dt':>8}{'steps':>6}{'time s':>8}{'predicted':>10}"
+            f"{'error':>8}{'policy cost':>12}{'± SE':>6}{'gap':>7}{'ESS':>6}"
+        )
         lines += [head, "-" * len(head)]
         for r in self.rows:
             gap_se = math.hypot(r.policy_cost_se, se)
@@ -473,14 +563,23 @@ class CertifiedStudy:
                 f"{r.wall_time:8.2f}{r.predicted:10.2f}{100 * (r.predicted - v) / v:7.1f}%"
                 f"{r.policy_cost:12.2f}{r.policy_cost_se:6.2f}{r.policy_cost - v:7.2f}"
                 f"{100 * r.effective_sample_size / r.n_samples:5.0f}%"
-                + ("" if r.policy_cost - v > 2 * gap_se else "  (gap within 2 SE of 0)"))
+                + ("" if r.policy_cost - v > 2 * gap_se else "  (gap within 2 SE of 0)")
+            )
         return "\n".join(lines)
 
 
-def certified_study(make_problem, sizes, start, configs=(("splitting", None), ("fitted", None)),
-                    proposal=None, samples: int = 400, truth_samples: int = 2000,
-                    rollout_dt: float | None = None, seed: int = 0,
-                    progress: bool = False) -> CertifiedStudy:
+def certified_study(
+    make_problem,
+    sizes,
+    start,
+    configs=(("splitting", None), ("fitted", None)),
+    proposal=None,
+    samples: int = 400,
+    truth_samples: int = 2000,
+    rollout_dt: float | None = None,
+    seed: int = 0,
+    progress: bool = False,
+) -> CertifiedStudy:
     """Solve ``make_problem(n)`` for each n in ``sizes`` and each (scheme, dt) in ``configs``
     (schemes from :data:`SCHEMES`), and judge each by the certified optimum v*(``start``).
 
@@ -491,8 +590,7 @@ def certified_study(make_problem, sizes, start, configs=(("splitting", None), ("
     it is). ``rollout_dt`` is the Euler–Maruyama step of all rollouts (default T/300).
     """
     start = np.asarray(start, dtype=float)
-    proposal = (configs[-1][0], max(sizes), configs[-1][1]) if proposal is None else \
-        tuple(proposal)
+    proposal = (configs[-1][0], max(sizes), configs[-1][1]) if proposal is None else tuple(proposal)
     say = print if progress else (lambda *a, **k: None)
     solutions = {}
 
@@ -504,20 +602,49 @@ def certified_study(make_problem, sizes, start, configs=(("splitting", None), ("
         return solutions[key]
 
     best = solved(*proposal)
-    truth = certify(best.problem, best.policy, start, truth_samples, dt=rollout_dt,
-                    seed=seed + 1, progress=progress)
+    truth = certify(
+        best.problem,
+        best.policy,
+        start,
+        truth_samples,
+        dt=rollout_dt,
+        seed=seed + 1,
+        progress=progress,
+    )
     say(f"certified optimum {truth.optimal_value:.3f} ± {truth.optimal_value_se:.3f}")
     rows = []
     for n in sizes:
         for scheme, dt in configs:
             sol = solved(scheme, n, dt)
-            own = certify(sol.problem, sol.policy, start, samples, dt=rollout_dt, seed=seed,
-                          progress=progress, min_effective_sample_size=0)  # J and ESS used
+            own = certify(
+                sol.problem,
+                sol.policy,
+                start,
+                samples,
+                dt=rollout_dt,
+                seed=seed,
+                progress=progress,
+                min_effective_sample_size=0,
+            )  # J and ESS used
             d = sol.diagnostics
             label = scheme if dt is None else f"{scheme} dt {dt:g}"
-            rows.append(CertifiedRow(scheme, label, sol.problem.grid.shape, d.dt, d.steps, d.wall_time,
-                                     float(sol.value(start, 0.0)[0]), own.policy_cost,
-                                     own.policy_cost_se, own.effective_sample_size, samples))
-            say(f"  {scheme} n = {n}: predicted {rows[-1].predicted:.3f}, policy cost "
-                f"{own.policy_cost:.3f}")
+            rows.append(
+                CertifiedRow(
+                    scheme,
+                    label,
+                    sol.problem.grid.shape,
+                    d.dt,
+                    d.steps,
+                    d.wall_time,
+                    float(sol.value(start, 0.0)[0]),
+                    own.policy_cost,
+                    own.policy_cost_se,
+                    own.effective_sample_size,
+                    samples,
+                )
+            )
+            say(
+                f"  {scheme} n = {n}: predicted {rows[-1].predicted:.3f}, policy cost "
+                f"{own.policy_cost:.3f}"
+            )
     return CertifiedStudy(start, truth, proposal, tuple(rows))

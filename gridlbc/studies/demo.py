@@ -50,8 +50,9 @@ def plot_fields(solution, path: Path, title: str, t: float = 0.0):
     for ax, (field, label, cmap) in zip(axes, panels):
         if cmap == "RdBu_r":
             lim = np.percentile(np.abs(field), 99)
-            im = ax.imshow(field, origin="lower", extent=extent, aspect="auto", cmap=cmap,
-                           vmin=-lim, vmax=lim)
+            im = ax.imshow(
+                field, origin="lower", extent=extent, aspect="auto", cmap=cmap, vmin=-lim, vmax=lim
+            )
         else:
             im = ax.imshow(field, origin="lower", extent=extent, aspect="auto", cmap=cmap)
         ax.set_title(label)
@@ -63,8 +64,9 @@ def plot_fields(solution, path: Path, title: str, t: float = 0.0):
     plt.close(fig)
 
 
-def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: int = 400,
-             seed: int = 1) -> dict:
+def run_demo(
+    out: Path, grid_size: int = 201, progress: bool = True, n_samples: int = 400, seed: int = 1
+) -> dict:
     """Run the demo; returns the measured numbers and writes figures to ``out``."""
     import matplotlib
 
@@ -82,25 +84,40 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
         sol = solutions[fitting] = solve(problem, progress=progress, fitting=fitting)
         predictions[fitting] = float(sol.value(SWINGUP_START, 0.0)[0])
         d = sol.diagnostics
-        say(f"   {label} {d.method}: {d.steps} steps of dt = {d.dt:.4f} in {d.wall_time:.2f} s; "
-            f"predicted v(x0) = {predictions[fitting]:.3f}")
+        say(
+            f"   {label} {d.method}: {d.steps} steps of dt = {d.dt:.4f} in {d.wall_time:.2f} s; "
+            f"predicted v(x0) = {predictions[fitting]:.3f}"
+        )
     say("2. the certified optimum v*(x0) with each policy as proposal, and the policy's cost J:")
     for fitting, sol in solutions.items():
         started = time.perf_counter()
         predicted = predictions[fitting]
-        cert = certify(problem, sol.policy, SWINGUP_START, n_samples=n_samples,
-                       dt=SWINGUP_ROLLOUT_DT, seed=seed, progress=False)
+        cert = certify(
+            problem,
+            sol.policy,
+            SWINGUP_START,
+            n_samples=n_samples,
+            dt=SWINGUP_ROLLOUT_DT,
+            seed=seed,
+            progress=False,
+        )
         error = (predicted - cert.optimal_value) / cert.optimal_value
-        say(f"   {labels[fitting]}: v* = {cert.optimal_value:.3f} ± {cert.optimal_value_se:.3f} "
+        say(
+            f"   {labels[fitting]}: v* = {cert.optimal_value:.3f} ± {cert.optimal_value_se:.3f} "
             f"(ESS {cert.effective_sample_size:.0f} of {n_samples}), prediction "
             f"{100 * error:+.1f} % of v*, policy cost J = {cert.policy_cost:.3f} ± "
-            f"{cert.policy_cost_se:.3f} ({time.perf_counter() - started:.1f} s)")
+            f"{cert.policy_cost_se:.3f} ({time.perf_counter() - started:.1f} s)"
+        )
         prefix = "" if fitting else "plain_"
-        results.update({f"{prefix}predicted": predicted,
-                        f"{prefix}optimal_value": cert.optimal_value,
-                        f"{prefix}optimal_value_se": cert.optimal_value_se,
-                        f"{prefix}policy_cost": cert.policy_cost,
-                        f"{prefix}relative_error": error})
+        results.update(
+            {
+                f"{prefix}predicted": predicted,
+                f"{prefix}optimal_value": cert.optimal_value,
+                f"{prefix}optimal_value_se": cert.optimal_value_se,
+                f"{prefix}policy_cost": cert.policy_cost,
+                f"{prefix}relative_error": error,
+            }
+        )
     sol = solutions["terminal"]
     d = sol.diagnostics
 
@@ -115,16 +132,24 @@ def run_demo(out: Path, grid_size: int = 201, progress: bool = True, n_samples: 
         a = getattr(combined, name)(X, 0.0)
         b = getattr(direct, name)(X, 0.0)
         errs[name] = float(np.max(np.abs(a - b) / np.maximum(np.abs(b), 1.0)))
-    say(f"3. coordination of two goals (θ = ±0.6): combine vs direct composite solve, max "
-        f"relative difference off-grid: value {errs['value']:.1e}, policy {errs['policy']:.1e}")
+    say(
+        f"3. coordination of two goals (θ = ±0.6): combine vs direct composite solve, max "
+        f"relative difference off-grid: value {errs['value']:.1e}, policy {errs['policy']:.1e}"
+    )
     alpha = combined.blend_weights(np.array([[1.5, 0.0], [-1.5, 0.0]]), 0.0)
     say(f"   blend weights α at θ = +1.5: {alpha[0].round(3)}, at θ = −1.5: {alpha[1].round(3)}")
     results.update(superposition_value=errs["value"], superposition_policy=errs["policy"])
 
-    plot_fields(sol, out / "demo_swingup.png",
-                f"Pendulum swing-up ({problem.grid.describe()}, {d.method}, fitted): t = 0")
-    plot_fields(combined, out / "demo_combined.png",
-                "Linear Bellman combination of two goals θ = ±0.6 (w = 1, 1): t = 0")
+    plot_fields(
+        sol,
+        out / "demo_swingup.png",
+        f"Pendulum swing-up ({problem.grid.describe()}, {d.method}, fitted): t = 0",
+    )
+    plot_fields(
+        combined,
+        out / "demo_combined.png",
+        "Linear Bellman combination of two goals θ = ±0.6 (w = 1, 1): t = 0",
+    )
     say(f"4. figures written to {out}/demo_swingup.png and demo_combined.png")
     return results
 
@@ -145,12 +170,16 @@ demo's 3 s it stops short)."""
 INTERACTIVE_WEIGHTS = (1.0, 1.0, 0.0)
 """Initial weights: swing up to either upright goal, the hanging one switched off."""
 
-INTERACTIVE_LABELS = ("upright, leaning left (θ = −0.4)", "upright, leaning right (θ = +0.4)",
-                      "hanging down (θ = π)")
+INTERACTIVE_LABELS = (
+    "upright, leaning left (θ = −0.4)",
+    "upright, leaning right (θ = +0.4)",
+    "hanging down (θ = π)",
+)
 
 
-def interactive_demo(out, grid_size: int = 101, progress: bool = True,
-                     **page_options) -> PageReport:
+def interactive_demo(
+    out, grid_size: int = 101, progress: bool = True, **page_options
+) -> PageReport:
     """Write the built-in page of ``gridlbc interactive`` to ``out``.
 
     The swing-up pendulum (λ = 1, R = 1) over :data:`INTERACTIVE_HORIZON`, solved on
@@ -162,8 +191,12 @@ def interactive_demo(out, grid_size: int = 101, progress: bool = True,
     problem = swingup_problem(grid_size, horizon=INTERACTIVE_HORIZON)
     goals = [Quadratic(list(c), INTERACTIVE_GOAL_WEIGHTS) for c in INTERACTIVE_GOALS]
     solutions = solve_many(problem, goals, fitting="terminal", progress=progress)
-    options = {"weights": INTERACTIVE_WEIGHTS, "state": SWINGUP_START, "max_bytes": 4_000_000,
-               "labels": INTERACTIVE_LABELS,
-               "title": "Linear Bellman combination, live: pendulum swing-up"}
+    options = {
+        "weights": INTERACTIVE_WEIGHTS,
+        "state": SWINGUP_START,
+        "max_bytes": 4_000_000,
+        "labels": INTERACTIVE_LABELS,
+        "title": "Linear Bellman combination, live: pendulum swing-up",
+    }
     options.update(page_options)
     return write_page(solutions, out, **options)

@@ -77,9 +77,17 @@ def dive_run(problem, policy, label, momentum_scale, dt, certify_samples=0, seed
     certificate = None
     if certify_samples:
         certificate = certify(problem, policy, x0, n_samples=certify_samples, dt=dt, seed=seed)
-    return DiveRun(label, momentum_scale, run.times, run.states[0], run.controls[0],
-                   float(run.costs[0]), float(abs(wrap_angle(final[0]))),
-                   float(np.linalg.norm(wrap_angle(final[1:4]))), certificate)
+    return DiveRun(
+        label,
+        momentum_scale,
+        run.times,
+        run.states[0],
+        run.controls[0],
+        float(run.costs[0]),
+        float(abs(wrap_angle(final[0]))),
+        float(np.linalg.norm(wrap_angle(final[1:4]))),
+        certificate,
+    )
 
 
 def interpolation_weights(offset: float, temperature: float):
@@ -91,8 +99,9 @@ def interpolation_weights(offset: float, temperature: float):
     return projection(target, components, temperature=temperature)
 
 
-def run_interpolation(offset=0.25, dt=0.005, certify_samples=0, seed=0, temperature=None,
-                      **optimize_options):
+def run_interpolation(
+    offset=0.25, dt=0.005, certify_samples=0, seed=0, temperature=None, **optimize_options
+):
     """Fig. 6: under- and over-rotating dives combined to enter vertically. Returns
     (projection, runs). ``optimize_options`` go to :func:`gridlbc.trajectory.optimize`."""
     kwargs = {} if temperature is None else {"temperature": temperature}
@@ -105,25 +114,51 @@ def run_interpolation(offset=0.25, dt=0.005, certify_samples=0, seed=0, temperat
         parts.append((problem, trajectory, expand(problem, trajectory)))
     fit = interpolation_weights(offset, target.temperature)
     w = fit.weights
-    runs = [dive_run(target, combine([p[2] for p in parts], w).policy, "LBC", 1.0, dt,
-                     certify_samples, seed),
-            dive_run(target, naive_blend([p[2] for p in parts], w).policy, "naive blend", 1.0,
-                     dt, certify_samples, seed)]
-    for name, (problem, trajectory, component) in zip(("under-rotating", "over-rotating"), parts):
-        runs.append(dive_run(target, component.policy, f"{name} tracker", 1.0, dt,
-                             certify_samples, seed))
-    best = optimize(target, x0, seed=seed, initial_controls=parts[0][1].controls,
-                    **optimize_options)
-    runs.append(dive_run(target, expand(target, best).policy, "vertical optimum", 1.0, dt,
-                         certify_samples, seed))
+    runs = [
+        dive_run(
+            target, combine([p[2] for p in parts], w).policy, "LBC", 1.0, dt, certify_samples, seed
+        ),
+        dive_run(
+            target,
+            naive_blend([p[2] for p in parts], w).policy,
+            "naive blend",
+            1.0,
+            dt,
+            certify_samples,
+            seed,
+        ),
+    ]
+    for name, (_problem, _trajectory, component) in zip(("under-rotating", "over-rotating"), parts):
+        runs.append(
+            dive_run(target, component.policy, f"{name} tracker", 1.0, dt, certify_samples, seed)
+        )
+    best = optimize(
+        target, x0, seed=seed, initial_controls=parts[0][1].controls, **optimize_options
+    )
+    runs.append(
+        dive_run(
+            target, expand(target, best).policy, "vertical optimum", 1.0, dt, certify_samples, seed
+        )
+    )
     # What LBC aims at: the composite entry cost −λ log Σ w_i exp(−g_i/λ), optimised directly
     # and costed on the vertical target.
-    composite = target.replace(terminal_cost=CompositeCost(
-        tuple(p[0].terminal_cost for p in parts), w, target.temperature))
-    aimed = optimize(composite, x0, seed=seed, initial_controls=parts[0][1].controls,
-                     **optimize_options)
-    runs.append(dive_run(target, expand(composite, aimed).policy, "composite optimum", 1.0, dt,
-                         certify_samples, seed))
+    composite = target.replace(
+        terminal_cost=CompositeCost(tuple(p[0].terminal_cost for p in parts), w, target.temperature)
+    )
+    aimed = optimize(
+        composite, x0, seed=seed, initial_controls=parts[0][1].controls, **optimize_options
+    )
+    runs.append(
+        dive_run(
+            target,
+            expand(composite, aimed).policy,
+            "composite optimum",
+            1.0,
+            dt,
+            certify_samples,
+            seed,
+        )
+    )
     return fit, runs
 
 
@@ -131,23 +166,33 @@ def composite_profile(offset, temperature, angles):
     """The composite entry cost −λ log Σ w_i exp(−g_i/λ) of the interpolation, at arms' angles
     ``angles`` with the body straight: where LBC's combined goal has its minima."""
     w = interpolation_weights(offset, temperature).weights
-    costs = tuple(diver_problem(c, temperature=temperature).terminal_cost
-                  for c in (-offset, offset))
+    costs = tuple(
+        diver_problem(c, temperature=temperature).terminal_cost for c in (-offset, offset)
+    )
     states = np.zeros((len(angles), 8))
     states[:, 0] = angles
     return CompositeCost(costs, w, temperature)(states)
 
 
-def run_coordination(scales=(0.85, 1.0, 1.15), tests=None, dt=0.005, certify_samples=0, seed=0,
-                     temperature=None, n_intervals=100, **optimize_options):
+def run_coordination(
+    scales=(0.85, 1.0, 1.15),
+    tests=None,
+    dt=0.005,
+    certify_samples=0,
+    seed=0,
+    temperature=None,
+    n_intervals=100,
+    **optimize_options,
+):
     """Fig. 8: vertical dives from κ = ``scales`` combined with w = 1, tested from ``tests``
     (default eight κ from 0.8 to 1.2), also with the paper's deterministic v̄ in α. Returns
     (components, components with deterministic v̄, runs)."""
     kwargs = {} if temperature is None else {"temperature": temperature}
     problem = diver_problem(0.0, **kwargs)
     optimize_options["n_intervals"] = n_intervals
-    trajectories = [optimize(problem, diver_start(kappa), seed=seed, **optimize_options)
-                    for kappa in scales]
+    trajectories = [
+        optimize(problem, diver_start(kappa), seed=seed, **optimize_options) for kappa in scales
+    ]
     components = [expand(problem, trajectory) for trajectory in trajectories]
     deterministic = [expand(problem, trajectory, stochastic=False) for trajectory in trajectories]
     lbc = combine(components).policy
@@ -159,18 +204,26 @@ def run_coordination(scales=(0.85, 1.0, 1.15), tests=None, dt=0.005, certify_sam
     for kappa in tests:
         runs.append(dive_run(problem, lbc, "LBC", kappa, dt, certify_samples, seed))
         lbc_tape = runs[-1].controls
-        runs.append(dive_run(problem, lbc_deterministic, "LBC, deterministic v̄", kappa, dt,
-                             certify_samples, seed))
+        runs.append(
+            dive_run(
+                problem, lbc_deterministic, "LBC, deterministic v̄", kappa, dt, certify_samples, seed
+            )
+        )
         runs.append(dive_run(problem, naive, "naive blend", kappa, dt, certify_samples, seed))
-        runs.append(dive_run(problem, single, "single tracker (κ = 1)", kappa, dt,
-                             certify_samples, seed))
+        runs.append(
+            dive_run(problem, single, "single tracker (κ = 1)", kappa, dt, certify_samples, seed)
+        )
         # Started from LBC's own tape (among the built-in starts), so that the optimum found is
         # at least as good as LBC's open loop.
         start = lbc_tape[((np.arange(n_intervals) + 0.5) * len(lbc_tape) / n_intervals).astype(int)]
-        best = optimize(problem, diver_start(kappa), seed=seed, initial_controls=start,
-                        **optimize_options)
-        runs.append(dive_run(problem, expand(problem, best).policy, "optimum", kappa, dt,
-                             certify_samples, seed))
+        best = optimize(
+            problem, diver_start(kappa), seed=seed, initial_controls=start, **optimize_options
+        )
+        runs.append(
+            dive_run(
+                problem, expand(problem, best).policy, "optimum", kappa, dt, certify_samples, seed
+            )
+        )
     return components, deterministic, runs
 
 
@@ -187,10 +240,17 @@ _FLIGHT = (3.0, 4.0, 9.81)
 """Horizontal and initial vertical speed of the centre of mass (m/s) and g, for drawing only: the
 dynamics of the body about its centre of mass do not depend on them."""
 
-_COLORS = {"LBC": "tab:blue", "naive blend": "tab:red", "under-rotating tracker": "tab:olive",
-           "over-rotating tracker": "tab:purple", "vertical optimum": "black",
-           "composite optimum": "tab:green", "single tracker (κ = 1)": "tab:orange",
-           "optimum": "black", "LBC, deterministic v̄": "tab:cyan"}
+_COLORS = {
+    "LBC": "tab:blue",
+    "naive blend": "tab:red",
+    "under-rotating tracker": "tab:olive",
+    "over-rotating tracker": "tab:purple",
+    "vertical optimum": "black",
+    "composite optimum": "tab:green",
+    "single tracker (κ = 1)": "tab:orange",
+    "optimum": "black",
+    "LBC, deterministic v̄": "tab:cyan",
+}
 
 
 def _world_points(states, times) -> np.ndarray:
@@ -201,8 +261,9 @@ def _world_points(states, times) -> np.ndarray:
 
 
 def _draw_body(ax, points, color, alpha=1.0, lw=2.5):
-    ax.plot(points[:, 0], points[:, 1], "-", color=color, alpha=alpha, lw=lw,
-            solid_capstyle="round")
+    ax.plot(
+        points[:, 0], points[:, 1], "-", color=color, alpha=alpha, lw=lw, solid_capstyle="round"
+    )
     ax.plot(points[0, 0], points[0, 1], "o", color=color, alpha=alpha, ms=4)  # the hands
 
 
@@ -213,39 +274,75 @@ def plot_study(interpolation, coordination, path=None):
 
     fig = plt.figure(figsize=(15, 9))
     grid = fig.add_gridspec(2, 4, height_ratios=[1, 1])
-    shown = [r for r in interpolation if r.label in ("LBC", "naive blend", "vertical optimum",
-                                                     "composite optimum")]
+    shown = [
+        r
+        for r in interpolation
+        if r.label in ("LBC", "naive blend", "vertical optimum", "composite optimum")
+    ]
     for col, run in enumerate(shown):
         ax = fig.add_subplot(grid[0, col])
         points = _world_points(run.states, run.times)
         for k in np.linspace(0, len(run.times) - 1, 8).astype(int):
-            _draw_body(ax, points[k], _COLORS[run.label],
-                       alpha=0.2 + 0.8 * k / (len(run.times) - 1))
-        ax.set(aspect="equal", xticks=[], yticks=[], xlim=(-1.5, 4.5), ylim=(-2.8, 2.4),
-               title=f"{run.label}: J = {run.cost:.3g}\nentry {np.degrees(run.entry_error):.0f}° "
-                     f"from vertical, shape {np.degrees(run.shape_error):.0f}°")
-    fig.text(0.01, 0.97, "Fig. 6, interpolation: under- and over-rotating dives combined to enter "
-             "vertically (hands dotted, light to dark in time)", fontsize=11)
+            _draw_body(
+                ax, points[k], _COLORS[run.label], alpha=0.2 + 0.8 * k / (len(run.times) - 1)
+            )
+        ax.set(
+            aspect="equal",
+            xticks=[],
+            yticks=[],
+            xlim=(-1.5, 4.5),
+            ylim=(-2.8, 2.4),
+            title=f"{run.label}: J = {run.cost:.3g}\nentry {np.degrees(run.entry_error):.0f}° "
+            f"from vertical, shape {np.degrees(run.shape_error):.0f}°",
+        )
+    fig.text(
+        0.01,
+        0.97,
+        "Fig. 6, interpolation: under- and over-rotating dives combined to enter "
+        "vertically (hands dotted, light to dark in time)",
+        fontsize=11,
+    )
     ax8 = fig.add_subplot(grid[1, :2])
     kappas = sorted({r.momentum_scale for r in coordination})
     for row, label in enumerate(("LBC", "single tracker (κ = 1)")):
         for col, kappa in enumerate(kappas):
             run = next(r for r in coordination if r.label == label and r.momentum_scale == kappa)
-            _draw_body(ax8, diver().positions(run.states[-1:])[0] + [col * 1.3, -row * 2.8],
-                       _COLORS[label])
+            _draw_body(
+                ax8, diver().positions(run.states[-1:])[0] + [col * 1.3, -row * 2.8], _COLORS[label]
+            )
         ax8.text(-0.9, -row * 2.8, label, rotation=90, va="center", ha="right", fontsize=9)
     for col, kappa in enumerate(kappas):
         ax8.text(col * 1.3, 1.5, f"κ = {kappa:.2f}", ha="center", fontsize=8)
-    ax8.set(aspect="equal", xticks=[], yticks=[], ylim=(-4.3, 1.8),
-            title="Fig. 8, coordination: entry poses (vertical: straight, hands down)")
+    ax8.set(
+        aspect="equal",
+        xticks=[],
+        yticks=[],
+        ylim=(-4.3, 1.8),
+        title="Fig. 8, coordination: entry poses (vertical: straight, hands down)",
+    )
     axc = fig.add_subplot(grid[1, 2:])
-    for label in ("LBC", "LBC, deterministic v̄", "naive blend", "single tracker (κ = 1)",
-                  "optimum"):
+    for label in (
+        "LBC",
+        "LBC, deterministic v̄",
+        "naive blend",
+        "single tracker (κ = 1)",
+        "optimum",
+    ):
         rows = sorted((r for r in coordination if r.label == label), key=lambda r: r.momentum_scale)
-        axc.plot([r.momentum_scale for r in rows], [r.cost for r in rows], "o-",
-                 color=_COLORS[label], label=label, ms=4)
-    axc.set(xlabel="take-off angular momentum κ (× nominal)", ylabel="noise-free cost J",
-            yscale="log", title="coordination: cost against κ (components at 0.85, 1, 1.15)")
+        axc.plot(
+            [r.momentum_scale for r in rows],
+            [r.cost for r in rows],
+            "o-",
+            color=_COLORS[label],
+            label=label,
+            ms=4,
+        )
+    axc.set(
+        xlabel="take-off angular momentum κ (× nominal)",
+        ylabel="noise-free cost J",
+        yscale="log",
+        title="coordination: cost against κ (components at 0.85, 1, 1.15)",
+    )
     axc.legend(fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
     if path is not None:
@@ -259,8 +356,9 @@ def animate_dives(runs, path, fps: int = 25):
     from matplotlib.animation import FuncAnimation, PillowWriter
 
     times = runs[0].times
-    frames = np.minimum(np.searchsorted(times, np.arange(0.0, times[-1] + 1e-9, 1.0 / fps)),
-                        len(times) - 1)
+    frames = np.minimum(
+        np.searchsorted(times, np.arange(0.0, times[-1] + 1e-9, 1.0 / fps)), len(times) - 1
+    )
     frames = np.concatenate([frames, np.full(fps, frames[-1])])  # hold the entry for 1 s
     fig, axes = plt.subplots(1, len(runs), figsize=(3.2 * len(runs), 4.2), squeeze=False)
     bodies, titles = [], []
@@ -268,7 +366,7 @@ def animate_dives(runs, path, fps: int = 25):
         points = _world_points(run.states, run.times)
         lo, hi = points.reshape(-1, 2).min(0) - 0.3, points.reshape(-1, 2).max(0) + 0.3
         ax.set(aspect="equal", xlim=(lo[0], hi[0]), ylim=(lo[1], hi[1]), xticks=[], yticks=[])
-        line, = ax.plot([], [], "-o", color="tab:blue", lw=3, ms=3)
+        (line,) = ax.plot([], [], "-o", color="tab:blue", lw=3, ms=3)
         bodies.append((line, points))
         titles.append(ax.set_title(run.label, fontsize=9))
 

@@ -84,9 +84,13 @@ def cost_reward_space(out, n: int = 201) -> list[Path]:
     solution = solve(problem)
     path = Path(out) / "cost_reward_space.png"
     path.parent.mkdir(parents=True, exist_ok=True)
-    plot_fields(solution, path, f"Pendulum swing-up, cost space vs reward space "
-                f"({problem.grid.describe()}, T = {problem.horizon:g}, λ = "
-                f"{problem.temperature:g}, g = 10θ² + 0.5ω²): t = 0")
+    plot_fields(
+        solution,
+        path,
+        f"Pendulum swing-up, cost space vs reward space "
+        f"({problem.grid.describe()}, T = {problem.horizon:g}, λ = "
+        f"{problem.temperature:g}, g = 10θ² + 0.5ω²): t = 0",
+    )
     return [path]
 
 
@@ -113,8 +117,9 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
     plt = _pyplot()
     lam = temperature
     x = np.linspace(-1.5, 2.5, points)[:, None]
-    fig, axes = plt.subplots(2, len(PROJECTION_CASES), figsize=(17, 8), sharex=True,
-                             constrained_layout=True)
+    fig, axes = plt.subplots(
+        2, len(PROJECTION_CASES), figsize=(17, 8), sharex=True, constrained_layout=True
+    )
     for col, (title, centres, W, target_centre) in enumerate(PROJECTION_CASES):
         components = [Quadratic([c], [W]) for c in centres]
         target = Quadratic([target_centre], [W])
@@ -127,8 +132,12 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
         blended = CompositeCost(tuple(components), w, lam)(x)
         top, bottom = axes[:, col]
         for i, h_i in enumerate(h):
-            top.plot(x, h_i, color=f"C{i}", label=f"h{i + 1} (c = {centres[i]:g}), "
-                     f"w{i + 1} = {w[i]:+.3f}")
+            top.plot(
+                x,
+                h_i,
+                color=f"C{i}",
+                label=f"h{i + 1} (c = {centres[i]:g}), w{i + 1} = {w[i]:+.3f}",
+            )
             bottom.plot(x, components[i](x), color=f"C{i}", label=f"g{i + 1}")
         top.plot(x, np.exp(-target(x) / lam), "k--", label=f"target h̄ (c = {target_centre:g})")
         top.plot(x, sum(wi * hi for wi, hi in zip(w, h)), "C3", lw=2, label="Σ wᵢ hᵢ")
@@ -137,19 +146,42 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
         bottom.plot(x, blended, "C3", lw=2, label="−λ log Σ wᵢ hᵢ (what LBC optimises)")
         finite = np.isfinite(blended)
         minima = np.flatnonzero((blended[1:-1] < blended[:-2]) & (blended[1:-1] < blended[2:])) + 1
-        bottom.plot(x[minima, 0], blended[minima], "v", color="C3", ms=9,
-                    label=f"its minima: x = {', '.join(f'{v:.2f}' for v in x[minima, 0])}")
+        bottom.plot(
+            x[minima, 0],
+            blended[minima],
+            "v",
+            color="C3",
+            ms=9,
+            label=f"its minima: x = {', '.join(f'{v:.2f}' for v in x[minima, 0])}",
+        )
         if not finite.all():
-            bottom.axvspan(x[~finite, 0].min(), x[~finite, 0].max(), color="C3", alpha=0.1,
-                           label="Σ wᵢ hᵢ ≤ 0: cost +∞")
-        top.set_title(f"{title}\nΣw = {w.sum():.2f}, residual ‖h̄ − Σwh‖/‖h̄‖ = "
-                      f"{result.residual:.2f}", fontsize=10)
-        verdict = ("gridlbc.project warns:\n" + "\n".join(
-            "• " + textwrap.fill(m, 52, subsequent_indent="  ") for m in said)
-            if said else "gridlbc.project: no warning")
-        top.text(0.02, 0.97, verdict, transform=top.transAxes, va="top", fontsize=7.5,
-                 color="C3" if said else "0.3",
-                 bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.8"})
+            bottom.axvspan(
+                x[~finite, 0].min(),
+                x[~finite, 0].max(),
+                color="C3",
+                alpha=0.1,
+                label="Σ wᵢ hᵢ ≤ 0: cost +∞",
+            )
+        top.set_title(
+            f"{title}\nΣw = {w.sum():.2f}, residual ‖h̄ − Σwh‖/‖h̄‖ = {result.residual:.2f}",
+            fontsize=10,
+        )
+        verdict = (
+            "gridlbc.project warns:\n"
+            + "\n".join("• " + textwrap.fill(m, 52, subsequent_indent="  ") for m in said)
+            if said
+            else "gridlbc.project: no warning"
+        )
+        top.text(
+            0.02,
+            0.97,
+            verdict,
+            transform=top.transAxes,
+            va="top",
+            fontsize=7.5,
+            color="C3" if said else "0.3",
+            bbox={"facecolor": "white", "alpha": 0.85, "edgecolor": "0.8"},
+        )
         top.set_ylabel("reward h = exp(−g/λ)")
         top.set_ylim(-0.7 if w.min() < 0 else -0.05, 1.45)
         bottom.set_ylabel("cost g")
@@ -158,8 +190,10 @@ def projection(out, points: int = 801, temperature: float = 1.0) -> list[Path]:
         bottom.set_ylim(-0.5, 8.5)
         top.legend(fontsize=8, loc="upper right")
         bottom.legend(fontsize=8, loc="upper center", ncol=2, framealpha=0.95)
-    fig.suptitle(f"Projecting a target terminal reward onto two component rewards (λ = {lam:g}, "
-                 "g = W (x − c)²): when the basis represents it and when it does not")
+    fig.suptitle(
+        f"Projecting a target terminal reward onto two component rewards (λ = {lam:g}, "
+        "g = W (x − c)²): when the basis represents it and when it does not"
+    )
     return [_save(fig, out, "projection.png")]
 
 
@@ -190,8 +224,15 @@ def route_signed_final_y(run) -> np.ndarray:
     return side * run.final_states[:, 1]
 
 
-def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces: int = 30,
-                  dt: float = 0.01, restarts: int = 32) -> list[Path]:
+def interpolation(
+    out,
+    n: int = 151,
+    samples: int = 32000,
+    seed: int = 0,
+    traces: int = 30,
+    dt: float = 0.01,
+    restarts: int = 32,
+) -> list[Path]:
     """An intermediate goal behind a wall: LBC vs the naive blend vs each component alone.
 
     A point in the plane (:func:`~gridlbc.studies.problems.obstacle_problem`: dx = u dt + noise,
@@ -233,18 +274,35 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     *grid_components, direct = solve_many(problem, [*goals, problem.terminal_cost], dt=dt)
     exact = combine(grid_components, fit.weights)
     beta = lbc.blend_weights(start, 0.0)[0]
-    names = ("LBC Σαᵢuᵢ", "naive blend Σwᵢuᵢ/Σwᵢ", f"upper goal (y = {OBSTACLE_GOALS[0][1]:+g}) alone",
-             f"lower goal (y = {OBSTACLE_GOALS[1][1]:+g}) alone", "exact LBC (grid components)",
-             "direct solve of ḡ (grid)")
-    policies = dict(zip(names, (lbc.policy, naive.policy, upper.policy, lower.policy,
-                                exact.policy, direct.policy)))
+    names = (
+        "LBC Σαᵢuᵢ",
+        "naive blend Σwᵢuᵢ/Σwᵢ",
+        f"upper goal (y = {OBSTACLE_GOALS[0][1]:+g}) alone",
+        f"lower goal (y = {OBSTACLE_GOALS[1][1]:+g}) alone",
+        "exact LBC (grid components)",
+        "direct solve of ḡ (grid)",
+    )
+    policies = dict(
+        zip(
+            names,
+            (lbc.policy, naive.policy, upper.policy, lower.policy, exact.policy, direct.policy),
+        )
+    )
     colors = dict(zip(names, ("C0", "C1", "0.35", "0.65", "C4", "C2")))
     # the two controllers compared bold, the grid references dashed
-    styles = {k: {"color": colors[k], "lw": 2.5 if k in names[:2] else 1.3,
-                  "ls": "--" if k in names[4:] else "-"} for k in names}
+    styles = {
+        k: {
+            "color": colors[k],
+            "lw": 2.5 if k in names[:2] else 1.3,
+            "ls": "--" if k in names[4:] else "-",
+        }
+        for k in names
+    }
     task = lbc.problem  # the composite task g_w
-    certificates = {k: certify(task, p, start, samples, dt=dt, seed=seed, progress=False)
-                    for k, p in policies.items()}
+    certificates = {
+        k: certify(task, p, start, samples, dt=dt, seed=seed, progress=False)
+        for k, p in policies.items()
+    }
     # Common random numbers: one seed drives every controller with the same noise, so the
     # per-sample differences of realised cost give a paired SE of J(u) − J(LBC).
     runs = {k: simulate(task, p, start, samples, dt=dt, seed=seed + 1) for k, p in policies.items()}
@@ -253,8 +311,9 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
         d = run.costs - runs[names[0]].costs
         paired[k] = (d.mean(), d.std(ddof=1) / np.sqrt(samples))
     inside = {k: _inside_wall(problem, run) for k, run in runs.items()}
-    distance = {k: np.linalg.norm(run.final_states - OBSTACLE_TARGET, axis=1)
-                for k, run in runs.items()}
+    distance = {
+        k: np.linalg.norm(run.final_states - OBSTACLE_TARGET, axis=1) for k, run in runs.items()
+    }
     stop = {k: route_signed_final_y(run) for k, run in runs.items()}
 
     fig = plt.figure(figsize=(24, 13), constrained_layout=True)
@@ -269,18 +328,26 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
     panels = ((top[0], names[:1]), (top[1], names[1:2]), (top[2], names[2:4]))
     for ax, keys in panels:
         shading = ax.contourf(X, Y, value, levels, cmap="Greys_r", extend="max", alpha=0.8)
-        ax.contour(X, Y, wall(plane).reshape(X.shape), [wall.height / 2], colors="C3",
-                   linewidths=1.5)
+        ax.contour(
+            X, Y, wall(plane).reshape(X.shape), [wall.height / 2], colors="C3", linewidths=1.5
+        )
         for key in keys:
             for path in runs[key].states[: traces // len(keys)]:
-                line, = ax.plot(path[:, 0], path[:, 1], color=colors[key], lw=0.6, alpha=0.75)
-            line.set_label(f"{key}: {100 * inside[key].any(axis=1).mean():.1f} % enter the wall, "
-                           f"{100 * np.mean(distance[key] < COMPLETION_RADIUS):.1f} % end within "
-                           f"{COMPLETION_RADIUS:g} of c̄")
+                (line,) = ax.plot(path[:, 0], path[:, 1], color=colors[key], lw=0.6, alpha=0.75)
+            line.set_label(
+                f"{key}: {100 * inside[key].any(axis=1).mean():.1f} % enter the wall, "
+                f"{100 * np.mean(distance[key] < COMPLETION_RADIUS):.1f} % end within "
+                f"{COMPLETION_RADIUS:g} of c̄"
+            )
         for component in (upper, lower):
             path = component.trajectory.states
-            ax.plot(path[:, 0], path[:, 1], "k--", lw=1,
-                    label="the components' paths" if component is upper else None)
+            ax.plot(
+                path[:, 0],
+                path[:, 1],
+                "k--",
+                lw=1,
+                label="the components' paths" if component is upper else None,
+            )
         for k, goal in enumerate(OBSTACLE_GOALS):
             ax.plot(*goal, "X", color="w", mec="k", ms=8, label="solved goals" if k == 0 else None)
         ax.plot(*OBSTACLE_TARGET, "*", color="gold", mec="k", ms=15, label="intermediate goal c̄")
@@ -288,26 +355,36 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
         ax.plot([], [], color="C3", label="wall (q = H/2)")
         ax.set(xlabel="x", ylabel="y", aspect="equal", xlim=(x_lo, x_hi), ylim=(y_lo, y_hi))
         ax.legend(fontsize=7, loc="lower left", framealpha=0.9)
-    top[0].set_title(f"{names[0]}: {traces} noisy rollouts\nβ = ({beta[0]:.2f}, {beta[1]:.2f}): "
-                     "the noise picks an end; behind the wall it mixes towards c̄")
-    top[1].set_title(f"{names[1]}: {traces} noisy rollouts\nno sideways push: "
-                     "through the wall")
-    top[2].set_title(f"each component alone: {traces // 2} noisy rollouts each\n"
-                     "each goes round its own end")
-    upper_row.colorbar(shading, ax=top[2], shrink=0.8,
-                       label="optimal value v(x, 0) of g_w (grid, grey)")
+    top[0].set_title(
+        f"{names[0]}: {traces} noisy rollouts\nβ = ({beta[0]:.2f}, {beta[1]:.2f}): "
+        "the noise picks an end; behind the wall it mixes towards c̄"
+    )
+    top[1].set_title(f"{names[1]}: {traces} noisy rollouts\nno sideways push: through the wall")
+    top[2].set_title(
+        f"each component alone: {traces // 2} noisy rollouts each\neach goes round its own end"
+    )
+    upper_row.colorbar(
+        shading, ax=top[2], shrink=0.8, label="optimal value v(x, 0) of g_w (grid, grey)"
+    )
 
     radius = np.linspace(0, 0.6, 241)
     for key in names:
         share = 100 * np.mean(distance[key][:, None] < radius, axis=0)
-        ax_reach.plot(radius, share, **styles[key],
-                      label=f"{key}: median {np.median(distance[key]):.3f}")
+        ax_reach.plot(
+            radius, share, **styles[key], label=f"{key}: median {np.median(distance[key]):.3f}"
+        )
     ax_reach.axvline(COMPLETION_RADIUS, color="k", lw=0.8, ls=":")
-    ax_reach.set(xlabel="r", ylabel="% of rollouts ending within r of c̄", xlim=(0, radius[-1]),
-                 ylim=(0, 100), title=f"reaching the intermediate goal c̄ = {OBSTACLE_TARGET}\n"
-                 f"{samples} rollouts each, final distance |x_T − c̄|")
-    ax_reach.legend(fontsize=7.5, loc="lower right", title="median final distance",
-                    title_fontsize=8)
+    ax_reach.set(
+        xlabel="r",
+        ylabel="% of rollouts ending within r of c̄",
+        xlim=(0, radius[-1]),
+        ylim=(0, 100),
+        title=f"reaching the intermediate goal c̄ = {OBSTACLE_TARGET}\n"
+        f"{samples} rollouts each, final distance |x_T − c̄|",
+    )
+    ax_reach.legend(
+        fontsize=7.5, loc="lower right", title="median final distance", title_fontsize=8
+    )
 
     bins = np.linspace(-0.35, 0.65, 81)
     shown = [names[0], *names[2:]]  # the naive blend's route is not one end: it goes through
@@ -315,72 +392,119 @@ def interpolation(out, n: int = 151, samples: int = 32000, seed: int = 0, traces
         y = stop[key]
         d = y - stop[names[0]]
         mean, error = y.mean(), y.std(ddof=1) / np.sqrt(samples)
-        extra = ("" if key == names[0] else
-                 f", {d.mean():+.3f} ± {d.std(ddof=1) / np.sqrt(samples):.3f} vs LBC")
-        ax_stop.hist(y, bins, histtype="step", density=True, **styles[key],
-                     label=f"{key}: {mean:+.3f} ± {error:.3f}{extra}")
+        extra = (
+            ""
+            if key == names[0]
+            else f", {d.mean():+.3f} ± {d.std(ddof=1) / np.sqrt(samples):.3f} vs LBC"
+        )
+        ax_stop.hist(
+            y,
+            bins,
+            histtype="step",
+            density=True,
+            **styles[key],
+            label=f"{key}: {mean:+.3f} ± {error:.3f}{extra}",
+        )
         ax_stop.axvline(mean, **(styles[key] | {"lw": 1.0}))
     ax_stop.axvline(0.0, color="gold", lw=3, alpha=0.7, zorder=0)
     ax_stop.axvline(abs(OBSTACLE_GOALS[0][1]), color="k", lw=0.8, ls=":")
-    ax_stop.set(xlabel="final y, signed towards the end of the wall the rollout went round",
-                ylabel="density", xlim=(bins[0], bins[-1]),
-                title=f"how far short of c̄ (y = 0, gold) the rollouts stop\non the side they "
-                      f"come from (dotted: that side's goal, {abs(OBSTACLE_GOALS[0][1]):g})")
+    ax_stop.set(
+        xlabel="final y, signed towards the end of the wall the rollout went round",
+        ylabel="density",
+        xlim=(bins[0], bins[-1]),
+        title=f"how far short of c̄ (y = 0, gold) the rollouts stop\non the side they "
+        f"come from (dotted: that side's goal, {abs(OBSTACLE_GOALS[0][1]):g})",
+    )
     ax_stop.set_ylim(0, 1.7 * ax_stop.get_ylim()[1])
-    ax_stop.legend(fontsize=7.5, loc="upper left", title="mean ± SE, difference ± paired SE",
-                   title_fontsize=8)
+    ax_stop.legend(
+        fontsize=7.5, loc="upper left", title="mean ± SE, difference ± paired SE", title_fontsize=8
+    )
 
     times = runs[names[0]].times
     for key in names:
-        ax_wall.plot(times, 100 * inside[key].mean(axis=0), **styles[key],
-                     label=f"{key}: {100 * inside[key].any(axis=1).mean():.1f} % ever")
-    ax_wall.set(xlabel="time t", ylabel="% of rollouts inside the wall (q > H/2)",
-                xlim=(0, problem.horizon), ylim=(0, 100),
-                title=f"the naive blend drives through the wall\n{samples} rollouts each, "
-                      "common noise")
-    ax_wall.legend(fontsize=7.5, loc="upper right", title="share that ever enters the wall",
-                   title_fontsize=8)
+        ax_wall.plot(
+            times,
+            100 * inside[key].mean(axis=0),
+            **styles[key],
+            label=f"{key}: {100 * inside[key].any(axis=1).mean():.1f} % ever",
+        )
+    ax_wall.set(
+        xlabel="time t",
+        ylabel="% of rollouts inside the wall (q > H/2)",
+        xlim=(0, problem.horizon),
+        ylim=(0, 100),
+        title=f"the naive blend drives through the wall\n{samples} rollouts each, common noise",
+    )
+    ax_wall.legend(
+        fontsize=7.5, loc="upper right", title="share that ever enters the wall", title_fontsize=8
+    )
 
     labels = list(names[1:])
     means = np.array([paired[k][0] for k in labels])
     errors = np.array([paired[k][1] for k in labels])
     rows = np.arange(len(labels))
-    ax_cost.barh(rows, means, xerr=errors, color=[colors[k] for k in labels], capsize=4,
-                 height=0.5)  # its label below it, clear of the bar
+    ax_cost.barh(
+        rows, means, xerr=errors, color=[colors[k] for k in labels], capsize=4, height=0.5
+    )  # its label below it, clear of the bar
     reference = certificates[names[4]]  # the exact optimum as proposal: the smallest SE of v*
     ours = certificates[names[0]]
-    ax_cost.axvline(0, color="C0", lw=2, label=f"LBC: J = {ours.policy_cost:.3f} ± "
-                    f"{ours.policy_cost_se:.3f}, J − v* = {ours.gap:+.3f} ± {ours.gap_se:.3f}")
+    ax_cost.axvline(
+        0,
+        color="C0",
+        lw=2,
+        label=f"LBC: J = {ours.policy_cost:.3f} ± "
+        f"{ours.policy_cost_se:.3f}, J − v* = {ours.gap:+.3f} ± {ours.gap_se:.3f}",
+    )
     for k, label in enumerate(labels):
         c = certificates[label]
-        ax_cost.text(0.02, k + 0.42, f"{means[k]:+.3f} ± {errors[k]:.3f} "
-                     f"({means[k] / errors[k]:+.0f} SE); J = {c.policy_cost:.3f} ± "
-                     f"{c.policy_cost_se:.3f}, J − v* = {c.gap:+.3f} ± {c.gap_se:.3f}",
-                     transform=ax_cost.get_yaxis_transform(), va="center", fontsize=8)
+        ax_cost.text(
+            0.02,
+            k + 0.42,
+            f"{means[k]:+.3f} ± {errors[k]:.3f} "
+            f"({means[k] / errors[k]:+.0f} SE); J = {c.policy_cost:.3f} ± "
+            f"{c.policy_cost_se:.3f}, J − v* = {c.gap:+.3f} ± {c.gap_se:.3f}",
+            transform=ax_cost.get_yaxis_transform(),
+            va="center",
+            fontsize=8,
+        )
     ax_cost.set_xscale("symlog", linthresh=0.1)
     ax_cost.set_yticks(rows, labels, fontsize=9)
     ax_cost.invert_yaxis()
-    ax_cost.set(xlabel="J − J_LBC ± paired SE (symlog), common noise, task g_w",
-                title=f"cost above LBC's on g_w (gridlbc.certify, {samples} samples)\n"
-                      f"certified v* = {reference.optimal_value:.3f} ± "
-                      f"{reference.optimal_value_se:.3f}\nthe naive blend and each component "
-                      "cost more")
+    ax_cost.set(
+        xlabel="J − J_LBC ± paired SE (symlog), common noise, task g_w",
+        title=f"cost above LBC's on g_w (gridlbc.certify, {samples} samples)\n"
+        f"certified v* = {reference.optimal_value:.3f} ± "
+        f"{reference.optimal_value_se:.3f}\nthe naive blend and each component "
+        "cost more",
+    )
     ax_cost.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     W = OBSTACLE_WEIGHTS
-    fig.suptitle(f"Interpolating an intermediate goal behind a wall with trajectory components: "
-                 f"dx = u dt + noise, T = {problem.horizon:g}, λ = {lam:g},\n"
-                 f"g = {W[0]:g}(x − cₓ)² + {W[1]:g}(y − c_y)², projected w = "
-                 f"({fit.weights[0]:.3f}, {fit.weights[1]:.3f}); wall q = {wall.height:g} within "
-                 f"{wall.radius:g} of x = 0, |y| ≤ {wall.end[1]:g}; grid references on "
-                 f"{'×'.join(map(str, problem.grid.shape))}", fontsize=11)
+    fig.suptitle(
+        f"Interpolating an intermediate goal behind a wall with trajectory components: "
+        f"dx = u dt + noise, T = {problem.horizon:g}, λ = {lam:g},\n"
+        f"g = {W[0]:g}(x − cₓ)² + {W[1]:g}(y − c_y)², projected w = "
+        f"({fit.weights[0]:.3f}, {fit.weights[1]:.3f}); wall q = {wall.height:g} within "
+        f"{wall.radius:g} of x = 0, |y| ≤ {wall.end[1]:g}; grid references on "
+        f"{'×'.join(map(str, problem.grid.shape))}",
+        fontsize=11,
+    )
     return [_save(fig, out, "interpolation.png")]
 
 
 # -- 4. coordination with a push ----------------------------------------------------------------------
 
 
-def simulate_with_push(problem: Problem, policy, x0, push_time: float, kick, n_samples: int = 1,
-                       seed=None, noise: bool = True, dt: float = 0.01):
+def simulate_with_push(
+    problem: Problem,
+    policy,
+    x0,
+    push_time: float,
+    kick,
+    n_samples: int = 1,
+    seed=None,
+    noise: bool = True,
+    dt: float = 0.01,
+):
     """Roll ``policy`` out on [0, T] with the state kicked by ``kick`` at ``push_time``.
 
     Two :func:`gridlbc.simulate` calls: on [0, t_p] (the problem with horizon t_p), then from the
@@ -390,12 +514,19 @@ def simulate_with_push(problem: Problem, policy, x0, push_time: float, kick, n_s
     """
     if not 0 < push_time < problem.horizon:
         raise ValueError(f"push_time must lie in (0, T = {problem.horizon:g}), got {push_time}")
-    before = simulate(problem.replace(horizon=push_time), policy, x0, n_samples, dt=dt,
-                      seed=seed, noise=noise)
+    before = simulate(
+        problem.replace(horizon=push_time), policy, x0, n_samples, dt=dt, seed=seed, noise=noise
+    )
     pushed = before.final_states + np.asarray(kick, dtype=float)
-    after = simulate(problem.replace(horizon=problem.horizon - push_time),
-                     lambda x, t: policy(x, t + push_time), pushed, n_samples, dt=dt,
-                     seed=None if seed is None else seed + 1, noise=noise)
+    after = simulate(
+        problem.replace(horizon=problem.horizon - push_time),
+        lambda x, t: policy(x, t + push_time),
+        pushed,
+        n_samples,
+        dt=dt,
+        seed=None if seed is None else seed + 1,
+        noise=noise,
+    )
     times = np.concatenate([before.times, push_time + after.times])
     return times, np.concatenate([before.states, pushed[:, None], after.states[:, 1:]], axis=1)
 
@@ -403,12 +534,15 @@ def simulate_with_push(problem: Problem, policy, x0, push_time: float, kick, n_s
 def remaining_task(problem: Problem, policy, start_time: float):
     """The task left at ``start_time``: the problem on [t_s, T] (horizon T − t_s) and the policy
     with its clock shifted, ``policy(x, t + t_s)``; e.g. to certify costs from a pushed state."""
-    return (problem.replace(horizon=problem.horizon - start_time),
-            lambda x, t: policy(x, t + start_time))
+    return (
+        problem.replace(horizon=problem.horizon - start_time),
+        lambda x, t: policy(x, t + start_time),
+    )
 
 
-def coordination(out, n: int = 81, samples: int = 2000, seed: int = 0,
-                 traces: int = 8, dt: float = 0.005) -> list[Path]:
+def coordination(
+    out, n: int = 81, samples: int = 2000, seed: int = 0, traces: int = 8, dt: float = 0.005
+) -> list[Path]:
     """α over time of a two-goal combined controller (w = 1, 1), pushed mid-way (paper Fig. 9).
 
     The point mass starts at x = 0.3 at rest, nearer the goal x = +1, so α₊ → 1; at t = 1 s a
@@ -424,21 +558,31 @@ def coordination(out, n: int = 81, samples: int = 2000, seed: int = 0,
     left, right = solve_many(problem, goals)
     combined = combine([left, right])
     x0, push_time, kick = np.array([0.3, 0.0]), 1.0, np.array([0.0, -1.5])
-    runs = {"noise-free": simulate_with_push(combined.problem, combined.policy, x0, push_time, kick,
-                                             noise=False),
-            "with noise": simulate_with_push(combined.problem, combined.policy, x0, push_time, kick,
-                                             traces, seed=seed)}
+    runs = {
+        "noise-free": simulate_with_push(
+            combined.problem, combined.policy, x0, push_time, kick, noise=False
+        ),
+        "with noise": simulate_with_push(
+            combined.problem, combined.policy, x0, push_time, kick, traces, seed=seed
+        ),
+    }
     times, states = runs["noise-free"]
     pushed = states[0, np.searchsorted(times, push_time) + 1]  # just after the kick
-    controllers = {"LBC Σαᵢuᵢ (w = 1, 1)": combined.policy, "goal x = −1 alone": left.policy,
-                   "goal x = +1 alone": right.policy}
+    controllers = {
+        "LBC Σαᵢuᵢ (w = 1, 1)": combined.policy,
+        "goal x = −1 alone": left.policy,
+        "goal x = +1 alone": right.policy,
+    }
     certificates = {}
-    for when, start, t_s in (("from x₀ at t = 0", x0, 0.0),
-                             (f"from the pushed state at t = {push_time:g} s", pushed, push_time)):
+    for when, start, t_s in (
+        ("from x₀ at t = 0", x0, 0.0),
+        (f"from the pushed state at t = {push_time:g} s", pushed, push_time),
+    ):
         for name, policy in controllers.items():
             task, shifted = remaining_task(combined.problem, policy, t_s)
-            certificates[when, name] = certify(task, shifted, start, samples, dt=dt,
-                                               seed=seed, progress=False)
+            certificates[when, name] = certify(
+                task, shifted, start, samples, dt=dt, seed=seed, progress=False
+            )
 
     fig = plt.figure(figsize=(14, 8.5), constrained_layout=True)
     grid_spec = fig.add_gridspec(3, 2, width_ratios=(1.6, 1))
@@ -447,10 +591,18 @@ def coordination(out, n: int = 81, samples: int = 2000, seed: int = 0,
     ax_v = fig.add_subplot(grid_spec[2, 0], sharex=ax_alpha)
     ax_cost = fig.add_subplot(grid_spec[:, 1])
     for label, (times, states) in runs.items():
-        alpha = np.stack([combined.blend_weights(states[:, k], min(t, problem.horizon))[:, 1]
-                          for k, t in enumerate(times)], axis=1)
-        style = ({"color": "C0", "lw": 2.5, "zorder": 3} if label == "noise-free"
-                 else {"color": "C1", "lw": 0.6, "alpha": 0.5})
+        alpha = np.stack(
+            [
+                combined.blend_weights(states[:, k], min(t, problem.horizon))[:, 1]
+                for k, t in enumerate(times)
+            ],
+            axis=1,
+        )
+        style = (
+            {"color": "C0", "lw": 2.5, "zorder": 3}
+            if label == "noise-free"
+            else {"color": "C1", "lw": 0.6, "alpha": 0.5}
+        )
         for s in range(states.shape[0]):
             name = label if s == 0 else None
             ax_alpha.plot(times, alpha[s], label=name, **style)
@@ -460,8 +612,11 @@ def coordination(out, n: int = 81, samples: int = 2000, seed: int = 0,
         ax.axvline(push_time, color="k", ls=":", lw=1)
         ax.grid(alpha=0.3)
     ax_alpha.text(push_time + 0.03, 0.45, f"push: velocity {kick[1]:+g} m/s", fontsize=9)
-    ax_alpha.set(ylabel="α₊ = z₊ / (z₋ + z₊)", ylim=(-0.03, 1.03),
-                 title="blend weight of the controller for goal x = +1 (α₋ = 1 − α₊)")
+    ax_alpha.set(
+        ylabel="α₊ = z₊ / (z₋ + z₊)",
+        ylim=(-0.03, 1.03),
+        title="blend weight of the controller for goal x = +1 (α₋ = 1 − α₊)",
+    )
     ax_alpha.legend(fontsize=9, loc="lower left")
     for goal in (-1, 1):
         ax_x.axhline(goal, color="0.5", ls="--", lw=1)
@@ -475,35 +630,54 @@ def coordination(out, n: int = 81, samples: int = 2000, seed: int = 0,
         base = group * (len(names) + 1.5)
         positions = base + np.arange(len(names))
         means = [c.policy_cost for c in rows]
-        ax_cost.barh(positions, means, xerr=[c.policy_cost_se for c in rows], color=colors,
-                     capsize=3)
+        ax_cost.barh(
+            positions, means, xerr=[c.policy_cost_se for c in rows], color=colors, capsize=3
+        )
         for y, c in zip(positions, rows):
-            ax_cost.text(c.policy_cost + c.policy_cost_se + 0.05, y,
-                         f"{c.policy_cost:.3f} ± {c.policy_cost_se:.3f}", va="center", fontsize=8)
+            ax_cost.text(
+                c.policy_cost + c.policy_cost_se + 0.05,
+                y,
+                f"{c.policy_cost:.3f} ± {c.policy_cost_se:.3f}",
+                va="center",
+                fontsize=8,
+            )
         best = rows[0]  # the combination is the proposal closest to optimal
-        ax_cost.plot([best.optimal_value] * 2, [base - 0.6, base + len(names) - 0.4], "k--",
-                     lw=1.2, label="certified optimum v*" if group == 0 else None)
-        ax_cost.text(best.optimal_value, base + len(names) - 0.3,
-                     f"{when}: v* = {best.optimal_value:.3f} ± {best.optimal_value_se:.3f}",
-                     fontsize=8.5, ha="center")
+        ax_cost.plot(
+            [best.optimal_value] * 2,
+            [base - 0.6, base + len(names) - 0.4],
+            "k--",
+            lw=1.2,
+            label="certified optimum v*" if group == 0 else None,
+        )
+        ax_cost.text(
+            best.optimal_value,
+            base + len(names) - 0.3,
+            f"{when}: v* = {best.optimal_value:.3f} ± {best.optimal_value_se:.3f}",
+            fontsize=8.5,
+            ha="center",
+        )
     ticks = [base + k for base in (0, len(names) + 1.5) for k in range(len(names))]
     ax_cost.set_yticks(ticks, names * 2, fontsize=8.5)
     ax_cost.invert_yaxis()
     ax_cost.set_xlim(0, 1.3 * max(c.policy_cost for c in certificates.values()))
-    ax_cost.set(xlabel="cost of the composite task ± SE (certified, "
-                       f"{samples} samples)",
-                title="expected cost J of the rest of the task vs the optimum")
+    ax_cost.set(
+        xlabel=f"cost of the composite task ± SE (certified, {samples} samples)",
+        title="expected cost J of the rest of the task vs the optimum",
+    )
     ax_cost.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))
-    fig.suptitle(f"Coordination with a push: point mass with two acceptable outcomes (w = 1, 1), "
-                 f"{problem.grid.describe()}, λ = {problem.temperature:g}")
+    fig.suptitle(
+        f"Coordination with a push: point mass with two acceptable outcomes (w = 1, 1), "
+        f"{problem.grid.describe()}, λ = {problem.temperature:g}"
+    )
     return [_save(fig, out, "coordination.png")]
 
 
 # -- 5. the gymnast ---------------------------------------------------------------------------------
 
 
-def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
-            reference: bool = True) -> list[Path]:
+def gymnast(
+    out, n: int = 71, dt: float = 0.05, fitting="terminal", reference: bool = True
+) -> list[Path]:
     """The acrobot swing-up from (−105°, −15°) at rest on an n⁴ grid: still frames and a GIF.
 
     The grid-optimal policy is rolled out without noise; ``reference`` adds the deterministic
@@ -536,9 +710,13 @@ def gymnast(out, n: int = 71, dt: float = 0.05, fitting="terminal",
 # -- 6. convergence ---------------------------------------------------------------------------------
 
 
-def convergence(out, spacings=(4, 8, 16, 32), sizes=(64, 128, 256),
-                temperatures=(1.0, 0.3, 0.1, 0.03, 0.01), temperature_grid: int = 128
-                ) -> list[Path]:
+def convergence(
+    out,
+    spacings=(4, 8, 16, 32),
+    sizes=(64, 128, 256),
+    temperatures=(1.0, 0.3, 0.1, 0.03, 0.01),
+    temperature_grid: int = 128,
+) -> list[Path]:
     """Error against h for the z-space and HJB solvers, and v, u as λ → 0
     (:mod:`gridlbc.studies.convergence`; ``benchmarks/convergence.py`` prints the tables)."""
     from .convergence import (
@@ -549,8 +727,10 @@ def convergence(out, spacings=(4, 8, 16, 32), sizes=(64, 128, 256),
         temperature_study,
     )
 
-    tables = [pointmass_study(spacings=tuple(1.0 / k for k in spacings)),
-              pendulum_study(sizes=tuple(sizes))]
+    tables = [
+        pointmass_study(spacings=tuple(1.0 / k for k in spacings)),
+        pendulum_study(sizes=tuple(sizes)),
+    ]
     paths = [_save(plot_convergence(tables), out, "convergence.png")]
     study = temperature_study(temperatures=tuple(temperatures), n=temperature_grid)
     paths.append(_save(plot_temperature(study), out, "temperature.png"))
@@ -572,32 +752,49 @@ def plot_certified_convergence(study, labels=None):
         rows = study.select(label)
         n = [r.shape[0] for r in rows]
         ax.plot(n, [r.predicted for r in rows], "o-", color=color, label=f"{label}: predicted")
-        ax.errorbar(n, [r.policy_cost for r in rows], [2 * r.policy_cost_se for r in rows],
-                    fmt="s--", color=color, capsize=3, label=f"{label}: its policy's cost J")
+        ax.errorbar(
+            n,
+            [r.policy_cost for r in rows],
+            [2 * r.policy_cost_se for r in rows],
+            fmt="s--",
+            color=color,
+            capsize=3,
+            label=f"{label}: its policy's cost J",
+        )
     ax.set_xscale("log", base=2)
     ax.set_xticks(sizes, [str(k) for k in sizes])
     ax.set_xlabel("grid nodes per axis n (θ; ω has n + 1)")
     ax.set_ylabel("cost from x₀")
     scheme, n_truth, _ = study.proposal
-    ax.set_title(f"Predicted value and policy cost vs the certified optimum v*(x₀) = {v:.2f}\n"
-                 f"(importance sampling, proposal: {scheme} {n_truth}², "
-                 f"ESS {study.truth.effective_sample_size:.0f} of {study.truth.n_samples})",
-                 fontsize=10)
+    ax.set_title(
+        f"Predicted value and policy cost vs the certified optimum v*(x₀) = {v:.2f}\n"
+        f"(importance sampling, proposal: {scheme} {n_truth}², "
+        f"ESS {study.truth.effective_sample_size:.0f} of {study.truth.n_samples})",
+        fontsize=10,
+    )
     ax.legend(fontsize=8, ncol=2)
     ax.grid(alpha=0.3)
     return fig
 
 
-def certified_convergence(out, sizes=(32, 64, 128, 256), samples: int = 400,
-                          truth_samples: int = 2000, seed: int = 0) -> list[Path]:
+def certified_convergence(
+    out, sizes=(32, 64, 128, 256), samples: int = 400, truth_samples: int = 2000, seed: int = 0
+) -> list[Path]:
     """The pendulum swing-up from :data:`SWINGUP_START` as the grid is refined: each scheme's
     predicted value and its policy's cost against the certified optimum (rollouts at Δt = 0.002;
     ``benchmarks/swingup_accuracy.py`` prints the table)."""
     from .convergence import certified_study
 
-    study = certified_study(swingup_problem, tuple(sizes), SWINGUP_START,
-                            (("splitting", None), ("fitted", None)), samples=samples,
-                            truth_samples=truth_samples, rollout_dt=0.002, seed=seed)
+    study = certified_study(
+        swingup_problem,
+        tuple(sizes),
+        SWINGUP_START,
+        (("splitting", None), ("fitted", None)),
+        samples=samples,
+        truth_samples=truth_samples,
+        rollout_dt=0.002,
+        seed=seed,
+    )
     return [_save(plot_certified_convergence(study), out, "certified_convergence.png")]
 
 
@@ -607,14 +804,23 @@ def certified_convergence(out, sizes=(32, 64, 128, 256), samples: int = 400,
 FIGURES = {
     "cost_reward_space": (cost_reward_space, {}, {"n": 61}),
     "projection": (projection, {}, {"points": 401}),
-    "interpolation": (interpolation, {}, {"n": 41, "samples": 300, "traces": 10, "dt": 0.02,
-                                          "restarts": 8}),
+    "interpolation": (
+        interpolation,
+        {},
+        {"n": 41, "samples": 300, "traces": 10, "dt": 0.02, "restarts": 8},
+    ),
     "coordination": (coordination, {}, {"n": 41, "samples": 200, "traces": 4, "dt": 0.02}),
     "gymnast": (gymnast, {}, {"n": 13, "reference": False}),
-    "certified_convergence": (certified_convergence, {},
-                              {"sizes": (16, 32), "samples": 40, "truth_samples": 80}),
-    "convergence": (convergence, {}, {"spacings": (2, 4), "sizes": (32, 64),
-                                      "temperatures": (1.0, 0.1), "temperature_grid": 48}),
+    "certified_convergence": (
+        certified_convergence,
+        {},
+        {"sizes": (16, 32), "samples": 40, "truth_samples": 80},
+    ),
+    "convergence": (
+        convergence,
+        {},
+        {"spacings": (2, 4), "sizes": (32, 64), "temperatures": (1.0, 0.1), "temperature_grid": 48},
+    ),
 }
 """name → (function, full-size options, quick options)."""
 

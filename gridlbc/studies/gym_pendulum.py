@@ -49,7 +49,9 @@ def state_from_observation(observation) -> np.ndarray:
     """Gym's observations ``(N, 3)`` = (cos θ, sin θ, ω) as states ``(N, 2)`` = (θ, ω)."""
     obs = np.atleast_2d(np.asarray(observation, dtype=float))
     if obs.shape[-1] != 3:
-        raise ValueError(f"observation must have 3 entries (cos θ, sin θ, ω), got shape {obs.shape}")
+        raise ValueError(
+            f"observation must have 3 entries (cos θ, sin θ, ω), got shape {obs.shape}"
+        )
     return np.column_stack([np.arctan2(obs[:, 1], obs[:, 0]), obs[:, 2]])
 
 
@@ -88,7 +90,9 @@ def run_episodes(policy, episodes: int = 500, seed: int = 0) -> Episodes:
             'run_episodes needs gymnasium: pip install "gridlbc[gymnasium]"'
         ) from None
     if isinstance(episodes, bool) or not isinstance(episodes, (int, np.integer)) or episodes < 2:
-        raise ValueError(f"episodes must be an integer ≥ 2 (for a standard error), got {episodes!r}")
+        raise ValueError(
+            f"episodes must be an integer ≥ 2 (for a standard error), got {episodes!r}"
+        )
     envs = [gymnasium.make("Pendulum-v1") for _ in range(episodes)]
     seeds = seed + np.arange(episodes)
     obs = np.array([env.reset(seed=int(s))[0] for env, s in zip(envs, seeds)])
@@ -114,4 +118,3 @@ def run_episodes(policy, episodes: int = 500, seed: int = 0) -> Episodes:
 def zero_policy(x, t) -> np.ndarray:
     """No torque: the baseline."""
     return np.zeros((np.atleast_2d(x).shape[0], 1))
-

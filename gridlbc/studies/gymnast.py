@@ -31,8 +31,9 @@ import numpy as np
 from ..costs import wrap_angle
 from ..systems import Acrobot
 
-TRACKER_STARTS = np.radians([[-90.0, 0.0], [-110.0, -20.0], [-120.0, -5.0], [-80.0, -25.0],
-                             [-100.0, 5.0], [-95.0, -30.0]])
+TRACKER_STARTS = np.radians(
+    [[-90.0, 0.0], [-110.0, -20.0], [-120.0, -5.0], [-80.0, -25.0], [-100.0, 5.0], [-95.0, -30.0]]
+)
 """(θ1, θ2) of the trackers' start states, at rest: the paper's two (Fig. 7) first, then four
 more around the test state for the coverage study."""
 
@@ -80,20 +81,27 @@ def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
         ax_path.plot(*deg[0], "o", color=ax_path.lines[-1].get_color())
     for label, (states, controls) in runs.items():
         deg = np.degrees(np.unwrap(states[:, :2], axis=0))  # rollouts wrap θ1; paths do not
-        line, = ax_path.plot(deg[:, 0], deg[:, 1], "-", lw=1.2, label=label)
+        (line,) = ax_path.plot(deg[:, 0], deg[:, 1], "-", lw=1.2, label=label)
         ax_u.plot(times[:-1], np.ravel(controls), color=line.get_color(), lw=1, label=label)
     start = np.degrees(next(iter(runs.values()))[0][0, :2])
     ax_path.plot(*start, "k*", ms=12, label="test start")
     for turn in (-720, -360, 0):
         ax_path.plot(turn, 0, "kP", ms=10, label="handstand" if turn == 0 else None)
-    ax_path.set(xlabel="θ1 [deg] (0 = upright)", ylabel="θ2 [deg]",
-                title="nominal paths (dashed), noise-free rollouts from (−105°, −15°)")
+    ax_path.set(
+        xlabel="θ1 [deg] (0 = upright)",
+        ylabel="θ2 [deg]",
+        title="nominal paths (dashed), noise-free rollouts from (−105°, −15°)",
+    )
     ax_path.legend(fontsize=7)
     ax_u.set(xlabel="t [s]", ylabel="hip torque u", title="torque")
     for i in range(alpha.shape[1]):
         ax_a.plot(times, alpha[:, i], label=f"α{i + 1}")
-    ax_a.set(xlabel="t [s]", ylabel="blend weight", ylim=(-0.05, 1.05),
-             title="LBC blend weights along its rollout")
+    ax_a.set(
+        xlabel="t [s]",
+        ylabel="blend weight",
+        ylim=(-0.05, 1.05),
+        title="LBC blend weights along its rollout",
+    )
     ax_a.legend(fontsize=8)
     fig.tight_layout()
     if path is not None:
@@ -133,12 +141,13 @@ def plot_swingup(times, runs: dict, path=None, reference=None):
         t = reference[0] if label == "deterministic optimum" else times
         style = "--" if label == "deterministic optimum" else "-"
         wrapped = wrap_angle(states[:, :2])
-        line, = ax_angle.plot(t, np.degrees(wrapped[:, 0]), style, label=f"θ1 {label}")
+        (line,) = ax_angle.plot(t, np.degrees(wrapped[:, 0]), style, label=f"θ1 {label}")
         ax_angle.plot(t, np.degrees(wrapped[:, 1]), style, color=line.get_color(), alpha=0.5)
         ax_mom.plot(t, states[:, 2], style, color=line.get_color(), label=f"p1 {label}")
         ax_mom.plot(t, states[:, 3], style, color=line.get_color(), alpha=0.5)
-        ax_u.step(t[:-1], np.ravel(controls), style, where="post", color=line.get_color(),
-                  label=label)
+        ax_u.step(
+            t[:-1], np.ravel(controls), style, where="post", color=line.get_color(), label=label
+        )
     ax_angle.set(xlabel="t [s]", ylabel="θ1 (dark), θ2 (light) [deg]", title="angles from upright")
     ax_mom.set(xlabel="t [s]", ylabel="p1 (dark), p2 (light)", title="canonical momenta")
     ax_u.set(xlabel="t [s]", ylabel="hip torque u", title="control")
@@ -149,8 +158,12 @@ def plot_swingup(times, runs: dict, path=None, reference=None):
         shade = 0.2 + 0.8 * k / (len(states) - 1)
         ax_stick.plot(points[k, :, 0], points[k, :, 1], "-o", color=(0.1, 0.2, 0.6, shade), ms=3)
     ax_stick.plot(points[:, 2, 0], points[:, 2, 1], ":", color="grey", lw=0.8)
-    ax_stick.set(aspect="equal", xlim=(-2.2, 2.2), ylim=(-2.2, 2.2),
-                 title=f"{label}\n(light to dark in time)")
+    ax_stick.set(
+        aspect="equal",
+        xlim=(-2.2, 2.2),
+        ylim=(-2.2, 2.2),
+        title=f"{label}\n(light to dark in time)",
+    )
     fig.tight_layout()
     if path is not None:
         fig.savefig(path, dpi=110)
@@ -169,8 +182,8 @@ def animate_swingup(times, states, path, fps: int = 25, title: str = "gymnast sw
     fig, ax = plt.subplots(figsize=(4, 4))
     ax.set(aspect="equal", xlim=(-2.2, 2.2), ylim=(-2.2, 2.2), xticks=[], yticks=[])
     ax.plot([-0.3, 0.3], [0, 0], color="k", lw=3)
-    body, = ax.plot([], [], "-o", color="tab:blue", lw=3, ms=6)
-    trail, = ax.plot([], [], ":", color="grey", lw=0.8)
+    (body,) = ax.plot([], [], "-o", color="tab:blue", lw=3, ms=6)
+    (trail,) = ax.plot([], [], ":", color="grey", lw=0.8)
     label = ax.set_title(title)
 
     def draw(k):

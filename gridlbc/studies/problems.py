@@ -43,12 +43,17 @@ SWINGUP_WEIGHTS = (10.0, 0.5)
 
 def pendulum_grid(n: int, omega_max: float = 10.0) -> Grid:
     """θ periodic on [−π, π) with ``n`` nodes, ω ∈ [−ω_max, ω_max] with n + 1 nodes."""
-    return Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
-                 Axis(-omega_max, omega_max, n + 1, name="omega")])
+    return Grid(
+        [
+            Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
+            Axis(-omega_max, omega_max, n + 1, name="omega"),
+        ]
+    )
 
 
-def swingup_problem(n: int = 256, terminal_cost=None, horizon: float = 3.0,
-                    temperature: float = 1.0) -> Problem:
+def swingup_problem(
+    n: int = 256, terminal_cost=None, horizon: float = 3.0, temperature: float = 1.0
+) -> Problem:
     """Pendulum swing-up: m = l = 1, g = 9.81, T = 3, λ = 1, R = 1, no state cost,
     g(x) = xᵀ diag(10, ½) x (or ``terminal_cost``), on :func:`pendulum_grid` (ω ±10)."""
     cost = Quadratic([0.0, 0.0], SWINGUP_WEIGHTS) if terminal_cost is None else terminal_cost
@@ -59,12 +64,18 @@ PENDULUM_WEIGHTS = (10.0, 0.5)
 """Terminal weights of the pendulum convergence study: g = θ² · 10 + ω² · 0.5."""
 
 
-def pendulum_problem(n: int, temperature: float = 1.0, horizon: float = 1.0,
-                     weights=PENDULUM_WEIGHTS) -> Problem:
+def pendulum_problem(
+    n: int, temperature: float = 1.0, horizon: float = 1.0, weights=PENDULUM_WEIGHTS
+) -> Problem:
     """Pendulum of the convergence study (m = l = 1, g = 9.81) on :func:`pendulum_grid` with
     ω ∈ [−8, 8] (equal spacing 2π/n and 16/n), g = (θ, ω)ᵀdiag(weights)(θ, ω), no state cost."""
-    return Problem(Pendulum(), pendulum_grid(n, 8.0), horizon,
-                   Quadratic([0.0, 0.0], list(weights)), temperature=temperature)
+    return Problem(
+        Pendulum(),
+        pendulum_grid(n, 8.0),
+        horizon,
+        Quadratic([0.0, 0.0], list(weights)),
+        temperature=temperature,
+    )
 
 
 MILD_STATES = np.array([(1.0, 0.0), (-1.0, 0.0), (0.5, 2.0), (-0.5, -2.0), (0.0, 1.0), (1.0, -2.0)])
@@ -74,8 +85,14 @@ MILD_STATES = np.array([(1.0, 0.0), (-1.0, 0.0), (0.5, 2.0), (-0.5, -2.0), (0.0,
 def mild_pendulum_problem(n: int = 128) -> Problem:
     """Damped pendulum (b = 0.1), T = 1, λ = 1, q = xᵀdiag(0.5, 0.05)x, g = xᵀdiag(3, 0.3)x, on
     :func:`pendulum_grid` with ω ∈ [−8, 8]: a smooth value, mildly curved."""
-    return Problem(Pendulum(damping=0.1), pendulum_grid(n, 8.0), 1.0, Quadratic([0, 0], [3, 0.3]),
-                   state_cost=Quadratic([0, 0], [0.5, 0.05]), temperature=1.0)
+    return Problem(
+        Pendulum(damping=0.1),
+        pendulum_grid(n, 8.0),
+        1.0,
+        Quadratic([0, 0], [3, 0.3]),
+        state_cost=Quadratic([0, 0], [0.5, 0.05]),
+        temperature=1.0,
+    )
 
 
 STEEP_START = np.array([3.0, 0.0])
@@ -89,8 +106,9 @@ optimisation, as quoted with the accuracy study)."""
 def steep_swingup_problem(n: int = 201, temperature: float = 1.0) -> Problem:
     """Swing-up with a steep terminal cost, g = xᵀdiag(50, 5)x, T = 2, on :func:`pendulum_grid`
     (ω ±10): v/λ rises by up to 10/λ per cell along ω, the test of small temperatures."""
-    return Problem(Pendulum(), pendulum_grid(n), 2.0, Quadratic([0, 0], [50, 5]),
-                   temperature=temperature)
+    return Problem(
+        Pendulum(), pendulum_grid(n), 2.0, Quadratic([0, 0], [50, 5]), temperature=temperature
+    )
 
 
 # -- point mass ------------------------------------------------------------------------------------
@@ -107,11 +125,23 @@ def pointmass_problem(h: float | None = None, grid: Grid | None = None) -> Probl
         counts = [8 / h, 12 / h]
         if not all(abs(c - round(c)) < 1e-9 and c >= 2 for c in counts):
             raise ValueError(
-                f"h must divide 8 and 12 into at least 2 cells (e.g. 1/4, 1/8), got {h}")
-        grid = Grid([Axis(-4.0, 4.0, round(counts[0]) + 1, name="position"),
-                     Axis(-6.0, 6.0, round(counts[1]) + 1, name="velocity")])
-    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [2.0, 0.5]),
-                   Quadratic([0.0, 0.0], [0.5, 0.05]), control_cost=1.0, temperature=0.5)
+                f"h must divide 8 and 12 into at least 2 cells (e.g. 1/4, 1/8), got {h}"
+            )
+        grid = Grid(
+            [
+                Axis(-4.0, 4.0, round(counts[0]) + 1, name="position"),
+                Axis(-6.0, 6.0, round(counts[1]) + 1, name="velocity"),
+            ]
+        )
+    return Problem(
+        PointMass(),
+        grid,
+        2.0,
+        Quadratic([1.0, 0.0], [2.0, 0.5]),
+        Quadratic([0.0, 0.0], [0.5, 0.05]),
+        control_cost=1.0,
+        temperature=0.5,
+    )
 
 
 GOAL_WEIGHTS = (20.0, 2.0)
@@ -122,8 +152,7 @@ def coordination_problem(n: int = 81) -> Problem:
     """Point mass, two acceptable outcomes: at rest at x = −1 or x = +1 after T = 3 s, λ = 0.3
     (the problem's own terminal cost is the goal at −1; combine it with the goal at +1)."""
     grid = Grid([Axis(-3.0, 3.0, n, name="position"), Axis(-4.0, 4.0, n, name="velocity")])
-    return Problem(PointMass(), grid, 3.0, Quadratic([-1.0, 0.0], GOAL_WEIGHTS),
-                   temperature=0.3)
+    return Problem(PointMass(), grid, 3.0, Quadratic([-1.0, 0.0], GOAL_WEIGHTS), temperature=0.3)
 
 
 # -- rotor -----------------------------------------------------------------------------------------
@@ -141,8 +170,12 @@ ROTOR_GOALS = (-0.25, 0.25)
 def rotor_problem(n: int = 101, terminal_cost=None) -> Problem:
     """A pendulum without gravity (θ̈ = u, θ periodic, ω ∈ [−3, 3]), T = 5, λ = 0.2, R = 1; the
     terminal cost defaults to the target, at rest at θ̄ = 0."""
-    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
-                 Axis(-3.0, 3.0, n + 1, name="omega")])
+    grid = Grid(
+        [
+            Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
+            Axis(-3.0, 3.0, n + 1, name="omega"),
+        ]
+    )
     cost = Quadratic([0.0, 0.0], ROTOR_WEIGHTS) if terminal_cost is None else terminal_cost
     return Problem(Pendulum(gravity=0.0), grid, 5.0, cost, temperature=0.2)
 
@@ -172,15 +205,18 @@ class CapsuleObstacle:
         for name in ("start", "end"):
             point = np.asarray(getattr(self, name), dtype=float)
             if point.shape != (2,) or not np.all(np.isfinite(point)):
-                raise ValueError(f"CapsuleObstacle {name} must be a finite point (x, y), got "
-                                 f"{getattr(self, name)!r}")
+                raise ValueError(
+                    f"CapsuleObstacle {name} must be a finite point (x, y), got "
+                    f"{getattr(self, name)!r}"
+                )
         for name in ("radius", "edge"):
             value = getattr(self, name)
             if not (np.isfinite(value) and value > 0):
                 raise ValueError(f"CapsuleObstacle {name} must be a positive length, got {value!r}")
         if not (np.isfinite(self.height) and self.height >= 0):
-            raise ValueError(f"CapsuleObstacle height must be a finite cost ≥ 0, got "
-                             f"{self.height!r}")
+            raise ValueError(
+                f"CapsuleObstacle height must be a finite cost ≥ 0, got {self.height!r}"
+            )
 
     def distance(self, x) -> np.ndarray:
         """d(x), the distance of each state's first two coordinates to the segment: (N,)."""
@@ -215,8 +251,9 @@ OBSTACLE_WEIGHTS = (20.0, 10.0)
 """diag W of the goals g = (x − c)ᵀW(x − c)."""
 
 
-def obstacle_problem(n: int = 151, terminal_cost=None, temperature: float = 0.2,
-                     horizon: float = 3.0) -> Problem:
+def obstacle_problem(
+    n: int = 151, terminal_cost=None, temperature: float = 0.2, horizon: float = 3.0
+) -> Problem:
     """A point steered in the plane round a wall to a goal behind it (the interpolation figure).
 
     The single integrator dx = u dt + dξ, Cov[dξ] = λ I dt (:class:`~gridlbc.systems.LinearSystem`
@@ -227,16 +264,19 @@ def obstacle_problem(n: int = 151, terminal_cost=None, temperature: float = 0.2,
     c̄ = :data:`OBSTACLE_TARGET` and W = diag :data:`OBSTACLE_WEIGHTS`.
     """
     if n < 5 or n % 2 == 0:
-        raise ValueError(f"n must be an odd number of nodes ≥ 5 so that both axes share one "
-                         f"spacing, e.g. 41, 101 or 151; got {n}")
+        raise ValueError(
+            f"n must be an odd number of nodes ≥ 5 so that both axes share one "
+            f"spacing, e.g. 41, 101 or 151; got {n}"
+        )
     grid = Grid([Axis(-2.0, 2.0, n, name="x"), Axis(-3.0, 3.0, 3 * (n - 1) // 2 + 1, name="y")])
     cost = Quadratic(OBSTACLE_TARGET, OBSTACLE_WEIGHTS) if terminal_cost is None else terminal_cost
     plane = LinearSystem(np.zeros((2, 2)), np.eye(2), state_names=("x", "y"))
     return Problem(plane, grid, horizon, cost, state_cost=OBSTACLE, temperature=temperature)
 
 
-def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int = 300,
-                          radius: float | str | None = None) -> list:
+def obstacle_trajectories(
+    problem: Problem, restarts: int = 32, n_intervals: int = 300, radius: float | str | None = None
+) -> list:
     """The trajectory components of the interpolation figure: one per goal of
     :data:`OBSTACLE_GOALS`, each a locally optimal path of the noise-free problem with its
     quadratic value expansion and LQR tracker (:func:`gridlbc.trajectory.expand`).
@@ -261,18 +301,30 @@ def obstacle_trajectories(problem: Problem, restarts: int = 32, n_intervals: int
     the two trackers agree.
     """
     wall = problem.state_cost
-    upper_goal, lower_goal = (problem.replace(terminal_cost=Quadratic(c, OBSTACLE_WEIGHTS))
-                              for c in OBSTACLE_GOALS)
+    upper_goal, lower_goal = (
+        problem.replace(terminal_cost=Quadratic(c, OBSTACLE_WEIGHTS)) for c in OBSTACLE_GOALS
+    )
     corner = (0.0, wall.end[1] + wall.radius + 0.3)
     legs = np.diff([OBSTACLE_START, corner, OBSTACLE_GOALS[0]], axis=0)
     lengths = np.hypot(*legs.T)
     velocities = legs / lengths[:, None] * (lengths.sum() / problem.horizon)  # one speed
     first_leg = np.arange(n_intervals) < n_intervals * lengths[0] / lengths.sum()
     tape = np.where(first_leg[:, None], velocities[0], velocities[1])
-    upper = optimize(upper_goal, OBSTACLE_START, restarts=restarts, seed=0,
-                     n_intervals=n_intervals, initial_controls=tape)
-    lower = optimize(lower_goal, OBSTACLE_START, n_intervals=n_intervals,
-                     initial_controls=upper.controls * [1.0, -1.0], search=False)
+    upper = optimize(
+        upper_goal,
+        OBSTACLE_START,
+        restarts=restarts,
+        seed=0,
+        n_intervals=n_intervals,
+        initial_controls=tape,
+    )
+    lower = optimize(
+        lower_goal,
+        OBSTACLE_START,
+        n_intervals=n_intervals,
+        initial_controls=upper.controls * [1.0, -1.0],
+        search=False,
+    )
     return [expand(upper_goal, upper, radius=radius), expand(lower_goal, lower, radius=radius)]
 
 
@@ -285,8 +337,13 @@ GYMNAST_WEIGHTS = (10.0, 10.0, 0.5, 0.5)
 """diag W of the gymnast's terminal cost g(x) = xᵀ W x."""
 
 
-def gymnast_problem(n=31, momentum_bounds=(16.0, 9.0), hip_range: float | None = np.pi,
-                    horizon: float = 3.0, temperature: float = 1.0) -> Problem:
+def gymnast_problem(
+    n=31,
+    momentum_bounds=(16.0, 9.0),
+    hip_range: float | None = np.pi,
+    horizon: float = 3.0,
+    temperature: float = 1.0,
+) -> Problem:
     """The acrobot swing-up (see :mod:`gridlbc.studies.gymnast`) on an n⁴ grid (or ``n`` =
     (n1, n2, n3, n4)), momentum box ±P1 × ±P2 and hip stops at ±``hip_range`` (``None``: a free,
     periodic hip)."""
@@ -301,16 +358,20 @@ def gymnast_problem(n=31, momentum_bounds=(16.0, 9.0), hip_range: float | None =
     elif isinstance(hip_range, (int, float)) and 0 < hip_range <= np.pi:
         hip = Axis(-hip_range, hip_range, shape[1], name="theta2")
     else:
-        raise ValueError(f"hip_range must be None (a free hip) or a number in (0, π], got "
-                         f"{hip_range!r}")
-    grid = Grid([
-        Axis(-np.pi, np.pi, shape[0], periodic=True, name="theta1"),
-        hip,
-        Axis(-p1, p1, shape[2], name="p1"),
-        Axis(-p2, p2, shape[3], name="p2"),
-    ])
-    return Problem(Acrobot(), grid, horizon, Quadratic(np.zeros(4), GYMNAST_WEIGHTS),
-                   temperature=temperature)
+        raise ValueError(
+            f"hip_range must be None (a free hip) or a number in (0, π], got {hip_range!r}"
+        )
+    grid = Grid(
+        [
+            Axis(-np.pi, np.pi, shape[0], periodic=True, name="theta1"),
+            hip,
+            Axis(-p1, p1, shape[2], name="p1"),
+            Axis(-p2, p2, shape[3], name="p2"),
+        ]
+    )
+    return Problem(
+        Acrobot(), grid, horizon, Quadratic(np.zeros(4), GYMNAST_WEIGHTS), temperature=temperature
+    )
 
 
 # -- diver -------------------------------------------------------------------------------------
@@ -374,11 +435,20 @@ def diver_entry_cost(entry_angle: float = 0.0) -> Quadratic:
     return Quadratic([entry_angle, 0, 0, 0, 0, 0, 0, 0], [w1, shape, shape, shape, 0, 0, 0, 0])
 
 
-def diver_problem(entry_angle: float = 0.0, temperature: float = DIVER_TEMPERATURE,
-                  control_cost: float = DIVER_CONTROL_COST) -> Problem:
+def diver_problem(
+    entry_angle: float = 0.0,
+    temperature: float = DIVER_TEMPERATURE,
+    control_cost: float = DIVER_CONTROL_COST,
+) -> Problem:
     """The grid-free diving problem: T = 1 s, the entry cost :func:`diver_entry_cost`, q = 0."""
-    return Problem(diver(), None, DIVER_HORIZON, diver_entry_cost(entry_angle),
-                   control_cost=control_cost, temperature=temperature)
+    return Problem(
+        diver(),
+        None,
+        DIVER_HORIZON,
+        diver_entry_cost(entry_angle),
+        control_cost=control_cost,
+        temperature=temperature,
+    )
 
 
 # -- gymnasium's Pendulum-v1 -----------------------------------------------------------------------
@@ -400,16 +470,27 @@ def _no_terminal_cost(x: np.ndarray) -> np.ndarray:
     return np.zeros(len(x))
 
 
-def pendulum_v1_problem(n: int = 201, temperature: float = 1e-4,
-                        control_cost: float = 0.04) -> Problem:
+def pendulum_v1_problem(
+    n: int = 201, temperature: float = 1e-4, control_cost: float = 0.04
+) -> Problem:
     """Gym's episode as a :class:`~gridlbc.Problem` on an ``n × n`` grid.
 
     θ periodic on [−π, π), ω on [−8, 8], horizon 200 × 0.05 s, q = 20θ² + 2ω² (gym's reward per
     step over its 0.05 s), R = ``control_cost`` (gym's is 0.04), no terminal cost (the episode
     just ends). Gym is deterministic: hence the small default temperature.
     """
-    grid = Grid([Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
-                 Axis(-PENDULUM_V1_MAX_SPEED, PENDULUM_V1_MAX_SPEED, n, name="omega")])
-    return Problem(pendulum_v1_system(), grid, horizon=PENDULUM_V1_STEPS * PENDULUM_V1_STEP,
-                   terminal_cost=_no_terminal_cost, state_cost=Quadratic([0.0, 0.0], [20.0, 2.0]),
-                   control_cost=control_cost, temperature=temperature)
+    grid = Grid(
+        [
+            Axis(-math.pi, math.pi, n, periodic=True, name="theta"),
+            Axis(-PENDULUM_V1_MAX_SPEED, PENDULUM_V1_MAX_SPEED, n, name="omega"),
+        ]
+    )
+    return Problem(
+        pendulum_v1_system(),
+        grid,
+        horizon=PENDULUM_V1_STEPS * PENDULUM_V1_STEP,
+        terminal_cost=_no_terminal_cost,
+        state_cost=Quadratic([0.0, 0.0], [20.0, 2.0]),
+        control_cost=control_cost,
+        temperature=temperature,
+    )

@@ -73,8 +73,9 @@ class CheckResult:
     note: str = ""
 
 
-def _row(check, case, measured, reference=math.nan, standard_error=math.nan, bound=math.nan,
-         note="") -> CheckResult:
+def _row(
+    check, case, measured, reference=math.nan, standard_error=math.nan, bound=math.nan, note=""
+) -> CheckResult:
     measured, reference, bound = float(measured), float(reference), float(bound)
     if math.isnan(bound):
         passed = None
@@ -82,8 +83,7 @@ def _row(check, case, measured, reference=math.nan, standard_error=math.nan, bou
         passed = bool(measured <= bound)
     else:
         passed = bool(abs(measured - reference) <= bound)
-    return CheckResult(check, case, measured, reference, float(standard_error), bound, passed,
-                       note)
+    return CheckResult(check, case, measured, reference, float(standard_error), bound, passed, note)
 
 
 @dataclass(frozen=True)
@@ -104,17 +104,30 @@ class VerificationReport:
         rows = [header]
         for r in self.results:
             status = {True: "pass", False: "FAIL", None: "info"}[r.passed]
-            rows.append((r.check, r.case, _fmt(r.measured), _fmt(r.reference),
-                         _fmt(r.standard_error), _fmt(r.bound), status))
+            rows.append(
+                (
+                    r.check,
+                    r.case,
+                    _fmt(r.measured),
+                    _fmt(r.reference),
+                    _fmt(r.standard_error),
+                    _fmt(r.bound),
+                    status,
+                )
+            )
         widths = [max(len(row[k]) for row in rows) for k in range(len(header))]
         lines = ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
         lines.insert(1, "  ".join("-" * w for w in widths))
         notes = [f"  [{r.check}: {r.case}] {r.note}" for r in self.results if r.note]
-        return "\n".join(lines + (["", "notes:"] + notes if notes else []))
+        return "\n".join(lines + (["", "notes:", *notes] if notes else []))
 
     def to_json(self, path) -> None:
-        data = {"passed": self.passed, "wall_time": self.wall_time, "settings": self.settings,
-                "results": [asdict(r) for r in self.results]}
+        data = {
+            "passed": self.passed,
+            "wall_time": self.wall_time,
+            "settings": self.settings,
+            "results": [asdict(r) for r in self.results],
+        }
         Path(path).write_text(json.dumps(data, indent=2, allow_nan=True) + "\n")
 
 
@@ -132,11 +145,20 @@ def _fmt(x: float) -> str:
 def check_superposition(n: int = 64, n_states: int = 1000, seed: int = 0) -> list[CheckResult]:
     """combine vs the direct solve of the composite cost on a pendulum, on and off the grid."""
     grid = pendulum_grid(n, 8.0)
-    problem = Problem(Pendulum(), grid, 1.0, Quadratic([0, 0], [4, 0.5]),
-                      state_cost=Quadratic([0, 0], [0.1, 0.01]), control_cost=0.5,
-                      temperature=0.7)
-    costs = [Quadratic([-1, 0], [4, 0.5]), Quadratic([1, 0], [4, 0.5]),
-             Quadratic([2.5, 1], [4, 0.5])]
+    problem = Problem(
+        Pendulum(),
+        grid,
+        1.0,
+        Quadratic([0, 0], [4, 0.5]),
+        state_cost=Quadratic([0, 0], [0.1, 0.01]),
+        control_cost=0.5,
+        temperature=0.7,
+    )
+    costs = [
+        Quadratic([-1, 0], [4, 0.5]),
+        Quadratic([1, 0], [4, 0.5]),
+        Quadratic([2.5, 1], [4, 0.5]),
+    ]
     weights = np.array([0.3, 1.2, 0.5])
     # the plain operator (independent of g): the components and the direct solve share it. Its
     # tails under-resolve this pendulum's steepest costs, which the solver rightly warns about;
@@ -152,30 +174,50 @@ def check_superposition(n: int = 64, n_states: int = 1000, seed: int = 0) -> lis
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     lam = problem.temperature
     rng = np.random.default_rng(seed)
-    places = {"grid nodes": (grid.nodes(), 0.0),
-              "off-grid": (rng.uniform([-4, -8], [4, 8], (n_states, 2)), 0.37)}
+    places = {
+        "grid nodes": (grid.nodes(), 0.0),
+        "off-grid": (rng.uniform([-4, -8], [4, 8], (n_states, 2)), 0.37),
+    }
     rows = []
     for where, (x, t) in places.items():
         log_z = direct.log_desirability(x, t)
         errors = {
             "z": np.max(np.abs(np.expm1(combined.log_desirability(x, t) - log_z))),
-            "v": np.max(np.abs(combined.value(x, t) - direct.value(x, t))
-                        / np.maximum(np.abs(direct.value(x, t)), lam)),
+            "v": np.max(
+                np.abs(combined.value(x, t) - direct.value(x, t))
+                / np.maximum(np.abs(direct.value(x, t)), lam)
+            ),
             "u": _max_relative(combined.policy(x, t), direct.policy(x, t)),
         }
-        alpha = np.stack([w * np.exp(s.log_desirability(x, t) - log_z)
-                          for w, s in zip(weights, sols)], axis=1)
+        alpha = np.stack(
+            [w * np.exp(s.log_desirability(x, t) - log_z) for w, s in zip(weights, sols)], axis=1
+        )
         errors["α"] = np.max(np.abs(combined.blend_weights(x, t) - alpha))
         for name, err in errors.items():
-            rows.append(_row("superposition", f"{name} at {len(x)} {where}, t={t:g}", err,
-                             bound=SUPERPOSITION_BOUND))
-    rows[-1] = CheckResult(**{**asdict(rows[-1]), "note": (
-        f"pendulum {_shape(grid)}, 3 goals, w = {weights.tolist()}: relative errors (z, v per "
-        "point; u in max norm; α absolute) of combine against the direct solve of "
-        "g = −λ log Σ w_i exp(−g_i/λ)"
-        + ("; the plain solves warn that their tails under-resolve the steepest costs (the "
-           "value's accuracy, not superposition's)"
-           if any(issubclass(w.category, ResolutionWarning) for w in caught) else ""))})
+            rows.append(
+                _row(
+                    "superposition",
+                    f"{name} at {len(x)} {where}, t={t:g}",
+                    err,
+                    bound=SUPERPOSITION_BOUND,
+                )
+            )
+    rows[-1] = CheckResult(
+        **{
+            **asdict(rows[-1]),
+            "note": (
+                f"pendulum {_shape(grid)}, 3 goals, w = {weights.tolist()}: relative errors (z, v per "
+                "point; u in max norm; α absolute) of combine against the direct solve of "
+                "g = −λ log Σ w_i exp(−g_i/λ)"
+                + (
+                    "; the plain solves warn that their tails under-resolve the steepest costs (the "
+                    "value's accuracy, not superposition's)"
+                    if any(issubclass(w.category, ResolutionWarning) for w in caught)
+                    else ""
+                )
+            ),
+        }
+    )
     return rows
 
 
@@ -190,38 +232,71 @@ def _mc_row(check, case, rollouts, reference, bound, note="") -> CheckResult:
     return _row(check, case, rollouts.mean_cost, reference, rollouts.standard_error, bound, note)
 
 
-def _certificate_rows(check, case, cert, predicted=math.nan, prediction_bound=math.nan,
-                      exact=math.nan, exact_bound=math.nan, cost_bound=math.nan, note=""
-                      ) -> list[CheckResult]:
+def _certificate_rows(
+    check,
+    case,
+    cert,
+    predicted=math.nan,
+    prediction_bound=math.nan,
+    exact=math.nan,
+    exact_bound=math.nan,
+    cost_bound=math.nan,
+    note="",
+) -> list[CheckResult]:
     """Rows of one start state's certificate: the certified optimum v* (against an exact value
     where there is one, and failing when too few effective samples carry it), the prediction
     against v*, and the proposal policy's cost J (against the exact value where there is one)
     and gap J − v*."""
     v, se = cert.optimal_value, cert.optimal_value_se
-    ess = (f"effective sample size {cert.effective_sample_size:.0f} of {cert.n_samples}"
-           + ("" if cert.trusted else " — too few: v* is not trustworthy") +
-           f", Δt = {cert.dt:.3g}, {100 * cert.left_box_fraction:.1f} % left the box")
-    optimum = _row(check, f"{case}: certified optimum v*", v, exact, se, exact_bound,
-                   "; ".join(filter(None, (note, ess))))
+    ess = (
+        f"effective sample size {cert.effective_sample_size:.0f} of {cert.n_samples}"
+        + ("" if cert.trusted else " — too few: v* is not trustworthy")
+        + f", Δt = {cert.dt:.3g}, {100 * cert.left_box_fraction:.1f} % left the box"
+    )
+    optimum = _row(
+        check,
+        f"{case}: certified optimum v*",
+        v,
+        exact,
+        se,
+        exact_bound,
+        "; ".join(filter(None, (note, ess))),
+    )
     if not cert.trusted:
         optimum = replace(optimum, passed=False)
     rows = [optimum]
     if not math.isnan(predicted):
-        rows.append(_row(check, f"{case}: predicted v(x0,0) vs v*", predicted, v, se,
-                         prediction_bound))
-    rows.append(_row(check, f"{case}: policy cost J", cert.policy_cost,
-                     v if math.isnan(exact) else exact, cert.policy_cost_se, cost_bound))
+        rows.append(
+            _row(check, f"{case}: predicted v(x0,0) vs v*", predicted, v, se, prediction_bound)
+        )
+    rows.append(
+        _row(
+            check,
+            f"{case}: policy cost J",
+            cert.policy_cost,
+            v if math.isnan(exact) else exact,
+            cert.policy_cost_se,
+            cost_bound,
+        )
+    )
     rows.append(_row(check, f"{case}: gap J − v*", cert.gap, standard_error=cert.gap_se))
     return rows
 
 
-def check_pointmass_optimality(n: int = 61, samples: int = 4000, seed: int = 0
-                               ) -> list[CheckResult]:
+def check_pointmass_optimality(
+    n: int = 61, samples: int = 4000, seed: int = 0
+) -> list[CheckResult]:
     """PointMass LQ problem: grid prediction, certified optimum and policy cost vs Riccati."""
     grid = Grid([Axis(-4, 4, n), Axis(-4, 4, n)])
-    problem = Problem(PointMass(), grid, 1.0, Quadratic([0, 0], [2, 1]),
-                      state_cost=Quadratic([0, 0], [0.5, 0.1]), control_cost=2.0,
-                      temperature=0.5)
+    problem = Problem(
+        PointMass(),
+        grid,
+        1.0,
+        Quadratic([0, 0], [2, 1]),
+        state_cost=Quadratic([0, 0], [0.5, 0.1]),
+        control_cost=2.0,
+        temperature=0.5,
+    )
     x0 = np.array([1.0, -0.5])
     exact = lq_solution(problem)
     v_exact = float(exact.value(x0, 0.0)[0])
@@ -233,23 +308,38 @@ def check_pointmass_optimality(n: int = 61, samples: int = 4000, seed: int = 0
     bias = 2 * exact_run.dt * abs(v_exact)
     case = f"PointMass {_shape(grid)}"
     return [
-        _row("optimality", f"{case}: grid v(x0,0)", v_grid, v_exact,
-             note=f"x0 = {x0.tolist()}, T = 1, λ = 0.5, R = 2; grid vs Riccati value "
-                  f"(discretisation error {discretisation:.3g})"),
+        _row(
+            "optimality",
+            f"{case}: grid v(x0,0)",
+            v_grid,
+            v_exact,
+            note=f"x0 = {x0.tolist()}, T = 1, λ = 0.5, R = 2; grid vs Riccati value "
+            f"(discretisation error {discretisation:.3g})",
+        ),
         *_certificate_rows(
-            "optimality", case, cert, exact=v_exact,
+            "optimality",
+            case,
+            cert,
+            exact=v_exact,
             exact_bound=3 * cert.optimal_value_se + bias,
             cost_bound=3 * cert.policy_cost_se + discretisation,
             note=f"{samples} samples, grid policy as proposal; bounds: v* 3 SE + 2Δt|v| "
-                 "(Euler–Maruyama bias), J 3 SE + |v_grid − v_Riccati|"),
-        _mc_row("optimality", f"{case}: MC cost, Riccati policy", exact_run, v_exact,
-                3 * exact_run.standard_error + bias,
-                f"bound 3 SE + 2Δt|v| (Euler–Maruyama bias), Δt = {exact_run.dt:.3g}"),
+            "(Euler–Maruyama bias), J 3 SE + |v_grid − v_Riccati|",
+        ),
+        _mc_row(
+            "optimality",
+            f"{case}: MC cost, Riccati policy",
+            exact_run,
+            v_exact,
+            3 * exact_run.standard_error + bias,
+            f"bound 3 SE + 2Δt|v| (Euler–Maruyama bias), Δt = {exact_run.dt:.3g}",
+        ),
     ]
 
 
-def check_swingup_optimality(n: int = 256, dt: float | None = 0.02, samples: int = 2000,
-                             seed: int = 0, fitting="terminal") -> list[CheckResult]:
+def check_swingup_optimality(
+    n: int = 256, dt: float | None = 0.02, samples: int = 2000, seed: int = 0, fitting="terminal"
+) -> list[CheckResult]:
     """Pendulum swing-up: predicted −λ log z(x₀, 0) vs the certified optimum, with the grid policy
     as proposal (rollouts at Δt = :data:`SWINGUP_ROLLOUT_DT`), and that policy's cost and gap.
     The solve is fitted to the terminal cost by default (``benchmarks/swingup_accuracy.py``
@@ -258,16 +348,24 @@ def check_swingup_optimality(n: int = 256, dt: float | None = 0.02, samples: int
     sol = solve(problem, dt=dt, fitting=fitting)
     x0 = SWINGUP_START.copy()
     predicted = float(sol.value(x0, 0.0)[0])
-    cert = certify(problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed,
-                   progress=False)
-    step = (f"dt={sol.diagnostics.dt:.3g}" + ("" if dt is not None else " (default)")
-            + (", fitted" if fitting else ", plain"))
+    cert = certify(
+        problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed, progress=False
+    )
+    step = (
+        f"dt={sol.diagnostics.dt:.3g}"
+        + ("" if dt is not None else " (default)")
+        + (", fitted" if fitting else ", plain")
+    )
     error = (predicted - cert.optimal_value) / cert.optimal_value
     return _certificate_rows(
-        "optimality", f"swing-up {_shape(problem.grid)} {step}", cert, predicted,
+        "optimality",
+        f"swing-up {_shape(problem.grid)} {step}",
+        cert,
+        predicted,
         SWINGUP_GAP * cert.optimal_value,
         note=f"x0 = {x0.tolist()}, {samples} samples: predicted {predicted:.4g} is "
-             f"{100 * error:+.1f}% from v* (bound {100 * SWINGUP_GAP:.0f}%)")
+        f"{100 * error:+.1f}% from v* (bound {100 * SWINGUP_GAP:.0f}%)",
+    )
 
 
 # -- c. interpolation -------------------------------------------------------------------------------
@@ -280,21 +378,28 @@ def _final_errors(final_states, center) -> tuple[float, float]:
     return float(diff[:, 0].mean()), float(diff[:, 1].mean())
 
 
-def check_interpolation(n: int = 128, dt: float | None = 0.02, samples: int = 1000,
-                        seed: int = 0, goal: float = 0.5) -> list[CheckResult]:
+def check_interpolation(
+    n: int = 128, dt: float | None = 0.02, samples: int = 1000, seed: int = 0, goal: float = 0.5
+) -> list[CheckResult]:
     """Goals θ = ±goal and the target θ = 0 between them: LBC vs naive blend vs direct."""
     W = [2.0, 0.5]
     target = Quadratic([0, 0], W)
     components = [Quadratic([-goal, 0], W), Quadratic([goal, 0], W)]
     problem = swingup_problem(n, target)
-    sols = solve_many(problem, components + [target], dt=dt)
+    sols = solve_many(problem, [*components, target], dt=dt)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ProjectionWarning)  # reported in the note instead
-        proj = projection(target, [s.problem.terminal_cost for s in sols[:2]], problem.grid,
-                          temperature=problem.temperature)
-    controllers = {"LBC": combine(sols[:2], proj.weights).policy,
-                   "naive blend": naive_blend(sols[:2], proj.weights).policy,
-                   "direct": sols[2].policy}
+        proj = projection(
+            target,
+            [s.problem.terminal_cost for s in sols[:2]],
+            problem.grid,
+            temperature=problem.temperature,
+        )
+    controllers = {
+        "LBC": combine(sols[:2], proj.weights).policy,
+        "naive blend": naive_blend(sols[:2], proj.weights).policy,
+        "direct": sols[2].policy,
+    }
     predictions = {"LBC": combine(sols[:2], proj.weights).value, "direct": sols[2].value}
     x0 = SWINGUP_START.copy()
     case = f"pendulum {_shape(problem.grid)}"
@@ -304,17 +409,24 @@ def check_interpolation(n: int = 128, dt: float | None = 0.02, samples: int = 10
         # same v*), with the same seed; the final-state errors are those of its rollouts.
         cert = certify(problem, policy, x0, samples, seed=seed, progress=False)
         predicted = float(predictions[name](x0, 0.0)[0]) if name in predictions else math.nan
-        rows += _certificate_rows("interpolation", f"{case}: {name}", cert, predicted,
-                                  note="under the target task")
+        rows += _certificate_rows(
+            "interpolation", f"{case}: {name}", cert, predicted, note="under the target task"
+        )
         theta_error, omega_error = _final_errors(cert.final_states, target.center)
         rows.append(_row("interpolation", f"{case}: {name} mean |θ_T − θ̄|", theta_error))
         rows.append(_row("interpolation", f"{case}: {name} mean |ω_T − ω̄|", omega_error))
-    rows[-1] = CheckResult(**{**asdict(rows[-1]), "note": (
-        f"goals θ = ±{goal:g}, target θ̄ = 0, ω̄ = 0, W = {W}; projected weights "
-        f"{np.round(proj.weights, 4).tolist()} (sum {proj.weight_sum:.3g}, "
-        f"residual {proj.residual:.2g}); certified under the target task from x0 = "
-        f"{x0.tolist()} with each controller as proposal, {samples} samples each, same seed; "
-        "LBC's prediction is −λ log Σ w_i z_i")})
+    rows[-1] = CheckResult(
+        **{
+            **asdict(rows[-1]),
+            "note": (
+                f"goals θ = ±{goal:g}, target θ̄ = 0, ω̄ = 0, W = {W}; projected weights "
+                f"{np.round(proj.weights, 4).tolist()} (sum {proj.weight_sum:.3g}, "
+                f"residual {proj.residual:.2g}); certified under the target task from x0 = "
+                f"{x0.tolist()} with each controller as proposal, {samples} samples each, same seed; "
+                "LBC's prediction is −λ log Σ w_i z_i"
+            ),
+        }
+    )
     return rows
 
 
@@ -361,42 +473,70 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
         alpha_plus = float(combined.blend_weights(x0, 0.0)[0, 1])
         # Away from the middle ≥ 90% must reach the nearer goal; near 0 the split is reported.
         decided = abs(s) >= 0.5
-        rows.append(_row("coordination", f"start x={s:+g}: fraction ending at goal +1", to_plus,
-                         float(s > 0) if decided else math.nan,
-                         bound=0.1 if decided else math.nan,
-                         note=f"α₊(x0, 0) = {alpha_plus:.3f}"))
+        rows.append(
+            _row(
+                "coordination",
+                f"start x={s:+g}: fraction ending at goal +1",
+                to_plus,
+                float(s > 0) if decided else math.nan,
+                bound=0.1 if decided else math.nan,
+                note=f"α₊(x0, 0) = {alpha_plus:.3f}",
+            )
+        )
     x0 = np.array([0.0, 0.0])
-    exact_value, exact_policy = _exact_coordination(
-        [lq_solution(s.problem) for s in sols], lam)
+    exact_value, exact_policy = _exact_coordination([lq_solution(s.problem) for s in sols], lam)
     v_exact = float(exact_value(x0, 0.0)[0])
     v_grid = float(combined.value(x0, 0.0)[0])
     case = f"start x=0, {_shape(grid)}"
-    cert = certify(combined.problem, combined.policy, x0, 4 * samples, seed=seed + len(starts),
-                   progress=False)
-    exact_run = simulate(combined.problem, exact_policy, x0, 4 * samples,
-                         seed=seed + len(starts) + 1)
+    cert = certify(
+        combined.problem, combined.policy, x0, 4 * samples, seed=seed + len(starts), progress=False
+    )
+    exact_run = simulate(
+        combined.problem, exact_policy, x0, 4 * samples, seed=seed + len(starts) + 1
+    )
     bias = 2 * exact_run.dt * abs(v_exact)
-    return rows + [
-        _row("coordination", f"{case}: grid −λ log(z₁+z₂)", v_grid, v_exact,
-             note=f"PointMass, goals (±1, 0), T = 1.5, λ = {lam}; reference: exact "
-                  "−λ log Σ exp(−v_i/λ) with Riccati v_i"),
+    return [
+        *rows,
+        _row(
+            "coordination",
+            f"{case}: grid −λ log(z₁+z₂)",
+            v_grid,
+            v_exact,
+            note=f"PointMass, goals (±1, 0), T = 1.5, λ = {lam}; reference: exact "
+            "−λ log Σ exp(−v_i/λ) with Riccati v_i",
+        ),
         *_certificate_rows(
-            "coordination", f"{case}, combined grid policy", cert, v_grid,
-            exact=v_exact, exact_bound=3 * cert.optimal_value_se + bias,
+            "coordination",
+            f"{case}, combined grid policy",
+            cert,
+            v_grid,
+            exact=v_exact,
+            exact_bound=3 * cert.optimal_value_se + bias,
             cost_bound=3 * cert.policy_cost_se + abs(v_grid - v_exact),
-            note="bounds: v* 3 SE + 2Δt|v| (Euler–Maruyama bias), J 3 SE + |v_grid − v_exact|"),
-        _mc_row("coordination", f"{case}: MC cost, exact combined policy", exact_run, v_exact,
-                3 * exact_run.standard_error + bias,
-                "bound 3 SE + 2Δt|v| (Euler–Maruyama bias)"),
+            note="bounds: v* 3 SE + 2Δt|v| (Euler–Maruyama bias), J 3 SE + |v_grid − v_exact|",
+        ),
+        _mc_row(
+            "coordination",
+            f"{case}: MC cost, exact combined policy",
+            exact_run,
+            v_exact,
+            3 * exact_run.standard_error + bias,
+            "bound 3 SE + 2Δt|v| (Euler–Maruyama bias)",
+        ),
     ]
 
 
 # -- all --------------------------------------------------------------------------------------------
 
 
-def run_verification(grid_size: int = 256, samples: int = 8000, seed: int = 0,
-                     swingup_dt: float | None = 0.02, quick: bool = False,
-                     progress: bool = False) -> VerificationReport:
+def run_verification(
+    grid_size: int = 256,
+    samples: int = 8000,
+    seed: int = 0,
+    swingup_dt: float | None = 0.02,
+    quick: bool = False,
+    progress: bool = False,
+) -> VerificationReport:
     """Run checks a–d and return the report.
 
     ``grid_size`` is the swing-up grid (θ nodes; ω gets one more; the interpolation check uses
@@ -407,20 +547,39 @@ def run_verification(grid_size: int = 256, samples: int = 8000, seed: int = 0,
     test: the statistical and 10% bounds are then not expected to hold).
     """
     started = time.perf_counter()
-    small = {"superposition": 24, "pointmass": 21, "coordination": 31} if quick else \
-        {"superposition": 64, "pointmass": 61, "coordination": 81}
+    small = (
+        {"superposition": 24, "pointmass": 21, "coordination": 31}
+        if quick
+        else {"superposition": 64, "pointmass": 61, "coordination": 81}
+    )
     plan = [
         ("superposition", lambda: check_superposition(small["superposition"], seed=seed)),
-        ("PointMass optimality", lambda: check_pointmass_optimality(
-            small["pointmass"], samples=max(200, samples), seed=seed)),
-        ("swing-up optimality", lambda: check_swingup_optimality(
-            grid_size, swingup_dt, samples, seed)),
-        ("swing-up optimality, default dt", lambda: check_swingup_optimality(
-            grid_size, None, samples, seed)),
-        ("interpolation", lambda: check_interpolation(
-            max(16, grid_size // 2), swingup_dt, max(100, samples // 2), seed)),
-        ("coordination", lambda: check_coordination(
-            small["coordination"], samples=max(50, samples // 5), seed=seed)),
+        (
+            "PointMass optimality",
+            lambda: check_pointmass_optimality(
+                small["pointmass"], samples=max(200, samples), seed=seed
+            ),
+        ),
+        (
+            "swing-up optimality",
+            lambda: check_swingup_optimality(grid_size, swingup_dt, samples, seed),
+        ),
+        (
+            "swing-up optimality, default dt",
+            lambda: check_swingup_optimality(grid_size, None, samples, seed),
+        ),
+        (
+            "interpolation",
+            lambda: check_interpolation(
+                max(16, grid_size // 2), swingup_dt, max(100, samples // 2), seed
+            ),
+        ),
+        (
+            "coordination",
+            lambda: check_coordination(
+                small["coordination"], samples=max(50, samples // 5), seed=seed
+            ),
+        ),
     ]
     results = []
     for name, run in plan:
@@ -428,6 +587,11 @@ def run_verification(grid_size: int = 256, samples: int = 8000, seed: int = 0,
         results.extend(run())
         if progress:
             print(f"  {name}: {time.perf_counter() - t0:.1f} s", file=sys.stderr, flush=True)
-    settings = {"grid_size": grid_size, "samples": samples, "seed": seed,
-                "swingup_dt": swingup_dt, "quick": quick}
+    settings = {
+        "grid_size": grid_size,
+        "samples": samples,
+        "seed": seed,
+        "swingup_dt": swingup_dt,
+        "quick": quick,
+    }
     return VerificationReport(tuple(results), settings, time.perf_counter() - started)

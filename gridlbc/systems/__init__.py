@@ -5,11 +5,11 @@ from .chain import PlanarChain
 from .mechanical import Acrobot, Pendulum, PointMass, SingleIntegrator
 
 __all__ = [
-           "Acrobot",
-           "ControlAffineSystem",
-           "LinearSystem",
-           "Pendulum",
-           "PlanarChain",
-           "PointMass",
-           "SingleIntegrator",
+    "Acrobot",
+    "ControlAffineSystem",
+    "LinearSystem",
+    "Pendulum",
+    "PlanarChain",
+    "PointMass",
+    "SingleIntegrator",
 ]

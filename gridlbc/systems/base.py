@@ -51,18 +51,26 @@ class ControlAffineSystem:
         """A grid over :attr:`default_box` with ``n`` nodes per axis (one count, or one per axis)."""
         name = type(self).__name__
         if not self.default_box:
-            raise ValueError(f"{name} has no default box: give the grid's axes (lo, hi, n per "
-                             "coordinate)")
+            raise ValueError(
+                f"{name} has no default box: give the grid's axes (lo, hi, n per coordinate)"
+            )
         counts = [n] if np.isscalar(n) else list(n)
         if len(counts) == 1:
             counts = counts * len(self.default_box)
         if len(counts) != len(self.default_box):
-            raise ValueError(f"n must be one node count or {len(self.default_box)} (one per state "
-                             f"coordinate of {name}), got {len(counts)}")
+            raise ValueError(
+                f"n must be one node count or {len(self.default_box)} (one per state "
+                f"coordinate of {name}), got {len(counts)}"
+            )
         names = self.state_names or (None,) * len(counts)
-        return Grid([Axis(-math.pi, math.pi, k, periodic=True, name=label) if box is None
-                     else Axis(box[0], box[1], k, name=label)
-                     for box, k, label in zip(self.default_box, counts, names)])
+        return Grid(
+            [
+                Axis(-math.pi, math.pi, k, periodic=True, name=label)
+                if box is None
+                else Axis(box[0], box[1], k, name=label)
+                for box, k, label in zip(self.default_box, counts, names)
+            ]
+        )
 
     def drift(self, x) -> np.ndarray:
         """Passive dynamics a(x), shape ``(N, d)`` for states ``(N, d)``."""
@@ -133,7 +141,7 @@ class LinearSystem(ControlAffineSystem):
 
     def input_matrix(self, x):
         x = self._states(x)
-        return np.broadcast_to(self.B, (x.shape[0],) + self.B.shape)
+        return np.broadcast_to(self.B, (x.shape[0], *self.B.shape))
 
     def linear_matrices(self):
         return self.A.copy(), self.B.copy()

@@ -79,11 +79,13 @@ class PlanarChain(ControlAffineSystem):
         g (m/s²). It has no effect on a free chain (no torque about the centre of mass).
     """
 
-    def __init__(self, n_links: int, masses=1.0, lengths=1.0, pinned: bool = True,
-                 gravity: float = 9.81):
+    def __init__(
+        self, n_links: int, masses=1.0, lengths=1.0, pinned: bool = True, gravity: float = 9.81
+    ):
         if isinstance(n_links, bool) or not isinstance(n_links, (int, np.integer)) or n_links < 2:
-            raise ValueError(f"n_links must be an integer ≥ 2 (a chain with a joint to drive), "
-                             f"got {n_links!r}")
+            raise ValueError(
+                f"n_links must be an integer ≥ 2 (a chain with a joint to drive), got {n_links!r}"
+            )
         n = int(n_links)
         self.n_links = n
         self.masses = _per_link("masses", masses, n)
@@ -94,23 +96,24 @@ class PlanarChain(ControlAffineSystem):
         self.gravity = _non_negative("gravity", gravity)
         self.state_dim, self.control_dim = 2 * n, n - 1
         self.state_names = tuple(f"theta{k}" for k in range(1, n + 1)) + tuple(
-            f"p{k}" for k in range(1, n + 1))
+            f"p{k}" for k in range(1, n + 1)
+        )
         self.angle_axes = tuple(range(n))
         self._G, self._J, self._h = self._inertia_constants()
         self._L = np.tril(np.ones((n, n)))
 
     def _inertia_constants(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """G, J, h of T = ½ ψ̇ᵀ (G ∘ cos(ψi − ψj) + diag J) ψ̇ and V = g Σ h_j cos ψj."""
-        m, l = np.array(self.masses), np.array(self.lengths)
+        m, length = np.array(self.masses), np.array(self.lengths)
         n = m.size
         if self.pinned:
             beyond = np.cumsum(m[::-1])[::-1]  # μ_k
-            G = np.outer(l, l) * beyond[np.maximum.outer(np.arange(n), np.arange(n))]
-            return G, np.zeros(n), l * beyond
+            G = np.outer(length, length) * beyond[np.maximum.outer(np.arange(n), np.arange(n))]
+            return G, np.zeros(n), length * beyond
         lower = np.tril(np.ones((n, n)), -1) + 0.5 * np.eye(n)  # [j < k] + ½[j = k]
-        D0 = lower * l  # rod middles from the base point
+        D0 = lower * length  # rod middles from the base point
         D = D0 - (m / m.sum()) @ D0
-        return D.T @ (m[:, None] * D), m * l**2 / 12.0, np.zeros(n)
+        return D.T @ (m[:, None] * D), m * length**2 / 12.0, np.zeros(n)
 
     # -- kinematics -------------------------------------------------------------------------
 
@@ -198,5 +201,10 @@ class PlanarChain(ControlAffineSystem):
         return np.concatenate([x[:, : self.n_links], self._joint_velocities(x)], axis=1)
 
     def parameters(self):
-        return {"n_links": self.n_links, "masses": self.masses, "lengths": self.lengths,
-                "pinned": self.pinned, "gravity": self.gravity}
+        return {
+            "n_links": self.n_links,
+            "masses": self.masses,
+            "lengths": self.lengths,
+            "pinned": self.pinned,
+            "gravity": self.gravity,
+        }

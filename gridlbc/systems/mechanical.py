@@ -41,7 +41,9 @@ class PointMass(LinearSystem):
     def __init__(self, mass: float = 1.0):
         self.mass = _positive("mass", mass)
         super().__init__(
-            [[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0 / self.mass]], state_names=("position", "velocity")
+            [[0.0, 1.0], [0.0, 0.0]],
+            [[0.0], [1.0 / self.mass]],
+            state_names=("position", "velocity"),
         )
 
     default_box = ((-4.0, 4.0), (-6.0, 6.0))
@@ -65,8 +67,9 @@ class Pendulum(ControlAffineSystem):
     angle_axes = (0,)
     default_box = (None, (-10.0, 10.0))
 
-    def __init__(self, mass: float = 1.0, length: float = 1.0, gravity: float = 9.81,
-                 damping: float = 0.0):
+    def __init__(
+        self, mass: float = 1.0, length: float = 1.0, gravity: float = 9.81, damping: float = 0.0
+    ):
         self.mass = _positive("mass", mass)
         self.length = _positive("length", length)
         self.gravity = _non_negative("gravity", gravity)
@@ -92,11 +95,17 @@ class Pendulum(ControlAffineSystem):
     def energy(self, x) -> np.ndarray:
         """½ m l² ω² + m g l cos θ (conserved without control and damping)."""
         x = self._states(x)
-        return 0.5 * self.inertia * x[:, 1] ** 2 + self.mass * self.gravity * self.length * np.cos(x[:, 0])
+        return 0.5 * self.inertia * x[:, 1] ** 2 + self.mass * self.gravity * self.length * np.cos(
+            x[:, 0]
+        )
 
     def parameters(self):
-        return {"mass": self.mass, "length": self.length, "gravity": self.gravity,
-                "damping": self.damping}
+        return {
+            "mass": self.mass,
+            "length": self.length,
+            "gravity": self.gravity,
+            "damping": self.damping,
+        }
 
 
 class Acrobot(ControlAffineSystem):
@@ -124,8 +133,14 @@ class Acrobot(ControlAffineSystem):
     """The gymnast study's box: hip stops at ±π, momenta ±16 × ±9 (see
     :func:`gridlbc.studies.problems.gymnast_problem`)."""
 
-    def __init__(self, m1: float = 1.0, m2: float = 1.0, l1: float = 1.0, l2: float = 1.0,
-                 gravity: float = 9.81):
+    def __init__(
+        self,
+        m1: float = 1.0,
+        m2: float = 1.0,
+        l1: float = 1.0,
+        l2: float = 1.0,
+        gravity: float = 9.81,
+    ):
         self.m1 = _positive("m1", m1)
         self.m2 = _positive("m2", m2)
         self.l1 = _positive("l1", l1)
@@ -136,7 +151,7 @@ class Acrobot(ControlAffineSystem):
         """M(θ2), shape ``(N, 2, 2)``."""
         c = np.cos(np.atleast_1d(np.asarray(theta2, dtype=float)))
         m1, m2, l1, l2 = self.m1, self.m2, self.l1, self.l2
-        M = np.empty(c.shape + (2, 2))
+        M = np.empty((*c.shape, 2, 2))
         M[..., 0, 0] = m1 * l1**2 + m2 * (l1**2 + l2**2 + 2 * l1 * l2 * c)
         M[..., 0, 1] = M[..., 1, 0] = m2 * (l2**2 + l1 * l2 * c)
         M[..., 1, 1] = m2 * l2**2
@@ -214,5 +229,4 @@ class Acrobot(ControlAffineSystem):
         return np.concatenate([np.stack([w1, w2], axis=1), acc], axis=1)
 
     def parameters(self):
-        return {"m1": self.m1, "m2": self.m2, "l1": self.l1, "l2": self.l2,
-                "gravity": self.gravity}
+        return {"m1": self.m1, "m2": self.m2, "l1": self.l1, "l2": self.l2, "gravity": self.gravity}

@@ -14,5 +14,11 @@ solutions of the same problem.
 from .expansion import TrajectoryExpansion, TrajectoryWarning, expand
 from .optimize import Trajectory, optimize, tape_cost
 
-__all__ = ["Trajectory", "TrajectoryExpansion", "TrajectoryWarning", "expand", "optimize",
-           "tape_cost"]
+__all__ = [
+    "Trajectory",
+    "TrajectoryExpansion",
+    "TrajectoryWarning",
+    "expand",
+    "optimize",
+    "tape_cost",
+]

@@ -72,8 +72,9 @@ def linearize(shooting: Shooting, U: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return states, A, Bd
 
 
-def step_jacobians(shooting: Shooting, x: np.ndarray, u: np.ndarray
-                   ) -> tuple[np.ndarray, np.ndarray]:
+def step_jacobians(
+    shooting: Shooting, x: np.ndarray, u: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """A = ∂F/∂x ``(P, d, d)`` and B = ∂F/∂u ``(P, d, m)`` of one RK4 step from states
     ``(P, d)`` with controls ``(P, m)`` (the stage chain rule of the module docstring)."""
     P, d = x.shape
@@ -121,8 +122,9 @@ def step_hessians(shooting: Shooting, x: np.ndarray, u: np.ndarray) -> np.ndarra
     return 0.5 * (H + np.swapaxes(H, 2, 3))
 
 
-def cost_derivatives(cost, x: np.ndarray, t: np.ndarray | None = None
-                     ) -> tuple[np.ndarray, np.ndarray]:
+def cost_derivatives(
+    cost, x: np.ndarray, t: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Gradient ``(P, d)`` and positive semi-definite Hessian ``(P, d, d)`` of a cost at ``x``.
 
     ``t`` (``(P,)``) is passed to time-dependent costs (``cost.time_dependent``). Exact for
@@ -133,14 +135,17 @@ def cost_derivatives(cost, x: np.ndarray, t: np.ndarray | None = None
     if isinstance(cost, (Quadratic, Tracking)):
         diff = cost.difference(x, t) if timed else cost.difference(x)
         W = cost.weights
-        return 2.0 * diff @ W, np.broadcast_to(2.0 * W, (len(x),) + W.shape).copy()
+        return 2.0 * diff @ W, np.broadcast_to(2.0 * W, (len(x), *W.shape)).copy()
     P, d = x.shape
     if timed:
+
         def f(y):
             return np.asarray(cost(y, np.tile(t, len(y) // P)), dtype=float)
     else:
+
         def f(y):
             return np.asarray(cost(y), dtype=float)
+
     grad = gradient(f, x)
     h = _HESSIAN_STEP * np.maximum(1.0, np.abs(x))  # (P, d)
     H = np.empty((P, d, d))
@@ -161,8 +166,9 @@ def positive_part(P: np.ndarray) -> np.ndarray:
     return np.einsum("...ij,...j,...kj->...ik", V, np.maximum(w, 0.0), V)
 
 
-def running_derivatives(shooting: Shooting, state_cost, states: np.ndarray
-                        ) -> tuple[np.ndarray, np.ndarray]:
+def running_derivatives(
+    shooting: Shooting, state_cost, states: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """ℓ_x ``(K, d)`` and ℓ_xx ``(K, d, d)`` of the state part q Δt at x_0 … x_K−1."""
     K = len(states) - 1
     d = states.shape[1]
@@ -172,10 +178,20 @@ def running_derivatives(shooting: Shooting, state_cost, states: np.ndarray
     return shooting.dt * g, shooting.dt * H
 
 
-def backward_pass(A: np.ndarray, B: np.ndarray, U: np.ndarray, R: np.ndarray, dt: float,
-                  lx: np.ndarray, lxx: np.ndarray, gx: np.ndarray, gxx: np.ndarray,
-                  regularization: float = 0.0, F2: np.ndarray | None = None,
-                  projected: bool = False) -> BackwardPass:
+def backward_pass(
+    A: np.ndarray,
+    B: np.ndarray,
+    U: np.ndarray,
+    R: np.ndarray,
+    dt: float,
+    lx: np.ndarray,
+    lxx: np.ndarray,
+    gx: np.ndarray,
+    gxx: np.ndarray,
+    regularization: float = 0.0,
+    F2: np.ndarray | None = None,
+    projected: bool = False,
+) -> BackwardPass:
     """The Gauss–Newton Riccati sweep of the module docstring (``regularization`` μ adds
     μ·RΔt to Q_uu when solving for k and K).
 
@@ -222,8 +238,14 @@ PASSES = ("gauss-newton", "newton", "projected-newton")
 the positive semi-definite part of each P_k."""
 
 
-def sweep(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
-          regularization: float = 0.0, newton: bool = False) -> tuple[np.ndarray, BackwardPass]:
+def sweep(
+    shooting: Shooting,
+    U: np.ndarray,
+    terminal_cost,
+    state_cost,
+    regularization: float = 0.0,
+    newton: bool = False,
+) -> tuple[np.ndarray, BackwardPass]:
     """Linearise along tape ``U`` and run the backward pass: ``(states, BackwardPass)``;
     ``newton``: with the dynamics' second derivatives (full DDP)."""
     passes = ("newton" if newton else "gauss-newton",)
@@ -231,9 +253,14 @@ def sweep(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
     return states, back
 
 
-def sweeps(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
-           passes=("gauss-newton", "newton"), regularization: float = 0.0
-           ) -> tuple[np.ndarray, list[BackwardPass]]:
+def sweeps(
+    shooting: Shooting,
+    U: np.ndarray,
+    terminal_cost,
+    state_cost,
+    passes=("gauss-newton", "newton"),
+    regularization: float = 0.0,
+) -> tuple[np.ndarray, list[BackwardPass]]:
     """One linearisation along tape ``U``, then one backward pass per entry of ``passes``
     (each one of :data:`PASSES`): ``(states, [BackwardPass, ...])``."""
     states, A, Bd = linearize(shooting, U)
@@ -241,14 +268,28 @@ def sweeps(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost,
     gx, gxx = cost_derivatives(terminal_cost, states[-1:])
     newton = [name != "gauss-newton" for name in passes]
     F2 = step_hessians(shooting, states[:-1], U) if any(newton) else None
-    return states, [backward_pass(A, Bd, U, shooting.R, shooting.dt, lx, lxx, gx[0], gxx[0],
-                                  regularization, F2 if full else None,
-                                  projected=name == "projected-newton")
-                    for name, full in zip(passes, newton)]
+    return states, [
+        backward_pass(
+            A,
+            Bd,
+            U,
+            shooting.R,
+            shooting.dt,
+            lx,
+            lxx,
+            gx[0],
+            gxx[0],
+            regularization,
+            F2 if full else None,
+            projected=name == "projected-newton",
+        )
+        for name, full in zip(passes, newton)
+    ]
 
 
-def closed_loop(shooting: Shooting, states: np.ndarray, U: np.ndarray, back: BackwardPass,
-                alphas: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def closed_loop(
+    shooting: Shooting, states: np.ndarray, U: np.ndarray, back: BackwardPass, alphas: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """Forward passes u_k = ū_k + α k_k + K_k (x_k − x̄_k) for each α: states ``(n, K+1, d)``,
     controls ``(n, K, m)``."""
     n = len(alphas)
@@ -264,8 +305,14 @@ def closed_loop(shooting: Shooting, states: np.ndarray, U: np.ndarray, back: Bac
     return X, V
 
 
-def ilqr(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost, max_iter: int = 200,
-         tol: float = 1e-13) -> tuple[np.ndarray, int, bool]:
+def ilqr(
+    shooting: Shooting,
+    U: np.ndarray,
+    terminal_cost,
+    state_cost,
+    max_iter: int = 200,
+    tol: float = 1e-13,
+) -> tuple[np.ndarray, int, bool]:
     """Polish tape ``U`` by iLQR until the relative decrease of J falls below ``tol``.
 
     Returns the tape, the iterations taken and whether it converged (the last accepted step
@@ -295,4 +342,3 @@ def ilqr(shooting: Shooting, U: np.ndarray, terminal_cost, state_cost, max_iter:
             if mu > 1e8:
                 return U, iteration, False
     return U, max_iter, False
-

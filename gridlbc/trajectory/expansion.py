@@ -158,8 +158,9 @@ class TrajectoryExpansion:
         if arr.ndim == 1:
             arr = arr[None, :]
         if arr.ndim != 2 or arr.shape[1] != d:
-            raise ValueError(f"x must be states of shape (N, {d}) or one state ({d},), got shape "
-                             f"{np.shape(x)}")
+            raise ValueError(
+                f"x must be states of shape (N, {d}) or one state ({d},), got shape {np.shape(x)}"
+            )
         return arr
 
     def _bracket(self, t) -> tuple[int, float]:
@@ -182,8 +183,11 @@ class TrajectoryExpansion:
         j, theta = self._bracket(t)
         dx = self._deviation(self._states(x), j, theta)
         P = self._at(self.hessians, j, theta)
-        return (self._at(self.nominal_values, j, theta) + dx @ self._at(self.gradients, j, theta)
-                + 0.5 * np.einsum("ni,ij,nj->n", dx, P, dx))
+        return (
+            self._at(self.nominal_values, j, theta)
+            + dx @ self._at(self.gradients, j, theta)
+            + 0.5 * np.einsum("ni,ij,nj->n", dx, P, dx)
+        )
 
     def log_desirability(self, x, t) -> np.ndarray:
         """log z = −v̂/λ, shape ``(N,)``."""
@@ -218,9 +222,14 @@ class TrajectoryExpansion:
         return self.trajectory.controls[j] + dx @ self.gains[j].T
 
 
-def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
-           radius: float | str | None = "auto", curvature: str = "newton",
-           feedback: str = "projected-newton") -> TrajectoryExpansion:
+def expand(
+    problem: Problem,
+    trajectory: Trajectory,
+    stochastic: bool = True,
+    radius: float | str | None = "auto",
+    curvature: str = "newton",
+    feedback: str = "projected-newton",
+) -> TrajectoryExpansion:
     """The quadratic value expansion and LQR tracker of ``trajectory`` (module docstring).
 
     Parameters
@@ -251,18 +260,26 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
     if not isinstance(trajectory, Trajectory):
-        raise TypeError("trajectory must be a gridlbc.trajectory.Trajectory (from "
-                        f"gridlbc.trajectory.optimize), got {type(trajectory).__name__}")
-    for name, value, allowed in (("curvature", curvature, CURVATURES),
-                                 ("feedback", feedback, FEEDBACKS)):
+        raise TypeError(
+            "trajectory must be a gridlbc.trajectory.Trajectory (from "
+            f"gridlbc.trajectory.optimize), got {type(trajectory).__name__}"
+        )
+    for name, value, allowed in (
+        ("curvature", curvature, CURVATURES),
+        ("feedback", feedback, FEEDBACKS),
+    ):
         if not isinstance(value, str) or value not in allowed:
             raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
     radius = _check_radius(radius, problem)
     _check_same_problem(problem, trajectory)
     if not trajectory.converged:
-        warnings.warn(f"the trajectory's optimisation did not converge ({trajectory.message}): "
-                      "its expansion is a local model of a suboptimal tape; optimise again with "
-                      "more restarts or intervals", TrajectoryWarning, stacklevel=2)
+        warnings.warn(
+            f"the trajectory's optimisation did not converge ({trajectory.message}): "
+            "its expansion is a local model of a suboptimal tape; optimise again with "
+            "more restarts or intervals",
+            TrajectoryWarning,
+            stacklevel=2,
+        )
     U, X = trajectory.controls, trajectory.states
     K = len(U)
     shooting = shooting_for(problem, X[0], K)
@@ -283,8 +300,19 @@ def expand(problem: Problem, trajectory: Trajectory, stochastic: bool = True,
         trace = np.einsum("kij,kji->k", S, back.P)  # the exact P: this term needs no sign
         step = 0.25 * problem.temperature * dt * (trace[:-1] + trace[1:])
         to_go = to_go + np.concatenate([np.cumsum(step[::-1])[::-1], [0.0]])
-    return TrajectoryExpansion(problem, trajectory, to_go, back.p, P, gains, bool(stochastic),
-                               radius, state_periods(problem), curvature, feedback)
+    return TrajectoryExpansion(
+        problem,
+        trajectory,
+        to_go,
+        back.p,
+        P,
+        gains,
+        bool(stochastic),
+        radius,
+        state_periods(problem),
+        curvature,
+        feedback,
+    )
 
 
 def _check_radius(radius, problem: Problem) -> float | None:
@@ -310,8 +338,10 @@ def _check_same_problem(problem: Problem, trajectory: Trajectory) -> None:
     if other.system != problem.system:
         differs.append(f"system ({other.system!r} vs {problem.system!r})")
     if not np.isclose(trajectory.times[-1], problem.horizon, rtol=1e-12, atol=0):
-        differs.append(f"horizon (the trajectory ends at {trajectory.times[-1]:g}, the problem's "
-                       f"T is {problem.horizon:g})")
+        differs.append(
+            f"horizon (the trajectory ends at {trajectory.times[-1]:g}, the problem's "
+            f"T is {problem.horizon:g})"
+        )
     if not np.array_equal(other.R, problem.R):
         differs.append(f"control cost R ({other.R.tolist()} vs {problem.R.tolist()})")
     x, t = trajectory.states, trajectory.times
@@ -323,11 +353,13 @@ def _check_same_problem(problem: Problem, trajectory: Trajectory) -> None:
             differs.append(name.replace("_", " "))
             continue
         timed = getattr(a, "time_dependent", False), getattr(b, "time_dependent", False)
-        if timed[0] != timed[1] or not np.allclose(a(x, t) if timed[0] else a(x),
-                                                   b(x, t) if timed[1] else b(x),
-                                                   rtol=1e-12, atol=1e-12):
+        if timed[0] != timed[1] or not np.allclose(
+            a(x, t) if timed[0] else a(x), b(x, t) if timed[1] else b(x), rtol=1e-12, atol=1e-12
+        ):
             differs.append(f"{name.replace('_', ' ')} (values differ along the trajectory)")
     if differs:
-        raise ValueError("trajectory was optimised for another problem: it differs in "
-                         f"{'; '.join(differs)}. Optimise it for this problem "
-                         "(gridlbc.trajectory.optimize(problem, x0)).")
+        raise ValueError(
+            "trajectory was optimised for another problem: it differs in "
+            f"{'; '.join(differs)}. Optimise it for this problem "
+            "(gridlbc.trajectory.optimize(problem, x0))."
+        )

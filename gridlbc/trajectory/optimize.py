@@ -61,13 +61,28 @@ def timed_state_cost(problem: Problem):
 
 def shooting_for(problem: Problem, x0: np.ndarray, n_intervals: int) -> Shooting:
     """The RK4 single-shooting model of ``problem`` from ``x0`` on ``n_intervals`` intervals."""
-    return Shooting(problem.system, x0, problem.horizon, n_intervals, problem.terminal_cost,
-                    timed_state_cost(problem), problem.R)
+    return Shooting(
+        problem.system,
+        x0,
+        problem.horizon,
+        n_intervals,
+        problem.terminal_cost,
+        timed_state_cost(problem),
+        problem.R,
+    )
 
 
-def optimize(problem: Problem, x0, restarts: int = 128, seed: int | None = 0,
-             n_intervals: int = 300, initial_controls=None, screen_intervals: int = 60,
-             polish: bool = True, search: bool = True) -> Trajectory:
+def optimize(
+    problem: Problem,
+    x0,
+    restarts: int = 128,
+    seed: int | None = 0,
+    n_intervals: int = 300,
+    initial_controls=None,
+    screen_intervals: int = 60,
+    polish: bool = True,
+    search: bool = True,
+) -> Trajectory:
     """Minimise g(x_K) + Σ_k (q(x_k, t_k) + ½ u_kᵀ R u_k) Δt over piecewise-constant tapes.
 
     Parameters
@@ -111,27 +126,37 @@ def optimize(problem: Problem, x0, restarts: int = 128, seed: int | None = 0,
     fine = shooting_for(problem, x0, n_intervals)
     if search:
         coarse = shooting_for(problem, x0, screen_intervals)
-        controls, converged, message = multistart(fine, coarse, restarts,
-                                                  np.random.default_rng(seed), given)
+        controls, converged, message = multistart(
+            fine, coarse, restarts, np.random.default_rng(seed), given
+        )
     elif given is None or not polish:
-        raise ValueError("search=False polishes initial_controls by DDP: give initial_controls "
-                         "and keep polish=True")
+        raise ValueError(
+            "search=False polishes initial_controls by DDP: give initial_controls "
+            "and keep polish=True"
+        )
     else:
         controls, converged, message = given, False, ""
     if polish:
-        polished, iterations, ok = ilqr(fine, controls, problem.terminal_cost,
-                                        problem.state_cost)
+        polished, iterations, ok = ilqr(fine, controls, problem.terminal_cost, problem.state_cost)
         if not search or _tape_cost(fine, polished) <= _tape_cost(fine, controls):
             controls, converged = polished, ok
-            message = (f"DDP polish {'converged' if ok else 'stopped'} after {iterations} "
-                       "iterations " + (f"(from L-BFGS-B: {message})" if search
-                                        else "from initial_controls (no search)"))
+            message = (
+                f"DDP polish {'converged' if ok else 'stopped'} after {iterations} "
+                "iterations "
+                + (f"(from L-BFGS-B: {message})" if search else "from initial_controls (no search)")
+            )
     with np.errstate(all="ignore"):
         states = fine.rollout(controls[None])[0][0]
     cost = _tape_cost(fine, controls)
-    return Trajectory(times=fine.times.copy(), states=states, controls=controls, cost=cost,
-                      problem=problem, converged=converged and np.isfinite(cost),
-                      message=message)
+    return Trajectory(
+        times=fine.times.copy(),
+        states=states,
+        controls=controls,
+        cost=cost,
+        problem=problem,
+        converged=converged and np.isfinite(cost),
+        message=message,
+    )
 
 
 def tape_cost(problem: Problem, x0, controls) -> tuple[float, np.ndarray]:
@@ -167,8 +192,10 @@ def _check_problem(problem: Problem, x0) -> tuple[np.ndarray, int]:
     a = np.asarray(system.drift(x0[None]), dtype=float)
     B = np.asarray(system.input_matrix(x0[None]), dtype=float)
     if a.shape != (1, d) or B.shape != (1, d, m):
-        raise ValueError(f"{type(system).__name__}.drift / .input_matrix must return shapes "
-                         f"(N, {d}) / (N, {d}, {m}), got {a.shape} / {B.shape}")
+        raise ValueError(
+            f"{type(system).__name__}.drift / .input_matrix must return shapes "
+            f"(N, {d}) / (N, {d}, {m}), got {a.shape} / {B.shape}"
+        )
     if np.shape(problem.terminal_cost(x0[None])) != (1,):
         raise ValueError(f"terminal_cost must return shape (N,) for states (N, {d})")
     q = timed_state_cost(problem)
@@ -184,8 +211,10 @@ def check_tape(name: str, controls, m: int, K: int | None = None) -> np.ndarray:
         U = U[:, None]
     rows = "K" if K is None else K
     if U.ndim != 2 or U.shape[1] != m or U.shape[0] < 1 or (K is not None and U.shape[0] != K):
-        raise ValueError(f"{name} must have shape ({rows}, {m}) (intervals, controls), "
-                         f"got shape {np.shape(controls)}")
+        raise ValueError(
+            f"{name} must have shape ({rows}, {m}) (intervals, controls), "
+            f"got shape {np.shape(controls)}"
+        )
     if not np.all(np.isfinite(U)):
         raise ValueError(f"{name} must be finite")
     return U

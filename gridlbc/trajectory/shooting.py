@@ -56,8 +56,16 @@ class Shooting:
     ``state_cost`` is q(x, t) on states ``(P, d)`` and times ``(P,)``, or ``None`` for q = 0.
     """
 
-    def __init__(self, system, x0: np.ndarray, horizon: float, n_intervals: int,
-                 terminal_cost: StateFunction, state_cost: TimedCost | None, R: np.ndarray):
+    def __init__(
+        self,
+        system,
+        x0: np.ndarray,
+        horizon: float,
+        n_intervals: int,
+        terminal_cost: StateFunction,
+        state_cost: TimedCost | None,
+        R: np.ndarray,
+    ):
         self.system = system
         self.x0, self.R = x0, R
         self.dt = horizon / n_intervals
@@ -137,8 +145,9 @@ class Shooting:
         """∇q(x_k, t_k) ``(N, K, d)`` for states ``(N, K, d)`` by central differences."""
         N, K, d = states.shape
         t = np.tile(self.times[:K], N)
-        return gradient(lambda x: self.state_cost(x, np.tile(t, 2 * d)),
-                        states.reshape(N * K, d)).reshape(N, K, d)
+        return gradient(
+            lambda x: self.state_cost(x, np.tile(t, 2 * d)), states.reshape(N * K, d)
+        ).reshape(N, K, d)
 
     def cost_and_gradient(self, U: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """J ``(N,)`` and ∂J/∂U ``(N, K, m)`` by the discrete adjoint."""
@@ -199,8 +208,13 @@ def _perturbations(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return shifted.reshape(-1, d), h
 
 
-def multistart(fine: Shooting, coarse: Shooting, restarts: int, rng: np.random.Generator,
-               given: np.ndarray | None) -> tuple[np.ndarray, bool, str]:
+def multistart(
+    fine: Shooting,
+    coarse: Shooting,
+    restarts: int,
+    rng: np.random.Generator,
+    given: np.ndarray | None,
+) -> tuple[np.ndarray, bool, str]:
     """The best tape ``(K, m)`` found from ``restarts`` built-in initial tapes (and ``given``).
 
     Built-in tapes: zero, then a_j sin(2π c t/T + φ) for c = 1, 1.5, 2 cycles per horizon and four
@@ -216,40 +230,57 @@ def multistart(fine: Shooting, coarse: Shooting, restarts: int, rng: np.random.G
     with np.errstate(all="ignore"):
         idle_cost = float(coarse.cost(zero, coarse.rollout(zero)[0])[0])
     amplitude = np.sqrt(2.0 * abs(idle_cost) / (horizon * m * np.diag(fine.R)))
-    amplitude = np.where(np.isfinite(amplitude) & (amplitude > 0), amplitude,
-                         1.0 / np.sqrt(np.diag(fine.R)))
+    amplitude = np.where(
+        np.isfinite(amplitude) & (amplitude > 0), amplitude, 1.0 / np.sqrt(np.diag(fine.R))
+    )
     tapes = _initial_tapes(restarts, K_coarse, amplitude, rng)
     if given is not None:
         tapes = np.concatenate([tapes, _resample(given[None], K_coarse)])
 
-    screened, screened_cost = _batched_lbfgs(coarse.values, coarse.values_and_gradients,
-                                             tapes.reshape(len(tapes), -1), max_iter=_SCREEN_ITER)
+    screened, screened_cost = _batched_lbfgs(
+        coarse.values,
+        coarse.values_and_gradients,
+        tapes.reshape(len(tapes), -1),
+        max_iter=_SCREEN_ITER,
+    )
     best = _distinct_best(screened_cost, _N_REFINE)
     candidates = _resample(screened[best].reshape(-1, K_coarse, m), K)
     if given is not None:
         candidates = np.concatenate([candidates, given[None]])
-    refined, refined_cost = _batched_lbfgs(fine.values, fine.values_and_gradients,
-                                           candidates.reshape(len(candidates), -1),
-                                           max_iter=_REFINE_ITER)
+    refined, refined_cost = _batched_lbfgs(
+        fine.values,
+        fine.values_and_gradients,
+        candidates.reshape(len(candidates), -1),
+        max_iter=_REFINE_ITER,
+    )
 
     def objective(z: np.ndarray) -> tuple[float, np.ndarray]:
         J, G = fine.values_and_gradients(z[None])
         return float(J[0]), G[0]
 
     start = refined[np.argmin(refined_cost)]
-    result = minimize(objective, start, jac=True, method="L-BFGS-B",
-                      options={"maxiter": 10000, "maxfun": 20000, "ftol": 1e-14, "gtol": 1e-9})
+    result = minimize(
+        objective,
+        start,
+        jac=True,
+        method="L-BFGS-B",
+        options={"maxiter": 10000, "maxfun": 20000, "ftol": 1e-14, "gtol": 1e-9},
+    )
     return result.x.reshape(K, m), bool(result.success), str(result.message)
 
 
-def _initial_tapes(count: int, K: int, amplitude: np.ndarray,
-                   rng: np.random.Generator) -> np.ndarray:
+def _initial_tapes(
+    count: int, K: int, amplitude: np.ndarray, rng: np.random.Generator
+) -> np.ndarray:
     """``count`` tapes ``(count, K, m)`` sampled at the interval midpoints (see ``multistart``)."""
     s = (np.arange(K) + 0.5) / K  # t / T
     m = amplitude.size
     tapes = [np.zeros((K, m))]
-    tapes += [np.sin(2 * np.pi * c * s + p)[:, None] * amplitude
-              for c in _PUMP_CYCLES for p in _PUMP_PHASES]
+    tapes += [
+        np.sin(2 * np.pi * c * s + p)[:, None] * amplitude
+        for c in _PUMP_CYCLES
+        for p in _PUMP_PHASES
+    ]
     while len(tapes) < count:
         size = rng.uniform(0.2, 2.0, m)
         cycles = rng.uniform(0.5, 3.0, m)
@@ -276,10 +307,15 @@ def _distinct_best(costs: np.ndarray, count: int) -> np.ndarray:
     return np.array(chosen or [0])
 
 
-def _batched_lbfgs(value: Callable[[np.ndarray], np.ndarray],
-                   value_and_gradient: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
-                   x0: np.ndarray, max_iter: int, memory: int = 10, ftol: float = 1e-10,
-                   gtol: float = 1e-8) -> tuple[np.ndarray, np.ndarray]:
+def _batched_lbfgs(
+    value: Callable[[np.ndarray], np.ndarray],
+    value_and_gradient: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
+    x0: np.ndarray,
+    max_iter: int,
+    memory: int = 10,
+    ftol: float = 1e-10,
+    gtol: float = 1e-8,
+) -> tuple[np.ndarray, np.ndarray]:
     """Minimise N independent functions at once: L-BFGS, each with its own memory and step.
 
     ``value(x)`` maps points ``(P, n)`` to values ``(P,)`` (inf where undefined),
@@ -310,11 +346,13 @@ def _batched_lbfgs(value: Callable[[np.ndarray], np.ndarray],
             if pending.size == 0:
                 break
             trial_steps = first * _STEP_FACTORS  # (k,)
-            trial = (x[live[pending], None] + trial_steps[None, :, None]
-                     * direction[pending, None])  # (p, k, n)
+            trial = (
+                x[live[pending], None] + trial_steps[None, :, None] * direction[pending, None]
+            )  # (p, k, n)
             f_trial = value(trial.reshape(-1, n)).reshape(pending.size, -1)
-            armijo = f_trial <= (f[live[pending], None]
-                                 + 1e-4 * trial_steps[None] * slope[pending, None])
+            armijo = f_trial <= (
+                f[live[pending], None] + 1e-4 * trial_steps[None] * slope[pending, None]
+            )
             found = armijo.any(axis=1)
             step[pending[found]] = trial_steps[np.argmax(armijo[found], axis=1)]
         accepted = np.flatnonzero(~np.isnan(step))
@@ -340,8 +378,9 @@ def _batched_lbfgs(value: Callable[[np.ndarray], np.ndarray],
     return x, f
 
 
-def _two_loop(g: np.ndarray, S: np.ndarray, Y: np.ndarray, rho: np.ndarray,
-              slot: np.ndarray) -> np.ndarray:
+def _two_loop(
+    g: np.ndarray, S: np.ndarray, Y: np.ndarray, rho: np.ndarray, slot: np.ndarray
+) -> np.ndarray:
     """−H g by the L-BFGS two-loop recursion, per row, with each row's stored pairs."""
     P, memory, _ = S.shape
     q = g.copy()
@@ -355,8 +394,11 @@ def _two_loop(g: np.ndarray, S: np.ndarray, Y: np.ndarray, rho: np.ndarray,
     newest = order[0]
     yy = np.einsum("pn,pn->p", Y[rows, newest], Y[rows, newest])
     has_pair = rho[rows, newest] > 0
-    gamma = np.where(has_pair, 1.0 / np.where(has_pair, rho[rows, newest] * yy, 1.0),
-                     1.0 / np.maximum(np.linalg.norm(g, axis=1), 1e-300))
+    gamma = np.where(
+        has_pair,
+        1.0 / np.where(has_pair, rho[rows, newest] * yy, 1.0),
+        1.0 / np.maximum(np.linalg.norm(g, axis=1), 1e-300),
+    )
     r = gamma[:, None] * q
     for i, col in reversed(list(enumerate(order))):
         b = rho[rows, col] * np.einsum("pn,pn->p", Y[rows, col], r)

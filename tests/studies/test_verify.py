@@ -44,7 +44,9 @@ def test_exact_coordination_reference_is_the_log_sum_exp(rng):
     z = sum(np.exp(-r.value(x, 0.2) / 0.4) for r in refs)
     np.testing.assert_allclose(value(x, 0.2), -0.4 * np.log(z), rtol=1e-12)
     alpha = np.exp(-refs[1].value(x, 0.2) / 0.4) / z
-    expected = (1 - alpha)[:, None] * refs[0].policy(x, 0.2) + alpha[:, None] * refs[1].policy(x, 0.2)
+    expected = (1 - alpha)[:, None] * refs[0].policy(x, 0.2) + alpha[:, None] * refs[1].policy(
+        x, 0.2
+    )
     np.testing.assert_allclose(policy(x, 0.2), expected, rtol=1e-10, atol=1e-12)
 
 
@@ -80,8 +82,13 @@ def test_report_fails_when_a_row_fails():
 @pytest.mark.parametrize("argv", [["--grid", "16", "--samples", "50", "--quick", "--quiet"]])
 def test_cli_verify_runs(tmp_path, argv):
     out = tmp_path / "verify.json"
-    proc = subprocess.run([sys.executable, "-m", "gridlbc.cli", "verify", *argv, "--json", str(out)],
-                          capture_output=True, text=True, timeout=600, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "gridlbc.cli", "verify", *argv, "--json", str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+        check=False,
+    )
     # 0: all passed, 1: a check failed (at this tiny grid the swing-up may miss its 10% bound).
     assert proc.returncode in (0, 1), proc.stderr
     assert "superposition" in proc.stdout and out.exists()
@@ -90,6 +97,11 @@ def test_cli_verify_runs(tmp_path, argv):
 
 
 def test_cli_verify_bad_argument():
-    proc = subprocess.run([sys.executable, "-m", "gridlbc.cli", "verify", "--samples", "x"],
-                          capture_output=True, text=True, timeout=60, check=False)
+    proc = subprocess.run(
+        [sys.executable, "-m", "gridlbc.cli", "verify", "--samples", "x"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+        check=False,
+    )
     assert proc.returncode == 2 and "invalid int" in proc.stderr

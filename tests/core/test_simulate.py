@@ -15,8 +15,9 @@ from gridlbc.systems import Pendulum, PointMass
 
 
 def _line(temperature=1.0, control_cost=1.0, horizon=1.0, state_cost=None, n=41):
-    return line(n, horizon, state_cost=state_cost, control_cost=control_cost,
-                temperature=temperature)
+    return line(
+        n, horizon, state_cost=state_cost, control_cost=control_cost, temperature=temperature
+    )
 
 
 def _zero(x, t):
@@ -41,8 +42,9 @@ def test_kernel_matches_numpy_reference(rng):
 def test_deterministic_constant_control_is_exact():
     # ẋ = u = c: x_T = x0 + cT; J = ½ R c² T + g(x_T) (the rectangle rule is exact here).
     problem = _line(control_cost=2.0)
-    r = g.simulate(problem, lambda x, t: np.full((x.shape[0], 1), 0.5), [0.25], n_samples=3,
-                   noise=False)
+    r = g.simulate(
+        problem, lambda x, t: np.full((x.shape[0], 1), 0.5), [0.25], n_samples=3, noise=False
+    )
     np.testing.assert_allclose(r.final_states[:, 0], 0.75, rtol=1e-13)
     np.testing.assert_allclose(r.costs, 0.5 * 2.0 * 0.25 + 0.75**2, rtol=1e-13)
     assert r.states.shape == (3, 301, 1) and r.controls.shape == (3, 300, 1)
@@ -78,14 +80,20 @@ def test_periodic_axis_wraps_and_box_exits_are_counted():
     grid = g.Grid([g.Axis(-np.pi, np.pi, 16, periodic=True), g.Axis(-2, 2, 9)])
     problem = g.Problem(Pendulum(gravity=0.0), grid, 1.0, g.Quadratic([0, 0], [1, 1]))
     # ω = 1.5 constant (no gravity, no control): θ runs 1.5 rad past +π and wraps.
-    r = g.simulate(problem, lambda x, t: np.zeros((x.shape[0], 1)), [[3.0, 1.5], [0.0, 0.0]],
-                   n_samples=2, noise=False)
+    r = g.simulate(
+        problem,
+        lambda x, t: np.zeros((x.shape[0], 1)),
+        [[3.0, 1.5], [0.0, 0.0]],
+        n_samples=2,
+        noise=False,
+    )
     theta = r.states[:, :, 0]
     assert np.all((theta >= -np.pi) & (theta < np.pi))
     np.testing.assert_allclose(r.final_states[0, 0], 4.5 - 2 * np.pi, rtol=1e-12)
     assert r.n_left_box == 0
-    push = g.simulate(problem, lambda x, t: np.full((x.shape[0], 1), 5.0), [0.0, 0.0],
-                      noise=False)  # ω reaches 5 > 2: leaves the ω range of the box
+    push = g.simulate(
+        problem, lambda x, t: np.full((x.shape[0], 1), 5.0), [0.0, 0.0], noise=False
+    )  # ω reaches 5 > 2: leaves the ω range of the box
     assert push.n_left_box == 1
 
 
@@ -94,9 +102,15 @@ def test_grid_policy_cost_matches_riccati():
     # |v_grid − v_riccati| measured at this grid (the policy error enters the cost only at second
     # order, so this is generous). The Riccati policy itself must match within 3 SE + O(Δt) bias.
     grid = g.Grid([g.Axis(-4, 4, 61), g.Axis(-4, 4, 61)])
-    problem = g.Problem(PointMass(), grid, 1.0, g.Quadratic([0, 0], [2, 1]),
-                        state_cost=g.Quadratic([0, 0], [0.5, 0.1]), control_cost=2.0,
-                        temperature=0.5)
+    problem = g.Problem(
+        PointMass(),
+        grid,
+        1.0,
+        g.Quadratic([0, 0], [2, 1]),
+        state_cost=g.Quadratic([0, 0], [0.5, 0.1]),
+        control_cost=2.0,
+        temperature=0.5,
+    )
     x0 = np.array([1.0, -0.5])
     exact = lq_solution(problem)
     v_exact = float(exact.value(x0, 0.0)[0])
@@ -109,18 +123,21 @@ def test_grid_policy_cost_matches_riccati():
     assert abs(exact_run.mean_cost - v_exact) < 3 * exact_run.standard_error + bias
 
 
-@pytest.mark.parametrize("kwargs, error, match", [
-    ({"x0": [np.nan]}, ValueError, "x0 has a non-finite"),
-    ({"x0": [0.0, 1.0]}, ValueError, "x0 must have shape"),
-    ({"x0": [[0.0], [1.0]], "n_samples": 3}, ValueError, "2 rows but n_samples = 3"),
-    ({"n_samples": 0}, ValueError, "at least 1"),
-    ({"n_samples": 2.5}, TypeError, "integer"),
-    ({"dt": -0.1}, ValueError, "dt must lie"),
-    ({"dt": 5.0}, ValueError, "dt must lie"),
-    ({"policy": lambda x, t: np.zeros(x.shape[0])}, ValueError, r"shape \(N, m\) = \(1, 1\)"),
-    ({"policy": lambda x, t: np.full((x.shape[0], 1), np.nan)}, ValueError, "non-finite"),
-    ({"policy": "u"}, TypeError, "callable"),
-])
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        ({"x0": [np.nan]}, ValueError, "x0 has a non-finite"),
+        ({"x0": [0.0, 1.0]}, ValueError, "x0 must have shape"),
+        ({"x0": [[0.0], [1.0]], "n_samples": 3}, ValueError, "2 rows but n_samples = 3"),
+        ({"n_samples": 0}, ValueError, "at least 1"),
+        ({"n_samples": 2.5}, TypeError, "integer"),
+        ({"dt": -0.1}, ValueError, "dt must lie"),
+        ({"dt": 5.0}, ValueError, "dt must lie"),
+        ({"policy": lambda x, t: np.zeros(x.shape[0])}, ValueError, r"shape \(N, m\) = \(1, 1\)"),
+        ({"policy": lambda x, t: np.full((x.shape[0], 1), np.nan)}, ValueError, "non-finite"),
+        ({"policy": "u"}, TypeError, "callable"),
+    ],
+)
 def test_bad_input(kwargs, error, match):
     args = {"problem": _line(), "policy": _zero, "x0": [0.0]}
     args.update(kwargs)

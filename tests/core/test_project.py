@@ -12,8 +12,11 @@ import gridlbc as g
 from gridlbc.combine import CompositeCost
 from gridlbc.project import _analytic
 
-COMPONENTS = [g.Quadratic([-1, 0], [4, 0.5]), g.Quadratic([1, 0], [4, 0.5]),
-              g.Quadratic([0.5, 1], [4, 0.5])]
+COMPONENTS = [
+    g.Quadratic([-1, 0], [4, 0.5]),
+    g.Quadratic([1, 0], [4, 0.5]),
+    g.Quadratic([0.5, 1], [4, 0.5]),
+]
 WIDE = g.Grid([g.Axis(-8, 8, 321), g.Axis(-12, 12, 241)])
 
 
@@ -21,8 +24,14 @@ WIDE = g.Grid([g.Axis(-8, 8, 321), g.Axis(-12, 12, 241)])
 def test_gaussian_inner_product_matches_numerical_integral(lam):
     # 1-D: ⟨h_i, h_j⟩ = ∫ exp(−(g_i + g_j)/λ) dx, by adaptive quadrature to ~1e-12.
     a, b = g.Quadratic([-0.4], [1.5]), g.Quadratic([0.7], [3.0])
-    numeric, _ = quad(lambda x: np.exp(-(a([[x]])[0] + b([[x]])[0]) / lam), -30, 30,
-                      epsabs=0, epsrel=1e-13, points=[-0.4, 0.7])
+    numeric, _ = quad(
+        lambda x: np.exp(-(a([[x]])[0] + b([[x]])[0]) / lam),
+        -30,
+        30,
+        epsabs=0,
+        epsrel=1e-13,
+        points=[-0.4, 0.7],
+    )
     np.testing.assert_allclose(_analytic([a, b], lam)[0, 1], numeric, rtol=1e-10)
 
 
@@ -47,8 +56,7 @@ def test_a_component_as_target_gives_its_unit_vector():
 
 
 @settings(max_examples=10, deadline=None)
-@given(weights=st.lists(st.floats(0.05, 5.0), min_size=3, max_size=3),
-       lam=st.floats(0.3, 2.0))
+@given(weights=st.lists(st.floats(0.05, 5.0), min_size=3, max_size=3), lam=st.floats(0.3, 2.0))
 def test_recovers_weights_of_a_combination(weights, lam):
     # h̄ = Σ w_i h_i exactly at the nodes, so the discrete projection returns w up to rounding
     # times the Gram condition number (≲ 1e3 here).
@@ -68,7 +76,7 @@ def test_periodic_grid_uses_quadrature_and_recovers_weights():
     p = g.projection(target, comps, grid)
     assert p.method == "quadrature"
     np.testing.assert_allclose(p.weights, [0.7, 0.4], rtol=1e-8)
-    with pytest.raises(ValueError, match="grid=problem.grid"):
+    with pytest.raises(ValueError, match=r"grid=problem.grid"):
         g.project(target, comps)
 
 

@@ -10,9 +10,15 @@ from gridlbc.systems import Pendulum, PointMass
 @pytest.fixture
 def pendulum_solution():
     grid = Grid([Axis(-np.pi, np.pi, 16, periodic=True), Axis(-4.0, 4.0, 17)])
-    problem = Problem(Pendulum(damping=0.1), grid, 1.0, Quadratic([0.0, 0.0], [2.0, 0.2]),
-                      state_cost=lambda x: 0.1 * x[:, 1] ** 2, control_cost=0.5,
-                      temperature=0.8)
+    problem = Problem(
+        Pendulum(damping=0.1),
+        grid,
+        1.0,
+        Quadratic([0.0, 0.0], [2.0, 0.2]),
+        state_cost=lambda x: 0.1 * x[:, 1] ** 2,
+        control_cost=0.5,
+        temperature=0.8,
+    )
     return gridlbc.solve(problem, dt=0.1)
 
 
@@ -33,8 +39,9 @@ def test_round_trip_is_exact(tmp_path, pendulum_solution, rng):
         np.testing.assert_array_equal(back.policy(x, t), sol.policy(x, t))
     # The callable state cost comes back exact at the nodes.
     nodes = sol.grid.nodes()
-    np.testing.assert_allclose(back.problem.state_cost_values(nodes),
-                               sol.problem.state_cost_values(nodes), rtol=1e-15)
+    np.testing.assert_allclose(
+        back.problem.state_cost_values(nodes), sol.problem.state_cost_values(nodes), rtol=1e-15
+    )
 
 
 def test_float32_linear_system_round_trip(tmp_path):
@@ -63,7 +70,7 @@ def test_refuses_corrupted_truncated_and_foreign_files(tmp_path, pendulum_soluti
         gridlbc.load(tampered)
     foreign = tmp_path / "foreign.npz"
     np.savez(foreign, a=np.zeros(3))
-    with pytest.raises(ValueError, match="not a readable gridlbc solution|not a gridlbc"):
+    with pytest.raises(ValueError, match=r"not a readable gridlbc solution|not a gridlbc"):
         gridlbc.load(foreign)
     with pytest.raises(FileNotFoundError):
         gridlbc.load(tmp_path / "missing.npz")
@@ -87,8 +94,9 @@ def test_fitted_round_trip_keeps_the_reference(tmp_path, rng):
     """solve_many's components are evaluated relative to the operator's reference φ: the file
     keeps log φ, and the loaded solution evaluates bit for bit as the original."""
     problem = pendulum(24, weights=(1, 0.1))
-    sols = gridlbc.solve_many(problem, [gridlbc.Quadratic([c, 0], [1, 0.1]) for c in (-1, 1)],
-                              dt=0.05)
+    sols = gridlbc.solve_many(
+        problem, [gridlbc.Quadratic([c, 0], [1, 0.1]) for c in (-1, 1)], dt=0.05
+    )
     back = gridlbc.load(gridlbc.save(sols[0], tmp_path / "component"))
     assert back.diagnostics.interpolation == "fitted"
     np.testing.assert_array_equal(back.reference.log_slices, sols[0].reference.log_slices)

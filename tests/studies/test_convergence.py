@@ -59,9 +59,11 @@ def _check_agreement(table: ConvergenceTable):
     own = {s: table.select("pendulum", s, "own richardson") for s in ("splitting", "hjb")}
     gap = table.select("pendulum", "splitting", "hjb same grid")
     for k, row in enumerate(gap):
-        bound = {key: RICHARDSON_SLACK * (getattr(own["splitting"][k], key)
-                                          + getattr(own["hjb"][k], key))
-                 for key in ("value_max", "policy_max")}
+        bound = {
+            key: RICHARDSON_SLACK
+            * (getattr(own["splitting"][k], key) + getattr(own["hjb"][k], key))
+            for key in ("value_max", "policy_max")
+        }
         assert row.value_max <= bound["value_max"], (row.shape, row.value_max, bound)
         assert row.policy_max <= bound["policy_max"], (row.shape, row.policy_max, bound)
     assert all(b.value_max < a.value_max for a, b in itertools.pairwise(gap))
@@ -81,8 +83,9 @@ def test_pendulum_agreement_on_finer_grids():
 
 
 def test_pointmass_table_orders_and_z_solver_convergence():
-    table = pointmass_study(spacings=(1 / 4, 1 / 8, 1 / 16), solvers=("splitting",),
-                            richardson=("splitting",))
+    table = pointmass_study(
+        spacings=(1 / 4, 1 / 8, 1 / 16), solvers=("splitting",), richardson=("splitting",)
+    )
     rows = table.select("pointmass", "splitting", "riccati")
     # the order column is the log₂ ratio of successive errors (h halves)
     for a, b in itertools.pairwise(rows):
@@ -117,8 +120,15 @@ def test_certified_study_rows_are_the_solves_and_their_certificates():
     # Deterministic parts exactly (each row's prediction is its solve's v(x0, 0); the truth is
     # gridlbc.certify with the named proposal and seed + 1); the table lists every row.
     start = np.array([0.5, 0.0])
-    study = certified_study(pendulum_problem, (8, 16), start, (("splitting", None),
-                            ("fitted", 0.05)), samples=20, truth_samples=30, seed=2)
+    study = certified_study(
+        pendulum_problem,
+        (8, 16),
+        start,
+        (("splitting", None), ("fitted", 0.05)),
+        samples=20,
+        truth_samples=30,
+        seed=2,
+    )
     assert study.proposal == ("fitted", 16, 0.05)
     assert study.labels() == ["splitting", "fitted dt 0.05"]
     direct = gridlbc.solve(pendulum_problem(16), dt=0.05, fitting="terminal")

@@ -19,9 +19,15 @@ N_STEPS = 300  # simulate's default: dt = T / 300
 
 def _point_mass(n=41):
     grid = g.Grid([g.Axis(-4, 4, n), g.Axis(-4, 4, n)])
-    return g.Problem(PointMass(), grid, 1.0, g.Quadratic([0, 0], [2, 1]),
-                     state_cost=g.Quadratic([0, 0], [0.5, 0.1]), control_cost=2.0,
-                     temperature=0.5)
+    return g.Problem(
+        PointMass(),
+        grid,
+        1.0,
+        g.Quadratic([0, 0], [2, 1]),
+        state_cost=g.Quadratic([0, 0], [0.5, 0.1]),
+        control_cost=2.0,
+        temperature=0.5,
+    )
 
 
 X0 = np.array([1.0, -0.5])
@@ -51,9 +57,11 @@ def _chain_value(problem, x0, n_steps=N_STEPS):
     for _ in range(n_steps):
         N = B @ np.linalg.solve(R / dt + B.T @ P @ B, B.T)
         logdet = np.linalg.slogdet(np.eye(B.shape[1]) + dt * np.linalg.solve(R, B.T @ P @ B))[1]
-        P, p, c = (2 * Wq * dt + F.T @ (P - P @ N @ P) @ F,
-                   -2 * Wq @ cq * dt + F.T @ (p - P @ N @ p),
-                   cq @ Wq @ cq * dt + c - 0.5 * p @ N @ p + 0.5 * lam * logdet)
+        P, p, c = (
+            2 * Wq * dt + F.T @ (P - P @ N @ P) @ F,
+            -2 * Wq @ cq * dt + F.T @ (p - P @ N @ p),
+            cq @ Wq @ cq * dt + c - 0.5 * p @ N @ p + 0.5 * lam * logdet,
+        )
     return 0.5 * x0 @ P @ x0 + p @ x0 + c
 
 
@@ -102,8 +110,7 @@ def test_bad_policy_gives_right_optimum_with_larger_error_and_positive_gap():
     problem = _point_mass()
     chain = _chain_value(problem, X0)
     zero = g.certify(problem, _zero, X0, n_samples=4000, seed=6)
-    bad = g.certify(problem, lambda x, t: np.full((x.shape[0], 1), 0.6), X0, n_samples=4000,
-                    seed=6)
+    bad = g.certify(problem, lambda x, t: np.full((x.shape[0], 1), 0.6), X0, n_samples=4000, seed=6)
     assert bad.effective_sample_size >= bad.min_effective_sample_size
     assert abs(bad.optimal_value - chain) < 3 * bad.optimal_value_se
     assert bad.optimal_value_se > 1.5 * zero.optimal_value_se
@@ -118,8 +125,9 @@ def test_zero_control_is_plain_feynman_kac():
     # E exp(−w x_T²/λ) = (1 + 2wσ²/λ)^{−1/2} exp(−w x0²/(λ + 2wσ²)), σ² = λT/R: within 3 SE.
     lam, r_cost, w, x0 = 0.7, 1.5, 2.0, 0.8
     grid = g.Grid([g.Axis(-3, 3, 41)])
-    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [w]),
-                        control_cost=r_cost, temperature=lam)
+    problem = g.Problem(
+        SingleIntegrator(), grid, 1.0, g.Quadratic([0], [w]), control_cost=r_cost, temperature=lam
+    )
     cert = g.certify(problem, _zero, [x0], n_samples=5000, seed=9)
     rollouts = g.simulate(problem, _zero, [x0], n_samples=5000, seed=9)
     a = -rollouts.costs / lam
@@ -134,8 +142,7 @@ def test_zero_control_is_plain_feynman_kac():
 def test_small_temperature_does_not_underflow():
     # S/λ ~ 2000 here: exp(−S/λ) underflows to 0 in double precision, the log-sum-exp does not.
     grid = g.Grid([g.Axis(-3, 3, 41)])
-    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [50.0]),
-                        temperature=0.001)
+    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [50.0]), temperature=0.001)
     exact = lq_solution(problem)
     cert = g.certify(problem, exact.policy, [2.0], n_samples=500, seed=1)
     v = float(exact.value([2.0], 0.0)[0])
@@ -167,8 +174,9 @@ def test_seed_reproduces_and_several_states_share_the_convention():
 def test_few_effective_samples_warn_and_flag_the_summary():
     problem = _point_mass()
     with pytest.warns(g.CertificateWarning, match="proposal closer to optimal.*more samples.*λ"):
-        cert = g.certify(problem, lambda x, t: np.full((x.shape[0], 1), 3.0), X0,
-                         n_samples=200, seed=1)
+        cert = g.certify(
+            problem, lambda x, t: np.full((x.shape[0], 1), 3.0), X0, n_samples=200, seed=1
+        )
     assert not cert.trusted and "TOO FEW EFFECTIVE SAMPLES" in cert.summary()
 
 
@@ -182,24 +190,29 @@ def test_box_exits_are_counted_as_simulate_counts_them():
 
 
 def test_progress_bar_on_request(capsys):
-    g.certify(_point_mass(), _zero, X0, n_samples=10, seed=0, progress=True,
-              min_effective_sample_size=1)
+    g.certify(
+        _point_mass(), _zero, X0, n_samples=10, seed=0, progress=True, min_effective_sample_size=1
+    )
     assert "300/300 steps" in capsys.readouterr().err
-    g.certify(_point_mass(), _zero, X0, n_samples=10, seed=0, progress=False,
-              min_effective_sample_size=1)
+    g.certify(
+        _point_mass(), _zero, X0, n_samples=10, seed=0, progress=False, min_effective_sample_size=1
+    )
     assert capsys.readouterr().err == ""
 
 
-@pytest.mark.parametrize("kwargs, error, match", [
-    ({"x0": [np.nan, 0.0]}, ValueError, "x0 has a non-finite"),
-    ({"x0": [0.0]}, ValueError, "x0 must have shape"),
-    ({"n_samples": 0}, ValueError, "at least 1"),
-    ({"n_samples": 2.5}, TypeError, "integer"),
-    ({"dt": 0.0}, ValueError, "dt must lie"),
-    ({"policy": "zero"}, TypeError, "policy must be callable"),
-    ({"policy": lambda x, t: np.zeros(x.shape[0])}, ValueError, r"shape \(N, m\) = \(1, 1\)"),
-    ({"policy": lambda x, t: np.full((x.shape[0], 1), np.nan)}, ValueError, "non-finite"),
-])
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        ({"x0": [np.nan, 0.0]}, ValueError, "x0 has a non-finite"),
+        ({"x0": [0.0]}, ValueError, "x0 must have shape"),
+        ({"n_samples": 0}, ValueError, "at least 1"),
+        ({"n_samples": 2.5}, TypeError, "integer"),
+        ({"dt": 0.0}, ValueError, "dt must lie"),
+        ({"policy": "zero"}, TypeError, "policy must be callable"),
+        ({"policy": lambda x, t: np.zeros(x.shape[0])}, ValueError, r"shape \(N, m\) = \(1, 1\)"),
+        ({"policy": lambda x, t: np.full((x.shape[0], 1), np.nan)}, ValueError, "non-finite"),
+    ],
+)
 def test_bad_input_is_named(kwargs, error, match):
     args = {"policy": _zero, "x0": X0, "n_samples": 1} | kwargs
     with pytest.raises(error, match=match):

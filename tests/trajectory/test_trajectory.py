@@ -19,8 +19,12 @@ TWO_PI = 2 * np.pi
 
 def box(d, periodic=()):
     """A coarse grid (the trajectory methods do not use it beyond its periodic axes)."""
-    return g.Grid([g.Axis(-np.pi, np.pi, 5, periodic=True) if k in periodic
-                   else g.Axis(-10.0, 10.0, 5) for k in range(d)])
+    return g.Grid(
+        [
+            g.Axis(-np.pi, np.pi, 5, periodic=True) if k in periodic else g.Axis(-10.0, 10.0, 5)
+            for k in range(d)
+        ]
+    )
 
 
 def rk4_rollout(system, x0, controls, horizon):
@@ -58,9 +62,11 @@ def discrete_lq_optimum(A, B, x0, horizon, K, R, W_T, c_T, W_q):
         G = Gamma.T @ P @ Phi
         g = Gamma.T @ p
         gains.append((np.linalg.solve(H, G), np.linalg.solve(H, g)))
-        P, p, c = (2 * h * W_q + Phi.T @ P @ Phi - G.T @ np.linalg.solve(H, G),
-                   Phi.T @ p - G.T @ np.linalg.solve(H, g),
-                   c - 0.5 * g @ np.linalg.solve(H, g))
+        P, p, c = (
+            2 * h * W_q + Phi.T @ P @ Phi - G.T @ np.linalg.solve(H, G),
+            Phi.T @ p - G.T @ np.linalg.solve(H, g),
+            c - 0.5 * g @ np.linalg.solve(H, g),
+        )
     cost = 0.5 * x0 @ P @ x0 + p @ x0 + c
     x, controls = x0, []
     for Kx, kc in reversed(gains):
@@ -77,8 +83,14 @@ def test_matches_discrete_riccati_on_double_integrator():
     W_T, c_T, W_q = np.diag([3.0, 0.5]), np.array([1.0, 0.0]), np.diag([0.2, 0.1])
     exact_cost, exact_controls = discrete_lq_optimum(A, B, x0, horizon, K, R, W_T, c_T, W_q)
 
-    problem = g.Problem(system, box(2), horizon, Quadratic(c_T, W_T),
-                        state_cost=Quadratic(np.zeros(2), W_q), control_cost=0.5)
+    problem = g.Problem(
+        system,
+        box(2),
+        horizon,
+        Quadratic(c_T, W_T),
+        state_cost=Quadratic(np.zeros(2), W_q),
+        control_cost=0.5,
+    )
     # the same discretised cost: the Riccati tape costs exactly the Riccati value
     assert tape_cost(problem, x0, exact_controls)[0] == pytest.approx(exact_cost, rel=1e-12)
 
@@ -88,8 +100,9 @@ def test_matches_discrete_riccati_on_double_integrator():
     assert result.cost == pytest.approx(exact_cost, rel=1e-8)
     np.testing.assert_allclose(result.controls, exact_controls, atol=1e-5)
     assert result.times.shape == (K + 1,) and result.times[-1] == pytest.approx(horizon)
-    np.testing.assert_allclose(result.states, rk4_rollout(system, x0, result.controls, horizon),
-                               atol=1e-12)
+    np.testing.assert_allclose(
+        result.states, rk4_rollout(system, x0, result.controls, horizon), atol=1e-12
+    )
 
 
 class Wobbler(ControlAffineSystem):
@@ -122,26 +135,32 @@ def _directional_check(problem, x0, tape, rng, eps=1e-5):
         e = np.zeros_like(tape)
         e.reshape(len(tape), -1)[k, 0] = eps
         fd = tape_cost(problem, x0, tape + e)[0] - tape_cost(problem, x0, tape - e)[0]
-        assert grad.reshape(len(tape), -1)[k, 0] == pytest.approx(fd / (2 * eps), rel=1e-5,
-                                                                  abs=1e-9)
+        assert grad.reshape(len(tape), -1)[k, 0] == pytest.approx(
+            fd / (2 * eps), rel=1e-5, abs=1e-9
+        )
     return J
 
 
 def wobbler_problem():
     R = np.array([[2.0, 0.3], [0.3, 1.0]])
-    return g.Problem(Wobbler(), box(3), 1.5, Quadratic([1.0, 0.0, -0.5], [2.0, 1.0, 0.5]),
-                     state_cost=lambda x: 0.3 * np.sin(x[:, 0]) ** 2 + 0.1 * x[:, 1] ** 2,
-                     control_cost=R)
+    return g.Problem(
+        Wobbler(),
+        box(3),
+        1.5,
+        Quadratic([1.0, 0.0, -0.5], [2.0, 1.0, 0.5]),
+        state_cost=lambda x: 0.3 * np.sin(x[:, 0]) ** 2 + 0.1 * x[:, 1] ** 2,
+        control_cost=R,
+    )
 
 
 def test_adjoint_gradient_matches_finite_differences(rng):
-    _directional_check(wobbler_problem(), np.array([0.4, -0.2, 0.3]), rng.normal(size=(40, 2)),
-                       rng)
+    _directional_check(wobbler_problem(), np.array([0.4, -0.2, 0.3]), rng.normal(size=(40, 2)), rng)
 
 
 def acrobot_problem(goal=None, horizon=3.0):
-    return g.Problem(Acrobot(), box(4, periodic=(0, 1)), horizon,
-                     _acrobot_goal() if goal is None else goal)
+    return g.Problem(
+        Acrobot(), box(4, periodic=(0, 1)), horizon, _acrobot_goal() if goal is None else goal
+    )
 
 
 def test_adjoint_gradient_on_acrobot(rng):
@@ -155,12 +174,16 @@ def test_riccati_sweep_gradient_is_the_adjoint_gradient(rng):
     (finite differences here: a lambda state cost) agree with the adjoint sweep."""
     problem, x0 = wobbler_problem(), np.array([0.4, -0.2, 0.3])
     tape = rng.normal(size=(40, 2))
-    _, back = sweep(shooting_for(problem, x0, 40), tape, problem.terminal_cost,
-                    problem.state_cost, regularization=1e12)
+    _, back = sweep(
+        shooting_for(problem, x0, 40),
+        tape,
+        problem.terminal_cost,
+        problem.state_cost,
+        regularization=1e12,
+    )
     _, grad = tape_cost(problem, x0, tape)
     np.testing.assert_allclose(back.control_gradient, grad, rtol=1e-6, atol=1e-9)
-    _, back = sweep(shooting_for(problem, x0, 40), tape, problem.terminal_cost,
-                    problem.state_cost)
+    _, back = sweep(shooting_for(problem, x0, 40), tape, problem.terminal_cost, problem.state_cost)
     # Gauss–Newton: every P_k is positive semi-definite (to rounding).
     eig = np.linalg.eigvalsh(back.P)
     assert eig.min() >= -1e-10 * eig.max()
@@ -229,8 +252,7 @@ def test_initial_controls_are_used():
     problem = g.Problem(PointMass(), box(2), 1.0, Quadratic([0.0, 0.0], [5.0, 1.0]))
     x0 = np.array([1.0, 0.0])
     best = optimize(problem, x0, n_intervals=20, restarts=1)
-    again = optimize(problem, x0, n_intervals=20, restarts=1,
-                     initial_controls=best.controls[:, 0])
+    again = optimize(problem, x0, n_intervals=20, restarts=1, initial_controls=best.controls[:, 0])
     assert again.cost == pytest.approx(best.cost, rel=1e-9)
     # search=False: DDP alone from a perturbed tape returns to the same optimum.
     start = best.controls + 0.3 * np.sin(np.arange(20))[:, None]
@@ -277,8 +299,12 @@ def test_bad_input_raises(change, name):
 )
 def test_bad_problem_raises(change, name):
     """The problem's own data are checked by gridlbc.Problem, before any optimisation."""
-    kwargs = {"system": PointMass(), "grid": box(2), "horizon": 1.0,
-              "terminal_cost": Quadratic([0.0, 0.0], [1.0, 1.0])}
+    kwargs = {
+        "system": PointMass(),
+        "grid": box(2),
+        "horizon": 1.0,
+        "terminal_cost": Quadratic([0.0, 0.0], [1.0, 1.0]),
+    }
     kwargs.update(change)
     with pytest.raises((ValueError, TypeError), match=name):
         g.Problem(**kwargs)
@@ -301,9 +327,15 @@ def test_tape_cost_rejects_bad_tape():
 
 
 def lq_problem(terminal_center=(1.0, 0.0), temperature=0.7, horizon=1.0):
-    return g.Problem(PointMass(), box(2), horizon, Quadratic(terminal_center, [3.0, 0.5]),
-                     state_cost=Quadratic([0.0, 0.0], [0.2, 0.1]), control_cost=0.5,
-                     temperature=temperature)
+    return g.Problem(
+        PointMass(),
+        box(2),
+        horizon,
+        Quadratic(terminal_center, [3.0, 0.5]),
+        state_cost=Quadratic([0.0, 0.0], [0.2, 0.1]),
+        control_cost=0.5,
+        temperature=temperature,
+    )
 
 
 OFF = np.array([[0.3, -0.4], [-2.0, 1.0], [1.0, 1.0], [0.0, 0.0]])  # off the trajectory
@@ -339,10 +371,12 @@ def test_deterministic_expansion_drops_the_ito_term():
     value: lq_solution(λ) − lq_solution(λ → 0), independent of x."""
     problem = lq_problem()
     trajectory = optimize(problem, np.array([-1.0, 0.5]), restarts=1, n_intervals=200)
-    gap = (expand(problem, trajectory).value(OFF, 0.2)
-           - expand(problem, trajectory, stochastic=False).value(OFF, 0.2))
-    exact = (lq_solution(problem).value(OFF, 0.2)
-             - lq_solution(problem.replace(temperature=1e-12)).value(OFF, 0.2))
+    gap = expand(problem, trajectory).value(OFF, 0.2) - expand(
+        problem, trajectory, stochastic=False
+    ).value(OFF, 0.2)
+    exact = lq_solution(problem).value(OFF, 0.2) - lq_solution(
+        problem.replace(temperature=1e-12)
+    ).value(OFF, 0.2)
     np.testing.assert_allclose(gap, exact, rtol=5e-3)
     assert np.ptp(gap) < 1e-12 * np.abs(gap).max()
 
@@ -358,24 +392,32 @@ def test_combination_of_two_lq_trackers_is_the_lq_combination():
         lbc, reference = g.combine(trackers, weights), g.combine(exact, weights)
         assert lbc.exact is False and isinstance(lbc, g.Combination)
         for t in (0.0, 0.5):
-            np.testing.assert_allclose(lbc.value(OFF, t), reference.value(OFF, t),
-                                       rtol=3e-3, atol=3e-3)
-            np.testing.assert_allclose(lbc.blend_weights(OFF, t), reference.blend_weights(OFF, t),
-                                       atol=3e-3)
-            np.testing.assert_allclose(lbc.policy(OFF, t), reference.policy(OFF, t),
-                                       rtol=0.02, atol=0.05)
+            np.testing.assert_allclose(
+                lbc.value(OFF, t), reference.value(OFF, t), rtol=3e-3, atol=3e-3
+            )
+            np.testing.assert_allclose(
+                lbc.blend_weights(OFF, t), reference.blend_weights(OFF, t), atol=3e-3
+            )
+            np.testing.assert_allclose(
+                lbc.policy(OFF, t), reference.policy(OFF, t), rtol=0.02, atol=0.05
+            )
     alpha = g.combine(trackers).blend_weights(OFF, 0.2)
     np.testing.assert_allclose(alpha.sum(axis=1), 1.0, atol=1e-14)
     u = np.stack([c.policy(OFF, 0.2) for c in trackers], axis=1)
-    np.testing.assert_allclose(g.combine(trackers).policy(OFF, 0.2),
-                               np.einsum("ni,nim->nm", alpha, u), rtol=1e-13)
+    np.testing.assert_allclose(
+        g.combine(trackers).policy(OFF, 0.2), np.einsum("ni,nim->nm", alpha, u), rtol=1e-13
+    )
 
 
 def test_mixed_combination_in_the_log_domain():
     """A grid Solution with a trajectory component; values 5000 apart (exp(−5000) underflows)
     still give α ∈ {0, 1} and finite values, not NaN."""
-    problem = g.Problem(PointMass(), g.Grid([g.Axis(-3, 3, 21), g.Axis(-3, 3, 21)]), 0.5,
-                        Quadratic([1.0, 0.0], [3.0, 0.5]))
+    problem = g.Problem(
+        PointMass(),
+        g.Grid([g.Axis(-3, 3, 21), g.Axis(-3, 3, 21)]),
+        0.5,
+        Quadratic([1.0, 0.0], [3.0, 0.5]),
+    )
     solution = g.solve(problem, dt=0.05)
     far = problem.replace(terminal_cost=lambda x: Quadratic([1.0, 0.0], [3.0, 0.5])(x) + 5000.0)
     component = expand(far, optimize(far, np.array([0.0, 0.0]), restarts=1, n_intervals=50))
@@ -390,12 +432,15 @@ def test_mixed_combination_in_the_log_domain():
 
 
 def test_naive_blend_sum_and_average():
-    trackers = [expand(p, optimize(p, np.zeros(2), restarts=1, n_intervals=20))
-                for p in (lq_problem((-1.0, 0.0)), lq_problem((1.0, 0.0)))]
+    trackers = [
+        expand(p, optimize(p, np.zeros(2), restarts=1, n_intervals=20))
+        for p in (lq_problem((-1.0, 0.0)), lq_problem((1.0, 0.0)))
+    ]
     u = [c.policy(OFF, 0.3) for c in trackers]
     np.testing.assert_allclose(g.naive_blend(trackers, None).policy(OFF, 0.3), (u[0] + u[1]) / 2)
-    np.testing.assert_allclose(g.naive_blend(trackers, [1, 2], mode="sum").policy(OFF, 0.3),
-                               u[0] + 2 * u[1])
+    np.testing.assert_allclose(
+        g.naive_blend(trackers, [1, 2], mode="sum").policy(OFF, 0.3), u[0] + 2 * u[1]
+    )
     with pytest.raises(ValueError, match="mode must be one of 'average', 'sum'"):
         g.naive_blend(trackers, None, mode="total")
 
@@ -404,10 +449,12 @@ def test_naive_blend_sum_and_average():
 
 
 def _pendulum_component(radius="auto"):
-    problem = g.Problem(Pendulum(), box(2, periodic=(0,)), 1.0, Quadratic([0.0, 0.0], [2.0, 0.2]),
-                        temperature=0.5)
-    return expand(problem, optimize(problem, np.array([2.5, 0.0]), restarts=4, n_intervals=60),
-                  radius=radius)
+    problem = g.Problem(
+        Pendulum(), box(2, periodic=(0,)), 1.0, Quadratic([0.0, 0.0], [2.0, 0.2]), temperature=0.5
+    )
+    return expand(
+        problem, optimize(problem, np.array([2.5, 0.0]), restarts=4, n_intervals=60), radius=radius
+    )
 
 
 def test_deviation_takes_the_nearest_periodic_image():
@@ -416,16 +463,17 @@ def test_deviation_takes_the_nearest_periodic_image():
     shifted = x + [TWO_PI, 0.0]
     for t in (0.0, 0.55):
         np.testing.assert_allclose(component.value(shifted, t), component.value(x, t), rtol=1e-12)
-        np.testing.assert_allclose(component.policy(shifted, t), component.policy(x, t),
-                                   rtol=1e-12)
+        np.testing.assert_allclose(component.policy(shifted, t), component.policy(x, t), rtol=1e-12)
         assert np.all(np.abs(component.deviation(x, t)[:, 0]) <= np.pi)
     # On the trajectory: v̂ is the cost to go along it plus the Itô term, u the tape.
     tape = component.trajectory
     k = 20
-    np.testing.assert_allclose(component.policy(tape.states[k], tape.times[k]), [tape.controls[k]],
-                               rtol=1e-12)
-    assert component.nominal_values[-1] == pytest.approx(float(
-        component.problem.terminal_cost(tape.states[-1:])[0]), rel=1e-12)
+    np.testing.assert_allclose(
+        component.policy(tape.states[k], tape.times[k]), [tape.controls[k]], rtol=1e-12
+    )
+    assert component.nominal_values[-1] == pytest.approx(
+        float(component.problem.terminal_cost(tape.states[-1:])[0]), rel=1e-12
+    )
 
 
 def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
@@ -439,8 +487,9 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
     problem, tape = component.problem, component.trajectory
 
     def local(x):
-        return optimize(problem, x, n_intervals=60, initial_controls=tape.controls,
-                        search=False).cost
+        return optimize(
+            problem, x, n_intervals=60, initial_controls=tape.controls, search=False
+        ).cost
 
     h, x0 = 0.01, tape.states[0]
     E = np.eye(2) * h
@@ -448,8 +497,9 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
     fp, fm = [local(x0 + e) for e in E], [local(x0 - e) for e in E]
     grad = (np.array(fp) - fm) / (2 * h)
     H = np.diag((np.array(fp) - 2 * f0 + np.array(fm)) / h**2)
-    H[0, 1] = H[1, 0] = (local(x0 + E[0] + E[1]) - fp[0] - fp[1] + 2 * f0 - fm[0] - fm[1]
-                         + local(x0 - E[0] - E[1])) / (2 * h * h)
+    H[0, 1] = H[1, 0] = (
+        local(x0 + E[0] + E[1]) - fp[0] - fp[1] + 2 * f0 - fm[0] - fm[1] + local(x0 - E[0] - E[1])
+    ) / (2 * h * h)
     shooting = shooting_for(problem, x0, len(tape.controls))
     _, newton = sweep(shooting, tape.controls, problem.terminal_cost, None, newton=True)
     _, gauss_newton = sweep(shooting, tape.controls, problem.terminal_cost, None)
@@ -457,8 +507,9 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
     np.testing.assert_allclose(newton.P[0], H, atol=2e-4 * scale)
     # The tracker's gain: by default from the full pass carrying P⁺ (then P_k ⪰ 0 at every node,
     # and its gain differs from both others here), or the full DDP / Gauss–Newton gain.
-    _, (projected,) = sweeps(shooting, tape.controls, problem.terminal_cost, None,
-                             ("projected-newton",))
+    _, (projected,) = sweeps(
+        shooting, tape.controls, problem.terminal_cost, None, ("projected-newton",)
+    )
     np.testing.assert_array_equal(component.gains, projected.gains)
     assert np.linalg.eigvalsh(projected.P).min() > -1e-12 * scale
     for other in (newton, gauss_newton):
@@ -471,8 +522,9 @@ def test_newton_curvature_is_the_hessian_of_the_neighbouring_optima():
     assert np.abs(gauss_newton.P[0] - H).max() > 100 * np.abs(newton.P[0] - H).max()
     w, V = np.linalg.eigh(newton.P[0])
     assert w[0] < 0  # the neighbouring optima's cost is not convex here ...
-    np.testing.assert_allclose(component.hessians[0], (V * np.maximum(w, 0)) @ V.T,
-                               atol=1e-12 * scale)  # ... so the value uses its PSD part
+    np.testing.assert_allclose(
+        component.hessians[0], (V * np.maximum(w, 0)) @ V.T, atol=1e-12 * scale
+    )  # ... so the value uses its PSD part
     assert np.linalg.eigvalsh(component.hessians).min() > -1e-12 * scale
 
 
@@ -495,7 +547,9 @@ def test_default_radius_is_the_chi_square_quantile():
     assert default_radius(4) > default_radius(2)
     assert _pendulum_component(radius=None).radius is None
     lq = lq_problem()  # linear-quadratic: the expansion is global, the default never saturates
-    assert expand(lq, optimize(lq, np.array([-1.0, 0.5]), restarts=1, n_intervals=20)).radius is None
+    assert (
+        expand(lq, optimize(lq, np.array([-1.0, 0.5]), restarts=1, n_intervals=20)).radius is None
+    )
 
 
 def test_radius_saturates_the_feedback_only_far_away():
@@ -507,8 +561,9 @@ def test_radius_saturates_the_feedback_only_far_away():
     np.testing.assert_allclose(capped.policy(x[:1], t), plain.policy(x[:1], t), rtol=1e-14)
     ubar = plain.trajectory.controls[10]
     # Beyond the radius the feedback is the one at ρ = 2 in the same direction.
-    np.testing.assert_allclose(capped.policy(x[1:], t) - ubar,
-                               (plain.policy(x[1:], t) - ubar) * 2.0 / rho[1], rtol=1e-12)
+    np.testing.assert_allclose(
+        capped.policy(x[1:], t) - ubar, (plain.policy(x[1:], t) - ubar) * 2.0 / rho[1], rtol=1e-12
+    )
     np.testing.assert_array_equal(capped.value(x, t), plain.value(x, t))
 
 
@@ -545,13 +600,13 @@ def lq_tracker():
 
 def test_expand_rejects_another_problems_trajectory(lq_tracker):
     problem, trajectory = lq_tracker
-    with pytest.raises(ValueError, match="another problem.*terminal cost"):
+    with pytest.raises(ValueError, match=r"another problem.*terminal cost"):
         expand(problem.replace(terminal_cost=Quadratic([0.0, 0.0], [3.0, 0.5])), trajectory)
-    with pytest.raises(ValueError, match="another problem.*horizon"):
+    with pytest.raises(ValueError, match=r"another problem.*horizon"):
         expand(problem.replace(horizon=2.0), trajectory)
-    with pytest.raises(ValueError, match="another problem.*system"):
+    with pytest.raises(ValueError, match=r"another problem.*system"):
         expand(problem.replace(system=PointMass(mass=2.0)), trajectory)
-    with pytest.raises(ValueError, match="another problem.*control cost"):
+    with pytest.raises(ValueError, match=r"another problem.*control cost"):
         expand(problem.replace(control_cost=1.0), trajectory)
     with pytest.raises(TypeError, match="Trajectory"):
         expand(problem, trajectory.states)
@@ -571,8 +626,15 @@ def test_expand_rejects_another_problems_trajectory(lq_tracker):
 
 def test_expand_warns_about_an_unconverged_trajectory(lq_tracker):
     problem, trajectory = lq_tracker
-    rough = Trajectory(trajectory.times, trajectory.states, trajectory.controls, trajectory.cost,
-                       problem, converged=False, message="stopped early")
+    rough = Trajectory(
+        trajectory.times,
+        trajectory.states,
+        trajectory.controls,
+        trajectory.cost,
+        problem,
+        converged=False,
+        message="stopped early",
+    )
     with pytest.warns(TrajectoryWarning, match="stopped early"):
         expand(problem, rough)
 

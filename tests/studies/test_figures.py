@@ -11,16 +11,21 @@ from gridlbc.studies.problems import coordination_problem
 PNG = b"\x89PNG\r\n\x1a\n"
 
 
-@pytest.mark.parametrize("name, options", [
-    ("cost_reward_space", {"n": 21}),
-    ("projection", {"points": 101}),
-    ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1, "restarts": 2}),
-    ("coordination", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
-    ("gymnast", {"n": 5, "reference": False}),
-    ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),
-    ("convergence", {"spacings": (1, 2), "sizes": (16, 32), "temperatures": (1.0,),
-                     "temperature_grid": 16}),
-])
+@pytest.mark.parametrize(
+    "name, options",
+    [
+        ("cost_reward_space", {"n": 21}),
+        ("projection", {"points": 101}),
+        ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1, "restarts": 2}),
+        ("coordination", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
+        ("gymnast", {"n": 5, "reference": False}),
+        ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),
+        (
+            "convergence",
+            {"spacings": (1, 2), "sizes": (16, 32), "temperatures": (1.0,), "temperature_grid": 16},
+        ),
+    ],
+)
 def test_figure_writes_png(tmp_path, name, options):
     function = figures.FIGURES[name][0]
     paths = function(tmp_path, **options)
@@ -32,7 +37,7 @@ def test_figure_writes_png(tmp_path, name, options):
 
 
 def test_make_all_rejects_unknown_name(tmp_path):
-    with pytest.raises(ValueError, match="unknown figure 'nope'.*projection"):
+    with pytest.raises(ValueError, match=r"unknown figure 'nope'.*projection"):
         figures.make_all(tmp_path, only=["nope"])
 
 
@@ -45,13 +50,14 @@ def test_push_without_kick_equals_one_rollout():
     def policy(x, t):
         return -x[:, :1] + np.sin(3 * t) * np.ones((len(x), 1))  # time-dependent on purpose
 
-    times, states = figures.simulate_with_push(problem, policy, [0.3, 0.0], 1.0, [0.0, 0.0],
-                                               noise=False, dt=0.01)
+    times, states = figures.simulate_with_push(
+        problem, policy, [0.3, 0.0], 1.0, [0.0, 0.0], noise=False, dt=0.01
+    )
     whole = simulate(problem, policy, [0.3, 0.0], 1, dt=0.01, noise=False)
     k = 100  # t_p = 1 s = 100 steps; times[k] == times[k + 1] == t_p, before and after the kick
     assert times[k] == times[k + 1] == 1.0
     np.testing.assert_array_equal(states[:, k], states[:, k + 1])  # zero kick
-    keep = np.r_[0:k + 1, k + 2:len(times)]
+    keep = np.r_[0 : k + 1, k + 2 : len(times)]
     np.testing.assert_allclose(times[keep], whole.times, rtol=0, atol=1e-12)
     np.testing.assert_allclose(states[:, keep], whole.states, rtol=0, atol=1e-12)
 

@@ -18,8 +18,13 @@ from gridlbc.config import problem_from_dict
 
 
 def run(*args):
-    return subprocess.run([sys.executable, "-m", "gridlbc.cli", *args], capture_output=True,
-                          text=True, timeout=300, check=False)
+    return subprocess.run(
+        [sys.executable, "-m", "gridlbc.cli", *args],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
 
 
 def one_line_error(result, *fragments):
@@ -30,8 +35,9 @@ def one_line_error(result, *fragments):
         assert fragment in lines[0], lines[0]
 
 
-@pytest.mark.parametrize("command", ["", "demo", "verify", "solve", "combine", "certify",
-                                     "figures", "sweep"])
+@pytest.mark.parametrize(
+    "command", ["", "demo", "verify", "solve", "combine", "certify", "figures", "sweep"]
+)
 def test_help_everywhere(command):
     result = run(*([command] if command else []), "--help")
     assert result.returncode == 0
@@ -45,9 +51,26 @@ def test_solve_combine_round_trip(tmp_path):
     left = run("solve", "--config", str(tmp_path / "left.toml"), "--out", str(tmp_path / "l"))
     assert left.returncode == 0, left.stderr
     assert "wrote" in left.stdout and "steps" in left.stderr  # progress bar on stderr
-    right = run("solve", "--system", "pointmass", "--grid", "21", "--horizon", "1",
-                "--temperature", "0.5", "--terminal-center", "1,0", "--terminal-weights", "4,1",
-                "--dt", "0.05", "--out", str(tmp_path / "r.npz"), "--quiet")
+    right = run(
+        "solve",
+        "--system",
+        "pointmass",
+        "--grid",
+        "21",
+        "--horizon",
+        "1",
+        "--temperature",
+        "0.5",
+        "--terminal-center",
+        "1,0",
+        "--terminal-weights",
+        "4,1",
+        "--dt",
+        "0.05",
+        "--out",
+        str(tmp_path / "r.npz"),
+        "--quiet",
+    )
     assert right.returncode == 0, right.stderr
     a, b = gridlbc.load(tmp_path / "l.npz"), gridlbc.load(tmp_path / "r.npz")
     for saved, c in ((a, -1), (b, 1)):
@@ -56,8 +79,15 @@ def test_solve_combine_round_trip(tmp_path):
         np.testing.assert_array_equal(saved.log_scales, direct.log_scales)
 
     table = tmp_path / "t.csv"
-    result = run("combine", str(tmp_path / "l.npz"), str(tmp_path / "r.npz"), "--at=0.3,0.2",
-                 "--at=0,0", "--table", str(table))
+    result = run(
+        "combine",
+        str(tmp_path / "l.npz"),
+        str(tmp_path / "r.npz"),
+        "--at=0.3,0.2",
+        "--at=0,0",
+        "--table",
+        str(table),
+    )
     assert result.returncode == 0, result.stderr
     rows = np.loadtxt(table, delimiter=",", skiprows=1)
     combined = gridlbc.combine([a, b])
@@ -73,17 +103,22 @@ def test_solve_combine_round_trip(tmp_path):
 
 def test_combine_project_prints_weights_and_warnings(tmp_path):
     problem = problem_from_dict(pointmass_description(-1)).problem
-    sols = gridlbc.solve_many(problem, [gridlbc.Quadratic([c, 0], [4, 1]) for c in (-1, 1)],
-                              dt=0.05)
+    sols = gridlbc.solve_many(
+        problem, [gridlbc.Quadratic([c, 0], [4, 1]) for c in (-1, 1)], dt=0.05
+    )
     paths = [gridlbc.save(s, tmp_path / f"s{k}") for k, s in enumerate(sols)]
     result = run("combine", *map(str, paths), "--project", "0.2,0")
     assert result.returncode == 0, result.stderr
-    expected = gridlbc.projection(gridlbc.Quadratic([0.2, 0], [4, 1]),
-                                  [s.problem.terminal_cost for s in sols], problem.grid,
-                                  temperature=0.5).weights
+    expected = gridlbc.projection(
+        gridlbc.Quadratic([0.2, 0], [4, 1]),
+        [s.problem.terminal_cost for s in sols],
+        problem.grid,
+        temperature=0.5,
+    ).weights
     printed = result.stdout.split("[")[1].split("]")[0]
-    np.testing.assert_allclose([float(v) for v in printed.split(",")], expected, rtol=0,
-                               atol=5e-7)  # printed rounded to 6 decimals
+    np.testing.assert_allclose(
+        [float(v) for v in printed.split(",")], expected, rtol=0, atol=5e-7
+    )  # printed rounded to 6 decimals
     # components ±1 with W = 4 at λ = 0.5 (width 0.25) are far too narrow for a target at 0.2
     assert "warning: weights sum to" in result.stderr
 
@@ -94,26 +129,59 @@ def test_certify_prints_what_gridlbc_certify_computes(tmp_path):
     problem = problem_from_dict(pointmass_description(0.5)).problem
     solution = gridlbc.solve(problem, dt=0.05)
     path = gridlbc.save(solution, tmp_path / "s")
-    result = run("certify", str(path), "--state=0.2,-0.3", "--state=0,0", "--samples", "200",
-                 "--seed", "3", "--quiet")
+    result = run(
+        "certify",
+        str(path),
+        "--state=0.2,-0.3",
+        "--state=0,0",
+        "--samples",
+        "200",
+        "--seed",
+        "3",
+        "--quiet",
+    )
     assert result.returncode == 0, result.stderr
     states = np.array([[0.2, -0.3], [0.0, 0.0]])
     cert = gridlbc.certify(problem, solution.policy, states, n_samples=200, seed=3)
     rows = np.array([[float(v) for v in line.split()] for line in result.stdout.splitlines()[-2:]])
     predicted = solution.value(states, 0.0)
-    for column, expected in ((0, predicted), (1, cert.optimal_value), (4, cert.policy_cost),
-                             (5, cert.gap), (6, cert.effective_sample_size)):
+    for column, expected in (
+        (0, predicted),
+        (1, cert.optimal_value),
+        (4, cert.policy_cost),
+        (5, cert.gap),
+        (6, cert.effective_sample_size),
+    ):
         np.testing.assert_allclose(rows[:, column], expected, rtol=1e-4)  # printed to 5 digits
     assert "certified optimum v*" in result.stdout and result.stderr == ""
     one_line_error(run("certify", str(path)), "--state")
 
 
-@pytest.mark.parametrize("args, fragments", [
-    (["solve", "--system", "nope", "--grid", "5", "--horizon", "1", "--terminal-center", "0",
-      "--terminal-weights", "1", "--out", "x"], ["unknown system.name 'nope'", "Pendulum"]),
-    (["solve", "--system", "pendulum", "--axis=-pi,pi,x", "--out", "x"], ["--axis expects"]),
-    (["combine", "missing.npz"], ["no saved solution at 'missing.npz'"]),
-])
+@pytest.mark.parametrize(
+    "args, fragments",
+    [
+        (
+            [
+                "solve",
+                "--system",
+                "nope",
+                "--grid",
+                "5",
+                "--horizon",
+                "1",
+                "--terminal-center",
+                "0",
+                "--terminal-weights",
+                "1",
+                "--out",
+                "x",
+            ],
+            ["unknown system.name 'nope'", "Pendulum"],
+        ),
+        (["solve", "--system", "pendulum", "--axis=-pi,pi,x", "--out", "x"], ["--axis expects"]),
+        (["combine", "missing.npz"], ["no saved solution at 'missing.npz'"]),
+    ],
+)
 def test_user_mistakes_subprocess(args, fragments):
     one_line_error(run(*args), *fragments)
 
@@ -128,8 +196,9 @@ def test_main_catches_mistakes_in_process(capsys):
     assert "no saved solution" in capsys.readouterr().err
     assert main(["solve", "--grid", "5,x", "--out", "o"]) == 2
     assert "--grid expects node counts" in capsys.readouterr().err
-    assert main(["solve", "--system", "pointmass", "--grid", "5", "--horizon", "1",
-                 "--out", "o"]) == 2
+    assert (
+        main(["solve", "--system", "pointmass", "--grid", "5", "--horizon", "1", "--out", "o"]) == 2
+    )
     assert "give --terminal-center and --terminal-weights" in capsys.readouterr().err
 
 

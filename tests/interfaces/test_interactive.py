@@ -30,7 +30,8 @@ from gridlbc.systems import Pendulum, PointMass, SingleIntegrator
 
 CHROMIUM = shutil.which("chromium")
 needs_chromium = pytest.mark.skipif(
-    CHROMIUM is None, reason="Debian's chromium is not installed here (.ci/run installs it in CI)")
+    CHROMIUM is None, reason="Debian's chromium is not installed here (.ci/run installs it in CI)"
+)
 REL = 1e-9
 
 
@@ -49,11 +50,25 @@ def _dump(page: Path, query: str) -> dict:
     """Open page?query in headless Chromium; the JSON of #probe, #probe-details and #timing."""
     with tempfile.TemporaryDirectory() as profile:
         dom = subprocess.run(
-            [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
-             "--no-first-run", "--disable-background-networking", "--disable-component-update",
-             "--disable-sync", f"--user-data-dir={profile}", "--dump-dom",
-             f"{page.resolve().as_uri()}?{query}"],
-            capture_output=True, text=True, timeout=120, check=True).stdout
+            [
+                CHROMIUM,
+                "--headless",
+                "--no-sandbox",
+                "--disable-gpu",
+                "--disable-quic",
+                "--no-first-run",
+                "--disable-background-networking",
+                "--disable-component-update",
+                "--disable-sync",
+                f"--user-data-dir={profile}",
+                "--dump-dom",
+                f"{page.resolve().as_uri()}?{query}",
+            ],
+            capture_output=True,
+            text=True,
+            timeout=120,
+            check=True,
+        ).stdout
     out = {}
     for name in ("probe", "probe-details", "timing"):
         match = re.search(f'<pre id="{name}">([^<]*)</pre>', dom)
@@ -63,8 +78,7 @@ def _dump(page: Path, query: str) -> dict:
 
 
 def _query(weights, state, t) -> str:
-    return (f"weights={','.join(map(repr, weights))}&state={','.join(map(repr, state))}"
-            f"&time={t!r}")
+    return f"weights={','.join(map(repr, weights))}&state={','.join(map(repr, state))}&time={t!r}"
 
 
 def _assert_probe(probe: dict, combined, weights, state, t):
@@ -79,10 +93,10 @@ def _assert_probe(probe: dict, combined, weights, state, t):
 
 
 CASES = [
-    ((1.0, 1.0, 0.0), (2.8, 0.0), 0.0),          # swing up to either goal, from near hanging
-    ((1.0, 0.5, 0.0), (np.pi - 1e-4, 1.3), 0.37),   # just left of the periodic seam, between slices
+    ((1.0, 1.0, 0.0), (2.8, 0.0), 0.0),  # swing up to either goal, from near hanging
+    ((1.0, 0.5, 0.0), (np.pi - 1e-4, 1.3), 0.37),  # just left of the periodic seam, between slices
     ((0.7, 1.2, 0.1), (-np.pi + 1e-4, -2.1), 0.9),  # just right of it
-    ((1.0, -0.05, 0.5), (5.0, 11.0), 0.53),         # θ wrapped from outside, ω clamped; w < 0
+    ((1.0, -0.05, 0.5), (5.0, 11.0), 0.53),  # θ wrapped from outside, ω clamped; w < 0
 ]
 
 
@@ -91,8 +105,19 @@ CASES = [
 def test_page_equals_combine_on_saved_solutions(pendulum_files, tmp_path):
     page = tmp_path / "page.html"
     result = subprocess.run(
-        [sys.executable, "-m", "gridlbc.cli", "interactive", *map(str, pendulum_files),
-         "--out", str(page)], capture_output=True, text=True, check=True)
+        [
+            sys.executable,
+            "-m",
+            "gridlbc.cli",
+            "interactive",
+            *map(str, pendulum_files),
+            "--out",
+            str(page),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     assert "decimated" not in result.stdout  # small enough to embed whole
     solutions = [gridlbc.load(p) for p in pendulum_files]
     for weights, state, t in CASES:
@@ -102,14 +127,15 @@ def test_page_equals_combine_on_saved_solutions(pendulum_files, tmp_path):
         if t == 0.0:  # the rollout drawn on the maps: gridlbc.simulate's noise-free closed loop
             threads = numba.get_num_threads()
             numba.set_num_threads(1)  # one state per step: a thread launch costs more than it
-            try:                      # computes (≈ 100× on a loaded 2-core machine)
+            try:  # computes (≈ 100× on a loaded 2-core machine)
                 rollout = gridlbc.simulate(combined.problem, combined.policy, state, noise=False)
             finally:
                 numba.set_num_threads(threads)
             details = out["probe-details"]["rollout"]
             assert details["steps"] == rollout.controls.shape[1]
-            np.testing.assert_allclose(details["final_state"], rollout.final_states[0],
-                                       rtol=1e-7, atol=1e-7)
+            np.testing.assert_allclose(
+                details["final_state"], rollout.final_states[0], rtol=1e-7, atol=1e-7
+            )
             np.testing.assert_allclose(details["cost"], rollout.costs[0], rtol=1e-7)
 
     # a goal picked by projection: gridlbc.projection's weights (quadrature on the periodic grid)
@@ -122,8 +148,13 @@ def test_page_equals_combine_on_saved_solutions(pendulum_files, tmp_path):
     assert got["method"] == expected.method == "quadrature"
     np.testing.assert_allclose(got["weights"], expected.weights, rtol=1e-9)
     np.testing.assert_allclose(got["residual"], expected.residual, rtol=1e-6)
-    _assert_probe(out["probe"], gridlbc.combine(solutions, expected.weights), expected.weights,
-                  (1.0, 0.5), 0.2)
+    _assert_probe(
+        out["probe"],
+        gridlbc.combine(solutions, expected.weights),
+        expected.weights,
+        (1.0, 0.5),
+        0.2,
+    )
 
 
 @needs_chromium
@@ -135,8 +166,13 @@ def test_decimated_page_equals_combine_of_decimated(pendulum_files, tmp_path):
     assert report.embedding.decimated and report.embedding.shape == (17, 13)
     small = report.embedding.components
     for weights, state, t in CASES[1:3]:
-        _assert_probe(_dump(page, _query(weights, state, t))["probe"],
-                      gridlbc.combine(small, weights), weights, state, t)
+        _assert_probe(
+            _dump(page, _query(weights, state, t))["probe"],
+            gridlbc.combine(small, weights),
+            weights,
+            state,
+            t,
+        )
 
 
 @needs_chromium
@@ -150,10 +186,12 @@ def test_pointmass_projection_is_closed_form(tmp_path):
     out = _dump(page, "goal=0.25,0.1&state=1.5,-1&time=0.3")
     expected = projection(Quadratic([0.25, 0.1], [2, 1]), goals, None, temperature=0.5)
     assert out["probe-details"]["projection"]["method"] == expected.method == "analytic"
-    np.testing.assert_allclose(out["probe-details"]["projection"]["weights"], expected.weights,
-                               rtol=1e-9)
-    _assert_probe(out["probe"], gridlbc.combine(sols, expected.weights), expected.weights,
-                  (1.5, -1.0), 0.3)
+    np.testing.assert_allclose(
+        out["probe-details"]["projection"]["weights"], expected.weights, rtol=1e-9
+    )
+    _assert_probe(
+        out["probe"], gridlbc.combine(sols, expected.weights), expected.weights, (1.5, -1.0), 0.3
+    )
     bad = _dump(page, "weights=1,-1&state=0,0")["probe"]
     assert "sum" in bad["error"]
 
@@ -200,8 +238,12 @@ USER_SCRIPT = """<script>
 @needs_chromium
 def test_controls_drive_the_page(pendulum_files, tmp_path):
     """Slider, click and goal mode change what the page shows (the wiring, not the numbers)."""
-    page = write_page([gridlbc.load(p) for p in pendulum_files], tmp_path / "p.html",
-                      weights=(1, 1, 0), state=(2.8, 0.0)).path
+    page = write_page(
+        [gridlbc.load(p) for p in pendulum_files],
+        tmp_path / "p.html",
+        weights=(1, 1, 0),
+        state=(2.8, 0.0),
+    ).path
     page.write_text(page.read_text(encoding="utf-8").replace("</body>", USER_SCRIPT))
     out = _dump(page, "")["timing"]
     # the third goal (θ = 3, near the start) now dominates the blend at the start state
@@ -217,8 +259,17 @@ def test_page_loads_nothing_from_the_network(pendulum_files, tmp_path):
     report = write_page([gridlbc.load(p) for p in pendulum_files], tmp_path / "p.html")
     html = report.path.read_text(encoding="utf-8")
     assert report.size == len(html.encode("utf-8"))
-    for reference in ("http://", "https://", "//cdn", " src=", "<link", "import(", "fetch(",
-                      "XMLHttpRequest", "url("):
+    for reference in (
+        "http://",
+        "https://",
+        "//cdn",
+        " src=",
+        "<link",
+        "import(",
+        "fetch(",
+        "XMLHttpRequest",
+        "url(",
+    ):
         assert reference not in html, reference
     assert html.count("<script") == 2  # the data (JSON) and the inline script
 

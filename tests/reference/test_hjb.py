@@ -32,10 +32,22 @@ def _kernel_hamiltonian(problem, v, control_bounds=None):
     s = control_structure(problem, x, control_bounds)
     H, rate = np.empty(grid.size), np.empty(grid.size)
     control = np.empty((grid.size, s.axis.size))
-    _hamiltonian_kernel(v, np.ascontiguousarray(problem.system.drift(x)), s.gain, s.axis, s.r,
-                        s.bounds, np.ascontiguousarray(0.5 * problem.noise_diagonal(x)),
-                        problem.state_cost_values(x), *grid.kernel_arrays()[2:4], grid.spacing,
-                        grid.periodic, H, rate, control)
+    _hamiltonian_kernel(
+        v,
+        np.ascontiguousarray(problem.system.drift(x)),
+        s.gain,
+        s.axis,
+        s.r,
+        s.bounds,
+        np.ascontiguousarray(0.5 * problem.noise_diagonal(x)),
+        problem.state_cost_values(x),
+        *grid.kernel_arrays()[2:4],
+        grid.spacing,
+        grid.periodic,
+        H,
+        rate,
+        control,
+    )
     return H, rate, control
 
 
@@ -73,7 +85,9 @@ def test_minimising_control_beats_a_dense_search(lo, hi, rng):
 
     def objective(u):
         b = a[:, None] + beta[:, None] * u
-        return 0.5 * u**2 + np.maximum(b, 0) * forward[:, None] - np.maximum(-b, 0) * backward[:, None]
+        return (
+            0.5 * u**2 + np.maximum(b, 0) * forward[:, None] - np.maximum(-b, 0) * backward[:, None]
+        )
 
     searched = objective(np.linspace(lo, hi, 24001)[None, :]).min(axis=1)
     found = objective(control[:, :1])[:, 0]
@@ -94,7 +108,10 @@ def test_multilinear_matches_scipy_on_closed_and_periodic_axes(rng):
 
 def test_multilinear_reproduces_bilinear_functions_and_clamps_outside():
     grid = Grid([Axis(-1.0, 1.0, 5), Axis(0.0, 3.0, 4)])
-    f = lambda x: (1 + 2 * x[:, 0]) * (3 - x[:, 1]) + x[:, 1]
+
+    def f(x):
+        return (1 + 2 * x[:, 0]) * (3 - x[:, 1]) + x[:, 1]
+
     x = np.array([[0.3, 1.7], [-0.99, 2.5], [5.0, -2.0]])
     got = multilinear(grid, f(grid.nodes()), x)[0]
     np.testing.assert_allclose(got, f(grid.clamp(x)), rtol=1e-14)
@@ -117,8 +134,9 @@ def test_terminal_slice_is_g_and_constant_cost_stays_constant():
     # constant v: every difference vanishes, H = q = 0, the optimal control is u = 0
     np.testing.assert_array_equal(solution.values, 3.5)
     np.testing.assert_array_equal(solution.policy(problem.grid.nodes(), 0.0), 0.0)
-    np.testing.assert_array_equal(solve_hjb(_pendulum(12)).values[-1],
-                                  _pendulum(12).terminal_values())
+    np.testing.assert_array_equal(
+        solve_hjb(_pendulum(12)).values[-1], _pendulum(12).terminal_values()
+    )
 
 
 def test_discrete_maximum_principle():
@@ -154,8 +172,12 @@ def test_pointmass_converges_to_riccati_at_first_order():
     errors = []
     for h in (1 / 4, 1 / 8, 1 / 16):
         solution = solve_hjb(pointmass_problem(h))
-        errors.append((np.abs(solution.value(points, 0.0) - v_exact)[region].max(),
-                       np.abs(solution.policy(points, 0.0) - u_exact)[region].max()))
+        errors.append(
+            (
+                np.abs(solution.value(points, 0.0) - v_exact)[region].max(),
+                np.abs(solution.policy(points, 0.0) - u_exact)[region].max(),
+            )
+        )
     errors = np.array(errors)
     orders = np.log2(errors[:-1] / errors[1:])
     assert np.all((orders > 0.8) & (orders < 1.2)), orders
@@ -175,12 +197,17 @@ def test_bad_inputs_raise_with_the_argument_named():
         solve_hjb(problem).value([0.0, 0.0], 2.0)
     grid = Grid([Axis(-1, 1, 5), Axis(-1, 1, 5)])
     two_controls = LinearSystem(np.zeros((2, 2)), np.eye(2))
-    coupled = Problem(two_controls, grid, 1.0, Quadratic([0, 0], [1, 1]),
-                      control_cost=[[2.0, 0.0], [0.0, 1.0]])
+    coupled = Problem(
+        two_controls, grid, 1.0, Quadratic([0, 0], [1, 1]), control_cost=[[2.0, 0.0], [0.0, 1.0]]
+    )
     with pytest.raises(ValueError, match="diagonal control_cost"):
         solve_hjb(coupled.replace(control_cost=[[2.0, 0.5], [0.5, 1.0]]))
-    same_axis = Problem(LinearSystem(np.zeros((2, 2)), [[0.0, 0.0], [1.0, 1.0]]), grid, 1.0,
-                        Quadratic([0, 0], [1, 1]))
+    same_axis = Problem(
+        LinearSystem(np.zeros((2, 2)), [[0.0, 0.0], [1.0, 1.0]]),
+        grid,
+        1.0,
+        Quadratic([0, 0], [1, 1]),
+    )
     with pytest.raises(ValueError, match="own state axis"):
         solve_hjb(same_axis)
 
@@ -217,8 +244,9 @@ def test_bounds_that_never_bind_change_nothing():
     problem = _pendulum(16)
     free, boxed = _same_steps(problem, (-1e3, 1e3), dt=2e-3)
     assert np.abs(free.policy(problem.grid.nodes(), 0.0)).max() < 1e2
-    np.testing.assert_allclose(boxed.values, free.values, rtol=0,
-                               atol=1e-13 * np.abs(free.values).max())
+    np.testing.assert_allclose(
+        boxed.values, free.values, rtol=0, atol=1e-13 * np.abs(free.values).max()
+    )
 
 
 @pytest.mark.parametrize("lo, hi", [(-1.0, 1.0), (-10.0, 10.0), (1.5, 3.0)])
@@ -234,8 +262,9 @@ def test_single_integrator_with_a_linear_terminal_cost_is_exact(lo, hi):
 
     c, r, T = -4.0, 1.0, 1.0
     grid = Grid([Axis(-6.0, 6.0, 241)])
-    problem = Problem(SingleIntegrator(), grid, T, lambda x: c * x[:, 0], control_cost=r,
-                      temperature=0.1)
+    problem = Problem(
+        SingleIntegrator(), grid, T, lambda x: c * x[:, 0], control_cost=r, temperature=0.1
+    )
     solution = solve_hjb(problem, control_bounds=(lo, hi))
     u_star = min(max(-c / r, lo), hi)
     x = grid.nodes()

@@ -12,8 +12,14 @@ GRIDS = {
     1: Grid([Axis(-1.0, 2.0, 7)]),
     2: Grid([Axis(-np.pi, np.pi, 9, periodic=True), Axis(-2.0, 3.0, 6)]),
     3: Grid([Axis(0.0, 1.0, 4), Axis(-1.0, 1.0, 5, periodic=True), Axis(2.0, 5.0, 3)]),
-    4: Grid([Axis(-np.pi, np.pi, 6, periodic=True), Axis(-np.pi, np.pi, 5, periodic=True),
-             Axis(-3.0, 3.0, 4), Axis(-1.0, 1.0, 5)]),
+    4: Grid(
+        [
+            Axis(-np.pi, np.pi, 6, periodic=True),
+            Axis(-np.pi, np.pi, 5, periodic=True),
+            Axis(-3.0, 3.0, 4),
+            Axis(-1.0, 1.0, 5),
+        ]
+    ),
 }
 
 
@@ -50,7 +56,9 @@ def test_affine_functions_reproduced_to_rounding(d, rng):
     got = interpolate(grid, values, pts)
     expected = _affine_at(grid, slope, cut, pts)
     # Rounding: a sum of d+1 products of O(|f|) values; allow 64 ulps of the largest value.
-    np.testing.assert_allclose(got, expected, rtol=0, atol=64 * np.finfo(float).eps * np.abs(values).max())
+    np.testing.assert_allclose(
+        got, expected, rtol=0, atol=64 * np.finfo(float).eps * np.abs(values).max()
+    )
 
 
 @pytest.mark.parametrize("d", [1, 2, 3, 4])
@@ -79,8 +87,9 @@ def test_periodic_seam_interpolates_between_last_and_first_node():
 
 def test_points_outside_closed_box_are_clamped():
     grid = Grid([Axis(0.0, 1.0, 3)])
-    np.testing.assert_allclose(interpolate(grid, [1.0, 2.0, 5.0], [[-7.0], [0.25], [9.0]]),
-                               [1.0, 1.5, 5.0])
+    np.testing.assert_allclose(
+        interpolate(grid, [1.0, 2.0, 5.0], [[-7.0], [0.25], [9.0]]), [1.0, 1.5, 5.0]
+    )
 
 
 @settings(max_examples=30, deadline=None)
@@ -102,7 +111,11 @@ def test_node_gradient_exact_for_affine_and_one_sided_at_ends(rng):
     interior = (i > 0) & (i < 5)
     # central differences are exact for quadratics; one-sided ones are off by h/2·|f''|.
     np.testing.assert_allclose(d0[interior], 3.0 - x[interior, 0], atol=1e-12)
-    np.testing.assert_allclose(d0[~interior], 3.0 - x[~interior, 0] + np.where(i[~interior] == 0, -1, 1) * 0.5 * h, atol=1e-12)
+    np.testing.assert_allclose(
+        d0[~interior],
+        3.0 - x[~interior, 0] + np.where(i[~interior] == 0, -1, 1) * 0.5 * h,
+        atol=1e-12,
+    )
     periodic_values = np.sin(np.pi * x[:, 1])[None, :]
     d1 = node_gradient(grid, periodic_values, nodes, 1)[0]
     h1 = grid.spacing[1]

@@ -13,8 +13,9 @@ def test_take_off_is_a_straight_rigid_spin_scaled_by_kappa():
         x0 = diver_start(kappa)
         np.testing.assert_array_equal(x0[:4], [np.pi, 0, 0, 0])
         # Joint velocities: only the rigid spin κ ω0 (rounding of M⁻¹ M, cond(M) ≈ 1e3).
-        np.testing.assert_allclose(body.to_velocities(x0)[0, 4:], [kappa * DIVER_SPIN, 0, 0, 0],
-                                   atol=1e-12)
+        np.testing.assert_allclose(
+            body.to_velocities(x0)[0, 4:], [kappa * DIVER_SPIN, 0, 0, 0], atol=1e-12
+        )
     p1 = [body.angular_momentum(diver_start(k))[0] for k in (0.85, 1.0, 1.15)]
     np.testing.assert_allclose(np.array(p1) / p1[1], [0.85, 1.0, 1.15], rtol=1e-14)
 
@@ -26,7 +27,8 @@ def test_entry_cost_is_wrap_aware_and_vertical_at_zero():
     assert problem.terminal_cost(entry)[0] == 0.0
     # A full turn further is the same vertical entry; p1 carries no cost (it cannot change).
     assert problem.terminal_cost(entry + [2 * np.pi, 0, 0, 0, 5, 0, 0, 0])[0] == pytest.approx(
-        0.0, abs=1e-20)
+        0.0, abs=1e-20
+    )
     short = diver_problem(entry_angle=-0.25)
     assert short.terminal_cost(entry + [-0.25, 0, 0, 0, 0, 0, 0, 0])[0] == pytest.approx(0.0)
 

@@ -19,8 +19,9 @@ numbers), so paired differences have small standard errors."""
 @pytest.fixture(scope="module")
 def small_solutions():
     problem = gymnast_problem(21)
-    return {fitting: gridlbc.solve(problem, dt=0.1, fitting=fitting)
-            for fitting in (None, "terminal")}
+    return {
+        fitting: gridlbc.solve(problem, dt=0.1, fitting=fitting) for fitting in (None, "terminal")
+    }
 
 
 @pytest.fixture(scope="module")
@@ -31,8 +32,10 @@ def noisy_runs(small_solutions):
     def grid_policy(solution):
         return lambda x, t: solution.policy(x, min(t, problem.horizon))
 
-    runs = {fitting: simulate(problem, grid_policy(sol), GYMNAST_START, **NOISY)
-            for fitting, sol in small_solutions.items()}
+    runs = {
+        fitting: simulate(problem, grid_policy(sol), GYMNAST_START, **NOISY)
+        for fitting, sol in small_solutions.items()
+    }
     runs["zero"] = simulate(problem, lambda x, t: np.zeros((len(x), 1)), GYMNAST_START, **NOISY)
     return runs
 
@@ -53,8 +56,9 @@ def test_controller_beats_zero_torque_by_a_wide_margin(noisy_runs, fitting, rati
     mean, se = paired(controlled, passive)
     assert mean < -4 * se, (mean, se)
     assert controlled.mean_cost < ratio * passive.mean_cost
-    assert (np.median(angle_distance(controlled.final_states))
-            < np.median(angle_distance(passive.final_states)))
+    assert np.median(angle_distance(controlled.final_states)) < np.median(
+        angle_distance(passive.final_states)
+    )
 
 
 def test_fitting_makes_the_small_grid_controller_better(noisy_runs):
@@ -95,8 +99,12 @@ def test_figures_are_written(tmp_path):
     times = np.linspace(0, 0.4, 21)
     states = np.column_stack([np.linspace(-2, 0, 21), np.zeros(21), np.ones(21), np.zeros(21)])
     controls = np.zeros(20)
-    plot_swingup(times, {"test": (states, controls)}, tmp_path / "swing.png",
-                 reference=(times, states, controls))
+    plot_swingup(
+        times,
+        {"test": (states, controls)},
+        tmp_path / "swing.png",
+        reference=(times, states, controls),
+    )
     animate_swingup(times, states, tmp_path / "swing.gif", fps=10)
     assert (tmp_path / "swing.png").stat().st_size > 0
     assert (tmp_path / "swing.gif").stat().st_size > 0
@@ -110,10 +118,10 @@ def test_greedy_switch_follows_the_largest_blend_weight():
     grid = gridlbc.Grid([gridlbc.Axis(-5, 5, 5), gridlbc.Axis(-5, 5, 5)])
     trackers = []
     for center in (-1.0, 1.0):
-        problem = gridlbc.Problem(gridlbc.systems.PointMass(), grid, 1.0,
-                                  gridlbc.Quadratic([center, 0.0], [3.0, 0.5]))
-        trackers.append(expand(problem, optimize(problem, np.zeros(2), restarts=1,
-                                                 n_intervals=20)))
+        problem = gridlbc.Problem(
+            gridlbc.systems.PointMass(), grid, 1.0, gridlbc.Quadratic([center, 0.0], [3.0, 0.5])
+        )
+        trackers.append(expand(problem, optimize(problem, np.zeros(2), restarts=1, n_intervals=20)))
     combination = gridlbc.combine(trackers)
     np.testing.assert_array_equal(at_rest([0.1, -0.2]), [[0.1, -0.2, 0.0, 0.0]])
     x = np.array([[-2.0, 0.0], [-0.5, 0.0], [0.4, 0.0], [3.0, 0.0]])
@@ -131,7 +139,7 @@ def test_greedy_switch_follows_the_largest_blend_weight():
 # tests/data/fig7_tapes.npz so that the test need not repeat the minutes-long search; iLQR from
 # each stored tape (search=False) turns it back into a converged Trajectory of this problem.
 
-FIG7_TAPES = Path(__file__).parent / "data" / "fig7_tapes.npz"
+FIG7_TAPES = Path(__file__).parents[1] / "data" / "fig7_tapes.npz"
 
 
 @pytest.fixture(scope="module")
@@ -144,7 +152,8 @@ def fig7():
     starts = [*at_rest(TRACKER_STARTS[:2]), GYMNAST_START]
     tracker1, tracker2, optimum = (
         optimize(problem, x0, n_intervals=300, initial_controls=tapes[name], search=False)
-        for x0, name in zip(starts, ("tracker1", "tracker2", "optimum")))
+        for x0, name in zip(starts, ("tracker1", "tracker2", "optimum"))
+    )
     components = [expand(problem, t) for t in (tracker1, tracker2)]
     return problem, components, optimum
 
@@ -175,8 +184,9 @@ def test_fig7_noisy_lbc_is_within_half_of_the_certified_optimum(fig7):
     1.04; with the full DDP gains and no saturation, the previous default, 44.6 ± 8.1)."""
     problem, components, _ = fig7
     lbc = gridlbc.combine(components)
-    cert = gridlbc.certify(problem, lbc.policy, GYMNAST_START, n_samples=300, dt=0.002, seed=0,
-                           progress=False)
+    cert = gridlbc.certify(
+        problem, lbc.policy, GYMNAST_START, n_samples=300, dt=0.002, seed=0, progress=False
+    )
     assert np.isfinite(cert.policy_cost)
     upper = cert.policy_cost + 2.0 * cert.policy_cost_se
     lower = cert.optimal_value - 2.0 * cert.optimal_value_se

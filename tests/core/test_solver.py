@@ -30,8 +30,10 @@ def test_linear_in_terminal_data(method):
     g2 = Quadratic([-2.0, 1.0], [1.0, 0.5])
 
     def g_sum(x):  # terminal cost whose desirability is h1 + 2 h2
-        return -lam * np.logaddexp(-g1.with_periods(problem.grid.periods)(x) / lam,
-                                   np.log(2.0) - g2.with_periods(problem.grid.periods)(x) / lam)
+        return -lam * np.logaddexp(
+            -g1.with_periods(problem.grid.periods)(x) / lam,
+            np.log(2.0) - g2.with_periods(problem.grid.periods)(x) / lam,
+        )
 
     s1, s2, s12 = gridlbc.solve_many(problem, [g1, g2, g_sum], method=method)
     for j in (0, len(s1.times) // 2):
@@ -62,17 +64,24 @@ def test_constants_preserved_without_state_cost(method):
 
 
 def _mild_pendulum(n, **kw):
-    return pendulum(n, omega_max=4.0, omega_nodes=n, weights=(1.0, 0.1),
-                    system=Pendulum(gravity=2.0), **kw)
+    return pendulum(
+        n, omega_max=4.0, omega_nodes=n, weights=(1.0, 0.1), system=Pendulum(gravity=2.0), **kw
+    )
 
 
 def test_schemes_converge_to_the_same_value():
     x0 = np.array([[1.0, 0.5], [-0.5, -1.0], [0.2, 0.0]])
     # Δt ∝ h (a fixed Courant number, no minimum step count) so that first-order Richardson
     # extrapolation in h applies to the whole error: the plain operators, both first order.
-    values = {m: [gridlbc.solve(_mild_pendulum(n), method=m, courant=2.0, min_steps=1,
-                                fitting=None)
-                  .value(x0, 0.0) for n in (33, 65, 129, 257)] for m in METHODS}
+    values = {
+        m: [
+            gridlbc.solve(
+                _mild_pendulum(n), method=m, courant=2.0, min_steps=1, fitting=None
+            ).value(x0, 0.0)
+            for n in (33, 65, 129, 257)
+        ]
+        for m in METHODS
+    }
     limits = {}
     for m, v in values.items():
         steps = [np.abs(b - a).max() for a, b in itertools.pairwise(v)]
@@ -119,8 +128,14 @@ def test_policy_matches_value_gradient():
 def test_underflow_is_reported_not_nan():
     grid = Grid([Axis(-10.0, 10.0, 41)])
     # exp(−q Δt/λ) = exp(−2·10⁴) is zero in float64 where the state cost is huge.
-    problem = Problem(SingleIntegrator(), grid, 0.01, Quadratic([0.0], [1.0]), temperature=0.05,
-                      state_cost=lambda x: np.where(x[:, 0] > 5.0, 1e5, 0.0))
+    problem = Problem(
+        SingleIntegrator(),
+        grid,
+        0.01,
+        Quadratic([0.0], [1.0]),
+        temperature=0.05,
+        state_cost=lambda x: np.where(x[:, 0] > 5.0, 1e5, 0.0),
+    )
     sol = gridlbc.solve(problem, dt=0.01, fitting=None)  # stepped in z (fitted: in log z)
     assert sol.diagnostics.underflow_nodes == np.count_nonzero(grid.nodes()[:, 0] > 5.0)
     with pytest.warns(gridlbc.UnderflowWarning):
@@ -153,8 +168,12 @@ def _pm_grid():
     ],
 )
 def test_problem_rejects_bad_input(kwargs, error, match):
-    args = {"system": PointMass(), "grid": _pm_grid(), "horizon": 1.0,
-                "terminal_cost": Quadratic([0, 0], [1, 1])}
+    args = {
+        "system": PointMass(),
+        "grid": _pm_grid(),
+        "horizon": 1.0,
+        "terminal_cost": Quadratic([0, 0], [1, 1]),
+    }
     args.update(kwargs)
     with pytest.raises(error, match=match):
         Problem(**args)
@@ -169,7 +188,9 @@ def test_problem_rejects_bad_input(kwargs, error, match):
     ],
 )
 def test_bad_state_cost(state_cost, match):
-    problem = Problem(PointMass(), _pm_grid(), 1.0, Quadratic([0, 0], [1, 1]), state_cost=state_cost)
+    problem = Problem(
+        PointMass(), _pm_grid(), 1.0, Quadratic([0, 0], [1, 1]), state_cost=state_cost
+    )
     with pytest.raises(ValueError, match=match):
         gridlbc.solve(problem)
 
@@ -195,7 +216,9 @@ def test_bad_solve_options_and_queries():
         gridlbc.solve(problem, dt=-0.1)
     with pytest.raises(ValueError, match="exceeds the horizon"):
         gridlbc.solve(problem, dt=2.0)
-    with pytest.raises(ValueError, match="unknown method 'euler': choose one of implicit, splitting"):
+    with pytest.raises(
+        ValueError, match="unknown method 'euler': choose one of implicit, splitting"
+    ):
         gridlbc.solve(problem, method="euler")
     with pytest.raises(TypeError, match="unknown solve option"):
         gridlbc.solve(problem, tolerance=1.0)

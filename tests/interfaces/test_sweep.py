@@ -36,28 +36,46 @@ def too_large():
 @pytest.fixture(scope="module")
 def client():
     distributed = pytest.importorskip("distributed")
-    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                  dashboard_address=":0") as cluster, \
-            distributed.Client(cluster) as c:
+    with (
+        distributed.LocalCluster(
+            n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0"
+        ) as cluster,
+        distributed.Client(cluster) as c,
+    ):
         yield c
 
 
-@pytest.mark.parametrize("system", [systems.SingleIntegrator(), systems.PointMass(mass=2.0),
-                                    systems.Pendulum(damping=0.1), systems.Acrobot()])
+@pytest.mark.parametrize(
+    "system",
+    [
+        systems.SingleIntegrator(),
+        systems.PointMass(mass=2.0),
+        systems.Pendulum(damping=0.1),
+        systems.Acrobot(),
+    ],
+)
 def test_problems_pickle_for_the_workers(system):
     """Plain pickle (what any cluster can ship) round-trips a problem with a built-in system and
     quadratic costs to the same dynamics and costs, bit for bit."""
     d = system.state_dim
-    problem = Problem(system, system.default_grid(5), 1.5, Quadratic(np.ones(d), 2.0),
-                      state_cost=Quadratic(np.zeros(d), 0.1), control_cost=0.5, temperature=0.7)
+    problem = Problem(
+        system,
+        system.default_grid(5),
+        1.5,
+        Quadratic(np.ones(d), 2.0),
+        state_cost=Quadratic(np.zeros(d), 0.1),
+        control_cost=0.5,
+        temperature=0.7,
+    )
     copy = pickle.loads(pickle.dumps(problem))
     x = problem.grid.nodes()
     np.testing.assert_array_equal(copy.system.drift(x), problem.system.drift(x))
     np.testing.assert_array_equal(copy.system.input_matrix(x), problem.system.input_matrix(x))
     np.testing.assert_array_equal(copy.terminal_cost(x), problem.terminal_cost(x))
     np.testing.assert_array_equal(copy.state_cost(x), problem.state_cost(x))
-    assert member_key(copy, gridlbc.SolverSettings()) == \
-        member_key(problem, gridlbc.SolverSettings())
+    assert member_key(copy, gridlbc.SolverSettings()) == member_key(
+        problem, gridlbc.SolverSettings()
+    )
 
 
 def test_member_key_is_the_content():
@@ -67,9 +85,12 @@ def test_member_key_is_the_content():
     key = member_key(pendulum(), s)
     assert member_key(pendulum(), s) == key
     assert member_key(pendulum(), gridlbc.SolverSettings(progress=True, mmap_dir=".")) == key
-    changed = [pendulum(temperature=0.5), pendulum(horizon=2.0),
-               pendulum(system=systems.Pendulum(damping=0.1)),
-               pendulum(terminal_cost=Quadratic([0.1, 0.0], [10.0, 0.5]))]
+    changed = [
+        pendulum(temperature=0.5),
+        pendulum(horizon=2.0),
+        pendulum(system=systems.Pendulum(damping=0.1)),
+        pendulum(terminal_cost=Quadratic([0.1, 0.0], [10.0, 0.5])),
+    ]
     assert len({key, *(member_key(p, s) for p in changed)}) == 5
     assert member_key(pendulum(), gridlbc.SolverSettings(dt=0.05)) != key
     assert member_key(pendulum(), gridlbc.SolverSettings(fitting=None)) != key
@@ -79,16 +100,20 @@ def test_member_key_is_the_content():
     quadratic = Quadratic([0.0, 0.0], [10.0, 0.5])
     custom = pendulum(terminal_cost=lambda x: quadratic(x))
     assert member_key(custom, s) == member_key(pendulum(terminal_cost=lambda x: quadratic(x)), s)
-    assert member_key(custom, s) != member_key(pendulum(terminal_cost=lambda x: 2 * quadratic(x)),
-                                               s)
+    assert member_key(custom, s) != member_key(
+        pendulum(terminal_cost=lambda x: 2 * quadratic(x)), s
+    )
 
 
 def test_sweep_equals_serial_solves_bitwise(tmp_path, capsys):
     """client=None: a local cluster of 2 one-thread processes; every file and value equals the
     serial gridlbc.solve exactly, and progress is shown."""
     pytest.importorskip("distributed")
-    problems = [pendulum(temperature=0.5), pendulum(system=systems.Pendulum(damping=0.2)),
-                pendulum(terminal_cost=Quadratic([0.3, 0.0], [10.0, 0.5]), horizon=1.5)]
+    problems = [
+        pendulum(temperature=0.5),
+        pendulum(system=systems.Pendulum(damping=0.2)),
+        pendulum(terminal_cost=Quadratic([0.3, 0.0], [10.0, 0.5]), horizon=1.5),
+    ]
     members = gridlbc.sweep(problems, tmp_path, states=STATES, workers=2)
     assert "3/3 done, 0 failed, 0 reused" in capsys.readouterr().err
     assert [m.index for m in members] == [0, 1, 2]
@@ -150,21 +175,44 @@ def test_sweep_arguments_are_checked(tmp_path, monkeypatch):
 
 
 def test_import_gridlbc_does_not_import_dask():
-    code = "import sys, gridlbc; assert gridlbc.sweep; print('dask' in sys.modules, " \
-           "'distributed' in sys.modules)"
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            check=True)
+    code = (
+        "import sys, gridlbc; assert gridlbc.sweep; print('dask' in sys.modules, "
+        "'distributed' in sys.modules)"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True
+    )
     assert result.stdout.split() == ["False", "False"]
 
 
 def test_cli_sweep_on_a_scheduler(tmp_path, client):
     """gridlbc sweep --scheduler: the table shows the values of the serial solves; a rerun
     reuses every member."""
-    args = [sys.executable, "-m", "gridlbc.cli", "sweep", "--system", "pendulum",
-            "--axis=-pi,pi,41,periodic", "--axis=-8,8,41",
-            "--horizon", "1", "--terminal-center", "0,0", "--terminal-weights", "10,0.5",
-            "--temperatures", "0.5,1", "--param-values", "damping=0,0.2", "--at=pi,0",
-            "--out", str(tmp_path), "--scheduler", client.scheduler.address]
+    args = [
+        sys.executable,
+        "-m",
+        "gridlbc.cli",
+        "sweep",
+        "--system",
+        "pendulum",
+        "--axis=-pi,pi,41,periodic",
+        "--axis=-8,8,41",
+        "--horizon",
+        "1",
+        "--terminal-center",
+        "0,0",
+        "--terminal-weights",
+        "10,0.5",
+        "--temperatures",
+        "0.5,1",
+        "--param-values",
+        "damping=0,0.2",
+        "--at=pi,0",
+        "--out",
+        str(tmp_path),
+        "--scheduler",
+        client.scheduler.address,
+    ]
     first = subprocess.run(args, capture_output=True, text=True, timeout=300, check=False)
     assert first.returncode == 0, first.stderr
     lines = first.stdout.splitlines()
@@ -176,25 +224,42 @@ def test_cli_sweep_on_a_scheduler(tmp_path, client):
         assert row[1:4] == [f"{damping:g}", f"{temperature:g}", f"{value:.6g}"]
         assert row[5] == "solved"
     assert "4 members: 4 solved, 0 reused, 0 failed" in lines[5]
-    again = subprocess.run(args + ["--quiet"], capture_output=True, text=True, timeout=300,
-                           check=False)
+    again = subprocess.run(
+        [*args, "--quiet"], capture_output=True, text=True, timeout=300, check=False
+    )
     assert again.returncode == 0 and again.stderr == ""
     assert "4 members: 0 solved, 4 reused, 0 failed" in again.stdout
 
 
-@pytest.mark.parametrize("extra, message", [
-    ([], "nothing to sweep: give --param-values"),
-    (["--param-values", "damping"], "--param-values expects KEY=V1,V2"),
-    (["--param-values", "mass=1,-1"], "member 1 (mass=-1.0): system.parameters"),
-    (["--temperatures", "1", "--workers", "2", "--scheduler", "tcp://x:1"], "workers sizes"),
-])
+@pytest.mark.parametrize(
+    "extra, message",
+    [
+        ([], "nothing to sweep: give --param-values"),
+        (["--param-values", "damping"], "--param-values expects KEY=V1,V2"),
+        (["--param-values", "mass=1,-1"], "member 1 (mass=-1.0): system.parameters"),
+        (["--temperatures", "1", "--workers", "2", "--scheduler", "tcp://x:1"], "workers sizes"),
+    ],
+)
 def test_cli_sweep_mistakes(extra, message, tmp_path, capsys):
     """Mistakes end before any cluster starts, with one line naming the flag or member."""
     pytest.importorskip("distributed")
     from gridlbc.cli import main
 
-    base = ["sweep", "--system", "pendulum", "--grid", "21", "--horizon", "1",
-            "--terminal-center", "0,0", "--terminal-weights", "10,0.5", "--out", str(tmp_path)]
+    base = [
+        "sweep",
+        "--system",
+        "pendulum",
+        "--grid",
+        "21",
+        "--horizon",
+        "1",
+        "--terminal-center",
+        "0,0",
+        "--terminal-weights",
+        "10,0.5",
+        "--out",
+        str(tmp_path),
+    ]
     assert main(base + extra) == 2
     err = capsys.readouterr().err
     assert err.startswith("gridlbc sweep: error: ") and message in err, err
@@ -205,8 +270,15 @@ def test_worker_warnings_reach_the_caller(tmp_path, client):
     state, so v = +inf) is kept on the member and issued again by sweep."""
     problem = pendulum(temperature=0.005, horizon=0.05)
     with pytest.warns(gridlbc.UnderflowWarning, match="sweep member 0: "):
-        [member] = gridlbc.sweep([problem], tmp_path, states=[-math.pi, -8.0], client=client,
-                                 progress=False, dtype="float32", fitting=None)
+        [member] = gridlbc.sweep(
+            [problem],
+            tmp_path,
+            states=[-math.pi, -8.0],
+            client=client,
+            progress=False,
+            dtype="float32",
+            fitting=None,
+        )
     assert member.values[0] == math.inf and member.error is None
     # the plain solve at λ = 0.005 also (rightly) raises a ResolutionWarning on the worker
     assert sum("underflow" in w for w in member.warnings) == 1, member.warnings

@@ -19,11 +19,16 @@ def _states(chain, rng, size=12):
     return np.column_stack([rng.uniform(-np.pi, np.pi, (size, n)), rng.uniform(-3, 3, (size, n))])
 
 
-@pytest.mark.parametrize(("params", "chain_params"), [
-    ({}, {}),
-    ({"m1": 1.3, "m2": 0.7, "l1": 1.1, "l2": 0.9, "gravity": 3.0},
-     {"masses": [1.3, 0.7], "lengths": [1.1, 0.9], "gravity": 3.0}),
-])
+@pytest.mark.parametrize(
+    ("params", "chain_params"),
+    [
+        ({}, {}),
+        (
+            {"m1": 1.3, "m2": 0.7, "l1": 1.1, "l2": 0.9, "gravity": 3.0},
+            {"masses": [1.3, 0.7], "lengths": [1.1, 0.9], "gravity": 3.0},
+        ),
+    ],
+)
 def test_two_pinned_links_are_the_acrobot(params, chain_params, rng):
     acrobot, chain = Acrobot(**params), PlanarChain(2, **chain_params)
     x = _states(chain, rng, 50)
@@ -32,17 +37,26 @@ def test_two_pinned_links_are_the_acrobot(params, chain_params, rng):
     eps = np.finfo(float).eps
     # Two evaluations of the same formulas in a different order: rounding of a few ulps of the
     # largest term (M⁻¹ has condition ≲ 50 here).
-    np.testing.assert_allclose(chain.dynamics(x, u), acrobot.dynamics(x, u), rtol=0,
-                               atol=100 * eps * scale)
-    np.testing.assert_allclose(chain.energy(x), acrobot.energy(x), rtol=0,
-                               atol=100 * eps * np.abs(acrobot.energy(x)).max())
-    np.testing.assert_allclose(chain.mass_matrix(x[:, :2]), acrobot.mass_matrix(x[:, 1]),
-                               rtol=0, atol=10 * eps)
+    np.testing.assert_allclose(
+        chain.dynamics(x, u), acrobot.dynamics(x, u), rtol=0, atol=100 * eps * scale
+    )
+    np.testing.assert_allclose(
+        chain.energy(x), acrobot.energy(x), rtol=0, atol=100 * eps * np.abs(acrobot.energy(x)).max()
+    )
+    np.testing.assert_allclose(
+        chain.mass_matrix(x[:, :2]), acrobot.mass_matrix(x[:, 1]), rtol=0, atol=10 * eps
+    )
     np.testing.assert_array_equal(chain.input_matrix(x), acrobot.input_matrix(x))
     xv = acrobot.to_velocities(x)
-    np.testing.assert_allclose(chain.to_velocities(x), xv, rtol=0, atol=100 * eps * np.abs(xv).max())
-    np.testing.assert_allclose(chain.from_velocities(xv), acrobot.from_velocities(xv), rtol=0,
-                               atol=100 * eps * np.abs(x).max())
+    np.testing.assert_allclose(
+        chain.to_velocities(x), xv, rtol=0, atol=100 * eps * np.abs(xv).max()
+    )
+    np.testing.assert_allclose(
+        chain.from_velocities(xv),
+        acrobot.from_velocities(xv),
+        rtol=0,
+        atol=100 * eps * np.abs(x).max(),
+    )
 
 
 @pytest.mark.parametrize("chain", CHAINS, ids=["pinned3", "free4", "free2"])
@@ -87,12 +101,14 @@ def test_mass_matrix_is_the_kinetic_energy_of_the_positions(chain, rng):
     kinetic = 0.5 * np.einsum("k,nkc,nkc->n", m, bodies_v, bodies_v) + 0.5 * psi_dot**2 @ inertia
     M = chain.mass_matrix(s)
     # Central differences: O(eps²) relative error, far below 1e-8.
-    np.testing.assert_allclose(0.5 * np.einsum("ni,nij,nj->n", s_dot, M, s_dot), kinetic,
-                               rtol=1e-8)
+    np.testing.assert_allclose(0.5 * np.einsum("ni,nij,nj->n", s_dot, M, s_dot), kinetic, rtol=1e-8)
     # Angular momentum r × v (x right, y up, counterclockwise angles) about the bar or the
     # centre of mass.
-    spin = np.einsum("k,nk,nk->n", m, bodies_r[..., 0], bodies_v[..., 1]) - np.einsum(
-        "k,nk,nk->n", m, bodies_r[..., 1], bodies_v[..., 0]) + psi_dot @ inertia
+    spin = (
+        np.einsum("k,nk,nk->n", m, bodies_r[..., 0], bodies_v[..., 1])
+        - np.einsum("k,nk,nk->n", m, bodies_r[..., 1], bodies_v[..., 0])
+        + psi_dot @ inertia
+    )
     p = chain.from_velocities(np.column_stack([s, s_dot]))
     np.testing.assert_allclose(chain.angular_momentum(p), spin, rtol=1e-8)
 
@@ -103,8 +119,9 @@ def test_straight_diver_spins_as_one_rod():
     chain = PlanarChain(4, masses=[0.5, 1.0, 1.5, 1.0], lengths=[0.5, 1.0, 1.5, 1.0], pinned=False)
     omega, total_mass, total_length = 1.3, 4.0, 4.0
     x = chain.from_velocities([0.7, 0, 0, 0, omega, 0, 0, 0])
-    assert chain.angular_momentum(x)[0] == pytest.approx(total_mass * total_length**2 / 12 * omega,
-                                                         rel=1e-14)
+    assert chain.angular_momentum(x)[0] == pytest.approx(
+        total_mass * total_length**2 / 12 * omega, rel=1e-14
+    )
     # Rounding of the solve ṡ = M⁻¹p: cond(M) ε |p| ≈ 1e3 · 2e-16 · 7.
     np.testing.assert_allclose(chain.drift(x)[0], [omega, 0, 0, 0, 0, 0, 0, 0], atol=1e-12)
 
@@ -136,8 +153,7 @@ def test_diver_conserves_angular_momentum_exactly(rng):
     assert diver.potential(x).max() == 0.0 and diver.gravity == 9.81  # gravity: no torque
     problem = Problem(diver, None, 1.0, Quadratic(np.zeros(8), 1.0), temperature=0.5)
     x0 = np.array([0.3, 0.2, -0.4, 0.1, 1.7, 0.0, 0.3, -0.2])
-    rollouts = simulate(problem, lambda xs, t: 3 * np.sin(xs[:, 1:4] + t), x0, n_samples=20,
-                        seed=1)
+    rollouts = simulate(problem, lambda xs, t: 3 * np.sin(xs[:, 1:4] + t), x0, n_samples=20, seed=1)
     assert np.abs(rollouts.controls).max() > 1  # real torques and noise act on the shape ...
     assert np.ptp(rollouts.states[:, :, 5:]) > 1
     np.testing.assert_array_equal(rollouts.states[:, :, 4], 1.7)  # ... and p1 stays put
@@ -155,8 +171,15 @@ def test_free_chain_noise_is_diagonal_and_full_R_is_refused():
     with pytest.raises(ValueError, match=r"not diagonal in the grid coordinates \(entry \(4, 5\)"):
         solve(full)
     # Rollouts need no diagonal noise: B R^{-1/2} ε.
-    rollouts = simulate(full, lambda x, t: np.zeros((len(x), 2)), np.zeros(6), n_samples=400,
-                        seed=0, dt=0.5, noise=True)
+    rollouts = simulate(
+        full,
+        lambda x, t: np.zeros((len(x), 2)),
+        np.zeros(6),
+        n_samples=400,
+        seed=0,
+        dt=0.5,
+        noise=True,
+    )
     dp = rollouts.states[:, 1, 4:] - rollouts.states[:, 0, 4:]
     # Cov = λ R⁻¹ dt with R⁻¹ = [[4, -2], [-2, 4]]/3: the correlation is −0.5 (SE ≈ 0.04).
     assert np.corrcoef(dp.T)[0, 1] == pytest.approx(-0.5, abs=0.15)

@@ -31,8 +31,9 @@ def _chain(d: int) -> LinearSystem:
 
 def _lq_problem(d: int, n: int, horizon: float = 0.5, half_width: float = 3.0) -> Problem:
     grid = Grid([Axis(-half_width, half_width, n)] * d)
-    return Problem(_chain(d), grid, horizon, Quadratic(np.full(d, 0.3), np.ones(d)),
-                   temperature=0.5)
+    return Problem(
+        _chain(d), grid, horizon, Quadratic(np.full(d, 0.3), np.ones(d)), temperature=0.5
+    )
 
 
 class _VaryingNoise(ControlAffineSystem):
@@ -67,10 +68,16 @@ def _sparse_step(problem: Problem, dt: float) -> np.ndarray:
         i = np.unravel_index(np.arange(grid.size), grid.shape)[k]
         s = int(grid.strides[k])
         up, down = i < ax.n - 1, i > 0
-        off = sp.csr_matrix((np.concatenate([-r[up], -r[down]]),
-                             (np.concatenate([np.flatnonzero(up), np.flatnonzero(down)]),
-                              np.concatenate([np.flatnonzero(up) + s, np.flatnonzero(down) - s]))),
-                            shape=(grid.size,) * 2)
+        off = sp.csr_matrix(
+            (
+                np.concatenate([-r[up], -r[down]]),
+                (
+                    np.concatenate([np.flatnonzero(up), np.flatnonzero(down)]),
+                    np.concatenate([np.flatnonzero(up) + s, np.flatnonzero(down) - s]),
+                ),
+            ),
+            shape=(grid.size,) * 2,
+        )
         diag = sp.diags(1.0 + r * up + r * down)
         half = spla.spsolve((diag + off).tocsc(), half)
     return half @ (interpolation @ half)
@@ -120,8 +127,9 @@ def test_tridiagonal_factors_solve_the_line_system(rng):
     np.testing.assert_allclose(A @ y, b, rtol=1e-13, atol=1e-13)
 
 
-@pytest.mark.parametrize("d, sizes, half_width", [(2, (33, 65), 3.0), (3, (17, 33), 3.0),
-                                                (4, (9, 17), 2.0)])
+@pytest.mark.parametrize(
+    "d, sizes, half_width", [(2, (33, 65), 3.0), (3, (17, 33), 3.0), (4, (9, 17), 2.0)]
+)
 @pytest.mark.parametrize("method", ["splitting", "fitted", "implicit"])
 def test_methods_converge_to_the_exact_lq_value(d, sizes, half_width, method):
     """All schemes are first order in h with Δt ∝ h (upwind: O(h + Δt); semi-Lagrangian, plain
@@ -140,10 +148,14 @@ def test_methods_converge_to_the_exact_lq_value(d, sizes, half_width, method):
     assert errors[0] / errors[1] > 1.6, errors
 
 
-@pytest.mark.parametrize("grid", [
-    Grid([Axis(-np.pi, np.pi, 16, periodic=True), Axis(-6, 6, 17)]),
-    Grid([Axis(-np.pi, np.pi, 6, periodic=True)] * 2 + [Axis(-8, 8, 7), Axis(-4, 4, 7)]),
-], ids=["2d", "4d"])
+@pytest.mark.parametrize(
+    "grid",
+    [
+        Grid([Axis(-np.pi, np.pi, 16, periodic=True), Axis(-6, 6, 17)]),
+        Grid([Axis(-np.pi, np.pi, 6, periodic=True)] * 2 + [Axis(-8, 8, 7), Axis(-4, 4, 7)]),
+    ],
+    ids=["2d", "4d"],
+)
 def test_iterative_solvers_agree_with_the_direct_implicit_step(grid):
     """Same discrete operator: Gauss–Seidel stops when a sweep changes z by ≤ tol·max z, so its
     error is ≤ ρ/(1 − ρ)·tol·max z (ρ the contraction); BiCGSTAB's relative residual is ≤ tol,
@@ -152,8 +164,10 @@ def test_iterative_solvers_agree_with_the_direct_implicit_step(grid):
 
     system = Pendulum() if grid.ndim == 2 else Acrobot()
     problem = Problem(system, grid, 0.3, Quadratic(np.zeros(grid.ndim), np.ones(grid.ndim)))
-    solutions = {ls: gridlbc.solve(problem, dt=0.03, method="implicit", linear_solver=ls)
-                 for ls in ("direct", "gauss-seidel", "bicgstab")}
+    solutions = {
+        ls: gridlbc.solve(problem, dt=0.03, method="implicit", linear_solver=ls)
+        for ls in ("direct", "gauss-seidel", "bicgstab")
+    }
     step = ImplicitStep(problem, 0.03, linear_solver="gauss-seidel")
     rho = step.contraction
     z = {ls: s.slices[0] * np.exp(s.log_scales[0]) for ls, s in solutions.items()}
@@ -180,15 +194,19 @@ def _superposition_case():
     return problem, g1, g2, g_sum
 
 
-@pytest.mark.parametrize("options", [
-    {"method": "splitting", "fitting": None},
-    {"method": "splitting", "fitting": None, "dtype": "float32"},
-    {"method": "splitting", "fitting": None, "store_every": 3},
-    {"method": "splitting", "fitting": "g1"},
-    {"method": "implicit", "linear_solver": "direct"},
-    {"method": "implicit", "linear_solver": "direct", "dtype": "float32"},
-    {"method": "implicit", "linear_solver": "gauss-seidel"},
-], ids=["split64", "split32", "split-every3", "fitted", "direct64", "direct32", "gauss-seidel"])
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"method": "splitting", "fitting": None},
+        {"method": "splitting", "fitting": None, "dtype": "float32"},
+        {"method": "splitting", "fitting": None, "store_every": 3},
+        {"method": "splitting", "fitting": "g1"},
+        {"method": "implicit", "linear_solver": "direct"},
+        {"method": "implicit", "linear_solver": "direct", "dtype": "float32"},
+        {"method": "implicit", "linear_solver": "gauss-seidel"},
+    ],
+    ids=["split64", "split32", "split-every3", "fitted", "direct64", "direct32", "gauss-seidel"],
+)
 def test_superposition_on_every_path(options, tmp_path):
     """z for h1 + h2 equals z1 + z2 at every stored time. The stepping is linear, so the only
     differences are rounding: float64 steps contribute ~steps·ε₆₄ relative, float32 storage one
@@ -216,7 +234,9 @@ def test_superposition_on_every_path(options, tmp_path):
     zs = [np.exp(L) * z for L, z, _ in fields]
     gs = [np.exp(L) * g for L, _, g in fields]
     np.testing.assert_allclose(zs[2], zs[0] + zs[1], rtol=10 * rtol)
-    np.testing.assert_allclose(gs[2], gs[0] + gs[1], rtol=10 * rtol, atol=1e-9 * np.abs(gs[2]).max())
+    np.testing.assert_allclose(
+        gs[2], gs[0] + gs[1], rtol=10 * rtol, atol=1e-9 * np.abs(gs[2]).max()
+    )
 
 
 def test_float32_flushes_are_counted_and_mmap_storage_is_identical(tmp_path):
@@ -252,7 +272,7 @@ def test_store_every_interpolates_linearly_in_time():
 def test_memory_error_before_allocating():
     grid = Grid([Axis(-1.0, 1.0, 400)] * 4)  # 2.56e10 bytes per float64 slice
     problem = Problem(_chain(4), grid, 1.0, Quadratic(np.zeros(4), np.ones(4)))
-    with pytest.raises(MemoryError, match="needs about .* GiB of memory .* is available"):
+    with pytest.raises(MemoryError, match=r"needs about .* GiB of memory .* is available"):
         gridlbc.solve(problem, dt=0.01)
     # the estimate counts every stored slice in the stored dtype, plus the working arrays
     settings = gridlbc.SolverSettings(dtype="float32")
@@ -271,9 +291,15 @@ def test_bad_storage_options_are_named():
         SplittingStep(problem, 0.1, feet="dense")
 
 
-@pytest.mark.parametrize("shape, periodic", [((7, 8), (True, False)), ((5, 6, 4), (False, True, False)),
-                                             ((4, 5, 4, 6), (True, True, False, False)),
-                                             ((3, 4, 3, 3, 4, 3), (True, False, False, True, False, False))])
+@pytest.mark.parametrize(
+    "shape, periodic",
+    [
+        ((7, 8), (True, False)),
+        ((5, 6, 4), (False, True, False)),
+        ((4, 5, 4, 6), (True, True, False, False)),
+        ((3, 4, 3, 3, 4, 3), (True, False, False, True, False, False)),
+    ],
+)
 def test_compact_feet_kernel_matches_barycentric(shape, periodic, rng):
     """The compiled encoding of the feet equals barycentric() followed by the numpy encoding, bit
     for bit (the same arithmetic), and the shape codes equal np.unique's, on every kind of axis;
@@ -307,5 +333,5 @@ def test_a_drift_that_is_not_finite_is_named():
             return np.where((x > 0.5) | np.isnan(x), np.nan, 0.0)
 
     problem = Problem(_Blowup(), Grid([Axis(-1.0, 1.0, 11)]), 1.0, Quadratic([0.0], [1.0]))
-    with pytest.raises(ValueError, match="foot of node 8 .* _Blowup.drift returned a non-finite"):
+    with pytest.raises(ValueError, match=r"foot of node 8 .* _Blowup.drift returned a non-finite"):
         SplittingStep(problem, 0.1)

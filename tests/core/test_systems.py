@@ -20,7 +20,9 @@ def test_spec_table_drifts():
     pend = Pendulum(mass=2.0, length=0.5, gravity=9.81, damping=0.3)
     x = np.array([[0.4, -1.2]])
     inertia = 2.0 * 0.25
-    np.testing.assert_allclose(pend.drift(x), [[-1.2, 9.81 / 0.5 * np.sin(0.4) + 0.3 * 1.2 / inertia]])
+    np.testing.assert_allclose(
+        pend.drift(x), [[-1.2, 9.81 / 0.5 * np.sin(0.4) + 0.3 * 1.2 / inertia]]
+    )
     np.testing.assert_allclose(pend.input_matrix(x)[0], [[0.0], [1 / inertia]])
     pm = PointMass(mass=4.0)
     np.testing.assert_allclose(pm.drift([[1.0, 2.0]]), [[2.0, 0.0]])
@@ -106,7 +108,7 @@ class _Skewed(ControlAffineSystem):
 def test_non_diagonal_noise_is_rejected_with_a_fix():
     grid = Grid([Axis(-1, 1, 5), Axis(-1, 1, 5)])
     problem = Problem(_Skewed(), grid, 1.0, Quadratic([0, 0], [1, 1]))
-    with pytest.raises(ValueError, match="not diagonal.*canonical momenta"):
+    with pytest.raises(ValueError, match=r"not diagonal.*canonical momenta"):
         problem.noise_diagonal(grid.nodes())
     import gridlbc
 

@@ -90,8 +90,9 @@ def test_fitted_step_is_linear_and_positive(rng, full):
     step.drift(rows, drifted, np.ones(4), reference=3)
     out = step.fitted_diffusion(drifted, spare, 3, full=full)
     assert np.all(out >= 0)
-    np.testing.assert_allclose(out[2], a * out[0] + b * out[1], rtol=1e-13,
-                               atol=1e-15 * out[2].max())
+    np.testing.assert_allclose(
+        out[2], a * out[0] + b * out[1], rtol=1e-13, atol=1e-15 * out[2].max()
+    )
 
 
 def test_combination_exact_with_a_shared_reference_and_inexact_without():
@@ -107,14 +108,16 @@ def test_combination_exact_with_a_shared_reference_and_inexact_without():
     mixed = gridlbc.combine([parts[0], direct])
     assert not mixed.exact and "another reference" in mixed.reason
     # with the reference shared, the combination is the direct solve to rounding
-    shared = gridlbc.solve_many(problem, [g1, g2, combined.problem.terminal_cost], dt=0.05,
-                                fitting=g2)
+    shared = gridlbc.solve_many(
+        problem, [g1, g2, combined.problem.terminal_cost], dt=0.05, fitting=g2
+    )
     combo = gridlbc.combine(shared[:2], [0.3, 1.7])
     x = problem.grid.nodes()[::5]
     for t in (0.0, 0.55):
         np.testing.assert_allclose(combo.value(x, t), shared[2].value(x, t), rtol=1e-12)
-        np.testing.assert_allclose(combo.policy(x, t), shared[2].policy(x, t), rtol=1e-9,
-                                   atol=1e-11)
+        np.testing.assert_allclose(
+            combo.policy(x, t), shared[2].policy(x, t), rtol=1e-9, atol=1e-11
+        )
 
 
 def test_own_reference_row_and_explicit_reference_agree():
@@ -133,9 +136,12 @@ def test_own_reference_row_and_explicit_reference_agree():
     explicit = gridlbc.solve(problem, dt=0.05, fitting=problem.terminal_cost)
     assert own.diagnostics.interpolation == "log" and explicit.diagnostics.interpolation == "fitted"
     for j in (0, len(own.times) - 1):
-        np.testing.assert_allclose(own.log_desirability_nodes(j),
-                                   explicit.log_desirability_nodes(j), rtol=1e-11,
-                                   atol=np.exp(-splitting._FIT_WINDOW))
+        np.testing.assert_allclose(
+            own.log_desirability_nodes(j),
+            explicit.log_desirability_nodes(j),
+            rtol=1e-11,
+            atol=np.exp(-splitting._FIT_WINDOW),
+        )
     for j in range(1, len(own.times) - 1):  # measured 0.004–0.40, largest near t = 0
         gap = np.abs(own.log_desirability_nodes(j) - explicit.log_desirability_nodes(j))
         assert 1e-6 < gap.max() < 0.5
@@ -147,9 +153,12 @@ def test_own_reference_row_and_explicit_reference_agree():
     own = gridlbc.solve(costly, dt=0.05, fitting="terminal")
     explicit = gridlbc.solve(costly, dt=0.05, fitting=costly.terminal_cost)
     for j in range(len(own.times)):
-        np.testing.assert_allclose(own.log_desirability_nodes(j),
-                                   explicit.log_desirability_nodes(j), rtol=1e-11,
-                                   atol=np.exp(-splitting._FIT_WINDOW))
+        np.testing.assert_allclose(
+            own.log_desirability_nodes(j),
+            explicit.log_desirability_nodes(j),
+            rtol=1e-11,
+            atol=np.exp(-splitting._FIT_WINDOW),
+        )
 
 
 def test_fitting_makes_the_swingup_prediction_honest():
@@ -163,8 +172,9 @@ def test_fitting_makes_the_swingup_prediction_honest():
     for fitting in ("terminal", None):
         solution = gridlbc.solve(problem, fitting=fitting)
         if fitting:
-            cert = gridlbc.certify(problem, solution.policy, x0, 400, dt=0.002, seed=0,
-                                   progress=False)
+            cert = gridlbc.certify(
+                problem, solution.policy, x0, 400, dt=0.002, seed=0, progress=False
+            )
         errors[fitting] = solution.value(x0, 0.0)[0] / cert.optimal_value - 1
     assert abs(errors["terminal"]) < 0.06, errors
     assert errors[None] < -0.12, errors
@@ -178,13 +188,34 @@ def test_fitted_diffusion_never_raises_the_line_maximum():
     rounding), the plateau itself is what moves, and the linear path scales all rows by the
     same factor of φ: its reference row is capped at e^{max ℓ} and the step is still additive
     in y."""
-    ell = np.array([-168.92, -168.8, -170.0, -169.61, -168.42, -144.25, -142.49, -97.32, 0.0,
-                    0.0, -127.08, -134.24, -125.54, -153.9, -210.59, -223.22, -224.49, -221.81,
-                    -221.61, -221.32, -221.17])
+    ell = np.array(
+        [
+            -168.92,
+            -168.8,
+            -170.0,
+            -169.61,
+            -168.42,
+            -144.25,
+            -142.49,
+            -97.32,
+            0.0,
+            0.0,
+            -127.08,
+            -134.24,
+            -125.54,
+            -153.9,
+            -210.59,
+            -223.22,
+            -224.49,
+            -221.81,
+            -221.61,
+            -221.32,
+            -221.17,
+        ]
+    )
     n, h, variance = ell.size, 0.9, np.array([0.02])
     out = np.empty((1, n))
-    splitting._diffuse_fitted_kernel(ell[None], ell, ell.max(), variance, h, n, 1, False, True,
-                                     out)
+    splitting._diffuse_fitted_kernel(ell[None], ell, ell.max(), variance, h, n, 1, False, True, out)
     assert out.max() <= ell.max() + 1e-12
     assert out[0, 8] == pytest.approx(0.0, abs=1e-12)  # the cap binds on the plateau
     rng = np.random.default_rng(3)
@@ -208,8 +239,9 @@ def test_fitted_diffusion_kernel_matches_numpy_twin(periodic, variance, rng):
     ell -= ell.max()
     y = rng.random((2, n))
     out = np.empty((2, n))
-    splitting._diffuse_fitted_kernel(y, ell, ell.max(), np.array([variance]), h, n, 1, periodic,
-                                     False, out)
+    splitting._diffuse_fitted_kernel(
+        y, ell, ell.max(), np.array([variance]), h, n, 1, periodic, False, out
+    )
     twin = splitting.diffuse_fitted_numpy(y, ell, variance, h, periodic, points=512)
     np.testing.assert_allclose(out, twin, rtol=1e-5)
 
@@ -227,15 +259,20 @@ def test_separately_fitted_components_combine_to_the_direct_solve_as_the_grid_re
     gaps = []
     for n in (24, 48):
         problem = _pendulum(n)
-        parts = [gridlbc.solve(problem.replace(terminal_cost=c), fitting="terminal")
-                 for c in (g1, g2)]
+        parts = [
+            gridlbc.solve(problem.replace(terminal_cost=c), fitting="terminal") for c in (g1, g2)
+        ]
         # the default time grid depends on the dynamics alone: only the references differ
         np.testing.assert_array_equal(parts[0].times, parts[1].times)
         combo = gridlbc.combine(parts, [0.3, 1.7])
         assert not combo.exact and combo.reason.startswith("solutions[1] was fitted to another")
         direct = gridlbc.solve(combo.problem, fitting="terminal")
-        gaps.append((np.abs(combo.value(x, 0.0) - direct.value(x, 0.0)).max(),
-                     np.abs(combo.policy(x, 0.0) - direct.policy(x, 0.0)).max()))
+        gaps.append(
+            (
+                np.abs(combo.value(x, 0.0) - direct.value(x, 0.0)).max(),
+                np.abs(combo.policy(x, 0.0) - direct.policy(x, 0.0)).max(),
+            )
+        )
     assert gaps[1][0] <= 0.6 * gaps[0][0]
     assert gaps[1][1] < gaps[0][1]
 
@@ -255,11 +292,13 @@ def test_fitted_diffusion_is_exact_for_a_quadratic_log_reference(s):
     interior = np.abs(x - c) < 2.5
     for variance in (0.02, (h / 10) ** 2):
         out = np.empty((1, n))
-        splitting._diffuse_fitted_kernel(ell[None], ell, ell.max(), np.array([variance]), h, n, 1,
-                                         False, True, out)
+        splitting._diffuse_fitted_kernel(
+            ell[None], ell, ell.max(), np.array([variance]), h, n, 1, False, True, out
+        )
         exact = 0.5 * np.log(s / (s + variance)) - (x - c) ** 2 / (2 * (s + variance))
-        np.testing.assert_allclose(out[0, interior], exact[interior], rtol=0,
-                                   atol=np.exp(-splitting._FIT_WINDOW))
+        np.testing.assert_allclose(
+            out[0, interior], exact[interior], rtol=0, atol=np.exp(-splitting._FIT_WINDOW)
+        )
 
 
 def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
@@ -274,8 +313,9 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     solution = gridlbc.solve(problem, fitting="terminal")
     value = solution.value(STEEP_START, 0.0)[0]
     assert abs(value / STEEP_DETERMINISTIC_OPTIMUM - 1) < 0.05, value
-    cert = gridlbc.certify(problem, solution.policy, STEEP_START, 200, dt=0.004, seed=0,
-                           progress=False)
+    cert = gridlbc.certify(
+        problem, solution.policy, STEEP_START, 200, dt=0.004, seed=0, progress=False
+    )
     assert cert.policy_cost < 1.16 * STEEP_DETERMINISTIC_OPTIMUM, cert.summary()
     with pytest.warns(gridlbc.ResolutionWarning, match="fitting='terminal'"):
         plain = gridlbc.solve(problem, fitting=None)
@@ -320,13 +360,15 @@ def test_curvature_correction_matches_numpy_twin(feet, hip, rng):
     step = SplittingStep(problem, 0.1, feet=feet)
     ell = -problem.terminal_values(problem.grid.nodes()) + rng.normal(0, 1, problem.grid.size)
     term = step.curvature_correction(ell)
-    twin = splitting.curvature_correction_numpy(problem.grid, ell,
-                                                characteristic_feet(problem, 0.1))
+    twin = splitting.curvature_correction_numpy(
+        problem.grid, ell, characteristic_feet(problem, 0.1)
+    )
     d, span = problem.grid.ndim, np.ptp(ell)
     hessian = 4 * np.abs(ell).max()
     quantum = 1 / 131070 if feet == "compact" else 2.0**-24
-    np.testing.assert_allclose(term, twin, rtol=0,
-                               atol=2 * quantum * (d * d * hessian + d * span) + 1e-12 * hessian)
+    np.testing.assert_allclose(
+        term, twin, rtol=0, atol=2 * quantum * (d * d * hessian + d * span) + 1e-12 * hessian
+    )
     assert np.abs(twin).max() > 1.0  # the term is not trivially zero here
 
 
@@ -395,6 +437,7 @@ def test_solve_many_components_keep_an_optimal_policy_at_small_temperature():
     goal = Quadratic([-0.6, 0], [10, 0.5])
     component, _ = gridlbc.solve_many(problem, [goal, Quadratic([0.6, 0], [10, 0.5])])
     assert component.diagnostics.interpolation == "fitted"
-    cert = gridlbc.certify(component.problem, component.policy, [2.8, 0.0], 400, seed=1,
-                           dt=0.002, progress=False)
+    cert = gridlbc.certify(
+        component.problem, component.policy, [2.8, 0.0], 400, seed=1, dt=0.002, progress=False
+    )
     assert cert.gap < 0.02 * cert.optimal_value + 4 * cert.gap_se, cert.summary()

@@ -16,12 +16,18 @@ def test_grid_free_problem_states_its_periodic_axes():
     assert problem.periodic_axes == (0, 1, 2, 3)  # the system's angles by default
     np.testing.assert_array_equal(problem.periods, [2 * np.pi] * 4 + [np.inf] * 4)
     # The terminal cost is wrap-aware on the angles: 2π away on θ1 costs nothing.
-    assert problem.terminal_cost(np.array([[2 * np.pi] + [0] * 7]))[0] == pytest.approx(0, abs=1e-24)
-    np.testing.assert_allclose(problem.wrap([3.5, -3.5, 0, 7, 7, 0, 0, 0]),
-                               [3.5 - 2 * np.pi, 2 * np.pi - 3.5, 0, 7 - 2 * np.pi, 7, 0, 0, 0])
+    assert problem.terminal_cost(np.array([[2 * np.pi] + [0] * 7]))[0] == pytest.approx(
+        0, abs=1e-24
+    )
+    np.testing.assert_allclose(
+        problem.wrap([3.5, -3.5, 0, 7, 7, 0, 0, 0]),
+        [3.5 - 2 * np.pi, 2 * np.pi - 3.5, 0, 7 - 2 * np.pi, 7, 0, 0, 0],
+    )
     unwrapped = Problem(diver, None, 1.0, g, periodic=())
     assert unwrapped.periodic_axes == ()
-    assert unwrapped.terminal_cost(np.array([[2 * np.pi] + [0] * 7]))[0] == pytest.approx(4 * np.pi**2)
+    assert unwrapped.terminal_cost(np.array([[2 * np.pi] + [0] * 7]))[0] == pytest.approx(
+        4 * np.pi**2
+    )
     assert "no grid" in problem.describe()
     with pytest.raises(ValueError, match=r"x must have shape \(N, 8\) or \(8,\)"):
         problem.check_states(np.zeros(4))
@@ -35,7 +41,9 @@ def test_periodic_with_a_grid_must_restate_the_grids():
     grid = Grid([Axis(-np.pi, np.pi, 8, periodic=True), Axis(-4, 4, 9)])
     g = Quadratic([0.0, 0.0], [1.0, 0.1])
     assert Problem(Pendulum(), grid, 1.0, g, periodic=(0,)).periodic_axes == (0,)
-    with pytest.raises(ValueError, match=r"periodic=\(\) disagrees with the grid's periodic axes \(0,\)"):
+    with pytest.raises(
+        ValueError, match=r"periodic=\(\) disagrees with the grid's periodic axes \(0,\)"
+    ):
         Problem(Pendulum(), grid, 1.0, g, periodic=())
 
 
@@ -56,7 +64,10 @@ def test_rollouts_without_a_grid_equal_those_on_a_grid():
     grid = Grid([Axis(-np.pi, np.pi, 16, periodic=True), Axis(-1, 1, 9)])
     on_grid = Problem(Pendulum(), grid, 2.0, g, q, control_cost=0.5, temperature=0.7)
     free = Problem(Pendulum(), None, 2.0, g, q, control_cost=0.5, temperature=0.7, periodic=(0,))
-    policy = lambda x, t: -3.0 * np.sin(x[:, :1]) - x[:, 1:]
+
+    def policy(x, t):
+        return -3.0 * np.sin(x[:, :1]) - x[:, 1:]
+
     a = simulate(on_grid, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02)
     b = simulate(free, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02)
     np.testing.assert_array_equal(a.states, b.states)
@@ -64,8 +75,9 @@ def test_rollouts_without_a_grid_equal_those_on_a_grid():
     assert a.n_left_box > 0 and b.n_left_box == 0  # velocities beyond ±1 leave the grid's box
     assert np.all((b.states[..., 0] >= -np.pi) & (b.states[..., 0] < np.pi))
     with pytest.warns(CertificateWarning):  # a poor proposal: only the equality matters here
-        c, d = (certify(p, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02)
-                for p in (on_grid, free))
+        c, d = (
+            certify(p, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02) for p in (on_grid, free)
+        )
     assert c.optimal_value == d.optimal_value and c.policy_cost == d.policy_cost
     assert c.left_box_fraction > 0 and d.left_box_fraction == 0
 

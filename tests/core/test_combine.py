@@ -27,12 +27,21 @@ against direct solves; a shared fitting reference is checked in test_fitting.py.
 @pytest.fixture(scope="module")
 def pendulum():
     grid = g.Grid([g.Axis(-np.pi, np.pi, 32, periodic=True), g.Axis(-8, 8, 25)])
-    problem = g.Problem(Pendulum(), grid, 0.5, g.Quadratic([0, 0], [4, 0.5]),
-                        state_cost=g.Quadratic([0, 0], [0.1, 0.01]), control_cost=0.5,
-                        temperature=0.7)
+    problem = g.Problem(
+        Pendulum(),
+        grid,
+        0.5,
+        g.Quadratic([0, 0], [4, 0.5]),
+        state_cost=g.Quadratic([0, 0], [0.1, 0.01]),
+        control_cost=0.5,
+        temperature=0.7,
+    )
     # The third is the first squared (h_3 = h_1²), so 2h_1 + ½h_2 − h_3 > 0 despite a negative weight.
-    costs = [g.Quadratic([-1, 0], [4, 0.5]), g.Quadratic([1, 0], [4, 0.5]),
-             g.Quadratic([-1, 0], [8, 1])]
+    costs = [
+        g.Quadratic([-1, 0], [4, 0.5]),
+        g.Quadratic([1, 0], [4, 0.5]),
+        g.Quadratic([-1, 0], [8, 1]),
+    ]
     return problem, g.solve_many(problem, costs, dt=0.01, **PLAIN)
 
 
@@ -53,8 +62,13 @@ def _check_superposition(combined, direct, x, t):
     assert _relative(combined.policy(x, t), direct.policy(x, t)) < RTOL
     # α_i = w_i z_i / z against the direct z: w_i exp(log z_i − log z).
     log_z = direct.log_desirability(x, t)
-    alpha = np.stack([w * np.exp(s.log_desirability(x, t) - log_z)
-                      for w, s in zip(combined.weights, combined.components)], axis=1)
+    alpha = np.stack(
+        [
+            w * np.exp(s.log_desirability(x, t) - log_z)
+            for w, s in zip(combined.weights, combined.components)
+        ],
+        axis=1,
+    )
     assert np.max(np.abs(combined.blend_weights(x, t) - alpha)) < RTOL
 
 
@@ -101,10 +115,12 @@ def test_evaluation_api_matches_solution(pendulum, rng):
     single = g.combine(sols[:1], [2.0])  # z = 2 z_1: same policy, value shifted by −λ log 2
     x = rng.uniform(-3, 3, (50, 2))
     lam = single.temperature
-    np.testing.assert_allclose(single.value(x, 0.2), sols[0].value(x, 0.2) - lam * np.log(2),
-                               rtol=1e-13, atol=1e-13)
-    np.testing.assert_allclose(single.desirability(x, 0.2), 2 * sols[0].desirability(x, 0.2),
-                               rtol=1e-13)
+    np.testing.assert_allclose(
+        single.value(x, 0.2), sols[0].value(x, 0.2) - lam * np.log(2), rtol=1e-13, atol=1e-13
+    )
+    np.testing.assert_allclose(
+        single.desirability(x, 0.2), 2 * sols[0].desirability(x, 0.2), rtol=1e-13
+    )
     np.testing.assert_allclose(single.policy(x, 0.2), sols[0].policy(x, 0.2), rtol=1e-12)
     np.testing.assert_array_equal(single.times, sols[0].times)
 
@@ -118,7 +134,10 @@ def test_components_with_scales_1e300_apart_combine_exactly(rng):
     # the unshifted component would, and nothing overflows or underflows on the way.
     problem = _line_problem()
     near, far = g.Quadratic([-1], [2]), g.Quadratic([1], [2])
-    shifted = lambda x: far(x) + 700.0
+
+    def shifted(x):
+        return far(x) + 700.0
+
     plain = g.solve_many(problem, [near, far], dt=0.01, **PLAIN)
     scaled = g.solve_many(problem, [near, shifted], dt=0.01, **PLAIN)
     x = rng.uniform(-3, 3, (100, 1))
@@ -131,8 +150,9 @@ def test_components_with_scales_1e300_apart_combine_exactly(rng):
         np.testing.assert_allclose(b.value(x, t), a.value(x, t), rtol=1e-12, atol=v_tol)
         np.testing.assert_allclose(b.blend_weights(x, t), a.blend_weights(x, t), atol=1e-12)
     # Both components e^{−1000} small: the combination keeps the scale in the log domain.
-    huge = g.solve_many(problem, [lambda x: near(x) + 1000.0, lambda x: far(x) + 1000.0], dt=0.01,
-                        **PLAIN)
+    huge = g.solve_many(
+        problem, [lambda x: near(x) + 1000.0, lambda x: far(x) + 1000.0], dt=0.01, **PLAIN
+    )
     c = g.combine(huge)
     np.testing.assert_allclose(c.value(x, 0.1), a.value(x, 0.1) + 1000.0, rtol=1e-13)
     _check_superposition(c, _direct(c), x, 0.1)
@@ -140,8 +160,9 @@ def test_components_with_scales_1e300_apart_combine_exactly(rng):
 
 def test_underflowed_combination_is_reported_not_nan():
     problem = _line_problem(n=61, horizon=0.1, temperature=0.01)
-    sols = g.solve_many(problem, [g.Quadratic([-2.5], [50]), g.Quadratic([-2], [50])], dt=0.01,
-                        **PLAIN)  # stepped in z (a single fitted solve is stepped in log z)
+    sols = g.solve_many(
+        problem, [g.Quadratic([-2.5], [50]), g.Quadratic([-2], [50])], dt=0.01, **PLAIN
+    )  # stepped in z (a single fitted solve is stepped in log z)
     combined = g.combine(sols)
     x = np.array([[-2.2], [2.9]])  # z(2.9, T) = exp(−50 · 4.4² / 0.01): zero in float64
     with pytest.warns(g.UnderflowWarning, match="underflowed at 1 of 2"):
@@ -189,13 +210,16 @@ def line_solution():
     return problem, g.solve(problem, dt=0.02)
 
 
-@pytest.mark.parametrize("change, match", [
-    ({"grid": g.Grid([g.Axis(-3, 3, 23)])}, "grid"),
-    ({"horizon": 0.4}, "horizon"),
-    ({"temperature": 2.0}, "temperature"),
-    ({"control_cost": 3.0}, "control cost R"),
-    ({"state_cost": g.Quadratic([0], [1])}, "state cost"),
-])
+@pytest.mark.parametrize(
+    "change, match",
+    [
+        ({"grid": g.Grid([g.Axis(-3, 3, 23)])}, "grid"),
+        ({"horizon": 0.4}, "horizon"),
+        ({"temperature": 2.0}, "temperature"),
+        ({"control_cost": 3.0}, "control cost R"),
+        ({"state_cost": g.Quadratic([0], [1])}, "state cost"),
+    ],
+)
 def test_mismatched_problems_are_named(line_solution, change, match):
     problem, sol = line_solution
     other = g.solve(problem.replace(**change), dt=0.02)
@@ -211,29 +235,35 @@ def test_mismatched_system_is_named_and_other_operators_combine_inexactly():
         g.combine([sol, g.solve(problem.replace(system=PointMass(mass=2.0)), dt=0.02)])
     # Same problem, other operators: combined through their values, and said to be inexact.
     other = problem.replace(terminal_cost=g.Quadratic([1, 0], [1, 1]))
-    for solved, why in [(g.solve(other, dt=0.01), "time grid"),
-                        (g.solve(other, dt=0.02, method="implicit"), "implicit")]:
+    for solved, why in [
+        (g.solve(other, dt=0.01), "time grid"),
+        (g.solve(other, dt=0.02, method="implicit"), "implicit"),
+    ]:
         combo = g.combine([sol, solved])
         assert isinstance(combo, g.Combination) and not combo.exact
         assert why in combo.reason and "solve_many" in combo.reason
     # Equal state costs given as different objects are fine (compared at the nodes).
     q1, q2 = g.Quadratic([0, 0], [1, 1]), g.Quadratic([0, 0], [1, 1])
     a = g.solve(problem.replace(state_cost=q1), dt=0.02, **PLAIN)
-    b = g.solve(problem.replace(state_cost=q2, terminal_cost=g.Quadratic([1, 0], [1, 1])),
-                dt=0.02, **PLAIN)
+    b = g.solve(
+        problem.replace(state_cost=q2, terminal_cost=g.Quadratic([1, 0], [1, 1])), dt=0.02, **PLAIN
+    )
     assert g.combine([a, b]).exact
     # Solved separately with the defaults (each fitted to its own g): inexact, and said so.
     fitted = [g.solve(p, dt=0.02) for p in (problem, other)]
     assert "another reference" in g.combine(fitted).reason
 
 
-@pytest.mark.parametrize("weights, match", [
-    ([1.0], "2 numbers"),
-    ([[1.0, 2.0]], "2 numbers"),
-    ([1.0, np.nan], "finite"),
-    ([0.0, 0.0], "all zero"),
-    ([1.0, -2.0], "sum to -1"),
-])
+@pytest.mark.parametrize(
+    "weights, match",
+    [
+        ([1.0], "2 numbers"),
+        ([[1.0, 2.0]], "2 numbers"),
+        ([1.0, np.nan], "finite"),
+        ([0.0, 0.0], "all zero"),
+        ([1.0, -2.0], "sum to -1"),
+    ],
+)
 def test_bad_weights(line_solution, weights, match):
     _, sol = line_solution
     with pytest.raises(ValueError, match=match):

@@ -13,7 +13,7 @@ import pytest
 
 import gridlbc
 
-DOCS = Path(__file__).resolve().parent.parent / "docs"
+DOCS = Path(__file__).resolve().parents[2] / "docs"
 # Subpackages whose public names are documented beside gridlbc.__all__, when they exist.
 SUBPACKAGES = ("systems", "costs", "reference", "trajectory")
 DIRECTIVE = re.compile(r"^\.\.\s+(?:auto\w+|py:\w+)::\s+([\w.]+)", re.MULTILINE)
@@ -23,8 +23,12 @@ def public_names() -> set[str]:
     """Dotted names of gridlbc.__all__ and of each subpackage's __all__ (a module without one
     needs its own entry)."""
     names = set()
-    modules = {n for n in gridlbc.__all__ if hasattr(getattr(gridlbc, n), "__path__")
-               or type(getattr(gridlbc, n)).__name__ == "module"}
+    modules = {
+        n
+        for n in gridlbc.__all__
+        if hasattr(getattr(gridlbc, n), "__path__")
+        or type(getattr(gridlbc, n)).__name__ == "module"
+    }
     for name in gridlbc.__all__:
         names.add(f"gridlbc.{name}")
     for sub in set(SUBPACKAGES) | modules:
@@ -48,14 +52,18 @@ def _aliases(name: str) -> set[str]:
     gridlbc.Quadratic) counts as documented by the top-level entry."""
     module, _, attr = name.rpartition(".")
     obj = getattr(importlib.import_module(module), attr, None) if module != "gridlbc" else None
-    return {f"gridlbc.{top}" for top in gridlbc.__all__ if obj is not None
-            and getattr(gridlbc, top) is obj}
+    return {
+        f"gridlbc.{top}"
+        for top in gridlbc.__all__
+        if obj is not None and getattr(gridlbc, top) is obj
+    }
 
 
 def test_every_public_name_has_an_api_entry():
     documented = documented_names()
-    missing = sorted(n for n in public_names() if n not in documented
-                     and not (_aliases(n) & documented))
+    missing = sorted(
+        n for n in public_names() if n not in documented and not (_aliases(n) & documented)
+    )
     assert not missing, f"add these to docs/api.rst: {missing}"
 
 
@@ -89,15 +97,32 @@ def test_docs_build_with_warnings_as_errors(tmp_path):
     for module in ("numpydoc", "sphinx_gallery", "pydata_sphinx_theme", "gymnasium"):
         pytest.importorskip(module, reason=f'the docs build needs {module}: pip install ".[docs]"')
     result = subprocess.run(
-        [sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html",
-         "-d", str(tmp_path / "doctrees"), str(DOCS), str(tmp_path / "html")],
-        capture_output=True, text=True, timeout=900, check=False,
+        [
+            sys.executable,
+            "-m",
+            "sphinx",
+            "-W",
+            "--keep-going",
+            "-q",
+            "-b",
+            "html",
+            "-d",
+            str(tmp_path / "doctrees"),
+            str(DOCS),
+            str(tmp_path / "html"),
+        ],
+        capture_output=True,
+        text=True,
+        timeout=900,
+        check=False,
     )
     assert result.returncode == 0, (result.stdout + result.stderr)[-4000:]
     inventory = _inventory(tmp_path / "html" / "objects.inv")
-    missing = sorted(n for n in public_names() if n not in inventory
-                     and not (_aliases(n) & inventory))
+    missing = sorted(
+        n for n in public_names() if n not in inventory and not (_aliases(n) & inventory)
+    )
     assert not missing, f"built without an entry for {missing}"
     gallery = tmp_path / "html" / "auto_examples"
     assert sorted(p.stem for p in gallery.glob("plot_*.html")) == sorted(
-        p.stem for p in (DOCS / "gallery").glob("plot_*.py"))
+        p.stem for p in (DOCS / "gallery").glob("plot_*.py")
+    )

@@ -14,8 +14,9 @@ def test_riccati_matches_closed_form_for_single_integrator():
     """Scalar case, q = 0: P(t) = P_T / (1 + P_T S (T − t)), p = P c-shifted, c₀ from the ODE."""
     lam, r, w, c, T = 0.7, 2.0, 1.5, 0.4, 1.3
     grid = Grid([Axis(-3, 3, 11)])
-    problem = Problem(SingleIntegrator(), grid, T, Quadratic([c], [w]), control_cost=r,
-                      temperature=lam)
+    problem = Problem(
+        SingleIntegrator(), grid, T, Quadratic([c], [w]), control_cost=r, temperature=lam
+    )
     exact = lq_solution(problem)
     S = 1 / r
     for t in (0.0, 0.6, T):
@@ -69,8 +70,14 @@ def _low_cost_interior(nodes, exact):
 @pytest.mark.parametrize("method", ["splitting", "implicit"])
 def test_point_mass_converges_to_riccati_at_first_order(method):
     # A fixed Courant number (and no minimum step count) makes Δt ∝ h; the plain operators.
-    errs = np.array([_errors(_pointmass(n), method, _low_cost_interior, courant=2.0, min_steps=1,
-                             fitting=None) for n in (51, 101, 201)])
+    errs = np.array(
+        [
+            _errors(
+                _pointmass(n), method, _low_cost_interior, courant=2.0, min_steps=1, fitting=None
+            )
+            for n in (51, 101, 201)
+        ]
+    )
     orders = _orders(errs)
     # Both schemes are first order in h (dt ∝ h at a fixed Courant number): each error halves
     # per refinement once asymptotic (measured orders 0.78–0.95 for the value, 0.7–0.8 for the
@@ -87,8 +94,19 @@ def test_fitted_point_mass_converges_to_riccati_at_second_order():
     with its curvature term (exact for the quadratic log z of an LQ problem), at the same fixed
     Courant number: second order in h (measured 1.98–2.25 for the value, 1.9 for the policy on
     these grids). Require monotone decrease and orders above 1.5 (policy 1.4)."""
-    errs = np.array([_errors(_pointmass(n), "splitting", _low_cost_interior, courant=2.0,
-                             min_steps=1, fitting="terminal") for n in (51, 101, 201)])
+    errs = np.array(
+        [
+            _errors(
+                _pointmass(n),
+                "splitting",
+                _low_cost_interior,
+                courant=2.0,
+                min_steps=1,
+                fitting="terminal",
+            )
+            for n in (51, 101, 201)
+        ]
+    )
     orders = _orders(errs)
     assert np.all(np.diff(errs, axis=0) < 0), errs
     assert np.all((orders[:, :2] > 1.5) & (orders[:, :2] < 2.7)), orders
@@ -99,15 +117,24 @@ def test_fitted_point_mass_converges_to_riccati_at_second_order():
 def test_single_integrator_converges_to_riccati(method):
     def problem(n):
         grid = Grid([Axis(-5.0, 5.0, n)])
-        return Problem(SingleIntegrator(), grid, 1.0, Quadratic([0.5], [3.0]),
-                       state_cost=Quadratic([-0.5], [0.4]), control_cost=0.5, temperature=0.3)
+        return Problem(
+            SingleIntegrator(),
+            grid,
+            1.0,
+            Quadratic([0.5], [3.0]),
+            state_cost=Quadratic([-0.5], [0.4]),
+            control_cost=0.5,
+            temperature=0.3,
+        )
 
     def region(nodes, exact):
         return np.linspace(-2, 2, 81)[:, None]
 
     # No drift, so the default Δt would stay at T/min_steps: refine Δt with h (Δt ∝ h) so that
     # the O(Δt) splitting/backward-Euler error and the O(h²) diffusion error both shrink.
-    errs = np.array([_errors(problem(n), method, region, dt=2.0 / (n - 1)) for n in (101, 201, 401)])
+    errs = np.array(
+        [_errors(problem(n), method, region, dt=2.0 / (n - 1)) for n in (101, 201, 401)]
+    )
     orders = _orders(errs)
     assert np.all(np.diff(errs, axis=0) < 0), errs
     assert np.all(orders > 0.8), orders

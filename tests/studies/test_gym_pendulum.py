@@ -43,8 +43,9 @@ def test_observations_map_to_the_state():
     obs, _ = env.reset(seed=3)
     theta, omega = env.unwrapped.state
     # gym's observation is float32: θ from atan2 of float32 cos and sin
-    np.testing.assert_allclose(state_from_observation(obs)[0],
-                               [np.angle(np.exp(1j * theta)), omega], atol=1e-6)
+    np.testing.assert_allclose(
+        state_from_observation(obs)[0], [np.angle(np.exp(1j * theta)), omega], atol=1e-6
+    )
     with pytest.raises(ValueError, match="3 entries"):
         state_from_observation([1.0, 0.0])
 

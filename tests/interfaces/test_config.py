@@ -8,20 +8,29 @@ import gridlbc
 from gridlbc.config import load_config, number, problem_from_dict
 
 
-@pytest.mark.parametrize("change, fragment", [
-    ({"horizon": None}, "missing key 'horizon'"),
-    ({"horizn": 1.0}, "unknown key 'horizn'"),
-    ({"grid": {"n": [21, 21, 21]}}, "grid.n must be one node count or 2"),
-    ({"grid": {"n": 21, "axes": []}}, "exactly one of grid.n"),
-    ({"grid": {"axes": [{"lo": -1, "hi": 1}]}}, "missing key 'grid.axes[0].n'"),
-    ({"terminal_cost": {"center": [0, 0], "weight": [1, 1]}}, "unknown key 'terminal_cost.weight'"),
-    ({"terminal_cost": {"center": [0, 0, 0], "weights": [1, 1, 1]}}, "3 coordinates"),
-    ({"solver": {"method": "magic"}}, "unknown method 'magic'"),
-    ({"system": {"name": "PointMass", "parameters": {"mass": -1}}}, "system.parameters: mass must be a positive"),
-    ({"system": {"name": "PointMass", "parameters": {"length": 1}}}, "system.parameters"),
-    ({"temperature": "hot"}, "temperature must be a number"),
-    ({"horizon": -1.0}, "horizon must be positive"),
-])
+@pytest.mark.parametrize(
+    "change, fragment",
+    [
+        ({"horizon": None}, "missing key 'horizon'"),
+        ({"horizn": 1.0}, "unknown key 'horizn'"),
+        ({"grid": {"n": [21, 21, 21]}}, "grid.n must be one node count or 2"),
+        ({"grid": {"n": 21, "axes": []}}, "exactly one of grid.n"),
+        ({"grid": {"axes": [{"lo": -1, "hi": 1}]}}, "missing key 'grid.axes[0].n'"),
+        (
+            {"terminal_cost": {"center": [0, 0], "weight": [1, 1]}},
+            "unknown key 'terminal_cost.weight'",
+        ),
+        ({"terminal_cost": {"center": [0, 0, 0], "weights": [1, 1, 1]}}, "3 coordinates"),
+        ({"solver": {"method": "magic"}}, "unknown method 'magic'"),
+        (
+            {"system": {"name": "PointMass", "parameters": {"mass": -1}}},
+            "system.parameters: mass must be a positive",
+        ),
+        ({"system": {"name": "PointMass", "parameters": {"length": 1}}}, "system.parameters"),
+        ({"temperature": "hot"}, "temperature must be a number"),
+        ({"horizon": -1.0}, "horizon must be positive"),
+    ],
+)
 def test_description_errors_name_the_key(change, fragment):
     data = pointmass_description(0)
     for key, value in change.items():
@@ -65,23 +74,33 @@ weights = [1, 0]
     assert p.grid.axes[0].lo == -np.pi and p.grid.axes[0].hi == np.pi
     np.testing.assert_array_equal(p.R, [[0.5]])
     # the state cost is centred at π/2: q(π/2, 0) = 0 and q(0, 0) = (π/2)²
-    np.testing.assert_allclose(p.state_cost(np.array([[np.pi / 2, 0], [0, 0]])),
-                               [0, (np.pi / 2) ** 2], rtol=1e-15, atol=0)
+    np.testing.assert_allclose(
+        p.state_cost(np.array([[np.pi / 2, 0], [0, 0]])), [0, (np.pi / 2) ** 2], rtol=1e-15, atol=0
+    )
     assert config.settings.method == "splitting"
 
 
 def test_load_config_reports_file_and_syntax(tmp_path):
     path = tmp_path / "bad.toml"
     path.write_text("horizon = = 1\n")
-    with pytest.raises(ValueError, match="bad.toml: invalid TOML"):
+    with pytest.raises(ValueError, match=r"bad.toml: invalid TOML"):
         load_config(path)
     with pytest.raises(FileNotFoundError):
         load_config(tmp_path / "none.toml")
 
 
-@pytest.mark.parametrize("text, expected", [("pi", np.pi), ("-pi", -np.pi), ("pi/2", np.pi / 2),
-                                            ("2*pi", 2 * np.pi), ("-0.5pi", -np.pi / 2),
-                                            ("1e-3", 1e-3), (3, 3.0)])
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("pi", np.pi),
+        ("-pi", -np.pi),
+        ("pi/2", np.pi / 2),
+        ("2*pi", 2 * np.pi),
+        ("-0.5pi", -np.pi / 2),
+        ("1e-3", 1e-3),
+        (3, 3.0),
+    ],
+)
 def test_number(text, expected):
     assert number(text, "k") == expected
 
