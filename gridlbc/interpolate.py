@@ -1,4 +1,4 @@
-"""Barycentric interpolation on the Kuhn (Freudenthal) triangulation of a grid (README, "The maths in brief").
+"""Barycentric interpolation on the Kuhn (Freudenthal) triangulation of a grid (docs/maths.rst).
 
 A state x falls in the cell with lower corner i = ⌊(x − lo)/h⌋ and fractional coordinates
 f = (x − lo)/h − i ∈ [0, 1]ᵈ. Sorting f in decreasing order, f_π(1) ≥ … ≥ f_π(d), picks the simplex
@@ -14,7 +14,7 @@ which are non-negative, sum to one and reproduce affine functions exactly. Perio
 (the neighbour of node n−1 is node 0); on other axes points are clamped to the box first.
 
 Interpolation is linear in the nodal values, so anything evaluated from interpolated z and
-interpolated Bᵀ∇z stays linear in z (the superposition guarantee of the README's "The maths in brief").
+interpolated Bᵀ∇z stays linear in z (the superposition guarantee of docs/maths.rst).
 """
 
 from __future__ import annotations

@@ -90,8 +90,7 @@ def slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None)
 
     In RAM they get an anonymous memory map of their own, paged as the kernel does by default:
     numpy advises transparent huge pages for large arrays, and where the kernel then compacts
-    memory to back them, the first write of every slice is several times slower (README,
-    "Accuracy and performance")."""
+    memory to back them, the first write of every slice is several times slower."""
     if mmap_dir is None:
         nbytes = math.prod(shape) * np.dtype(dtype).itemsize
         if nbytes == 0:

@@ -30,10 +30,9 @@ import scipy.sparse.linalg as spla
 from .. import boundary
 from ..backends.numba.implicit import gauss_seidel_kernel
 from ..boundary import Boundary
-from ..grid import Grid
 from ..problem import Problem
 from .march import march_linear
-from .protocol import Marched, MarchPlan, StepBound, StepRule, Terminal
+from .protocol import Marched, MarchPlan, SchemeBase, StepRule, Terminal
 from .tails import check_resolution
 
 DIRECT_LIMIT = 400_000
@@ -208,25 +207,18 @@ MIN_STEPS = 50
 """Fewest steps of the implicit scheme's default time grid."""
 
 
-class ImplicitScheme:
-    """Implicit upwind with backward Euler (this module), the reference scheme."""
+class ImplicitScheme(SchemeBase):
+    """Implicit upwind with backward Euler (this module), the reference scheme. Backward Euler
+    is stable and monotone at any step: no :class:`~gridlbc.schemes.protocol.StepBound`."""
 
     name = "implicit"
     supports_fitting = False
     step = ImplicitStep
 
-    def estimate_bytes(self, grid: Grid) -> int:
-        """Memory of the operator on ``grid`` (:meth:`ImplicitStep.estimate_bytes`)."""
-        return ImplicitStep.estimate_bytes(grid)
-
     def step_rule(self, settings) -> StepRule:
         """Courant number 1 against the largest rate (its first-order error grows with the
         step), at least ``min_steps`` (default :data:`MIN_STEPS`) steps."""
         return StepRule(1.0, "peak", settings.min_steps or MIN_STEPS)
-
-    def step_bound(self, problem: Problem) -> StepBound:
-        """No bound: backward Euler is stable and monotone at any step."""
-        return StepBound()
 
     def march(self, plan: MarchPlan, terminal: Terminal) -> Marched:
         """The plain loop (:func:`~gridlbc.schemes.march.march_linear`); no fitting."""

@@ -7,11 +7,12 @@ solver calls them:
 
 1. ``scheme.estimate_bytes(grid)``: the operator's memory, for the check before any work
    (:func:`gridlbc.storage.memory_estimate`);
-2. ``scheme.step_rule(settings)``: the default step's :class:`StepRule` (a Courant number against
-   the drift's largest or root-mean-square rate, and the fewest steps);
-3. ``scheme.step_bound(problem)``: a :class:`StepBound`, the largest step the scheme can take on
+2. ``scheme.step_bound(problem)``: a :class:`StepBound`, the largest step the scheme can take on
    this problem (the default step is held below it; a given one above it is warned about by
    ``bound.check(dt)``);
+3. ``scheme.step_rule(settings)``: the default step's :class:`StepRule` (a Courant number against
+   the drift's largest or root-mean-square rate, and the fewest steps), then
+   ``scheme.estimate_bytes(grid)`` again with the number of slices known;
 4. ``scheme.march(plan, terminal)``: the time loop, from the :class:`Terminal` data over the
    :class:`MarchPlan`'s steps into storage it allocates through the plan; returns a
    :class:`Marched`;
@@ -182,3 +183,20 @@ class Scheme(Protocol):
 
     def check(self, solutions: list, marched: Marched) -> None:
         """Warn about what the grid and step do not resolve in ``solutions``."""
+
+
+class SchemeBase:
+    """Defaults for a :class:`Scheme`: the operator's memory from its class ``step`` (a
+    :class:`StepOperator`), and no bound on the step."""
+
+    name: str
+    supports_fitting: bool = False
+    step: type
+
+    def estimate_bytes(self, grid: Grid) -> int:
+        """Memory of the operator on ``grid`` (``step.estimate_bytes``)."""
+        return self.step.estimate_bytes(grid)
+
+    def step_bound(self, problem: Problem) -> StepBound:
+        """No bound: the scheme is stable and accurate enough at any step its rule picks."""
+        return StepBound()

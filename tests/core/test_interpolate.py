@@ -1,4 +1,4 @@
-"""Kuhn-simplex barycentric interpolation (SPEC §4): exact for affine functions (to rounding)."""
+"""Kuhn-simplex barycentric interpolation (gridlbc.interpolate): exact for affine functions (to rounding)."""
 
 import numpy as np
 import pytest

@@ -331,3 +331,34 @@ def test_a_drift_that_is_not_finite_is_named():
     problem = Problem(_Blowup(), Grid([Axis(-1.0, 1.0, 11)]), 1.0, Quadratic([0.0], [1.0]))
     with pytest.raises(ValueError, match=r"foot of node 8 .* _Blowup.drift returned a non-finite"):
         SplittingStep(problem, 0.1)
+
+
+def test_every_method_is_a_scheme_and_the_protocol_is_all_the_solver_calls(monkeypatch):
+    """Each entry of METHODS is a Scheme; a scheme registered under a new name, that only
+    delegates to the implicit one, solves identically, called in the protocol's order."""
+    from gridlbc.schemes import IMPLICIT, METHODS, Scheme
+
+    assert all(isinstance(scheme, Scheme) for scheme in METHODS.values())
+    calls = []
+
+    class Recording:
+        name, supports_fitting, step = "recording", False, ImplicitStep
+
+        def __getattr__(self, attribute):
+            def call(*args):
+                calls.append(attribute)
+                return getattr(IMPLICIT, attribute)(*args)
+
+            return call
+
+    monkeypatch.setitem(METHODS, "recording", Recording())
+    problem = Problem(
+        LinearSystem([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]]),
+        Grid([Axis(-2, 2, 21), Axis(-2, 2, 21)]),
+        0.5,
+        Quadratic([0.0, 0.0], [1.0, 1.0]),
+    )
+    recorded = gridlbc.solve(problem, method="recording")
+    protocol_order = ["step_bound", "step_rule", "estimate_bytes", "march", "check"]
+    assert calls == ["estimate_bytes", *protocol_order]
+    np.testing.assert_array_equal(recorded.slices, gridlbc.solve(problem, method="implicit").slices)

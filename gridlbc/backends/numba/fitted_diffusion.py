@@ -47,7 +47,7 @@ def diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_o
     where φ's peaks are resolved (a Gaussian peak of variance s between two nodes lifts them
     only if h > 2√s); on a grid too coarse for ℓ, ℓ̄'s quadratics bulge above their nodes, and
     without the cap each step would lift the largest value again, a growth of z that can send v
-    below zero (README, "Limitations").
+    below zero (docs/schemes.rst).
 
     With ``log_out`` the rows of ``y`` are taken to be ones and out[0, p] is the logarithm of
     the integral, log ∫ G_σ φ̄ (capped at L): the reference advanced alone, in the log domain
@@ -83,6 +83,8 @@ def diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_o
                 if tables:
                     for k in range(n):
                         nodes[k] = math.exp(ell[line + k * stride] - top)
+            geometry = (ell, curvature, bulge, ell_max, n, stride, periodic, line)
+            lookup = (cells, uniform, tables, nodes, gaussian, top)
             for i in range(n):
                 p = line + i * stride
                 if not uniform and sigma2[p] > 0.0:
@@ -93,26 +95,4 @@ def diffuse_fitted_kernel(y, ell, ell_max, sigma2, h, n, stride, periodic, log_o
                     for r in range(y.shape[0]):
                         out[r, p] = ell[p] if log_out else y[r, p] * math.exp(ell[p])
                     continue
-                diffuse_fitted_node(
-                    y,
-                    ell,
-                    curvature,
-                    bulge,
-                    ell_max,
-                    A,
-                    free,
-                    norm,
-                    n,
-                    stride,
-                    periodic,
-                    log_out,
-                    out,
-                    line,
-                    i,
-                    cells,
-                    uniform,
-                    tables,
-                    nodes,
-                    gaussian,
-                    top,
-                )
+                diffuse_fitted_node(y, out, log_out, geometry, lookup, A, free, norm, i)

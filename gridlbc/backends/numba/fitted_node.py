@@ -17,34 +17,17 @@ from .options import jit_inline
 
 
 @jit_inline
-def diffuse_fitted_node(
-    y,
-    ell,
-    curvature,
-    bulge,
-    ell_max,
-    A,
-    free,
-    norm,
-    n,
-    stride,
-    periodic,
-    log_out,
-    out,
-    line,
-    i,
-    cells,
-    uniform,
-    tables,
-    nodes,
-    gaussian,
-    line_top,
-):
-    """:func:`diffuse_fitted_kernel` at node i of the line starting at ``line``, for the
-    Gaussian's A = h²/(2σ²) there, ``free`` = the line's rise/(2A), ``norm`` = h/√(2πσ²),
-    ``bulge`` the line's; ``cells``: the line's cell constants when ``uniform`` (one σ²); with
+def diffuse_fitted_node(y, out, log_out, geometry, lookup, A, free, norm, i):
+    """:func:`~gridlbc.backends.numba.fitted_diffusion.diffuse_fitted_kernel` at node i of a
+    line, into ``out`` (log ∫ G_σ φ̄ with ``log_out``), for the Gaussian's A = h²/(2σ²) there,
+    ``free`` = the line's rise/(2A) and ``norm`` = h/√(2πσ²). The line's ``geometry`` is
+    (ell, its curvature per node, its bulge, the largest ell of all lines, n, stride, periodic,
+    the line's first node); its ``lookup`` is (cells, uniform, tables, nodes, gaussian,
+    line_top): ``cells`` the line's cell constants when ``uniform`` (one σ²) and, with
     ``tables``, ``nodes`` = e^{ℓ_k − L}, ``gaussian`` = e^{−A c²} and ``line_top`` = L (the
     kernel's docstring)."""
+    ell, curvature, bulge, ell_max, n, stride, periodic, line = geometry
+    cells, uniform, tables, nodes, gaussian, line_top = lookup
     n_rhs = y.shape[0]
     p = line + i * stride
     reach = FIT_IMAGES * n

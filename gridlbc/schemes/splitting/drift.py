@@ -21,7 +21,7 @@ reference is itself advanced by the fitted step, as one more right-hand side (fi
 P_φ φ = φ̄: v(x) ← Σ_j w_j v(y_j), the value-space semi-Lagrangian update). A problem fitted to
 its own terminal cost therefore has the accuracy of interpolating v rather than z, and all
 terminal costs solved with the same reference share one linear operator, so superposition stays
-exact among them (the README's swing-up tables compare the two).
+exact among them (docs/schemes.rst compares the two on the swing-up).
 """
 
 from __future__ import annotations

@@ -10,9 +10,8 @@ With a state cost the step is also at most :func:`~.checks.cost_sampling_step`.
 
 from __future__ import annotations
 
-from ...grid import Grid
 from ...problem import Problem
-from ..protocol import Marched, MarchPlan, StepRule, Terminal
+from ..protocol import Marched, MarchPlan, SchemeBase, StepRule, Terminal
 from ..tails import check_resolution
 from .checks import (
     CostSamplingBound,
@@ -30,16 +29,12 @@ FITTED_COURANT, FITTED_MIN_STEPS = 7.0, 10
 than the largest."""
 
 
-class SplittingScheme:
+class SplittingScheme(SchemeBase):
     """Semi-Lagrangian splitting (:mod:`gridlbc.schemes.splitting`), with exponential fitting."""
 
     name = "splitting"
     supports_fitting = True
     step = SplittingStep
-
-    def estimate_bytes(self, grid: Grid) -> int:
-        """Memory of the operator on ``grid`` (:meth:`SplittingStep.estimate_bytes`)."""
-        return SplittingStep.estimate_bytes(grid)
 
     def step_rule(self, settings) -> StepRule:
         """Courant 6 against the largest rate and at least 50 steps (plain), Courant 7 against
