@@ -193,8 +193,8 @@ class Grid:
         return values.reshape(values.shape[:-1] + self.shape)
 
     def node_values(self, function) -> np.ndarray:
-        """``function(x)`` at every node, ``(size,)``, evaluated on :func:`flat_chunks` of nodes (the
-        full ``(size, d)`` node array is never built)."""
+        """``function(x)`` at every node, ``(size,)``, evaluated on :func:`flat_chunks` of nodes
+        (the full ``(size, d)`` node array is never built)."""
         out = np.empty(self.size)
         for flat in flat_chunks(self.size):
             out[flat[0] : flat[-1] + 1] = function(self.node_coordinates(flat))
@@ -213,7 +213,8 @@ allocator reuses the chunk's temporaries (first writes to fresh memory are slow)
 
 
 def flat_chunks(stop: int, start: int = 0):
-    """Consecutive ranges of the flat node indices start … stop − 1, :data:`NODE_CHUNK` at a time."""
+    """Consecutive ranges of the flat node indices start … stop − 1, :data:`NODE_CHUNK` at a
+    time."""
     for first in range(start, stop, NODE_CHUNK):
         yield np.arange(first, min(first + NODE_CHUNK, stop))
 

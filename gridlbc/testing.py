@@ -4,7 +4,8 @@ Each twin computes what its kernel computes, written for clarity rather than spe
 kernel prunes or quantises, without that): :func:`barycentric_numpy`
 (:func:`gridlbc.interpolate.barycentric`), :func:`curvature_correction_numpy`
 (:meth:`gridlbc.schemes.splitting.SplittingStep.curvature_correction`) and
-:func:`diffuse_fitted_numpy` (:func:`gridlbc.backends.numba.fitted_diffusion.diffuse_fitted_kernel`).
+:func:`diffuse_fitted_numpy`
+(:func:`gridlbc.backends.numba.fitted_diffusion.diffuse_fitted_kernel`).
 """
 
 from __future__ import annotations
@@ -16,9 +17,10 @@ from .interpolate import barycentric
 
 
 def curvature_correction_numpy(grid: Grid, ell: np.ndarray, feet: np.ndarray) -> np.ndarray:
-    """Plain-numpy twin of :meth:`~gridlbc.schemes.splitting.SplittingStep.curvature_correction` from the feet ``(N, d)``
-    (unquantised): −½ Σ_ab (min(f_a, f_b) − f_a f_b) H_ab, f the foot's fractional coordinates
-    in its cell and H the index-unit Hessian of ``ell`` (by :func:`numpy.roll`; closed ends: the
+    """Plain-numpy twin of the fitted drift's curvature term
+    (:class:`gridlbc.schemes.splitting.curvature.CurvatureCorrection`) from the feet ``(N, d)``
+    (unquantised): −½ Σ_ab (min(f_a, f_b) − f_a f_b) H_ab, f the foot's fractional coordinates in
+    its cell and H the index-unit Hessian of ``ell`` (by :func:`numpy.roll`; closed ends: the
     neighbour's) at the simplex vertex of largest weight, limited to the vertices' range."""
     shape = np.array(grid.shape)
     s = (grid.clamp(feet) - grid.lo) / grid.spacing
@@ -64,10 +66,10 @@ def diffuse_fitted_numpy(
     points: int = 64,
     images: int = 3,
 ) -> np.ndarray:
-    """Plain-numpy twin of :func:`~gridlbc.backends.numba.fitted_diffusion.diffuse_fitted_kernel` on one line (``y`` ``(K, n)``, ``ell``
-    ``(n,)``): the same integral by the midpoint rule with ``points`` per cell over ``images``
-    line lengths to each side, every cell taken (no window), and the kernel's cap at the line's
-    largest φ."""
+    """Plain-numpy twin of :func:`~gridlbc.backends.numba.fitted_diffusion.diffuse_fitted_kernel` on
+    one line (``y`` ``(K, n)``, ``ell`` ``(n,)``): the same integral by the midpoint rule with
+    ``points`` per cell over ``images`` line lengths to each side, every cell taken (no window), and
+    the kernel's cap at the line's largest φ."""
     n = ell.size
     period = n if periodic else 2 * (n - 1)
     if periodic:
@@ -97,7 +99,7 @@ def diffuse_fitted_numpy(
 
 
 def barycentric_numpy(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
-    """Plain-numpy twin of :func:`gridlbc.interpolate.barycentric`, for testing the compiled kernel."""
+    """Plain-numpy twin of :func:`gridlbc.interpolate.barycentric`, for testing its kernel."""
     x = grid.clamp(grid.check_states(x))
     shape = np.array(grid.shape)
     s = (x - grid.lo) / grid.spacing

@@ -41,7 +41,8 @@ DIRECT_LIMIT = 400_000
 
 def generator_matrix(problem: Problem) -> sp.csr_matrix:
     """The upwind generator L (N×N, CSR): off-diagonal rates ≥ 0, rows summing to zero; a jump
-    out of the box along a closed axis is dropped (:attr:`~gridlbc.boundary.Boundary.REFLECTING`)."""
+    out of the box along a closed axis is dropped (``Boundary.REFLECTING``,
+    :mod:`gridlbc.boundary`)."""
     grid = problem.grid
     boundaries = boundary.require(
         grid, (Boundary.PERIODIC, Boundary.REFLECTING), "the implicit scheme"

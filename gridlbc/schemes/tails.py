@@ -36,12 +36,12 @@ def check_resolution(
     problem: Problem, solution: Solution, step: float, diffusion: list | None = None
 ) -> float:
     """Warn (:class:`ResolutionWarning`) when the plain operator's z tails, not the PDE, set the
-    value: the share of nodes where v/λ at t = T (the terminal cost) or t = 0 rises from a node
-    to its neighbour along a noise axis by at least 0.9 of the diffusion's tail cap
-    (:func:`diffusion_tail_cap`, for r = ``step`` D_k / h_k², ``step`` the diffusion's time
-    step). The scheme cannot carry such a fall of z: it fills it with its own tails, so v is
-    underestimated, more so as λ falls. ``diffusion``: the D_k of the problem if already
-    evaluated (e.g. :attr:`gridlbc.schemes.splitting.SplittingStep.diffusion`). Returns that share."""
+    value: the share of nodes where v/λ at t = T (the terminal cost) or t = 0 rises from a node to its
+    neighbour along a noise axis by at least 0.9 of the diffusion's tail cap
+    (:func:`diffusion_tail_cap`, for r = ``step`` D_k / h_k², ``step`` the diffusion's time step).
+    The scheme cannot carry such a fall of z: it fills it with its own tails, so v is
+    underestimated, more so as λ falls. ``diffusion``: the D_k of the problem if already evaluated
+    (e.g. :attr:`gridlbc.schemes.splitting.SplittingStep.diffusion`). Returns that share."""
     grid = problem.grid
     flagged, worst = 0, (0.0, 0.0, "")
     if diffusion is None:

@@ -12,11 +12,12 @@ from .options import jit_inline, jit_parallel, prange
 
 @jit_inline
 def _hessian_at(ell, node, stencil, d, hessian):
-    """``hessian[pairs[a, b]]`` (:func:`hessian_pairs`) = the second difference of ``ell`` in
-    index units at ``node``, on ``stencil``, the row of :func:`stencils` for the node's place:
-    ℓ(+a) − 2ℓ + ℓ(−a) on the diagonal, ((ℓ(+a+b) − ℓ(−a+b)) − (ℓ(+a−b) − ℓ(−a−b)))/4 off it,
-    exactly 0 along an axis of fewer than 3 nodes (its offsets are 0) without a branch. ``d``
-    is the grid's dimension, a compile-time constant where the caller's is (the loops unroll)."""
+    """``hessian[pairs[a, b]]`` (:func:`gridlbc.schemes.splitting.curvature.hessian_pairs`) = the
+    second difference of ``ell`` in index units at ``node``, on ``stencil``, the row of
+    :func:`gridlbc.schemes.splitting.curvature.stencils` for the node's place: ℓ(+a) − 2ℓ + ℓ(−a) on
+    the diagonal, ((ℓ(+a+b) − ℓ(−a+b)) − (ℓ(+a−b) − ℓ(−a−b)))/4 off it, exactly 0 along an axis of
+    fewer than 3 nodes (its offsets are 0) without a branch. ``d`` is the grid's dimension, a
+    compile-time constant where the caller's is (the loops unroll)."""
     centre = np.int64(node) + stencil[0]
     middle = ell[centre]
     column = 0
@@ -44,7 +45,7 @@ def _limited(ell_lin, term, low, high):
 def _curvature_compact_kernels(d: int):
     """:func:`curvature_compact_kernel` compiled for grids of dimension ``d`` (a constant: the
     loops over the vertices and walk steps unroll), reading flat rows through unsigned indices
-    as :func:`_advect_kernels` does."""
+    as :func:`gridlbc.backends.numba.drift._advect_kernels` does."""
 
     @jit_parallel
     def kernel(
@@ -99,15 +100,17 @@ def curvature_compact_kernel(
     ell, base, code, frac, offsets, columns, place, stencils, record, places, add_mean, out
 ):
     """out[p] = the limited curvature term of the compact feet (see
-    :meth:`SplittingStep.curvature_correction`), plus the linear mean Σ_j w_j ell[v_j] when
-    ``add_mean`` (the fitted log drift in one pass): with the sorted fractions f_k of walk steps
-    k along axes π_k, M_{π_k π_k} = f_k (1 − f_k) and, for k < l, M_{π_k π_l} = f_l (1 − f_k);
-    H at the vertex of largest weight (the first on a tie), computed there from ``ell``
-    (:func:`_hessian_at`; a stored table of it would be gathered at the feet, five times the
-    bytes of ``ell``), its component ∂_{π_k}∂_{π_l} at :func:`hessian_pairs` index
-    ``columns[code[p], k, l]`` (:func:`hessian_columns`). The stencil's row is ``places[p]``,
-    the ``place`` (:func:`stencils`) of that vertex; the feet being fixed, it is gathered once,
-    by a call with ``record``, and read in order by the later ones."""
+    :class:`gridlbc.schemes.splitting.curvature.CurvatureCorrection`), plus the linear mean Σ_j w_j
+    ell[v_j] when ``add_mean`` (the fitted log drift in one pass): with the sorted fractions f_k of
+    walk steps k along axes π_k, M_{π_k π_k} = f_k (1 − f_k) and, for k < l, M_{π_k π_l} = f_l (1 −
+    f_k); H at the vertex of largest weight (the first on a tie), computed there from ``ell``
+    (:func:`_hessian_at`; a stored table of it would be gathered at the feet, five times the bytes
+    of ``ell``), its component ∂_{π_k}∂_{π_l} at
+    :func:`gridlbc.schemes.splitting.curvature.hessian_pairs` index ``columns[code[p], k, l]``
+    (:func:`gridlbc.schemes.splitting.curvature.hessian_columns`). The stencil's row is
+    ``places[p]``, the ``place`` (:func:`gridlbc.schemes.splitting.curvature.stencils`) of that
+    vertex; the feet being fixed, it is gathered once, by a call with ``record``, and read in order
+    by the later ones."""
     _curvature_compact_kernels(frac.shape[1])(
         ell, base, code, frac, offsets, columns, place, stencils, record, places, add_mean, out
     )

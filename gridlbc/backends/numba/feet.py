@@ -12,11 +12,11 @@ from .options import jit_parallel, prange
 
 @jit_parallel
 def encode_compact_kernel(x, lo, spacing, shape, strides, periodic, walk, base, packed, frac):
-    """The compact form of the feet ``x`` ``(M, d)`` (wrapped and clamped) in one pass: the
-    cell and sorted fractional coordinates of :func:`gridlbc.interpolate.barycentric` (the same
-    arithmetic), written as base corners, packed shapes and quantised fractions into ``base``,
-    ``packed`` and ``frac`` exactly as :func:`compact_feet` encodes barycentric's output
-    (``walk``: :func:`walk_steps`)."""
+    """The compact form of the feet ``x`` ``(M, d)`` (wrapped and clamped) in one pass: the cell and
+    sorted fractional coordinates of :func:`gridlbc.interpolate.barycentric` (the same arithmetic),
+    written as base corners, packed shapes and quantised fractions into ``base``, ``packed`` and
+    ``frac`` exactly as :func:`gridlbc.schemes.splitting.feet.compact_feet` encodes barycentric's
+    output (``walk``: :func:`gridlbc.schemes.splitting.feet.walk_steps`)."""
     n_points, d = x.shape
     n_blocks = min(n_points, 256)
     for b in prange(n_blocks):

@@ -1,20 +1,20 @@
 """The curvature term of the fitted drift.
 
-Averaging log φ linearly over the simplex misses its curvature: for quadratic
-ℓ = log φ with index-unit Hessian H, Σ_j w_j ℓ(y_j) = ℓ(X) + ½ Σ_ab M_ab H_ab with the
-simplex's second moments M_ab = Σ_j w_j (y_j − X)_a (y_j − X)_b, which on the Kuhn simplex are
-min(f_a, f_b) − f_a f_b for the foot's fractional coordinates f in its cell. Where v is convex
-that bias overestimates v by about h² v''/8 per step, accumulating over the steps (pessimism
-of order h²/Δt). The fitted drift therefore uses
+Averaging log φ linearly over the simplex misses its curvature: for quadratic ℓ = log φ with
+index-unit Hessian H, Σ_j w_j ℓ(y_j) = ℓ(X) + ½ Σ_ab M_ab H_ab with the simplex's second moments
+M_ab = Σ_j w_j (y_j − X)_a (y_j − X)_b, which on the Kuhn simplex are min(f_a, f_b) − f_a f_b for
+the foot's fractional coordinates f in its cell. Where v is convex that bias overestimates v by
+about h² v''/8 per step, accumulating over the steps (pessimism of order h²/Δt). The fitted drift
+therefore uses
 
     log φ̄(X) = Σ_j w_j ℓ(y_j) − ½ Σ_ab M_ab H_ab,
 
 H the central second differences of ℓ at the simplex's vertex of largest weight, and the result
 limited to [min_j ℓ(y_j), max_j ℓ(y_j)] over the vertices of positive weight (a face's range when
-the foot lies on it, so that mirror images stay mirror images) so that it creates no new extrema (stable where ℓ is
-kinked; at a smooth maximum inside a cell it costs the bias back there). φ̄ is still a positive
-function of φ alone, so for a fixed reference the step stays linear and non-negative in z, and
-exact where z ∝ φ; φ̄ is now also exact for quadratic log φ.
+the foot lies on it, so that mirror images stay mirror images) so that it creates no new extrema
+(stable where ℓ is kinked; at a smooth maximum inside a cell it costs the bias back there). φ̄ is
+still a positive function of φ alone, so for a fixed reference the step stays linear and
+non-negative in z, and exact where z ∝ φ; φ̄ is now also exact for quadratic log φ.
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ from .feet import Feet, walk_axes
 
 
 def hessian_pairs(ndim: int) -> np.ndarray:
-    """``pairs[a, b]``: the column of the index-unit Hessian component ∂_a∂_b in
-    :func:`gridlbc.backends.numba.curvature.hessian_at` (symmetric; d(d+1)/2 columns)."""
+    """``pairs[a, b]``: the column of the index-unit Hessian component ∂_a∂_b in the curvature
+    kernels' scratch (:mod:`gridlbc.backends.numba.curvature`; symmetric, d(d+1)/2 columns)."""
     pairs = np.empty((ndim, ndim), dtype=np.int64)
     m = 0
     for a in range(ndim):
@@ -39,7 +39,8 @@ def hessian_pairs(ndim: int) -> np.ndarray:
 
 
 def stencils(grid: Grid) -> tuple[np.ndarray, np.ndarray]:
-    """Where :func:`gridlbc.backends.numba.curvature.hessian_at` centres its stencil at each node, as (``place``, ``stencils``):
+    """Where the curvature kernels (:mod:`gridlbc.backends.numba.curvature`) centre the Hessian's
+    stencil at each node, as (``place``, ``stencils``):
     ``place`` (N,) numbers the node's position along each axis (0 inside, 1 at the first node,
     2 at the last) as the base-3 digits Σ_a 3^a position_a, and row ``place`` of ``stencils``
     ``(3^d, 1 + 2d)`` holds the stencil's centre offset from the node, then the offsets of its
