@@ -27,8 +27,8 @@ class SolverSettings:
         (``max |a_k| Δt / h_k``) of ``courant`` for the splitting scheme, and 1 for the implicit
         one, with at least ``min_steps`` steps; with a state cost, the splitting's default is
         also short enough that one step's noise crosses at most half the distance over which
-        the cost rises (:func:`gridlbc.schemes.splitting.checks.cost_sampling_step`; a longer given ``dt`` is
-        warned about).
+        the cost rises (:func:`gridlbc.schemes.splitting.cost_sampling_step`; a longer given
+        ``dt`` is warned about).
     courant : float, optional
         Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
         error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
