@@ -72,7 +72,7 @@ def march_linear(
     )
 
 
-def store_reference(phi: np.ndarray, log_scale: float, log_phi, slot: int):
+def store_reference(phi: np.ndarray, log_scale: float | np.floating, log_phi, slot: int):
     """Slot ``slot`` of ``log_phi`` (a :class:`~gridlbc.solution.FittingReference`): log φ
     relative to its maximum (floored where φ underflowed) and its log-scale, for
     φ = ``phi`` · e^{log_scale}."""

@@ -154,7 +154,7 @@ class Marched:
     slices: np.ndarray
     scales: np.ndarray
     interpolation: str
-    operator: StepOperator
+    operator: Any  # the StepOperator, with whatever else its scheme's check reads
     setup_time: float
     underflow_nodes: tuple[int, ...]
     flushed: int = 0

@@ -55,6 +55,7 @@ def march_fitted(
         terminal.count,
     )
     kept = plan.kept
+    assert reference is not None  # march() takes the plain loop without one
     slices, scales, blocks, flushed = open_slices(plan, terminal)
     progress = plan.progress_bar("splitting")
     log_phi = FittingReference(

@@ -10,6 +10,8 @@ of half a step, between the drift and the first half diffusion.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 
 from ...backends.numba.diffusion import cost_max_kernel
@@ -132,7 +134,9 @@ class SplittingStep:
         if self.log_mid_cost.size:
             out[0] += self.log_mid_cost
 
-    def log_diffusion(self, ell: np.ndarray, spares: tuple, full: bool = False) -> np.ndarray:
+    def log_diffusion(
+        self, ell: np.ndarray, spares: Sequence[np.ndarray], full: bool = False
+    ) -> np.ndarray:
         """log D z for ℓ = log z (``(1, N)``, not written): the diffusion fitted to z itself,
         log ∫ G_σ e^ℓ̄ along each noise axis in turn, over half a step (σ² = 2 D_k Δt/2) or,
         with ``full``, a whole one (σ² = 2 D_k Δt: two half steps in one pass, the Gaussian's
