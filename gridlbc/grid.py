@@ -192,11 +192,31 @@ class Grid:
         """View flat nodal values ``(..., size)`` as ``(..., *shape)``."""
         return values.reshape(values.shape[:-1] + self.shape)
 
+    def node_values(self, function) -> np.ndarray:
+        """``function(x)`` at every node, ``(size,)``, evaluated on :func:`flat_chunks` of nodes
+        (the full ``(size, d)`` node array is never built)."""
+        out = np.empty(self.size)
+        for flat in flat_chunks(self.size):
+            out[flat[0] : flat[-1] + 1] = function(self.node_coordinates(flat))
+        return out
+
     def describe(self) -> str:
         """Short text such as ``'256×257 (periodic, -)'``."""
         dims = "×".join(str(n) for n in self.shape)
         kinds = ", ".join("periodic" if a.periodic else "-" for a in self.axes)
         return f"{dims} ({kinds})"
+
+
+NODE_CHUNK = 1 << 14
+"""Nodes per call of a system's or cost's function in chunked evaluations: small enough that the
+allocator reuses the chunk's temporaries (first writes to fresh memory are slow)."""
+
+
+def flat_chunks(stop: int, start: int = 0):
+    """Consecutive ranges of the flat node indices start … stop − 1, :data:`NODE_CHUNK` at a
+    time."""
+    for first in range(start, stop, NODE_CHUNK):
+        yield np.arange(first, min(first + NODE_CHUNK, stop))
 
 
 def check_states(x, ndim: int, name: str = "x", where: str = "this state space") -> np.ndarray:

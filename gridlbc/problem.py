@@ -265,6 +265,10 @@ class Problem:
         B = self._input_matrix(x)
         return self.temperature * np.einsum("nim,mk,njk->nij", B, self.R_inv, B)
 
+    def input_matrix(self, x) -> np.ndarray:
+        """B(x) at states ``x``, ``(N, d, m)`` as float, its shape checked."""
+        return self._input_matrix(x)
+
     def _input_matrix(self, x) -> np.ndarray:
         """B(x) ``(N, d, m)`` as float, its shape checked."""
         x = self.check_states(x)

@@ -13,12 +13,6 @@ import numpy as np
 
 from .schemes import LINEAR_SOLVERS, METHODS
 
-PLAIN_COURANT, PLAIN_MIN_STEPS = 6.0, 50
-"""Default Courant number and fewest steps of the plain splitting scheme."""
-FITTED_COURANT, FITTED_MIN_STEPS = 7.0, 10
-"""The same for the fitted one, against the root-mean-square Courant rate over the nodes rather
-than the largest (see :func:`gridlbc.solver.time_grid`)."""
-
 
 @dataclass(frozen=True)
 class SolverSettings:
@@ -33,14 +27,14 @@ class SolverSettings:
         (``max |a_k| Δt / h_k``) of ``courant`` for the splitting scheme, and 1 for the implicit
         one, with at least ``min_steps`` steps; with a state cost, the splitting's default is
         also short enough that one step's noise crosses at most half the distance over which
-        the cost rises (:func:`gridlbc.solver.cost_sampling_step`; a longer given ``dt`` is
-        warned about).
+        the cost rises (:func:`gridlbc.schemes.splitting.cost_sampling_step`; a longer given
+        ``dt`` is warned about).
     courant : float, optional
         Target Courant number for the default dt of the splitting scheme. The semi-Lagrangian
         error is O(Δt) from the splitting plus O(h²/Δt) from interpolating at every step, so
         small steps *add* numerical diffusion (plain) or pessimism (fitted). Default 6 for the
         plain drift, of the largest rate ``max_x max_k |a_k(x)| / h_k``; and 7 when it is fitted, of
-        that rate's root mean square over the nodes (:func:`gridlbc.solver.time_grid`;
+        that rate's root mean square over the nodes (:mod:`gridlbc.schemes.splitting.scheme`;
         ``benchmarks/accuracy.py`` and ``benchmarks/gymnast.py`` measure both against the
         certified optimum).
     min_steps : int, optional
@@ -88,6 +82,17 @@ class SolverSettings:
     mmap_dir: str | None = None
     linear_solver: str = "auto"
     fitting: object = "auto"
+
+    @property
+    def scheme(self):
+        """The :class:`gridlbc.schemes.Scheme` named by ``method``."""
+        return METHODS[self.method]
+
+    def reference_rows(self, n_rhs: int) -> int:
+        """Rows solved besides ``n_rhs`` terminal costs: one for a fitting reference that is not
+        one of them (:func:`is_own_reference`), else none."""
+        fitted = self.reference is not None
+        return 1 if fitted and not is_own_reference(self.reference, n_rhs) else 0
 
     @property
     def reference(self):

@@ -9,13 +9,24 @@ import mmap
 import os
 import shutil
 import tempfile
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ._numba import jit_parallel, prange
+from .backends.numba.storage import store_kernel
 from .problem import Problem
-from .schemes import METHODS
-from .settings import SolverSettings, is_own_reference
+
+if TYPE_CHECKING:
+    from .settings import SolverSettings
+
+
+__all__ = [
+    "available_memory",
+    "check_memory",
+    "memory_estimate",
+    "slice_storage",
+    "store_kernel",  # the backend's kernel that writes a renormalised slice
+]
 
 
 def available_memory() -> int | None:
@@ -42,12 +53,12 @@ def memory_estimate(
     live on disk when ``mmap_dir`` is set)."""
     grid = problem.grid
     fitted = settings.reference is not None
-    rows = n_rhs + (1 if fitted and not is_own_reference(settings.reference, n_rhs) else 0)
+    rows = n_rhs + settings.reference_rows(n_rhs)
     stored = n_slices * rows * grid.size * np.dtype(settings.dtype).itemsize  # + log φ, fitted
     # + log φ, the curvature term and (at most two bytes per node) its stencils' places, fitted
     curved = 2.25 if fitted else 0
     working = int((3 * rows + grid.ndim + curved) * grid.size * 8)
-    operator = METHODS[settings.method].estimate_bytes(grid)
+    operator = settings.scheme.estimate_bytes(grid)
     ram = working + operator + (0 if settings.mmap_dir else stored)
     return {"stored": stored, "working": working, "operator": operator, "ram": ram}
 
@@ -74,37 +85,12 @@ def check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):
             )
 
 
-@jit_parallel
-def store_kernel(Z, scale, out, flushed):
-    """out[r, :] = Z[r, :] · scale[r] in out's dtype; returns how many nonzero values it flushed
-    to zero (float32 storage of values below ~1e-45 of the slice maximum), counted per work
-    block in ``flushed``. The rows are read as flat arrays over unsigned ranges, which the
-    compiler vectorises."""
-    n_rhs, n_nodes = Z.shape
-    n_blocks = flushed.shape[0]
-    for b in prange(n_blocks):
-        count = 0
-        first = np.uint64(b * n_nodes // n_blocks)
-        last = np.uint64((b + 1) * n_nodes // n_blocks)
-        for r in range(n_rhs):
-            source = Z[r]
-            target = out[r]
-            factor = scale[r]
-            for p in range(first, last):
-                value = source[p] * factor
-                target[p] = value
-                count += (value > 0.0) & (target[p] == 0.0)
-        flushed[b] = count
-    return flushed.sum()
-
-
 def slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None) -> np.ndarray:
     """Uninitialised slice arrays: in RAM, or in an unlinked file in ``mmap_dir``.
 
     In RAM they get an anonymous memory map of their own, paged as the kernel does by default:
     numpy advises transparent huge pages for large arrays, and where the kernel then compacts
-    memory to back them, the first write of every slice is several times slower (README,
-    "Accuracy and performance")."""
+    memory to back them, the first write of every slice is several times slower."""
     if mmap_dir is None:
         nbytes = math.prod(shape) * np.dtype(dtype).itemsize
         if nbytes == 0:

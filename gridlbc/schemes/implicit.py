@@ -15,6 +15,10 @@ an M-matrix: z ≥ 0 and the discrete maximum principle hold for any Δt. The pr
 numerical diffusion |a_k| h_k / 2 along each axis, which swamps the physical noise where the drift
 is fast. The matrix is assembled once from COO arrays; each step's system is solved as chosen by
 :data:`LINEAR_SOLVERS` (sparse LU for small 2D grids, Gauss–Seidel sweeps otherwise).
+
+As a :class:`~gridlbc.schemes.protocol.Scheme` (:data:`IMPLICIT`): a default step of Courant
+number 1 against the drift's largest rate, the plain loop of :mod:`gridlbc.schemes.march`, and
+the check of the diffusion's tails (:func:`gridlbc.schemes.tails.check_resolution`).
 """
 
 from __future__ import annotations
@@ -23,16 +27,26 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .._numba import jit
+from .. import boundary
+from ..backends.numba.implicit import gauss_seidel_kernel
+from ..boundary import Boundary
 from ..problem import Problem
+from .march import march_linear
+from .protocol import Marched, MarchPlan, SchemeBase, StepRule, Terminal
+from .tails import check_resolution
 
 DIRECT_LIMIT = 400_000
 """Grids with more nodes than this (or more than two dimensions) use the iterative solver."""
 
 
 def generator_matrix(problem: Problem) -> sp.csr_matrix:
-    """The upwind generator L (N×N, CSR): off-diagonal rates ≥ 0, rows summing to zero."""
+    """The upwind generator L (N×N, CSR): off-diagonal rates ≥ 0, rows summing to zero; a jump
+    out of the box along a closed axis is dropped (``Boundary.REFLECTING``,
+    :mod:`gridlbc.boundary`)."""
     grid = problem.grid
+    boundaries = boundary.require(
+        grid, (Boundary.PERIODIC, Boundary.REFLECTING), "the implicit scheme"
+    )
     x = grid.nodes()
     drift = np.asarray(problem.system.drift(x), dtype=float)
     diffusion = 0.5 * problem.noise_diagonal(x)
@@ -46,10 +60,10 @@ def generator_matrix(problem: Problem) -> sp.csr_matrix:
         for sign in (1, -1):
             rate = np.maximum(sign * drift[:, k], 0.0) / h + diffusion[:, k] / h**2
             target_i = i + sign
-            if ax.periodic:
+            if boundaries[k] is Boundary.PERIODIC:
                 target = flat + s * (np.mod(target_i, ax.n) - i)
                 keep = rate > 0
-            else:
+            else:  # Boundary.REFLECTING: no jump out of the box
                 target = flat + sign * s
                 keep = (rate > 0) & (target_i >= 0) & (target_i < ax.n)
             rows.append(flat[keep])
@@ -76,29 +90,6 @@ LINEAR_SOLVERS = ("auto", "direct", "gauss-seidel", "bicgstab")
   plain-scipy baseline of ``benchmarks/scale.py``. Its iterates are not guaranteed non-negative.
 - ``"auto"``: direct for 2D grids up to :data:`DIRECT_LIMIT` nodes, Gauss–Seidel otherwise.
 """
-
-
-@jit
-def _gauss_seidel_kernel(indptr, indices, off, inv_diag, b, x, tol, max_sweeps):
-    """Symmetric Gauss–Seidel sweeps x_i ← (b_i + Σ_j N_ij x_j)/D_ii, alternately forward and
-    backward, in place, until the max-norm change of a sweep is ≤ tol · max x.
-    Returns the number of sweeps (negative if it did not converge)."""
-    n = b.shape[0]
-    for sweep in range(1, max_sweeps + 1):
-        change = 0.0
-        peak = 0.0
-        for step in range(n):
-            i = step if sweep % 2 == 1 else n - 1 - step
-            acc = b[i]
-            for k in range(indptr[i], indptr[i + 1]):
-                acc += off[k] * x[indices[k]]
-            value = acc * inv_diag[i]
-            change = max(change, abs(value - x[i]))
-            peak = max(peak, value)
-            x[i] = value
-        if change <= tol * peak:
-            return sweep
-    return -max_sweeps
 
 
 class ImplicitStep:
@@ -171,7 +162,7 @@ class ImplicitStep:
 
     def _gauss_seidel(self, b: np.ndarray, out: np.ndarray) -> float:
         out[...] = b  # warm start: z(t) ≈ z(t + Δt)
-        sweeps = _gauss_seidel_kernel(
+        sweeps = gauss_seidel_kernel(
             *self._off, self._inv_diag, b, out, self.tol, self.max_iterations
         )
         if sweeps < 0:
@@ -211,3 +202,38 @@ class ImplicitStep:
             self.iterations.append(count[0])
             out[r] = sol
         return out.max(axis=1)
+
+
+MIN_STEPS = 50
+"""Fewest steps of the implicit scheme's default time grid."""
+
+
+class ImplicitScheme(SchemeBase):
+    """Implicit upwind with backward Euler (this module), the reference scheme. Backward Euler
+    is stable and monotone at any step: no :class:`~gridlbc.schemes.protocol.StepBound`."""
+
+    name = "implicit"
+    supports_fitting = False
+    step = ImplicitStep
+
+    def step_rule(self, settings) -> StepRule:
+        """Courant number 1 against the largest rate (its first-order error grows with the
+        step), at least ``min_steps`` (default :data:`MIN_STEPS`) steps."""
+        return StepRule(1.0, "peak", settings.min_steps or MIN_STEPS)
+
+    def march(self, plan: MarchPlan, terminal: Terminal) -> Marched:
+        """The plain loop (:func:`~gridlbc.schemes.march.march_linear`); no fitting."""
+        if terminal.reference is not None or terminal.log:
+            raise ValueError("the implicit scheme has no fitted operator: solve with fitting=None")
+        step = ImplicitStep(plan.problem, plan.dt, linear_solver=plan.options["linear_solver"])
+        return march_linear(plan, terminal, step, self.name, plan.elapsed())
+
+    def check(self, solutions: list, marched: Marched) -> None:
+        """The tails of the backward-Euler diffusion over the whole step
+        (:func:`~gridlbc.schemes.tails.check_resolution`)."""
+        for solution in solutions:
+            check_resolution(solution.problem, solution, solution.diagnostics.dt)
+
+
+IMPLICIT = ImplicitScheme()
+"""The implicit scheme (``method="implicit"``)."""

@@ -9,8 +9,9 @@ from conftest import pendulum
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.backends.numba.fitted_cells import FIT_WINDOW
+from gridlbc.backends.numba.fitted_diffusion import diffuse_fitted_kernel
 from gridlbc.interpolate import barycentric
-from gridlbc.schemes import splitting
 from gridlbc.schemes.splitting import SplittingStep, characteristic_feet
 from gridlbc.studies.problems import (
     STEEP_DETERMINISTIC_OPTIMUM,
@@ -20,6 +21,7 @@ from gridlbc.studies.problems import (
     steep_swingup_problem,
     swingup_problem,
 )
+from gridlbc.testing import curvature_correction_numpy, diffuse_fitted_numpy
 
 
 def _pendulum(n=24):
@@ -140,7 +142,7 @@ def test_own_reference_row_and_explicit_reference_agree():
             own.log_desirability_nodes(j),
             explicit.log_desirability_nodes(j),
             rtol=1e-11,
-            atol=np.exp(-splitting._FIT_WINDOW),
+            atol=np.exp(-FIT_WINDOW),
         )
     for j in range(1, len(own.times) - 1):  # measured 0.004–0.40, largest near t = 0
         gap = np.abs(own.log_desirability_nodes(j) - explicit.log_desirability_nodes(j))
@@ -157,7 +159,7 @@ def test_own_reference_row_and_explicit_reference_agree():
             own.log_desirability_nodes(j),
             explicit.log_desirability_nodes(j),
             rtol=1e-11,
-            atol=np.exp(-splitting._FIT_WINDOW),
+            atol=np.exp(-FIT_WINDOW),
         )
 
 
@@ -215,14 +217,14 @@ def test_fitted_diffusion_never_raises_the_line_maximum():
     )
     n, h, variance = ell.size, 0.9, np.array([0.02])
     out = np.empty((1, n))
-    splitting._diffuse_fitted_kernel(ell[None], ell, ell.max(), variance, h, n, 1, False, True, out)
+    diffuse_fitted_kernel(ell[None], ell, ell.max(), variance, h, n, 1, False, True, out)
     assert out.max() <= ell.max() + 1e-12
     assert out[0, 8] == pytest.approx(0.0, abs=1e-12)  # the cap binds on the plateau
     rng = np.random.default_rng(3)
     y = np.vstack([np.ones(n), rng.random(n), np.zeros(n)])
     y[2] = y[0] + y[1]
     linear = np.empty((3, n))
-    splitting._diffuse_fitted_kernel(y, ell, ell.max(), variance, h, n, 1, False, False, linear)
+    diffuse_fitted_kernel(y, ell, ell.max(), variance, h, n, 1, False, False, linear)
     assert linear[0].max() <= np.exp(ell.max()) * (1 + 1e-12)
     np.testing.assert_allclose(np.log(linear[0]), out[0], rtol=0, atol=1e-9)
     np.testing.assert_allclose(linear[2], linear[0] + linear[1], rtol=1e-12)
@@ -239,10 +241,8 @@ def test_fitted_diffusion_kernel_matches_numpy_twin(periodic, variance, rng):
     ell -= ell.max()
     y = rng.random((2, n))
     out = np.empty((2, n))
-    splitting._diffuse_fitted_kernel(
-        y, ell, ell.max(), np.array([variance]), h, n, 1, periodic, False, out
-    )
-    twin = splitting.diffuse_fitted_numpy(y, ell, variance, h, periodic, points=512)
+    diffuse_fitted_kernel(y, ell, ell.max(), np.array([variance]), h, n, 1, periodic, False, out)
+    twin = diffuse_fitted_numpy(y, ell, variance, h, periodic, points=512)
     np.testing.assert_allclose(out, twin, rtol=1e-5)
 
 
@@ -292,12 +292,12 @@ def test_fitted_diffusion_is_exact_for_a_quadratic_log_reference(s):
     interior = np.abs(x - c) < 2.5
     for variance in (0.02, (h / 10) ** 2):
         out = np.empty((1, n))
-        splitting._diffuse_fitted_kernel(
+        diffuse_fitted_kernel(
             ell[None], ell, ell.max(), np.array([variance]), h, n, 1, False, True, out
         )
         exact = 0.5 * np.log(s / (s + variance)) - (x - c) ** 2 / (2 * (s + variance))
         np.testing.assert_allclose(
-            out[0, interior], exact[interior], rtol=0, atol=np.exp(-splitting._FIT_WINDOW)
+            out[0, interior], exact[interior], rtol=0, atol=np.exp(-FIT_WINDOW)
         )
 
 
@@ -306,7 +306,7 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     optimum tends to the deterministic 27.95 as λ → 0). Measured: fitted predicts 27.69
     (−0.9 %) and its policy costs 31.81 ± 0.23 (+13.8 %; 30.15 before the solver merged the
     half diffusions between steps, whose slices inside a merged step are O(Δt²) means of log z:
-    at 201² the two policies are within 0.4 %, README); the plain scheme predicts a few units
+    at 201² the two policies are within 0.4 %, docs/schemes.rst); the plain scheme predicts a few units
     and must raise a ResolutionWarning. Bounds: value within 5 %, policy within 16 % (2.5 SE
     above the measured cost; the plain policy costs +128 %)."""
     problem = steep_swingup_problem(64, temperature=0.01)
@@ -360,9 +360,7 @@ def test_curvature_correction_matches_numpy_twin(feet, hip, rng):
     step = SplittingStep(problem, 0.1, feet=feet)
     ell = -problem.terminal_values(problem.grid.nodes()) + rng.normal(0, 1, problem.grid.size)
     term = step.curvature_correction(ell)
-    twin = splitting.curvature_correction_numpy(
-        problem.grid, ell, characteristic_feet(problem, 0.1)
-    )
+    twin = curvature_correction_numpy(problem.grid, ell, characteristic_feet(problem, 0.1))
     d, span = problem.grid.ndim, np.ptp(ell)
     hessian = 4 * np.abs(ell).max()
     quantum = 1 / 131070 if feet == "compact" else 2.0**-24

@@ -61,3 +61,32 @@ def test_check_states_messages():
         grid.check_states([[0.1, np.nan]])
     with pytest.raises(TypeError):
         Grid([Axis(0, 1, 3), "axis"])
+
+
+def test_flat_chunks_cover_the_nodes_once_in_order():
+    from gridlbc.grid import NODE_CHUNK, flat_chunks
+
+    size = 2 * NODE_CHUNK + 5
+    chunks = list(flat_chunks(size, start=3))
+    assert [len(c) for c in chunks] == [NODE_CHUNK, NODE_CHUNK, 2]
+    np.testing.assert_array_equal(np.concatenate(chunks), np.arange(3, size))
+
+
+def test_node_values_equal_the_function_on_all_nodes():
+    grid = Grid([Axis(-1, 1, 130), Axis(0, 2, 131, periodic=True)])  # more than one chunk
+    assert grid.size > (1 << 14)
+
+    def f(x):
+        return np.sin(x[:, 0]) * x[:, 1]
+
+    np.testing.assert_array_equal(grid.node_values(f), f(grid.nodes()))
+
+
+def test_axis_boundaries_and_an_unsupported_boundary_is_refused():
+    from gridlbc.boundary import Boundary, axis_boundaries, require
+
+    grid = Grid([Axis(-np.pi, np.pi, 8, periodic=True), Axis(-1, 1, 5)])
+    assert axis_boundaries(grid) == (Boundary.PERIODIC, Boundary.REFLECTING)
+    assert require(grid, tuple(Boundary), "here") == axis_boundaries(grid)
+    with pytest.raises(NotImplementedError, match=r"the kernel .* reflecting boundary \(axis 1\)"):
+        require(grid, (Boundary.PERIODIC,), "the kernel")

@@ -1,4 +1,4 @@
-"""Kuhn-simplex barycentric interpolation (SPEC §4): exact for affine functions (to rounding)."""
+"""Kuhn-simplex barycentric interpolation (gridlbc.interpolate): exact for affine functions (to rounding)."""
 
 import numpy as np
 import pytest
@@ -6,7 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gridlbc import Axis, Grid
-from gridlbc.interpolate import barycentric, barycentric_numpy, interpolate, node_gradient
+from gridlbc.interpolate import barycentric, interpolate, node_gradient
+from gridlbc.testing import barycentric_numpy
 
 GRIDS = {
     1: Grid([Axis(-1.0, 2.0, 7)]),

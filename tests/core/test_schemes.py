@@ -304,23 +304,19 @@ def test_compact_feet_kernel_matches_barycentric(shape, periodic, rng):
     """The compiled encoding of the feet equals barycentric() followed by the numpy encoding, bit
     for bit (the same arithmetic), and the shape codes equal np.unique's, on every kind of axis;
     the 6-D grid takes the sorting branch of the shape codes."""
-    from gridlbc.schemes.splitting import (
-        _compact_feet,
-        _encode_compact_kernel,
-        _shape_codes,
-        _walk_steps,
-    )
+    from gridlbc.backends.numba.feet import encode_compact_kernel
+    from gridlbc.schemes.splitting.feet import compact_feet, shape_codes, walk_steps
 
     grid = Grid([Axis(-1.0, 2.0, n, periodic=p) for n, p in zip(shape, periodic, strict=True)])
     x = rng.uniform(-1.5, 2.5, (4000, grid.ndim))
     x[:50] = grid.node_coordinates(rng.integers(0, grid.size, 50))  # on nodes: ties in the sort
     x = grid.clamp(x)
-    base, packed, frac = _compact_feet(grid, *barycentric(grid, x))
+    base, packed, frac = compact_feet(grid, *barycentric(grid, x))
     out = (np.empty_like(base), np.empty_like(packed), np.empty_like(frac))
-    _encode_compact_kernel(x, *grid.kernel_arrays(), _walk_steps(grid), *out)
+    encode_compact_kernel(x, *grid.kernel_arrays(), walk_steps(grid), *out)
     for expected, got in zip((base, packed, frac), out, strict=True):
         np.testing.assert_array_equal(got, expected)
-    distinct, ids = _shape_codes(grid, packed)
+    distinct, ids = shape_codes(grid, packed)
     unique, inverse = np.unique(packed, return_inverse=True)
     np.testing.assert_array_equal(distinct, unique)
     np.testing.assert_array_equal(ids, inverse)
@@ -335,3 +331,34 @@ def test_a_drift_that_is_not_finite_is_named():
     problem = Problem(_Blowup(), Grid([Axis(-1.0, 1.0, 11)]), 1.0, Quadratic([0.0], [1.0]))
     with pytest.raises(ValueError, match=r"foot of node 8 .* _Blowup.drift returned a non-finite"):
         SplittingStep(problem, 0.1)
+
+
+def test_every_method_is_a_scheme_and_the_protocol_is_all_the_solver_calls(monkeypatch):
+    """Each entry of METHODS is a Scheme; a scheme registered under a new name, that only
+    delegates to the implicit one, solves identically, called in the protocol's order."""
+    from gridlbc.schemes import IMPLICIT, METHODS, Scheme
+
+    assert all(isinstance(scheme, Scheme) for scheme in METHODS.values())
+    calls = []
+
+    class Recording:
+        name, supports_fitting, step = "recording", False, ImplicitStep
+
+        def __getattr__(self, attribute):
+            def call(*args):
+                calls.append(attribute)
+                return getattr(IMPLICIT, attribute)(*args)
+
+            return call
+
+    monkeypatch.setitem(METHODS, "recording", Recording())
+    problem = Problem(
+        LinearSystem([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]]),
+        Grid([Axis(-2, 2, 21), Axis(-2, 2, 21)]),
+        0.5,
+        Quadratic([0.0, 0.0], [1.0, 1.0]),
+    )
+    recorded = gridlbc.solve(problem, method="recording")
+    protocol_order = ["step_bound", "step_rule", "estimate_bytes", "march", "check"]
+    assert calls == ["estimate_bytes", *protocol_order]
+    np.testing.assert_array_equal(recorded.slices, gridlbc.solve(problem, method="implicit").slices)

@@ -1,4 +1,4 @@
-"""The two schemes of SPEC §3: linear in the terminal data, positive, convergent, validated."""
+"""The two schemes of gridlbc.schemes (docs/schemes.rst): linear in the terminal data, positive, convergent, validated."""
 
 import itertools
 import warnings
@@ -236,7 +236,7 @@ def test_bad_solve_options_and_queries():
 def test_a_control_that_jumps_many_cells_per_step_is_warned():
     """Pendulum-v1 (R = 0.04) at λ = 0.2 on 101²: at the default step the optimal control moves ω
     by about 90 cells per step, and v(x₀) is 8 % below its value at a quarter of the step (the
-    splitting's Δt² error; README, limitations): the solve warns, naming ω and a shorter step.
+    splitting's Δt² error; gridlbc.schemes.splitting.checks): the solve warns, naming ω and a shorter step.
     At a quarter of the step (about 27 cells, below the threshold of 30; v within 1 % of the
     Δt/16 value) and on the mild pendulum (a few cells) it does not. The first assertion checks
     the premise: the value at the default step really is off."""
@@ -255,7 +255,7 @@ def test_a_control_that_jumps_many_cells_per_step_is_warned():
 
 def test_a_grid_that_does_not_resolve_log_z_is_warned():
     """The 21⁴ gymnast: its default fitted solve is 18 % above the certified optimum and moves by
-    tens of percent with Δt (README, limitations), and the second difference of log z along p₂
+    tens of percent with Δt (gridlbc.schemes.splitting.checks), and the second difference of log z along p₂
     changes by 0.86 of itself from node to node (median over the cells that matter; the
     threshold is 0.6): it warns, naming p₂. The 31⁴ grid (0.46; value within 9 % of v*) and
     the mild pendulum (about 0.001) do not."""
@@ -267,3 +267,36 @@ def test_a_grid_that_does_not_resolve_log_z_is_warned():
         warnings.simplefilter("error", gridlbc.ResolutionWarning)
         gridlbc.solve(gymnast_problem(31))
         gridlbc.solve(mild_pendulum_problem(64))
+
+
+def test_settings_or_a_preset_in_the_place_of_dt():
+    """solve(problem, settings) is solve(problem, settings=settings), as solve_many takes them
+    (issue 25 §6); anything else there is refused naming dt."""
+    problem = _pendulum_problem(n=17)
+    settings = gridlbc.SolverSettings(method="implicit", min_steps=8)
+    direct = gridlbc.solve(problem, settings=settings)
+    positional = gridlbc.solve(problem, settings)
+    np.testing.assert_array_equal(positional.slices, direct.slices)
+    assert positional.diagnostics.method == "implicit"
+    fast = gridlbc.solve(problem, "fast")
+    np.testing.assert_array_equal(fast.slices, gridlbc.solve(problem, settings="fast").slices)
+    with pytest.raises(ValueError, match="unknown settings preset 'fastest'"):
+        gridlbc.solve(problem, "fastest")
+    with pytest.raises(TypeError, match="settings twice"):
+        gridlbc.solve(problem, settings, settings="fast")
+    with pytest.raises(TypeError, match="dt must be a time step"):
+        gridlbc.solve(problem, [0.1])
+
+
+def test_a_state_cost_constant_along_a_noise_axis_warns_nothing():
+    """A state cost of the angle alone (the noise acts on ω only, along which q is constant):
+    the cost-sampling rule has no limit from the noise axis, and the solve emits no numpy
+    RuntimeWarning (issue 25 §6)."""
+    from gridlbc.schemes.splitting import cost_sampling_step
+
+    problem = _pendulum_problem(n=25, state_cost=Quadratic([0.0, 0.0], [1.0, 0.0]))
+    assert cost_sampling_step(problem) == (np.inf, "")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with np.errstate(all="warn", under="ignore"):
+            gridlbc.solve(problem)

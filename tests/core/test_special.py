@@ -1,9 +1,9 @@
-"""The tabulated erfcx of the fitted diffusion's cell integrals (gridlbc._special)."""
+"""The tabulated erfcx of the fitted diffusion's cell integrals (gridlbc.backends.numba.special)."""
 
 import numpy as np
 from scipy import special
 
-from gridlbc._special import erfcx
+from gridlbc.backends.numba.special import erfcx
 
 
 def test_tabulated_erfcx_matches_scipy():

@@ -2,9 +2,9 @@
 
 The fitted diffusion integrates a Gaussian against an exponential-quadratic on every cell, and
 each such integral is a difference of two erfcx values weighted by the integrand at the cell's
-ends (:func:`gridlbc.schemes.splitting._cell_mass`). The C library's erfc costs several times an
-exp, so here erfcx on [0, 26) is a table of degree-7 polynomials, one per interval of width 1/8,
-each the Chebyshev interpolant of :func:`scipy.special.erfcx` at 32 points of its interval
+ends (:func:`~gridlbc.backends.numba.fitted_cells.cell_mass`). The C library's erfc costs
+several times an exp, so here erfcx on [0, 26) is a table of degree-7 polynomials, one per
+interval of width 1/8, each the Chebyshev interpolant of :func:`scipy.special.erfcx` at 32 points of its interval
 (relative error below 1e-13, checked against scipy in the tests), evaluated by Estrin's scheme;
 beyond 26 it is the asymptotic series
 
@@ -20,7 +20,7 @@ import math
 import numpy as np
 from scipy import special
 
-from ._numba import jit_inline
+from .options import jit_inline
 
 _ERFCX_PER_UNIT = 8  # table intervals per unit of x
 _ERFCX_TOP = 26.0  # the asymptotic series from here on

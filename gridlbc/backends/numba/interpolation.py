@@ -1,0 +1,96 @@
+"""Barycentric interpolation's kernels (:mod:`gridlbc.interpolate`): the cell of one coordinate,
+the Kuhn simplex and weights of states, central differences at nodes."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .options import jit, jit_inline, jit_parallel, prange
+
+
+@jit
+def cell(x, lo, spacing, n, periodic):
+    """The cell ⌊(x − lo)/h⌋ of one coordinate and the fraction in it, (i, f): wrapped on a
+    periodic axis, clamped to the box (and to the last cell) on the others."""
+    s = (x - lo) / spacing
+    if periodic:
+        s = s - n * np.floor(s / n)
+        i = int(np.floor(s))
+        if i >= n:  # rounding can give s == n exactly
+            i -= n
+            s -= n
+        return i, s - i
+    if s < 0.0:
+        s = 0.0
+    elif s > n - 1:
+        s = n - 1.0
+    i = min(int(np.floor(s)), n - 2)
+    return i, s - i
+
+
+@jit_parallel
+def kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
+    n_points, d = x.shape
+    for p in prange(n_points):
+        frac = np.empty(d)
+        base = 0
+        for k in range(d):
+            i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
+            base += i * strides[k]
+        order = np.argsort(-frac, kind="mergesort")
+        # Walk from the base corner, one axis at a time in decreasing fractional order.
+        idx[p, 0] = base
+        weights[p, 0] = 1.0 - frac[order[0]]
+        node = base
+        for j in range(d):
+            k = order[j]
+            n = shape[k]
+            coord = (node // strides[k]) % n
+            if coord == n - 1:  # only reachable on a periodic axis
+                node -= (n - 1) * strides[k]
+            else:
+                node += strides[k]
+            idx[p, j + 1] = node
+            nxt = frac[order[j + 1]] if j + 1 < d else 0.0
+            weights[p, j + 1] = frac[k] - nxt
+
+
+@jit_inline
+def _ratio(z, log_divisor, r, node):
+    """z[r, node] / e^{log_divisor[r, node]} in float64, by way of logarithms (zero where z is)."""
+    value = np.float64(z[r, node])  # (numba's float() keeps a float32 in single precision)
+    return math.exp(math.log(value) - np.float64(log_divisor[r, node])) if value > 0.0 else 0.0
+
+
+@jit_parallel
+def central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out):
+    """∂y/∂x_axis at the given flat nodes for y = z (in z's precision), or y = z / e^{log_divisor}
+    when ``log_divisor`` has columns (:func:`_ratio`): central differences, one-sided at closed
+    ends."""
+    k = axis
+    n = shape[k]
+    s = strides[k]
+    h = spacing[k]
+    n_rows = z.shape[0]
+    for p in prange(nodes.shape[0]):
+        node = nodes[p]
+        i = (node // s) % n
+        if periodic:
+            up = node + s if i < n - 1 else node - (n - 1) * s
+            down = node - s if i > 0 else node + (n - 1) * s
+            scale = 0.5 / h
+        elif i == 0:
+            up, down, scale = node + s, node, 1.0 / h
+        elif i == n - 1:
+            up, down, scale = node, node - s, 1.0 / h
+        else:
+            up, down, scale = node + s, node - s, 0.5 / h
+        for r in range(n_rows):
+            if log_divisor.shape[1] == 0:
+                out[r, p] = (z[r, up] - z[r, down]) * scale
+            else:
+                out[r, p] = (
+                    _ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)
+                ) * scale
