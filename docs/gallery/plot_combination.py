@@ -1,11 +1,13 @@
-"""
+r"""
 Linear Bellman combination: two goals, no new solve
 ===================================================
 
-Solutions z₁, z₂ of the same linear PDE for terminal costs g₁, g₂ superpose: z = w₁z₁ + w₂z₂ is
-the exact solution for the terminal cost g = −λ log(w₁e^{−g₁/λ} + w₂e^{−g₂/λ}), and its policy is
-the state-dependent blend u = α₁u₁ + α₂u₂ with α_i = w_i z_i / Σ_j w_j z_j. Here a point mass
-has two acceptable parking spots, x = ±1 (coordination, w = 1).
+Solutions :math:`z_1, z_2` of the same linear PDE for terminal costs :math:`g_1, g_2` superpose:
+:math:`z = w_1 z_1 + w_2 z_2` is the exact solution for the terminal cost
+:math:`g = -\lambda \log(w_1 e^{-g_1/\lambda} + w_2 e^{-g_2/\lambda})`, and its policy is the
+state-dependent blend :math:`u = \alpha_1 u_1 + \alpha_2 u_2` with
+:math:`\alpha_i = w_i z_i / \sum_j w_j z_j`. Here a point mass has two acceptable parking spots,
+x = ±1 (coordination, w = 1).
 
 On the grid the superposition is exact when the components were stepped by *one* operator. The
 default scheme fits its operator to a reference desirability, so solve the components together
@@ -31,7 +33,7 @@ lam = problem.temperature
 
 
 def either(x):
-    """The composite terminal cost of w = (1, 1): −λ log(e^{−g₁/λ} + e^{−g₂/λ})."""
+    """The composite terminal cost of w = (1, 1): −λ log(exp(−g₁/λ) + exp(−g₂/λ))."""
     return -lam * np.logaddexp(-goals[0](x) / lam, -goals[1](x) / lam)
 
 
