@@ -1,5 +1,12 @@
-"""Sphinx configuration: python -m sphinx -W -b html docs docs/_build/html (nothing fetched)."""
+"""Sphinx configuration: python -m sphinx -W -b html docs docs/_build/html (nothing fetched).
 
+Formulas are typeset by MathJax 3 in the reader's browser from a copy inside the built site, so
+a page opened offline shows them rendered: the copy comes from the PyPI package
+``sphinx-mathjax-offline`` (in the docs and test extras), whose files are added to the site's
+``_static`` folder below, and the SVG output is chosen because it needs no web fonts.
+"""
+
+import importlib.util
 import os
 import sys
 from pathlib import Path
@@ -54,7 +61,28 @@ html_title = "gridlbc"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
-    "header_links_before_dropdown": 8,
+    "header_links_before_dropdown": 6,
 }
-html_static_path = []
+
+
+def _bundled_mathjax() -> str:
+    """The folder holding ``mathjax/`` in the sphinx-mathjax-offline package (MathJax 3.2)."""
+    spec = importlib.util.find_spec("sphinx-mathjax-offline")
+    if spec is None or spec.origin is None:
+        raise RuntimeError(
+            'the docs need a local MathJax: pip install ".[docs]" (sphinx-mathjax-offline)'
+        )
+    static = Path(spec.origin).parent / "static"
+    if not (static / "mathjax" / "tex-svg.js").is_file():
+        raise RuntimeError(
+            f"no mathjax/tex-svg.js under {static}: reinstall sphinx-mathjax-offline"
+        )
+    return str(static)
+
+
+# Copied into _static/ at build time; mathjax_path is relative to _static/.
+html_static_path = [_bundled_mathjax()]
+mathjax_path = "mathjax/tex-svg.js"
 html_show_sourcelink = False
+# No left sidebar: the pages are few (all in the header), and wide formulas get the room.
+html_sidebars = {"**": []}

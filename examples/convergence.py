@@ -1,5 +1,9 @@
 """Convergence under grid refinement: the grid solver's value against the exact Riccati value on
-a linear-quadratic point mass, as the spacing h halves.
+a linear-quadratic point mass, as the spacing h halves (default fitted splitting, Courant 2).
+
+On this problem log z is quadratic, which the fitted scheme reproduces, so its error is the time
+splitting's, and the step halves with h: expect the error to fall about fourfold per halving.
+The plain operator (``fitting=None``) converges at first order.
 
     python examples/convergence.py [--out figures] [--quick]
 """
@@ -40,8 +44,9 @@ orders = np.log2(np.array(errors[:-1]) / np.array(errors[1:]))
 print("observed orders:", np.round(orders, 2).tolist())
 
 fig, ax = plt.subplots(figsize=(5, 4), constrained_layout=True)
-ax.loglog(spacings, errors, "o-", label="splitting scheme")
+ax.loglog(spacings, errors, "o-", label="fitted splitting (the default)")
 ax.loglog(spacings, errors[0] * (np.array(spacings) / spacings[0]), "k:", label="order 1")
+ax.loglog(spacings, errors[0] * (np.array(spacings) / spacings[0]) ** 2, "k--", label="order 2")
 ax.set(
     xlabel="grid spacing h",
     ylabel="max |v − v_Riccati| at t = 0",

@@ -25,7 +25,8 @@ args = parser.parse_args()
 problem = swingup_problem(61 if args.quick else 201)
 solution = gridlbc.solve(problem)
 
-# Any state, any time: value, desirability and policy by barycentric interpolation of z.
+# Any state, any time: value, desirability and policy by barycentric interpolation of the stored
+# slices (of log z for this default solve, fitted to its own terminal cost).
 theta, omega = np.meshgrid(np.linspace(-np.pi, np.pi, 241), np.linspace(-10, 10, 161))
 states = np.column_stack([theta.ravel(), omega.ravel()])
 fields = {

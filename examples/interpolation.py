@@ -24,7 +24,7 @@ expect:
 
     python examples/interpolation.py [--out figures] [--quick] [--n 151 --samples 32000]
 
-(``--n 151 --samples 32000`` prints the README's table, the figure's numbers.)
+(``--n 151 --samples 32000`` prints the table of docs/studies.rst, the figure's numbers.)
 """
 
 import argparse

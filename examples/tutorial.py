@@ -1,4 +1,4 @@
-"""The README tutorial: solve a pendulum swing-up, certify it, combine two goals.
+"""The tutorial (docs/tutorial.rst): solve a pendulum swing-up, certify it, combine two goals.
 
 python examples/tutorial.py            # 201² grid, about half a minute
 python examples/tutorial.py --quick    # 61² grid, a few seconds

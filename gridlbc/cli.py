@@ -466,7 +466,7 @@ def _add_problem_arguments(parser):
         help="splitting only: fit the scheme to the terminal cost ('auto', the "
         "default, = 'terminal': far less numerical diffusion where v is steep) "
         "or not ('none': the plain operator, independent of the terminal cost, "
-        "so separately solved files combine exactly); see README",
+        "so separately solved files combine exactly); see docs/schemes.rst",
     )
 
 

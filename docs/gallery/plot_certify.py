@@ -24,14 +24,20 @@ for n in (48, 96):
     grid = Grid([Axis(-np.pi, np.pi, n, periodic=True), Axis(-10, 10, n + 1)])
     problem = Problem(Pendulum(), grid, horizon=3.0, terminal_cost=Quadratic([0, 0], [10, 0.5]))
     for fitting in (None, "terminal"):
-        solution = gridlbc.solve(problem, fitting=fitting)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", gridlbc.ResolutionWarning)
+            solution = gridlbc.solve(problem, fitting=fitting)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", gridlbc.CertificateWarning)  # shown below instead
+            # The swing-up needs a fine SDE step: the certificate is exact up to the
+            # Euler–Maruyama chain's O(Δt) bias, a few percent here at Δt = 0.01.
             certificate = gridlbc.certify(
-                problem, solution.policy, x0, n_samples=300, seed=0, progress=False
+                problem, solution.policy, x0, n_samples=300, dt=0.002, seed=0, progress=False
             )
         rows.append((n, fitting or "plain", solution.value(x0, 0.0)[0], certificate))
         print(f"{n}², {fitting or 'plain'}: predicted v(x0, 0) = {rows[-1][2]:.2f}")
+        for w in caught:  # the plain operator says when it cannot resolve the problem
+            print("    the solver warned:", str(w.message).split(":")[0])
         print("   ", certificate.summary().splitlines()[0])
 
 # %%
@@ -41,7 +47,10 @@ for n in (48, 96):
 #
 # The predictions against the certified optimum (± 2 SE) and the policies' own costs. Where the
 # prediction sits inside the certified band, the claim holds at this sample size; a policy cost
-# above the band is the policy's suboptimality, J(u) − v* = λ KL(P_u ‖ P*).
+# above the band is the policy's suboptimality, J(u) − v* = λ KL(P_u ‖ P*). Here the plain
+# predictions sit far below the band (optimistic, as the solver warned) and their policies cost
+# several units more than the optimum; the fitted predictions are within about 2 % of v*, and
+# their policies' gaps are within two standard errors of zero.
 fig, ax = plt.subplots(figsize=(6.5, 3.8), constrained_layout=True)
 for k, (_n, _kind, predicted, c) in enumerate(rows):
     if not c.trusted:

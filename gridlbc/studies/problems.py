@@ -297,7 +297,7 @@ def obstacle_trajectories(
     toward c̄. Saturated (the library's default on a problem that is not linear-quadratic),
     that control is mostly the other tape's velocity, pointing towards its goal from the other
     side, and it slows LBC's descent instead: LBC then stops where a single component stops
-    (README, Interpolation, which measures both). A component alone stays near its tape, where
+    (docs/studies.rst, Interpolation, which measures both). A component alone stays near its tape, where
     the two trackers agree.
     """
     wall = problem.state_cost

@@ -541,8 +541,8 @@ def run_verification(
 
     ``grid_size`` is the swing-up grid (θ nodes; ω gets one more; the interpolation check uses
     half of it), ``samples`` the Monte-Carlo samples of the swing-up (the other checks scale from
-    it), ``swingup_dt`` the solver step on the pendulum (0.02 by default, the setting of the README's
-    measurement); the swing-up is also run at the solver's default step. The superposition,
+    it), ``swingup_dt`` the solver step on the pendulum (0.02 by default, a setting of the swing-up
+    table in docs/benchmarks.rst); the swing-up is also run at the solver's default step. The superposition,
     PointMass and coordination checks run at fixed small sizes, or smaller with ``quick`` (a smoke
     test: the statistical and 10% bounds are then not expected to hold).
     """

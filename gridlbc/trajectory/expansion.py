@@ -9,8 +9,8 @@ cost-to-go and the gain K_k. Two passes play different parts:
   the discrete cost-to-go of the tape's neighbouring optima, so v̂, and with it the blend weight
   α, ranks the components by what they really cost off their tapes. ``curvature="gauss-newton"``
   drops those terms (the iLQR model, P_k ⪰ 0 by construction); on a swing-up it misses much of
-  the curvature that gravity adds, so v̂ is optimistic off the trajectory (README, trajectory
-  section). Where the exact P_k is not positive semi-definite (the neighbouring optima's cost is
+  the curvature that gravity adds, so v̂ is optimistic off the trajectory (docs/trajectory.rst,
+  accuracy of v̂). Where the exact P_k is not positive semi-definite (the neighbouring optima's cost is
   not convex in some direction), the value uses its projection P_k⁺ onto the positive
   semi-definite cone (negative eigenvalues set to zero), so that no component's desirability
   grows without bound away from its trajectory.
@@ -21,7 +21,7 @@ cost-to-go and the gain K_k. Two passes play different parts:
   takes the exact full DDP gain, the first-order change of the neighbouring optima's controls:
   where their cost is concave (P_k indefinite) its model rewards deviations along those
   directions, which holds for small deviations but not for the large ones that noise causes
-  (README, Fig. 7). ``feedback="gauss-newton"`` is the iLQR gain, the LQR gain of the tape's
+  (docs/trajectory.rst, the gymnast's Fig. 7). ``feedback="gauss-newton"`` is the iLQR gain, the LQR gain of the tape's
   linearisation without the dynamics' curvature. For linear dynamics the three coincide.
 
 The component is
@@ -38,7 +38,7 @@ Riccati equation
 
 with the exact P (the expected cost of the noise to second order; clipping P's negative
 eigenvalues would overstate it), which makes v̂ exact for linear-quadratic problems (the
-README's LQ reference); the paper uses the deterministic v̄ (``stochastic=False``). Between
+Riccati solution of docs/maths.rst, "Exact references"); the paper uses the deterministic v̄ (``stochastic=False``). Between
 nodes v̄, c, p, P and x̄ are linear in time, ū and K are held on each interval, as the optimiser
 held the controls.
 

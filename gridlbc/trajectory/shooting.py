@@ -1,6 +1,6 @@
 """Multi-start single shooting: the global search behind :func:`gridlbc.trajectory.optimize`.
 
-The deterministic limit (λ → 0) of the problem of the README is
+The deterministic limit (λ → 0) of the control problem of docs/maths.rst is
 
     ẋ = a(x) + B(x) u,      J = g(x_T) + ∫₀ᵀ ( q(x, t) + ½ uᵀ R u ) dt.
 

@@ -1,4 +1,5 @@
-"""Kuhn-simplex barycentric interpolation (gridlbc.interpolate): exact for affine functions (to rounding)."""
+"""Kuhn-simplex barycentric interpolation (gridlbc.interpolate; docs/schemes.rst,
+"Interpolation"): exact for affine functions (to rounding)."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,5 @@
-"""project / projection: the Gram system of SPEC §2, analytic and by quadrature."""
+"""project / projection (gridlbc.project): the Gram system of docs/maths.rst (paper §4.1),
+analytic and by quadrature."""
 
 import warnings
 

@@ -1,4 +1,5 @@
-"""The two schemes of gridlbc.schemes (docs/schemes.rst): linear in the terminal data, positive, convergent, validated."""
+"""The two schemes of docs/schemes.rst (gridlbc.solver, gridlbc.schemes): linear in the terminal
+data, positive, convergent, validated."""
 
 import itertools
 import warnings
@@ -236,7 +237,7 @@ def test_bad_solve_options_and_queries():
 def test_a_control_that_jumps_many_cells_per_step_is_warned():
     """Pendulum-v1 (R = 0.04) at λ = 0.2 on 101²: at the default step the optimal control moves ω
     by about 90 cells per step, and v(x₀) is 8 % below its value at a quarter of the step (the
-    splitting's Δt² error; gridlbc.schemes.splitting.checks): the solve warns, naming ω and a shorter step.
+    splitting's Δt² error; docs/limitations.rst): the solve warns, naming ω and a shorter step.
     At a quarter of the step (about 27 cells, below the threshold of 30; v within 1 % of the
     Δt/16 value) and on the mild pendulum (a few cells) it does not. The first assertion checks
     the premise: the value at the default step really is off."""
@@ -255,7 +256,7 @@ def test_a_control_that_jumps_many_cells_per_step_is_warned():
 
 def test_a_grid_that_does_not_resolve_log_z_is_warned():
     """The 21⁴ gymnast: its default fitted solve is 18 % above the certified optimum and moves by
-    tens of percent with Δt (gridlbc.schemes.splitting.checks), and the second difference of log z along p₂
+    tens of percent with Δt (docs/limitations.rst), and the second difference of log z along p₂
     changes by 0.86 of itself from node to node (median over the cells that matter; the
     threshold is 0.6): it warns, naming p₂. The 31⁴ grid (0.46; value within 9 % of v*) and
     the mild pendulum (about 0.001) do not."""

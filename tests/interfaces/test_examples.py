@@ -1,4 +1,5 @@
-"""Every script in examples/ runs (small sizes) so the README never lies."""
+"""Every script in examples/ runs (small sizes), so the tutorial and the docs that name them
+never point at a broken script."""
 
 import importlib.util
 import subprocess

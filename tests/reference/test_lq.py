@@ -1,4 +1,5 @@
-"""Grid solutions against the exact Riccati solution of SPEC §6."""
+"""Grid solutions against the exact Riccati solution (docs/maths.rst, "Exact references";
+gridlbc.reference.lq)."""
 
 import numpy as np
 import pytest
@@ -141,6 +142,7 @@ def test_single_integrator_converges_to_riccati(method):
 
 
 def test_reference_is_reachable_as_an_attribute():
-    """SPEC §7 call form: ``gridlbc.reference.lq_solution`` after a plain ``import gridlbc``."""
+    """The documented call form (docs/api.rst): ``gridlbc.reference.lq_solution`` after a plain
+    ``import gridlbc``."""
     assert gridlbc.reference.lq_solution is lq_solution
     assert callable(gridlbc.reference.solve_hjb)

@@ -164,8 +164,8 @@ def test_interpolation_claims():
     (final y signed towards that side, :func:`route_signed_final_y`: each component's exceeds
     LBC's by at least 8 paired SE; measured +0.029 and +0.028 ± 0.001, 22 and 21 SE; with
     saturated trackers, the library's default for a nonlinear problem, LBC stops where a
-    component stops, README). Most of LBC's rollouts end near c̄: the share within 0.25 is
-    above one half by more than 4 binomial SE. The exact LBC of grid components is the direct
+    component stops, docs/studies.rst). Most of LBC's rollouts end near c̄: the share within
+    0.25 is above one half by more than 4 binomial SE. The exact LBC of grid components is the direct
     solve of g_w to rounding."""
     problem = obstacle_problem(41)
     goals = [g.Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
