@@ -13,7 +13,7 @@ overhead spinning at κ · 2 rad/s). Study: :mod:`gridlbc.studies.diver`.
 
 Every controller is rolled out without noise (Δt = 5 ms) and, with ``--certify N``, certified on
 the noisy problem (N importance samples: its cost, the certified optimum v* and the effective
-sample size). Prints the tables of the README section "The diver".
+sample size). Prints the tables of docs/trajectory.rst, "The diver".
 
     python benchmarks/diver.py --certify 300 --figures figures      # ≈ 7 min on a loaded machine
 """
