@@ -6,17 +6,25 @@ and solutions for different terminal costs superpose into new optimal controller
 """
 
 from . import costs, reference, systems, trajectory
-from .certify import Certificate, CertificateWarning, certify
+from .certify import Certificate, certify
 from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
+from .errors import (
+    CertificateWarning,
+    GridlbcWarning,
+    ProjectionWarning,
+    ResolutionWarning,
+    TrajectoryWarning,
+    UnderflowWarning,
+)
 from .grid import Axis, Grid
 from .io import load, save
 from .problem import Problem
-from .project import Projection, ProjectionWarning, project, projection
+from .project import Projection, project, projection
 from .schemes import METHODS
 from .settings import PRESETS, SolverSettings
 from .simulate import Rollouts, simulate
-from .solution import ResolutionWarning, Solution, SolveDiagnostics, UnderflowWarning
+from .solution import Solution, SolveDiagnostics
 from .solver import solve, solve_many
 from .sweep import SweepMember, sweep  # imports Dask only when a sweep runs
 
@@ -31,6 +39,7 @@ __all__ = [
     "Combination",
     "CombinedSolution",
     "Grid",
+    "GridlbcWarning",
     "NaiveBlend",
     "Problem",
     "Projection",
@@ -42,6 +51,7 @@ __all__ = [
     "SolveDiagnostics",
     "SolverSettings",
     "SweepMember",
+    "TrajectoryWarning",
     "UnderflowWarning",
     "certify",
     "combine",

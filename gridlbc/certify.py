@@ -45,6 +45,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .errors import CertificateWarning
 from .problem import Problem
 from .progress import ProgressBar
 from .simulate import _check_problem_and_policy, _check_sample_count, _euler_maruyama, _step_count
@@ -69,10 +70,6 @@ _ESTIMATES = (
     "optimal_left_box_fraction",
 )
 """The per-start-state fields of :class:`Certificate`, in the order :func:`_estimates` returns."""
-
-
-class CertificateWarning(UserWarning):
-    """The certified optimum rests on too few effective samples to be trusted."""
 
 
 @dataclass(frozen=True, eq=False)

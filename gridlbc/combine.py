@@ -46,8 +46,9 @@ from typing import ClassVar
 
 import numpy as np
 
+from .errors import UnderflowWarning
 from .problem import Problem
-from .solution import FieldEvaluation, Solution, UnderflowWarning, warn_underflow
+from .solution import FieldEvaluation, Solution, warn_underflow
 
 
 def check_weights(weights, n: int) -> np.ndarray:

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .costs import Quadratic, evaluate_cost
+from .errors import ProjectionWarning
 from .grid import Grid
 
 PROJECTION_METHODS = ("auto", "analytic", "quadrature")
@@ -46,10 +47,6 @@ representation of the target. Two Gaussians one width either side of a third lea
 
 CONDITION_LIMIT = 1e10
 """A normalised Gram condition number above this makes the weights unreliable."""
-
-
-class ProjectionWarning(UserWarning):
-    """The component costs represent the target poorly (paper Fig. 4)."""
 
 
 @dataclass(frozen=True)

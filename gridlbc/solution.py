@@ -41,17 +41,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .errors import UnderflowWarning
 from .interpolate import barycentric, node_gradient
 from .problem import Problem
-
-
-class UnderflowWarning(RuntimeWarning):
-    """Desirability underflowed to zero at some query states: value +inf, policy undefined (NaN)."""
-
-
-class ResolutionWarning(RuntimeWarning):
-    """The grid and scheme cannot resolve the solution (its values are not to be trusted there);
-    the message says what limits it and what to change."""
 
 
 @dataclass(frozen=True)

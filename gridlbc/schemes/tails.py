@@ -14,9 +14,10 @@ import warnings
 
 import numpy as np
 
+from ..errors import ResolutionWarning
 from ..grid import flat_chunks
 from ..problem import Problem
-from ..solution import ResolutionWarning, Solution
+from ..solution import Solution
 from .noise import diffusion_coefficients
 
 TAIL_SHARE = 0.01

@@ -28,10 +28,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..certify import certify
+from ..errors import UnderflowWarning
 from ..problem import Problem
 from ..reference import lq_solution
 from ..reference.hjb import solve_hjb
-from ..solution import UnderflowWarning
 from ..solver import solve
 from .problems import pendulum_problem, pointmass_problem
 

@@ -37,12 +37,12 @@ import numpy as np
 from ..certify import certify
 from ..combine import combine, naive_blend
 from ..costs import Quadratic, wrap_angle
+from ..errors import ResolutionWarning
 from ..grid import Axis, Grid
 from ..problem import Problem
 from ..project import ProjectionWarning, projection
 from ..reference import lq_solution
 from ..simulate import simulate
-from ..solution import ResolutionWarning
 from ..solver import solve, solve_many
 from ..systems import Pendulum, PointMass
 from .problems import SWINGUP_START, pendulum_grid, swingup_problem

@@ -11,7 +11,8 @@ Components combine with :func:`gridlbc.combine` (α_i ∝ w_i exp(−v̂_i/λ)),
 solutions of the same problem.
 """
 
-from .expansion import TrajectoryExpansion, TrajectoryWarning, expand
+from ..errors import TrajectoryWarning
+from .expansion import TrajectoryExpansion, expand
 from .optimize import Trajectory, optimize, tape_cost
 
 __all__ = [

@@ -69,6 +69,7 @@ import numpy as np
 from scipy.stats import chi2
 
 from ..costs import wrap_difference
+from ..errors import TrajectoryWarning
 from ..problem import Problem
 from ..reference.lq import is_linear_quadratic
 from ..solution import bracket, check_time
@@ -90,10 +91,6 @@ def default_radius(state_dim: int) -> float:
     """ρ_max = √(χ²_d⁻¹(:data:`VALIDITY`)): the Mahalanobis radius that holds that probability
     of a d-dimensional Gaussian."""
     return float(np.sqrt(chi2.ppf(VALIDITY, state_dim)))
-
-
-class TrajectoryWarning(RuntimeWarning):
-    """An expansion was built around a trajectory whose optimisation did not converge."""
 
 
 def state_periods(problem: Problem) -> np.ndarray:

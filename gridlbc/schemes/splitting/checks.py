@@ -20,8 +20,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...errors import ResolutionWarning
 from ...problem import Problem
-from ...solution import ResolutionWarning, Solution
+from ...solution import Solution
 from ..noise import diffusion_coefficients
 from ..protocol import StepBound
 

@@ -1,0 +1,36 @@
+"""The warnings gridlbc issues, under one base class.
+
+Every warning the library raises about its own results derives from :class:`GridlbcWarning`, so a
+user (or a test suite) can silence, log or turn into errors all of them at once::
+
+    warnings.simplefilter("error", gridlbc.GridlbcWarning)
+
+Each message says what limits the result and what to change (docs page ``limitations``).
+"""
+
+from __future__ import annotations
+
+
+class GridlbcWarning(UserWarning):
+    """Base class of the warnings about gridlbc's own results."""
+
+
+class ResolutionWarning(GridlbcWarning, RuntimeWarning):
+    """The grid and scheme cannot resolve the solution (its values are not to be trusted there);
+    the message says what limits it and what to change."""
+
+
+class UnderflowWarning(GridlbcWarning, RuntimeWarning):
+    """Desirability underflowed to zero at some query states: value +inf, policy undefined (NaN)."""
+
+
+class CertificateWarning(GridlbcWarning):
+    """The certified optimum rests on too few effective samples to be trusted."""
+
+
+class ProjectionWarning(GridlbcWarning):
+    """The component costs represent the target poorly (paper Fig. 4)."""
+
+
+class TrajectoryWarning(GridlbcWarning, RuntimeWarning):
+    """An expansion was built around a trajectory whose optimisation did not converge."""
