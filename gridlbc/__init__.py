@@ -51,7 +51,6 @@ __all__ = [
     "SolveDiagnostics",
     "SolverSettings",
     "SweepMember",
-    "TrajectoryWarning",
     "UnderflowWarning",
     "certify",
     "combine",

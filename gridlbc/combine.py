@@ -433,7 +433,17 @@ BLEND_MODES = ("average", "sum")
 class NaiveBlend:
     """The fixed-weight average u = Σ w_i u_i / Σ w_i of component policies (the paper's
     baseline), or the sum Σ w_i u_i (``mode="sum"``): same weights at every state and time,
-    blind to which component is relevant."""
+    blind to which component is relevant.
+
+    Attributes
+    ----------
+    components : tuple
+        The controllers blended: any objects with ``.policy(x, t)``.
+    weights : ndarray (n,)
+        w_i, non-negative.
+    mode : {"average", "sum"}
+        Divide by Σ w_i (``"average"``) or not (``"sum"``).
+    """
 
     components: tuple
     weights: np.ndarray
@@ -452,10 +462,20 @@ class NaiveBlend:
 def naive_blend(solutions, weights, mode: str = "average") -> NaiveBlend:
     """The naive blend u = Σ w_i u_i / Σ w_i with fixed ``weights`` (paper Fig. 6).
 
-    ``solutions`` are any objects with ``.policy(x, t)`` (Solutions, trajectory components or
-    your own controllers); ``weights`` as for :func:`combine` (``None``: all ones).
-    ``mode="sum"`` gives Σ w_i u_i instead, the paper's Fig. 7 baseline ("simply sums the
-    results of the two tracking controllers").
+    Parameters
+    ----------
+    solutions : sequence
+        Any objects with ``.policy(x, t)``: Solutions, trajectory components or your own
+        controllers.
+    weights : array_like (n,) or None
+        w_i ≥ 0 as for :func:`combine` (``None``: all ones).
+    mode : {"average", "sum"}
+        ``"sum"`` gives Σ w_i u_i instead, the paper's Fig. 7 baseline (the two tracking
+        controllers' outputs simply summed).
+
+    Returns
+    -------
+    NaiveBlend
     """
     components = tuple(solutions)
     if not components:

@@ -95,13 +95,31 @@ class Quadratic:
 
 
 def wrap_angle(angles) -> np.ndarray:
-    """Angles (radians) to the nearest image of 0, in [−π, π)."""
+    """Angles (radians) to the nearest image of 0, in [−π, π).
+
+    Parameters
+    ----------
+    angles : array_like
+        Any shape; a new array of the same shape is returned.
+    """
     return np.mod(np.asarray(angles, dtype=float) + np.pi, 2 * np.pi) - np.pi
 
 
 def wrap_difference(diff: np.ndarray, periods) -> np.ndarray:
-    """Differences ``(N, d)`` taken to the nearest image, in ``[−P/2, P/2)``, on the coordinates
-    with a finite period (``periods`` ``(d,)``, ``inf`` or ``None`` for none); a new array."""
+    """Differences taken to the nearest image, in ``[−P/2, P/2)``, on periodic coordinates.
+
+    Parameters
+    ----------
+    diff : ndarray (N, d)
+        Differences of states.
+    periods : array_like (d,) or None
+        The period of each coordinate (``inf`` where not periodic; ``None``: none is).
+
+    Returns
+    -------
+    ndarray (N, d)
+        A new array.
+    """
     diff = np.array(diff, dtype=float)
     if periods is not None:
         for k in np.flatnonzero(np.isfinite(periods)):
@@ -111,7 +129,17 @@ def wrap_difference(diff: np.ndarray, periods) -> np.ndarray:
 
 
 def evaluate_cost(cost, x: np.ndarray, name: str) -> np.ndarray:
-    """Evaluate a cost callable on states ``(N, d)`` and check the result is finite, shape ``(N,)``."""
+    """Evaluate a cost callable on states and check the result is finite, shape ``(N,)``.
+
+    Parameters
+    ----------
+    cost : callable
+        g(x) on ``(N, d)`` states.
+    x : ndarray (N, d)
+        The states.
+    name : str
+        What to call the cost in error messages (e.g. ``"terminal_cost"``).
+    """
     values = np.asarray(cost(x), dtype=float)
     if values.shape == ():
         values = np.full(x.shape[0], float(values))

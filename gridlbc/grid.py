@@ -71,7 +71,13 @@ class Axis:
 
 @dataclass(frozen=True)
 class Grid:
-    """A tensor-product grid: the product of its axes, nodes in C order."""
+    """A tensor-product grid: the product of its axes, nodes in C order.
+
+    Parameters
+    ----------
+    axes : Axis or sequence of Axis
+        One :class:`Axis` per state coordinate, in the state's order.
+    """
 
     axes: tuple[Axis, ...]
     _lo: np.ndarray = field(init=False, repr=False, compare=False)

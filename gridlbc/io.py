@@ -115,10 +115,22 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
 
 
 def save(solution: Solution, path, annotations: dict | None = None) -> Path:
-    """Write ``solution`` to ``path`` (``.npz`` appended if missing); returns the path written.
+    """Write ``solution`` to ``path`` (``.npz`` appended if missing).
 
-    ``annotations``: optional JSON-serialisable data kept with the file (:func:`read_metadata`
-    returns it under ``"annotations"``; :func:`load` ignores it).
+    Parameters
+    ----------
+    solution : Solution
+        What :func:`gridlbc.solve` returned.
+    path : str or Path
+        The file to write; ``.npz`` is appended if missing.
+    annotations : dict, optional
+        JSON-serialisable data kept with the file (:func:`read_metadata` returns it under
+        ``"annotations"``; :func:`load` ignores it).
+
+    Returns
+    -------
+    Path
+        The path written.
     """
     if not isinstance(solution, Solution):
         raise TypeError(f"save expects a gridlbc.Solution, got {type(solution).__name__}")
@@ -186,7 +198,17 @@ def read_metadata(path) -> dict:
 
 
 def load(path) -> Solution:
-    """Read a Solution written by :func:`save`; the arrays come back bit for bit."""
+    """Read a Solution written by :func:`save`; the arrays come back bit for bit.
+
+    Parameters
+    ----------
+    path : str or Path
+        A file written by :func:`save`.
+
+    Returns
+    -------
+    Solution
+    """
     meta, contents = _read(path, arrays=True)
     if meta.get("format_version") != FORMAT_VERSION:
         raise ValueError(

@@ -172,7 +172,19 @@ def projection(
     temperature: float = 1.0,
     method: str = "auto",
 ) -> Projection:
-    """Project h̄ = exp(−ḡ/λ) onto span{exp(−g_i/λ)}; the full report (see :func:`project`)."""
+    """Project h̄ = exp(−ḡ/λ) onto span{exp(−g_i/λ)}; the full report.
+
+    Parameters
+    ----------
+    target_cost, component_costs, grid, temperature, method
+        As for :func:`project`.
+
+    Returns
+    -------
+    Projection
+        The weights with the Gram matrix, residual, condition number and any warning messages
+        (not issued: :func:`project` issues them).
+    """
     costs = list(component_costs)
     if not costs:
         raise ValueError("component_costs is empty: give at least one component cost")

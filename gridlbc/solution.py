@@ -50,20 +50,39 @@ from .problem import Problem
 class SolveDiagnostics:
     """What a solve did and cost.
 
-    Attributes: ``method``; ``dt``; ``steps``; ``store_every`` (every k-th step kept);
-    ``wall_time`` and ``setup_time`` in seconds; ``underflow_nodes``: nodes whose desirability is
-    zero at t = 0 (value +inf there); ``stored_bytes`` of the kept slices; ``operator_bytes`` of
-    the step operator; ``courant``: max_k max|a_k| Δt / h_k; ``iterations``: per-step iteration
-    counts of an iterative solve (empty for direct and splitting steps); ``flushed_values``:
-    stored values that were positive in the float64 time stepping but rounded to zero by float32
-    storage (below ~1e-45 of their slice's maximum; value +inf there); ``memory_estimate``: the
-    bytes of memory the solve was estimated to need (checked before allocating); ``fitting``:
-    ``"none"``, or a fingerprint of the reference the drift was fitted to (solutions combine
-    exactly only when it matches); ``interpolation``: ``"linear"`` (the slices hold scaled z,
-    interpolated linearly), ``"fitted"`` (scaled z too, interpolated relative to the operator's
-    reference φ, :attr:`Solution.reference`) or ``"log"`` (a solve fitted to its own terminal
-    cost: the slices hold log z relative to its maximum, and v = −λ log z is interpolated
-    linearly).
+    Attributes
+    ----------
+    method : str
+        The scheme (:data:`gridlbc.METHODS`).
+    dt : float
+        The time step.
+    steps : int
+        How many steps.
+    store_every : int
+        Every k-th step's slice is kept.
+    wall_time, setup_time : float
+        Seconds in total and building the step operator.
+    underflow_nodes : int
+        Nodes whose desirability is zero at t = 0 (value +inf there).
+    stored_bytes, operator_bytes : int
+        Bytes of the kept slices and of the step operator.
+    courant : float
+        max_k max|a_k| Δt / h_k.
+    iterations : tuple of int
+        Per-step iteration counts of an iterative solve (empty for direct and splitting steps).
+    flushed_values : int
+        Stored values that were positive in the float64 time stepping but rounded to zero by
+        float32 storage (far below their slice's maximum; value +inf there).
+    memory_estimate : int
+        The bytes the solve was estimated to need (checked before allocating).
+    fitting : str
+        ``"none"``, or a fingerprint of the reference the drift was fitted to (solutions
+        combine exactly only when it matches).
+    interpolation : str
+        ``"linear"`` (the slices hold scaled z, interpolated linearly), ``"fitted"`` (scaled z
+        too, interpolated relative to the operator's reference φ, :attr:`Solution.reference`)
+        or ``"log"`` (a solve fitted to its own terminal cost: the slices hold log z relative to
+        its maximum, and v = −λ log z is interpolated linearly).
     """
 
     method: str

@@ -127,10 +127,22 @@ def _fingerprint(phi: np.ndarray) -> str:
 def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> list[Solution]:
     """Solve one problem for several terminal costs at once (one operator, many right-hand sides).
 
-    ``terminal_costs`` is a sequence of callables g_i; returns one :class:`Solution` per cost,
-    each exactly as :func:`solve` would return for ``problem.replace(terminal_cost=g_i)``.
-    ``settings`` (a :class:`SolverSettings` or a preset's name) and ``options`` as for
-    :func:`solve`.
+    Parameters
+    ----------
+    problem : Problem
+        The shared system, grid, horizon, state cost and temperature.
+    terminal_costs : sequence of callable
+        The terminal costs g_i.
+    settings : SolverSettings or str, optional
+        A :class:`SolverSettings` or a preset's name, as for :func:`solve`.
+    **options
+        Settings fields overriding ``settings``, as for :func:`solve`.
+
+    Returns
+    -------
+    list of Solution
+        One per cost, each exactly as :func:`solve` would return for
+        ``problem.replace(terminal_cost=g_i)``.
     """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")

@@ -348,8 +348,22 @@ def hamiltonian_numpy(
 
 @dataclass(frozen=True)
 class HJBDiagnostics:
-    """What :func:`solve_hjb` did: ``method``; ``dt`` the mean step T/steps; ``min_step`` and
-    ``max_step``; ``steps``; ``courant`` the bound on Δt·max ρ; ``wall_time`` in seconds."""
+    """What :func:`solve_hjb` did.
+
+    Attributes
+    ----------
+    method : str
+        The time stepping used.
+    dt : float
+        The mean step T/steps.
+    min_step, max_step : float
+        The smallest and largest step taken.
+    steps : int
+        How many steps.
+    courant : float
+        The bound on Δt·max ρ the steps kept to.
+    wall_time : float
+        Seconds."""
 
     method: str
     dt: float

@@ -25,7 +25,13 @@ from ..solution import check_time
 
 @dataclass(frozen=True, eq=False)
 class LQSolution:
-    """The exact value and policy of a linear-quadratic problem at any (x, t)."""
+    """The exact value and policy of a linear-quadratic problem at any (x, t).
+
+    Attributes
+    ----------
+    problem : Problem
+        The problem solved.
+    """
 
     problem: Problem
     _dense: object
@@ -76,6 +82,17 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
     Requires ``problem.system.linear_matrices()`` (a(x) = A x, constant B), Quadratic terminal and
     state costs, and no periodic axis (the closed form lives on all of Rᵈ); a grid-free Problem
     will do.
+
+    Parameters
+    ----------
+    problem : Problem
+        The linear-quadratic problem.
+    rtol : float
+        Relative tolerance of the Riccati integration (SPEC §6).
+
+    Returns
+    -------
+    LQSolution
     """
     matrices = problem.system.linear_matrices()
     if matrices is None:

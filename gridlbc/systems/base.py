@@ -118,7 +118,17 @@ class ControlAffineSystem:
 
 
 class LinearSystem(ControlAffineSystem):
-    """dx = (A x + B u) dt + noise, with constant A (d×d) and B (d×m)."""
+    """dx = (A x + B u) dt + noise, with constant A (d×d) and B (d×m).
+
+    Parameters
+    ----------
+    A : array_like (d, d)
+        The drift matrix.
+    B : array_like (d, m) or (d,)
+        The input matrix (a vector for one control).
+    state_names : sequence of str, optional
+        Names of the d coordinates (default ``x0, x1, ...``).
+    """
 
     def __init__(self, A, B, state_names=None):
         A = np.atleast_2d(np.asarray(A, dtype=float))

@@ -36,7 +36,13 @@ class SingleIntegrator(LinearSystem):
 
 
 class PointMass(LinearSystem):
-    """A mass on a line: state (position, velocity), a = (v, 0), B = (0, 1/m)."""
+    """A mass on a line: state (position, velocity), a = (v, 0), B = (0, 1/m).
+
+    Parameters
+    ----------
+    mass : float
+        m (positive).
+    """
 
     def __init__(self, mass: float = 1.0):
         self.mass = _positive("mass", mass)
@@ -59,6 +65,15 @@ class Pendulum(ControlAffineSystem):
 
     so a = (ω, (g/l) sin θ − b ω/(m l²)) and B = (0, 1/(m l²)). θ = 0 is the unstable upright
     equilibrium, θ = ±π hanging down.
+
+    Parameters
+    ----------
+    mass, length : float
+        m and l (positive).
+    gravity : float
+        g (non-negative).
+    damping : float
+        The viscous friction b (non-negative).
     """
 
     state_dim = 2
@@ -123,6 +138,15 @@ class Acrobot(ControlAffineSystem):
     The torque, and the noise entering with it, drives p2 alone: B = (0, 0, 0, 1), so B R⁻¹ Bᵀ is
     diagonal in these coordinates (it would not be in joint velocities, where the torque moves
     both θ̈1 and θ̈2). Use :meth:`from_velocities` / :meth:`to_velocities` to convert.
+
+    Parameters
+    ----------
+    m1, m2 : float
+        The point masses at the ends of link 1 and link 2 (positive).
+    l1, l2 : float
+        The link lengths (positive).
+    gravity : float
+        g (non-negative).
     """
 
     state_dim = 4

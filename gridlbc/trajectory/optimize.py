@@ -162,9 +162,21 @@ def optimize(
 def tape_cost(problem: Problem, x0, controls) -> tuple[float, np.ndarray]:
     """J of one control tape from ``x0`` and its gradient ∂J/∂u_k by the discrete adjoint.
 
-    ``controls`` is the tape, shape ``(K, m)`` (or ``(K,)`` when m = 1), on K = ``len(controls)``
-    intervals of T/K. Returns ``(J, gradient)``, the gradient shaped like ``controls``; J is inf
-    (and the gradient zero) if the rollout overflows.
+    Parameters
+    ----------
+    problem : Problem
+        The (deterministic) problem.
+    x0 : array_like (d,)
+        The start state.
+    controls : array_like (K, m) or (K,)
+        The tape (``(K,)`` when m = 1), on K = ``len(controls)`` intervals of T/K.
+
+    Returns
+    -------
+    J : float
+        The cost; inf (and the gradient zero) if the rollout overflows.
+    gradient : ndarray
+        ∂J/∂u_k, shaped like ``controls``.
     """
     x0, m = _check_problem(problem, x0)
     U = check_tape("controls", controls, m)

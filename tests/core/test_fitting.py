@@ -306,13 +306,9 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     optimum tends to the deterministic 27.95 as λ → 0). Measured: fitted predicts 27.69
     (−0.9 %) and its policy costs 31.81 ± 0.23 (+13.8 %; 30.15 before the solver merged the
     half diffusions between steps, whose slices inside a merged step are O(Δt²) means of log z:
-<<<<<<< HEAD
-    at 201² the two policies are within 0.4 %, docs/schemes.rst); the plain scheme predicts a few units
-    and must raise a ResolutionWarning. Bounds: value within 5 %, policy within 16 % (2.5 SE
-=======
     at 201² the two policies are within 0.4 %, the steep swing-up of docs/benchmarks.rst); the
-    plain scheme predicts a few units and must raise a ResolutionWarning. Bounds: value within 5 %, policy within 16 % (2.5 SE
->>>>>>> docs
+    plain scheme predicts a few units and must raise a ResolutionWarning. Bounds: value within
+    5 %, policy within 16 % (2.5 SE
     above the measured cost; the plain policy costs +128 %)."""
     problem = steep_swingup_problem(64, temperature=0.01)
     solution = gridlbc.solve(problem, fitting="terminal")
