@@ -14,7 +14,6 @@ from .errors import (
     GridlbcWarning,
     ProjectionWarning,
     ResolutionWarning,
-    TrajectoryWarning,
     UnderflowWarning,
 )
 from .grid import Axis, Grid

@@ -85,3 +85,19 @@ def pointmass_description(c):
     import tomllib
 
     return tomllib.loads(POINTMASS_TOML.format(c=c))
+
+
+# -- expected warnings ------------------------------------------------------------------------------
+# The suite turns every gridlbc warning into an error (pyproject's filterwarnings), so a new one is
+# never missed. Tests that expect one either assert it with pytest.warns or carry one of these
+# marks, whose names say why the warning is not the subject of the test.
+
+EXACTNESS_ONLY = pytest.mark.filterwarnings("ignore::gridlbc.errors.ResolutionWarning")
+"""For tests of exact properties of the discrete operator (linearity, superposition, storage,
+agreement of two linear solvers, orders of convergence measured over a refinement): they solve
+coarse grids on purpose, where the solver rightly warns that the values are not accurate."""
+
+SMOKE_SIZES = pytest.mark.filterwarnings("ignore::gridlbc.errors.GridlbcWarning")
+"""For smoke tests of plumbing (figures, command line, reports) at sizes far too small to be
+accurate: every accuracy and certificate warning is expected there, and their numbers are not
+checked."""

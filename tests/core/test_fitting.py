@@ -5,7 +5,7 @@ plain interpolation where v is steep."""
 
 import numpy as np
 import pytest
-from conftest import pendulum
+from conftest import EXACTNESS_ONLY, pendulum
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -163,6 +163,7 @@ def test_own_reference_row_and_explicit_reference_agree():
         )
 
 
+@EXACTNESS_ONLY
 def test_fitting_makes_the_swingup_prediction_honest():
     """Pendulum swing-up at 128², default steps, against the certified optimum (measured: v* =
     14.46 ± 0.01; fitted predicts 14.69, +1.6 %, plain 12.0, −17 %). The fitted error must stay
@@ -301,6 +302,9 @@ def test_fitted_diffusion_is_exact_for_a_quadratic_log_reference(s):
         )
 
 
+# only the policy's cost J is judged here; the v* of the same certificate rests on a handful of
+# effective samples at λ = 0.01 and rightly warns
+@pytest.mark.filterwarnings("ignore::gridlbc.errors.CertificateWarning")
 def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     """The steep swing-up at λ = 0.01 on 64² (the 201² accuracy study's cheap version; its
     optimum tends to the deterministic 27.95 as λ → 0). Measured: fitted predicts 27.69

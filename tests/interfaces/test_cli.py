@@ -10,7 +10,7 @@ import sys
 
 import numpy as np
 import pytest
-from conftest import POINTMASS_TOML, pointmass_description
+from conftest import POINTMASS_TOML, SMOKE_SIZES, pointmass_description
 
 import gridlbc
 from gridlbc.cli import main
@@ -202,6 +202,7 @@ def test_main_catches_mistakes_in_process(capsys):
     assert "give --terminal-center and --terminal-weights" in capsys.readouterr().err
 
 
+@SMOKE_SIZES
 def test_demo_runs_small_and_checks_what_it_claims(tmp_path):
     """The demo job on a 61² grid: superposition of the fitted combination to rounding, and the
     fitted prediction closer to the certified optimum than the plain one (the plain scheme's

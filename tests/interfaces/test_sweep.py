@@ -14,6 +14,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import EXACTNESS_ONLY
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic, systems
@@ -265,6 +266,7 @@ def test_cli_sweep_mistakes(extra, message, tmp_path, capsys):
     assert err.startswith("gridlbc sweep: error: ") and message in err, err
 
 
+@EXACTNESS_ONLY
 def test_worker_warnings_reach_the_caller(tmp_path, client):
     """A warning raised on a worker (here: z flushed to zero by float32 storage at the queried
     state, so v = +inf) is kept on the member and issued again by sweep."""

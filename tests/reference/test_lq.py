@@ -3,6 +3,7 @@ gridlbc.reference.lq)."""
 
 import numpy as np
 import pytest
+from conftest import EXACTNESS_ONLY
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -68,6 +69,7 @@ def _low_cost_interior(nodes, exact):
     return g[v < v.min() + 5]
 
 
+@EXACTNESS_ONLY
 @pytest.mark.parametrize("method", ["splitting", "implicit"])
 def test_point_mass_converges_to_riccati_at_first_order(method):
     # A fixed Courant number (and no minimum step count) makes Δt ∝ h; the plain operators.
@@ -114,6 +116,7 @@ def test_fitted_point_mass_converges_to_riccati_at_second_order():
     assert np.all(orders[:, 2] > 1.4), orders
 
 
+@EXACTNESS_ONLY
 @pytest.mark.parametrize("method", ["splitting", "implicit"])
 def test_single_integrator_converges_to_riccati(method):
     def problem(n):

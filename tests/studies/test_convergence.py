@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from conftest import EXACTNESS_ONLY, SMOKE_SIZES
 
 import gridlbc
 from gridlbc.studies.convergence import (
@@ -70,6 +71,7 @@ def _check_agreement(table: ConvergenceTable):
     assert all(b.policy_max < a.policy_max for a, b in itertools.pairwise(gap))
 
 
+@EXACTNESS_ONLY
 def test_pendulum_linear_and_nonlinear_solvers_agree_within_refinement_error():
     table = pendulum_study(sizes=(32, 64, 128))
     assert len(table.rows) == (2 * 2 + 1) * 3 and table.points > 100
@@ -82,6 +84,7 @@ def test_pendulum_agreement_on_finer_grids():
     _check_agreement(pendulum_study(sizes=(64, 128, 256)))
 
 
+@EXACTNESS_ONLY
 def test_pointmass_table_orders_and_z_solver_convergence():
     table = pointmass_study(
         spacings=(1 / 4, 1 / 8, 1 / 16), solvers=("splitting",), richardson=("splitting",)
@@ -116,6 +119,7 @@ def test_bad_inputs():
         pendulum_study(sizes=(32,))
 
 
+@SMOKE_SIZES
 def test_certified_study_rows_are_the_solves_and_their_certificates():
     # Deterministic parts exactly (each row's prediction is its solve's v(x0, 0); the truth is
     # gridlbc.certify with the named proposal and seed + 1); the table lists every row.

@@ -3,6 +3,7 @@ against one uninterrupted rollout."""
 
 import numpy as np
 import pytest
+from conftest import SMOKE_SIZES
 
 from gridlbc import simulate
 from gridlbc.studies import figures
@@ -11,6 +12,7 @@ from gridlbc.studies.problems import coordination_problem
 PNG = b"\x89PNG\r\n\x1a\n"
 
 
+@SMOKE_SIZES
 @pytest.mark.parametrize(
     "name, options",
     [

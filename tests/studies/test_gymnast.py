@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import EXACTNESS_ONLY
 
 import gridlbc
 from gridlbc.simulate import simulate
@@ -46,6 +47,7 @@ def paired(a, b):
     return difference.mean(), difference.std(ddof=1) / np.sqrt(difference.size)
 
 
+@EXACTNESS_ONLY
 @pytest.mark.parametrize("fitting, ratio", [(None, 0.6), ("terminal", 0.3)])
 def test_controller_beats_zero_torque_by_a_wide_margin(noisy_runs, fitting, ratio):
     """Expected cost with noise over 800 paired samples at 21⁴, Δt = 0.1: the controller must
@@ -61,6 +63,7 @@ def test_controller_beats_zero_torque_by_a_wide_margin(noisy_runs, fitting, rati
     )
 
 
+@EXACTNESS_ONLY
 def test_fitting_makes_the_small_grid_controller_better(noisy_runs):
     """At 21⁴ the fitted drift's controller costs less than the plain one's under the same
     noise, by more than 4 paired standard errors (measured −31.7 ± 1.9, 17 SE)."""

@@ -7,6 +7,7 @@ import sys
 
 import numpy as np
 import pytest
+from conftest import SMOKE_SIZES
 
 from gridlbc.reference import lq_solution
 from gridlbc.studies.verify import (
@@ -50,6 +51,7 @@ def test_exact_coordination_reference_is_the_log_sum_exp(rng):
     np.testing.assert_allclose(policy(x, 0.2), expected, rtol=1e-10, atol=1e-12)
 
 
+@SMOKE_SIZES
 def test_report_table_and_json(tmp_path):
     report = run_verification(grid_size=32, samples=100, quick=True)
     checks = {r.check for r in report.results}
