@@ -357,7 +357,7 @@ def warn_underflow(bad: np.ndarray) -> None:
         warnings.warn(
             f"desirability underflowed at {int(bad.sum())} of {bad.size} query states: value is "
             "+inf there and the policy undefined (NaN). Shrink the box, or raise the temperature "
-            "relative to the costs (see README, 'Limitations').",
+            "relative to the costs (docs page 'limitations').",
             UnderflowWarning,
             stacklevel=4,
         )
