@@ -16,9 +16,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 
-@dataclass(frozen=True, eq=False)
+@dataclass(frozen=True, eq=False, init=False)
 class Quadratic:
     """g(x) = (x − c)ᵀ W (x − c), wrap-aware on periodic axes.
 
@@ -35,20 +36,20 @@ class Quadratic:
 
     center: np.ndarray
     weights: np.ndarray
-    periods: np.ndarray | None = None
+    periods: np.ndarray | None
 
-    def __post_init__(self):
-        c = np.atleast_1d(np.asarray(self.center, dtype=float))
+    def __init__(self, center: ArrayLike, weights: ArrayLike, periods: ArrayLike | None = None):
+        c = np.atleast_1d(np.asarray(center, dtype=float))
         if c.ndim != 1 or not np.all(np.isfinite(c)):
-            raise ValueError(f"Quadratic center must be a finite vector, got {self.center!r}")
+            raise ValueError(f"Quadratic center must be a finite vector, got {center!r}")
         d = c.size
-        W = np.asarray(self.weights, dtype=float)
+        W = np.asarray(weights, dtype=float)
         if W.ndim <= 1:
             W = np.diag(np.broadcast_to(W, (d,)))
         if W.shape != (d, d):
             raise ValueError(
                 f"Quadratic weights must have shape ({d},) or ({d}, {d}) to match the center, "
-                f"got shape {np.shape(self.weights)}"
+                f"got shape {np.shape(weights)}"
             )
         if not np.all(np.isfinite(W)) or not np.allclose(W, W.T, rtol=1e-12, atol=0):
             raise ValueError("Quadratic weights must be a finite symmetric matrix")
@@ -58,11 +59,12 @@ class Quadratic:
             )
         object.__setattr__(self, "center", c)
         object.__setattr__(self, "weights", W)
-        if self.periods is not None:
-            P = np.asarray(self.periods, dtype=float).reshape(-1)
+        P = None
+        if periods is not None:
+            P = np.asarray(periods, dtype=float).reshape(-1)
             if P.shape != (d,) or np.any(P <= 0):
                 raise ValueError(f"Quadratic periods must be {d} positive numbers (inf for none)")
-            object.__setattr__(self, "periods", P)
+        object.__setattr__(self, "periods", P)
 
     @property
     def dim(self) -> int:

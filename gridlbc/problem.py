@@ -17,9 +17,11 @@ coordinates are angles (period 2π, wrapped into [−π, π)), for wrap-aware co
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._numba import jit
 from .costs import Quadratic, Tracking, evaluate_cost, wrap_angle
@@ -94,9 +96,9 @@ class Problem:
     system: ControlAffineSystem
     grid: Grid | None
     horizon: float
-    terminal_cost: object
-    state_cost: object = None
-    control_cost: object = 1.0
+    terminal_cost: Callable[..., np.ndarray]
+    state_cost: Callable[..., np.ndarray] | None = None
+    control_cost: float | ArrayLike = 1.0
     temperature: float = 1.0
     periodic: tuple[int, ...] | None = None
 

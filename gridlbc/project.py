@@ -205,6 +205,7 @@ def projection(
             raise ValueError(f"costs have different state dimensions {sorted(dims)}")
         G, scales = _analytic(everything, lam), np.zeros(len(everything))
     else:
+        assert grid is not None, "_choose_method picks quadrature only with a grid"
         G, scales = _quadrature(everything, lam, grid)
     n = len(costs)
     A, b, target_norm2 = G[:n, :n], G[:n, n], G[n, n]

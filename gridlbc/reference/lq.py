@@ -13,6 +13,7 @@ and u*(x, t) = −R⁻¹ Bᵀ (P x + p). The ODEs are integrated to near machine
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -34,7 +35,7 @@ class LQSolution:
     """
 
     problem: Problem
-    _dense: object
+    _dense: Callable[[float], np.ndarray]
 
     def coefficients(self, t: float) -> tuple[np.ndarray, np.ndarray, float]:
         """(P(t), p(t), c₀(t))."""
@@ -53,7 +54,9 @@ class LQSolution:
         """u*(x, t) = −R⁻¹ Bᵀ (P x + p), shape ``(N, m)``."""
         x = self.problem.check_states(x)
         P, p, _ = self.coefficients(t)
-        _, B = self.problem.system.linear_matrices()
+        matrices = self.problem.system.linear_matrices()
+        assert matrices is not None, "lq_solution checked the system is linear"
+        _, B = matrices
         return -(x @ P + p) @ B @ self.problem.R_inv.T
 
 

@@ -122,6 +122,7 @@ def pointmass_problem(h: float | None = None, grid: Grid | None = None) -> Probl
     if (h is None) == (grid is None):
         raise ValueError("give exactly one of h (a spacing) or grid")
     if grid is None:
+        assert h is not None
         counts = [8 / h, 12 / h]
         if not all(abs(c - round(c)) < 1e-9 and c >= 2 for c in counts):
             raise ValueError(
@@ -301,6 +302,10 @@ def obstacle_trajectories(
     the two trackers agree.
     """
     wall = problem.state_cost
+    if not isinstance(wall, CapsuleObstacle):
+        raise TypeError(
+            "obstacle_trajectories needs a problem from obstacle_problem (a capsule wall)"
+        )
     upper_goal, lower_goal = (
         problem.replace(terminal_cost=Quadratic(c, OBSTACLE_WEIGHTS)) for c in OBSTACLE_GOALS
     )

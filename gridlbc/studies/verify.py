@@ -359,7 +359,7 @@ def check_swingup_optimality(
     error = (predicted - cert.optimal_value) / cert.optimal_value
     return _certificate_rows(
         "optimality",
-        f"swing-up {_shape(problem.grid)} {step}",
+        f"swing-up {_shape(problem.require_grid('the verification report'))} {step}",
         cert,
         predicted,
         SWINGUP_GAP * cert.optimal_value,
@@ -402,7 +402,7 @@ def check_interpolation(
     }
     predictions = {"LBC": combine(sols[:2], proj.weights).value, "direct": sols[2].value}
     x0 = SWINGUP_START.copy()
-    case = f"pendulum {_shape(problem.grid)}"
+    case = f"pendulum {_shape(problem.require_grid('the verification report'))}"
     rows = []
     for name, policy in controllers.items():
         # Certified under the target task, each controller its own proposal (all estimate the

@@ -54,7 +54,7 @@ class ControlAffineSystem:
             raise ValueError(
                 f"{name} has no default box: give the grid's axes (lo, hi, n per coordinate)"
             )
-        counts = [n] if np.isscalar(n) else list(n)
+        counts = np.atleast_1d(n).tolist()
         if len(counts) == 1:
             counts = counts * len(self.default_box)
         if len(counts) != len(self.default_box):

@@ -97,7 +97,7 @@ def state_periods(problem: Problem) -> np.ndarray:
     """The period of each state coordinate (``inf`` where not periodic), shape ``(d,)``."""
     periods = getattr(problem, "periods", None)
     if periods is None:
-        periods = problem.grid.periods
+        periods = problem.require_grid("state_periods").periods
     return np.asarray(periods, dtype=float)
 
 

@@ -128,6 +128,7 @@ class Shooting:
 
     def running_cost(self, states: np.ndarray) -> np.ndarray:
         """q(x_k, t_k) for states ``(N, K, d)`` at t_0 … t_K−1, shape ``(N, K)``."""
+        assert self.state_cost is not None, "running_cost of a problem without a state cost"
         N, K, d = states.shape
         t = np.tile(self.times[:K], N)
         return np.asarray(self.state_cost(states.reshape(N * K, d), t), dtype=float).reshape(N, K)
@@ -143,10 +144,12 @@ class Shooting:
 
     def state_cost_gradient(self, states: np.ndarray) -> np.ndarray:
         """∇q(x_k, t_k) ``(N, K, d)`` for states ``(N, K, d)`` by central differences."""
+        state_cost = self.state_cost
+        assert state_cost is not None, "state_cost_gradient of a problem without a state cost"
         N, K, d = states.shape
         t = np.tile(self.times[:K], N)
         return gradient(
-            lambda x: self.state_cost(x, np.tile(t, 2 * d)), states.reshape(N * K, d)
+            lambda x: state_cost(x, np.tile(t, 2 * d)), states.reshape(N * K, d)
         ).reshape(N, K, d)
 
     def cost_and_gradient(self, U: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
