@@ -267,18 +267,29 @@ def _draw_body(ax, points, color, alpha=1.0, lw=2.5):
     ax.plot(points[0, 0], points[0, 1], "o", color=color, alpha=alpha, ms=4)  # the hands
 
 
+_FIG6_PANELS = (
+    "under-rotating tracker",
+    "over-rotating tracker",
+    "LBC",
+    "naive blend",
+    "vertical optimum",
+    "composite optimum",
+)
+"""The dives of the interpolation experiment drawn in the top row: the two components, then
+their combinations and the optima."""
+
+
 def plot_study(interpolation, coordination, path=None):
-    """Fig. 6 and Fig. 8: strobed dives of the interpolation experiment (top), the entry poses
-    over κ for LBC and the single tracker and the costs against κ (bottom)."""
+    """Fig. 6 and Fig. 8: strobed dives of the interpolation experiment (top: the two component
+    dives, LBC, the naive blend and the optima), the entry poses over κ for LBC and the single
+    tracker and the costs against κ (bottom: noise-free, and with noise where the runs carry a
+    certificate, as the policy's mean cost J ± 2 standard errors)."""
     import matplotlib.pyplot as plt
 
-    fig = plt.figure(figsize=(15, 9))
-    grid = fig.add_gridspec(2, 4, height_ratios=[1, 1])
-    shown = [
-        r
-        for r in interpolation
-        if r.label in ("LBC", "naive blend", "vertical optimum", "composite optimum")
-    ]
+    fig = plt.figure(figsize=(18, 9))
+    grid = fig.add_gridspec(2, 6, height_ratios=[1, 1])
+    by_label = {r.label: r for r in interpolation}
+    shown = [by_label[label] for label in _FIG6_PANELS if label in by_label]
     for col, run in enumerate(shown):
         ax = fig.add_subplot(grid[0, col])
         points = _world_points(run.states, run.times)
@@ -302,7 +313,7 @@ def plot_study(interpolation, coordination, path=None):
         "vertically (hands dotted, light to dark in time)",
         fontsize=11,
     )
-    ax8 = fig.add_subplot(grid[1, :2])
+    ax8 = fig.add_subplot(grid[1, :3])
     kappas = sorted({r.momentum_scale for r in coordination})
     for row, label in enumerate(("LBC", "single tracker (κ = 1)")):
         for col, kappa in enumerate(kappas):
@@ -320,7 +331,8 @@ def plot_study(interpolation, coordination, path=None):
         ylim=(-4.3, 1.8),
         title="Fig. 8, coordination: entry poses (vertical: straight, hands down)",
     )
-    axc = fig.add_subplot(grid[1, 2:])
+    axc = fig.add_subplot(grid[1, 3:])
+    noisy = False
     for label in (
         "LBC",
         "LBC, deterministic v̄",
@@ -329,19 +341,27 @@ def plot_study(interpolation, coordination, path=None):
         "optimum",
     ):
         rows = sorted((r for r in coordination if r.label == label), key=lambda r: r.momentum_scale)
-        axc.plot(
-            [r.momentum_scale for r in rows],
-            [r.cost for r in rows],
-            "o-",
-            color=_COLORS[label],
-            label=label,
-            ms=4,
-        )
+        kappa = [r.momentum_scale for r in rows]
+        axc.plot(kappa, [r.cost for r in rows], "o-", color=_COLORS[label], label=label, ms=4)
+        certified = [r for r in rows if r.certificate is not None]
+        if certified and label != "optimum":
+            noisy = True
+            axc.errorbar(
+                [r.momentum_scale for r in certified],
+                [r.certificate.policy_cost for r in certified],
+                yerr=[2 * r.certificate.policy_cost_se for r in certified],
+                fmt="s:",
+                color=_COLORS[label],
+                ms=4,
+                capsize=2,
+                alpha=0.8,
+            )
     axc.set(
         xlabel="take-off angular momentum κ (× nominal)",
-        ylabel="noise-free cost J",
+        ylabel="cost J",
         yscale="log",
-        title="coordination: cost against κ (components at 0.85, 1, 1.15)",
+        title="coordination: cost against κ (components at 0.85, 1, 1.15)"
+        + ("\nsolid: noise-free; dotted squares: with noise, mean ± 2 SE" if noisy else ""),
     )
     axc.legend(fontsize=8)
     fig.tight_layout(rect=(0, 0, 1, 0.96))
@@ -366,7 +386,7 @@ def animate_dives(runs, path, fps: int = 25):
         points = _world_points(run.states, run.times)
         lo, hi = points.reshape(-1, 2).min(0) - 0.3, points.reshape(-1, 2).max(0) + 0.3
         ax.set(aspect="equal", xlim=(lo[0], hi[0]), ylim=(lo[1], hi[1]), xticks=[], yticks=[])
-        (line,) = ax.plot([], [], "-o", color="tab:blue", lw=3, ms=3)
+        (line,) = ax.plot([], [], "-o", color=_COLORS.get(run.label, "tab:blue"), lw=3, ms=3)
         bodies.append((line, points))
         titles.append(ax.set_title(run.label, fontsize=9))
 

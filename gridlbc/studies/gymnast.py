@@ -81,8 +81,11 @@ def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
         ax_path.plot(*deg[0], "o", color=ax_path.lines[-1].get_color())
     for label, (states, controls) in runs.items():
         deg = np.degrees(np.unwrap(states[:, :2], axis=0))  # rollouts wrap θ1; paths do not
-        (line,) = ax_path.plot(deg[:, 0], deg[:, 1], "-", lw=1.2, label=label)
-        ax_u.plot(times[:-1], np.ravel(controls), color=line.get_color(), lw=1, label=label)
+        # LBC follows one tracker closely for most of the run: draw it wide and faint
+        # underneath, so the tracker it follows stays visible on top
+        style = {"lw": 4.0, "alpha": 0.45, "zorder": 1} if label == "LBC" else {"lw": 1.2}
+        (line,) = ax_path.plot(deg[:, 0], deg[:, 1], "-", label=label, **style)
+        ax_u.plot(times[:-1], np.ravel(controls), "-", color=line.get_color(), label=label, **style)
     start = np.degrees(next(iter(runs.values()))[0][0, :2])
     ax_path.plot(*start, "k*", ms=12, label="test start")
     for turn in (-720, -360, 0):
@@ -93,7 +96,8 @@ def plot_trackers(trackers: dict, runs: dict, times, alpha, path=None):
         title="nominal paths (dashed), noise-free rollouts from (−105°, −15°)",
     )
     ax_path.legend(fontsize=7)
-    ax_u.set(xlabel="t [s]", ylabel="hip torque u", title="torque")
+    ax_u.set(xlabel="t [s]", ylabel="hip torque u [N·m]", title="hip torque of the rollouts")
+    ax_u.legend(fontsize=7)
     for i in range(alpha.shape[1]):
         ax_a.plot(times, alpha[:, i], label=f"α{i + 1}")
     ax_a.set(
