@@ -194,6 +194,24 @@ def _normalised(terms: np.ndarray) -> np.ndarray:
     return alpha
 
 
+def combined_error(components, alpha: np.ndarray, x, t) -> np.ndarray:
+    """The components' error estimates carried to their combination, ``(N,)``.
+
+    With v = −λ log Σ_i w_i z_i, an error δv_i in component i changes v by Σ_i α_i δv_i to first
+    order (α the blend weights), so ``abs(δv) ≤ Σ_i abs(α_i) ê_i`` with ê_i from each component's
+    :meth:`gridlbc.Solution.error_estimate`."""
+    missing = [
+        i for i, c in enumerate(components) if not callable(getattr(c, "error_estimate", None))
+    ]
+    if missing:
+        raise ValueError(
+            f"components {missing} carry no error estimate (only grid Solutions do): estimate "
+            "their error separately, e.g. with gridlbc.certify"
+        )
+    estimates = np.stack([np.atleast_1d(c.error_estimate(x, t)) for c in components], axis=1)
+    return np.sum(np.abs(alpha) * estimates, axis=1)
+
+
 @dataclass(frozen=True, eq=False)
 class CombinedSolution(FieldEvaluation):
     """z = Σ w_i z_i of solutions sharing one PDE; evaluates like a :class:`gridlbc.Solution`.
@@ -245,6 +263,11 @@ class CombinedSolution(FieldEvaluation):
         when the weights are; NaN (with an UnderflowWarning) where Σ w_j z_j underflowed."""
         _, z, _ = self._component_fields(x, t, gradient=False)
         return _normalised(z)
+
+    def error_estimate(self, x, t=0.0) -> np.ndarray:
+        """``Σ_i abs(α_i) ê_i``: the components' error estimates carried to the combination
+        (:func:`combined_error`), ``(N,)``."""
+        return combined_error(self.components, self.blend_weights(x, t), x, t)
 
 
 @dataclass(frozen=True, eq=False)
@@ -315,6 +338,11 @@ class Combination:
     def blend_weights(self, x, t) -> np.ndarray:
         """α_i(x, t), shape ``(N, n)`` (NaN, with an UnderflowWarning, where Σ w_j z_j ≤ 0)."""
         return _normalised(self._scaled(x, t)[1])
+
+    def error_estimate(self, x, t=0.0) -> np.ndarray:
+        """``Σ_i abs(α_i) ê_i`` (:func:`combined_error`), ``(N,)``; every component must be a grid
+        Solution."""
+        return combined_error(self.components, self.blend_weights(x, t), x, t)
 
     def policy(self, x, t) -> np.ndarray:
         """u = Σ α_i u_i, shape ``(N, m)``; components with α_i = 0 are not evaluated there."""

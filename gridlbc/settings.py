@@ -70,6 +70,12 @@ class SolverSettings:
         temperature). The step stays linear in z for a fixed reference, so superposition is exact
         among solutions that share it; :func:`gridlbc.combine` combines solutions fitted to
         different references through their values (``exact`` False).
+    error_estimate : bool
+        Also solve on the embedded grid (every other node, step 2Δt) so that the solution
+        carries an a-posteriori estimate of its error (:meth:`gridlbc.Solution.error_estimate`,
+        :mod:`gridlbc.accuracy`), and warn when it exceeds
+        :data:`gridlbc.accuracy.DEFAULT_TOLERANCE` where it matters. Default True; it costs
+        about 2^−(d+1) of the solve.
     """
 
     method: str = "splitting"
@@ -82,6 +88,7 @@ class SolverSettings:
     mmap_dir: str | None = None
     linear_solver: str = "auto"
     fitting: object = "auto"
+    error_estimate: bool = True
 
     @property
     def scheme(self):

@@ -181,6 +181,17 @@ class Solution(FieldEvaluation):
     reference : FittingReference or None
         log φ of the fitted operator's reference at the same times, for ``interpolation ==
         "fitted"`` (None otherwise).
+    embedded : Solution or None
+        The same problem solved on the embedded grid (every other node) with step 2Δt, from
+        which :meth:`error_estimate` reads (None if not solved: ``error_estimate=False``, or a
+        grid too coarse to embed).
+    estimate_order : float
+        The order p in the Richardson estimate ``abs(v_2h − v_h) / (2^p − 1)`` (observed from a third
+        solve at 4h, in [1, 2]: :func:`gridlbc.accuracy.observed_order`).
+    estimate_floor : float
+        The least error the estimate reports (:func:`gridlbc.accuracy.estimate_floor`).
+    refinement : tuple of gridlbc.accuracy.Refinement
+        With ``solve(tol=...)``: the solves that led to this one (empty otherwise).
     """
 
     problem: Problem
@@ -190,6 +201,10 @@ class Solution(FieldEvaluation):
     diagnostics: SolveDiagnostics
     reference: FittingReference | None = None
     _B_cache: dict = field(default_factory=dict, repr=False, compare=False)
+    embedded: Solution | None = field(default=None, repr=False, compare=False)
+    estimate_order: float = field(default=1.0, repr=False, compare=False)
+    estimate_floor: float = field(default=0.0, repr=False, compare=False)
+    refinement: tuple = field(default=(), repr=False, compare=False)
 
     @property
     def grid(self):
@@ -199,6 +214,35 @@ class Solution(FieldEvaluation):
     def nbytes(self) -> int:
         """Bytes held by the stored slices and their scales."""
         return int(self.slices.nbytes + self.log_scales.nbytes + self.times.nbytes)
+
+    def error_estimate(self, x, t=0.0, local: bool = False) -> np.ndarray:
+        """An a-posteriori estimate of ``abs(v(x, t) − v_exact(x, t))`` (SPEC §10, docs page
+        :doc:`accuracy`): ``abs(v_2h(x, t) − v(x, t)) / (2^p − 1)``, the Richardson estimate from the embedded solve with the observed order p, and at least
+        :attr:`estimate_floor` (:mod:`gridlbc.accuracy`).
+
+        Parameters
+        ----------
+        x : array_like (N, d) or (d,)
+            States.
+        t : float
+            Time in [0, T].
+        local : bool
+            Leave out the floor (the local Richardson difference only).
+
+        Returns
+        -------
+        ndarray (N,)
+            The estimated absolute error of :meth:`value` at each state.
+        """
+        if self.embedded is None:
+            raise ValueError(
+                "this solution carries no error estimate: it was solved with "
+                "error_estimate=False or on a grid too coarse to embed (fewer than 5 nodes on "
+                "an axis); solve again with the default settings"
+            )
+        difference = np.abs(self.embedded.value(x, t) - self.value(x, t))
+        estimate = difference / (2.0**self.estimate_order - 1.0)
+        return estimate if local else np.maximum(estimate, self.estimate_floor)
 
     # -- nodal access ---------------------------------------------------------------------------
 

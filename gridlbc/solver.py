@@ -20,10 +20,19 @@ from __future__ import annotations
 import hashlib
 import math
 import numbers
+import warnings
 
 import numpy as np
 
+from .accuracy import (
+    check_accuracy,
+    embedded_grid,
+    estimate_floor,
+    observed_order,
+    solve_to_tolerance,
+)
 from .backends.numba.drift import rate_sums
+from .errors import GridlbcWarning
 from .grid import flat_chunks
 from .problem import Problem
 from .schemes.protocol import Marched, MarchPlan, Terminal
@@ -170,7 +179,44 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     marched = scheme.march(plan, terminal)
     solutions = _solutions(plan, terminal_costs, terminal, marched, s, rates[0], estimate)
     scheme.check(solutions, marched)
+    if s.error_estimate:
+        _embed(problem, terminal_costs, s, plan.dt, solutions)
     return solutions
+
+
+def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
+    """Attach to each solution its embedded solve (the same problem on the grid with every other
+    node, step 2Δt) and the observed order from a third solve at 4h, 4Δt (:mod:`gridlbc.accuracy`),
+    and warn where the estimate exceeds the default tolerance. The embedded solves' own warnings
+    are not the user's: they are silenced."""
+    levels = []
+    grid = problem.grid
+    for _ in range(2):
+        grid = embedded_grid(grid)
+        if grid is None:
+            break
+        dt = min(2 * dt, problem.horizon)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GridlbcWarning)
+            levels.append(
+                solve_many(
+                    problem.replace(grid=grid),
+                    terminal_costs,
+                    s,
+                    dt=dt,
+                    progress=False,
+                    error_estimate=False,
+                )
+            )
+    if not levels:
+        return
+    for r, solution in enumerate(solutions):
+        coarser = levels[1][r] if len(levels) > 1 else None
+        order = observed_order(solution, levels[0][r], coarser)
+        object.__setattr__(solution, "embedded", levels[0][r])
+        object.__setattr__(solution, "estimate_order", order)
+        object.__setattr__(solution, "estimate_floor", estimate_floor(solution))
+        check_accuracy(solution)
 
 
 def _solutions(
@@ -224,6 +270,10 @@ def solve(
     problem: Problem,
     dt: float | SolverSettings | str | None = None,
     settings: SolverSettings | str | None = None,
+    *,
+    tol: float | None = None,
+    states=None,
+    max_nodes: int | None = None,
     **options,
 ) -> Solution:
     """Solve the linear Bellman PDE of ``problem`` backward from T to 0.
@@ -237,6 +287,16 @@ def solve(
         ``solve(problem, "fast")``.
     settings : SolverSettings or str, optional
         Settings or the name of a preset in :data:`gridlbc.PRESETS`.
+    tol : float, optional
+        A relative tolerance on v: solve again, halving Δt or refining the grid, until the
+        embedded error estimate meets it (:func:`gridlbc.accuracy.solve_to_tolerance`; the path
+        taken is in ``solution.refinement``). Default: one solve, which warns when its estimate
+        exceeds :data:`gridlbc.accuracy.DEFAULT_TOLERANCE`.
+    states : array_like (N, d), optional
+        With ``tol``: the states where it must hold (default: the nodes whose value is at most
+        the median, :func:`gridlbc.accuracy.states_that_matter`).
+    max_nodes : int, optional
+        With ``tol``: refine the grid no further than this many nodes.
     **options
         Any :class:`SolverSettings` field, e.g. ``method="implicit"``, ``store_every=5``,
         ``progress=True``.
@@ -244,7 +304,8 @@ def solve(
     Returns
     -------
     Solution
-        Value, desirability and policy at any (x, t), with :class:`SolveDiagnostics`.
+        Value, desirability and policy at any (x, t), with :class:`SolveDiagnostics` and an
+        error estimate (:meth:`Solution.error_estimate`).
     """
     if isinstance(dt, (SolverSettings, str)):
         if settings is not None:
@@ -259,4 +320,8 @@ def solve(
                 f"got {type(dt).__name__}"
             )
         options["dt"] = dt
+    if tol is not None:
+        return solve_to_tolerance(problem, tol, states, settings, max_nodes, **options)
+    if states is not None or max_nodes is not None:
+        raise TypeError("states= and max_nodes= apply with tol=: give tol or drop them")
     return solve_many(problem, [problem.terminal_cost], settings, **options)[0]

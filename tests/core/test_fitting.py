@@ -97,6 +97,7 @@ def test_fitted_step_is_linear_and_positive(rng, full):
     )
 
 
+@EXACTNESS_ONLY
 def test_combination_exact_with_a_shared_reference_and_inexact_without():
     problem = _pendulum()
     g1 = Quadratic([0.5, 0.0], [2.0, 0.2])
@@ -122,6 +123,7 @@ def test_combination_exact_with_a_shared_reference_and_inexact_without():
         )
 
 
+@EXACTNESS_ONLY
 def test_own_reference_row_and_explicit_reference_agree():
     """solve(fitting="terminal") fits to its own row; fitting=g adds g as a separate reference
     row. Same φ, same operator: the same numbers at t = 0 and T and the same fingerprints. The
@@ -247,6 +249,7 @@ def test_fitted_diffusion_kernel_matches_numpy_twin(periodic, variance, rng):
     np.testing.assert_allclose(out, twin, rtol=1e-5)
 
 
+@EXACTNESS_ONLY
 def test_separately_fitted_components_combine_to_the_direct_solve_as_the_grid_refines():
     """The paper's workflow with each component fitted to its own terminal cost: the combination
     is not one operator's solution, so it differs from the direct (fitted) solve of the composite
@@ -315,14 +318,18 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     5 %, policy within 16 % (2.5 SE
     above the measured cost; the plain policy costs +128 %)."""
     problem = steep_swingup_problem(64, temperature=0.01)
-    solution = gridlbc.solve(problem, fitting="terminal")
+    with pytest.warns(gridlbc.ResolutionWarning, match="the estimated error"):
+        solution = gridlbc.solve(problem, fitting="terminal")  # its policy is +14 %: rightly
     value = solution.value(STEEP_START, 0.0)[0]
     assert abs(value / STEEP_DETERMINISTIC_OPTIMUM - 1) < 0.05, value
     cert = gridlbc.certify(
         problem, solution.policy, STEEP_START, 200, dt=0.004, seed=0, progress=False
     )
     assert cert.policy_cost < 1.16 * STEEP_DETERMINISTIC_OPTIMUM, cert.summary()
-    with pytest.warns(gridlbc.ResolutionWarning, match="fitting='terminal'"):
+    with (
+        pytest.warns(gridlbc.ResolutionWarning, match="the estimated error"),
+        pytest.warns(gridlbc.ResolutionWarning, match="fitting='terminal'"),
+    ):
         plain = gridlbc.solve(problem, fitting=None)
     assert plain.value(STEEP_START, 0.0)[0] < 0.5 * STEEP_DETERMINISTIC_OPTIMUM
 
@@ -334,9 +341,13 @@ def test_no_resolution_warning_where_the_plain_scheme_resolves():
 
     with warnings.catch_warnings():
         warnings.simplefilter("error", gridlbc.ResolutionWarning)
+        # the plain values on 64² are a few percent off (docs/benchmarks.rst, at 128²: 3–17 %
+        # below v*), which the error estimate says; this test is about the curvature check
+        warnings.filterwarnings("ignore", "the estimated error", gridlbc.ResolutionWarning)
         gridlbc.solve(mild_pendulum_problem(64), fitting=None)
 
 
+@EXACTNESS_ONLY
 def test_fitting_options_are_checked(tmp_path):
     problem = _pendulum(8)
     with pytest.raises(ValueError, match="fitting applies to method='splitting'"):
@@ -412,6 +423,7 @@ def test_corrected_fitted_drift_is_exact_for_quadratic_log_desirability(feet):
     assert 0 < np.count_nonzero(~inside) < 0.05 * grid.size
 
 
+@EXACTNESS_ONLY
 def test_fitted_evaluation_is_the_log_interpolation_where_z_is_the_reference(rng):
     """Fitted to an explicit reference φ (here the terminal cost itself), a solution is evaluated
     as z = exp(I[log φ]) I[z/φ]. At t = T, z = φ exactly, so y ≡ 1 and value and policy are the
@@ -428,6 +440,7 @@ def test_fitted_evaluation_is_the_log_interpolation_where_z_is_the_reference(rng
     np.testing.assert_allclose(explicit.policy(x, T), own.policy(x, T), rtol=1e-9, atol=1e-9)
 
 
+@EXACTNESS_ONLY
 def test_solve_many_components_keep_an_optimal_policy_at_small_temperature():
     """A component of solve_many is fitted to the composite reference and stored as z; its
     policy λ R⁻¹ Bᵀ∇z/z used to come from z interpolated linearly with central differences of z,

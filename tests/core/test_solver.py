@@ -46,6 +46,7 @@ def test_linear_in_terminal_data(method):
         np.testing.assert_allclose(direct, combined, rtol=1e-11, atol=0)
 
 
+@EXACTNESS_ONLY
 @pytest.mark.parametrize("method", METHODS)
 def test_positive_and_bounded_by_max_principle(method):
     problem = _pendulum_problem()
@@ -71,6 +72,7 @@ def _mild_pendulum(n, **kw):
     )
 
 
+@EXACTNESS_ONLY
 def test_schemes_converge_to_the_same_value():
     x0 = np.array([[1.0, 0.5], [-0.5, -1.0], [0.2, 0.0]])
     # Δt ∝ h (a fixed Courant number, no minimum step count) so that first-order Richardson
@@ -97,6 +99,7 @@ def test_schemes_converge_to_the_same_value():
     np.testing.assert_allclose(limits["splitting"], limits["implicit"], atol=0.5 * tol)
 
 
+@EXACTNESS_ONLY
 def test_times_and_diagnostics():
     problem = _pendulum_problem(T=0.9)
     sol = gridlbc.solve(problem, dt=0.1, store_every=4)
@@ -107,6 +110,7 @@ def test_times_and_diagnostics():
     assert d.courant > 0 and d.wall_time > 0
 
 
+@EXACTNESS_ONLY
 def test_time_interpolation_is_linear_between_slices():
     problem = _pendulum_problem(T=1.0)
     sol = gridlbc.solve(problem, dt=0.1, fitting=None)  # stores z (a fitted solve: log z)
@@ -213,6 +217,7 @@ def test_nan_drift_is_an_error_not_a_silent_step():
             gridlbc.solve(problem, dt=dt)
 
 
+@EXACTNESS_ONLY
 def test_bad_solve_options_and_queries():
     problem = Problem(PointMass(), _pm_grid(), 1.0, Quadratic([0, 0], [1, 1]))
     with pytest.raises(ValueError, match="dt must be positive"):
@@ -236,6 +241,7 @@ def test_bad_solve_options_and_queries():
         sol.policy([np.inf, 0.0], 0.0)
 
 
+@EXACTNESS_ONLY
 def test_a_control_that_jumps_many_cells_per_step_is_warned():
     """Pendulum-v1 (R = 0.04) at λ = 0.2 on 101²: at the default step the optimal control moves ω
     by about 90 cells per step, and v(x₀) is 8 % below its value at a quarter of the step (the
@@ -256,6 +262,7 @@ def test_a_control_that_jumps_many_cells_per_step_is_warned():
     assert coarse.value(x0, 0.0)[0] < 0.95 * fine.value(x0, 0.0)[0]
 
 
+@EXACTNESS_ONLY
 def test_a_grid_that_does_not_resolve_log_z_is_warned():
     """The 21⁴ gymnast: its default fitted solve is 18 % above the certified optimum and moves by
     tens of percent with Δt (docs/limitations.rst), and the second difference of log z along p₂
@@ -268,10 +275,13 @@ def test_a_grid_that_does_not_resolve_log_z_is_warned():
         gridlbc.solve(gymnast_problem(21))
     with warnings.catch_warnings():
         warnings.simplefilter("error", gridlbc.ResolutionWarning)
+        # 31⁴ is still 9 % off, which the error estimate says; the curvature check does not fire
+        warnings.filterwarnings("ignore", "the estimated error", gridlbc.ResolutionWarning)
         gridlbc.solve(gymnast_problem(31))
         gridlbc.solve(mild_pendulum_problem(64))
 
 
+@EXACTNESS_ONLY
 def test_settings_or_a_preset_in_the_place_of_dt():
     """solve(problem, settings) is solve(problem, settings=settings), as solve_many takes them
     (issue 25 §6); anything else there is refused naming dt."""
@@ -301,5 +311,7 @@ def test_a_state_cost_constant_along_a_noise_axis_warns_nothing():
     assert cost_sampling_step(problem) == (np.inf, "")
     with warnings.catch_warnings():
         warnings.simplefilter("error", RuntimeWarning)
+        # 25² is coarse: the error estimate's warning (a ResolutionWarning) is not the question
+        warnings.simplefilter("ignore", gridlbc.ResolutionWarning)
         with np.errstate(all="warn", under="ignore"):
             gridlbc.solve(problem)

@@ -44,6 +44,7 @@ def test_help_everywhere(command):
     assert "usage: gridlbc" in result.stdout
 
 
+@SMOKE_SIZES
 def test_solve_combine_round_trip(tmp_path):
     """solve from TOML and from flags saves exactly what gridlbc.solve computes; combine
     evaluates the combination exactly as gridlbc.combine does."""
@@ -101,6 +102,7 @@ def test_solve_combine_round_trip(tmp_path):
     np.testing.assert_allclose(rows[1, 4:], [0.5, 0.5], atol=1e-5)
 
 
+@SMOKE_SIZES
 def test_combine_project_prints_weights_and_warnings(tmp_path):
     problem = problem_from_dict(pointmass_description(-1)).problem
     sols = gridlbc.solve_many(
@@ -123,6 +125,7 @@ def test_combine_project_prints_weights_and_warnings(tmp_path):
     assert "warning: weights sum to" in result.stderr
 
 
+@SMOKE_SIZES
 def test_certify_prints_what_gridlbc_certify_computes(tmp_path):
     """certify on a saved solution: the same numbers as gridlbc.certify with the same seed (the
     run is deterministic given the seed), beside the solution's prediction."""

@@ -20,6 +20,7 @@ from pathlib import Path
 import numba
 import numpy as np
 import pytest
+from conftest import SMOKE_SIZES
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -157,6 +158,7 @@ def test_page_equals_combine_on_saved_solutions(pendulum_files, tmp_path):
     )
 
 
+@SMOKE_SIZES
 @needs_chromium
 def test_decimated_page_equals_combine_of_decimated(pendulum_files, tmp_path):
     """Decimated on the way in (grid and slices), the page is exact for the decimated data."""
@@ -175,6 +177,7 @@ def test_decimated_page_equals_combine_of_decimated(pendulum_files, tmp_path):
         )
 
 
+@SMOKE_SIZES
 @needs_chromium
 def test_pointmass_projection_is_closed_form(tmp_path):
     grid = Grid([Axis(-2.0, 2.0, 25), Axis(-3.0, 3.0, 21)])
@@ -196,6 +199,7 @@ def test_pointmass_projection_is_closed_form(tmp_path):
     assert "sum" in bad["error"]
 
 
+@SMOKE_SIZES
 def test_decimate_evaluates_the_solution_itself(pendulum_files):
     sol = gridlbc.load(pendulum_files[0])
     small = decimate(sol, (11, 9), n_times=5)
@@ -235,6 +239,7 @@ USER_SCRIPT = """<script>
 </script></body>"""
 
 
+@SMOKE_SIZES
 @needs_chromium
 def test_controls_drive_the_page(pendulum_files, tmp_path):
     """Slider, click and goal mode change what the page shows (the wiring, not the numbers)."""
@@ -255,6 +260,7 @@ def test_controls_drive_the_page(pendulum_files, tmp_path):
     assert out["weights"] != [1.0, 1.0, 2.0]  # projection replaced the slider weights
 
 
+@SMOKE_SIZES
 def test_page_loads_nothing_from_the_network(pendulum_files, tmp_path):
     report = write_page([gridlbc.load(p) for p in pendulum_files], tmp_path / "p.html")
     html = report.path.read_text(encoding="utf-8")

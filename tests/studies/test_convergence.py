@@ -35,6 +35,7 @@ def test_richardson_estimate_recovers_the_limit_of_a_pure_power_law(rng):
     assert assumed == 1.0
 
 
+@EXACTNESS_ONLY
 def test_richardson_z_of_a_solution_with_itself_is_that_solution():
     # 2 z − z = z: value and policy reproduce the solution's own, to rounding.
     solution = gridlbc.solve(pointmass_problem(0.5))
@@ -99,6 +100,7 @@ def test_pointmass_table_orders_and_z_solver_convergence():
     assert len(table.select("pointmass", "splitting+richardson", "riccati")) == 2
 
 
+@SMOKE_SIZES
 def test_temperature_study_and_figures(tmp_path):
     study = temperature_study(temperatures=(1.0, 0.1), n=32)
     assert study.value_z.shape == study.value_hjb.shape == (2, study.theta.size)

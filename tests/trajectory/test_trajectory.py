@@ -3,6 +3,7 @@ reference), the expansion against Riccati, and trajectory components in combine.
 
 import numpy as np
 import pytest
+from conftest import EXACTNESS_ONLY
 
 import gridlbc as g
 from gridlbc.costs import Quadratic, Tracking
@@ -409,6 +410,7 @@ def test_combination_of_two_lq_trackers_is_the_lq_combination():
     )
 
 
+@EXACTNESS_ONLY
 def test_mixed_combination_in_the_log_domain():
     """A grid Solution with a trajectory component; values 5000 apart (exp(−5000) underflows)
     still give α ∈ {0, 1} and finite values, not NaN."""

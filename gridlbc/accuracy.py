@@ -1,0 +1,431 @@
+"""How accurate is a solve: the embedded error estimate and solves to a tolerance (SPEC §10).
+
+The docs page :doc:`accuracy` explains what the estimate sees and what it cannot.
+
+**The embedded estimate.** A solve on a grid of spacing h with step Δt is accompanied by solves of
+the same problem, with the same scheme and settings, on the *embedded* grids that keep every other
+node of each axis: spacing 2h with step 2Δt, and 4h with 4Δt. Together they cost about
+2^−(d+1) + 2^−(2d+2) of the solve they check. If the scheme's error behaves as
+e(h, Δt) ≈ C h^p with Δt ∝ h, Richardson's argument gives::
+
+    v_2h − v_h ≈ (2^p − 1) C h^p,          v_4h − v_2h ≈ 2^p (v_2h − v_h),
+
+so the order p is observed from the three solves (:func:`observed_order`, over the states that
+matter, clipped to [1, 2]: the library's schemes are first order in general and second order at
+best) and :meth:`gridlbc.Solution.error_estimate` returns::
+
+    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)) / (2^p − 1),  ê_floor ),
+
+evaluated at any states by the same interpolation as the values. ê_floor is the median of the
+first term over the states that matter (:func:`estimate_floor`): where the two solves happen to
+agree (their difference changes sign), the error is not smaller than the typical error around it.
+The estimate never changes the solution it checks. It sees what refining h and Δt would change:
+time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
+the value's curvature. It cannot see an error that both solves share: a box too small for the
+process (reflection at a closed axis acts the same on both), or a feature that all three grids
+miss entirely.
+
+**Relative error.** ``ê / max(abs(v), λ)``: a value below the temperature λ is compared with λ,
+the scale on which v = −λ log z is resolved (near a goal v can be arbitrarily small while its
+error is a fraction of λ).
+
+**Where it matters.** Without states from the user, a solve is judged at the states that matter:
+the nodes whose value at t = 0 is finite and at most the median over the grid (the better half
+of the box, where a controlled process spends its time; the far corners of a box, where every
+solve is poor, do not count), and the relative estimate is read there at its 90th percentile.
+With ``states=``, at its largest over them.
+
+**Tolerance.** :func:`solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve,
+halving Δt where the time step dominates the estimate (measured by a solve at 2Δt on the same
+grid) and otherwise refining every axis (h → h/2), until the estimate meets ``tol`` or a limit
+(memory, ``max_nodes``, ``max_refinements``) stops it, and reports the path it took in
+:attr:`gridlbc.Solution.refinement`. A default solve whose estimate exceeds
+:data:`DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the estimate and what to
+change.
+"""
+
+from __future__ import annotations
+
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ResolutionWarning
+from .grid import Axis, Grid
+
+DEFAULT_TOLERANCE = 0.05
+"""The relative error above which a default solve warns (:func:`check_accuracy`)."""
+
+QUANTILE = 0.9
+"""The share of the states that matter whose relative estimate must meet the tolerance."""
+
+
+def embedded_grid(grid: Grid) -> Grid | None:
+    """The grid with every other node of each axis (spacing 2h), or None when an axis would keep
+    fewer than three nodes (four on a periodic axis). A closed axis with an odd node count keeps
+    exactly its even-numbered nodes; with an even count the coarse spacing is slightly above 2h."""
+    axes = []
+    for a in grid.axes:
+        n = a.n // 2 if a.periodic else (a.n + 1) // 2
+        if n < (4 if a.periodic else 3):
+            return None
+        axes.append(Axis(a.lo, a.hi, n, periodic=a.periodic, name=a.name))
+    return Grid(axes)
+
+
+def refined_grid(grid: Grid) -> Grid:
+    """The grid with every cell halved (spacing h/2): the grid whose embedded grid is ``grid``."""
+    return Grid(
+        [
+            Axis(
+                a.lo, a.hi, 2 * a.n if a.periodic else 2 * a.n - 1, periodic=a.periodic, name=a.name
+            )
+            for a in grid.axes
+        ]
+    )
+
+
+def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) -> np.ndarray:
+    """``estimate / max(|value|, λ)`` (see the module docstring); +inf where the value is not
+    finite (underflow)."""
+    value = np.asarray(value, dtype=float)
+    scale = np.maximum(np.abs(value), temperature)
+    with np.errstate(invalid="ignore"):
+        out = np.asarray(estimate, dtype=float) / scale
+    return np.where(np.isfinite(value) & np.isfinite(out), out, np.inf)
+
+
+def states_that_matter(solution) -> np.ndarray:
+    """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``.
+
+    Parameters
+    ----------
+    solution : Solution
+        A grid solution.
+
+    Returns
+    -------
+    ndarray (M, d)
+        The states at which a solve is judged when the user gives none.
+    """
+    v = solution.value_nodes(0)
+    finite = np.isfinite(v)
+    if not finite.any():
+        return np.empty((0, solution.grid.ndim))
+    keep = np.flatnonzero(finite & (v <= np.median(v[finite])))
+    return solution.grid.node_coordinates(keep)
+
+
+@dataclass(frozen=True)
+class Assessment:
+    """The embedded estimate of a solve, read at a set of states.
+
+    Attributes
+    ----------
+    error : float
+        The relative estimate that is compared with the tolerance: its :data:`QUANTILE` over the
+        states that matter, or its maximum over the user's states.
+    worst_state : ndarray (d,)
+        Where the relative estimate is largest.
+    worst_error : float
+        The largest relative estimate.
+    share_above : float
+        The share of the states whose relative estimate exceeds the tolerance.
+    n_states : int
+        How many states were read.
+    """
+
+    error: float
+    worst_state: np.ndarray
+    worst_error: float
+    share_above: float
+    n_states: int
+
+
+def estimate_floor(solution) -> float:
+    """The median over the states that matter (t = 0) of the local Richardson estimate: the
+    least error :meth:`gridlbc.Solution.error_estimate` reports anywhere. Discretisation errors
+    travel along the characteristics, so where the two solves happen to agree (their difference
+    changes sign) the error is not smaller than the typical error around it.
+
+    Parameters
+    ----------
+    solution : Solution
+        A solution that carries its embedded solve and observed order.
+
+    Returns
+    -------
+    float
+        The floor, in units of v.
+    """
+    X = states_that_matter(solution)
+    local = solution.error_estimate(X, local=True)
+    local = local[np.isfinite(local)]
+    return float(np.median(local)) if len(local) else 0.0
+
+
+def observed_order(solution, embedded, coarser=None) -> float:
+    """The order p of the Richardson estimate, observed over the states that matter::
+
+        p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) ),   clipped to [1, 2],
+
+    from the solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); 1 (the conservative choice) without
+    the third. The clip keeps the estimate between a third of the difference and all of it: the
+    library's schemes are first order in general and second order at best (interpolation).
+
+    Parameters
+    ----------
+    solution, embedded, coarser : Solution
+        The solves at h, 2h and 4h (``coarser`` None: no third solve).
+
+    Returns
+    -------
+    float
+        p in [1, 2].
+    """
+    if coarser is None:
+        return 1.0
+    X = states_that_matter(solution)
+    v, v2 = solution.value(X, 0.0), embedded.value(X, 0.0)
+    fine = np.abs(v2 - v)
+    coarse = np.abs(coarser.value(X, 0.0) - v2)
+    usable = np.isfinite(fine) & np.isfinite(coarse)
+    if not usable.any() or fine[usable].sum() == 0:
+        return 1.0
+    with np.errstate(divide="ignore"):
+        p = np.log2(coarse[usable].sum() / fine[usable].sum())
+    return float(np.clip(p, 1.0, 2.0))
+
+
+def judged_states(solution, states=None) -> np.ndarray:
+    """``states`` as ``(N, d)``, or :func:`states_that_matter` when None."""
+    if states is None:
+        return states_that_matter(solution)
+    return np.atleast_2d(np.asarray(states, dtype=float))
+
+
+def relative_difference(solution, other, X: np.ndarray) -> np.ndarray:
+    """abs(v_other − v) relative to the solution's value (:func:`relative_error`) at states ``X``
+    at t = 0: the embedded estimate when ``other`` is the embedded solve."""
+    v = solution.value(X, 0.0)
+    return relative_error(np.abs(other.value(X, 0.0) - v), v, solution.temperature)
+
+
+def statistic(rel: np.ndarray, given: bool) -> float:
+    """The number compared with a tolerance: the maximum over the user's states, the
+    :data:`QUANTILE` over the states that matter."""
+    if len(rel) == 0:
+        return np.inf
+    return float(rel.max()) if given else float(np.quantile(rel, QUANTILE))
+
+
+def assess(solution, tol: float, states=None) -> Assessment | None:
+    """Read the embedded estimate of ``solution`` at ``states`` (default: :func:`states_that_matter`).
+
+    Parameters
+    ----------
+    solution : Solution
+        A solution that carries its embedded solve.
+    tol : float
+        The relative tolerance that ``share_above`` counts against.
+    states : array_like (N, d) or (d,), optional
+        The states to judge; the statistic is then the maximum rather than the quantile.
+
+    Returns
+    -------
+    Assessment or None
+        None when the solution carries no embedded solve (a grid too coarse to embed).
+    """
+    if solution.embedded is None:
+        return None
+    X = judged_states(solution, states)
+    rel = relative_error(solution.error_estimate(X), solution.value(X, 0.0), solution.temperature)
+    if len(rel) == 0:
+        return Assessment(np.inf, np.full(solution.grid.ndim, np.nan), np.inf, 1.0, 0)
+    worst = int(np.argmax(rel))
+    error = statistic(rel, states is not None)
+    return Assessment(error, X[worst], float(rel[worst]), float(np.mean(rel > tol)), len(X))
+
+
+def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
+    """Warn (:class:`gridlbc.ResolutionWarning`) when the embedded estimate of a default solve
+    exceeds ``tol`` at the states that matter (:func:`assess`).
+
+    Parameters
+    ----------
+    solution : Solution
+        The solution to judge.
+    tol : float
+        The relative tolerance (default :data:`DEFAULT_TOLERANCE`).
+    """
+    a = assess(solution, tol)
+    if a is None or a.error <= tol:
+        return
+    state = np.array2string(a.worst_state, precision=3, separator=", ")
+    warnings.warn(
+        f"the estimated error of v exceeds {tol:.0%} of |v| at {a.share_above:.0%} of the states "
+        f"that matter ({QUANTILE:.0%} of them are within {a.error:.1%}; the largest, "
+        f"{a.worst_error:.0%}, is at {state}): measured against solves on the grids with every "
+        "other node, see solution.error_estimate(x) at your own states. Solve with "
+        f"tol={tol:g} to refine dt and the grid until the estimate meets it, or give a finer "
+        "grid or a smaller dt (docs page 'accuracy')",
+        ResolutionWarning,
+        stacklevel=4,
+    )
+
+
+@dataclass(frozen=True)
+class Refinement:
+    """One solve of :func:`solve_to_tolerance`.
+
+    Attributes
+    ----------
+    shape : tuple of int
+        The grid's nodes per axis.
+    dt : float
+        The step.
+    error : float
+        The relative estimate at the states judged (:class:`Assessment`).
+    time_error : float
+        The part of it from the time step (a solve at 2Δt on the same grid), NaN if not measured.
+    wall_time : float
+        Seconds for this solve and its estimates.
+    """
+
+    shape: tuple[int, ...]
+    dt: float
+    error: float
+    time_error: float
+    wall_time: float
+
+
+def solve_to_tolerance(
+    problem,
+    tol: float,
+    states=None,
+    settings=None,
+    max_nodes: int | None = None,
+    max_refinements: int = 8,
+    **options,
+):
+    """Solve ``problem`` again and again until the embedded estimate meets ``tol``.
+
+    Each round solves on the current grid with the current step and reads the relative estimate
+    (:func:`assess`). If it exceeds ``tol``, a solve at 2Δt on the same grid measures the time
+    step's share ê_t = abs(v_{h,2Δt} − v_{h,Δt}): where ê_t is at least half the estimate, Δt is
+    halved; otherwise every axis is refined (h → h/2, :func:`refined_grid`, with the scheme's
+    default step for it, never longer than the current one), unless that would exceed
+    ``max_nodes`` or the memory, in which case Δt is halved instead and the limit is reported.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem; its grid is the first one tried.
+    tol : float
+        The relative tolerance on v (see :func:`relative_error`), in (0, 1).
+    states : array_like (N, d), optional
+        Where the tolerance must hold; default :func:`states_that_matter` (at :data:`QUANTILE`).
+    settings : SolverSettings or str, optional
+        As for :func:`gridlbc.solve`.
+    max_nodes : int, optional
+        Refine the grid no further than this many nodes (default: what the memory allows).
+    max_refinements : int
+        At most this many rounds after the first.
+    **options
+        Settings fields, as for :func:`gridlbc.solve`.
+
+    Returns
+    -------
+    Solution
+        The last solution, with :attr:`~gridlbc.Solution.refinement` (one :class:`Refinement` per
+        round). A :class:`gridlbc.ResolutionWarning` says what stopped it if ``tol`` was not met.
+    """
+    from .settings import resolve_settings
+    from .solver import solve_many
+    from .storage import available_memory
+
+    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+        raise ValueError(f"tol must be a relative error in (0, 1), e.g. 0.02; got {tol!r}")
+    if options.get("error_estimate") is False:
+        raise ValueError("tol needs the embedded estimate: drop error_estimate=False")
+    base = resolve_settings(settings, options)
+    dt = base.dt
+    history: list[Refinement] = []
+    limit = ""
+    while True:
+        started = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", ResolutionWarning)
+            solution = solve_many(
+                problem, [problem.terminal_cost], base, dt=dt, error_estimate=True
+            )[0]
+        a = assess(solution, tol, states)
+        if a is None:
+            raise ValueError(
+                f"the grid {problem.grid.shape} is too coarse to embed a grid with every other "
+                "node (each axis needs at least 5 nodes): give a finer grid"
+            )
+        time_error = np.nan
+        done = a.error <= tol or len(history) >= max_refinements
+        if not done:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ResolutionWarning)
+                half = solve_many(
+                    problem,
+                    [problem.terminal_cost],
+                    base,
+                    dt=2 * solution.diagnostics.dt,
+                    error_estimate=False,
+                )[0]
+            rel = relative_difference(solution, half, judged_states(solution, states))
+            time_error = statistic(rel, states is not None)
+        history.append(
+            Refinement(
+                problem.grid.shape,
+                solution.diagnostics.dt,
+                a.error,
+                time_error,
+                time.perf_counter() - started,
+            )
+        )
+        if base.progress:
+            print(
+                f"tol: grid {'×'.join(map(str, problem.grid.shape))}, dt {solution.diagnostics.dt:.4g}: "
+                f"estimated error {a.error:.2%}",
+                flush=True,
+            )
+        if done:
+            break
+        if time_error >= 0.5 * a.error:
+            dt = solution.diagnostics.dt / 2
+            continue
+        finer = refined_grid(problem.grid)
+        if max_nodes is not None and finer.size > max_nodes:
+            limit = f"the grid {finer.shape} would exceed max_nodes = {max_nodes}"
+        else:
+            # the finer solve needs about 2^(d+1) times this one's memory (nodes and steps)
+            need = solution.diagnostics.memory_estimate * 2 * finer.size / problem.grid.size
+            available = available_memory()
+            if available is not None and need > 0.9 * available:
+                limit = (
+                    f"memory: the grid {finer.shape} would need about {need / 2**30:.1f} GiB "
+                    f"of {available / 2**30:.1f} GiB available"
+                )
+        if limit:
+            dt = solution.diagnostics.dt / 2
+            continue
+        problem = problem.replace(grid=finer)
+        dt = None if dt is None else min(dt, solution.diagnostics.dt)
+    object.__setattr__(solution, "refinement", tuple(history))
+    if history[-1].error > tol:
+        why = limit or f"max_refinements = {max_refinements} rounds were spent"
+        warnings.warn(
+            f"solve(tol={tol:g}) reached an estimated error of {history[-1].error:.1%} on "
+            f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}, not "
+            f"{tol:.1%}: {why}; raise max_refinements or max_nodes, store float32 or use mmap_dir",
+            ResolutionWarning,
+            stacklevel=3,
+        )
+    return solution

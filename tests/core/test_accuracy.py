@@ -1,0 +1,103 @@
+"""The embedded error estimate and solves to a tolerance (gridlbc.accuracy; docs page 'accuracy').
+
+The linear-quadratic point mass has an exact value (Riccati, gridlbc.reference.lq_solution), so
+the estimate is judged against the true error, not against another solve.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import gridlbc as g
+from gridlbc import accuracy
+from gridlbc.reference import lq_solution
+from gridlbc.systems import PointMass
+
+STATES = np.array([[1.0, -0.5], [-1.5, 1.0], [0.5, 1.5]])
+
+
+def _point_mass(n):
+    grid = g.Grid([g.Axis(-4, 4, n), g.Axis(-4, 4, n)])
+    return g.Problem(
+        PointMass(),
+        grid,
+        1.0,
+        g.Quadratic([0, 0], [2, 1]),
+        state_cost=g.Quadratic([0, 0], [0.5, 0.1]),
+        control_cost=2.0,
+        temperature=0.5,
+    )
+
+
+def _quiet_solve(problem, **options):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", g.ResolutionWarning)
+        return g.solve(problem, **options)
+
+
+def test_the_estimate_does_not_change_the_solution():
+    problem = _point_mass(41)
+    with_estimate = _quiet_solve(problem)
+    without = g.solve(problem, error_estimate=False)
+    assert with_estimate.embedded is not None and without.embedded is None
+    np.testing.assert_array_equal(with_estimate.slices, without.slices)
+    np.testing.assert_array_equal(with_estimate.log_scales, without.log_scales)
+    with pytest.raises(ValueError, match="error_estimate=False"):
+        without.error_estimate(STATES)
+
+
+def test_embedded_grid_keeps_every_other_node():
+    grid = g.Grid([g.Axis(-1, 1, 41), g.Axis(-np.pi, np.pi, 64, periodic=True)])
+    coarse = accuracy.embedded_grid(grid)
+    assert coarse.shape == (21, 32)
+    np.testing.assert_allclose(np.asarray(coarse.spacing), 2 * np.asarray(grid.spacing))
+    assert accuracy.refined_grid(coarse).shape == grid.shape
+    assert accuracy.embedded_grid(g.Grid([g.Axis(0, 1, 4)])) is None
+
+
+@pytest.mark.parametrize("n", [41, 81])
+def test_estimate_is_at_least_half_the_true_error_at_nine_in_ten_states(n):
+    # SPEC §10's contract, on a problem with an exact answer: the first-order Richardson
+    # difference |v_2h − v_h| bounds the error of a first-order scheme in the asymptotic range,
+    # and overestimates second-order parts; it must be at least half the true error at ≥ 90 %
+    # of the states that matter.
+    problem = _point_mass(n)
+    solution = _quiet_solve(problem)
+    X = accuracy.states_that_matter(solution)
+    true_error = np.abs(solution.value(X, 0.0) - lq_solution(problem).value(X, 0.0))
+    estimate = solution.error_estimate(X)
+    assert np.mean(estimate >= true_error / 2) >= 0.9
+
+
+def test_a_long_step_warns_and_tol_brings_the_error_within_it():
+    problem = _point_mass(41)
+    with pytest.warns(g.ResolutionWarning, match="the estimated error of v exceeds"):
+        g.solve(problem, dt=0.5)
+    solution = _quiet_solve(problem, tol=0.02, states=STATES, dt=0.5)
+    assert solution.refinement[-1].error <= 0.02 < solution.refinement[0].error
+    true = lq_solution(solution.problem).value(STATES, 0.0)
+    relative = np.abs(solution.value(STATES, 0.0) - true) / np.abs(true)
+    assert relative.max() <= 0.02  # the estimate bounds the error here (previous test)
+
+
+def test_tol_says_what_limits_it():
+    problem = _point_mass(21)
+    with pytest.warns(g.ResolutionWarning, match="max_nodes"):
+        g.solve(problem, tol=1e-4, states=STATES, max_nodes=500)
+    with pytest.raises(ValueError, match="tol must be"):
+        g.solve(problem, tol=2.0)
+    with pytest.raises(TypeError, match="with tol"):
+        g.solve(problem, states=STATES)
+
+
+def test_a_combination_carries_its_components_estimates():
+    problem = _point_mass(41)
+    costs = [g.Quadratic([1, 0], [2, 1]), g.Quadratic([-1, 0], [2, 1])]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", g.ResolutionWarning)
+        components = g.solve_many(problem, costs, fitting=None)
+    combined = g.combine(components, [1.0, 2.0])
+    alpha = combined.blend_weights(STATES, 0.0)
+    expected = sum(alpha[:, i] * c.error_estimate(STATES) for i, c in enumerate(components))
+    np.testing.assert_allclose(combined.error_estimate(STATES), expected, rtol=1e-12)
