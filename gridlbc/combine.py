@@ -48,7 +48,8 @@ import numpy as np
 
 from .errors import UnderflowWarning
 from .problem import Problem
-from .solution import FieldEvaluation, Solution, warn_underflow
+from .representation import Fields, warn_underflow
+from .solution import FieldEvaluation, OperatorSignature, Solution
 
 
 def check_weights(weights, n: int) -> np.ndarray:
@@ -101,8 +102,8 @@ def _problem_differences(p0: Problem, p: Problem) -> list[str]:
 
 def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
     """Grid Solutions of one PDE: raise if anything but the terminal cost differs in the problem
-    or the grid. Returns the solutions and what differs in their *operators* (time grid, solver
-    method, fitting reference): empty when they combine exactly."""
+    or the grid. Returns the solutions and what differs in their *operators* (time grid, and
+    their :class:`~gridlbc.solution.OperatorSignature`): empty when they combine exactly."""
     solutions = tuple(solutions)
     if not solutions:
         raise ValueError("solutions is empty: give at least one gridlbc.Solution to combine")
@@ -133,24 +134,31 @@ def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
                 f"solutions[{i}] has another time grid ({len(s.times)} vs "
                 f"{len(ref.times)} stored slices, or different times)"
             )
-        if s.diagnostics.method != ref.diagnostics.method:
-            operators.append(
-                f"solutions[{i}] was solved by {s.diagnostics.method}, "
-                f"solutions[0] by {ref.diagnostics.method}"
-            )
-        if s.diagnostics.fitting != ref.diagnostics.fitting:
-            operators.append(
-                f"solutions[{i}] was fitted to another reference "
-                f"({s.diagnostics.fitting} vs {ref.diagnostics.fitting})"
-            )
-        elif s.diagnostics.interpolation != ref.diagnostics.interpolation:
-            operators.append(
-                f"solutions[{i}] and solutions[0] were fitted to the same reference, "
-                "but only one was stepped in the log domain (a solve fitted to its "
-                "own terminal cost), whose slices between t = 0 and T are not "
-                "linear in z"
-            )
+        operators += _operator_differences(f"solutions[{i}]", s.operator, ref.operator)
     return solutions, operators
+
+
+def _operator_differences(name: str, a: OperatorSignature, b: OperatorSignature) -> list[str]:
+    """Why the operator of solution ``name`` (signature ``a``) is not that of solutions[0]
+    (``b``), in words: empty when they are one linear operator."""
+    reasons = [
+        (a.method != b.method, f"{name} was solved by {a.method}, solutions[0] by {b.method}"),
+        (
+            a.method == b.method and a.dt != b.dt,
+            f"{name} was solved with another time step (Δt {a.dt:g} vs {b.dt:g})",
+        ),
+        (
+            a.reference != b.reference,
+            f"{name} was fitted to another reference ({a.reference} vs {b.reference})",
+        ),
+        (
+            a.reference == b.reference and a.log_domain != b.log_domain,
+            f"{name} and solutions[0] were fitted to the same reference, but only one was "
+            "stepped in the log domain (a solve fitted to its own terminal cost), whose "
+            "slices between t = 0 and T are not linear in z",
+        ),
+    ]
+    return [text for differs, text in reasons if differs]
 
 
 EXACT_HINT = (
@@ -234,11 +242,12 @@ class CombinedSolution(FieldEvaluation):
         g = np.stack([c * f[2] for c, f in zip(factors, fields)]) if gradient else None
         return L, z, g
 
-    def scaled_fields(self, x, t, gradient: bool = True):
-        """Combined ``(L, z, g)``: z(x, t) = z e^L and Bᵀ∇z(x, t) = g e^L, as
-        :meth:`gridlbc.Solution.scaled_fields`, with L the largest component scale."""
+    def fields(self, x, t, gradient: bool = True) -> Fields:
+        """The combined fields at states ``x``, time ``t``: z(x, t) = z e^L and Bᵀ∇z(x, t) =
+        g e^L (L the largest component scale; g only with ``gradient``), as
+        :meth:`gridlbc.Solution.fields` gives them."""
         L, z, g = self._component_fields(x, t, gradient)
-        return L, z.sum(axis=0), (g.sum(axis=0) if gradient else None)
+        return Fields(None, L, z.sum(axis=0), None, g.sum(axis=0) if gradient else None)
 
     def blend_weights(self, x, t) -> np.ndarray:
         """α_i(x, t) = w_i z_i / Σ_j w_j z_j, shape ``(N, n)``: non-negative and summing to one
@@ -319,15 +328,16 @@ class Combination:
     def policy(self, x, t) -> np.ndarray:
         """u = Σ α_i u_i, shape ``(N, m)``; components with α_i = 0 are not evaluated there."""
         alpha = self.blend_weights(x, t)
-        u = 0.0
+        shape = (alpha.shape[0], self.problem.system.control_dim)
+        u = np.zeros(shape)
         for i, c in enumerate(self.components):
             active = alpha[:, i] != 0
             if not np.any(active):
                 continue
-            ui = np.zeros((alpha.shape[0], self.problem.system.control_dim))
+            ui = np.zeros(shape)
             ui[active] = np.asarray(c.policy(np.atleast_2d(x)[active], t), dtype=float)
             u = u + alpha[:, i, None] * ui
-        return u + np.zeros((alpha.shape[0], self.problem.system.control_dim))
+        return u
 
 
 def _log_desirability(component, x, t) -> np.ndarray:

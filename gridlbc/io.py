@@ -7,17 +7,21 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
 - ``metadata``: a JSON document (a 0-d unicode array) with ``format`` (``"gridlbc-solution"``),
   ``format_version``, ``library_version``, the grid (axes), the system (import path and
   constructor parameters), horizon, temperature, control cost R, the terminal and state costs,
-  the solver diagnostics, and ``sha256``: a digest of the three arrays, checked on load;
+  the solver diagnostics, the solution's ``representation`` (its name: ``"linear"``,
+  ``"relative"`` or ``"log"``, :mod:`gridlbc.representation`) and ``operator`` (its
+  :class:`gridlbc.solution.OperatorSignature`), and ``sha256``: a digest of the three arrays,
+  checked on load;
 - ``terminal_nodes``, ``state_cost_nodes``: a cost that is not a :class:`gridlbc.Quadratic` (an
   arbitrary callable) is stored by its values at the nodes and comes back as a
   :class:`GridCost`, which interpolates them (exact at the nodes);
 - ``reference_log_slices`` (S, N), ``reference_log_scales`` (S,): for a solution fitted to a
-  shared reference (``interpolation == "fitted"``), log φ at the stored times, which its
-  evaluation needs (:class:`gridlbc.solution.FittingReference`), with its own digest
-  ``reference_sha256`` in the metadata.
+  shared reference (:class:`gridlbc.representation.RelativeZ`), log φ at the stored times, which
+  its evaluation needs, with its own digest ``reference_sha256`` in the metadata.
 
-Loading refuses a different ``format_version`` and a truncated or corrupted file with a clear
-message.
+Version 1 files (before solutions knew their representation: it was
+``diagnostics["interpolation"]``, ``"linear"``, ``"fitted"`` or ``"log"``, and the operator was
+read from the diagnostics) are read too. Loading refuses other versions and a truncated or
+corrupted file with a clear message.
 """
 
 from __future__ import annotations
@@ -35,10 +39,14 @@ from .costs import Quadratic
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
-from .solution import FittingReference, Solution, SolveDiagnostics
+from .representation import REPRESENTATIONS, LinearZ, LogZ, RelativeZ
+from .solution import OperatorSignature, Solution, SolveDiagnostics
 
 FORMAT = "gridlbc-solution"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+"""The version :func:`save` writes."""
+READABLE_VERSIONS = (1, 2)
+"""The versions :func:`load` reads."""
 
 
 class GridCost:
@@ -150,6 +158,8 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
         "library_version": __version__,
         **problem_record(solution.problem, arrays),
         "diagnostics": asdict(solution.diagnostics),
+        "representation": solution.representation.name,
+        "operator": asdict(solution.operator),
         "sha256": _digest(solution.times, solution.slices, solution.log_scales),
     }
     if reference is not None:
@@ -210,10 +220,12 @@ def load(path) -> Solution:
     Solution
     """
     meta, contents = _read(path, arrays=True)
-    if meta.get("format_version") != FORMAT_VERSION:
+    version = meta.get("format_version")
+    if version not in READABLE_VERSIONS:
         raise ValueError(
-            f"{str(path)!r} has format version {meta.get('format_version')}, this gridlbc "
-            f"reads version {FORMAT_VERSION}: load it with gridlbc {meta.get('library_version')}"
+            f"{str(path)!r} has format version {version}, this gridlbc reads versions "
+            f"{', '.join(map(str, READABLE_VERSIONS))}: load it with gridlbc "
+            f"{meta.get('library_version')}"
         )
     times, slices, scales = contents["times"], contents["slices"], contents["log_scales"]
     if _digest(times, slices, scales) != meta["sha256"]:
@@ -221,7 +233,7 @@ def load(path) -> Solution:
     reference = None
     if "reference_sha256" in meta:
         try:
-            reference = FittingReference(
+            reference = RelativeZ(
                 contents["reference_log_slices"], contents["reference_log_scales"]
             )
         except KeyError:
@@ -245,11 +257,32 @@ def load(path) -> Solution:
     diag = dict(meta["diagnostics"])
     diag["iterations"] = tuple(diag.get("iterations", ()))
     known = SolveDiagnostics.__dataclass_fields__
+    diagnostics = SolveDiagnostics(**{k: v for k, v in diag.items() if k in known})
+    if version == 1:  # the representation and the operator were strings in the diagnostics
+        legacy = diag.get("interpolation", "linear")  # "linear", "fitted" or "log"
+        name = RelativeZ.name if legacy == "fitted" else legacy
+        operator = OperatorSignature(
+            diagnostics.method, diagnostics.dt, diagnostics.fitting, name == "log"
+        )
+    else:
+        name, operator = meta["representation"], OperatorSignature(**meta["operator"])
     return Solution(
         problem,
         times,
         slices,
         scales,
-        SolveDiagnostics(**{k: v for k, v in diag.items() if k in known}),
-        reference,
+        diagnostics,
+        operator,
+        _representation(str(name), reference, path),
     )
+
+
+def _representation(name: str, reference: RelativeZ | None, path) -> LinearZ | RelativeZ | LogZ:
+    """The representation recorded as ``name`` (its log φ ``reference`` for a relative one)."""
+    if name not in REPRESENTATIONS:
+        raise ValueError(f"{str(path)!r} records an unknown representation {name!r}")
+    if name == RelativeZ.name:
+        if reference is None:
+            raise ValueError(f"{str(path)!r} is corrupted: its fitting reference is missing")
+        return reference
+    return LogZ() if name == LogZ.name else LinearZ()

@@ -38,8 +38,9 @@ from ..combine import _check_components, check_weights
 from ..costs import Quadratic
 from ..grid import Axis, Grid
 from ..project import CONDITION_LIMIT, NEGATIVE_TOLERANCE, RESIDUAL_TOLERANCE, SUM_TOLERANCE
+from ..representation import LinearZ, LogZ, RelativeZ
 from ..schemes.splitting import _TINY
-from ..solution import FittingReference, Solution
+from ..solution import Solution
 from ..systems import Pendulum, PointMass
 
 SUPPORTED_SYSTEMS = (Pendulum, PointMass)
@@ -100,9 +101,10 @@ def decimate(
     Solution
         Slices Z(x_node, t_j) = z(x_node, t_j) / max_node z(·, t_j) with z the original's
         interpolant (:meth:`Solution.scaled_fields`), on the coarse grid at the kept times.
-        The original interpolates log z or is fitted to a reference: the result is fitted too
-        (``interpolation == "fitted"``), to the original's interpolated log z or log φ at the
-        coarse nodes, so that the page evaluates it as the original is evaluated.
+        The original interpolates log z or is fitted to a reference: the result is relative to a
+        reference too (:class:`~gridlbc.representation.RelativeZ`), the original's interpolated
+        log z or log φ at the coarse nodes, so that the page evaluates it as the original is
+        evaluated.
     """
     grid = solution.grid
     shape = grid.shape if nodes is None else tuple(np.atleast_1d(np.asarray(nodes, dtype=int)))
@@ -126,14 +128,15 @@ def decimate(
     X = coarse.nodes()
     slices = np.empty((kept.size, coarse.size))
     scales = np.empty(kept.size)
-    fitted = solution.diagnostics.interpolation != "linear"
+    fitted = not isinstance(solution.representation, LinearZ)
     reference = (
-        FittingReference(np.empty((kept.size, coarse.size), dtype), np.empty(kept.size))
+        RelativeZ(np.empty((kept.size, coarse.size), dtype), np.empty(kept.size))
         if fitted
         else None
     )
     for r, j in enumerate(kept):
-        L, z, _ = solution.scaled_fields(X, solution.times[j], gradient=False)
+        fields = solution.fields(X, solution.times[j], gradient=False)
+        L, z, _ = fields.scaled()
         top = z.max()
         if not top > 0:
             raise ValueError(
@@ -143,11 +146,8 @@ def decimate(
         slices[r] = z / top
         scales[r] = L + math.log(top)
         if fitted:  # log φ at the coarse nodes: the original's own log z, or its I[log φ]
-            ell = (
-                solution.log_desirability(X, solution.times[j])
-                if solution.reference is None
-                else solution._fitted_fields(X, solution.times[j], gradient=False)[0]
-            )
+            ell = fields.log_base
+            assert ell is not None  # LogZ and RelativeZ interpolate a log-factor
             ell = np.maximum(ell, ell.max() + math.log(_TINY))  # finite where z underflowed
             reference.log_slices[r] = ell - ell.max()
             reference.log_scales[r] = ell.max()
@@ -158,7 +158,6 @@ def decimate(
         stored_bytes=int(stored.nbytes),
         flushed_values=flushed,
         underflow_nodes=int(np.count_nonzero(stored[0] == 0)),
-        interpolation="fitted" if fitted else "linear",
     )
     return Solution(
         solution.problem.replace(grid=coarse),
@@ -166,7 +165,8 @@ def decimate(
         stored,
         scales,
         diagnostics,
-        reference,
+        solution.operator,
+        LinearZ() if reference is None else reference,
     )
 
 
@@ -261,7 +261,7 @@ def embed(
         # converted to z at its own nodes, fitted to its own log z, and reported as decimated
         # (the page is exact for the converted solution, and the report gives its error against
         # the original).
-        converted = [s.diagnostics.interpolation == "log" for s in solutions]
+        converted = [isinstance(s.representation, LogZ) for s in solutions]
         return Embedding(
             tuple(decimate(s, None, None, dtype) if c else s for s, c in zip(solutions, converted)),
             shape,
@@ -276,7 +276,7 @@ def embed(
         rows = (
             len(solutions)
             + len(references)
-            + sum(s.diagnostics.interpolation == "log" for s in solutions)
+            + sum(isinstance(s.representation, LogZ) for s in solutions)
         )
         per_node = rows * _slice_indices(n_stored, int(n_times)).size * np.dtype(dtype).itemsize
         top = max(shape)

@@ -20,8 +20,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..costs import Quadratic
-from ..problem import Problem
-from ..solution import check_time
+from ..problem import Problem, check_time
 
 
 @dataclass(frozen=True, eq=False)

@@ -70,9 +70,8 @@ from scipy.stats import chi2
 
 from ..costs import wrap_difference
 from ..errors import TrajectoryWarning
-from ..problem import Problem
+from ..problem import Problem, bracket, check_time
 from ..reference.lq import is_linear_quadratic
-from ..solution import bracket, check_time
 from .ddp import positive_part, sweeps
 from .optimize import Trajectory, shooting_for, timed_state_cost
 

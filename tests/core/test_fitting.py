@@ -12,6 +12,7 @@ from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.backends.numba.fitted_cells import FIT_WINDOW
 from gridlbc.backends.numba.fitted_diffusion import diffuse_fitted_kernel
 from gridlbc.interpolate import barycentric
+from gridlbc.representation import LogZ, RelativeZ
 from gridlbc.schemes.splitting import SplittingStep, characteristic_feet
 from gridlbc.studies.problems import (
     STEEP_DETERMINISTIC_OPTIMUM,
@@ -136,7 +137,7 @@ def test_own_reference_row_and_explicit_reference_agree():
     problem = _pendulum()
     own = gridlbc.solve(problem, dt=0.05, fitting="terminal")
     explicit = gridlbc.solve(problem, dt=0.05, fitting=problem.terminal_cost)
-    assert own.diagnostics.interpolation == "log" and explicit.diagnostics.interpolation == "fitted"
+    assert isinstance(own.representation, LogZ) and isinstance(explicit.representation, RelativeZ)
     for j in (0, len(own.times) - 1):
         np.testing.assert_allclose(
             own.log_desirability_nodes(j),
@@ -420,8 +421,8 @@ def test_fitted_evaluation_is_the_log_interpolation_where_z_is_the_reference(rng
     problem = _pendulum()
     explicit = gridlbc.solve(problem, dt=0.05, fitting=problem.terminal_cost)
     own = gridlbc.solve(problem, dt=0.05)
-    assert explicit.diagnostics.interpolation == "fitted" and explicit.reference is not None
-    assert own.diagnostics.interpolation == "log"
+    assert isinstance(explicit.representation, RelativeZ) and explicit.reference is not None
+    assert isinstance(own.representation, LogZ)
     x = np.column_stack([rng.uniform(-np.pi, np.pi, 200), rng.uniform(-6, 6, 200)])
     T = problem.horizon
     np.testing.assert_allclose(explicit.value(x, T), own.value(x, T), rtol=1e-12)
@@ -439,7 +440,7 @@ def test_solve_many_components_keep_an_optimal_policy_at_small_temperature():
     problem = swingup_problem(64, temperature=0.1)
     goal = Quadratic([-0.6, 0], [10, 0.5])
     component, _ = gridlbc.solve_many(problem, [goal, Quadratic([0.6, 0], [10, 0.5])])
-    assert component.diagnostics.interpolation == "fitted"
+    assert isinstance(component.representation, RelativeZ)
     cert = gridlbc.certify(
         component.problem, component.policy, [2.8, 0.0], 400, seed=1, dt=0.002, progress=False
     )
