@@ -100,7 +100,7 @@ def _problem_differences(p0: Problem, p: Problem) -> list[str]:
     return differs
 
 
-def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
+def check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
     """Grid Solutions of one PDE: raise if anything but the terminal cost differs in the problem
     or the grid. Returns the solutions and what differs in their *operators* (time grid, and
     their :class:`~gridlbc.solution.OperatorSignature`): empty when they combine exactly."""
@@ -413,7 +413,7 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
             "component to combine"
         )
     if all(isinstance(c, Solution) for c in components):
-        solutions, operators = _check_components(components)
+        solutions, operators = check_components(components)
         w = check_weights(weights, len(solutions))
         base = solutions[0].problem
         cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w, base.temperature)

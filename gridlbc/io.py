@@ -70,17 +70,44 @@ def _digest(*arrays) -> str:
     return h.hexdigest()
 
 
-def _cost_record(cost, name: str, problem: Problem, arrays: dict):
+def quadratic_record(cost: Quadratic) -> dict:
+    """A :class:`gridlbc.Quadratic` as JSON-ready data: ``kind`` (``"quadratic"``), ``center``,
+    ``weights`` and ``periods`` (``None``, or one per coordinate, inf where not periodic).
+
+    Parameters
+    ----------
+    cost : Quadratic
+        The cost.
+    """
+    periods = None if cost.periods is None else [float(p) for p in cost.periods]
+    return {
+        "kind": "quadratic",
+        "center": cost.center.tolist(),
+        "weights": cost.weights.tolist(),
+        "periods": periods,
+    }
+
+
+def cost_record(cost, name: str, problem: Problem, arrays: dict) -> dict | None:
+    """A cost as JSON-ready data: a quadratic by its parameters (:func:`quadratic_record`), any
+    other callable by its values at the grid's nodes, which go into ``arrays`` as
+    ``{name}_nodes`` (:func:`load` gives them back as a :class:`GridCost`).
+
+    Parameters
+    ----------
+    cost : callable or None
+        The cost (``None``: no cost, recorded as ``None``).
+    name : str
+        Its name in ``arrays``.
+    problem : Problem
+        The problem whose grid samples a non-quadratic cost.
+    arrays : dict
+        Where the nodal values go.
+    """
     if cost is None:
         return None
     if isinstance(cost, Quadratic):
-        periods = None if cost.periods is None else [float(p) for p in cost.periods]
-        return {
-            "kind": "quadratic",
-            "center": cost.center.tolist(),
-            "weights": cost.weights.tolist(),
-            "periods": periods,
-        }
+        return quadratic_record(cost)
     arrays[f"{name}_nodes"] = np.asarray(cost(problem.grid.nodes()), dtype=float)
     return {"kind": "nodes", "type": f"{type(cost).__module__}.{type(cost).__qualname__}"}
 
@@ -117,8 +144,8 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
         "horizon": problem.horizon,
         "temperature": problem.temperature,
         "control_cost": problem.control_cost.tolist(),
-        "terminal_cost": _cost_record(problem.terminal_cost, "terminal", problem, arrays),
-        "state_cost": _cost_record(problem.state_cost, "state_cost", problem, arrays),
+        "terminal_cost": cost_record(problem.terminal_cost, "terminal", problem, arrays),
+        "state_cost": cost_record(problem.state_cost, "state_cost", problem, arrays),
     }
 
 

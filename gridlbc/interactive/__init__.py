@@ -34,12 +34,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..combine import _check_components, check_weights
+from ..backends import REFERENCE_FLOOR
+from ..combine import check_components, check_weights
 from ..costs import Quadratic
 from ..grid import Axis, Grid
+from ..io import quadratic_record
 from ..project import CONDITION_LIMIT, NEGATIVE_TOLERANCE, RESIDUAL_TOLERANCE, SUM_TOLERANCE
 from ..representation import LinearZ, LogZ, RelativeZ
-from ..schemes.splitting import _TINY
 from ..solution import Solution
 from ..systems import Pendulum, PointMass
 
@@ -148,7 +149,9 @@ def decimate(
         if fitted:  # log φ at the coarse nodes: the original's own log z, or its I[log φ]
             ell = fields.log_base
             assert ell is not None  # LogZ and RelativeZ interpolate a log-factor
-            ell = np.maximum(ell, ell.max() + math.log(_TINY))  # finite where z underflowed
+            ell = np.maximum(
+                ell, ell.max() + math.log(REFERENCE_FLOOR)
+            )  # finite where z underflowed
             reference.log_slices[r] = ell - ell.max()
             reference.log_scales[r] = ell.max()
     stored = slices.astype(dtype)
@@ -234,7 +237,7 @@ def embed(
     :func:`decimate` them to ``dtype``, at most ``n_times`` (default :data:`DEFAULT_TIMES`)
     slices and the largest common fraction of the nodes per axis that fits; ``nodes`` or
     ``n_times`` given: decimate to them."""
-    solutions, _ = _check_components(solutions)
+    solutions, _ = check_components(solutions)
     first = solutions[0]
     if any(not np.array_equal(s.times, first.times) for s in solutions):
         raise ValueError(
@@ -289,16 +292,15 @@ def embed(
     )
 
 
-def _cost_record(cost):
-    """A Quadratic as JSON (periods ``None`` where not periodic), else ``None``."""
+def _page_cost(cost):
+    """A Quadratic as the page reads it (:func:`gridlbc.io.quadratic_record` with ``None`` for
+    the periods of non-periodic coordinates: JSON has no inf), else ``None``."""
     if not isinstance(cost, Quadratic):
         return None
-    periods = (
-        None
-        if cost.periods is None
-        else [float(p) if np.isfinite(p) else None for p in cost.periods]
-    )
-    return {"center": cost.center.tolist(), "weights": cost.weights.tolist(), "periods": periods}
+    record = quadratic_record(cost)
+    if record["periods"] is not None:
+        record["periods"] = [p if math.isfinite(p) else None for p in record["periods"]]
+    return record
 
 
 def _colormap(name: str) -> str:
@@ -385,13 +387,13 @@ def page_data(
         "B": B.tolist(),
         "state_cost": None
         if problem.state_cost is None
-        else (_cost_record(problem.state_cost) or "other"),
+        else (_page_cost(problem.state_cost) or "other"),
         "times": first.times.tolist(),
         "dtype": embedding.dtype,
         "components": [
             {
                 "label": lab,
-                "terminal_cost": _cost_record(s.problem.terminal_cost),
+                "terminal_cost": _page_cost(s.problem.terminal_cost),
                 "log_scales": s.log_scales.tolist(),
                 "slices": _base64(s.slices),
                 "reference": k,
