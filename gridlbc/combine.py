@@ -47,7 +47,7 @@ from typing import ClassVar
 import numpy as np
 
 from .errors import UnderflowWarning
-from .problem import Problem
+from .problem import Problem, state_evaluation
 from .representation import Fields, warn_underflow
 from .solution import FieldEvaluation, OperatorSignature, Solution
 
@@ -249,9 +249,11 @@ class CombinedSolution(FieldEvaluation):
         L, z, g = self._component_fields(x, t, gradient)
         return Fields(None, L, z.sum(axis=0), None, g.sum(axis=0) if gradient else None)
 
+    @state_evaluation
     def blend_weights(self, x, t) -> np.ndarray:
-        """α_i(x, t) = w_i z_i / Σ_j w_j z_j, shape ``(N, n)``: non-negative and summing to one
-        when the weights are; NaN (with an UnderflowWarning) where Σ w_j z_j underflowed."""
+        """α_i(x, t) = w_i z_i / Σ_j w_j z_j, shape ``(N, n)`` (``(n,)`` for one state):
+        non-negative and summing to one when the weights are; NaN (with an UnderflowWarning) where Σ
+        w_j z_j underflowed."""
         _, z, _ = self._component_fields(x, t, gradient=False)
         return _normalised(z)
 
@@ -303,30 +305,38 @@ class Combination:
         terms[:, ~finite] = 0.0
         return top, terms, terms.sum(axis=0)
 
+    @state_evaluation
     def log_desirability(self, x, t) -> np.ndarray:
-        """log Σ w_i z_i(x, t), shape ``(N,)`` (−inf, with an UnderflowWarning, where it is not
-        positive)."""
+        """log Σ w_i z_i(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``) (−inf, with an
+        UnderflowWarning, where it is not positive)."""
         top, _, total = self._scaled(x, t)
         bad = ~(total > 0)
         warn_underflow(bad)
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, total)) + top)
 
+    @state_evaluation
     def desirability(self, x, t) -> np.ndarray:
-        """z = Σ w_i z_i, shape ``(N,)`` (may underflow: use :meth:`value`)."""
+        """z = Σ w_i z_i, shape ``(N,)`` (a scalar for one state ``(d,)``) (may underflow: use
+        :meth:`value`)."""
         with np.errstate(under="ignore", over="ignore"):
             return np.exp(self.log_desirability(x, t))
 
+    @state_evaluation
     def value(self, x, t) -> np.ndarray:
-        """v = −λ log Σ w_i z_i, shape ``(N,)``."""
+        """v = −λ log Σ w_i z_i, shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         return -self.temperature * self.log_desirability(x, t)
 
+    @state_evaluation
     def blend_weights(self, x, t) -> np.ndarray:
-        """α_i(x, t), shape ``(N, n)`` (NaN, with an UnderflowWarning, where Σ w_j z_j ≤ 0)."""
+        """α_i(x, t), shape ``(N, n)`` (``(n,)`` for one state) (NaN, with an UnderflowWarning,
+        where Σ w_j z_j ≤ 0)."""
         return _normalised(self._scaled(x, t)[1])
 
+    @state_evaluation
     def policy(self, x, t) -> np.ndarray:
-        """u = Σ α_i u_i, shape ``(N, m)``; components with α_i = 0 are not evaluated there."""
+        """u = Σ α_i u_i, shape ``(N, m)`` (``(m,)`` for one state); components with α_i = 0 are not
+        evaluated there."""
         alpha = self.blend_weights(x, t)
         shape = (alpha.shape[0], self.problem.system.control_dim)
         u = np.zeros(shape)

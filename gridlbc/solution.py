@@ -24,6 +24,10 @@ to its own terminal cost), and one evaluation path asks it for the interpolated 
 
 A solution also knows the operator that made it (:class:`OperatorSignature`: scheme, Δt,
 fitting reference): solutions of one linear operator combine exactly (:func:`gridlbc.combine`).
+
+States are ``(N, d)`` and give values ``(N,)`` and controls ``(N, m)``; one state ``(d,)`` gives a
+scalar value and a control ``(m,)`` (:func:`gridlbc.problem.state_evaluation`, the convention of
+every evaluation in the library).
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .interpolate import barycentric
-from .problem import Problem, bracket, check_time
+from .problem import Problem, bracket, check_time, state_evaluation
 from .representation import Fields, LinearZ, RelativeZ, Representation, Stencil
 
 FittingReference = RelativeZ
@@ -141,23 +145,30 @@ class FieldEvaluation:
         """
         return self.fields(x, t, gradient).scaled()
 
+    @state_evaluation
     def log_desirability(self, x, t) -> np.ndarray:
-        """log z(x, t), shape ``(N,)`` (−inf where z underflowed, with an UnderflowWarning)."""
+        """log z(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``) (−inf where z underflowed,
+        with an UnderflowWarning)."""
         return self.fields(x, t, gradient=False).log_desirability()
 
+    @state_evaluation
     def desirability(self, x, t) -> np.ndarray:
-        """z(x, t) = exp(−v/λ), shape ``(N,)``. May underflow to 0 far from the goal: use
-        :meth:`log_desirability` or :meth:`value` for the full range."""
+        """z(x, t) = exp(−v/λ), shape ``(N,)`` (a scalar for one state ``(d,)``). May underflow to 0
+        far from the goal: use :meth:`log_desirability` or :meth:`value` for the full range."""
         L, z, _ = self.scaled_fields(x, t, gradient=False)
         with np.errstate(under="ignore", over="ignore"):
             return z * np.exp(L)
 
+    @state_evaluation
     def value(self, x, t) -> np.ndarray:
-        """Optimal cost-to-go v(x, t) = −λ log z(x, t), shape ``(N,)``."""
+        """Optimal cost-to-go v(x, t) = −λ log z(x, t), shape ``(N,)`` (a scalar for one state
+        ``(d,)``)."""
         return -self.temperature * self.log_desirability(x, t)
 
+    @state_evaluation
     def policy(self, x, t) -> np.ndarray:
-        """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v, shape ``(N, m)``."""
+        """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v, shape ``(N, m)`` (``(m,)`` for one
+        state)."""
         return self.fields(x, t).policy(self.temperature, self.problem.R_inv)
 
 

@@ -59,7 +59,7 @@ import numpy as np
 
 from .._numba import jit
 from ..grid import Grid
-from ..problem import Problem, bracket, check_time
+from ..problem import Problem, bracket, check_time, state_evaluation
 
 
 @jit
@@ -404,16 +404,20 @@ class HJBSolution:
         j, theta = bracket(self.times, check_time(t, self.problem.horizon))
         return (1 - theta) * self.values[j] + theta * self.values[j + 1]
 
+    @state_evaluation
     def value(self, x, t) -> np.ndarray:
-        """v(x, t), shape ``(N,)``."""
+        """v(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         return multilinear(self.grid, self._nodal_at(t), x)[0]
 
+    @state_evaluation
     def gradient(self, x, t) -> np.ndarray:
-        """∇v(x, t) from interpolated nodal central differences, shape ``(N, d)``."""
+        """∇v(x, t) from interpolated nodal central differences, shape ``(N, d)`` (``(d,)`` for one
+        state)."""
         return multilinear(self.grid, value_gradient(self.grid, self._nodal_at(t)), x).T
 
+    @state_evaluation
     def policy(self, x, t) -> np.ndarray:
-        """u*(x, t) = clip(−R⁻¹ B(x)ᵀ ∇v(x, t), lo, hi), shape ``(N, m)``.
+        """u*(x, t) = clip(−R⁻¹ B(x)ᵀ ∇v(x, t), lo, hi), shape ``(N, m)`` (``(m,)`` for one state).
 
         The minimiser of ½ uᵀRu + uᵀBᵀ∇v over the box ``control_bounds`` (R is diagonal, so
         clipping each control is exact); without bounds, the unconstrained −R⁻¹Bᵀ∇v.

@@ -179,7 +179,7 @@ def test_fitting_makes_the_swingup_prediction_honest():
             cert = gridlbc.certify(
                 problem, solution.policy, x0, 400, dt=0.002, seed=0, progress=False
             )
-        errors[fitting] = solution.value(x0, 0.0)[0] / cert.optimal_value - 1
+        errors[fitting] = solution.value(x0, 0.0) / cert.optimal_value - 1
     assert abs(errors["terminal"]) < 0.06, errors
     assert errors[None] < -0.12, errors
 
@@ -317,7 +317,7 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     above the measured cost; the plain policy costs +128 %)."""
     problem = steep_swingup_problem(64, temperature=0.01)
     solution = gridlbc.solve(problem, fitting="terminal")
-    value = solution.value(STEEP_START, 0.0)[0]
+    value = solution.value(STEEP_START, 0.0)
     assert abs(value / STEEP_DETERMINISTIC_OPTIMUM - 1) < 0.05, value
     cert = gridlbc.certify(
         problem, solution.policy, STEEP_START, 200, dt=0.004, seed=0, progress=False
@@ -325,7 +325,7 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     assert cert.policy_cost < 1.16 * STEEP_DETERMINISTIC_OPTIMUM, cert.summary()
     with pytest.warns(gridlbc.ResolutionWarning, match="fitting='terminal'"):
         plain = gridlbc.solve(problem, fitting=None)
-    assert plain.value(STEEP_START, 0.0)[0] < 0.5 * STEEP_DETERMINISTIC_OPTIMUM
+    assert plain.value(STEEP_START, 0.0) < 0.5 * STEEP_DETERMINISTIC_OPTIMUM
 
 
 def test_no_resolution_warning_where_the_plain_scheme_resolves():

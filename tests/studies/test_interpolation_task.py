@@ -126,7 +126,7 @@ def test_exact_combination_is_the_mixture_of_the_components():
     lbc = g.combine(components, [1.0, 0.6])
     assert lbc.exact
     x0 = np.array([0.3])
-    beta = lbc.blend_weights(x0, 0.0)[0]
+    beta = lbc.blend_weights(x0, 0.0)
     runs = [
         g.simulate(lbc.problem, p, x0, 2000, dt=0.01, seed=seed)
         for seed, p in enumerate([lbc.policy] + [c.policy for c in components])
@@ -231,6 +231,6 @@ def test_the_default_step_resolves_the_wall_and_a_longer_one_is_warned():
     assert free.diagnostics.dt == pytest.approx(0.3)
     with pytest.warns(g.ResolutionWarning, match=r"steps over a steep cost.*dt ≤ 0\.125"):
         coarse = g.solve(problem, dt=0.3)
-    truth = g.solve(problem, dt=0.01).value(OBSTACLE_START, 0.0)[0]
-    assert coarse.value(OBSTACLE_START, 0.0)[0] < 0.9 * truth
-    assert abs(default.value(OBSTACLE_START, 0.0)[0] / truth - 1) < 2e-3
+    truth = g.solve(problem, dt=0.01).value(OBSTACLE_START, 0.0)
+    assert coarse.value(OBSTACLE_START, 0.0) < 0.9 * truth
+    assert abs(default.value(OBSTACLE_START, 0.0) / truth - 1) < 2e-3
