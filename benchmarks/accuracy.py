@@ -50,7 +50,7 @@ def _solve(problem, options):
 
 
 def _row(name, problem, scheme, solution, wall, warned, x0, cert, reference):
-    v = float(solution.value(x0, 0.0)[0])
+    v = float(solution.value(x0, 0.0))
     d = solution.diagnostics
     grid = "×".join(str(n) for n in problem.grid.shape)
     print(

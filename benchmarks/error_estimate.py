@@ -39,14 +39,18 @@ def _catalogue():
     yield "rotor", P.rotor_problem(), np.array([P.ROTOR_START, [1.0, 0.0]]), None
 
 
-def _timed(problem, **options):
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", gridlbc.ResolutionWarning)
-        started = time.perf_counter()
-        solution = gridlbc.solve(problem, **options)
-        wall = time.perf_counter() - started
+def _timed(problem, repeats=2, **options):
+    """The solution, the shortest wall time of ``repeats`` solves (the first may compile), and
+    whether the error estimate warned."""
+    walls = []
+    for _ in range(repeats):
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", gridlbc.ResolutionWarning)
+            started = time.perf_counter()
+            solution = gridlbc.solve(problem, **options)
+            walls.append(time.perf_counter() - started)
     warned = any("estimated error" in str(w.message) for w in caught)
-    return solution, wall, warned
+    return solution, min(walls), warned
 
 
 def main(argv=None):

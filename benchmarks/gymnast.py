@@ -64,7 +64,7 @@ def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
     started = time.perf_counter()
     solution = gridlbc.solve(problem, dt=dt, store_every=store_every, **_options(method))
     wall = time.perf_counter() - started
-    predicted = float(solution.value(GYMNAST_START, 0.0)[0])
+    predicted = float(solution.value(GYMNAST_START, 0.0))
     clean = simulate(problem, policy_of(solution), GYMNAST_START, 1, dt=rollout_dt, noise=False)
     noisy = gridlbc.certify(
         problem,

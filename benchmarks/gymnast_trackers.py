@@ -230,7 +230,7 @@ def main(argv=None):
         for label, (policy, value) in controllers.items():
             run = noise_free(policy, GYMNAST_START)
             cert, umax = certify_row(problem, policy, GYMNAST_START, args.samples, args.noisy_dt)
-            v = "" if value is None else f"{float(value(GYMNAST_START, 0.0)[0]):6.2f}"
+            v = "" if value is None else f"{float(value(GYMNAST_START, 0.0)):6.2f}"
             print(
                 f"{label:<26} {v:>6} {run.costs[0]:6.2f} "
                 f"{angle_distance(run.final_states)[0]:5.2f} | {cert.policy_cost:6.2f} ± "
@@ -251,7 +251,7 @@ def main(argv=None):
                 runs[label.split(" (")[0]] = (run.states[0], run.controls[0])
             lbc_states = runs["LBC"][0]
             alpha = np.array(
-                [lbc.blend_weights(x, min(t, T))[0] for x, t in zip(lbc_states, run.times)]
+                [lbc.blend_weights(x, min(t, T)) for x, t in zip(lbc_states, run.times)]
             )
             fig = plot_trackers(
                 {"tracker 1": trackers[0], "tracker 2": trackers[1]},
@@ -298,8 +298,8 @@ def main(argv=None):
                         lbc_part.policy,
                     )
                 ]
-                v1, v2 = (float(part.value(GYMNAST_START, 0.0)[0]) for part in parts)
-                a1 = lbc_part.blend_weights(GYMNAST_START, 0.0)[0, 0]
+                v1, v2 = (float(part.value(GYMNAST_START, 0.0)) for part in parts)
+                a1 = lbc_part.blend_weights(GYMNAST_START, 0.0)[0]
                 print(
                     f"{restarts:8d} {curvature:<13} {tapes[0].cost:6.2f} {v1:7.2f} {v2:7.2f} "
                     f"{a1:6.2f} "
@@ -344,9 +344,9 @@ def main(argv=None):
                 tape = local.controls
                 local = local.cost
                 print(
-                    f"{i + 1:<7} {d:5.2f} {local:7.2f} {c_det[i].value(x, 0.0)[0]:8.2f} "
-                    f"{gauss_newton.value(x, 0.0)[0]:7.2f} | {c[i].value(x, 0.0)[0]:7.2f} "
-                    f"{solution.value(x, 0.0)[0]:7.2f} {cert.optimal_value[k]:6.2f} ± "
+                    f"{i + 1:<7} {d:5.2f} {local:7.2f} {c_det[i].value(x, 0.0):8.2f} "
+                    f"{gauss_newton.value(x, 0.0):7.2f} | {c[i].value(x, 0.0):7.2f} "
+                    f"{solution.value(x, 0.0):7.2f} {cert.optimal_value[k]:6.2f} ± "
                     f"{cert.optimal_value_se[k]:4.2f} {cert.effective_sample_size[k]:5.0f}",
                     flush=True,
                 )

@@ -54,7 +54,7 @@ for k in range(200):
     obs, reward, terminated, truncated, _ = env.step(u.astype(np.float32))
     score += reward
 states = np.array(states)
-print(f"seed 0: score {score:.1f}, predicted {-solution.value(states[0], 0.0)[0]:.1f}")
+print(f"seed 0: score {score:.1f}, predicted {-solution.value(states[0], 0.0):.1f}")
 
 # Many episodes (seeds 0, 1, …), scored by gym, against the zero-torque baseline.
 result = run_episodes(solution.policy, episodes)

@@ -24,7 +24,7 @@ args = parser.parse_args()
 n = 13 if args.quick else 51
 problem = gymnast_problem(n)
 solution = gridlbc.solve(problem, dt=0.05, dtype="float32", fitting="terminal", progress=True)
-print(f"predicted v(x0, 0) = {solution.value(GYMNAST_START, 0.0)[0]:.2f}")
+print(f"predicted v(x0, 0) = {solution.value(GYMNAST_START, 0.0):.2f}")
 
 run = gridlbc.simulate(problem, solution.policy, GYMNAST_START, dt=0.002, noise=False)
 print(

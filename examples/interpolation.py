@@ -79,7 +79,7 @@ controllers = {
 }
 print(
     f"{problem.grid.describe()}, Δt = {dt:g}, {samples} samples; projected weights "
-    f"{np.round(weights, 3)}, β = {np.round(lbc.blend_weights(OBSTACLE_START, 0.0)[0], 3)}"
+    f"{np.round(weights, 3)}, β = {np.round(lbc.blend_weights(OBSTACLE_START, 0.0), 3)}"
 )
 
 # Certify each controller on the composite task g_w (importance sampling, any policy as

@@ -61,6 +61,10 @@ DEFAULT_TOLERANCE = 0.05
 QUANTILE = 0.9
 """The share of the states that matter whose relative estimate must meet the tolerance."""
 
+SAMPLE = 20_000
+"""At most this many of the states that matter are read (evenly spaced in the nodes' order):
+quantiles and medians of the estimate need no more, and a 4-D grid has millions."""
+
 
 def embedded_grid(grid: Grid) -> Grid | None:
     """The grid with every other node of each axis (spacing 2h), or None when an axis would keep
@@ -98,7 +102,8 @@ def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) 
 
 
 def states_that_matter(solution) -> np.ndarray:
-    """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``.
+    """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``
+    (at most :data:`SAMPLE` of them, evenly spaced).
 
     Parameters
     ----------
@@ -115,6 +120,8 @@ def states_that_matter(solution) -> np.ndarray:
     if not finite.any():
         return np.empty((0, solution.grid.ndim))
     keep = np.flatnonzero(finite & (v <= np.median(v[finite])))
+    if len(keep) > SAMPLE:
+        keep = keep[np.linspace(0, len(keep) - 1, SAMPLE).astype(np.int64)]
     return solution.grid.node_coordinates(keep)
 
 

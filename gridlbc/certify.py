@@ -48,7 +48,7 @@ import numpy as np
 from .errors import CertificateWarning
 from .problem import Problem
 from .progress import ProgressBar
-from .simulate import _check_problem_and_policy, _check_sample_count, _euler_maruyama, _step_count
+from .simulate import check_problem_and_policy, check_sample_count, euler_maruyama, step_count
 
 MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
 """Below this effective sample size the normal approximation behind the standard errors fails and
@@ -229,11 +229,11 @@ def certify(
     -------
     Certificate
     """
-    _check_problem_and_policy(problem, policy)
-    n = _check_sample_count(n_samples)
+    check_problem_and_policy(problem, policy)
+    n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
     starts = problem.wrap(problem.check_states(x0, "x0"))
-    K = _step_count(problem.horizon, dt)
+    K = step_count(problem.horizon, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
     bar = ProgressBar(
@@ -244,7 +244,7 @@ def certify(
         work_unit="sample-steps",
         delay=PROGRESS_DELAY if progress is None else 0.0,
     )
-    path = _euler_maruyama(
+    path = euler_maruyama(
         problem,
         policy,
         x,

@@ -209,10 +209,10 @@ def _cmd_sweep(args) -> int:
 
     import numpy as np
 
-    from .sweep import _import_distributed, sweep
+    from .sweep import import_distributed, sweep
 
     try:
-        _import_distributed()
+        import_distributed()
     except ImportError as exc:
         print(f"gridlbc sweep: error: {exc}", file=sys.stderr)
         return 2

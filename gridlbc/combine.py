@@ -47,8 +47,9 @@ from typing import ClassVar
 import numpy as np
 
 from .errors import UnderflowWarning
-from .problem import Problem
-from .solution import FieldEvaluation, Solution, warn_underflow
+from .problem import Problem, state_evaluation
+from .representation import Fields, warn_underflow
+from .solution import FieldEvaluation, OperatorSignature, Solution
 
 
 def check_weights(weights, n: int) -> np.ndarray:
@@ -99,10 +100,10 @@ def _problem_differences(p0: Problem, p: Problem) -> list[str]:
     return differs
 
 
-def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
+def check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
     """Grid Solutions of one PDE: raise if anything but the terminal cost differs in the problem
-    or the grid. Returns the solutions and what differs in their *operators* (time grid, solver
-    method, fitting reference): empty when they combine exactly."""
+    or the grid. Returns the solutions and what differs in their *operators* (time grid, and
+    their :class:`~gridlbc.solution.OperatorSignature`): empty when they combine exactly."""
     solutions = tuple(solutions)
     if not solutions:
         raise ValueError("solutions is empty: give at least one gridlbc.Solution to combine")
@@ -133,24 +134,31 @@ def _check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
                 f"solutions[{i}] has another time grid ({len(s.times)} vs "
                 f"{len(ref.times)} stored slices, or different times)"
             )
-        if s.diagnostics.method != ref.diagnostics.method:
-            operators.append(
-                f"solutions[{i}] was solved by {s.diagnostics.method}, "
-                f"solutions[0] by {ref.diagnostics.method}"
-            )
-        if s.diagnostics.fitting != ref.diagnostics.fitting:
-            operators.append(
-                f"solutions[{i}] was fitted to another reference "
-                f"({s.diagnostics.fitting} vs {ref.diagnostics.fitting})"
-            )
-        elif s.diagnostics.interpolation != ref.diagnostics.interpolation:
-            operators.append(
-                f"solutions[{i}] and solutions[0] were fitted to the same reference, "
-                "but only one was stepped in the log domain (a solve fitted to its "
-                "own terminal cost), whose slices between t = 0 and T are not "
-                "linear in z"
-            )
+        operators += _operator_differences(f"solutions[{i}]", s.operator, ref.operator)
     return solutions, operators
+
+
+def _operator_differences(name: str, a: OperatorSignature, b: OperatorSignature) -> list[str]:
+    """Why the operator of solution ``name`` (signature ``a``) is not that of solutions[0]
+    (``b``), in words: empty when they are one linear operator."""
+    reasons = [
+        (a.method != b.method, f"{name} was solved by {a.method}, solutions[0] by {b.method}"),
+        (
+            a.method == b.method and a.dt != b.dt,
+            f"{name} was solved with another time step (Δt {a.dt:g} vs {b.dt:g})",
+        ),
+        (
+            a.reference != b.reference,
+            f"{name} was fitted to another reference ({a.reference} vs {b.reference})",
+        ),
+        (
+            a.reference == b.reference and a.log_domain != b.log_domain,
+            f"{name} and solutions[0] were fitted to the same reference, but only one was "
+            "stepped in the log domain (a solve fitted to its own terminal cost), whose "
+            "slices between t = 0 and T are not linear in z",
+        ),
+    ]
+    return [text for differs, text in reasons if differs]
 
 
 EXACT_HINT = (
@@ -252,21 +260,25 @@ class CombinedSolution(FieldEvaluation):
         g = np.stack([c * f[2] for c, f in zip(factors, fields)]) if gradient else None
         return L, z, g
 
-    def scaled_fields(self, x, t, gradient: bool = True):
-        """Combined ``(L, z, g)``: z(x, t) = z e^L and Bᵀ∇z(x, t) = g e^L, as
-        :meth:`gridlbc.Solution.scaled_fields`, with L the largest component scale."""
+    def fields(self, x, t, gradient: bool = True) -> Fields:
+        """The combined fields at states ``x``, time ``t``: z(x, t) = z e^L and Bᵀ∇z(x, t) =
+        g e^L (L the largest component scale; g only with ``gradient``), as
+        :meth:`gridlbc.Solution.fields` gives them."""
         L, z, g = self._component_fields(x, t, gradient)
-        return L, z.sum(axis=0), (g.sum(axis=0) if gradient else None)
+        return Fields(None, L, z.sum(axis=0), None, g.sum(axis=0) if gradient else None)
 
+    @state_evaluation
     def blend_weights(self, x, t) -> np.ndarray:
-        """α_i(x, t) = w_i z_i / Σ_j w_j z_j, shape ``(N, n)``: non-negative and summing to one
-        when the weights are; NaN (with an UnderflowWarning) where Σ w_j z_j underflowed."""
+        """α_i(x, t) = w_i z_i / Σ_j w_j z_j, shape ``(N, n)`` (``(n,)`` for one state):
+        non-negative and summing to one when the weights are; NaN (with an UnderflowWarning) where Σ
+        w_j z_j underflowed."""
         _, z, _ = self._component_fields(x, t, gradient=False)
         return _normalised(z)
 
+    @state_evaluation
     def error_estimate(self, x, t=0.0) -> np.ndarray:
         """``Σ_i abs(α_i) ê_i``: the components' error estimates carried to the combination
-        (:func:`combined_error`), ``(N,)``."""
+        (:func:`combined_error`), ``(N,)`` (a scalar for one state)."""
         return combined_error(self.components, self.blend_weights(x, t), x, t)
 
 
@@ -317,45 +329,55 @@ class Combination:
         terms[:, ~finite] = 0.0
         return top, terms, terms.sum(axis=0)
 
+    @state_evaluation
     def log_desirability(self, x, t) -> np.ndarray:
-        """log Σ w_i z_i(x, t), shape ``(N,)`` (−inf, with an UnderflowWarning, where it is not
-        positive)."""
+        """log Σ w_i z_i(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``) (−inf, with an
+        UnderflowWarning, where it is not positive)."""
         top, _, total = self._scaled(x, t)
         bad = ~(total > 0)
         warn_underflow(bad)
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, total)) + top)
 
+    @state_evaluation
     def desirability(self, x, t) -> np.ndarray:
-        """z = Σ w_i z_i, shape ``(N,)`` (may underflow: use :meth:`value`)."""
+        """z = Σ w_i z_i, shape ``(N,)`` (a scalar for one state ``(d,)``) (may underflow: use
+        :meth:`value`)."""
         with np.errstate(under="ignore", over="ignore"):
             return np.exp(self.log_desirability(x, t))
 
+    @state_evaluation
     def value(self, x, t) -> np.ndarray:
-        """v = −λ log Σ w_i z_i, shape ``(N,)``."""
+        """v = −λ log Σ w_i z_i, shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         return -self.temperature * self.log_desirability(x, t)
 
+    @state_evaluation
     def blend_weights(self, x, t) -> np.ndarray:
-        """α_i(x, t), shape ``(N, n)`` (NaN, with an UnderflowWarning, where Σ w_j z_j ≤ 0)."""
+        """α_i(x, t), shape ``(N, n)`` (``(n,)`` for one state) (NaN, with an UnderflowWarning,
+        where Σ w_j z_j ≤ 0)."""
         return _normalised(self._scaled(x, t)[1])
 
+    @state_evaluation
     def error_estimate(self, x, t=0.0) -> np.ndarray:
-        """``Σ_i abs(α_i) ê_i`` (:func:`combined_error`), ``(N,)``; every component must be a grid
-        Solution."""
+        """``Σ_i abs(α_i) ê_i`` (:func:`combined_error`), ``(N,)`` (a scalar for one state);
+        every component must be a grid Solution."""
         return combined_error(self.components, self.blend_weights(x, t), x, t)
 
+    @state_evaluation
     def policy(self, x, t) -> np.ndarray:
-        """u = Σ α_i u_i, shape ``(N, m)``; components with α_i = 0 are not evaluated there."""
+        """u = Σ α_i u_i, shape ``(N, m)`` (``(m,)`` for one state); components with α_i = 0 are not
+        evaluated there."""
         alpha = self.blend_weights(x, t)
-        u = 0.0
+        shape = (alpha.shape[0], self.problem.system.control_dim)
+        u = np.zeros(shape)
         for i, c in enumerate(self.components):
             active = alpha[:, i] != 0
             if not np.any(active):
                 continue
-            ui = np.zeros((alpha.shape[0], self.problem.system.control_dim))
+            ui = np.zeros(shape)
             ui[active] = np.asarray(c.policy(np.atleast_2d(x)[active], t), dtype=float)
             u = u + alpha[:, i, None] * ui
-        return u + np.zeros((alpha.shape[0], self.problem.system.control_dim))
+        return u
 
 
 def _log_desirability(component, x, t) -> np.ndarray:
@@ -431,7 +453,7 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
             "component to combine"
         )
     if all(isinstance(c, Solution) for c in components):
-        solutions, operators = _check_components(components)
+        solutions, operators = check_components(components)
         w = check_weights(weights, len(solutions))
         base = solutions[0].problem
         cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w, base.temperature)

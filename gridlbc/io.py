@@ -7,17 +7,25 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
 - ``metadata``: a JSON document (a 0-d unicode array) with ``format`` (``"gridlbc-solution"``),
   ``format_version``, ``library_version``, the grid (axes), the system (import path and
   constructor parameters), horizon, temperature, control cost R, the terminal and state costs,
-  the solver diagnostics, and ``sha256``: a digest of the three arrays, checked on load;
+  the solver diagnostics, the solution's ``representation`` (its name: ``"linear"``,
+  ``"relative"`` or ``"log"``, :mod:`gridlbc.representation`) and ``operator`` (its
+  :class:`gridlbc.solution.OperatorSignature`), and ``sha256``: a digest of the three arrays,
+  checked on load;
 - ``terminal_nodes``, ``state_cost_nodes``: a cost that is not a :class:`gridlbc.Quadratic` (an
   arbitrary callable) is stored by its values at the nodes and comes back as a
   :class:`GridCost`, which interpolates them (exact at the nodes);
 - ``reference_log_slices`` (S, N), ``reference_log_scales`` (S,): for a solution fitted to a
-  shared reference (``interpolation == "fitted"``), log φ at the stored times, which its
-  evaluation needs (:class:`gridlbc.solution.FittingReference`), with its own digest
-  ``reference_sha256`` in the metadata.
+  shared reference (:class:`gridlbc.representation.RelativeZ`), log φ at the stored times, which
+  its evaluation needs, with its own digest ``reference_sha256`` in the metadata;
+- ``embedded.*``: the solve on the embedded grid that the error estimate reads
+  (:meth:`gridlbc.Solution.error_estimate`, :mod:`gridlbc.accuracy`), its arrays under this
+  prefix and its metadata as ``metadata["embedded"]`` (with the estimate's ``order`` and
+  ``floor``); absent when the solution carries none.
 
-Loading refuses a different ``format_version`` and a truncated or corrupted file with a clear
-message.
+Version 1 files (before solutions knew their representation: it was
+``diagnostics["interpolation"]``, ``"linear"``, ``"fitted"`` or ``"log"``, and the operator was
+read from the diagnostics) are read too. Loading refuses other versions and a truncated or
+corrupted file with a clear message.
 """
 
 from __future__ import annotations
@@ -35,10 +43,16 @@ from .costs import Quadratic
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
-from .solution import FittingReference, Solution, SolveDiagnostics
+from .representation import REPRESENTATIONS, LinearZ, LogZ, RelativeZ
+from .solution import OperatorSignature, Solution, SolveDiagnostics
 
 FORMAT = "gridlbc-solution"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+EMBEDDED = "embedded."
+"""The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
+"""The version :func:`save` writes."""
+READABLE_VERSIONS = (1, 2)
+"""The versions :func:`load` reads."""
 
 
 class GridCost:
@@ -62,17 +76,44 @@ def _digest(*arrays) -> str:
     return h.hexdigest()
 
 
-def _cost_record(cost, name: str, problem: Problem, arrays: dict):
+def quadratic_record(cost: Quadratic) -> dict:
+    """A :class:`gridlbc.Quadratic` as JSON-ready data: ``kind`` (``"quadratic"``), ``center``,
+    ``weights`` and ``periods`` (``None``, or one per coordinate, inf where not periodic).
+
+    Parameters
+    ----------
+    cost : Quadratic
+        The cost.
+    """
+    periods = None if cost.periods is None else [float(p) for p in cost.periods]
+    return {
+        "kind": "quadratic",
+        "center": cost.center.tolist(),
+        "weights": cost.weights.tolist(),
+        "periods": periods,
+    }
+
+
+def cost_record(cost, name: str, problem: Problem, arrays: dict) -> dict | None:
+    """A cost as JSON-ready data: a quadratic by its parameters (:func:`quadratic_record`), any
+    other callable by its values at the grid's nodes, which go into ``arrays`` as
+    ``{name}_nodes`` (:func:`load` gives them back as a :class:`GridCost`).
+
+    Parameters
+    ----------
+    cost : callable or None
+        The cost (``None``: no cost, recorded as ``None``).
+    name : str
+        Its name in ``arrays``.
+    problem : Problem
+        The problem whose grid samples a non-quadratic cost.
+    arrays : dict
+        Where the nodal values go.
+    """
     if cost is None:
         return None
     if isinstance(cost, Quadratic):
-        periods = None if cost.periods is None else [float(p) for p in cost.periods]
-        return {
-            "kind": "quadratic",
-            "center": cost.center.tolist(),
-            "weights": cost.weights.tolist(),
-            "periods": periods,
-        }
+        return quadratic_record(cost)
     arrays[f"{name}_nodes"] = np.asarray(cost(problem.grid.nodes()), dtype=float)
     return {"kind": "nodes", "type": f"{type(cost).__module__}.{type(cost).__qualname__}"}
 
@@ -109,8 +150,8 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
         "horizon": problem.horizon,
         "temperature": problem.temperature,
         "control_cost": problem.control_cost.tolist(),
-        "terminal_cost": _cost_record(problem.terminal_cost, "terminal", problem, arrays),
-        "state_cost": _cost_record(problem.state_cost, "state_cost", problem, arrays),
+        "terminal_cost": cost_record(problem.terminal_cost, "terminal", problem, arrays),
+        "state_cost": cost_record(problem.state_cost, "state_cost", problem, arrays),
     }
 
 
@@ -139,27 +180,47 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
     path = Path(path)
     if path.suffix != ".npz":
         path = path.with_name(path.name + ".npz")
-    arrays = {"times": solution.times, "slices": solution.slices, "log_scales": solution.log_scales}
-    reference = solution.reference
-    if reference is not None:  # log φ of a fitted operator: the solution's evaluation needs it
-        arrays["reference_log_slices"] = reference.log_slices
-        arrays["reference_log_scales"] = reference.log_scales
+    arrays: dict = {}
     meta = {
         "format": FORMAT,
         "format_version": FORMAT_VERSION,
         "library_version": __version__,
-        **problem_record(solution.problem, arrays),
-        "diagnostics": asdict(solution.diagnostics),
-        "sha256": _digest(solution.times, solution.slices, solution.log_scales),
+        **_record(solution, arrays),
     }
-    if reference is not None:
-        meta["reference_sha256"] = _digest(reference.log_slices, reference.log_scales)
+    if solution.embedded is not None:  # the error estimate's coarse solve, under its own prefix
+        inner: dict = {}
+        meta["embedded"] = {
+            **_record(solution.embedded, inner),
+            "order": solution.estimate_order,
+            "floor": solution.estimate_floor,
+        }
+        arrays.update({EMBEDDED + k: v for k, v in inner.items()})
     if annotations is not None:
         meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
     with open(path, "wb") as f:
         np.savez(f, **arrays)
     return path
+
+
+def _record(solution: Solution, arrays: dict) -> dict:
+    """The metadata of one solution (problem, diagnostics, representation, operator, digests);
+    its arrays go into ``arrays``."""
+    arrays.update(times=solution.times, slices=solution.slices, log_scales=solution.log_scales)
+    reference = solution.reference
+    if reference is not None:  # log φ of a fitted operator: the solution's evaluation needs it
+        arrays["reference_log_slices"] = reference.log_slices
+        arrays["reference_log_scales"] = reference.log_scales
+    meta = {
+        **problem_record(solution.problem, arrays),
+        "diagnostics": asdict(solution.diagnostics),
+        "representation": solution.representation.name,
+        "operator": asdict(solution.operator),
+        "sha256": _digest(solution.times, solution.slices, solution.log_scales),
+    }
+    if reference is not None:
+        meta["reference_sha256"] = _digest(reference.log_slices, reference.log_scales)
+    return meta
 
 
 def _system_from_record(record):
@@ -210,18 +271,32 @@ def load(path) -> Solution:
     Solution
     """
     meta, contents = _read(path, arrays=True)
-    if meta.get("format_version") != FORMAT_VERSION:
+    version = meta.get("format_version")
+    if version not in READABLE_VERSIONS:
         raise ValueError(
-            f"{str(path)!r} has format version {meta.get('format_version')}, this gridlbc "
-            f"reads version {FORMAT_VERSION}: load it with gridlbc {meta.get('library_version')}"
+            f"{str(path)!r} has format version {version}, this gridlbc reads versions "
+            f"{', '.join(map(str, READABLE_VERSIONS))}: load it with gridlbc "
+            f"{meta.get('library_version')}"
         )
+    solution = _solution(meta, contents, version, path)
+    if "embedded" in meta:
+        inner = {k[len(EMBEDDED) :]: v for k, v in contents.items() if k.startswith(EMBEDDED)}
+        record = meta["embedded"]
+        object.__setattr__(solution, "embedded", _solution(record, inner, version, path))
+        object.__setattr__(solution, "estimate_order", float(record["order"]))
+        object.__setattr__(solution, "estimate_floor", float(record["floor"]))
+    return solution
+
+
+def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
+    """One solution from its metadata and arrays (:func:`_record`), checked against its digests."""
     times, slices, scales = contents["times"], contents["slices"], contents["log_scales"]
     if _digest(times, slices, scales) != meta["sha256"]:
         raise ValueError(f"{str(path)!r} is corrupted: its arrays do not match their checksum")
     reference = None
     if "reference_sha256" in meta:
         try:
-            reference = FittingReference(
+            reference = RelativeZ(
                 contents["reference_log_slices"], contents["reference_log_scales"]
             )
         except KeyError:
@@ -245,11 +320,32 @@ def load(path) -> Solution:
     diag = dict(meta["diagnostics"])
     diag["iterations"] = tuple(diag.get("iterations", ()))
     known = SolveDiagnostics.__dataclass_fields__
+    diagnostics = SolveDiagnostics(**{k: v for k, v in diag.items() if k in known})
+    if version == 1:  # the representation and the operator were strings in the diagnostics
+        legacy = diag.get("interpolation", "linear")  # "linear", "fitted" or "log"
+        name = RelativeZ.name if legacy == "fitted" else legacy
+        operator = OperatorSignature(
+            diagnostics.method, diagnostics.dt, diagnostics.fitting, name == "log"
+        )
+    else:
+        name, operator = meta["representation"], OperatorSignature(**meta["operator"])
     return Solution(
         problem,
         times,
         slices,
         scales,
-        SolveDiagnostics(**{k: v for k, v in diag.items() if k in known}),
-        reference,
+        diagnostics,
+        operator,
+        _representation(str(name), reference, path),
     )
+
+
+def _representation(name: str, reference: RelativeZ | None, path) -> LinearZ | RelativeZ | LogZ:
+    """The representation recorded as ``name`` (its log φ ``reference`` for a relative one)."""
+    if name not in REPRESENTATIONS:
+        raise ValueError(f"{str(path)!r} records an unknown representation {name!r}")
+    if name == RelativeZ.name:
+        if reference is None:
+            raise ValueError(f"{str(path)!r} is corrupted: its fitting reference is missing")
+        return reference
+    return LogZ() if name == LogZ.name else LinearZ()

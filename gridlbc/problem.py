@@ -17,6 +17,7 @@ coordinates are angles (period 2π, wrapped into [−π, π)), for wrap-aware co
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -335,3 +336,64 @@ def _covariance_diagonal(B, R_inv, lam):
                 else:
                     off[i, j] = max(off[i, j], abs(lam * total))
     return diag, off
+
+
+# -- how a solution of a problem is evaluated -----------------------------------------------------
+
+
+def check_time(t, horizon: float) -> float:
+    """``t`` as a float in [0, T] (rounding-level excursions clipped); a clear error otherwise.
+
+    Parameters
+    ----------
+    t : float
+        A time.
+    horizon : float
+        T.
+    """
+    try:
+        t = float(t)
+    except (TypeError, ValueError):
+        raise TypeError(f"t must be a single time (float), got {t!r}") from None
+    tol = 1e-9 * horizon
+    if not (np.isfinite(t) and -tol <= t <= horizon + tol):
+        raise ValueError(f"t must lie in [0, T] = [0, {horizon:g}], got {t!r}")
+    return min(max(t, 0.0), horizon)
+
+
+def bracket(times: np.ndarray, t: float) -> tuple[int, float]:
+    """The stored interval of ``t``: j and θ ∈ [0, 1] with t = (1 − θ) times[j] + θ times[j+1].
+
+    Parameters
+    ----------
+    times : ndarray (S,)
+        Increasing stored times, S ≥ 2.
+    t : float
+        A time in [times[0], times[-1]] (:func:`check_time`).
+    """
+    j = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
+    theta = (t - times[j]) / (times[j + 1] - times[j])
+    return j, float(np.clip(theta, 0.0, 1.0))
+
+
+def state_evaluation(method):
+    """Give an evaluation ``method(self, x, ...)`` of states ``(N, d)`` the library's convention
+    for one state: given ``x`` of shape ``(d,)`` it returns the first row of its result, so a
+    value is a scalar (a numpy float) and a policy ``(m,)``, where ``(N, d)`` gives ``(N,)`` and
+    ``(N, m)``. The state is checked by ``self.problem.check_states`` first (so a wrong one is
+    named as it was given), and the method itself always sees ``(N, d)``.
+
+    Parameters
+    ----------
+    method : callable
+        ``method(self, x, *args, **kwargs)`` returning an array whose first axis runs over the
+        states; ``self`` has a ``problem`` (:class:`Problem`).
+    """
+
+    @functools.wraps(method)
+    def evaluate(self, x, *args, **kwargs):
+        if np.ndim(x) != 1:
+            return method(self, x, *args, **kwargs)
+        return method(self, self.problem.check_states(x), *args, **kwargs)[0]
+
+    return evaluate

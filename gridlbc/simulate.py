@@ -139,7 +139,14 @@ class Rollouts:
         )
 
 
-def _check_sample_count(n_samples) -> int:
+def check_sample_count(n_samples) -> int:
+    """``n_samples`` as a positive int; a clear error otherwise.
+
+    Parameters
+    ----------
+    n_samples : int
+        How many sample paths.
+    """
     if isinstance(n_samples, bool) or not isinstance(n_samples, (int, np.integer)):
         raise TypeError(f"n_samples must be an integer, got {n_samples!r}")
     if n_samples < 1:
@@ -148,7 +155,7 @@ def _check_sample_count(n_samples) -> int:
 
 
 def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
-    n_samples = _check_sample_count(n_samples)
+    n_samples = check_sample_count(n_samples)
     x0 = problem.check_states(x0, "x0")
     if x0.shape[0] == 1:
         return np.repeat(x0, n_samples, axis=0)
@@ -160,7 +167,17 @@ def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
     return x0.copy()
 
 
-def _step_count(horizon: float, dt) -> int:
+def step_count(horizon: float, dt) -> int:
+    """Euler–Maruyama steps over ``horizon`` for a step of about ``dt`` (``None``:
+    :data:`DEFAULT_STEPS`).
+
+    Parameters
+    ----------
+    horizon : float
+        T.
+    dt : float or None
+        The largest step; the count is the fewest steps of at most it.
+    """
     if dt is None:
         return DEFAULT_STEPS
     try:
@@ -225,9 +242,9 @@ def simulate(
     -------
     Rollouts
     """
-    _check_problem_and_policy(problem, policy)
+    check_problem_and_policy(problem, policy)
     x = _initial_states(problem, x0, n_samples)
-    K = _step_count(problem.horizon, dt)
+    K = step_count(problem.horizon, dt)
     n, d, m = x.shape[0], problem.system.state_dim, problem.system.control_dim
     states = np.empty((n, K + 1, d))
     controls = np.empty((n, K, m))
@@ -236,13 +253,22 @@ def simulate(
         states[:, k + 1] = x_new
         controls[:, k] = u
 
-    path = _euler_maruyama(problem, policy, x, K, np.random.default_rng(seed), noise, record)
+    path = euler_maruyama(problem, policy, x, K, np.random.default_rng(seed), noise, record)
     states[:, 0] = path.start
     costs = path.running_cost + path.terminal_cost
     return Rollouts(path.times, states, controls, costs, path.terminal_cost, path.left_box, seed)
 
 
-def _check_problem_and_policy(problem, policy) -> None:
+def check_problem_and_policy(problem, policy) -> None:
+    """A clear error unless ``problem`` is a :class:`gridlbc.Problem` and ``policy`` callable.
+
+    Parameters
+    ----------
+    problem : Problem
+        What is simulated.
+    policy : callable
+        ``policy(x, t)``.
+    """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
     if not callable(policy):
@@ -250,8 +276,8 @@ def _check_problem_and_policy(problem, policy) -> None:
 
 
 @dataclass(frozen=True, eq=False)
-class _Path:
-    """What one Euler–Maruyama run accumulates per sample (see :func:`_euler_maruyama`)."""
+class SamplePaths:
+    """What one Euler–Maruyama run accumulates per sample (see :func:`euler_maruyama`)."""
 
     times: np.ndarray
     start: np.ndarray  # x₀ wrapped into the box, (n, d)
@@ -262,12 +288,31 @@ class _Path:
     left_box: np.ndarray
 
 
-def _euler_maruyama(
+def euler_maruyama(
     problem: Problem, policy, x: np.ndarray, n_steps: int, rng, noise: bool = True, on_step=None
-) -> _Path:
+) -> SamplePaths:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
 
-    ``on_step(k, x_{k+1}, u_k)`` is called after each step (recording, progress).
+    Parameters
+    ----------
+    problem : Problem
+        The SDE and the costs.
+    policy : callable
+        ``policy(x, t)`` → ``(N, m)``.
+    x : ndarray (n, d)
+        The start states, one per sample.
+    n_steps : int
+        Steps over the horizon (:func:`step_count`).
+    rng : numpy.random.Generator
+        Draws the noise.
+    noise : bool
+        Whether to add it.
+    on_step : callable, optional
+        ``on_step(k, x_{k+1}, u_k)``, called after each step (recording, progress).
+
+    Returns
+    -------
+    SamplePaths
     """
     T = problem.horizon
     step = T / n_steps
@@ -301,4 +346,4 @@ def _euler_maruyama(
     terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")
     times = np.arange(n_steps + 1) * step
     times[-1] = T
-    return _Path(times, start, running, x, terminal, ito, left)
+    return SamplePaths(times, start, running, x, terminal, ito, left)

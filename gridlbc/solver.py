@@ -37,7 +37,7 @@ from .grid import flat_chunks
 from .problem import Problem
 from .schemes.protocol import Marched, MarchPlan, Terminal
 from .settings import SolverSettings, is_own_reference, resolve_settings
-from .solution import Solution, SolveDiagnostics
+from .solution import OperatorSignature, Solution, SolveDiagnostics
 from .storage import check_memory, memory_estimate
 
 
@@ -229,11 +229,13 @@ def _solutions(
     estimate: dict[str, int],
 ) -> list[Solution]:
     """One :class:`Solution` per terminal cost from what the scheme marched, with its
-    :class:`SolveDiagnostics` (the one place that builds them)."""
+    :class:`SolveDiagnostics` and :class:`OperatorSignature` (the one place that builds
+    them)."""
     wall = plan.elapsed()
     times = np.array(plan.kept, dtype=float) * plan.dt
     times[-1] = plan.problem.horizon
     step = marched.operator
+    operator = OperatorSignature(s.method, plan.dt, terminal.fingerprint, terminal.log)
     out = []
     for r, cost in enumerate(terminal_costs):
         diagnostics = SolveDiagnostics(
@@ -251,7 +253,6 @@ def _solutions(
             flushed_values=marched.flushed,
             memory_estimate=estimate["ram"],
             fitting=terminal.fingerprint,
-            interpolation=marched.interpolation,
         )
         out.append(
             Solution(
@@ -260,7 +261,8 @@ def _solutions(
                 marched.slices[r],
                 marched.scales[:, r].copy(),
                 diagnostics,
-                marched.reference,
+                operator,
+                marched.representation,
             )
         )
     return out

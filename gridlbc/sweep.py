@@ -32,7 +32,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .io import FORMAT_VERSION, _cost_record, load, problem_record, read_metadata, save
+from .io import FORMAT_VERSION, cost_record, load, problem_record, read_metadata, save
 from .problem import Problem
 from .progress import ProgressBar
 from .settings import SolverSettings, resolve_settings
@@ -110,7 +110,7 @@ def settings_record(problem: Problem, settings: SolverSettings, arrays: dict) ->
     record["fitting"] = (
         fitting
         if fitting is None or isinstance(fitting, str)
-        else _cost_record(fitting, "fitting", problem, arrays)
+        else cost_record(fitting, "fitting", problem, arrays)
     )
     return record
 
@@ -184,7 +184,9 @@ def _run_member(
     )
 
 
-def _import_distributed():
+def import_distributed():
+    """The ``distributed`` module, or an ImportError that says how to install it (the command
+    line asks before it starts a sweep)."""
     try:
         import distributed
     except ImportError as exc:
@@ -206,7 +208,7 @@ def available_cores() -> int:
 @contextlib.contextmanager
 def _connect(client, workers, numba_threads):
     """A Dask client: the given one, one connected to an address, or a new local cluster."""
-    distributed = _import_distributed()
+    distributed = import_distributed()
     if client is not None and workers is not None:
         raise ValueError(
             "workers sizes the local cluster started when client is None: drop "
@@ -337,7 +339,7 @@ def sweep(
         failed = sum(o.error is not None for o in outcomes.values())
         reused = 0
         bar.update(len(outcomes), f", {failed} failed, {reused} reused")
-        distributed = _import_distributed()
+        distributed = import_distributed()
         for future in distributed.as_completed(list(pending)):
             try:
                 outcome = future.result()

@@ -34,7 +34,7 @@ for n in (48, 96):
             certificate = gridlbc.certify(
                 problem, solution.policy, x0, n_samples=300, dt=0.002, seed=0, progress=False
             )
-        rows.append((n, fitting or "plain", solution.value(x0, 0.0)[0], certificate))
+        rows.append((n, fitting or "plain", solution.value(x0, 0.0), certificate))
         print(f"{n}², {fitting or 'plain'}: predicted v(x0, 0) = {rows[-1][2]:.2f}")
         for w in caught:  # the plain operator says when it cannot resolve the problem
             print("    the solver warned:", str(w.message).split(":")[0])

@@ -23,8 +23,8 @@ grid = Grid([Axis(-np.pi, np.pi, 64, periodic=True), Axis(-10, 10, 65)])
 problem = Problem(Pendulum(), grid, horizon=3.0, terminal_cost=Quadratic([0, 0], [10, 0.5]))
 solution = gridlbc.solve(problem)  # the splitting scheme fitted to g (the default)
 x0 = np.array([2.8, 0.0])  # near hanging down, at rest
-print(f"predicted optimal cost v(x0, 0) = {solution.value(x0, 0.0)[0]:.2f}")
-print(f"optimal torque u*(x0, 0) = {solution.policy(x0, 0.0)[0, 0]:.2f}")
+print(f"predicted optimal cost v(x0, 0) = {solution.value(x0, 0.0):.2f}")
+print(f"optimal torque u*(x0, 0) = {solution.policy(x0, 0.0)[0]:.2f}")
 
 # %%
 # Value and policy at t = 0, evaluated off the grid by barycentric interpolation.

@@ -34,12 +34,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..combine import _check_components, check_weights
+from ..backends import REFERENCE_FLOOR
+from ..combine import check_components, check_weights
 from ..costs import Quadratic
 from ..grid import Axis, Grid
+from ..io import quadratic_record
 from ..project import CONDITION_LIMIT, NEGATIVE_TOLERANCE, RESIDUAL_TOLERANCE, SUM_TOLERANCE
-from ..schemes.splitting import _TINY
-from ..solution import FittingReference, Solution
+from ..representation import LinearZ, LogZ, RelativeZ
+from ..solution import Solution
 from ..systems import Pendulum, PointMass
 
 SUPPORTED_SYSTEMS = (Pendulum, PointMass)
@@ -100,9 +102,10 @@ def decimate(
     Solution
         Slices Z(x_node, t_j) = z(x_node, t_j) / max_node z(·, t_j) with z the original's
         interpolant (:meth:`Solution.scaled_fields`), on the coarse grid at the kept times.
-        The original interpolates log z or is fitted to a reference: the result is fitted too
-        (``interpolation == "fitted"``), to the original's interpolated log z or log φ at the
-        coarse nodes, so that the page evaluates it as the original is evaluated.
+        The original interpolates log z or is fitted to a reference: the result is relative to a
+        reference too (:class:`~gridlbc.representation.RelativeZ`), the original's interpolated
+        log z or log φ at the coarse nodes, so that the page evaluates it as the original is
+        evaluated.
     """
     grid = solution.grid
     shape = grid.shape if nodes is None else tuple(np.atleast_1d(np.asarray(nodes, dtype=int)))
@@ -126,14 +129,15 @@ def decimate(
     X = coarse.nodes()
     slices = np.empty((kept.size, coarse.size))
     scales = np.empty(kept.size)
-    fitted = solution.diagnostics.interpolation != "linear"
+    fitted = not isinstance(solution.representation, LinearZ)
     reference = (
-        FittingReference(np.empty((kept.size, coarse.size), dtype), np.empty(kept.size))
+        RelativeZ(np.empty((kept.size, coarse.size), dtype), np.empty(kept.size))
         if fitted
         else None
     )
     for r, j in enumerate(kept):
-        L, z, _ = solution.scaled_fields(X, solution.times[j], gradient=False)
+        fields = solution.fields(X, solution.times[j], gradient=False)
+        L, z, _ = fields.scaled()
         top = z.max()
         if not top > 0:
             raise ValueError(
@@ -143,12 +147,11 @@ def decimate(
         slices[r] = z / top
         scales[r] = L + math.log(top)
         if fitted:  # log φ at the coarse nodes: the original's own log z, or its I[log φ]
-            ell = (
-                solution.log_desirability(X, solution.times[j])
-                if solution.reference is None
-                else solution._fitted_fields(X, solution.times[j], gradient=False)[0]
-            )
-            ell = np.maximum(ell, ell.max() + math.log(_TINY))  # finite where z underflowed
+            ell = fields.log_base
+            assert ell is not None  # LogZ and RelativeZ interpolate a log-factor
+            ell = np.maximum(
+                ell, ell.max() + math.log(REFERENCE_FLOOR)
+            )  # finite where z underflowed
             reference.log_slices[r] = ell - ell.max()
             reference.log_scales[r] = ell.max()
     stored = slices.astype(dtype)
@@ -158,7 +161,6 @@ def decimate(
         stored_bytes=int(stored.nbytes),
         flushed_values=flushed,
         underflow_nodes=int(np.count_nonzero(stored[0] == 0)),
-        interpolation="fitted" if fitted else "linear",
     )
     return Solution(
         solution.problem.replace(grid=coarse),
@@ -166,7 +168,8 @@ def decimate(
         stored,
         scales,
         diagnostics,
-        reference,
+        solution.operator,
+        LinearZ() if reference is None else reference,
     )
 
 
@@ -234,7 +237,7 @@ def embed(
     :func:`decimate` them to ``dtype``, at most ``n_times`` (default :data:`DEFAULT_TIMES`)
     slices and the largest common fraction of the nodes per axis that fits; ``nodes`` or
     ``n_times`` given: decimate to them."""
-    solutions, _ = _check_components(solutions)
+    solutions, _ = check_components(solutions)
     first = solutions[0]
     if any(not np.array_equal(s.times, first.times) for s in solutions):
         raise ValueError(
@@ -261,7 +264,7 @@ def embed(
         # converted to z at its own nodes, fitted to its own log z, and reported as decimated
         # (the page is exact for the converted solution, and the report gives its error against
         # the original).
-        converted = [s.diagnostics.interpolation == "log" for s in solutions]
+        converted = [isinstance(s.representation, LogZ) for s in solutions]
         return Embedding(
             tuple(decimate(s, None, None, dtype) if c else s for s, c in zip(solutions, converted)),
             shape,
@@ -276,7 +279,7 @@ def embed(
         rows = (
             len(solutions)
             + len(references)
-            + sum(s.diagnostics.interpolation == "log" for s in solutions)
+            + sum(isinstance(s.representation, LogZ) for s in solutions)
         )
         per_node = rows * _slice_indices(n_stored, int(n_times)).size * np.dtype(dtype).itemsize
         top = max(shape)
@@ -289,16 +292,15 @@ def embed(
     )
 
 
-def _cost_record(cost):
-    """A Quadratic as JSON (periods ``None`` where not periodic), else ``None``."""
+def _page_cost(cost):
+    """A Quadratic as the page reads it (:func:`gridlbc.io.quadratic_record` with ``None`` for
+    the periods of non-periodic coordinates: JSON has no inf), else ``None``."""
     if not isinstance(cost, Quadratic):
         return None
-    periods = (
-        None
-        if cost.periods is None
-        else [float(p) if np.isfinite(p) else None for p in cost.periods]
-    )
-    return {"center": cost.center.tolist(), "weights": cost.weights.tolist(), "periods": periods}
+    record = quadratic_record(cost)
+    if record["periods"] is not None:
+        record["periods"] = [p if math.isfinite(p) else None for p in record["periods"]]
+    return record
 
 
 def _colormap(name: str) -> str:
@@ -385,13 +387,13 @@ def page_data(
         "B": B.tolist(),
         "state_cost": None
         if problem.state_cost is None
-        else (_cost_record(problem.state_cost) or "other"),
+        else (_page_cost(problem.state_cost) or "other"),
         "times": first.times.tolist(),
         "dtype": embedding.dtype,
         "components": [
             {
                 "label": lab,
-                "terminal_cost": _cost_record(s.problem.terminal_cost),
+                "terminal_cost": _page_cost(s.problem.terminal_cost),
                 "log_scales": s.log_scales.tolist(),
                 "slices": _base64(s.slices),
                 "reference": k,

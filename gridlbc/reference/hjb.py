@@ -59,7 +59,7 @@ import numpy as np
 
 from .._numba import jit
 from ..grid import Grid
-from ..problem import Problem
+from ..problem import Problem, bracket, check_time, state_evaluation
 
 
 @jit
@@ -400,32 +400,24 @@ class HJBSolution:
     def grid(self) -> Grid:
         return self.problem.grid
 
-    def _bracket(self, t) -> tuple[int, float]:
-        try:
-            t = float(t)
-        except (TypeError, ValueError):
-            raise TypeError(f"t must be a single time (float), got {t!r}") from None
-        T = self.problem.horizon
-        if not (np.isfinite(t) and -1e-9 * T <= t <= T * (1 + 1e-9)):
-            raise ValueError(f"t must lie in [0, T] = [0, {T:g}], got {t!r}")
-        j = int(np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 2))
-        theta = (t - self.times[j]) / (self.times[j + 1] - self.times[j])
-        return j, float(np.clip(theta, 0.0, 1.0))
-
     def _nodal_at(self, t) -> np.ndarray:
-        j, theta = self._bracket(t)
+        j, theta = bracket(self.times, check_time(t, self.problem.horizon))
         return (1 - theta) * self.values[j] + theta * self.values[j + 1]
 
+    @state_evaluation
     def value(self, x, t) -> np.ndarray:
-        """v(x, t), shape ``(N,)``."""
+        """v(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         return multilinear(self.grid, self._nodal_at(t), x)[0]
 
+    @state_evaluation
     def gradient(self, x, t) -> np.ndarray:
-        """∇v(x, t) from interpolated nodal central differences, shape ``(N, d)``."""
+        """∇v(x, t) from interpolated nodal central differences, shape ``(N, d)`` (``(d,)`` for one
+        state)."""
         return multilinear(self.grid, value_gradient(self.grid, self._nodal_at(t)), x).T
 
+    @state_evaluation
     def policy(self, x, t) -> np.ndarray:
-        """u*(x, t) = clip(−R⁻¹ B(x)ᵀ ∇v(x, t), lo, hi), shape ``(N, m)``.
+        """u*(x, t) = clip(−R⁻¹ B(x)ᵀ ∇v(x, t), lo, hi), shape ``(N, m)`` (``(m,)`` for one state).
 
         The minimiser of ½ uᵀRu + uᵀBᵀ∇v over the box ``control_bounds`` (R is diagonal, so
         clipping each control is exact); without bounds, the unconstrained −R⁻¹Bᵀ∇v.

@@ -20,8 +20,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..costs import Quadratic
-from ..problem import Problem
-from ..solution import check_time
+from ..problem import Problem, check_time, state_evaluation
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,14 +43,16 @@ class LQSolution:
         d = self.problem.state_dim
         return y[: d * d].reshape(d, d), y[d * d : d * d + d], float(y[-1])
 
+    @state_evaluation
     def value(self, x, t) -> np.ndarray:
-        """v(x, t), shape ``(N,)``."""
+        """v(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         x = self.problem.check_states(x)
         P, p, c0 = self.coefficients(t)
         return 0.5 * np.einsum("ni,ij,nj->n", x, P, x) + x @ p + c0
 
+    @state_evaluation
     def policy(self, x, t) -> np.ndarray:
-        """u*(x, t) = −R⁻¹ Bᵀ (P x + p), shape ``(N, m)``."""
+        """u*(x, t) = −R⁻¹ Bᵀ (P x + p), shape ``(N, m)`` (``(m,)`` for one state)."""
         x = self.problem.check_states(x)
         P, p, _ = self.coefficients(t)
         matrices = self.problem.system.linear_matrices()

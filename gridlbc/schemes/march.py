@@ -13,6 +13,7 @@ import numpy as np
 
 from ..backends import REFERENCE_FLOOR
 from ..backends.numba.options import work_blocks
+from ..representation import LinearZ
 from ..storage import store_kernel
 from .protocol import Marched, MarchPlan, StepOperator, Terminal
 
@@ -68,12 +69,12 @@ def march_linear(
             scales[slot] = log_scale[:K]
         progress.update(kept[-1] - n)
     return Marched(
-        slices, scales, "linear", step, setup_time, underflow_nodes(slices), int(flushed)
+        slices, scales, LinearZ(), step, setup_time, underflow_nodes(slices), int(flushed)
     )
 
 
 def store_reference(phi: np.ndarray, log_scale: float | np.floating, log_phi, slot: int):
-    """Slot ``slot`` of ``log_phi`` (a :class:`~gridlbc.solution.FittingReference`): log φ
+    """Slot ``slot`` of ``log_phi`` (a :class:`~gridlbc.representation.RelativeZ`): log φ
     relative to its maximum (floored where φ underflowed) and its log-scale, for
     φ = ``phi`` · e^{log_scale}."""
     top = float(phi.max())

@@ -37,6 +37,7 @@ import numpy as np
 from ..grid import Grid
 from ..problem import Problem
 from ..progress import ProgressBar
+from ..representation import Representation
 from ..storage import slice_storage
 
 
@@ -144,21 +145,20 @@ class MarchPlan:
 @dataclass
 class Marched:
     """What :meth:`Scheme.march` returns: per solution r the stored ``slices[r]``
-    ``(len(kept), N)`` and their log-scales ``scales[:, r]``, in the solution form
-    ``interpolation`` (``"linear"``, ``"fitted"`` relative to ``reference``, the log φ of the
-    fitting reference at the stored times, or ``"log"``; see :class:`gridlbc.solution.Solution`);
-    the nodes whose z underflowed at t = 0 (``underflow_nodes``, one per solution), values the
+    ``(len(kept), N)`` and their log-scales ``scales[:, r]``, in the ``representation`` the
+    solutions share (:mod:`gridlbc.representation`: :class:`~gridlbc.representation.LinearZ`,
+    :class:`~gridlbc.representation.RelativeZ` with the log φ of the fitting reference at the
+    stored times, or :class:`~gridlbc.representation.LogZ`); the nodes whose z underflowed at t = 0 (``underflow_nodes``, one per solution), values the
     float32 storage ``flushed`` to zero, the ``operator`` that was stepped and the
     ``setup_time`` it took to build (from the solve's start)."""
 
     slices: np.ndarray
     scales: np.ndarray
-    interpolation: str
+    representation: Representation
     operator: Any  # the StepOperator, with whatever else its scheme's check reads
     setup_time: float
     underflow_nodes: tuple[int, ...]
     flushed: int = 0
-    reference: Any = None
 
 
 @runtime_checkable

@@ -636,7 +636,7 @@ def certified_study(
                     d.dt,
                     d.steps,
                     d.wall_time,
-                    float(sol.value(start, 0.0)[0]),
+                    float(sol.value(start, 0.0)),
                     own.policy_cost,
                     own.policy_cost_se,
                     own.effective_sample_size,

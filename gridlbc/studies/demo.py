@@ -82,7 +82,7 @@ def run_demo(
     solutions, predictions = {}, {}
     for fitting, label in labels.items():
         sol = solutions[fitting] = solve(problem, progress=progress, fitting=fitting)
-        predictions[fitting] = float(sol.value(SWINGUP_START, 0.0)[0])
+        predictions[fitting] = float(sol.value(SWINGUP_START, 0.0))
         d = sol.diagnostics
         say(
             f"   {label} {d.method}: {d.steps} steps of dt = {d.dt:.4f} in {d.wall_time:.2f} s; "

@@ -230,8 +230,8 @@ def run_coordination(
 def blend_at_start(components, momentum_scale):
     """(v̂_i(x0, 0) per component, α_i(x0, 0) of their w = 1 combination) at take-off κ."""
     x0 = diver_start(momentum_scale)
-    values = np.array([float(c.value(x0, 0.0)[0]) for c in components])
-    return values, combine(components).blend_weights(x0, 0.0)[0]
+    values = np.array([float(c.value(x0, 0.0)) for c in components])
+    return values, combine(components).blend_weights(x0, 0.0)
 
 
 # -- pictures ---------------------------------------------------------------------------------

@@ -273,7 +273,7 @@ def interpolation(
     naive = naive_blend([upper, lower], fit.weights)
     *grid_components, direct = solve_many(problem, [*goals, problem.terminal_cost], dt=dt)
     exact = combine(grid_components, fit.weights)
-    beta = lbc.blend_weights(start, 0.0)[0]
+    beta = lbc.blend_weights(start, 0.0)
     names = (
         "LBC Σαᵢuᵢ",
         "naive blend Σwᵢuᵢ/Σwᵢ",

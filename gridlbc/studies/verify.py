@@ -299,9 +299,9 @@ def check_pointmass_optimality(
     )
     x0 = np.array([1.0, -0.5])
     exact = lq_solution(problem)
-    v_exact = float(exact.value(x0, 0.0)[0])
+    v_exact = float(exact.value(x0, 0.0))
     sol = solve(problem)
-    v_grid = float(sol.value(x0, 0.0)[0])
+    v_grid = float(sol.value(x0, 0.0))
     discretisation = abs(v_grid - v_exact)
     cert = certify(problem, sol.policy, x0, samples, seed=seed, progress=False)
     exact_run = simulate(problem, exact.policy, x0, samples, seed=seed + 1)
@@ -347,7 +347,7 @@ def check_swingup_optimality(
     problem = swingup_problem(n)
     sol = solve(problem, dt=dt, fitting=fitting)
     x0 = SWINGUP_START.copy()
-    predicted = float(sol.value(x0, 0.0)[0])
+    predicted = float(sol.value(x0, 0.0))
     cert = certify(
         problem, sol.policy, x0, samples, dt=SWINGUP_ROLLOUT_DT, seed=seed, progress=False
     )
@@ -408,7 +408,7 @@ def check_interpolation(
         # Certified under the target task, each controller its own proposal (all estimate the
         # same v*), with the same seed; the final-state errors are those of its rollouts.
         cert = certify(problem, policy, x0, samples, seed=seed, progress=False)
-        predicted = float(predictions[name](x0, 0.0)[0]) if name in predictions else math.nan
+        predicted = float(predictions[name](x0, 0.0)) if name in predictions else math.nan
         rows += _certificate_rows(
             "interpolation", f"{case}: {name}", cert, predicted, note="under the target task"
         )
@@ -435,9 +435,11 @@ def check_interpolation(
 
 def _exact_coordination(references, temperature):
     """The exact value and policy of Σ z_i for LQ components: v = −λ log Σ exp(−v_i/λ),
-    u = Σ α_i u_i with α = softmax(−v_i/λ) (each z_i exact by Riccati)."""
+    u = Σ α_i u_i with α = softmax(−v_i/λ) (each z_i exact by Riccati); states ``(N, d)`` (one
+    state ``(d,)`` counts as N = 1)."""
 
     def shifted(x, t):
+        x = np.atleast_2d(x)
         v = np.stack([r.value(x, t) for r in references], axis=1)  # (N, n)
         low = v.min(axis=1)
         return low, np.exp(-(v - low[:, None]) / temperature)  # e^{−(v_i − min v)/λ} ≤ 1
@@ -447,6 +449,7 @@ def _exact_coordination(references, temperature):
         return low - temperature * np.log(e.sum(axis=1))
 
     def policy(x, t):
+        x = np.atleast_2d(x)
         _, e = shifted(x, t)
         alpha = e / e.sum(axis=1, keepdims=True)
         return np.einsum("ni,nim->nm", alpha, np.stack([r.policy(x, t) for r in references], 1))
@@ -470,7 +473,7 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
         x0 = np.array([s, 0.0])
         run = simulate(combined.problem, combined.policy, x0, samples, seed=seed + k)
         to_plus = float(np.mean(run.final_states[:, 0] > 0))
-        alpha_plus = float(combined.blend_weights(x0, 0.0)[0, 1])
+        alpha_plus = float(combined.blend_weights(x0, 0.0)[1])
         # Away from the middle ≥ 90% must reach the nearer goal; near 0 the split is reported.
         decided = abs(s) >= 0.5
         rows.append(
@@ -486,7 +489,7 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
     x0 = np.array([0.0, 0.0])
     exact_value, exact_policy = _exact_coordination([lq_solution(s.problem) for s in sols], lam)
     v_exact = float(exact_value(x0, 0.0)[0])
-    v_grid = float(combined.value(x0, 0.0)[0])
+    v_grid = float(combined.value(x0, 0.0))
     case = f"start x=0, {_shape(grid)}"
     cert = certify(
         combined.problem, combined.policy, x0, 4 * samples, seed=seed + len(starts), progress=False

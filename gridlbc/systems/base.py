@@ -23,6 +23,26 @@ import numpy as np
 from ..grid import Axis, Grid
 
 
+def physical_parameter(name: str, value, zero_allowed: bool = False) -> float:
+    """A system's constructor argument as a finite float > 0 (≥ 0 with ``zero_allowed``); a
+    ``ValueError`` naming it otherwise.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the message.
+    value : float
+        Its value.
+    zero_allowed : bool
+        Accept 0 (a gravity or a damping may vanish; a mass or a length may not).
+    """
+    value = float(value)
+    if not (np.isfinite(value) and (value >= 0 if zero_allowed else value > 0)):
+        kind = "non-negative" if zero_allowed else "positive"
+        raise ValueError(f"{name} must be a {kind} finite number, got {value}")
+    return value
+
+
 class ControlAffineSystem:
     """Base class: ``a(x)`` by :meth:`drift`, ``B(x)`` by :meth:`input_matrix`.
 

@@ -48,8 +48,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .base import ControlAffineSystem
-from .mechanical import _non_negative, _positive
+from .base import ControlAffineSystem, physical_parameter
 
 
 def _per_link(name: str, value, n: int) -> tuple[float, ...]:
@@ -58,7 +57,7 @@ def _per_link(name: str, value, n: int) -> tuple[float, ...]:
         arr = np.full(n, float(arr))
     if arr.shape != (n,):
         raise ValueError(f"{name} must be one number or one per link ({n}), got shape {arr.shape}")
-    return tuple(_positive(f"{name}[{k}]", v) for k, v in enumerate(arr))
+    return tuple(physical_parameter(f"{name}[{k}]", v) for k, v in enumerate(arr))
 
 
 class PlanarChain(ControlAffineSystem):
@@ -93,7 +92,7 @@ class PlanarChain(ControlAffineSystem):
         if not isinstance(pinned, (bool, np.bool_)):
             raise TypeError(f"pinned must be True or False, got {pinned!r}")
         self.pinned = bool(pinned)
-        self.gravity = _non_negative("gravity", gravity)
+        self.gravity = physical_parameter("gravity", gravity, zero_allowed=True)
         self.state_dim, self.control_dim = 2 * n, n - 1
         self.state_names = tuple(f"theta{k}" for k in range(1, n + 1)) + tuple(
             f"p{k}" for k in range(1, n + 1)

@@ -6,21 +6,7 @@ import math
 
 import numpy as np
 
-from .base import ControlAffineSystem, LinearSystem
-
-
-def _positive(name: str, value) -> float:
-    value = float(value)
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"{name} must be a positive finite number, got {value}")
-    return value
-
-
-def _non_negative(name: str, value) -> float:
-    value = float(value)
-    if not (np.isfinite(value) and value >= 0):
-        raise ValueError(f"{name} must be a non-negative finite number, got {value}")
-    return value
+from .base import ControlAffineSystem, LinearSystem, physical_parameter
 
 
 class SingleIntegrator(LinearSystem):
@@ -45,7 +31,7 @@ class PointMass(LinearSystem):
     """
 
     def __init__(self, mass: float = 1.0):
-        self.mass = _positive("mass", mass)
+        self.mass = physical_parameter("mass", mass)
         super().__init__(
             [[0.0, 1.0], [0.0, 0.0]],
             [[0.0], [1.0 / self.mass]],
@@ -85,10 +71,10 @@ class Pendulum(ControlAffineSystem):
     def __init__(
         self, mass: float = 1.0, length: float = 1.0, gravity: float = 9.81, damping: float = 0.0
     ):
-        self.mass = _positive("mass", mass)
-        self.length = _positive("length", length)
-        self.gravity = _non_negative("gravity", gravity)
-        self.damping = _non_negative("damping", damping)
+        self.mass = physical_parameter("mass", mass)
+        self.length = physical_parameter("length", length)
+        self.gravity = physical_parameter("gravity", gravity, zero_allowed=True)
+        self.damping = physical_parameter("damping", damping, zero_allowed=True)
 
     @property
     def inertia(self) -> float:
@@ -165,11 +151,11 @@ class Acrobot(ControlAffineSystem):
         l2: float = 1.0,
         gravity: float = 9.81,
     ):
-        self.m1 = _positive("m1", m1)
-        self.m2 = _positive("m2", m2)
-        self.l1 = _positive("l1", l1)
-        self.l2 = _positive("l2", l2)
-        self.gravity = _non_negative("gravity", gravity)
+        self.m1 = physical_parameter("m1", m1)
+        self.m2 = physical_parameter("m2", m2)
+        self.l1 = physical_parameter("l1", l1)
+        self.l2 = physical_parameter("l2", l2)
+        self.gravity = physical_parameter("gravity", gravity, zero_allowed=True)
 
     def mass_matrix(self, theta2) -> np.ndarray:
         """M(θ2), shape ``(N, 2, 2)``."""

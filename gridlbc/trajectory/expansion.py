@@ -70,9 +70,8 @@ from scipy.stats import chi2
 
 from ..costs import wrap_difference
 from ..errors import TrajectoryWarning
-from ..problem import Problem
+from ..problem import Problem, bracket, check_time, state_evaluation
 from ..reference.lq import is_linear_quadratic
-from ..solution import bracket, check_time
 from .ddp import positive_part, sweeps
 from .optimize import Trajectory, shooting_for, timed_state_cost
 
@@ -167,16 +166,19 @@ class TrajectoryExpansion:
     def _at(self, field: np.ndarray, j: int, theta: float) -> np.ndarray:
         return (1.0 - theta) * field[j] + theta * field[j + 1]
 
+    @state_evaluation
     def deviation(self, x, t) -> np.ndarray:
-        """Δx = x ⊖ x̄(t), to the nearest image on periodic axes, shape ``(N, d)``."""
+        """Δx = x ⊖ x̄(t), to the nearest image on periodic axes, shape ``(N, d)`` (``(d,)`` for one
+        state)."""
         j, theta = self._bracket(t)
         return self._deviation(self._states(x), j, theta)
 
     def _deviation(self, x: np.ndarray, j: int, theta: float) -> np.ndarray:
         return wrap_difference(x - self._at(self.trajectory.states, j, theta), self.periods)
 
+    @state_evaluation
     def value(self, x, t) -> np.ndarray:
-        """v̂(x, t) = v̄ + pᵀΔx + ½ ΔxᵀPΔx, shape ``(N,)``."""
+        """v̂(x, t) = v̄ + pᵀΔx + ½ ΔxᵀPΔx, shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         j, theta = self._bracket(t)
         dx = self._deviation(self._states(x), j, theta)
         P = self._at(self.hessians, j, theta)
@@ -186,18 +188,22 @@ class TrajectoryExpansion:
             + 0.5 * np.einsum("ni,ij,nj->n", dx, P, dx)
         )
 
+    @state_evaluation
     def log_desirability(self, x, t) -> np.ndarray:
-        """log z = −v̂/λ, shape ``(N,)``."""
+        """log z = −v̂/λ, shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         return -self.value(x, t) / self.temperature
 
+    @state_evaluation
     def desirability(self, x, t) -> np.ndarray:
-        """z = exp(−v̂/λ), shape ``(N,)`` (may underflow far away: use :meth:`value`)."""
+        """z = exp(−v̂/λ), shape ``(N,)`` (a scalar for one state ``(d,)``) (may underflow far away:
+        use :meth:`value`)."""
         with np.errstate(under="ignore", over="ignore"):
             return np.exp(self.log_desirability(x, t))
 
+    @state_evaluation
     def mahalanobis(self, x, t) -> np.ndarray:
-        """ρ = √(ΔxᵀPΔx/λ), shape ``(N,)``: how far x is from the trajectory in the component's
-        own metric."""
+        """ρ = √(ΔxᵀPΔx/λ), shape ``(N,)`` (a scalar for one state ``(d,)``): how far x is from the
+        trajectory in the component's own metric."""
         j, theta = self._bracket(t)
         dx = self._deviation(self._states(x), j, theta)
         return self._rho(dx, j, theta)
@@ -206,9 +212,10 @@ class TrajectoryExpansion:
         P = self._at(self.hessians, j, theta)
         return np.sqrt(np.maximum(np.einsum("ni,ij,nj->n", dx, P, dx), 0.0) / self.temperature)
 
+    @state_evaluation
     def policy(self, x, t) -> np.ndarray:
         """The tracker u = ū + K Δx · min(1, ρ_max/ρ) (no saturation when ``radius`` is None),
-        shape ``(N, m)``."""
+        shape ``(N, m)`` (``(m,)`` for one state)."""
         j, theta = self._bracket(t)
         dx = self._deviation(self._states(x), j, theta)
         if self.radius is not None:

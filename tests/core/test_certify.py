@@ -68,7 +68,7 @@ def _chain_value(problem, x0, n_steps=N_STEPS):
 def test_chain_value_converges_to_riccati_at_first_order():
     # The reference itself: O(Δt) from the continuous optimum, so halving Δt halves the distance.
     problem = _point_mass()
-    exact = float(lq_solution(problem).value(X0, 0.0)[0])
+    exact = float(lq_solution(problem).value(X0, 0.0))
     errors = [abs(_chain_value(problem, X0, k) - exact) for k in (100, 200, 400)]
     ratios = np.array(errors[:-1]) / np.array(errors[1:])
     np.testing.assert_allclose(ratios, 2.0, rtol=0.05)
@@ -84,7 +84,7 @@ def test_lq_optimum_matches_riccati(proposal, grid_solution):
     problem = _point_mass()
     policy = _zero if proposal == "zero" else grid_solution.policy
     cert = g.certify(problem, policy, X0, n_samples=1000, seed=4)
-    riccati = float(lq_solution(problem).value(X0, 0.0)[0])
+    riccati = float(lq_solution(problem).value(X0, 0.0))
     chain = _chain_value(problem, X0)
     assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
     assert abs(cert.optimal_value - riccati) < 3 * cert.optimal_value_se + abs(chain - riccati)
@@ -145,7 +145,7 @@ def test_small_temperature_does_not_underflow():
     problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [50.0]), temperature=0.001)
     exact = lq_solution(problem)
     cert = g.certify(problem, exact.policy, [2.0], n_samples=500, seed=1)
-    v = float(exact.value([2.0], 0.0)[0])
+    v = float(exact.value([2.0], 0.0))
     assert np.exp(-v / problem.temperature) == 0.0
     chain = _chain_value(problem, np.array([2.0]))
     assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se

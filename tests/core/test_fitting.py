@@ -12,6 +12,7 @@ from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.backends.numba.fitted_cells import FIT_WINDOW
 from gridlbc.backends.numba.fitted_diffusion import diffuse_fitted_kernel
 from gridlbc.interpolate import barycentric
+from gridlbc.representation import LogZ, RelativeZ
 from gridlbc.schemes.splitting import SplittingStep, characteristic_feet
 from gridlbc.studies.problems import (
     STEEP_DETERMINISTIC_OPTIMUM,
@@ -138,7 +139,7 @@ def test_own_reference_row_and_explicit_reference_agree():
     problem = _pendulum()
     own = gridlbc.solve(problem, dt=0.05, fitting="terminal")
     explicit = gridlbc.solve(problem, dt=0.05, fitting=problem.terminal_cost)
-    assert own.diagnostics.interpolation == "log" and explicit.diagnostics.interpolation == "fitted"
+    assert isinstance(own.representation, LogZ) and isinstance(explicit.representation, RelativeZ)
     for j in (0, len(own.times) - 1):
         np.testing.assert_allclose(
             own.log_desirability_nodes(j),
@@ -180,7 +181,7 @@ def test_fitting_makes_the_swingup_prediction_honest():
             cert = gridlbc.certify(
                 problem, solution.policy, x0, 400, dt=0.002, seed=0, progress=False
             )
-        errors[fitting] = solution.value(x0, 0.0)[0] / cert.optimal_value - 1
+        errors[fitting] = solution.value(x0, 0.0) / cert.optimal_value - 1
     assert abs(errors["terminal"]) < 0.06, errors
     assert errors[None] < -0.12, errors
 
@@ -320,7 +321,7 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
     problem = steep_swingup_problem(64, temperature=0.01)
     with pytest.warns(gridlbc.ResolutionWarning, match="the estimated error"):
         solution = gridlbc.solve(problem, fitting="terminal")  # its policy is +14 %: rightly
-    value = solution.value(STEEP_START, 0.0)[0]
+    value = solution.value(STEEP_START, 0.0)
     assert abs(value / STEEP_DETERMINISTIC_OPTIMUM - 1) < 0.05, value
     cert = gridlbc.certify(
         problem, solution.policy, STEEP_START, 200, dt=0.004, seed=0, progress=False
@@ -331,7 +332,7 @@ def test_small_temperature_steep_swingup_is_resolved_fitted_and_warned_plain():
         pytest.warns(gridlbc.ResolutionWarning, match="fitting='terminal'"),
     ):
         plain = gridlbc.solve(problem, fitting=None)
-    assert plain.value(STEEP_START, 0.0)[0] < 0.5 * STEEP_DETERMINISTIC_OPTIMUM
+    assert plain.value(STEEP_START, 0.0) < 0.5 * STEEP_DETERMINISTIC_OPTIMUM
 
 
 def test_no_resolution_warning_where_the_plain_scheme_resolves():
@@ -432,8 +433,8 @@ def test_fitted_evaluation_is_the_log_interpolation_where_z_is_the_reference(rng
     problem = _pendulum()
     explicit = gridlbc.solve(problem, dt=0.05, fitting=problem.terminal_cost)
     own = gridlbc.solve(problem, dt=0.05)
-    assert explicit.diagnostics.interpolation == "fitted" and explicit.reference is not None
-    assert own.diagnostics.interpolation == "log"
+    assert isinstance(explicit.representation, RelativeZ) and explicit.reference is not None
+    assert isinstance(own.representation, LogZ)
     x = np.column_stack([rng.uniform(-np.pi, np.pi, 200), rng.uniform(-6, 6, 200)])
     T = problem.horizon
     np.testing.assert_allclose(explicit.value(x, T), own.value(x, T), rtol=1e-12)
@@ -452,7 +453,7 @@ def test_solve_many_components_keep_an_optimal_policy_at_small_temperature():
     problem = swingup_problem(64, temperature=0.1)
     goal = Quadratic([-0.6, 0], [10, 0.5])
     component, _ = gridlbc.solve_many(problem, [goal, Quadratic([0.6, 0], [10, 0.5])])
-    assert component.diagnostics.interpolation == "fitted"
+    assert isinstance(component.representation, RelativeZ)
     cert = gridlbc.certify(
         component.problem, component.policy, [2.8, 0.0], 400, seed=1, dt=0.002, progress=False
     )

@@ -4,6 +4,7 @@ from conftest import EXACTNESS_ONLY, pendulum
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.representation import LinearZ, LogZ, RelativeZ
 from gridlbc.systems import Pendulum, PointMass
 
 
@@ -38,6 +39,7 @@ def test_round_trip_is_exact(tmp_path, pendulum_solution, rng):
     for t in (0.0, 0.37, 1.0):
         np.testing.assert_array_equal(back.value(x, t), sol.value(x, t))
         np.testing.assert_array_equal(back.policy(x, t), sol.policy(x, t))
+        np.testing.assert_array_equal(back.error_estimate(x, t), sol.error_estimate(x, t))
     # The callable state cost comes back exact at the nodes.
     nodes = sol.grid.nodes()
     np.testing.assert_allclose(
@@ -103,10 +105,41 @@ def test_fitted_round_trip_keeps_the_reference(tmp_path, rng):
         problem, [gridlbc.Quadratic([c, 0], [1, 0.1]) for c in (-1, 1)], dt=0.05
     )
     back = gridlbc.load(gridlbc.save(sols[0], tmp_path / "component"))
-    assert back.diagnostics.interpolation == "fitted"
+    assert isinstance(back.representation, RelativeZ) and back.operator == sols[0].operator
     np.testing.assert_array_equal(back.reference.log_slices, sols[0].reference.log_slices)
     np.testing.assert_array_equal(back.reference.log_scales, sols[0].reference.log_scales)
     x = np.column_stack([rng.uniform(-np.pi, np.pi, 50), rng.uniform(-4, 4, 50)])
     for t in (0.0, 0.37, problem.horizon):
         np.testing.assert_array_equal(back.value(x, t), sols[0].value(x, t))
         np.testing.assert_array_equal(back.policy(x, t), sols[0].policy(x, t))
+
+
+@pytest.mark.parametrize(
+    "fitting, legacy, kind",
+    [(None, "linear", LinearZ), ("terminal", "log", LogZ), ("shared", "fitted", RelativeZ)],
+)
+def test_reads_version_1_files(tmp_path, fitting, legacy, kind):
+    """Files of format version 1 kept the representation as ``diagnostics["interpolation"]``
+    and no operator signature: they load as the same solution, with the signature rebuilt from
+    the diagnostics (gridlbc.io)."""
+    import json
+
+    problem = pendulum(16, weights=(1, 0.1))
+    options = {"dt": 0.05, "error_estimate": False}  # version 1 kept no embedded solve
+    if fitting == "shared":
+        costs = [gridlbc.Quadratic([c, 0], [1, 0.1]) for c in (-1, 1)]
+        solution = gridlbc.solve_many(problem, costs, **options)[0]
+    else:
+        solution = gridlbc.solve(problem, fitting=fitting, **options)
+    data = dict(np.load(gridlbc.save(solution, tmp_path / "new.npz")))
+    meta = json.loads(str(data["metadata"]))
+    meta["format_version"] = 1
+    meta["diagnostics"]["interpolation"] = legacy
+    del meta["representation"], meta["operator"]
+    data["metadata"] = np.array(json.dumps(meta))
+    np.savez(tmp_path / "old.npz", **data)
+    back = gridlbc.load(tmp_path / "old.npz")
+    assert isinstance(back.representation, kind) and back.operator == solution.operator
+    x = np.array([[0.3, -1.0], [2.0, 0.5]])
+    np.testing.assert_array_equal(back.value(x, 0.2), solution.value(x, 0.2))
+    np.testing.assert_array_equal(back.policy(x, 0.2), solution.policy(x, 0.2))

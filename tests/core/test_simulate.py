@@ -113,9 +113,9 @@ def test_grid_policy_cost_matches_riccati():
     )
     x0 = np.array([1.0, -0.5])
     exact = lq_solution(problem)
-    v_exact = float(exact.value(x0, 0.0)[0])
+    v_exact = float(exact.value(x0, 0.0))
     sol = g.solve(problem)
-    discretisation = abs(float(sol.value(x0, 0.0)[0]) - v_exact)
+    discretisation = abs(float(sol.value(x0, 0.0)) - v_exact)
     grid_run = g.simulate(problem, sol.policy, x0, n_samples=4000, seed=11)
     assert abs(grid_run.mean_cost - v_exact) < 3 * grid_run.standard_error + discretisation
     exact_run = g.simulate(problem, exact.policy, x0, n_samples=4000, seed=12)

@@ -85,9 +85,9 @@ def _query(weights, state, t) -> str:
 def _assert_probe(probe: dict, combined, weights, state, t):
     x = np.asarray(state, dtype=float)
     assert "error" not in probe, probe
-    v = combined.value(x, t)[0]
-    u = combined.policy(x, t)[0]
-    alpha = combined.blend_weights(x, t)[0]
+    v = combined.value(x, t)
+    u = combined.policy(x, t)
+    alpha = combined.blend_weights(x, t)
     np.testing.assert_allclose(probe["value"], v, rtol=REL)
     np.testing.assert_allclose(probe["policy"], u, rtol=REL, atol=REL * max(1.0, abs(u).max()))
     np.testing.assert_allclose(probe["alpha"], alpha, rtol=REL, atol=REL)

@@ -224,7 +224,7 @@ def test_cli_sweep_on_a_scheduler(tmp_path, client):
     rows = [line.split() for line in lines[1:5]]
     for row, (damping, temperature) in zip(rows, [(0, 0.5), (0, 1), (0.2, 0.5), (0.2, 1)]):
         problem = pendulum(system=systems.Pendulum(damping=damping), temperature=temperature)
-        value = gridlbc.solve(problem).value([math.pi, 0.0], 0.0)[0]
+        value = gridlbc.solve(problem).value([math.pi, 0.0], 0.0)
         assert row[1:4] == [f"{damping:g}", f"{temperature:g}", f"{value:.6g}"]
         assert row[5] == "solved"
     assert "4 members: 4 solved, 0 reused, 0 failed" in lines[5]

@@ -139,7 +139,7 @@ def test_certified_study_rows_are_the_solves_and_their_certificates():
     assert study.labels() == ["splitting", "fitted dt 0.05"]
     direct = gridlbc.solve(pendulum_problem(16), dt=0.05, fitting="terminal")
     row = study.select("fitted dt 0.05")[-1]
-    assert row.shape == (16, 17) and row.predicted == float(direct.value(start, 0.0)[0])
+    assert row.shape == (16, 17) and row.predicted == float(direct.value(start, 0.0))
     with pytest.warns(gridlbc.CertificateWarning):
         truth = gridlbc.certify(direct.problem, direct.policy, start, 30, seed=3)
     assert study.truth.optimal_value == truth.optimal_value

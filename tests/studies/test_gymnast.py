@@ -130,7 +130,7 @@ def test_greedy_switch_follows_the_largest_blend_weight():
     x = np.array([[-2.0, 0.0], [-0.5, 0.0], [0.4, 0.0], [3.0, 0.0]])
     best = np.argmax(combination.blend_weights(x, 0.3), axis=1)
     assert set(best) == {0, 1}
-    expected = np.stack([trackers[b].policy(x[k], 0.3)[0] for k, b in enumerate(best)])
+    expected = np.stack([trackers[b].policy(x[k], 0.3) for k, b in enumerate(best)])
     # equal to rounding: the saturation's einsum sums in another order for another batch
     np.testing.assert_allclose(GreedySwitch(combination).policy(x, 0.3), expected, rtol=1e-14)
 

@@ -126,7 +126,7 @@ def test_exact_combination_is_the_mixture_of_the_components():
     lbc = g.combine(components, [1.0, 0.6])
     assert lbc.exact
     x0 = np.array([0.3])
-    beta = lbc.blend_weights(x0, 0.0)[0]
+    beta = lbc.blend_weights(x0, 0.0)
     runs = [
         g.simulate(lbc.problem, p, x0, 2000, dt=0.01, seed=seed)
         for seed, p in enumerate([lbc.policy] + [c.policy for c in components])
@@ -236,6 +236,6 @@ def test_the_default_step_resolves_the_wall_and_a_longer_one_is_warned():
         coarse = g.solve(problem, dt=0.3)
     # a reference: at a step far below the default the embedded grids' interpolation error
     # (h²/Δt per unit time) makes the estimate very conservative, and it warns
-    truth = g.solve(problem, dt=0.01, error_estimate=False).value(OBSTACLE_START, 0.0)[0]
-    assert coarse.value(OBSTACLE_START, 0.0)[0] < 0.9 * truth
-    assert abs(default.value(OBSTACLE_START, 0.0)[0] / truth - 1) < 2e-3
+    truth = g.solve(problem, dt=0.01, error_estimate=False).value(OBSTACLE_START, 0.0)
+    assert coarse.value(OBSTACLE_START, 0.0) < 0.9 * truth
+    assert abs(default.value(OBSTACLE_START, 0.0) / truth - 1) < 2e-3

@@ -471,7 +471,7 @@ def test_deviation_takes_the_nearest_periodic_image():
     tape = component.trajectory
     k = 20
     np.testing.assert_allclose(
-        component.policy(tape.states[k], tape.times[k]), [tape.controls[k]], rtol=1e-12
+        component.policy(tape.states[k], tape.times[k]), tape.controls[k], rtol=1e-12
     )
     assert component.nominal_values[-1] == pytest.approx(
         float(component.problem.terminal_cost(tape.states[-1:])[0]), rel=1e-12

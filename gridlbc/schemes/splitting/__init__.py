@@ -46,7 +46,6 @@ The package, one idea per module:
 Their compiled kernels are in :mod:`gridlbc.backends.numba`.
 """
 
-from ...backends import REFERENCE_FLOOR as _TINY  # noqa: F401 (gridlbc.interactive's old import)
 from .checks import (
     CONTROL_STEP_CELLS,
     COST_NOISE_SCALE,

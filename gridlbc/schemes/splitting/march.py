@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...solution import FittingReference
+from ...representation import LogZ, RelativeZ
 from ...storage import store_kernel
 from ..march import check_peak, march_linear, open_slices, store_reference, underflow_nodes
 from ..protocol import Marched, MarchPlan, Terminal
@@ -32,7 +32,7 @@ def march_fitted(
     """n steps of C D½ M P D½ C (:class:`SplittingStep`; P fitted by
     :meth:`SplittingStep.drift`, D½ by :meth:`SplittingStep.fitted_diffusion`) fitted to the
     reference row of the terminal data; its log φ is stored at the kept times as well
-    (:class:`~gridlbc.solution.FittingReference`).
+    (:class:`~gridlbc.representation.RelativeZ`, the solutions' representation).
 
     Without a state cost (C = M = 1) the two half diffusions that meet between consecutive
     steps are one diffusion over the whole step: the Gaussian's semigroup, D½ D½ = D, which the
@@ -58,7 +58,7 @@ def march_fitted(
     assert reference is not None  # march() takes the plain loop without one
     slices, scales, blocks, flushed = open_slices(plan, terminal)
     progress = plan.progress_bar("splitting")
-    log_phi = FittingReference(
+    log_phi = RelativeZ(
         plan.storage(len(kept), plan.problem.grid.size), np.empty(len(kept))
     )  # log φ at the stored times, shared by the solutions: they are evaluated relative to it
     store_reference(Z[reference], log_scale[reference], log_phi, -1)
@@ -100,9 +100,7 @@ def march_fitted(
         free = [a for a in (x, y, other) if a is not result]
         x = result
         progress.update(kept[-1] - n)
-    return Marched(
-        slices, scales, "fitted", step, setup_time, underflow_nodes(slices), int(flushed), log_phi
-    )
+    return Marched(slices, scales, log_phi, step, setup_time, underflow_nodes(slices), int(flushed))
 
 
 def march_log(
@@ -120,7 +118,7 @@ def march_log(
     (``fitting=g``) at t = 0 and T to rounding, and at the slices between only to O(Δt²) where
     the halves are merged: :func:`gridlbc.combine` does not combine the two exactly.
 
-    The slices are stored as log z relative to their maximum (``interpolation="log"``: the
+    The slices are stored as log z relative to their maximum (:class:`LogZ`: the
     solution then interpolates v = −λ log z, not z), so that neither the solve nor the stored
     solution underflows however large v/λ grows across the grid.
     """
@@ -162,4 +160,4 @@ def march_log(
         free = [a for a in (x, y, other) if a is not result]
         x = result
         progress.update(plan.steps - n)
-    return Marched(slices, scales, "log", step, setup_time, (0,))
+    return Marched(slices, scales, LogZ(), step, setup_time, (0,))

@@ -11,6 +11,7 @@ With a state cost the step is also at most :func:`~.checks.cost_sampling_step`.
 from __future__ import annotations
 
 from ...problem import Problem
+from ...representation import LinearZ
 from ..protocol import Marched, MarchPlan, SchemeBase, StepRule, Terminal
 from ..tails import check_resolution
 from .checks import (
@@ -61,7 +62,7 @@ class SplittingScheme(SchemeBase):
         step's diffusion); then the control's step (:func:`~.checks.check_control_step`) and,
         fitted, the resolution of log z (:func:`~.checks.check_fitted_resolution`)."""
         diffusion = marched.operator.diffusion
-        fitted = marched.interpolation != "linear"
+        fitted = not isinstance(marched.representation, LinearZ)
         if not fitted:
             for solution in solutions:
                 check_resolution(
