@@ -10,15 +10,17 @@ e(h, Δt) ≈ C h^p with Δt ∝ h, Richardson's argument gives::
 
     v_2h − v_h ≈ (2^p − 1) C h^p,          v_4h − v_2h ≈ 2^p (v_2h − v_h),
 
-so the order p is observed from the three solves (:func:`observed_order`, over the states that
-matter, clipped to [1, 2]: the library's schemes are first order in general and second order at
+so the order p is observed from the three solves (:func:`embedded_estimate`, over the states
+that matter, clipped to [1, 2]: the library's schemes are first order in general and second order at
 best) and :meth:`gridlbc.Solution.error_estimate` returns::
 
-    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)) / (2^p − 1),  ê_floor ),
+    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)) / (2^p − 1),  r · max(abs(v_h(x, t)), λ) ),
 
-evaluated at any states by the same interpolation as the values. ê_floor is the median of the
-first term over the states that matter (:func:`estimate_floor`): where the two solves happen to
-agree (their difference changes sign), the error is not smaller than the typical error around it.
+evaluated at any states by the same interpolation as the values. The floor r is the median of
+the first term relative to the value over the states that matter:
+errors accumulate along the characteristics with the cost, so where the two solves happen to
+agree (their difference changes sign) the error is not smaller, relative to v, than the typical
+one (:func:`embedded_estimate`).
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
 the value's curvature. It cannot see an error that both solves share: a box too small for the
@@ -49,11 +51,15 @@ from __future__ import annotations
 import time
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .errors import ResolutionWarning
 from .grid import Axis, Grid
+
+if TYPE_CHECKING:
+    from .solution import Solution
 
 DEFAULT_TOLERANCE = 0.05
 """The relative error above which a default solve warns (:func:`check_accuracy`)."""
@@ -151,59 +157,86 @@ class Assessment:
     n_states: int
 
 
-def estimate_floor(solution) -> float:
-    """The median over the states that matter (t = 0) of the local Richardson estimate: the
-    least error :meth:`gridlbc.Solution.error_estimate` reports anywhere. Discretisation errors
-    travel along the characteristics, so where the two solves happen to agree (their difference
-    changes sign) the error is not smaller than the typical error around it.
+@dataclass(frozen=True)
+class EmbeddedEstimate:
+    """What a solution's error estimate reads (the module docstring): the solve on the embedded
+    grid and the numbers observed from it and the one below it.
 
-    Parameters
+    Attributes
     ----------
     solution : Solution
-        A solution that carries its embedded solve and observed order.
-
-    Returns
-    -------
-    float
-        The floor, in units of v.
+        The same problem solved on the grid with every other node, step 2Δt.
+    order : float
+        p of the Richardson estimate, the observed order clipped to [1, 2].
+    observed_order : float
+        log₂ of the ratio of the differences between successive levels (NaN without a third
+        level). Below 1 the coarser solves are not converging: they are too coarse to say how
+        accurate this grid is, and the estimate is an upper bound that may be loose.
+    floor : float
+        The least relative error reported (the median over the states that matter).
     """
-    X = states_that_matter(solution)
-    local = solution.error_estimate(X, local=True)
-    local = local[np.isfinite(local)]
-    return float(np.median(local)) if len(local) else 0.0
+
+    solution: Solution
+    order: float
+    observed_order: float
+    floor: float
+
+    @property
+    def converging(self) -> bool:
+        """Whether the levels converge at first order or better (or could not be compared)."""
+        return not (self.observed_order < 1.0)
+
+    def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """abs(v_2h − v_h) / (2^p − 1) at states ``x`` (N, d), time ``t``."""
+        difference = np.abs(self.solution.value(x, t) - solution.value(x, t))
+        return difference / (2.0**self.order - 1.0)
+
+    def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
+        relative to ``max(abs(v), λ)``."""
+        v = solution.value(x, t)
+        scale = np.maximum(np.abs(v), solution.temperature)
+        return np.maximum(self.local(solution, x, t), self.floor * scale)
 
 
-def observed_order(solution, embedded, coarser=None) -> float:
-    """The order p of the Richardson estimate, observed over the states that matter::
+def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
+    """The estimate of ``solution`` from its embedded solve and, if given, the one below it.
 
-        p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) ),   clipped to [1, 2],
+    The order is observed over the states that matter::
 
-    from the solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); 1 (the conservative choice) without
-    the third. The clip keeps the estimate between a third of the difference and all of it: the
-    library's schemes are first order in general and second order at best (interpolation).
+        p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) ),   used clipped to [1, 2]
+
+    (1, the conservative choice, without the third solve): the clip keeps the estimate between a
+    third of the difference and all of it, as the library's schemes are first order in general
+    and second order at best. The floor is the median over the same states of the local estimate
+    relative to the value: discretisation errors accumulate with the cost along the
+    characteristics, so where two solves happen to agree (their difference changes sign) the
+    error is not smaller, relative to v, than the typical one.
 
     Parameters
     ----------
     solution, embedded, coarser : Solution
-        The solves at h, 2h and 4h (``coarser`` None: no third solve).
+        The solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); ``coarser`` None: no third solve.
 
     Returns
     -------
-    float
-        p in [1, 2].
+    EmbeddedEstimate
     """
-    if coarser is None:
-        return 1.0
     X = states_that_matter(solution)
     v, v2 = solution.value(X, 0.0), embedded.value(X, 0.0)
-    fine = np.abs(v2 - v)
-    coarse = np.abs(coarser.value(X, 0.0) - v2)
-    usable = np.isfinite(fine) & np.isfinite(coarse)
-    if not usable.any() or fine[usable].sum() == 0:
-        return 1.0
-    with np.errstate(divide="ignore"):
-        p = np.log2(coarse[usable].sum() / fine[usable].sum())
-    return float(np.clip(p, 1.0, 2.0))
+    observed = np.nan
+    if coarser is not None:
+        fine, coarse = np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2)
+        usable = np.isfinite(fine) & np.isfinite(coarse)
+        if usable.any() and fine[usable].sum() > 0:
+            with np.errstate(divide="ignore"):
+                observed = float(np.log2(coarse[usable].sum() / fine[usable].sum()))
+    order = 1.0 if np.isnan(observed) else float(np.clip(observed, 1.0, 2.0))
+    estimate = EmbeddedEstimate(embedded, order, observed, 0.0)
+    local = relative_error(estimate.local(solution, X), v, solution.temperature)
+    local = local[np.isfinite(local)]
+    floor = float(np.median(local)) if len(local) else 0.0
+    return EmbeddedEstimate(embedded, order, observed, floor)
 
 
 def judged_states(solution, states=None) -> np.ndarray:
@@ -271,11 +304,18 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     if a is None or a.error <= tol:
         return
     state = np.array2string(a.worst_state, precision=3, separator=", ")
+    loose = (
+        ""
+        if solution.embedded.converging
+        else " The coarser grids do not converge (their differences shrink by less than 2 per "
+        "level), so this grid may be far better than the estimate says: it is an upper bound "
+        "here; gridlbc.certify at your states tells."
+    )
     warnings.warn(
         f"the estimated error of v exceeds {tol:.0%} of |v| at {a.share_above:.0%} of the states "
         f"that matter ({QUANTILE:.0%} of them are within {a.error:.1%}; the largest, "
         f"{a.worst_error:.0%}, is at {state}): measured against solves on the grids with every "
-        "other node, see solution.error_estimate(x) at your own states. Solve with "
+        f"other node, see solution.error_estimate(x) at your own states.{loose} Solve with "
         f"tol={tol:g} to refine dt and the grid until the estimate meets it, or give a finer "
         "grid or a smaller dt (docs page 'accuracy')",
         ResolutionWarning,

@@ -19,8 +19,9 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   its evaluation needs, with its own digest ``reference_sha256`` in the metadata;
 - ``embedded.*``: the solve on the embedded grid that the error estimate reads
   (:meth:`gridlbc.Solution.error_estimate`, :mod:`gridlbc.accuracy`), its arrays under this
-  prefix and its metadata as ``metadata["embedded"]`` (with the estimate's ``order`` and
-  ``floor``); absent when the solution carries none.
+  prefix and its metadata as ``metadata["embedded"]`` (with the estimate's ``order``,
+  ``observed_order`` and ``floor``, :class:`gridlbc.accuracy.EmbeddedEstimate`); absent when
+  the solution carries none.
 
 Version 1 files (before solutions knew their representation: it was
 ``diagnostics["interpolation"]``, ``"linear"``, ``"fitted"`` or ``"log"``, and the operator was
@@ -39,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .accuracy import EmbeddedEstimate
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .interpolate import interpolate
@@ -187,12 +189,16 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
         "library_version": __version__,
         **_record(solution, arrays),
     }
-    if solution.embedded is not None:  # the error estimate's coarse solve, under its own prefix
+    estimate = solution.embedded
+    if estimate is not None:  # the error estimate's coarse solve, under its own prefix
         inner: dict = {}
         meta["embedded"] = {
-            **_record(solution.embedded, inner),
-            "order": solution.estimate_order,
-            "floor": solution.estimate_floor,
+            **_record(estimate.solution, inner),
+            "order": estimate.order,
+            "observed_order": None
+            if np.isnan(estimate.observed_order)
+            else estimate.observed_order,
+            "floor": estimate.floor,
         }
         arrays.update({EMBEDDED + k: v for k, v in inner.items()})
     if annotations is not None:
@@ -282,9 +288,14 @@ def load(path) -> Solution:
     if "embedded" in meta:
         inner = {k[len(EMBEDDED) :]: v for k, v in contents.items() if k.startswith(EMBEDDED)}
         record = meta["embedded"]
-        object.__setattr__(solution, "embedded", _solution(record, inner, version, path))
-        object.__setattr__(solution, "estimate_order", float(record["order"]))
-        object.__setattr__(solution, "estimate_floor", float(record["floor"]))
+        observed = record["observed_order"]
+        estimate = EmbeddedEstimate(
+            _solution(record, inner, version, path),
+            float(record["order"]),
+            np.nan if observed is None else float(observed),
+            float(record["floor"]),
+        )
+        object.__setattr__(solution, "embedded", estimate)
     return solution
 
 

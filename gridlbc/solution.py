@@ -33,12 +33,16 @@ every evaluation in the library).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .interpolate import barycentric
 from .problem import Problem, bracket, check_time, state_evaluation
 from .representation import Fields, LinearZ, RelativeZ, Representation, Stencil
+
+if TYPE_CHECKING:
+    from .accuracy import EmbeddedEstimate
 
 FittingReference = RelativeZ
 """The former name of :class:`gridlbc.representation.RelativeZ` (log φ at the stored times)."""
@@ -191,15 +195,9 @@ class Solution(FieldEvaluation):
         The step operator that made it (what :func:`gridlbc.combine` compares).
     representation : LinearZ, RelativeZ or LogZ
         What the slices hold and how they are interpolated (:mod:`gridlbc.representation`).
-    embedded : Solution or None
-        The same problem solved on the embedded grid (every other node) with step 2Δt, from
-        which :meth:`error_estimate` reads (None if not solved: ``error_estimate=False``, or a
-        grid too coarse to embed).
-    estimate_order : float
-        The order p in the Richardson estimate ``abs(v_2h − v_h) / (2^p − 1)`` (observed from a third
-        solve at 4h, in [1, 2]: :func:`gridlbc.accuracy.observed_order`).
-    estimate_floor : float
-        The least error the estimate reports (:func:`gridlbc.accuracy.estimate_floor`).
+    embedded : gridlbc.accuracy.EmbeddedEstimate or None
+        The solves on the embedded grids that :meth:`error_estimate` reads (None if not solved:
+        ``error_estimate=False``, or a grid too coarse to embed).
     refinement : tuple of gridlbc.accuracy.Refinement
         With ``solve(tol=...)``: the solves that led to this one (empty otherwise).
     """
@@ -212,9 +210,7 @@ class Solution(FieldEvaluation):
     operator: OperatorSignature
     representation: Representation = field(default_factory=LinearZ)
     _B_cache: dict = field(default_factory=dict, repr=False, compare=False)
-    embedded: Solution | None = field(default=None, repr=False, compare=False)
-    estimate_order: float = field(default=1.0, repr=False, compare=False)
-    estimate_floor: float = field(default=0.0, repr=False, compare=False)
+    embedded: EmbeddedEstimate | None = field(default=None, repr=False, compare=False)
     refinement: tuple = field(default=(), repr=False, compare=False)
 
     @property
@@ -233,10 +229,11 @@ class Solution(FieldEvaluation):
         return int(self.slices.nbytes + self.log_scales.nbytes + self.times.nbytes)
 
     @state_evaluation
-    def error_estimate(self, x, t=0.0, local: bool = False) -> np.ndarray:
+    def error_estimate(self, x, t=0.0) -> np.ndarray:
         """An a-posteriori estimate of ``abs(v(x, t) − v_exact(x, t))`` (SPEC §10, docs page
-        :doc:`accuracy`): ``abs(v_2h(x, t) − v(x, t)) / (2^p − 1)``, the Richardson estimate from the embedded solve with the observed order p, and at least
-        :attr:`estimate_floor` (:mod:`gridlbc.accuracy`).
+        :doc:`accuracy`): the Richardson estimate ``abs(v_2h(x, t) − v(x, t)) / (2^p − 1)`` from
+        the embedded solve with the observed order p, and at least the typical relative error
+        (:class:`gridlbc.accuracy.EmbeddedEstimate`).
 
         Parameters
         ----------
@@ -244,13 +241,12 @@ class Solution(FieldEvaluation):
             States.
         t : float
             Time in [0, T].
-        local : bool
-            Leave out the floor (the local Richardson difference only).
 
         Returns
         -------
         ndarray (N,)
-            The estimated absolute error of :meth:`value` at each state.
+            The estimated absolute error of :meth:`value` at each state (a scalar for one
+            state).
         """
         if self.embedded is None:
             raise ValueError(
@@ -258,9 +254,7 @@ class Solution(FieldEvaluation):
                 "error_estimate=False or on a grid too coarse to embed (fewer than 5 nodes on "
                 "an axis); solve again with the default settings"
             )
-        difference = np.abs(self.embedded.value(x, t) - self.value(x, t))
-        estimate = difference / (2.0**self.estimate_order - 1.0)
-        return estimate if local else np.maximum(estimate, self.estimate_floor)
+        return self.embedded.error(self, x, t)
 
     # -- nodal access ---------------------------------------------------------------------------
 

@@ -26,9 +26,8 @@ import numpy as np
 
 from .accuracy import (
     check_accuracy,
+    embedded_estimate,
     embedded_grid,
-    estimate_floor,
-    observed_order,
     solve_to_tolerance,
 )
 from .backends.numba.drift import rate_sums
@@ -212,10 +211,7 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
         return
     for r, solution in enumerate(solutions):
         coarser = levels[1][r] if len(levels) > 1 else None
-        order = observed_order(solution, levels[0][r], coarser)
-        object.__setattr__(solution, "embedded", levels[0][r])
-        object.__setattr__(solution, "estimate_order", order)
-        object.__setattr__(solution, "estimate_floor", estimate_floor(solution))
+        object.__setattr__(solution, "embedded", embedded_estimate(solution, levels[0][r], coarser))
         check_accuracy(solution)
 
 
