@@ -306,6 +306,18 @@ def cold_ridge():
     )
 
 
+def thin_wall():
+    grid = _grid((-2, 2, 201), (-3, 3, 201))
+    return Problem(
+        PointMass(),
+        grid,
+        1.5,
+        Quadratic([1.2, 0.0], [5.0, 1.0]),
+        state_cost=Bump(axis=0, at=0.5, width=0.006, height=400.0),
+        temperature=0.3,
+    )
+
+
 def torus_diffusion():
     grid = _grid((-PI, PI, 200, True), (-PI, PI, 200, True))
     return Problem(
@@ -469,6 +481,7 @@ MEMBERS: tuple[Member, ...] = (
         narrow_goal,
         _s((-1.0, 0.0), (0.0, 1.0), (1.5, -1.0)),
         "2-D double integrator to a narrow goal (weights 400, 40), λ = 0.1",
+        cert_dt=0.002,
         fast=True,
         tags=("narrow cost", "closed"),
     ),
@@ -484,6 +497,7 @@ MEMBERS: tuple[Member, ...] = (
         expensive_control,
         _s((2.5, 0.0), (0.5, 0.0), (-1.0, 1.0)),
         "2-D pendulum, expensive control R = 20, state cost, λ = 1",
+        cert_dt=0.001,
         fast=True,
         tags=("expensive control", "periodic"),
     ),
@@ -501,6 +515,15 @@ MEMBERS: tuple[Member, ...] = (
         _s((-1.0, 0.0), (1.5, 0.0), (1.0, 1.0)),
         "2-D point mass over a ridge of state cost across position, λ = 0.01",
         tags=("small temperature", "closed"),
+    ),
+    Member(
+        "thin_wall",
+        thin_wall,
+        _s((-0.5, 0.0), (0.0, 1.0), (0.3, 0.5)),
+        "2-D point mass through a wall of state cost a third of a cell thick across position, "
+        "which only the drift moves, λ = 0.3",
+        fine=4.0,
+        tags=("local feature", "narrow cost", "closed"),
     ),
     Member(
         "torus_diffusion",
@@ -544,7 +567,7 @@ MEMBERS: tuple[Member, ...] = (
         _s((3.0, 0.0, 4.0, 0.0), (2.5, 0.3, 0.0, 0.0), (-2.8, -0.5, 2.0, 1.0)),
         "4-D acrobot on 25⁴ brought to rest hanging down from a fast state (issue 25)",
         fine=1.5,
-        cert_dt=0.002,
+        cert_dt=0.001,
         tags=("fast dynamics", "coarse", "periodic"),
     ),
     Member(

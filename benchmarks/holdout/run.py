@@ -7,7 +7,7 @@ the actual relative error, the solve's own estimate of its error where the Solut
 (``error_estimate``; "n/a" otherwise), the warnings the default solve raised, and its time. The
 summary counts the pairs more than 10 % off and, of those, the silent ones (no warning).
 
-    python benchmarks/holdout/run.py [--fast] [--only NAME ...] [--json OUT]
+    python benchmarks/holdout/run.py [--fast] [--only NAME ...] [--json OUT] [--rst OUT]
 """
 
 from __future__ import annotations
@@ -92,11 +92,35 @@ def rows_for(member: Member, truths: dict) -> tuple[list[dict], dict]:
     return rows, p
 
 
+def rst_table(rows: list[dict]) -> str:
+    """The rows as a reStructuredText list-table (the docs' benchmarks page)."""
+    head = ["member", "state", "predicted", "certified v* ± SE", "ESS", "error", "warned"]
+    lines = [".. list-table::", "   :header-rows: 1", ""]
+    for i, h in enumerate(head):
+        lines.append(f"   {'*' if i == 0 else ' '} - {h}")
+    for r in rows:
+        if "certified" not in r:
+            continue
+        cells = [
+            r["member"].replace("_", " "),
+            "(" + ", ".join(f"{c:g}" for c in r["state"]) + ")",
+            f"{r['predicted']:.4g}",
+            f"{r['certified']:.4g} ± {r['se']:.2g}",
+            f"{r['ess']:.0f}",
+            f"{100 * r['error']:+.1f} %",
+            "yes" if r["warned"] else "no",
+        ]
+        for i, c in enumerate(cells):
+            lines.append(f"   {'*' if i == 0 else ' '} - {c}")
+    return "\n".join(lines) + "\n"
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--fast", action="store_true", help="only the cheap 2-D members")
     parser.add_argument("--only", nargs="*", help="member names")
     parser.add_argument("--json", help="write the rows to this file ('-': after the table)")
+    parser.add_argument("--rst", help="write the table as reStructuredText to this file")
     args = parser.parse_args(argv)
     members = [m for m in MEMBERS if (not args.fast or m.fast)]
     if args.only:
@@ -135,6 +159,8 @@ def main(argv=None) -> int:
     for r in silent:
         state = ",".join(f"{c:g}" for c in r["state"])
         print(f"  silent: {r['member']} at ({state}): {100 * r['error']:+.1f}%")
+    if args.rst:
+        Path(args.rst).write_text(rst_table(all_rows))
     if args.json == "-":
         print("\n#json\n" + json.dumps(all_rows))
     elif args.json:

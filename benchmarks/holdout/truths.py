@@ -6,7 +6,8 @@ solve; a pilot certificate of each (``--pilot`` samples per state at ``member.ce
 one with the larger effective sample size. The sample count is then set so that the standard
 error is about ``--target`` of v* (within ``--min``/``--max`` samples), and v* is certified at
 ``cert_dt`` and at half of it: the truth is the finer step's, and the difference between the two
-says how large the Euler–Maruyama step bias still is. Each state's record also keeps the share of
+(``step_bias``) says how large the Euler–Maruyama step bias still is (about as large again, for a
+first-order weak error: ``v_extrapolated`` is the Richardson extrapolation to Δt → 0). Each state's record also keeps the share of
 the optimal path measure that left the grid's box (the certificate lives on Rᵈ, the grid solve on
 the box: a large share means the box, not the solver, sets the difference).
 
@@ -100,6 +101,12 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
     }
 
 
+def _extrapolate(state: dict) -> None:
+    """Add the Richardson extrapolation of v* to Δt → 0 (first-order weak error) and its SE."""
+    state["v_extrapolated"] = 2 * state["v"] - state["v_coarse_dt"]
+    state["se_extrapolated"] = math.hypot(2 * state["se"], state["se_coarse_dt"])
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--only", nargs="*", help="member names, in this order (default: all)")
@@ -121,6 +128,9 @@ def main(argv=None) -> int:
         record["command"] = "python benchmarks/holdout/truths.py --only " + member.name
         record["commit"] = commit
         data["members"][member.name] = record
+        for other in data["members"].values():
+            for st in other["states"]:
+                _extrapolate(st)
         out.write_text(json.dumps(data, indent=1) + "\n")
         summary = ", ".join(
             f"{s['v']:.4g}±{s['se']:.2g} (ESS {s['ess']:.0f}, bias {100 * s['step_bias']:+.1f}%, "
