@@ -421,6 +421,10 @@ class Member:
         The certificate's Euler–Maruyama step; the truth is also computed at half of it.
     fast : bool
         In the ``--fast`` subset (cheap 2-D members, run by the tests).
+    trajectory : bool
+        Also try trajectory components (LQR trackers) as the certificate's proposal.
+    tags : tuple of str
+        What kind of problem it is.
     """
 
     name: str
@@ -430,6 +434,7 @@ class Member:
     fine: float = 2.0
     cert_dt: float = 0.004
     fast: bool = False
+    trajectory: bool = False
     tags: tuple[str, ...] = field(default=())
 
 
@@ -576,6 +581,7 @@ MEMBERS: tuple[Member, ...] = (
         _s((0.1, -0.1, 0.0, 0.0), (-0.15, 0.2, 0.5, 0.0), (0.05, 0.0, -1.0, 0.5)),
         "4-D acrobot balanced near the handstand on 25⁴, λ = 0.5",
         fine=1.5,
+        trajectory=True,
         cert_dt=0.002,
         tags=("slow dynamics", "periodic"),
     ),

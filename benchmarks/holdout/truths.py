@@ -2,7 +2,8 @@
 
 For each member of ``corpus.py``: two proposals, the policy of a finer solve of the same problem
 (``member.fine`` times as many cells per axis, at its default step) and the policy of the default
-solve; a pilot certificate of each (``--pilot`` samples per state at ``member.cert_dt``) picks the
+solve (and, for members marked ``trajectory``, a third: the combination of a locally optimal
+trajectory's LQR tracker from each state); a pilot certificate of each (``--pilot`` samples per state at ``member.cert_dt``) picks the
 one with the larger effective sample size. The sample count is then set so that the standard
 error is about ``--target`` of v* (within ``--min``/``--max`` samples), and v* is certified at
 ``cert_dt`` and at half of it: the truth is the finer step's, and the difference between the two
@@ -57,6 +58,15 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
         f"finer solve ({shape}, dt {fine.diagnostics.dt:.3g})": fine.policy,
         f"default solve (dt {default.diagnostics.dt:.3g})": default.policy,
     }
+    if member.trajectory:
+        from gridlbc.trajectory import expand, optimize
+
+        components = [
+            expand(problem, optimize(problem, x, restarts=16, seed=0)) for x in member.states
+        ]
+        proposals["locally optimal trajectories with LQR trackers, combined"] = gridlbc.combine(
+            components
+        ).policy
     dt = member.cert_dt
     pilots = {}
     for name, policy in proposals.items():
