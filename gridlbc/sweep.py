@@ -8,8 +8,11 @@ that stopped it.
 
 A member is identified by a content hash (SHA-256) of its problem as :func:`gridlbc.save` records
 it (grid, system and its parameters, horizon, temperature, R, the costs: quadratics by centre and
-weights, other callables by their values at the nodes), of the solver settings that change the
-result, and of the library and file-format versions. The hash names the member's file and is
+weights, other callables by their values at the nodes), of the full state of its system and costs
+(attributes, arrays by their bytes, a function's code and closure: :mod:`gridlbc.fingerprint`), of
+the solver settings that change the result, and of the library and file-format versions. A system
+whose state cannot be read and that has no ``parameters()`` of its own is refused with an error
+that says what to add, rather than risk two members sharing one file. The hash names the member's file and is
 stored in it, so a rerun of the same sweep reuses every finished member (after checking the
 stored hash and the arrays' checksum) and solves only what is missing or failed.
 
@@ -32,12 +35,14 @@ from pathlib import Path
 
 import numpy as np
 
+from .fingerprint import UnidentifiableError, state_record
 from .io import FORMAT_VERSION, cost_record, load, problem_record, read_metadata, save
 from .problem import Problem
 from .progress import ProgressBar
 from .settings import SolverSettings, resolve_settings
 from .solution import SolveDiagnostics
 from .solver import solve
+from .systems.base import ControlAffineSystem
 
 _NOT_HASHED = ("progress", "mmap_dir")
 """Settings that change how a solve runs but not its result."""
@@ -115,8 +120,51 @@ def settings_record(problem: Problem, settings: SolverSettings, arrays: dict) ->
     return record
 
 
+def _own_parameters(system) -> bool:
+    """Whether the system's class (or a base other than the library's) defines parameters()."""
+    return type(system).parameters is not ControlAffineSystem.parameters
+
+
+def identity_record(problem: Problem, arrays: dict) -> dict:
+    """The full state of the problem's system and costs (:func:`gridlbc.fingerprint.state_record`).
+
+    :func:`gridlbc.io.problem_record` describes a system by its ``parameters()``, which a user's
+    system need not define, and a cost that is not a quadratic by its values at the nodes; this
+    adds what the objects hold, so that two systems that differ only in a constructor argument
+    (or two costs that agree at the nodes) are two members. A system whose state cannot be read
+    is identified by its own ``parameters()`` where it has one; otherwise it is refused.
+    """
+    system = problem.system
+    record = {}
+    try:
+        record["system"] = state_record(system, arrays, "system")
+    except UnidentifiableError as exc:
+        if not _own_parameters(system):
+            name = type(system).__name__
+            raise TypeError(
+                f"gridlbc.sweep cannot tell one {name} from another: {exc}. Give {name} a "
+                "parameters() method that returns every constructor argument that changes its "
+                "dynamics (as a dict of numbers, strings or lists), so that members with "
+                "different systems get different results"
+            ) from None
+    for name in ("terminal_cost", "state_cost"):
+        cost = getattr(problem, name)
+        try:
+            record[name] = state_record(cost, arrays, name)
+        except UnidentifiableError as exc:
+            raise TypeError(
+                f"gridlbc.sweep cannot tell one {name} from another: {exc}. Make the cost a "
+                "function or an object whose attributes (or closure) hold every number it uses"
+            ) from None
+    return record
+
+
 def member_key(problem: Problem, settings: SolverSettings) -> str:
-    """SHA-256 (hex) of what determines a solve's result: problem, settings and versions."""
+    """SHA-256 (hex) of what determines a solve's result: problem, settings and versions.
+
+    The problem enters by its description (:func:`gridlbc.io.problem_record`) and by the full
+    state of its system and costs (:func:`identity_record`).
+    """
     from . import __version__
 
     arrays: dict = {}
@@ -124,6 +172,7 @@ def member_key(problem: Problem, settings: SolverSettings) -> str:
         "library_version": __version__,
         "format_version": FORMAT_VERSION,
         "problem": problem_record(problem, arrays),
+        "identity": identity_record(problem, arrays),
         "settings": settings_record(problem, settings, arrays),
     }
     h = hashlib.sha256(json.dumps(description, sort_keys=True, default=_json_default).encode())
@@ -263,7 +312,9 @@ def sweep(
     problems : sequence of Problem
         The members. They are pickled to the workers: the built-in systems and
         :class:`gridlbc.Quadratic` costs are; your own systems and costs must be importable on
-        the workers.
+        the workers. Each member is identified by the full state of its system and costs (see
+        the module docstring); a system whose attributes cannot be read needs a
+        ``parameters()`` method, or the sweep refuses it before any work.
     out_dir : path
         Where each member's Solution is written, as ``<system>-<key[:16]>.npz``. On a cluster of
         several machines it must be a directory that every worker can write to.
@@ -301,7 +352,12 @@ def sweep(
     points = None if states is None else [p.grid.check_states(states, "states") for p in problems]
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    keys = [member_key(p, s) for p in problems]
+    keys = []
+    for i, problem in enumerate(problems):
+        try:
+            keys.append(member_key(problem, s))
+        except TypeError as exc:
+            raise TypeError(f"problems[{i}]: {exc}") from None
     paths = [
         (out_dir / f"{type(p.system).__name__.lower()}-{k[:16]}.npz").resolve()
         for p, k in zip(problems, keys)

@@ -315,3 +315,23 @@ def test_a_state_cost_constant_along_a_noise_axis_warns_nothing():
         warnings.simplefilter("ignore", gridlbc.ResolutionWarning)
         with np.errstate(all="warn", under="ignore"):
             gridlbc.solve(problem)
+
+
+@pytest.mark.parametrize("tiny", [1e-300, 1e-200, 1e-16])
+def test_a_state_cost_all_but_constant_along_a_noise_axis_is_no_overflow(tiny):
+    """q varies along the noise axis ω by far less than its span (a rounding-level term): the
+    cost-sampling limit is a step beyond the horizon (or ∞), never an overflow, and the solve
+    emits no RuntimeWarning."""
+    from gridlbc.schemes.splitting import cost_sampling_step
+
+    problem = _pendulum_problem(
+        n=25, state_cost=lambda x: 1 - np.cos(x[:, 0]) + tiny * x[:, 1] ** 2
+    )
+    limit, _ = cost_sampling_step(problem)
+    assert limit > 1e6 * problem.horizon
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        # 25² is coarse: the error estimate's warning (a ResolutionWarning) is not the question
+        warnings.simplefilter("ignore", gridlbc.ResolutionWarning)
+        with np.errstate(all="warn", under="ignore"):
+            gridlbc.solve(problem)

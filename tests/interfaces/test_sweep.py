@@ -11,6 +11,7 @@ import pickle
 import shutil
 import subprocess
 import sys
+import threading
 
 import numpy as np
 import pytest
@@ -104,6 +105,73 @@ def test_member_key_is_the_content():
     assert member_key(custom, s) != member_key(
         pendulum(terminal_cost=lambda x: 2 * quadratic(x)), s
     )
+
+
+class Spin(systems.ControlAffineSystem):
+    """A user's system as the README writes one: a flow turning at ``rate``, no parameters()."""
+
+    state_dim, control_dim, state_names = 2, 2, ("x", "y")
+
+    def __init__(self, rate, lock=False):
+        self.rate = rate
+        if lock:
+            self.lock = threading.Lock()  # state that cannot be read
+
+    def drift(self, x):
+        x = self._states(x)
+        return self.rate * np.stack([-x[:, 1], x[:, 0]], axis=1)
+
+    def input_matrix(self, x):
+        return np.broadcast_to(np.eye(2), (self._states(x).shape[0], 2, 2))
+
+
+class NamedSpin(Spin):
+    def parameters(self):
+        return {"rate": self.rate}
+
+
+def spin(rate, system=Spin, **options):
+    grid = Grid([Axis(-2.0, 2.0, 21), Axis(-2.0, 2.0, 21)])
+    return Problem(system(rate, **options), grid, 1.0, Quadratic([1.0, 0.0], [2.0, 2.0]))
+
+
+def strip(center):
+    """A state cost whose only number lives in the closure."""
+    return lambda x: 5.0 * (np.abs(x[:, 0] - center) < 0.05)
+
+
+def test_member_key_covers_a_user_systems_state():
+    """Systems without parameters() differ by their attributes; costs by their closures too; a
+    system whose state cannot be read is refused unless it says its parameters()."""
+    s = gridlbc.SolverSettings()
+    assert member_key(spin(1.0), s) == member_key(spin(1.0), s)
+    assert member_key(spin(1.0), s) != member_key(spin(2.0), s)
+    with_cost = spin(1.0).replace(state_cost=strip(0.3))
+    assert member_key(with_cost, s) == member_key(spin(1.0).replace(state_cost=strip(0.3)), s)
+    # the two strips agree at every node (both miss them): the closure tells them apart
+    other = spin(1.0).replace(state_cost=strip(0.31))
+    np.testing.assert_array_equal(with_cost.state_cost_values(), other.state_cost_values())
+    assert member_key(with_cost, s) != member_key(other, s)
+    with pytest.raises(TypeError, match=r"cannot tell one Spin .*system.lock.*parameters\(\)"):
+        member_key(spin(1.0, lock=True), s)
+    named = [member_key(spin(r, NamedSpin, lock=True), s) for r in (1.0, 2.0)]
+    assert named[0] != named[1]
+
+
+@EXACTNESS_ONLY
+def test_sweep_keeps_each_user_systems_result(tmp_path, client):
+    """Two members whose system differs only in a constructor argument: two files, and each
+    member's values are its own serial solve's."""
+    problems = [spin(0.5), spin(3.0)]
+    members = gridlbc.sweep(problems, tmp_path, states=[0.0, 1.0], client=client, progress=False)
+    assert members[0].path != members[1].path
+    assert len(list(tmp_path.glob("*.npz"))) == 2
+    for problem, member in zip(problems, members):
+        assert member.error is None, member.error
+        np.testing.assert_array_equal(member.values, gridlbc.solve(problem).value([0.0, 1.0], 0.0))
+    assert members[0].values[0] != members[1].values[0]
+    with pytest.raises(TypeError, match=r"problems\[1\]: gridlbc.sweep cannot tell"):
+        gridlbc.sweep([spin(1.0), spin(1.0, lock=True)], tmp_path, client=client)
 
 
 @EXACTNESS_ONLY

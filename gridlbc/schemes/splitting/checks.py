@@ -31,6 +31,9 @@ COST_NOISE_SCALE = 0.5
 fraction of the state cost's length scale along some noise axis."""
 
 
+_LOG_LARGEST = math.log(np.finfo(float).max) - 1.0
+
+
 def cost_sampling_step(problem: Problem) -> tuple[float, str]:
     """The largest Δt at which one step's noise, √(2 D_k Δt), moves a path no more than
     :data:`COST_NOISE_SCALE` of the distance ℓ_k = (max q − min q) / max |∂_k q| over which the
@@ -56,9 +59,12 @@ def cost_sampling_step(problem: Problem) -> tuple[float, str]:
         rise = float(np.abs(np.diff(wrapped, axis=k)).max())
         if rise <= 0.0:  # q does not change along this axis: no limit from it
             continue
-        with np.errstate(over="ignore"):  # a rise far below the span: no limit either (∞)
-            length = span * ax.spacing / max(rise, np.finfo(float).tiny)
-        step = (COST_NOISE_SCALE * length) ** 2 / (2.0 * largest)
+        # ℓ = span·h / rise and the step (c ℓ)² / (2 D), in logs: a rise far below the span (a
+        # cost all but independent of this axis) is a step beyond any horizon, not an overflow
+        log_step = 2.0 * (
+            math.log(COST_NOISE_SCALE) + math.log(span) + math.log(ax.spacing) - math.log(rise)
+        ) - math.log(2.0 * largest)
+        step = math.exp(log_step) if log_step < _LOG_LARGEST else math.inf
         if step < limit:
             limit, axis = step, ax.name or f"axis {k}"
     return limit, axis

@@ -1,0 +1,599 @@
+"""The hold-out corpus: problems that are not in the catalogue (``gridlbc.studies.problems``),
+written as a new user would write them with the public API, each with the states at which its
+default solve is checked against the certified optimum.
+
+Each :class:`Member` has a builder returning the :class:`gridlbc.Problem` on the grid a user
+would pick (about 201² in 2-D, 61³ in 3-D, 25⁴ in 4-D), the states to check, and the recipe of
+its truth: the certificate's proposals come from a finer solve of the same problem
+(:func:`refine`, ``fine`` times as many cells per axis, at its default step) and from the default
+solve itself; ``truths.py`` keeps the one with the larger effective sample size, at two
+Euler–Maruyama steps (``cert_dt`` and half of it). The numbers live in ``truths.json``.
+
+Systems of the user's own are plain subclasses of :class:`gridlbc.systems.ControlAffineSystem`
+(the README's recipe); the rest are built-ins with new costs, boxes, temperatures and control
+costs. Three members are the failures reported in issue 25: a fast vortex core in a slow field,
+a toll strip narrower than a cell across an axis only the drift moves, and a coarse 25⁴ acrobot
+started fast.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.systems import Acrobot, ControlAffineSystem, LinearSystem, Pendulum, PointMass
+
+PI = math.pi
+
+# -- systems of the user's own -----------------------------------------------------------------
+
+
+def _identity_inputs(x: np.ndarray, d: int) -> np.ndarray:
+    return np.broadcast_to(np.eye(d), (x.shape[0], d, d))
+
+
+def _last_input(x: np.ndarray, d: int, gain: float = 1.0) -> np.ndarray:
+    B = np.zeros((x.shape[0], d, 1))
+    B[:, -1, 0] = gain
+    return B
+
+
+class Vortex(ControlAffineSystem):
+    """A point pushed in the plane (both axes driven) by a slow rotation about the origin and a
+    fast vortex core: the flow turns at ``background + core_rate·exp(−r²/2σ²)`` rad/s about
+    ``core`` (r the distance to it, σ = ``core_radius``)."""
+
+    state_dim, control_dim, state_names = 2, 2, ("x", "y")
+
+    def __init__(self, core=(0.8, 0.0), core_rate=18.0, core_radius=0.3, background=0.3):
+        self.core = np.asarray(core, dtype=float)
+        self.core_rate, self.core_radius, self.background = core_rate, core_radius, background
+
+    def drift(self, x):
+        x = self._states(x)
+        rel = x - self.core
+        spin = self.core_rate * np.exp(-(rel**2).sum(1) / (2 * self.core_radius**2))
+        slow = self.background * np.stack([-x[:, 1], x[:, 0]], axis=1)
+        return slow + spin[:, None] * np.stack([-rel[:, 1], rel[:, 0]], axis=1)
+
+    def input_matrix(self, x):
+        return _identity_inputs(self._states(x), 2)
+
+
+class Duffing(ControlAffineSystem):
+    """Double-well Duffing oscillator: ẍ = −δẋ + αx − βx³ + u (wells at x = ±√(α/β))."""
+
+    state_dim, control_dim, state_names = 2, 1, ("x", "v")
+
+    def __init__(self, alpha=1.0, beta=1.0, delta=0.2):
+        self.alpha, self.beta, self.delta = alpha, beta, delta
+
+    def drift(self, x):
+        x = self._states(x)
+        p, v = x[:, 0], x[:, 1]
+        return np.stack([v, -self.delta * v + self.alpha * p - self.beta * p**3], axis=1)
+
+    def input_matrix(self, x):
+        return _last_input(self._states(x), 2)
+
+
+class VanDerPol(ControlAffineSystem):
+    """Van der Pol oscillator: ẍ = μ(1 − x²)ẋ − x + u (a limit cycle of amplitude about 2)."""
+
+    state_dim, control_dim, state_names = 2, 1, ("x", "v")
+
+    def __init__(self, mu=2.0):
+        self.mu = mu
+
+    def drift(self, x):
+        x = self._states(x)
+        p, v = x[:, 0], x[:, 1]
+        return np.stack([v, self.mu * (1 - p**2) * v - p], axis=1)
+
+    def input_matrix(self, x):
+        return _last_input(self._states(x), 2)
+
+
+class Torus(ControlAffineSystem):
+    """Drift-free diffusion on the torus: both angles driven directly (first order)."""
+
+    state_dim, control_dim, state_names, angle_axes = 2, 2, ("a", "b"), (0, 1)
+
+    def drift(self, x):
+        return np.zeros_like(self._states(x))
+
+    def input_matrix(self, x):
+        return _identity_inputs(self._states(x), 2)
+
+
+class TollRoad(ControlAffineSystem):
+    """A car moving along s at a fixed ``speed`` (no control, no noise on s), steering its lateral
+    position y through its lateral velocity: ṡ = speed, ẏ = w, ẇ = −c w + u."""
+
+    state_dim, control_dim, state_names = 3, 1, ("s", "y", "w")
+
+    def __init__(self, speed=1.0, friction=0.5):
+        self.speed, self.friction = speed, friction
+
+    def drift(self, x):
+        x = self._states(x)
+        return np.stack(
+            [np.full(x.shape[0], self.speed), x[:, 2], -self.friction * x[:, 2]], axis=1
+        )
+
+    def input_matrix(self, x):
+        return _last_input(self._states(x), 3)
+
+
+class TollStrip:
+    """q(s, y): a toll of ``height`` in a Gaussian strip of width ``width`` across s = ``at``,
+    waived in a gap of half-width ``gap_width`` about y = ``gap``."""
+
+    def __init__(self, at=1.5, width=0.015, height=80.0, gap=1.0, gap_width=0.3):
+        self.at, self.width, self.height = at, width, height
+        self.gap, self.gap_width = gap, gap_width
+
+    def __call__(self, x):
+        x = np.atleast_2d(x)
+        strip = np.exp(-0.5 * ((x[:, 0] - self.at) / self.width) ** 2)
+        waived = np.exp(-0.5 * ((x[:, 1] - self.gap) / self.gap_width) ** 2)
+        return self.height * strip * (1.0 - waived)
+
+
+class Unicycle(ControlAffineSystem):
+    """Kinematic unicycle at constant ``speed``, steered by its turn rate: ẋ = v cos θ,
+    ẏ = v sin θ, θ̇ = u (θ periodic)."""
+
+    state_dim, control_dim, state_names, angle_axes = 3, 1, ("x", "y", "heading"), (2,)
+
+    def __init__(self, speed=1.0):
+        self.speed = speed
+
+    def drift(self, x):
+        x = self._states(x)
+        v = self.speed
+        return np.stack([v * np.cos(x[:, 2]), v * np.sin(x[:, 2]), np.zeros(x.shape[0])], 1)
+
+    def input_matrix(self, x):
+        return _last_input(self._states(x), 3)
+
+
+class RigidBody(ControlAffineSystem):
+    """Euler's equations of a free rigid body with torques about its principal axes:
+    I₁ω̇₁ = (I₂ − I₃) ω₂ω₃ + u₁ (and cyclically); the middle axis is unstable."""
+
+    state_dim, control_dim, state_names = 3, 3, ("w1", "w2", "w3")
+
+    def __init__(self, inertia=(1.0, 2.0, 3.0)):
+        self.inertia = np.asarray(inertia, dtype=float)
+
+    def drift(self, x):
+        w = self._states(x)
+        i1, i2, i3 = self.inertia
+        return np.stack(
+            [
+                (i2 - i3) / i1 * w[:, 1] * w[:, 2],
+                (i3 - i1) / i2 * w[:, 2] * w[:, 0],
+                (i1 - i2) / i3 * w[:, 0] * w[:, 1],
+            ],
+            axis=1,
+        )
+
+    def input_matrix(self, x):
+        w = self._states(x)
+        return np.broadcast_to(np.diag(1.0 / self.inertia), (w.shape[0], 3, 3))
+
+
+class RoundObstacle:
+    """q(x): a Gaussian hill of ``height`` and radius ``radius`` about ``center`` in the first two
+    coordinates (positions), whatever the others."""
+
+    def __init__(self, center=(0.0, 0.0), radius=0.35, height=20.0):
+        self.center, self.radius, self.height = np.asarray(center, float), radius, height
+
+    def __call__(self, x):
+        x = np.atleast_2d(x)
+        r2 = ((x[:, :2] - self.center) ** 2).sum(1)
+        return self.height * np.exp(-0.5 * r2 / self.radius**2)
+
+
+class Bump:
+    """q(x): a Gaussian ridge of ``height`` and width ``width`` across coordinate ``axis`` at
+    ``at``, plus a constant ``floor``."""
+
+    def __init__(self, axis=0, at=0.5, width=0.15, height=5.0, floor=0.0):
+        self.axis, self.at, self.width, self.height, self.floor = axis, at, width, height, floor
+
+    def __call__(self, x):
+        x = np.atleast_2d(x)
+        return self.floor + self.height * np.exp(
+            -0.5 * ((x[:, self.axis] - self.at) / self.width) ** 2
+        )
+
+
+class TorusWell:
+    """q(a, b) = height · (2 − cos(a − a₀) − cos(b − b₀)): a broad periodic well."""
+
+    def __init__(self, center=(1.0, -1.0), height=0.5):
+        self.center, self.height = np.asarray(center, float), height
+
+    def __call__(self, x):
+        x = np.atleast_2d(x)
+        return self.height * (
+            2 - np.cos(x[:, 0] - self.center[0]) - np.cos(x[:, 1] - self.center[1])
+        )
+
+
+# -- the members ------------------------------------------------------------------------------
+
+
+def _grid(*axes) -> Grid:
+    return Grid([Axis(*a[:3], periodic=len(a) > 3 and a[3]) for a in axes])
+
+
+def vortex():
+    grid = _grid((-5, 5, 201), (-5, 5, 201))
+    return Problem(Vortex(), grid, 3.0, Quadratic([-1.5, 0.0], [2.0, 2.0]))
+
+
+def duffing():
+    grid = _grid((-2.5, 2.5, 201), (-4, 4, 201))
+    return Problem(Duffing(), grid, 3.0, Quadratic([1.0, 0.0], [10.0, 1.0]), temperature=0.5)
+
+
+def vanderpol():
+    grid = _grid((-3.5, 3.5, 201), (-7, 7, 201))
+    return Problem(
+        VanDerPol(),
+        grid,
+        4.0,
+        Quadratic([0.0, 0.0], [5.0, 1.0]),
+        state_cost=Quadratic([0.0, 0.0], [1.0, 0.1]),
+        temperature=0.3,
+    )
+
+
+def narrow_goal():
+    grid = _grid((-3, 3, 201), (-4, 4, 201))
+    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [400.0, 40.0]), temperature=0.1)
+
+
+def cheap_control():
+    grid = _grid((-PI, PI, 201, True), (-12, 12, 201))
+    return Problem(
+        Pendulum(damping=0.1),
+        grid,
+        2.0,
+        Quadratic([0.0, 0.0], [10.0, 0.5]),
+        control_cost=0.05,
+        temperature=0.1,
+    )
+
+
+def expensive_control():
+    grid = _grid((-PI, PI, 201, True), (-10, 10, 201))
+    return Problem(
+        Pendulum(),
+        grid,
+        3.0,
+        Quadratic([0.0, 0.0], [5.0, 0.5]),
+        state_cost=Quadratic([0.0, 0.0], [1.0, 0.1]),
+        control_cost=20.0,
+        temperature=1.0,
+    )
+
+
+def hot_rotor():
+    grid = _grid((-PI, PI, 201, True), (-10, 10, 201))
+    return Problem(
+        Pendulum(gravity=0.0), grid, 2.0, Quadratic([1.0, 0.0], [2.0, 0.2]), temperature=3.0
+    )
+
+
+def cold_ridge():
+    grid = _grid((-2, 2, 201), (-3, 3, 201))
+    return Problem(
+        PointMass(),
+        grid,
+        1.5,
+        Quadratic([0.0, 0.0], [5.0, 1.0]),
+        state_cost=Bump(axis=0, at=0.5, width=0.15, height=5.0),
+        temperature=0.01,
+    )
+
+
+def thin_wall():
+    grid = _grid((-2, 2, 201), (-3, 3, 201))
+    return Problem(
+        PointMass(),
+        grid,
+        1.5,
+        Quadratic([1.2, 0.0], [5.0, 1.0]),
+        state_cost=Bump(axis=0, at=0.5, width=0.006, height=400.0),
+        temperature=0.3,
+    )
+
+
+def torus_diffusion():
+    grid = _grid((-PI, PI, 200, True), (-PI, PI, 200, True))
+    return Problem(
+        Torus(),
+        grid,
+        1.5,
+        Quadratic([0.0, 0.0], [3.0, 3.0]),
+        state_cost=TorusWell(),
+        temperature=0.5,
+    )
+
+
+def toll_strip():
+    grid = _grid((-0.5, 3.5, 61), (-2, 2, 61), (-4, 4, 61))
+    return Problem(
+        TollRoad(), grid, 2.5, Quadratic([0.0, 0.0, 0.0], [0.0, 2.0, 0.5]), state_cost=TollStrip()
+    )
+
+
+def unicycle():
+    grid = _grid((-3.5, 3.5, 61), (-3.5, 3.5, 61), (-PI, PI, 60, True))
+    return Problem(
+        Unicycle(), grid, 3.0, Quadratic([1.5, 0.0, 0.0], [3.0, 3.0, 0.0]), temperature=0.2
+    )
+
+
+def triple_integrator():
+    A = [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]]
+    grid = _grid((-3, 3, 61), (-3, 3, 61), (-4, 4, 61))
+    return Problem(
+        LinearSystem(A, [0.0, 0.0, 1.0]),
+        grid,
+        2.0,
+        Quadratic([0.0, 0.0, 0.0], [5.0, 2.0, 1.0]),
+        temperature=0.5,
+    )
+
+
+def tumbling_body():
+    grid = _grid((-6, 6, 61), (-6, 6, 61), (-6, 6, 61))
+    return Problem(
+        RigidBody(), grid, 2.0, Quadratic([0.0, 0.0, 0.0], [2.0, 2.0, 2.0]), temperature=0.5
+    )
+
+
+def fast_acrobot():
+    system = Acrobot()
+    return Problem(
+        system,
+        system.default_grid(25),
+        2.0,
+        Quadratic([PI, 0.0, 0.0, 0.0], [5.0, 5.0, 0.5, 0.5]),
+    )
+
+
+def balance_acrobot():
+    system = Acrobot()
+    return Problem(
+        system,
+        system.default_grid(25),
+        1.5,
+        Quadratic([0.0, 0.0, 0.0, 0.0], [10.0, 10.0, 0.5, 0.5]),
+        state_cost=Quadratic([0.0, 0.0, 0.0, 0.0], [1.0, 1.0, 0.1, 0.1]),
+        temperature=0.5,
+    )
+
+
+def planar_obstacle():
+    A = np.zeros((4, 4))
+    A[0, 2] = A[1, 3] = 1.0
+    B = np.zeros((4, 2))
+    B[2, 0] = B[3, 1] = 1.0
+    grid = _grid((-3, 3, 25), (-3, 3, 25), (-4, 4, 25), (-4, 4, 25))
+    return Problem(
+        LinearSystem(A, B),
+        grid,
+        2.5,
+        Quadratic([1.5, 0.0, 0.0, 0.0], [5.0, 5.0, 1.0, 1.0]),
+        state_cost=RoundObstacle(),
+        temperature=0.3,
+    )
+
+
+@dataclass(frozen=True)
+class Member:
+    """One hold-out problem: how to build it, where to check it, how its truth is made.
+
+    Attributes
+    ----------
+    name : str
+    build : callable
+        () → Problem on the default grid a user would pick.
+    states : ndarray (k, d)
+        The states checked (k ≥ 3).
+    what : str
+        What it exercises.
+    fine : float
+        The finer proposal's grid has ``fine`` times as many cells per axis (solved at its
+        default step).
+    cert_dt : float
+        The certificate's Euler–Maruyama step; the truth is also computed at half of it.
+    fast : bool
+        In the ``--fast`` subset (cheap 2-D members, run by the tests).
+    trajectory : bool
+        Also try trajectory components (LQR trackers) as the certificate's proposal.
+    tags : tuple of str
+        What kind of problem it is.
+    """
+
+    name: str
+    build: Callable[[], Problem]
+    states: np.ndarray
+    what: str
+    fine: float = 2.0
+    cert_dt: float = 0.004
+    fast: bool = False
+    trajectory: bool = False
+    tags: tuple[str, ...] = field(default=())
+
+
+def refine(problem: Problem, factor: float) -> Problem:
+    """The same problem on a grid with about ``factor`` times as many cells per axis."""
+    axes = [
+        Axis(
+            a.lo,
+            a.hi,
+            round(a.n * factor) if a.periodic else round((a.n - 1) * factor) + 1,
+            a.periodic,
+            a.name,
+        )
+        for a in problem.grid.axes
+    ]
+    return problem.replace(grid=Grid(axes))
+
+
+def _s(*rows) -> np.ndarray:
+    return np.array(rows, dtype=float)
+
+
+MEMBERS: tuple[Member, ...] = (
+    Member(
+        "vortex",
+        vortex,
+        _s((0.8, 0.3), (1.2, 0.0), (-0.5, 1.5)),
+        "2-D user system: a core spinning at 18 rad/s in a slow field (issue 25)",
+        cert_dt=0.002,
+        tags=("fast dynamics", "local feature", "closed"),
+    ),
+    Member(
+        "duffing",
+        duffing,
+        _s((-1.0, 0.0), (0.0, 0.0), (-1.5, 1.0)),
+        "2-D double-well Duffing oscillator, well to well, λ = 0.5",
+        fast=True,
+        tags=("nonlinear oscillator", "closed"),
+    ),
+    Member(
+        "vanderpol",
+        vanderpol,
+        _s((2.0, 0.0), (0.0, 3.0), (-1.0, -2.0)),
+        "2-D Van der Pol (μ = 2) brought to rest, quadratic state cost, λ = 0.3",
+        tags=("nonlinear oscillator", "closed"),
+    ),
+    Member(
+        "narrow_goal",
+        narrow_goal,
+        _s((-1.0, 0.0), (0.0, 1.0), (1.5, -1.0)),
+        "2-D double integrator to a narrow goal (weights 400, 40), λ = 0.1",
+        cert_dt=0.002,
+        fast=True,
+        tags=("narrow cost", "closed"),
+    ),
+    Member(
+        "cheap_control",
+        cheap_control,
+        _s((3.0, 0.0), (1.5, 2.0), (-2.0, -3.0)),
+        "2-D damped pendulum, cheap control R = 0.05, λ = 0.1",
+        tags=("cheap control", "periodic"),
+    ),
+    Member(
+        "expensive_control",
+        expensive_control,
+        _s((2.5, 0.0), (0.5, 0.0), (-1.0, 1.0)),
+        "2-D pendulum, expensive control R = 20, state cost, λ = 1",
+        cert_dt=0.001,
+        fast=True,
+        tags=("expensive control", "periodic"),
+    ),
+    Member(
+        "hot_rotor",
+        hot_rotor,
+        _s((-2.0, 0.0), (0.0, 2.0), (3.0, -1.0)),
+        "2-D rotor (no gravity), broad cost, λ = 3",
+        fast=True,
+        tags=("broad cost", "periodic", "slow dynamics"),
+    ),
+    Member(
+        "cold_ridge",
+        cold_ridge,
+        _s((-1.0, 0.0), (1.5, 0.0), (1.0, 1.0)),
+        "2-D point mass over a ridge of state cost across position, λ = 0.01",
+        tags=("small temperature", "closed"),
+    ),
+    Member(
+        "thin_wall",
+        thin_wall,
+        _s((-0.5, 0.0), (0.0, 1.0), (0.3, 0.5)),
+        "2-D point mass through a wall of state cost a third of a cell thick across position, "
+        "which only the drift moves, λ = 0.3",
+        fine=4.0,
+        tags=("local feature", "narrow cost", "closed"),
+    ),
+    Member(
+        "torus_diffusion",
+        torus_diffusion,
+        _s((3.0, 3.0), (-2.0, 1.0), (1.0, -0.5)),
+        "2-D drift-free first-order diffusion on the torus, broad periodic state cost",
+        fast=True,
+        tags=("first order", "periodic"),
+    ),
+    Member(
+        "toll_strip",
+        toll_strip,
+        _s((0.0, 0.0, 0.0), (0.0, -0.5, 0.0), (0.5, 1.0, 0.0)),
+        "3-D: a toll strip narrower than a cell across s, which only the drift moves (issue 25)",
+        tags=("local feature", "narrow cost", "closed"),
+    ),
+    Member(
+        "unicycle",
+        unicycle,
+        _s((-1.0, 0.0, 0.0), (-1.0, 0.0, 1.5), (0.0, 1.0, -2.5)),
+        "3-D unicycle steered by its turn rate to a point, λ = 0.2",
+        tags=("periodic", "closed"),
+    ),
+    Member(
+        "triple_integrator",
+        triple_integrator,
+        _s((1.0, 0.0, 0.0), (-1.0, 1.0, 0.0), (0.5, -1.0, 1.0)),
+        "3-D linear chain of integrators (jerk control), λ = 0.5",
+        tags=("linear", "closed"),
+    ),
+    Member(
+        "tumbling_body",
+        tumbling_body,
+        _s((0.2, 4.0, 0.2), (3.0, 0.0, 0.0), (0.0, 1.0, -3.0)),
+        "3-D rigid body detumbled from a spin about its unstable middle axis",
+        tags=("fast dynamics", "closed"),
+    ),
+    Member(
+        "fast_acrobot",
+        fast_acrobot,
+        _s((3.0, 0.0, 4.0, 0.0), (2.5, 0.3, 0.0, 0.0), (-2.8, -0.5, 2.0, 1.0)),
+        "4-D acrobot on 25⁴ brought to rest hanging down from a fast state (issue 25)",
+        fine=1.5,
+        cert_dt=0.001,
+        tags=("fast dynamics", "coarse", "periodic"),
+    ),
+    Member(
+        "balance_acrobot",
+        balance_acrobot,
+        _s((0.1, -0.1, 0.0, 0.0), (-0.15, 0.2, 0.5, 0.0), (0.05, 0.0, -1.0, 0.5)),
+        "4-D acrobot balanced near the handstand on 25⁴, λ = 0.5",
+        fine=1.5,
+        trajectory=True,
+        cert_dt=0.002,
+        tags=("slow dynamics", "periodic"),
+    ),
+    Member(
+        "planar_obstacle",
+        planar_obstacle,
+        _s((-1.5, 0.0, 0.0, 0.0), (-1.5, 0.3, 0.0, 0.0), (0.0, -1.5, 0.0, 1.0)),
+        "4-D point mass in the plane round a round obstacle on 25⁴, λ = 0.3",
+        fine=1.5,
+        cert_dt=0.002,
+        tags=("local feature", "closed"),
+    ),
+)
+
+BY_NAME = {m.name: m for m in MEMBERS}

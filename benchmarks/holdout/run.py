@@ -1,0 +1,172 @@
+"""The hold-out corpus against its certified truths: is the default solve right, and does it say
+so when it is not?
+
+For each member of ``corpus.py`` and each of its states: the default ``gridlbc.solve(problem)``'s
+prediction v(x, 0), the certified optimum v* ± SE from ``truths.json`` (made by ``truths.py``),
+the actual relative error, the solve's own estimate of its error where the Solution has one
+(``error_estimate``; "n/a" otherwise), the warnings the default solve raised, and its time. The
+summary counts the pairs more than 10 % off and, of those, the silent ones (no warning).
+
+    python benchmarks/holdout/run.py [--fast] [--only NAME ...] [--json OUT] [--rst OUT]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+from corpus import MEMBERS, Member  # noqa: E402
+
+import gridlbc  # noqa: E402
+
+TRUTHS = HERE / "truths.json"
+OFF = 0.10
+"""A pair is "off" when its relative error exceeds this."""
+
+
+def load_truths(path: Path = TRUTHS) -> dict:
+    """truths.json as {member name: record}; empty if the file does not exist."""
+    if not path.exists():
+        return {}
+    return json.loads(path.read_text())["members"]
+
+
+def _short(w: warnings.WarningMessage) -> str:
+    return f"{w.category.__name__}: {str(w.message)[:90]}"
+
+
+def predict(member: Member) -> dict:
+    """The default solve of ``member``: predictions, error estimates, warnings and time."""
+    problem = member.build()
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        with np.errstate(all="warn", under="ignore"):
+            start = time.perf_counter()
+            solution = gridlbc.solve(problem)
+            seconds = time.perf_counter() - start
+            values = np.asarray(solution.value(member.states, 0.0), dtype=float).reshape(-1)
+            estimate = None
+            if hasattr(solution, "error_estimate"):
+                estimate = np.asarray(
+                    solution.error_estimate(member.states, 0.0), dtype=float
+                ).reshape(-1)
+    return {
+        "values": values,
+        "estimates": estimate,
+        "warnings": [_short(w) for w in caught],
+        "seconds": seconds,
+        "dt": solution.diagnostics.dt,
+        "steps": solution.diagnostics.steps,
+    }
+
+
+def rows_for(member: Member, truths: dict) -> tuple[list[dict], dict]:
+    """One row per state of ``member``: predicted, certified, errors, warned."""
+    p = predict(member)
+    truth = truths.get(member.name)
+    rows = []
+    for i, x in enumerate(member.states):
+        row = {
+            "member": member.name,
+            "state": [float(c) for c in x],
+            "predicted": float(p["values"][i]),
+            "estimate": None if p["estimates"] is None else float(p["estimates"][i]),
+            "warned": bool(p["warnings"]),
+            "seconds": p["seconds"],
+            "dt": p["dt"],
+        }
+        if truth is not None:
+            t = truth["states"][i]
+            row["certified"], row["se"], row["ess"] = t["v"], t["se"], t["ess"]
+            row["error"] = (row["predicted"] - t["v"]) / abs(t["v"])
+        rows.append(row)
+    return rows, p
+
+
+def rst_table(rows: list[dict]) -> str:
+    """The rows as a reStructuredText list-table (the docs' benchmarks page)."""
+    head = ["member", "state", "predicted", "certified v* ± SE", "ESS", "error", "warned"]
+    lines = [".. list-table::", "   :header-rows: 1", ""]
+    for i, h in enumerate(head):
+        lines.append(f"   {'*' if i == 0 else ' '} - {h}")
+    for r in rows:
+        if "certified" not in r:
+            continue
+        cells = [
+            r["member"].replace("_", " "),
+            "(" + ", ".join(f"{c:g}" for c in r["state"]) + ")",
+            f"{r['predicted']:.4g}",
+            f"{r['certified']:.4g} ± {r['se']:.2g}",
+            f"{r['ess']:.0f}",
+            f"{100 * r['error']:+.1f} %",
+            "yes" if r["warned"] else "no",
+        ]
+        for i, c in enumerate(cells):
+            lines.append(f"   {'*' if i == 0 else ' '} - {c}")
+    return "\n".join(lines) + "\n"
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--fast", action="store_true", help="only the cheap 2-D members")
+    parser.add_argument("--only", nargs="*", help="member names")
+    parser.add_argument("--json", help="write the rows to this file ('-': after the table)")
+    parser.add_argument("--rst", help="write the table as reStructuredText to this file")
+    args = parser.parse_args(argv)
+    members = [m for m in MEMBERS if (not args.fast or m.fast)]
+    if args.only:
+        members = [m for m in members if m.name in args.only]
+    truths = load_truths()
+    print(
+        f"{'member':18} {'state':>26} {'predicted':>10} {'certified':>16} {'ESS':>6} "
+        f"{'error':>7} {'estimate':>9} {'warned':>6} {'time s':>7}"
+    )
+    all_rows = []
+    for member in members:
+        rows, p = rows_for(member, truths)
+        for row in rows:
+            state = ",".join(f"{c:g}" for c in row["state"])
+            cert = (
+                f"{row['certified']:9.4g}±{row['se']:.2g}" if "certified" in row else "(no truth)"
+            )
+            ess = f"{row['ess']:6.0f}" if "ess" in row else "     -"
+            err = f"{100 * row['error']:+6.1f}%" if "error" in row else "      -"
+            est = "n/a" if row["estimate"] is None else f"{row['estimate']:.3g}"
+            print(
+                f"{member.name:18} {state:>26} {row['predicted']:10.4g} {cert:>16} {ess} "
+                f"{err} {est:>9} {'yes' if row['warned'] else 'no':>6} {row['seconds']:7.1f}"
+            )
+        print(f"{'':18}   default solve: dt {p['dt']:.3g}, {p['steps']} steps")
+        for w in dict.fromkeys(p["warnings"]):
+            print(f"{'':18}   warned: {w}")
+        all_rows.extend(rows)
+    judged = [r for r in all_rows if "error" in r]
+    off = [r for r in judged if abs(r["error"]) > OFF]
+    silent = [r for r in off if not r["warned"]]
+    print(
+        f"\n{len(judged)} pairs with a truth: {len(off)} more than {OFF:.0%} off, "
+        f"{len(silent)} of them silent"
+    )
+    for r in silent:
+        state = ",".join(f"{c:g}" for c in r["state"])
+        print(f"  silent: {r['member']} at ({state}): {100 * r['error']:+.1f}%")
+    if args.rst:
+        Path(args.rst).write_text(rst_table(all_rows))
+    if args.json == "-":
+        print("\n#json\n" + json.dumps(all_rows))
+    elif args.json:
+        Path(args.json).write_text(json.dumps(all_rows, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

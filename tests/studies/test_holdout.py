@@ -1,0 +1,76 @@
+"""The hold-out corpus (benchmarks/holdout/): its truths are well formed, and the default solve of
+its cheap 2-D members still predicts what the stored table says.
+
+The truths are certified optima (gridlbc.certify) stored with how they were made; the table
+(``table.json``, written by ``run.py --json``) holds the default solve's predictions. When a change
+to the default solve moves them on purpose, rerun ``python benchmarks/holdout/run.py --json
+benchmarks/holdout/table.json`` and read the new errors against the truths.
+"""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+HOLDOUT = Path(__file__).resolve().parents[2] / "benchmarks" / "holdout"
+sys.path.insert(0, str(HOLDOUT))
+
+from corpus import BY_NAME, MEMBERS  # noqa: E402
+
+TRUTH_KEYS = {"what", "proposal", "n_samples", "dt", "dt_coarse", "date", "command", "states"}
+STATE_KEYS = {"x", "v", "se", "ess", "v_coarse_dt", "step_bias", "left_box"}
+
+
+@pytest.fixture(scope="module")
+def truths():
+    return json.loads((HOLDOUT / "truths.json").read_text())["members"]
+
+
+def test_corpus_spans_what_it_claims():
+    assert len(MEMBERS) >= 15
+    dims = {m.build().grid.ndim for m in MEMBERS}
+    assert dims == {2, 3, 4}
+    temperatures = [m.build().temperature for m in MEMBERS]
+    assert min(temperatures) <= 0.01 and max(temperatures) >= 3.0
+    for m in MEMBERS:
+        assert m.states.shape[0] >= 3 and m.states.shape[1] == m.build().grid.ndim, m.name
+
+
+def test_truths_are_well_formed(truths):
+    """Every member has a truth at each of its states, with its SE, ESS, proposal, samples, step
+    and command; the step bias (v* at dt and 2 dt) and the SE are small against v*."""
+    assert set(truths) <= set(BY_NAME)
+    assert len(truths) >= 15
+    for name, record in truths.items():
+        assert set(record) >= TRUTH_KEYS, name
+        states = record["states"]
+        np.testing.assert_allclose([s["x"] for s in states], BY_NAME[name].states)
+        for s in states:
+            assert set(s) >= STATE_KEYS, name
+            assert np.isfinite(s["v"]) and s["se"] > 0 and 0 < s["ess"] <= record["n_samples"]
+            assert s["se"] <= 0.02 * abs(s["v"]), (name, s)
+
+
+def test_fast_members_predict_what_the_table_says():
+    """run.py --fast runs, and its predictions are those of the stored table."""
+    table = {
+        (r["member"], tuple(r["state"])): r["predicted"]
+        for r in json.loads((HOLDOUT / "table.json").read_text())
+    }
+    result = subprocess.run(
+        [sys.executable, str(HOLDOUT / "run.py"), "--fast", "--json", "-"],
+        capture_output=True,
+        text=True,
+        timeout=300,
+        check=False,
+    )
+    assert result.returncode == 0, result.stderr
+    rows = json.loads(result.stdout.split("\n#json\n", 1)[1])
+    assert {r["member"] for r in rows} == {m.name for m in MEMBERS if m.fast}
+    for r in rows:
+        expected = table[(r["member"], tuple(r["state"]))]
+        assert r["predicted"] == pytest.approx(expected, rel=1e-6), r
+    assert "pairs with a truth" in result.stdout
