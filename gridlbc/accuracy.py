@@ -5,27 +5,29 @@ The docs page :doc:`accuracy` explains what the estimate sees and what it cannot
 **The embedded estimate.** A solve on a grid of spacing h with step Δt is accompanied by solves of
 the same problem, with the same scheme and settings, on the *embedded* grids that keep every other
 node of each axis: spacing 2h with step 2Δt, and 4h with 4Δt. Together they cost about
-2^−(d+1) + 2^−(2d+2) of the solve they check. If the scheme's error behaves as
-e(h, Δt) ≈ C h^p with Δt ∝ h, Richardson's argument gives::
+2^−(d+1) + 2^−(2d+2) of the solve they check. The library's schemes are monotone and therefore
+first order in general: if the error behaves as e(h, Δt) ≈ C h with Δt ∝ h, Richardson's
+argument gives v_2h − v_h ≈ C h ≈ e(h), so :meth:`gridlbc.Solution.error_estimate` returns::
 
-    v_2h − v_h ≈ (2^p − 1) C h^p,          v_4h − v_2h ≈ 2^p (v_2h − v_h),
+    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)),  r · max(abs(v_h(x, t)), λ) ),
 
-so the order p is observed from the three solves (:func:`embedded_estimate`, over the states
-that matter, clipped to [1, 2]: the library's schemes are first order in general and second order at
-best) and :meth:`gridlbc.Solution.error_estimate` returns::
+evaluated at any states by the same interpolation as the values. Where the error is of higher
+order the first term overestimates it (by 3 for second order); it is not divided by an observed
+order, because an observed order above 1 is as often the sign of coarse solves far outside the
+asymptotic range, where dividing would understate the error several times. The floor r is the
+median of the first term relative to the value over the states that matter: errors accumulate
+with the cost along the characteristics, so where the two solves happen to agree (their
+difference changes sign) the error is not smaller, relative to v, than the typical one
+(:func:`embedded_estimate`). The estimate never changes the solution it checks. It sees what
+refining h and Δt would change: time steps too long for a fast local flow, features narrower
+than a cell, a grid too coarse for the value's curvature. It cannot see an error that all the
+solves share: a box too small for the process (reflection at a closed axis acts the same on
+each), or a feature that every grid misses entirely.
 
-    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)) / (2^p − 1),  r · max(abs(v_h(x, t)), λ) ),
-
-evaluated at any states by the same interpolation as the values. The floor r is the median of
-the first term relative to the value over the states that matter:
-errors accumulate along the characteristics with the cost, so where the two solves happen to
-agree (their difference changes sign) the error is not smaller, relative to v, than the typical
-one (:func:`embedded_estimate`).
-The estimate never changes the solution it checks. It sees what refining h and Δt would change:
-time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
-the value's curvature. It cannot see an error that both solves share: a box too small for the
-process (reflection at a closed axis acts the same on both), or a feature that all three grids
-miss entirely.
+The third solve (4h) gives the observed order log₂(Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h)). Below
+1 the coarser solves are not converging: they are too coarse to say how accurate this grid is (as
+4-D grids of a few dozen nodes per axis can be), the estimate is an upper bound that may be
+loose, and the warning says so.
 
 **Relative error.** ``ê / max(abs(v), λ)``: a value below the temperature λ is compared with λ,
 the scale on which v = −λ log z is resolved (near a goal v can be arbitrarily small while its
@@ -166,8 +168,6 @@ class EmbeddedEstimate:
     ----------
     solution : Solution
         The same problem solved on the grid with every other node, step 2Δt.
-    order : float
-        p of the Richardson estimate, the observed order clipped to [1, 2].
     observed_order : float
         log₂ of the ratio of the differences between successive levels (NaN without a third
         level). Below 1 the coarser solves are not converging: they are too coarse to say how
@@ -177,7 +177,6 @@ class EmbeddedEstimate:
     """
 
     solution: Solution
-    order: float
     observed_order: float
     floor: float
 
@@ -187,9 +186,8 @@ class EmbeddedEstimate:
         return not (self.observed_order < 1.0)
 
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
-        """abs(v_2h − v_h) / (2^p − 1) at states ``x`` (N, d), time ``t``."""
-        difference = np.abs(self.solution.value(x, t) - solution.value(x, t))
-        return difference / (2.0**self.order - 1.0)
+        """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``."""
+        return np.abs(self.solution.value(x, t) - solution.value(x, t))
 
     def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
@@ -202,16 +200,12 @@ class EmbeddedEstimate:
 def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
     """The estimate of ``solution`` from its embedded solve and, if given, the one below it.
 
-    The order is observed over the states that matter::
+    Over the states that matter: the observed order::
 
-        p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) ),   used clipped to [1, 2]
+        p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) )
 
-    (1, the conservative choice, without the third solve): the clip keeps the estimate between a
-    third of the difference and all of it, as the library's schemes are first order in general
-    and second order at best. The floor is the median over the same states of the local estimate
-    relative to the value: discretisation errors accumulate with the cost along the
-    characteristics, so where two solves happen to agree (their difference changes sign) the
-    error is not smaller, relative to v, than the typical one.
+    (NaN without the third solve), and the floor, the median of ``abs(v_2h − v_h)`` relative to
+    ``max(abs(v), λ)`` (the module docstring says why each).
 
     Parameters
     ----------
@@ -224,19 +218,18 @@ def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
     """
     X = states_that_matter(solution)
     v, v2 = solution.value(X, 0.0), embedded.value(X, 0.0)
+    fine = np.abs(v2 - v)
     observed = np.nan
     if coarser is not None:
-        fine, coarse = np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2)
+        coarse = np.abs(coarser.value(X, 0.0) - v2)
         usable = np.isfinite(fine) & np.isfinite(coarse)
         if usable.any() and fine[usable].sum() > 0:
             with np.errstate(divide="ignore"):
                 observed = float(np.log2(coarse[usable].sum() / fine[usable].sum()))
-    order = 1.0 if np.isnan(observed) else float(np.clip(observed, 1.0, 2.0))
-    estimate = EmbeddedEstimate(embedded, order, observed, 0.0)
-    local = relative_error(estimate.local(solution, X), v, solution.temperature)
-    local = local[np.isfinite(local)]
-    floor = float(np.median(local)) if len(local) else 0.0
-    return EmbeddedEstimate(embedded, order, observed, floor)
+    relative = relative_error(fine, v, solution.temperature)
+    relative = relative[np.isfinite(relative)]
+    floor = float(np.median(relative)) if len(relative) else 0.0
+    return EmbeddedEstimate(embedded, observed, floor)
 
 
 def judged_states(solution, states=None) -> np.ndarray:

@@ -19,7 +19,7 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   its evaluation needs, with its own digest ``reference_sha256`` in the metadata;
 - ``embedded.*``: the solve on the embedded grid that the error estimate reads
   (:meth:`gridlbc.Solution.error_estimate`, :mod:`gridlbc.accuracy`), its arrays under this
-  prefix and its metadata as ``metadata["embedded"]`` (with the estimate's ``order``,
+  prefix and its metadata as ``metadata["embedded"]`` (with the estimate's
   ``observed_order`` and ``floor``, :class:`gridlbc.accuracy.EmbeddedEstimate`); absent when
   the solution carries none.
 
@@ -194,7 +194,6 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
         inner: dict = {}
         meta["embedded"] = {
             **_record(estimate.solution, inner),
-            "order": estimate.order,
             "observed_order": None
             if np.isnan(estimate.observed_order)
             else estimate.observed_order,
@@ -291,7 +290,6 @@ def load(path) -> Solution:
         observed = record["observed_order"]
         estimate = EmbeddedEstimate(
             _solution(record, inner, version, path),
-            float(record["order"]),
             np.nan if observed is None else float(observed),
             float(record["floor"]),
         )
