@@ -5,29 +5,36 @@ The docs page :doc:`accuracy` explains what the estimate sees and what it cannot
 **The embedded estimate.** A solve on a grid of spacing h with step Δt is accompanied by solves of
 the same problem, with the same scheme and settings, on the *embedded* grids that keep every other
 node of each axis: spacing 2h with step 2Δt, and 4h with 4Δt. Together they cost about
-2^−(d+1) + 2^−(2d+2) of the solve they check. The library's schemes are monotone and therefore
-first order in general: if the error behaves as e(h, Δt) ≈ C h with Δt ∝ h, Richardson's
-argument gives v_2h − v_h ≈ C h ≈ e(h), so :meth:`gridlbc.Solution.error_estimate` returns::
+2^−(d+1) + 2^−(2d+2) of the solve they check. If the error behaves as e(h) ≈ C h^p with
+Δt ∝ h, Richardson's argument gives v_2h − v_h ≈ (2^p − 1) C h^p, and the order p can be observed
+from the three solves::
 
-    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)),  r · max(abs(v_h(x, t)), λ) ),
+    p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) )   over the states that matter.
 
-evaluated at any states by the same interpolation as the values. Where the error is of higher
-order the first term overestimates it (by 3 for second order); it is not divided by an observed
-order, because an observed order above 1 is as often the sign of coarse solves far outside the
-asymptotic range, where dividing would understate the error several times. The floor r is the
-median of the first term relative to the value over the states that matter: errors accumulate
-with the cost along the characteristics, so where the two solves happen to agree (their
-difference changes sign) the error is not smaller, relative to v, than the typical one
-(:func:`embedded_estimate`). The estimate never changes the solution it checks. It sees what
-refining h and Δt would change: time steps too long for a fast local flow, features narrower
-than a cell, a grid too coarse for the value's curvature. It cannot see an error that all the
-solves share: a box too small for the process (reflection at a closed axis acts the same on
-each), or a feature that every grid misses entirely.
+:meth:`gridlbc.Solution.error_estimate` returns::
 
-The third solve (4h) gives the observed order log₂(Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h)). Below
-1 the coarser solves are not converging: they are too coarse to say how accurate this grid is (as
-4-D grids of a few dozen nodes per axis can be), the estimate is an upper bound that may be
-loose, and the warning says so.
+    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)) / (2^q − 1),  r · max(abs(v_h(x, t)), λ) ),
+
+evaluated at any states by the same interpolation as the values, with
+
+- q = p clipped to [1, 2] (the library's schemes are monotone, hence first order in general,
+  and second order at best) where the two solves differ by at most :data:`ASYMPTOTIC` relative
+  to the value, and q = 1 where they differ by more: a coarse solve that far from the fine one
+  is outside the range where Richardson's model holds, and an order observed from it says more
+  about the coarse grids than about this one (dividing by 3 there understated the error of a
+  25⁴ acrobot threefold);
+- the floor r, the median over the states that matter of the first term relative to the value:
+  errors accumulate with the cost along the characteristics, so where the two solves happen to
+  agree (their difference changes sign) the error is not smaller, relative to v, than the
+  typical one (:func:`embedded_estimate`).
+
+The estimate never changes the solution it checks. It sees what refining h and Δt would change:
+time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
+the value's curvature. It cannot see an error that all the solves share: a box too small for the
+process (reflection at a closed axis acts the same on each), or a feature that every grid misses
+entirely. Where the observed order is below 1 the coarser solves are not converging: they are
+too coarse to say how accurate this grid is (as 4-D grids of a few dozen nodes per axis can be),
+the estimate is an upper bound that may be loose, and the warning says so.
 
 **Relative error.** ``ê / max(abs(v), λ)``: a value below the temperature λ is compared with λ,
 the scale on which v = −λ log z is resolved (near a goal v can be arbitrarily small while its
@@ -68,6 +75,10 @@ DEFAULT_TOLERANCE = 0.05
 
 QUANTILE = 0.9
 """The share of the states that matter whose relative estimate must meet the tolerance."""
+
+ASYMPTOTIC = 0.15
+"""Where the embedded solve differs from the solve by more than this (relative to
+``max(abs(v), λ)``), the estimate does not divide by the observed order (the module docstring)."""
 
 SAMPLE = 20_000
 """At most this many of the states that matter are read (evenly spaced in the nodes' order):
@@ -172,12 +183,16 @@ class EmbeddedEstimate:
         log₂ of the ratio of the differences between successive levels (NaN without a third
         level). Below 1 the coarser solves are not converging: they are too coarse to say how
         accurate this grid is, and the estimate is an upper bound that may be loose.
+    order : float
+        q, the observed order clipped to [1, 2] (1 without a third level), used where the two
+        solves differ by at most :data:`ASYMPTOTIC`.
     floor : float
         The least relative error reported (the median over the states that matter).
     """
 
     solution: Solution
     observed_order: float
+    order: float
     floor: float
 
     @property
@@ -186,8 +201,12 @@ class EmbeddedEstimate:
         return not (self.observed_order < 1.0)
 
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
-        """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``."""
-        return np.abs(self.solution.value(x, t) - solution.value(x, t))
+        """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t``, with q = ``order``
+        where the relative difference is at most :data:`ASYMPTOTIC` and 1 elsewhere."""
+        v = solution.value(x, t)
+        difference = np.abs(self.solution.value(x, t) - v)
+        near = relative_error(difference, v, solution.temperature) <= ASYMPTOTIC
+        return np.where(near, difference / (2.0**self.order - 1.0), difference)
 
     def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
@@ -204,7 +223,7 @@ def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
 
         p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) )
 
-    (NaN without the third solve), and the floor, the median of ``abs(v_2h − v_h)`` relative to
+    (NaN without the third solve) and the floor, the median of the local estimate relative to
     ``max(abs(v), λ)`` (the module docstring says why each).
 
     Parameters
@@ -218,18 +237,19 @@ def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
     """
     X = states_that_matter(solution)
     v, v2 = solution.value(X, 0.0), embedded.value(X, 0.0)
-    fine = np.abs(v2 - v)
     observed = np.nan
     if coarser is not None:
-        coarse = np.abs(coarser.value(X, 0.0) - v2)
+        fine, coarse = np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2)
         usable = np.isfinite(fine) & np.isfinite(coarse)
         if usable.any() and fine[usable].sum() > 0:
             with np.errstate(divide="ignore"):
                 observed = float(np.log2(coarse[usable].sum() / fine[usable].sum()))
-    relative = relative_error(fine, v, solution.temperature)
+    order = 1.0 if np.isnan(observed) else float(np.clip(observed, 1.0, 2.0))
+    estimate = EmbeddedEstimate(embedded, observed, order, 0.0)
+    relative = relative_error(estimate.local(solution, X), v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
-    return EmbeddedEstimate(embedded, observed, floor)
+    return EmbeddedEstimate(embedded, observed, order, floor)
 
 
 def judged_states(solution, states=None) -> np.ndarray:

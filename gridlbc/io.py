@@ -20,7 +20,7 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
 - ``embedded.*``: the solve on the embedded grid that the error estimate reads
   (:meth:`gridlbc.Solution.error_estimate`, :mod:`gridlbc.accuracy`), its arrays under this
   prefix and its metadata as ``metadata["embedded"]`` (with the estimate's
-  ``observed_order`` and ``floor``, :class:`gridlbc.accuracy.EmbeddedEstimate`); absent when
+  ``observed_order``, ``order`` and ``floor``, :class:`gridlbc.accuracy.EmbeddedEstimate`); absent when
   the solution carries none.
 
 Version 1 files (before solutions knew their representation: it was
@@ -291,6 +291,7 @@ def load(path) -> Solution:
         estimate = EmbeddedEstimate(
             _solution(record, inner, version, path),
             np.nan if observed is None else float(observed),
+            float(record["order"]),
             float(record["floor"]),
         )
         object.__setattr__(solution, "embedded", estimate)

@@ -101,6 +101,7 @@ CASES = [
 ]
 
 
+@SMOKE_SIZES
 @pytest.mark.slow
 @needs_chromium
 def test_page_equals_combine_on_saved_solutions(pendulum_files, tmp_path):

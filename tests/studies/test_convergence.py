@@ -80,6 +80,7 @@ def test_pendulum_linear_and_nonlinear_solvers_agree_within_refinement_error():
     assert "observed order" in table.format()
 
 
+@EXACTNESS_ONLY
 @pytest.mark.slow
 def test_pendulum_agreement_on_finer_grids():
     _check_agreement(pendulum_study(sizes=(64, 128, 256)))
