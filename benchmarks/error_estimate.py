@@ -6,7 +6,7 @@ exact Riccati value for the linear-quadratic point mass, otherwise a solve on th
 2^−k of the default's for a first-order scheme. Printed per problem and state: the predicted
 value, the reference, the actual relative error, the estimated one
 (``solution.error_estimate(x) / max(|v|, λ)``), whether the estimate covers the error
-(ê ≥ e / 2, SPEC §10) and whether the default solve warned. Per problem: the time of the default
+(ê ≥ e / 2, docs/accuracy.rst) and whether the default solve warned. Per problem: the time of the default
 solve with and without the estimate, measured in the same run, and their ratio.
 
     python benchmarks/error_estimate.py [--refine 2] [--only pointmass swingup ...]

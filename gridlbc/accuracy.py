@@ -1,4 +1,4 @@
-"""How accurate is a solve: the embedded error estimate and solves to a tolerance (SPEC §10).
+"""How accurate is a solve: the embedded error estimate and solves to a tolerance (docs page :doc:`accuracy`).
 
 The docs page :doc:`accuracy` explains what the estimate sees and what it cannot.
 

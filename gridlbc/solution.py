@@ -230,7 +230,7 @@ class Solution(FieldEvaluation):
 
     @state_evaluation
     def error_estimate(self, x, t=0.0) -> np.ndarray:
-        """An a-posteriori estimate of ``abs(v(x, t) − v_exact(x, t))`` (SPEC §10, docs page
+        """An a-posteriori estimate of ``abs(v(x, t) − v_exact(x, t))`` (docs page
         :doc:`accuracy`): the Richardson estimate ``abs(v_2h(x, t) − v(x, t)) / (2^q − 1)``
         from the embedded solve (grid spacing 2h, step 2Δt) with the observed order q where the
         two are close (1 elsewhere), and at least the typical relative error

@@ -92,7 +92,7 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
     problem : Problem
         The linear-quadratic problem.
     rtol : float
-        Relative tolerance of the Riccati integration (SPEC §6).
+        Relative tolerance of the Riccati integration (docs page :doc:`maths`).
 
     Returns
     -------

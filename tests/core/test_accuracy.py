@@ -58,7 +58,7 @@ def test_embedded_grid_keeps_every_other_node():
 
 @pytest.mark.parametrize("n", [41, 81])
 def test_estimate_is_at_least_half_the_true_error_at_nine_in_ten_states(n):
-    # SPEC §10's contract, on a problem with an exact answer: the first-order Richardson
+    # the contract of docs/accuracy.rst, on a problem with an exact answer: the Richardson
     # difference |v_2h − v_h| bounds the error of a first-order scheme in the asymptotic range,
     # and overestimates second-order parts; it must be at least half the true error at ≥ 90 %
     # of the states that matter.
