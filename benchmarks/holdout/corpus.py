@@ -318,6 +318,11 @@ def thin_wall():
     )
 
 
+def pinpoint_goal():
+    grid = _grid((-3, 3, 201), (-4, 4, 201))
+    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [1e4, 10.0]), temperature=0.1)
+
+
 def torus_diffusion():
     grid = _grid((-PI, PI, 200, True), (-PI, PI, 200, True))
     return Problem(
@@ -487,7 +492,6 @@ MEMBERS: tuple[Member, ...] = (
         _s((-1.0, 0.0), (0.0, 1.0), (1.5, -1.0)),
         "2-D double integrator to a narrow goal (weights 400, 40), λ = 0.1",
         cert_dt=0.002,
-        fast=True,
         tags=("narrow cost", "closed"),
     ),
     Member(
@@ -511,7 +515,6 @@ MEMBERS: tuple[Member, ...] = (
         hot_rotor,
         _s((-2.0, 0.0), (0.0, 2.0), (3.0, -1.0)),
         "2-D rotor (no gravity), broad cost, λ = 3",
-        fast=True,
         tags=("broad cost", "periodic", "slow dynamics"),
     ),
     Member(
@@ -529,6 +532,15 @@ MEMBERS: tuple[Member, ...] = (
         "which only the drift moves, λ = 0.3",
         fine=4.0,
         tags=("local feature", "narrow cost", "closed"),
+    ),
+    Member(
+        "pinpoint_goal",
+        pinpoint_goal,
+        _s((-1.0, 0.0), (0.0, 1.0), (1.5, -1.0)),
+        "2-D double integrator to a goal narrower than a cell (weights 10⁴, 10), λ = 0.1",
+        fine=4.0,
+        cert_dt=0.002,
+        tags=("narrow cost", "closed"),
     ),
     Member(
         "torus_diffusion",
