@@ -318,6 +318,10 @@ def thin_wall():
     )
 
 
+def cold_unicycle():
+    return unicycle().replace(temperature=0.03)
+
+
 def pinpoint_goal():
     grid = _grid((-3, 3, 201), (-4, 4, 201))
     return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [1e4, 10.0]), temperature=0.1)
@@ -563,6 +567,13 @@ MEMBERS: tuple[Member, ...] = (
         _s((-1.0, 0.0, 0.0), (-1.0, 0.0, 1.5), (0.0, 1.0, -2.5)),
         "3-D unicycle steered by its turn rate to a point, λ = 0.2",
         tags=("periodic", "closed"),
+    ),
+    Member(
+        "cold_unicycle",
+        cold_unicycle,
+        _s((-1.0, 0.0, 0.0), (-1.0, 0.0, 1.5), (0.0, 1.0, -2.5)),
+        "3-D unicycle of the unicycle member at λ = 0.03",
+        tags=("small temperature", "periodic", "closed"),
     ),
     Member(
         "triple_integrator",
