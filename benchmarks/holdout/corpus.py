@@ -318,6 +318,15 @@ def thin_wall():
     )
 
 
+def cold_unicycle():
+    return unicycle().replace(temperature=0.03)
+
+
+def pinpoint_goal():
+    grid = _grid((-3, 3, 201), (-4, 4, 201))
+    return Problem(PointMass(), grid, 2.0, Quadratic([1.0, 0.0], [1e4, 10.0]), temperature=0.1)
+
+
 def torus_diffusion():
     grid = _grid((-PI, PI, 200, True), (-PI, PI, 200, True))
     return Problem(
@@ -487,7 +496,6 @@ MEMBERS: tuple[Member, ...] = (
         _s((-1.0, 0.0), (0.0, 1.0), (1.5, -1.0)),
         "2-D double integrator to a narrow goal (weights 400, 40), λ = 0.1",
         cert_dt=0.002,
-        fast=True,
         tags=("narrow cost", "closed"),
     ),
     Member(
@@ -511,7 +519,6 @@ MEMBERS: tuple[Member, ...] = (
         hot_rotor,
         _s((-2.0, 0.0), (0.0, 2.0), (3.0, -1.0)),
         "2-D rotor (no gravity), broad cost, λ = 3",
-        fast=True,
         tags=("broad cost", "periodic", "slow dynamics"),
     ),
     Member(
@@ -529,6 +536,15 @@ MEMBERS: tuple[Member, ...] = (
         "which only the drift moves, λ = 0.3",
         fine=4.0,
         tags=("local feature", "narrow cost", "closed"),
+    ),
+    Member(
+        "pinpoint_goal",
+        pinpoint_goal,
+        _s((-1.0, 0.0), (0.0, 1.0), (1.5, -1.0)),
+        "2-D double integrator to a goal narrower than a cell (weights 10⁴, 10), λ = 0.1",
+        fine=4.0,
+        cert_dt=0.002,
+        tags=("narrow cost", "closed"),
     ),
     Member(
         "torus_diffusion",
@@ -551,6 +567,13 @@ MEMBERS: tuple[Member, ...] = (
         _s((-1.0, 0.0, 0.0), (-1.0, 0.0, 1.5), (0.0, 1.0, -2.5)),
         "3-D unicycle steered by its turn rate to a point, λ = 0.2",
         tags=("periodic", "closed"),
+    ),
+    Member(
+        "cold_unicycle",
+        cold_unicycle,
+        _s((-1.0, 0.0, 0.0), (-1.0, 0.0, 1.5), (0.0, 1.0, -2.5)),
+        "3-D unicycle of the unicycle member at λ = 0.03",
+        tags=("small temperature", "periodic", "closed"),
     ),
     Member(
         "triple_integrator",

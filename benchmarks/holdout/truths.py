@@ -2,8 +2,8 @@
 
 For each member of ``corpus.py``: two proposals, the policy of a finer solve of the same problem
 (``member.fine`` times as many cells per axis, at its default step) and the policy of the default
-solve (and, for members marked ``trajectory``, a third: the combination of a locally optimal
-trajectory's LQR tracker from each state); a pilot certificate of each (``--pilot`` samples per state at ``member.cert_dt``) picks the
+solve (and, for members marked ``trajectory``, a third: a locally optimal trajectory's LQR tracker
+from each state, certifying that state); a pilot certificate of each (``--pilot`` samples per state at ``member.cert_dt``) picks the
 one with the larger effective sample size. The sample count is then set so that the standard
 error is about ``--target`` of v* (within ``--min``/``--max`` samples), and v* is certified at
 ``cert_dt`` and at half of it: the truth is the finer step's, and the difference between the two
@@ -25,6 +25,7 @@ import subprocess
 import sys
 import time
 import warnings
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
@@ -39,11 +40,39 @@ import gridlbc  # noqa: E402
 TRUTHS = HERE / "truths.json"
 
 
+@dataclass
+class _Result:
+    """What a truth keeps of certificates, one entry per state."""
+
+    optimal_value: np.ndarray
+    optimal_value_se: np.ndarray
+    effective_sample_size: np.ndarray
+    policy_cost: np.ndarray
+    optimal_left_box_fraction: np.ndarray
+
+
 def _certify(problem, policy, states, n, dt, seed):
+    """Certify every state with ``policy``, or state i with ``policy[i]`` if it is a list."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        c = gridlbc.certify(problem, policy, states, n_samples=n, dt=dt, seed=seed, progress=False)
-    return c, [f"{w.category.__name__}: {str(w.message)[:120]}" for w in caught]
+        if isinstance(policy, list):
+            certificates = [
+                gridlbc.certify(problem, u, x, n_samples=n, dt=dt, seed=seed, progress=False)
+                for u, x in zip(policy, states)
+            ]
+        else:
+            certificates = [
+                gridlbc.certify(
+                    problem, policy, states, n_samples=n, dt=dt, seed=seed, progress=False
+                )
+            ]
+    result = _Result(
+        *(
+            np.concatenate([np.atleast_1d(getattr(c, f.name)) for c in certificates])
+            for f in fields(_Result)
+        )
+    )
+    return result, [f"{w.category.__name__}: {str(w.message)[:120]}" for w in caught]
 
 
 def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, seed: int) -> dict:
@@ -61,12 +90,9 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
     if member.trajectory:
         from gridlbc.trajectory import expand, optimize
 
-        components = [
-            expand(problem, optimize(problem, x, restarts=16, seed=0)) for x in member.states
+        proposals["a locally optimal trajectory's LQR tracker from each state"] = [
+            expand(problem, optimize(problem, x, restarts=16, seed=0)).policy for x in member.states
         ]
-        proposals["locally optimal trajectories with LQR trackers, combined"] = gridlbc.combine(
-            components
-        ).policy
     dt = member.cert_dt
     pilots = {}
     for name, policy in proposals.items():
