@@ -197,6 +197,7 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
             "observed_order": None
             if np.isnan(estimate.observed_order)
             else estimate.observed_order,
+            "order": estimate.order,
             "floor": estimate.floor,
         }
         arrays.update({EMBEDDED + k: v for k, v in inner.items()})
