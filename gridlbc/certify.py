@@ -30,6 +30,14 @@ samples effectively carry the estimate: close to n for a near-optimal proposal, 
 proposal is far from optimal or λ is small (the weights then grow sharp). The log of a mean is
 biased upward by about SE²/(2λ), negligible when the SE is.
 
+**Tail diagnostic.** Neither the ESS nor the delta-method SE can see weight that the samples never
+reached: with a heavy right tail of w, −λ log w̄ is biased upward and both look fine. The PSIS
+shape k̂ (:func:`gridlbc.psis.pareto_k`; Vehtari, Simpson, Gelman, Yao & Gabry, "Pareto smoothed
+importance sampling", JMLR 2024) fits a generalized Pareto tail to the largest weights: k̂ < 0.5
+reliable, 0.5–0.7 slow but usable, above 0.7 (:data:`MAX_PARETO_K`) unreliable at any practical
+sample count. A certificate is trusted only with enough effective samples *and* k̂ below that;
+the remedy for a large k̂ is a proposal closer to optimal, not more samples.
+
 **Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap, and the
 SDE lives on all of Rᵈ otherwise, so samples that cross a non-periodic edge of the grid's box keep
 going (a grid solution's policy is clamped to the box there). v* is therefore the optimum of the
@@ -48,11 +56,16 @@ import numpy as np
 from .errors import CertificateWarning
 from .problem import Problem
 from .progress import ProgressBar
+from .psis import pareto_k
 from .simulate import check_problem_and_policy, check_sample_count, euler_maruyama, step_count
 
 MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
 """Below this effective sample size the normal approximation behind the standard errors fails and
 :func:`certify` warns."""
+
+MAX_PARETO_K = 0.7
+"""Above this PSIS tail shape k̂ the weights' tail is too heavy for the estimate to be trusted
+(Vehtari et al., JMLR 2024, §3.2) and :func:`certify` warns."""
 
 PROGRESS_DELAY = 2.0
 """Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
@@ -66,6 +79,7 @@ _ESTIMATES = (
     "gap",
     "gap_se",
     "effective_sample_size",
+    "pareto_k",
     "left_box_fraction",
     "optimal_left_box_fraction",
 )
@@ -93,6 +107,9 @@ class Certificate:
         J(u) − v* = λ KL(P_u ‖ P*) ≥ 0 and its SE from the paired samples.
     effective_sample_size : float or ndarray (k,)
         (Σw)² / Σw² of the weights w = exp(−S_u/λ), between 1 and ``n_samples``.
+    pareto_k : float or ndarray (k,)
+        The PSIS tail shape k̂ of the weights (:func:`gridlbc.psis.pareto_k`): < 0.5 reliable,
+        0.5–0.7 slow, > :attr:`max_pareto_k` unreliable. NaN with too few samples to fit a tail.
     left_box_fraction : float or ndarray (k,)
         Share of the samples that left the grid's box on a non-periodic axis (0 without a grid).
     optimal_left_box_fraction : float or ndarray (k,)
@@ -105,6 +122,8 @@ class Certificate:
         Euler–Maruyama step and λ.
     min_effective_sample_size : float
         Below it an estimate is flagged untrusted (and :class:`CertificateWarning` was issued).
+    max_pareto_k : float
+        Above it likewise.
     seed : int or None
     """
 
@@ -116,6 +135,7 @@ class Certificate:
     gap: float | np.ndarray
     gap_se: float | np.ndarray
     effective_sample_size: float | np.ndarray
+    pareto_k: float | np.ndarray
     left_box_fraction: float | np.ndarray
     optimal_left_box_fraction: float | np.ndarray
     final_states: np.ndarray
@@ -123,12 +143,20 @@ class Certificate:
     dt: float
     temperature: float
     min_effective_sample_size: float
+    max_pareto_k: float
     seed: int | None
 
     @property
     def trusted(self) -> bool | np.ndarray:
-        """Whether the effective sample size reaches :attr:`min_effective_sample_size`."""
-        ok = np.asarray(self.effective_sample_size) >= self.min_effective_sample_size
+        """Whether the effective sample size reaches :attr:`min_effective_sample_size` and the
+        tail shape k̂ stays below :attr:`max_pareto_k` (a NaN k̂, too few samples to fit a tail,
+        leaves the verdict to the effective sample size)."""
+        ok = _trusted(
+            np.asarray(self.effective_sample_size),
+            np.asarray(self.pareto_k),
+            self.min_effective_sample_size,
+            self.max_pareto_k,
+        )
         return bool(ok) if ok.ndim == 0 else ok
 
     def summary(self) -> str:
@@ -136,23 +164,28 @@ class Certificate:
         rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in _ESTIMATES]
         lines = []
         for i, x0 in enumerate(self.start_states):
-            v, v_se, J, J_se, gap, gap_se, ess, left, left_opt = (r[i] for r in rows)
-            flag = (
-                ""
-                if ess >= self.min_effective_sample_size
-                else " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
-            )
+            v, v_se, J, J_se, gap, gap_se, ess, k_hat, left, left_opt = (r[i] for r in rows)
+            flag = ""
+            if ess < self.min_effective_sample_size:
+                flag = " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
+            elif k_hat > self.max_pareto_k:
+                flag = f" — HEAVY WEIGHT TAIL (k̂ > {self.max_pareto_k:g}), v* not trustworthy"
             lines.append(
                 f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
                 f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
                 f"{gap_se:.2g} (SE); effective sample size {ess:.0f} of {self.n_samples} "
-                f"({100 * ess / self.n_samples:.0f} %), left the box {100 * left:.1f} % "
+                f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, left the box {100 * left:.1f} % "
                 f"({100 * left_opt:.1f} % under the optimum){flag}"
             )
         lines.append(
             f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}"
         )
         return "\n".join(lines)
+
+
+def _trusted(ess, k_hat, min_ess: float, max_k: float) -> np.ndarray:
+    """Enough effective samples and no heavy tail (NaN k̂: no evidence either way)."""
+    return (ess >= min_ess) & ~(k_hat > max_k)
 
 
 def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tuple:
@@ -179,6 +212,7 @@ def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tu
         cost - value,
         gap_se,
         ess,
+        pareto_k(a),
         left.mean(),
         np.dot(w, left) / w.sum(),
     )
@@ -193,6 +227,7 @@ def certify(
     seed: int | None = None,
     progress: bool | None = None,
     min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
+    max_pareto_k: float = MAX_PARETO_K,
 ) -> Certificate:
     """Estimate the true optimal cost v*(x₀) by importance sampling with ``policy`` as proposal.
 
@@ -224,6 +259,9 @@ def certify(
     min_effective_sample_size : float
         Warn (:class:`CertificateWarning`) and flag the summary where the effective sample size is
         below this.
+    max_pareto_k : float
+        Likewise where the PSIS tail shape k̂ of the weights exceeds this (Vehtari et al., JMLR
+        2024: above 0.7 the estimate is unreliable whatever the sample count).
 
     Returns
     -------
@@ -260,7 +298,8 @@ def certify(
     columns = np.array([_estimates(S[i], C[i], left[i], lam) for i in range(k)]).T
     estimates = dict(zip(_ESTIMATES, columns))
     ess, value = estimates["effective_sample_size"], estimates["optimal_value"]
-    for i in np.flatnonzero(ess < min_effective_sample_size):
+    k_hat = estimates["pareto_k"]
+    for i in np.flatnonzero(~_trusted(ess, np.zeros(k), min_effective_sample_size, math.inf)):
         warnings.warn(
             f"certify: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
             f"below {min_effective_sample_size:g}: v* = {value[i]:.4g} and its standard "
@@ -268,6 +307,16 @@ def certify(
             "proposal closer to optimal (a finer or fitted grid solution), more samples, or note "
             f"that the temperature λ = {lam:g} is small relative to the costs, which sharpens "
             "the weights.",
+            CertificateWarning,
+            stacklevel=2,
+        )
+    for i in np.flatnonzero((ess >= min_effective_sample_size) & (k_hat > max_pareto_k)):
+        warnings.warn(
+            f"certify: the weights exp(−S/λ) at x0 = {starts[i]} have a heavy tail (PSIS "
+            f"k̂ = {k_hat[i]:.2f} > {max_pareto_k:g}): v* = {value[i]:.4g} is likely too high and "
+            "its standard error too small, because the samples that carry the weight are rarely "
+            "drawn. More samples do not fix this; a proposal closer to optimal does, e.g. the "
+            "policy of a grid solution of this problem.",
             CertificateWarning,
             stacklevel=2,
         )
@@ -280,5 +329,6 @@ def certify(
         dt=problem.horizon / K,
         temperature=lam,
         min_effective_sample_size=float(min_effective_sample_size),
+        max_pareto_k=float(max_pareto_k),
         seed=seed,
     )

@@ -180,6 +180,32 @@ def test_few_effective_samples_warn_and_flag_the_summary():
     assert not cert.trusted and "TOO FEW EFFECTIVE SAMPLES" in cert.summary()
 
 
+def test_heavy_weight_tail_is_flagged_where_the_effective_sample_size_passes():
+    # A constant push of 1.5 against the optimum: with 20 000 samples the effective sample size
+    # clears its threshold, but the weights' tail is heavy (PSIS k̂ > 0.7), so the certificate is
+    # untrusted and the warning says that a better proposal, not more samples, is the fix.
+    problem = _point_mass()
+    with pytest.warns(g.CertificateWarning, match="heavy tail.*not fix.*grid solution"):
+        cert = g.certify(
+            problem, lambda x, t: np.full((x.shape[0], 1), 1.5), X0, n_samples=20_000, seed=0
+        )
+    assert cert.effective_sample_size >= cert.min_effective_sample_size
+    assert cert.pareto_k > cert.max_pareto_k and not cert.trusted
+    assert "HEAVY WEIGHT TAIL" in cert.summary()
+
+
+def test_tail_shape_is_light_for_good_proposals():
+    # The Riccati policy is optimal for the SDE: S_u varies only by the chain's O(Δt), so the
+    # weights are nearly constant and k̂ < 0.5 (reliable); zero control is poorer but its weights
+    # are log-normal-like, still light-tailed (k̂ < 0.5), and both certificates are trusted.
+    problem = _point_mass()
+    riccati = g.certify(problem, lq_solution(problem).policy, X0, n_samples=2000, seed=0)
+    zero = g.certify(problem, _zero, X0, n_samples=2000, seed=0)
+    assert riccati.pareto_k < 0.5 and zero.pareto_k < 0.5
+    assert riccati.trusted and zero.trusted
+    assert f"k̂ = {riccati.pareto_k:.2f}" in riccati.summary()
+
+
 def test_box_exits_are_counted_as_simulate_counts_them():
     grid = g.Grid([g.Axis(-0.3, 0.3, 11)])
     problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [1.0]))
