@@ -88,7 +88,7 @@ _ESTIMATES = (
 
 @dataclass(frozen=True, eq=False)
 class Certificate:
-    """The certified optimal cost from each start state and the proposal policy's distance from it.
+    """The certified optimal cost from each start state and the judged policy's distance from it.
 
     Shapes: for one start state x0 of shape ``(d,)`` the estimates are floats; for start states
     ``(k, d)`` they are arrays ``(k,)``, one entry per row of ``start_states`` (even for k = 1).
@@ -102,16 +102,18 @@ class Certificate:
         v*(x₀) = −λ log mean(exp(−S_u/λ)), the true optimal cost up to the O(Δt) of the time
         step, and its delta-method standard error.
     policy_cost, policy_cost_se : float or ndarray (k,)
-        J(u), the mean realised cost of the proposal policy on the same samples, and its SE.
+        J(u), the mean realised cost of the judged policy, and its SE.
     gap, gap_se : float or ndarray (k,)
-        J(u) − v* = λ KL(P_u ‖ P*) ≥ 0 and its SE from the paired samples.
+        J(u) − v* = λ KL(P_u ‖ P*) ≥ 0 and its SE: from the paired samples when the policy is its
+        own proposal, √(SE(J)² + SE(v*)²) of independent samples otherwise.
     effective_sample_size : float or ndarray (k,)
-        (Σw)² / Σw² of the weights w = exp(−S_u/λ), between 1 and ``n_samples``.
+        (Σw)² / Σw² of the proposal's weights w = exp(−S_u/λ), between 1 and ``n_samples``.
     pareto_k : float or ndarray (k,)
         The PSIS tail shape k̂ of the weights (:func:`gridlbc.psis.pareto_k`): < 0.5 reliable,
         0.5–0.7 slow, > :attr:`max_pareto_k` unreliable. NaN with too few samples to fit a tail.
     left_box_fraction : float or ndarray (k,)
-        Share of the samples that left the grid's box on a non-periodic axis (0 without a grid).
+        Share of the judged policy's samples that left the grid's box on a non-periodic axis (0
+        without a grid).
     optimal_left_box_fraction : float or ndarray (k,)
         The same share under the optimal process (weighted by w).
     final_states : ndarray (n, d) or (k, n, d)
@@ -125,6 +127,10 @@ class Certificate:
     max_pareto_k : float
         Above it likewise.
     seed : int or None
+    separate_proposal : bool
+        Whether v* came from a separate proposal's samples (then J, its SE and
+        ``left_box_fraction`` come from independent samples of the judged policy and
+        ``gap_se`` = √(SE(J)² + SE(v*)²)); False: one set of samples of the policy gave all.
     """
 
     start_states: np.ndarray
@@ -145,6 +151,7 @@ class Certificate:
     min_effective_sample_size: float
     max_pareto_k: float
     seed: int | None
+    separate_proposal: bool = False
 
     @property
     def trusted(self) -> bool | np.ndarray:
@@ -174,11 +181,17 @@ class Certificate:
                 f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
                 f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
                 f"{gap_se:.2g} (SE); effective sample size {ess:.0f} of {self.n_samples} "
-                f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, left the box {100 * left:.1f} % "
-                f"({100 * left_opt:.1f} % under the optimum){flag}"
+                f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, left the box "
+                f"{100 * left:.1f} % ({100 * left_opt:.1f} % under the optimum){flag}"
             )
+        source = (
+            "v* under a separate proposal, J from the policy's own samples"
+            if self.separate_proposal
+            else "v* and J from the same samples of the policy"
+        )
         lines.append(
-            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}"
+            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}; "
+            f"{source}"
         )
         return "\n".join(lines)
 
@@ -188,8 +201,16 @@ def _trusted(ess, k_hat, min_ess: float, max_k: float) -> np.ndarray:
     return (ess >= min_ess) & ~(k_hat > max_k)
 
 
-def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tuple:
-    """The certificate's estimates from one start state's samples: S_u, realised costs C, left."""
+def _estimates(
+    S: np.ndarray,
+    C: np.ndarray,
+    left: np.ndarray,
+    lam: float,
+    judged: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple:
+    """The certificate's estimates from one start state's samples of the proposal: S_u, realised
+    costs C, left the box; ``judged`` = (costs, left) of the judged policy's own samples when it
+    is not the proposal."""
     n = S.shape[0]
     a = -S / lam
     w = np.exp(a - a.max())  # log-sum-exp: the largest weight is 1, nothing underflows
@@ -197,10 +218,16 @@ def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tu
     value = -lam * (a.max() + math.log(w_mean))
     ess = w.sum() ** 2 / np.dot(w, w)
     root_n = math.sqrt(n)
+    paired = judged is None
+    weighted_left = np.dot(w, left) / w.sum()
+    if judged is not None:
+        C, left = judged
     if n > 1:
         value_se = lam * w.std(ddof=1) / (root_n * w_mean)
         cost_se = C.std(ddof=1) / root_n
-        gap_se = (C + lam * w / w_mean).std(ddof=1) / root_n
+        gap_se = (
+            (C + lam * w / w_mean).std(ddof=1) / root_n if paired else math.hypot(cost_se, value_se)
+        )
     else:
         value_se = cost_se = gap_se = math.nan
     cost = C.mean()
@@ -214,7 +241,7 @@ def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tu
         ess,
         pareto_k(a),
         left.mean(),
-        np.dot(w, left) / w.sum(),
+        weighted_left,
     )
 
 
@@ -228,21 +255,30 @@ def certify(
     progress: bool | None = None,
     min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
     max_pareto_k: float = MAX_PARETO_K,
+    proposal=None,
 ) -> Certificate:
-    """Estimate the true optimal cost v*(x₀) by importance sampling with ``policy`` as proposal.
+    """Estimate the true optimal cost v*(x₀) by importance sampling, and the cost of ``policy``.
 
     v*(x₀) = −λ log E_u[exp(−S_u/λ)] with S_u = g(x_T) + ∫(q + ½uᵀRu) dt + ∫uᵀR dε holds for any
-    policy u (Feynman–Kac and Girsanov; see the module docstring and the README section
-    "Certified optimality"); the same samples give the policy's own cost J(u) and the gap
-    J(u) − v* ≥ 0.
+    proposal policy u (Feynman–Kac and Girsanov; see the module docstring and the README section
+    "Certified optimality"). The judged policy's own cost J(policy) is the plain Monte-Carlo mean
+    of its realised costs, and the gap J − v* ≥ 0 says how suboptimal it is.
+
+    Without ``proposal`` the judged policy is the proposal: one set of samples gives v*, J and the
+    gap, whose SE is that of the paired linearisation C + λw/w̄. A poor policy then makes a poor
+    proposal (few effective samples, a heavy weight tail: see :attr:`Certificate.pareto_k`); give
+    a better ``proposal`` (a grid solution of the same problem) and v* is estimated from its own
+    samples while J comes from independent samples of ``policy``, so the gap's standard error is
+    √(SE(J)² + SE(v*)²) of the two independent estimates.
 
     Parameters
     ----------
     problem : Problem
         Dynamics, costs, temperature λ and horizon T.
     policy : callable
-        ``policy(x, t)`` → controls ``(N, m)`` for states ``(N, d)``: the proposal. Any controller
-        works; the closer to optimal, the smaller the standard error.
+        ``policy(x, t)`` → controls ``(N, m)`` for states ``(N, d)``: the judged controller, and
+        the proposal when ``proposal`` is None. Any controller works; as a proposal, the closer to
+        optimal the smaller the standard error.
     x0 : array_like (d,) or (k, d)
         One start state (the estimates are floats) or k of them (arrays ``(k,)``).
     n_samples : int
@@ -262,40 +298,49 @@ def certify(
     max_pareto_k : float
         Likewise where the PSIS tail shape k̂ of the weights exceeds this (Vehtari et al., JMLR
         2024: above 0.7 the estimate is unreliable whatever the sample count).
+    proposal : object with ``.policy(x, t)``, or callable, optional
+        The importance-sampling proposal for v* (a :class:`~gridlbc.Solution`, a combination, or a
+        callable ``policy(x, t)``); None: ``policy`` itself. Its ``n_samples`` paths are drawn
+        first from the seeded generator, those of ``policy`` after them (independent).
 
     Returns
     -------
     Certificate
     """
     check_problem_and_policy(problem, policy)
+    sampler = policy if proposal is None else _proposal_policy(proposal)
     n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
     starts = problem.wrap(problem.check_states(x0, "x0"))
     K = step_count(problem.horizon, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
+    runs = 1 if proposal is None else 2
     bar = ProgressBar(
-        K,
+        runs * K,
         progress is not False,
         f"certify {k}×{n} samples",
         work_per_item=x.shape[0],
         work_unit="sample-steps",
         delay=PROGRESS_DELAY if progress is None else 0.0,
     )
+    rng = np.random.default_rng(seed)
     path = euler_maruyama(
-        problem,
-        policy,
-        x,
-        K,
-        np.random.default_rng(seed),
-        True,
-        lambda step, x_new, u: bar.update(step + 1),
+        problem, sampler, x, K, rng, True, lambda step, x_new, u: bar.update(step + 1)
     )
     lam = problem.temperature
     C = (path.running_cost + path.terminal_cost).reshape(k, n)
     S = C + path.ito.reshape(k, n)
     left = path.left_box.reshape(k, n)
-    columns = np.array([_estimates(S[i], C[i], left[i], lam) for i in range(k)]).T
+    judged: list = [None] * k
+    if proposal is not None:
+        own = euler_maruyama(
+            problem, policy, x, K, rng, True, lambda step, x_new, u: bar.update(K + step + 1)
+        )
+        C_own = (own.running_cost + own.terminal_cost).reshape(k, n)
+        left_own = own.left_box.reshape(k, n)
+        judged = [(C_own[i], left_own[i]) for i in range(k)]
+    columns = np.array([_estimates(S[i], C[i], left[i], lam, judged[i]) for i in range(k)]).T
     estimates = dict(zip(_ESTIMATES, columns))
     ess, value = estimates["effective_sample_size"], estimates["optimal_value"]
     k_hat = estimates["pareto_k"]
@@ -331,4 +376,18 @@ def certify(
         min_effective_sample_size=float(min_effective_sample_size),
         max_pareto_k=float(max_pareto_k),
         seed=seed,
+        separate_proposal=proposal is not None,
+    )
+
+
+def _proposal_policy(proposal):
+    """``proposal.policy`` where it has one (a Solution, a combination), else ``proposal``."""
+    method = getattr(proposal, "policy", None)
+    if callable(method):
+        return method
+    if callable(proposal):
+        return proposal
+    raise TypeError(
+        "proposal must have a .policy(x, t) method (a Solution, a combination) or be callable as "
+        f"policy(x, t) -> (N, m), got {type(proposal).__name__}"
     )

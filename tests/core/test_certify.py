@@ -206,6 +206,49 @@ def test_tail_shape_is_light_for_good_proposals():
     assert f"k̂ = {riccati.pareto_k:.2f}" in riccati.summary()
 
 
+def _push(x, t):
+    return np.full((x.shape[0], 1), 1.5)
+
+
+def test_poor_policy_judged_under_a_good_proposal():
+    # J of the poor policy by plain Monte Carlo, v* under the Riccati proposal: v* is as tight as
+    # Riccati's own certificate and its tail light, where the poor policy as its own proposal has
+    # a heavy tail. The gap's SE is that of two independent estimates.
+    problem = _point_mass()
+    riccati = lq_solution(problem)
+    judged = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=riccati)
+    chain = _chain_value(problem, X0)
+    exact = float(riccati.value(X0, 0.0))
+    assert judged.separate_proposal and judged.trusted
+    assert abs(judged.optimal_value - chain) < 3 * judged.optimal_value_se
+    assert abs(judged.optimal_value - exact) < 3 * judged.optimal_value_se + abs(chain - exact)
+    assert judged.pareto_k < judged.max_pareto_k
+    rollouts = g.simulate(problem, _push, X0, n_samples=2000, seed=1)
+    assert judged.gap > 3 * judged.gap_se  # the push is far from optimal
+    assert abs(judged.policy_cost - rollouts.mean_cost) < 3 * np.hypot(
+        judged.policy_cost_se, rollouts.standard_error
+    )
+    assert judged.gap_se == pytest.approx(np.hypot(judged.policy_cost_se, judged.optimal_value_se))
+    with pytest.warns(g.CertificateWarning):
+        own = g.certify(problem, _push, X0, n_samples=2000, seed=0)
+    assert own.pareto_k > judged.pareto_k and not own.trusted
+    # a callable proposal is the same as an object with .policy
+    same = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=riccati.policy)
+    assert same.optimal_value == judged.optimal_value and same.policy_cost == judged.policy_cost
+    assert "separate proposal" in judged.summary()
+
+
+def test_without_proposal_the_policy_is_its_own_proposal():
+    # proposal=None keeps one set of samples: the ESS and v* are those of the policy's weights.
+    problem = _point_mass()
+    cert = g.certify(problem, _zero, X0, n_samples=500, seed=3)
+    rollouts = g.simulate(problem, _zero, X0, n_samples=500, seed=3)
+    assert not cert.separate_proposal
+    assert cert.policy_cost == pytest.approx(rollouts.mean_cost, rel=1e-13)
+    with pytest.raises(TypeError, match=r"proposal must have a \.policy"):
+        g.certify(problem, _zero, X0, n_samples=5, proposal="riccati")
+
+
 def test_box_exits_are_counted_as_simulate_counts_them():
     grid = g.Grid([g.Axis(-0.3, 0.3, 11)])
     problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [1.0]))
