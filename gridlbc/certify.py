@@ -38,11 +38,20 @@ reliable, 0.5–0.7 slow but usable, above 0.7 (:data:`MAX_PARETO_K`) unreliable
 sample count. A certificate is trusted only with enough effective samples *and* k̂ below that;
 the remedy for a large k̂ is a proposal closer to optimal, not more samples.
 
-**Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap, and the
-SDE lives on all of Rᵈ otherwise, so samples that cross a non-periodic edge of the grid's box keep
-going (a grid solution's policy is clamped to the box there). v* is therefore the optimum of the
-problem on Rᵈ; the share of samples that left the box, and the share of the optimal path measure
-that did (the weighted share), say when the grid's state-constrained boundary matters.
+**Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. With
+``boundary="free"`` (the default) the SDE lives on all of Rᵈ otherwise, so samples that cross a
+non-periodic edge of the grid's box keep going (a grid solution's policy is clamped to the box
+there) and v* is the optimum of the problem on Rᵈ; the share of samples that left the box, and the
+share of the optimal path measure that did (the weighted share), say when the grid's
+state-constrained boundary matters. With ``boundary="reflect"`` every step is folded back into the
+box on the closed axes, as the solver's reflecting state constraint keeps the probability in it,
+and v* is the optimum of that constrained problem. The weight stays exact: the fold acts on the
+state, not on the noise. The controlled chain driven by the noise dε is, step by step, the passive
+chain (the same steps and folds, u = 0) driven by dε' = u dt + dε, because u enters the step only
+through B(u dt + dε); the fold is a fixed function of the state after the step, whichever noise
+produced it. The likelihood ratio of the passive noise law N(0, λR⁻¹dt) to the controlled one
+N(u dt, λR⁻¹dt) at dε' is the Girsanov factor exp(−(uᵀR dε + ½uᵀRu dt)/λ) whatever the folds do,
+so E_u[exp(−S_u/λ)] is the reflected chain's Feynman–Kac desirability exactly.
 """
 
 from __future__ import annotations
@@ -57,7 +66,13 @@ from .errors import CertificateWarning
 from .problem import Problem
 from .progress import ProgressBar
 from .psis import pareto_k
-from .simulate import check_problem_and_policy, check_sample_count, euler_maruyama, step_count
+from .simulate import (
+    check_boundary,
+    check_problem_and_policy,
+    check_sample_count,
+    euler_maruyama,
+    step_count,
+)
 
 MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
 """Below this effective sample size the normal approximation behind the standard errors fails and
@@ -131,6 +146,8 @@ class Certificate:
         Whether v* came from a separate proposal's samples (then J, its SE and
         ``left_box_fraction`` come from independent samples of the judged policy and
         ``gap_se`` = √(SE(J)² + SE(v*)²)); False: one set of samples of the policy gave all.
+    boundary : str
+        ``"free"`` (the SDE on Rᵈ) or ``"reflect"`` (closed edges of the box reflect).
     """
 
     start_states: np.ndarray
@@ -152,6 +169,7 @@ class Certificate:
     max_pareto_k: float
     seed: int | None
     separate_proposal: bool = False
+    boundary: str = "free"
 
     @property
     def trusted(self) -> bool | np.ndarray:
@@ -170,6 +188,7 @@ class Certificate:
         """One line per start state: v*, J(u), the gap (± one SE each) and the diagnostics."""
         rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in _ESTIMATES]
         lines = []
+        edge = "reached an edge (reflected)" if self.boundary == "reflect" else "left the box"
         for i, x0 in enumerate(self.start_states):
             v, v_se, J, J_se, gap, gap_se, ess, k_hat, left, left_opt = (r[i] for r in rows)
             flag = ""
@@ -181,7 +200,7 @@ class Certificate:
                 f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
                 f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
                 f"{gap_se:.2g} (SE); effective sample size {ess:.0f} of {self.n_samples} "
-                f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, left the box "
+                f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, {edge} "
                 f"{100 * left:.1f} % ({100 * left_opt:.1f} % under the optimum){flag}"
             )
         source = (
@@ -190,8 +209,8 @@ class Certificate:
             else "v* and J from the same samples of the policy"
         )
         lines.append(
-            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}; "
-            f"{source}"
+            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}, "
+            f"box edges {self.boundary}; {source}"
         )
         return "\n".join(lines)
 
@@ -256,6 +275,7 @@ def certify(
     min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
     max_pareto_k: float = MAX_PARETO_K,
     proposal=None,
+    boundary: str = "free",
 ) -> Certificate:
     """Estimate the true optimal cost v*(x₀) by importance sampling, and the cost of ``policy``.
 
@@ -302,6 +322,12 @@ def certify(
         The importance-sampling proposal for v* (a :class:`~gridlbc.Solution`, a combination, or a
         callable ``policy(x, t)``); None: ``policy`` itself. Its ``n_samples`` paths are drawn
         first from the seeded generator, those of ``policy`` after them (independent).
+    boundary : {"free", "reflect"}
+        At a closed edge of the grid's box (:func:`gridlbc.simulate`): ``"free"`` certifies the
+        problem on Rᵈ, ``"reflect"`` the problem with the box as a reflecting state constraint,
+        as the solver treats it; use it to compare with a grid prediction where the paths reach
+        the edge. The Girsanov weight is exact for both (module docstring). Problems without a
+        grid: ``"free"`` only.
 
     Returns
     -------
@@ -309,6 +335,7 @@ def certify(
     """
     check_problem_and_policy(problem, policy)
     sampler = policy if proposal is None else _proposal_policy(proposal)
+    check_boundary(problem, boundary)
     n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
     starts = problem.wrap(problem.check_states(x0, "x0"))
@@ -326,7 +353,7 @@ def certify(
     )
     rng = np.random.default_rng(seed)
     path = euler_maruyama(
-        problem, sampler, x, K, rng, True, lambda step, x_new, u: bar.update(step + 1)
+        problem, sampler, x, K, rng, True, lambda step, x_new, u: bar.update(step + 1), boundary
     )
     lam = problem.temperature
     C = (path.running_cost + path.terminal_cost).reshape(k, n)
@@ -335,7 +362,14 @@ def certify(
     judged: list = [None] * k
     if proposal is not None:
         own = euler_maruyama(
-            problem, policy, x, K, rng, True, lambda step, x_new, u: bar.update(K + step + 1)
+            problem,
+            policy,
+            x,
+            K,
+            rng,
+            True,
+            lambda step, x_new, u: bar.update(K + step + 1),
+            boundary,
         )
         C_own = (own.running_cost + own.terminal_cost).reshape(k, n)
         left_own = own.left_box.reshape(k, n)
@@ -377,6 +411,7 @@ def certify(
         max_pareto_k=float(max_pareto_k),
         seed=seed,
         separate_proposal=proposal is not None,
+        boundary=boundary,
     )
 
 

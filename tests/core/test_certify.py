@@ -249,6 +249,35 @@ def test_without_proposal_the_policy_is_its_own_proposal():
         g.certify(problem, _zero, X0, n_samples=5, proposal="riccati")
 
 
+def test_reflected_certificate_is_the_constrained_problem_the_grid_solves():
+    # The goal (1.5) lies outside the box [−1, 1] and x0 = 0.8 is near its edge: the free process
+    # certifies the problem on R (the Riccati optimum), the reflected one the problem the grid
+    # solves with its edge as a state constraint; the two differ by many SE, and the grid's
+    # prediction agrees with the reflected certificate, not with the free one.
+    grid = g.Grid([g.Axis(-1.0, 1.0, 101)])
+    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([1.5], [1.0]), temperature=0.5)
+    solution = g.solve(problem)
+    x0 = [0.8]
+    free = g.certify(problem, solution.policy, x0, n_samples=4000, seed=0)
+    reflected = g.certify(problem, solution.policy, x0, n_samples=4000, seed=0, boundary="reflect")
+    chain = _chain_value(problem, np.array(x0))
+    assert abs(free.optimal_value - chain) < 3 * free.optimal_value_se
+    se = np.hypot(free.optimal_value_se, reflected.optimal_value_se)
+    assert reflected.optimal_value - free.optimal_value > 3 * se
+    # The reflected certificate at Δt/2 agrees with the grid's prediction within 3 SE, the Euler
+    # step's O(Δt) bias (estimated by the change from Δt to Δt/2) and the solve's own estimate.
+    half = g.certify(
+        problem, solution.policy, x0, 4000, dt=problem.horizon / 600, seed=1, boundary="reflect"
+    )
+    predicted = float(solution.value(np.array(x0), 0.0))
+    step_bias = abs(half.optimal_value - reflected.optimal_value)
+    tolerance = 3 * half.optimal_value_se + step_bias + float(solution.error_estimate(np.array(x0)))
+    assert abs(predicted - half.optimal_value) < tolerance
+    assert abs(predicted - free.optimal_value) > 3 * free.optimal_value_se + tolerance
+    assert reflected.boundary == "reflect" and "box edges reflect" in reflected.summary()
+    assert np.all(np.abs(reflected.final_states) <= 1.0)
+
+
 def test_box_exits_are_counted_as_simulate_counts_them():
     grid = g.Grid([g.Axis(-0.3, 0.3, 11)])
     problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [1.0]))
