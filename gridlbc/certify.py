@@ -184,6 +184,41 @@ class Certificate:
         )
         return bool(ok) if ok.ndim == 0 else ok
 
+    def interval(self, level: float = 0.95):
+        """A confidence interval for v*(x₀) at ``level``, using that v* ≤ J(policy) always.
+
+        With z the standard normal quantile of (1 + level)/2,
+
+            lower = v̂* − z SE(v̂*),      upper = min(v̂* + z SE(v̂*), Ĵ + z SE(Ĵ)),
+
+        the upper end tightened by J(u) − v* = λ KL(P_u ‖ P*) ≥ 0, which holds for the
+        Euler–Maruyama chain as for the SDE. Both ends are normal approximations: they hold for
+        the time-discretised chain (its O(Δt) distance from the SDE's optimum is not included;
+        halve ``dt`` to see it) and only as far as the certificate is :attr:`trusted` (a heavy
+        weight tail biases v̂* upward beyond its SE). See docs/validating.rst.
+
+        Parameters
+        ----------
+        level : float
+            Nominal coverage, in (0, 1).
+
+        Returns
+        -------
+        (lower, upper) : floats, or arrays (k,) for k start states
+        """
+        from scipy.stats import norm
+
+        if not 0.0 < level < 1.0:
+            raise ValueError(f"level must lie in (0, 1), got {level!r}")
+        z = float(norm.ppf(0.5 * (1.0 + level)))
+        value = np.asarray(self.optimal_value)
+        spread = z * np.asarray(self.optimal_value_se)
+        bound = np.asarray(self.policy_cost) + z * np.asarray(self.policy_cost_se)
+        lower, upper = value - spread, np.minimum(value + spread, bound)
+        if lower.ndim == 0:
+            return float(lower), float(upper)
+        return lower, upper
+
     def summary(self) -> str:
         """One line per start state: v*, J(u), the gap (± one SE each) and the diagnostics."""
         rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in _ESTIMATES]

@@ -278,6 +278,37 @@ def test_reflected_certificate_is_the_constrained_problem_the_grid_solves():
     assert np.all(np.abs(reflected.final_states) <= 1.0)
 
 
+COVERAGE_SEEDS = 200
+
+
+@pytest.mark.parametrize("proposal", ["riccati", "zero"])
+def test_interval_covers_the_chain_optimum_at_its_level(proposal):
+    # 200 independent certificates (one start state repeated: each row its own samples); the
+    # share whose 95 % interval holds the chain's exact v* is binomial around 0.95 with SE
+    # √(0.95 · 0.05 / 200): within 3 of them, for a good and a poor proposal.
+    problem = _point_mass()
+    policy = lq_solution(problem).policy if proposal == "riccati" else _zero
+    starts = np.repeat(X0[None], COVERAGE_SEEDS, axis=0)
+    cert = g.certify(problem, policy, starts, n_samples=500, seed=12, progress=False)
+    lower, upper = cert.interval(0.95)
+    chain = _chain_value(problem, X0)
+    covered = np.mean((lower <= chain) & (chain <= upper))
+    assert abs(covered - 0.95) < 3 * np.sqrt(0.95 * 0.05 / COVERAGE_SEEDS)
+    assert np.all(upper <= cert.policy_cost + 1.96 * cert.policy_cost_se + 1e-12)
+
+
+def test_interval_of_one_state_and_its_level():
+    problem = _point_mass()
+    cert = g.certify(problem, _zero, X0, n_samples=400, seed=2)
+    lower, upper = cert.interval(0.95)
+    assert isinstance(lower, float) and lower < cert.optimal_value < upper
+    assert lower == pytest.approx(cert.optimal_value - 1.959964 * cert.optimal_value_se)
+    narrow = cert.interval(0.5)
+    assert lower < narrow[0] < narrow[1] < upper
+    with pytest.raises(ValueError, match="level must lie"):
+        cert.interval(1.0)
+
+
 def test_box_exits_are_counted_as_simulate_counts_them():
     grid = g.Grid([g.Axis(-0.3, 0.3, 11)])
     problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [1.0]))
