@@ -30,11 +30,28 @@ samples effectively carry the estimate: close to n for a near-optimal proposal, 
 proposal is far from optimal or λ is small (the weights then grow sharp). The log of a mean is
 biased upward by about SE²/(2λ), negligible when the SE is.
 
-**Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap, and the
-SDE lives on all of Rᵈ otherwise, so samples that cross a non-periodic edge of the grid's box keep
-going (a grid solution's policy is clamped to the box there). v* is therefore the optimum of the
-problem on Rᵈ; the share of samples that left the box, and the share of the optimal path measure
-that did (the weighted share), say when the grid's state-constrained boundary matters.
+**Tail diagnostic.** Neither the ESS nor the delta-method SE can see weight that the samples never
+reached: with a heavy right tail of w, −λ log w̄ is biased upward and both look fine. The PSIS
+shape k̂ (:func:`gridlbc.psis.pareto_k`; Vehtari, Simpson, Gelman, Yao & Gabry, "Pareto smoothed
+importance sampling", JMLR 2024) fits a generalized Pareto tail to the largest weights: k̂ < 0.5
+reliable, 0.5–0.7 slow but usable, above 0.7 (:data:`MAX_PARETO_K`) unreliable at any practical
+sample count. A certificate is trusted only with enough effective samples *and* k̂ below that;
+the remedy for a large k̂ is a proposal closer to optimal, not more samples.
+
+**Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. With
+``boundary="free"`` (the default) the SDE lives on all of Rᵈ otherwise, so samples that cross a
+non-periodic edge of the grid's box keep going (a grid solution's policy is clamped to the box
+there) and v* is the optimum of the problem on Rᵈ; the share of samples that left the box, and the
+share of the optimal path measure that did (the weighted share), say when the grid's
+state-constrained boundary matters. With ``boundary="reflect"`` every step is folded back into the
+box on the closed axes, as the solver's reflecting state constraint keeps the probability in it,
+and v* is the optimum of that constrained problem. The weight stays exact: the fold acts on the
+state, not on the noise. The controlled chain driven by the noise dε is, step by step, the passive
+chain (the same steps and folds, u = 0) driven by dε' = u dt + dε, because u enters the step only
+through B(u dt + dε); the fold is a fixed function of the state after the step, whichever noise
+produced it. The likelihood ratio of the passive noise law N(0, λR⁻¹dt) to the controlled one
+N(u dt, λR⁻¹dt) at dε' is the Girsanov factor exp(−(uᵀR dε + ½uᵀRu dt)/λ) whatever the folds do,
+so E_u[exp(−S_u/λ)] is the reflected chain's Feynman–Kac desirability exactly.
 """
 
 from __future__ import annotations
@@ -48,11 +65,22 @@ import numpy as np
 from .errors import CertificateWarning
 from .problem import Problem
 from .progress import ProgressBar
-from .simulate import check_problem_and_policy, check_sample_count, euler_maruyama, step_count
+from .psis import pareto_k
+from .simulate import (
+    check_boundary,
+    check_problem_and_policy,
+    check_sample_count,
+    euler_maruyama,
+    step_count,
+)
 
 MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
 """Below this effective sample size the normal approximation behind the standard errors fails and
 :func:`certify` warns."""
+
+MAX_PARETO_K = 0.7
+"""Above this PSIS tail shape k̂ the weights' tail is too heavy for the estimate to be trusted
+(Vehtari et al., JMLR 2024, §3.2) and :func:`certify` warns."""
 
 PROGRESS_DELAY = 2.0
 """Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
@@ -66,6 +94,7 @@ _ESTIMATES = (
     "gap",
     "gap_se",
     "effective_sample_size",
+    "pareto_k",
     "left_box_fraction",
     "optimal_left_box_fraction",
 )
@@ -74,7 +103,7 @@ _ESTIMATES = (
 
 @dataclass(frozen=True, eq=False)
 class Certificate:
-    """The certified optimal cost from each start state and the proposal policy's distance from it.
+    """The certified optimal cost from each start state and the judged policy's distance from it.
 
     Shapes: for one start state x0 of shape ``(d,)`` the estimates are floats; for start states
     ``(k, d)`` they are arrays ``(k,)``, one entry per row of ``start_states`` (even for k = 1).
@@ -88,13 +117,18 @@ class Certificate:
         v*(x₀) = −λ log mean(exp(−S_u/λ)), the true optimal cost up to the O(Δt) of the time
         step, and its delta-method standard error.
     policy_cost, policy_cost_se : float or ndarray (k,)
-        J(u), the mean realised cost of the proposal policy on the same samples, and its SE.
+        J(u), the mean realised cost of the judged policy, and its SE.
     gap, gap_se : float or ndarray (k,)
-        J(u) − v* = λ KL(P_u ‖ P*) ≥ 0 and its SE from the paired samples.
+        J(u) − v* = λ KL(P_u ‖ P*) ≥ 0 and its SE: from the paired samples when the policy is its
+        own proposal, √(SE(J)² + SE(v*)²) of independent samples otherwise.
     effective_sample_size : float or ndarray (k,)
-        (Σw)² / Σw² of the weights w = exp(−S_u/λ), between 1 and ``n_samples``.
+        (Σw)² / Σw² of the proposal's weights w = exp(−S_u/λ), between 1 and ``n_samples``.
+    pareto_k : float or ndarray (k,)
+        The PSIS tail shape k̂ of the weights (:func:`gridlbc.psis.pareto_k`): < 0.5 reliable,
+        0.5–0.7 slow, > :attr:`max_pareto_k` unreliable. NaN with too few samples to fit a tail.
     left_box_fraction : float or ndarray (k,)
-        Share of the samples that left the grid's box on a non-periodic axis (0 without a grid).
+        Share of the judged policy's samples that left the grid's box on a non-periodic axis (0
+        without a grid).
     optimal_left_box_fraction : float or ndarray (k,)
         The same share under the optimal process (weighted by w).
     final_states : ndarray (n, d) or (k, n, d)
@@ -105,7 +139,15 @@ class Certificate:
         Euler–Maruyama step and λ.
     min_effective_sample_size : float
         Below it an estimate is flagged untrusted (and :class:`CertificateWarning` was issued).
+    max_pareto_k : float
+        Above it likewise.
     seed : int or None
+    separate_proposal : bool
+        Whether v* came from a separate proposal's samples (then J, its SE and
+        ``left_box_fraction`` come from independent samples of the judged policy and
+        ``gap_se`` = √(SE(J)² + SE(v*)²)); False: one set of samples of the policy gave all.
+    boundary : str
+        ``"free"`` (the SDE on Rᵈ) or ``"reflect"`` (closed edges of the box reflect).
     """
 
     start_states: np.ndarray
@@ -116,6 +158,7 @@ class Certificate:
     gap: float | np.ndarray
     gap_se: float | np.ndarray
     effective_sample_size: float | np.ndarray
+    pareto_k: float | np.ndarray
     left_box_fraction: float | np.ndarray
     optimal_left_box_fraction: float | np.ndarray
     final_states: np.ndarray
@@ -123,40 +166,105 @@ class Certificate:
     dt: float
     temperature: float
     min_effective_sample_size: float
+    max_pareto_k: float
     seed: int | None
+    separate_proposal: bool = False
+    boundary: str = "free"
 
     @property
     def trusted(self) -> bool | np.ndarray:
-        """Whether the effective sample size reaches :attr:`min_effective_sample_size`."""
-        ok = np.asarray(self.effective_sample_size) >= self.min_effective_sample_size
+        """Whether the effective sample size reaches :attr:`min_effective_sample_size` and the
+        tail shape k̂ stays below :attr:`max_pareto_k` (a NaN k̂, too few samples to fit a tail,
+        leaves the verdict to the effective sample size)."""
+        ok = _trusted(
+            np.asarray(self.effective_sample_size),
+            np.asarray(self.pareto_k),
+            self.min_effective_sample_size,
+            self.max_pareto_k,
+        )
         return bool(ok) if ok.ndim == 0 else ok
+
+    def interval(self, level: float = 0.95):
+        """A confidence interval for v*(x₀) at ``level``, using that v* ≤ J(policy) always.
+
+        With z the standard normal quantile of (1 + level)/2,
+
+            lower = v̂* − z SE(v̂*),      upper = min(v̂* + z SE(v̂*), Ĵ + z SE(Ĵ)),
+
+        the upper end tightened by J(u) − v* = λ KL(P_u ‖ P*) ≥ 0, which holds for the
+        Euler–Maruyama chain as for the SDE. Both ends are normal approximations: they hold for
+        the time-discretised chain (its O(Δt) distance from the SDE's optimum is not included;
+        halve ``dt`` to see it) and only as far as the certificate is :attr:`trusted` (a heavy
+        weight tail biases v̂* upward beyond its SE). See docs/validating.rst.
+
+        Parameters
+        ----------
+        level : float
+            Nominal coverage, in (0, 1).
+
+        Returns
+        -------
+        (lower, upper) : floats, or arrays (k,) for k start states
+        """
+        from scipy.stats import norm
+
+        if not 0.0 < level < 1.0:
+            raise ValueError(f"level must lie in (0, 1), got {level!r}")
+        z = float(norm.ppf(0.5 * (1.0 + level)))
+        value = np.asarray(self.optimal_value)
+        spread = z * np.asarray(self.optimal_value_se)
+        bound = np.asarray(self.policy_cost) + z * np.asarray(self.policy_cost_se)
+        lower, upper = value - spread, np.minimum(value + spread, bound)
+        if lower.ndim == 0:
+            return float(lower), float(upper)
+        return lower, upper
 
     def summary(self) -> str:
         """One line per start state: v*, J(u), the gap (± one SE each) and the diagnostics."""
         rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in _ESTIMATES]
         lines = []
+        edge = "reached an edge (reflected)" if self.boundary == "reflect" else "left the box"
         for i, x0 in enumerate(self.start_states):
-            v, v_se, J, J_se, gap, gap_se, ess, left, left_opt = (r[i] for r in rows)
-            flag = (
-                ""
-                if ess >= self.min_effective_sample_size
-                else " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
-            )
+            v, v_se, J, J_se, gap, gap_se, ess, k_hat, left, left_opt = (r[i] for r in rows)
+            flag = ""
+            if ess < self.min_effective_sample_size:
+                flag = " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
+            elif k_hat > self.max_pareto_k:
+                flag = f" — HEAVY WEIGHT TAIL (k̂ > {self.max_pareto_k:g}), v* not trustworthy"
             lines.append(
                 f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
                 f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
                 f"{gap_se:.2g} (SE); effective sample size {ess:.0f} of {self.n_samples} "
-                f"({100 * ess / self.n_samples:.0f} %), left the box {100 * left:.1f} % "
-                f"({100 * left_opt:.1f} % under the optimum){flag}"
+                f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, {edge} "
+                f"{100 * left:.1f} % ({100 * left_opt:.1f} % under the optimum){flag}"
             )
+        source = (
+            "v* under a separate proposal, J from the policy's own samples"
+            if self.separate_proposal
+            else "v* and J from the same samples of the policy"
+        )
         lines.append(
-            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}"
+            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}, "
+            f"box edges {self.boundary}; {source}"
         )
         return "\n".join(lines)
 
 
-def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tuple:
-    """The certificate's estimates from one start state's samples: S_u, realised costs C, left."""
+def _trusted(ess, k_hat, min_ess: float, max_k: float) -> np.ndarray:
+    """Enough effective samples and no heavy tail (NaN k̂: no evidence either way)."""
+    return (ess >= min_ess) & ~(k_hat > max_k)
+
+
+def _estimates(
+    S: np.ndarray,
+    C: np.ndarray,
+    left: np.ndarray,
+    lam: float,
+    judged: tuple[np.ndarray, np.ndarray] | None = None,
+) -> tuple:
+    """The certificate's estimates from one start state's samples of the proposal: S_u, realised
+    costs C, left the box; ``judged`` = (costs, left) of the judged policy's own samples when it
+    is not the proposal."""
     n = S.shape[0]
     a = -S / lam
     w = np.exp(a - a.max())  # log-sum-exp: the largest weight is 1, nothing underflows
@@ -164,10 +272,16 @@ def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tu
     value = -lam * (a.max() + math.log(w_mean))
     ess = w.sum() ** 2 / np.dot(w, w)
     root_n = math.sqrt(n)
+    paired = judged is None
+    weighted_left = np.dot(w, left) / w.sum()
+    if judged is not None:
+        C, left = judged
     if n > 1:
         value_se = lam * w.std(ddof=1) / (root_n * w_mean)
         cost_se = C.std(ddof=1) / root_n
-        gap_se = (C + lam * w / w_mean).std(ddof=1) / root_n
+        gap_se = (
+            (C + lam * w / w_mean).std(ddof=1) / root_n if paired else math.hypot(cost_se, value_se)
+        )
     else:
         value_se = cost_se = gap_se = math.nan
     cost = C.mean()
@@ -179,8 +293,9 @@ def _estimates(S: np.ndarray, C: np.ndarray, left: np.ndarray, lam: float) -> tu
         cost - value,
         gap_se,
         ess,
+        pareto_k(a),
         left.mean(),
-        np.dot(w, left) / w.sum(),
+        weighted_left,
     )
 
 
@@ -193,21 +308,32 @@ def certify(
     seed: int | None = None,
     progress: bool | None = None,
     min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
+    max_pareto_k: float = MAX_PARETO_K,
+    proposal=None,
+    boundary: str = "free",
 ) -> Certificate:
-    """Estimate the true optimal cost v*(x₀) by importance sampling with ``policy`` as proposal.
+    """Estimate the true optimal cost v*(x₀) by importance sampling, and the cost of ``policy``.
 
     v*(x₀) = −λ log E_u[exp(−S_u/λ)] with S_u = g(x_T) + ∫(q + ½uᵀRu) dt + ∫uᵀR dε holds for any
-    policy u (Feynman–Kac and Girsanov; see the module docstring and the README section
-    "Certified optimality"); the same samples give the policy's own cost J(u) and the gap
-    J(u) − v* ≥ 0.
+    proposal policy u (Feynman–Kac and Girsanov; see the module docstring and the README section
+    "Certified optimality"). The judged policy's own cost J(policy) is the plain Monte-Carlo mean
+    of its realised costs, and the gap J − v* ≥ 0 says how suboptimal it is.
+
+    Without ``proposal`` the judged policy is the proposal: one set of samples gives v*, J and the
+    gap, whose SE is that of the paired linearisation C + λw/w̄. A poor policy then makes a poor
+    proposal (few effective samples, a heavy weight tail: see :attr:`Certificate.pareto_k`); give
+    a better ``proposal`` (a grid solution of the same problem) and v* is estimated from its own
+    samples while J comes from independent samples of ``policy``, so the gap's standard error is
+    √(SE(J)² + SE(v*)²) of the two independent estimates.
 
     Parameters
     ----------
     problem : Problem
         Dynamics, costs, temperature λ and horizon T.
     policy : callable
-        ``policy(x, t)`` → controls ``(N, m)`` for states ``(N, d)``: the proposal. Any controller
-        works; the closer to optimal, the smaller the standard error.
+        ``policy(x, t)`` → controls ``(N, m)`` for states ``(N, d)``: the judged controller, and
+        the proposal when ``proposal`` is None. Any controller works; as a proposal, the closer to
+        optimal the smaller the standard error.
     x0 : array_like (d,) or (k, d)
         One start state (the estimates are floats) or k of them (arrays ``(k,)``).
     n_samples : int
@@ -224,43 +350,70 @@ def certify(
     min_effective_sample_size : float
         Warn (:class:`CertificateWarning`) and flag the summary where the effective sample size is
         below this.
+    max_pareto_k : float
+        Likewise where the PSIS tail shape k̂ of the weights exceeds this (Vehtari et al., JMLR
+        2024: above 0.7 the estimate is unreliable whatever the sample count).
+    proposal : object with ``.policy(x, t)``, or callable, optional
+        The importance-sampling proposal for v* (a :class:`~gridlbc.Solution`, a combination, or a
+        callable ``policy(x, t)``); None: ``policy`` itself. Its ``n_samples`` paths are drawn
+        first from the seeded generator, those of ``policy`` after them (independent).
+    boundary : {"free", "reflect"}
+        At a closed edge of the grid's box (:func:`gridlbc.simulate`): ``"free"`` certifies the
+        problem on Rᵈ, ``"reflect"`` the problem with the box as a reflecting state constraint,
+        as the solver treats it; use it to compare with a grid prediction where the paths reach
+        the edge. The Girsanov weight is exact for both (module docstring). Problems without a
+        grid: ``"free"`` only.
 
     Returns
     -------
     Certificate
     """
     check_problem_and_policy(problem, policy)
+    sampler = policy if proposal is None else _proposal_policy(proposal)
+    check_boundary(problem, boundary)
     n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
     starts = problem.wrap(problem.check_states(x0, "x0"))
     K = step_count(problem.horizon, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
+    runs = 1 if proposal is None else 2
     bar = ProgressBar(
-        K,
+        runs * K,
         progress is not False,
         f"certify {k}×{n} samples",
         work_per_item=x.shape[0],
         work_unit="sample-steps",
         delay=PROGRESS_DELAY if progress is None else 0.0,
     )
+    rng = np.random.default_rng(seed)
     path = euler_maruyama(
-        problem,
-        policy,
-        x,
-        K,
-        np.random.default_rng(seed),
-        True,
-        lambda step, x_new, u: bar.update(step + 1),
+        problem, sampler, x, K, rng, True, lambda step, x_new, u: bar.update(step + 1), boundary
     )
     lam = problem.temperature
     C = (path.running_cost + path.terminal_cost).reshape(k, n)
     S = C + path.ito.reshape(k, n)
     left = path.left_box.reshape(k, n)
-    columns = np.array([_estimates(S[i], C[i], left[i], lam) for i in range(k)]).T
+    judged: list = [None] * k
+    if proposal is not None:
+        own = euler_maruyama(
+            problem,
+            policy,
+            x,
+            K,
+            rng,
+            True,
+            lambda step, x_new, u: bar.update(K + step + 1),
+            boundary,
+        )
+        C_own = (own.running_cost + own.terminal_cost).reshape(k, n)
+        left_own = own.left_box.reshape(k, n)
+        judged = [(C_own[i], left_own[i]) for i in range(k)]
+    columns = np.array([_estimates(S[i], C[i], left[i], lam, judged[i]) for i in range(k)]).T
     estimates = dict(zip(_ESTIMATES, columns))
     ess, value = estimates["effective_sample_size"], estimates["optimal_value"]
-    for i in np.flatnonzero(ess < min_effective_sample_size):
+    k_hat = estimates["pareto_k"]
+    for i in np.flatnonzero(~_trusted(ess, np.zeros(k), min_effective_sample_size, math.inf)):
         warnings.warn(
             f"certify: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
             f"below {min_effective_sample_size:g}: v* = {value[i]:.4g} and its standard "
@@ -268,6 +421,16 @@ def certify(
             "proposal closer to optimal (a finer or fitted grid solution), more samples, or note "
             f"that the temperature λ = {lam:g} is small relative to the costs, which sharpens "
             "the weights.",
+            CertificateWarning,
+            stacklevel=2,
+        )
+    for i in np.flatnonzero((ess >= min_effective_sample_size) & (k_hat > max_pareto_k)):
+        warnings.warn(
+            f"certify: the weights exp(−S/λ) at x0 = {starts[i]} have a heavy tail (PSIS "
+            f"k̂ = {k_hat[i]:.2f} > {max_pareto_k:g}): v* = {value[i]:.4g} is likely too high and "
+            "its standard error too small, because the samples that carry the weight are rarely "
+            "drawn. More samples do not fix this; a proposal closer to optimal does, e.g. the "
+            "policy of a grid solution of this problem.",
             CertificateWarning,
             stacklevel=2,
         )
@@ -280,5 +443,21 @@ def certify(
         dt=problem.horizon / K,
         temperature=lam,
         min_effective_sample_size=float(min_effective_sample_size),
+        max_pareto_k=float(max_pareto_k),
         seed=seed,
+        separate_proposal=proposal is not None,
+        boundary=boundary,
+    )
+
+
+def _proposal_policy(proposal):
+    """``proposal.policy`` where it has one (a Solution, a combination), else ``proposal``."""
+    method = getattr(proposal, "policy", None)
+    if callable(method):
+        return method
+    if callable(proposal):
+        return proposal
+    raise TypeError(
+        "proposal must have a .policy(x, t) method (a Solution, a combination) or be callable as "
+        f"policy(x, t) -> (N, m), got {type(proposal).__name__}"
     )

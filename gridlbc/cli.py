@@ -361,6 +361,7 @@ def _cmd_certify(args) -> int:
             dt=args.dt,
             seed=args.seed,
             progress=None if not args.quiet else False,
+            boundary=args.boundary,
         )
     predicted = solution.value(states, 0.0)
     print(f"proposal: the policy of {args.solution} ({solution.problem.describe()})")
@@ -563,8 +564,9 @@ def _add_workflow_parsers(sub):
         description="Certify a saved solution: roll out its policy on the problem's SDE and "
         "estimate the true optimal cost v*(x0) = −λ log E[exp(−S/λ)] (Feynman–Kac and Girsanov; "
         "exact for any proposal up to the time step), the policy's own cost and the gap, beside "
-        "the solution's prediction v(x0, 0). A small effective sample size (ESS) means the "
-        "estimate is not to be trusted (a warning says what to do).",
+        "the solution's prediction v(x0, 0). A small effective sample size (ESS) or a heavy "
+        "weight tail (PSIS k̂ > 0.7) means the estimate is not to be trusted (a warning says "
+        "what to do).",
     )
     certify.add_argument("solution", help="a solution file written by gridlbc solve")
     certify.add_argument(
@@ -579,6 +581,14 @@ def _add_workflow_parsers(sub):
     )
     certify.add_argument("--dt", type=float, help="Euler–Maruyama step (default: T/300)")
     certify.add_argument("--seed", type=int, help="random seed")
+    certify.add_argument(
+        "--boundary",
+        choices=("free", "reflect"),
+        default="free",
+        help="closed box edges: 'free' lets paths leave the box (the problem on R^d, the "
+        "default), 'reflect' folds them back as the solver's state constraint does (use it "
+        "where paths reach the edge)",
+    )
     certify.add_argument("--quiet", action="store_true", help="no progress output")
     certify.set_defaults(func=_cmd_certify)
 

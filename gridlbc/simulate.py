@@ -6,7 +6,14 @@ Euler–Maruyama with step Δt = T/K on the Itô SDE
 
 i.e. x_{k+1} = x_k + (a(x_k) + B(x_k) u_k) Δt + √(λ Δt) B(x_k) C ε_k with C Cᵀ = R⁻¹ (Cholesky)
 and ε_k ~ N(0, I_m), periodic coordinates wrapped after each step (into the grid's box, or into
-[−π, π) for a grid-free problem). The noise B C ε needs no diagonal B R⁻¹ Bᵀ. Each sample's
+[−π, π) for a grid-free problem). The noise B C ε needs no diagonal B R⁻¹ Bᵀ.
+
+**Box edges.** ``boundary="free"`` (the default) lets the state cross a closed (non-periodic) edge
+of the grid's box and go on: the SDE on Rᵈ. ``boundary="reflect"`` folds it back after each step,
+x ← lo + L − |((x − lo) mod 2L) − L| with L = hi − lo, which lands in [lo, hi]: the
+symmetrized Euler scheme of a diffusion reflected at the edge (Bossy, Gobet & Talay, J. Appl.
+Probab. 41(3), 2004), the simulated counterpart of the solver's state constraint (SPEC §3: no
+probability leaves the box). A state inside the box is left untouched, bit for bit. Each sample's
 cost is the rectangle rule of the running cost plus the terminal cost,
 
     J = Σ_k ( q(x_k) + ½ u_kᵀ R u_k ) Δt + g(x_K),
@@ -90,10 +97,12 @@ class Rollouts:
     terminal_costs : ndarray (n,)
         g(x_T) per sample (part of ``costs``).
     left_box : ndarray (n,) of bool
-        Samples that left the grid's box on a non-periodic axis at some step (the SDE lives on
-        Rᵈ, so they keep going; a grid solution is clamped to the box there). All False for a
-        grid-free problem (no box).
+        Samples that crossed an edge of the grid's box on a non-periodic axis at some step (with
+        ``boundary="free"`` they keep going, and a grid solution is clamped to the box there; with
+        ``"reflect"`` they were folded back). All False for a grid-free problem (no box).
     seed : int or None
+    boundary : str
+        ``"free"`` or ``"reflect"`` (see the module docstring).
     """
 
     times: np.ndarray
@@ -103,6 +112,7 @@ class Rollouts:
     terminal_costs: np.ndarray
     left_box: np.ndarray
     seed: int | None
+    boundary: str = "free"
 
     @property
     def n_samples(self) -> int:
@@ -214,6 +224,7 @@ def simulate(
     dt: float | None = None,
     seed: int | None = None,
     noise: bool = True,
+    boundary: str = "free",
 ) -> Rollouts:
     """Roll out ``policy`` on the SDE of ``problem`` and accumulate each sample's cost.
 
@@ -237,6 +248,10 @@ def simulate(
         Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
     noise : bool
         False: the deterministic closed loop (ε = 0).
+    boundary : {"free", "reflect"}
+        At a closed (non-periodic) edge of the grid's box: ``"free"`` lets the state leave the box
+        (the SDE on Rᵈ); ``"reflect"`` folds it back in after each step (the solver's reflecting
+        state constraint, SPEC §3). A problem without a grid has no box: ``"free"`` only.
 
     Returns
     -------
@@ -253,10 +268,60 @@ def simulate(
         states[:, k + 1] = x_new
         controls[:, k] = u
 
-    path = euler_maruyama(problem, policy, x, K, np.random.default_rng(seed), noise, record)
+    path = euler_maruyama(
+        problem, policy, x, K, np.random.default_rng(seed), noise, record, boundary
+    )
     states[:, 0] = path.start
     costs = path.running_cost + path.terminal_cost
-    return Rollouts(path.times, states, controls, costs, path.terminal_cost, path.left_box, seed)
+    return Rollouts(
+        path.times, states, controls, costs, path.terminal_cost, path.left_box, seed, boundary
+    )
+
+
+BOUNDARIES = ("free", "reflect")
+"""What the rollouts do at a closed edge of the grid's box (see the module docstring)."""
+
+
+def check_boundary(problem: Problem, boundary) -> str:
+    """``boundary`` if it is one of :data:`BOUNDARIES` and the problem has a box for it.
+
+    Parameters
+    ----------
+    problem : Problem
+        Its grid (if any) is the box.
+    boundary : str
+        ``"free"`` or ``"reflect"``.
+    """
+    if boundary not in BOUNDARIES:
+        raise ValueError(f"boundary must be one of {BOUNDARIES}, got {boundary!r}")
+    if boundary == "reflect" and problem.grid is None:
+        raise ValueError(
+            'boundary="reflect" needs the problem\'s grid (its box); a problem without a grid has '
+            'no edges: use boundary="free"'
+        )
+    return boundary
+
+
+def reflect_into_box(x: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.ndarray):
+    """Fold the coordinates ``closed`` of states ``x`` (n, d) back into [lo, hi], in place, by
+    mirroring at the edges (as often as needed); states inside are untouched.
+
+    Parameters
+    ----------
+    x : ndarray (n, d)
+        States; changed in place.
+    lo, hi : ndarray (d,)
+        The box.
+    closed : ndarray (d,) of bool
+        The axes to fold (the non-periodic ones).
+    """
+    for k in np.flatnonzero(closed):
+        out = (x[:, k] < lo[k]) | (x[:, k] > hi[k])
+        if np.any(out):
+            width = hi[k] - lo[k]
+            y = np.mod(x[out, k] - lo[k], 2 * width)
+            x[out, k] = lo[k] + np.where(y > width, 2 * width - y, y)
+    return x
 
 
 def check_problem_and_policy(problem, policy) -> None:
@@ -289,7 +354,14 @@ class SamplePaths:
 
 
 def euler_maruyama(
-    problem: Problem, policy, x: np.ndarray, n_steps: int, rng, noise: bool = True, on_step=None
+    problem: Problem,
+    policy,
+    x: np.ndarray,
+    n_steps: int,
+    rng,
+    noise: bool = True,
+    on_step=None,
+    boundary: str = "free",
 ) -> SamplePaths:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
 
@@ -309,11 +381,14 @@ def euler_maruyama(
         Whether to add it.
     on_step : callable, optional
         ``on_step(k, x_{k+1}, u_k)``, called after each step (recording, progress).
+    boundary : {"free", "reflect"}
+        At closed edges of the grid's box (see :func:`simulate`).
 
     Returns
     -------
     SamplePaths
     """
+    reflect = check_boundary(problem, boundary) == "reflect"
     T = problem.horizon
     step = T / n_steps
     grid, system = problem.grid, problem.system
@@ -341,6 +416,8 @@ def euler_maruyama(
         x = problem.wrap(x_new)
         if grid is not None:
             left |= np.any(((x < grid.lo) | (x > grid.hi)) & ~grid.periodic, axis=1)
+            if reflect:
+                reflect_into_box(x, grid.lo, grid.hi, ~grid.periodic)
         if on_step is not None:
             on_step(k, x, u)
     terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")

@@ -183,6 +183,135 @@ def test_few_effective_samples_warn_and_flag_the_summary():
     assert not cert.trusted and "TOO FEW EFFECTIVE SAMPLES" in cert.summary()
 
 
+def test_heavy_weight_tail_is_flagged_where_the_effective_sample_size_passes():
+    # A constant push of 1.5 against the optimum: with 20 000 samples the effective sample size
+    # clears its threshold, but the weights' tail is heavy (PSIS k̂ > 0.7), so the certificate is
+    # untrusted and the warning says that a better proposal, not more samples, is the fix.
+    problem = _point_mass()
+    with pytest.warns(g.CertificateWarning, match="heavy tail.*not fix.*grid solution"):
+        cert = g.certify(
+            problem, lambda x, t: np.full((x.shape[0], 1), 1.5), X0, n_samples=20_000, seed=0
+        )
+    assert cert.effective_sample_size >= cert.min_effective_sample_size
+    assert cert.pareto_k > cert.max_pareto_k and not cert.trusted
+    assert "HEAVY WEIGHT TAIL" in cert.summary()
+
+
+def test_tail_shape_is_light_for_good_proposals():
+    # The Riccati policy is optimal for the SDE: S_u varies only by the chain's O(Δt), so the
+    # weights are nearly constant and k̂ < 0.5 (reliable); zero control is poorer but its weights
+    # are log-normal-like, still light-tailed (k̂ < 0.5), and both certificates are trusted.
+    problem = _point_mass()
+    riccati = g.certify(problem, lq_solution(problem).policy, X0, n_samples=2000, seed=0)
+    zero = g.certify(problem, _zero, X0, n_samples=2000, seed=0)
+    assert riccati.pareto_k < 0.5 and zero.pareto_k < 0.5
+    assert riccati.trusted and zero.trusted
+    assert f"k̂ = {riccati.pareto_k:.2f}" in riccati.summary()
+
+
+def _push(x, t):
+    return np.full((x.shape[0], 1), 1.5)
+
+
+def test_poor_policy_judged_under_a_good_proposal():
+    # J of the poor policy by plain Monte Carlo, v* under the Riccati proposal: v* is as tight as
+    # Riccati's own certificate and its tail light, where the poor policy as its own proposal has
+    # a heavy tail. The gap's SE is that of two independent estimates.
+    problem = _point_mass()
+    riccati = lq_solution(problem)
+    judged = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=riccati)
+    chain = _chain_value(problem, X0)
+    exact = float(riccati.value(X0, 0.0))
+    assert judged.separate_proposal and judged.trusted
+    assert abs(judged.optimal_value - chain) < 3 * judged.optimal_value_se
+    assert abs(judged.optimal_value - exact) < 3 * judged.optimal_value_se + abs(chain - exact)
+    assert judged.pareto_k < judged.max_pareto_k
+    rollouts = g.simulate(problem, _push, X0, n_samples=2000, seed=1)
+    assert judged.gap > 3 * judged.gap_se  # the push is far from optimal
+    assert abs(judged.policy_cost - rollouts.mean_cost) < 3 * np.hypot(
+        judged.policy_cost_se, rollouts.standard_error
+    )
+    assert judged.gap_se == pytest.approx(np.hypot(judged.policy_cost_se, judged.optimal_value_se))
+    with pytest.warns(g.CertificateWarning):
+        own = g.certify(problem, _push, X0, n_samples=2000, seed=0)
+    assert own.pareto_k > judged.pareto_k and not own.trusted
+    # a callable proposal is the same as an object with .policy
+    same = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=riccati.policy)
+    assert same.optimal_value == judged.optimal_value and same.policy_cost == judged.policy_cost
+    assert "separate proposal" in judged.summary()
+
+
+def test_without_proposal_the_policy_is_its_own_proposal():
+    # proposal=None keeps one set of samples: the ESS and v* are those of the policy's weights.
+    problem = _point_mass()
+    cert = g.certify(problem, _zero, X0, n_samples=500, seed=3)
+    rollouts = g.simulate(problem, _zero, X0, n_samples=500, seed=3)
+    assert not cert.separate_proposal
+    assert cert.policy_cost == pytest.approx(rollouts.mean_cost, rel=1e-13)
+    with pytest.raises(TypeError, match=r"proposal must have a \.policy"):
+        g.certify(problem, _zero, X0, n_samples=5, proposal="riccati")
+
+
+def test_reflected_certificate_is_the_constrained_problem_the_grid_solves():
+    # The goal (1.5) lies outside the box [−1, 1] and x0 = 0.8 is near its edge: the free process
+    # certifies the problem on R (the Riccati optimum), the reflected one the problem the grid
+    # solves with its edge as a state constraint; the two differ by many SE, and the grid's
+    # prediction agrees with the reflected certificate, not with the free one.
+    grid = g.Grid([g.Axis(-1.0, 1.0, 101)])
+    problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([1.5], [1.0]), temperature=0.5)
+    solution = g.solve(problem)
+    x0 = [0.8]
+    free = g.certify(problem, solution.policy, x0, n_samples=4000, seed=0)
+    reflected = g.certify(problem, solution.policy, x0, n_samples=4000, seed=0, boundary="reflect")
+    chain = _chain_value(problem, np.array(x0))
+    assert abs(free.optimal_value - chain) < 3 * free.optimal_value_se
+    se = np.hypot(free.optimal_value_se, reflected.optimal_value_se)
+    assert reflected.optimal_value - free.optimal_value > 3 * se
+    # The reflected certificate at Δt/2 agrees with the grid's prediction within 3 SE, the Euler
+    # step's O(Δt) bias (estimated by the change from Δt to Δt/2) and the solve's own estimate.
+    half = g.certify(
+        problem, solution.policy, x0, 4000, dt=problem.horizon / 600, seed=1, boundary="reflect"
+    )
+    predicted = float(solution.value(np.array(x0), 0.0))
+    step_bias = abs(half.optimal_value - reflected.optimal_value)
+    tolerance = 3 * half.optimal_value_se + step_bias + float(solution.error_estimate(np.array(x0)))
+    assert abs(predicted - half.optimal_value) < tolerance
+    assert abs(predicted - free.optimal_value) > 3 * free.optimal_value_se + tolerance
+    assert reflected.boundary == "reflect" and "box edges reflect" in reflected.summary()
+    assert np.all(np.abs(reflected.final_states) <= 1.0)
+
+
+COVERAGE_SEEDS = 200
+
+
+@pytest.mark.parametrize("proposal", ["riccati", "zero"])
+def test_interval_covers_the_chain_optimum_at_its_level(proposal):
+    # 200 independent certificates (one start state repeated: each row its own samples); the
+    # share whose 95 % interval holds the chain's exact v* is binomial around 0.95 with SE
+    # √(0.95 · 0.05 / 200): within 3 of them, for a good and a poor proposal.
+    problem = _point_mass()
+    policy = lq_solution(problem).policy if proposal == "riccati" else _zero
+    starts = np.repeat(X0[None], COVERAGE_SEEDS, axis=0)
+    cert = g.certify(problem, policy, starts, n_samples=500, seed=12, progress=False)
+    lower, upper = cert.interval(0.95)
+    chain = _chain_value(problem, X0)
+    covered = np.mean((lower <= chain) & (chain <= upper))
+    assert abs(covered - 0.95) < 3 * np.sqrt(0.95 * 0.05 / COVERAGE_SEEDS)
+    assert np.all(upper <= cert.policy_cost + 1.96 * cert.policy_cost_se + 1e-12)
+
+
+def test_interval_of_one_state_and_its_level():
+    problem = _point_mass()
+    cert = g.certify(problem, _zero, X0, n_samples=400, seed=2)
+    lower, upper = cert.interval(0.95)
+    assert isinstance(lower, float) and lower < cert.optimal_value < upper
+    assert lower == pytest.approx(cert.optimal_value - 1.959964 * cert.optimal_value_se)
+    narrow = cert.interval(0.5)
+    assert lower < narrow[0] < narrow[1] < upper
+    with pytest.raises(ValueError, match="level must lie"):
+        cert.interval(1.0)
+
+
 def test_box_exits_are_counted_as_simulate_counts_them():
     grid = g.Grid([g.Axis(-0.3, 0.3, 11)])
     problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [1.0]))

@@ -10,7 +10,7 @@ from conftest import line
 
 import gridlbc as g
 from gridlbc.reference import lq_solution
-from gridlbc.simulate import _em_kernel, em_step_numpy
+from gridlbc.simulate import _em_kernel, em_step_numpy, reflect_into_box
 from gridlbc.systems import Pendulum, PointMass
 
 
@@ -145,3 +145,52 @@ def test_bad_input(kwargs, error, match):
         g.simulate(**args)
     with pytest.raises(TypeError, match="Problem"):
         g.simulate("problem", _zero, [0.0])
+
+
+def test_reflect_folds_back_as_often_as_needed():
+    # Mirror images at lo and hi: lo − 2.5L → lo + 2.5L → hi − 1.5L = lo − 0.5L → lo + 0.5L.
+    lo, hi = np.array([-1.0, 0.0]), np.array([1.0, 5.0])
+    x = np.array([[-6.0, 1.0], [1.5, 2.0], [0.3, 7.0], [3.2, -0.5]])
+    folded = reflect_into_box(x.copy(), lo, hi, np.array([True, False]))
+    np.testing.assert_allclose(folded[:, 0], [0.0, 0.5, 0.3, -0.8], atol=1e-15)
+    np.testing.assert_array_equal(folded[:, 1], x[:, 1])  # not a closed axis here
+    assert folded[2, 0] == 0.3  # inside: untouched
+
+
+def _free_and_reflected(half_width, temperature, n_samples, seed):
+    """Uncontrolled rollouts from 0 on [−half_width, half_width], free and reflected."""
+    box = g.Grid([g.Axis(-half_width, half_width, 11)])
+    problem = line(11, temperature=temperature)
+    problem = g.Problem(problem.system, box, 1.0, problem.terminal_cost, temperature=temperature)
+    zero = lambda x, t: np.zeros((x.shape[0], 1))  # noqa: E731
+    return tuple(
+        g.simulate(problem, zero, [0.0], n_samples=n_samples, seed=seed, boundary=b)
+        for b in ("free", "reflect")
+    )
+
+
+def test_reflect_keeps_every_sample_in_the_box():
+    # A narrow box and fast noise: most paths reach an edge, none ends up outside it.
+    free, reflected = _free_and_reflected(0.3, 1.0, 400, 2)
+    assert np.any(np.abs(free.states) > 0.3)
+    assert np.all(np.abs(reflected.states) <= 0.3)
+    assert reflected.left_box.mean() > 0.5 and reflected.boundary == "reflect"
+
+
+def test_reflect_far_from_the_edges_changes_nothing():
+    # σ = √(λT) = 0.7 against edges at ±6 (8.5σ): no path reaches them, so the folded and free
+    # rollouts are the same numbers (a state inside the box is never touched).
+    free, reflected = _free_and_reflected(6.0, 0.5, 2000, 3)
+    assert not free.left_box.any()
+    np.testing.assert_array_equal(free.states, reflected.states)
+    np.testing.assert_array_equal(free.costs, reflected.costs)
+
+
+def test_boundary_is_checked():
+    problem = line(11)
+    zero = lambda x, t: np.zeros((x.shape[0], 1))  # noqa: E731
+    with pytest.raises(ValueError, match="boundary must be one of"):
+        g.simulate(problem, zero, [0.0], boundary="wall")
+    free_space = g.Problem(problem.system, None, 1.0, problem.terminal_cost)
+    with pytest.raises(ValueError, match="needs the problem's grid"):
+        g.simulate(free_space, zero, [0.0], boundary="reflect")

@@ -158,6 +158,15 @@ def test_certify_prints_what_gridlbc_certify_computes(tmp_path):
         np.testing.assert_allclose(rows[:, column], expected, rtol=1e-4)  # printed to 5 digits
     assert "certified optimum v*" in result.stdout and result.stderr == ""
     one_line_error(run("certify", str(path)), "--state")
+    reflected = run(
+        "certify", str(path), "--state=0,0", "--samples=200", "--seed=3", "--boundary=reflect"
+    )
+    cert = gridlbc.certify(
+        problem, solution.policy, states[1], n_samples=200, seed=3, boundary="reflect"
+    )
+    assert "box edges reflect" in reflected.stdout
+    v = float(reflected.stdout.splitlines()[-1].split()[1])
+    assert v == pytest.approx(cert.optimal_value, rel=1e-4)
 
 
 @pytest.mark.parametrize(

@@ -184,12 +184,20 @@ def test_fig7_noisy_lbc_is_within_half_of_the_certified_optimum(fig7):
     """With noise (λ = 1), 300 paths at Δt = 0.002: LBC's cost J ± SE against the certified v* ±
     SE from the same paths (gridlbc.certify, LBC as proposal). The claim J ≤ 1.5 v* must hold with
     two standard errors to spare on each side (measured 20.42 ± 0.30 against 19.71 ± 0.14, ratio
-    1.04; with the full DDP gains and no saturation, the previous default, 44.6 ± 8.1)."""
+    1.04; with the full DDP gains and no saturation, the previous default, 44.6 ± 8.1).
+
+    LBC is a poor proposal for v*: its weights have a heavy tail (PSIS k̂ > 0.7), so the
+    certificate warns and is untrusted, and its v* is biased upward (issue 28: an independent
+    estimate with the 51⁴ grid policy as proposal is 18.7–18.9 at this Δt, free box edges). A
+    too-high v* makes J ≤ 1.5 v* easier; against the grid-proposal figure the claim still holds
+    with room (1.5 × 18.7 = 28 against J ≈ 20.4), which this test is too short to recompute."""
     problem, components, _ = fig7
     lbc = gridlbc.combine(components)
-    cert = gridlbc.certify(
-        problem, lbc.policy, GYMNAST_START, n_samples=300, dt=0.002, seed=0, progress=False
-    )
+    with pytest.warns(gridlbc.CertificateWarning, match="heavy tail"):
+        cert = gridlbc.certify(
+            problem, lbc.policy, GYMNAST_START, n_samples=300, dt=0.002, seed=0, progress=False
+        )
+    assert cert.pareto_k > cert.max_pareto_k and not cert.trusted
     assert np.isfinite(cert.policy_cost)
     upper = cert.policy_cost + 2.0 * cert.policy_cost_se
     lower = cert.optimal_value - 2.0 * cert.optimal_value_se
