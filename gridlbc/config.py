@@ -104,7 +104,7 @@ def number(value, key: str) -> float:
     return result
 
 
-def numbers(value, key: str) -> list:
+def numbers(value, key: str) -> list | float:
     """A number or a (nested) list of numbers, each as :func:`number`."""
     if isinstance(value, list):
         return [numbers(v, f"{key}[{i}]") for i, v in enumerate(value)]

@@ -227,11 +227,11 @@ class Problem:
     @property
     def R(self) -> np.ndarray:
         """The control cost matrix, (m, m)."""
-        return self.control_cost
+        return np.asarray(self.control_cost)
 
     @property
     def R_inv(self) -> np.ndarray:
-        return np.linalg.inv(self.control_cost)
+        return np.linalg.inv(np.asarray(self.control_cost))
 
     def terminal_values(self, x=None) -> np.ndarray:
         """g at states (default: the grid nodes), checked finite."""

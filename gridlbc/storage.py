@@ -51,7 +51,7 @@ def memory_estimate(
     its own), working arrays (two float64 copies of z and the terminal data) and the step
     operator; ``"ram"`` sums what must fit in memory (the slices
     live on disk when ``mmap_dir`` is set)."""
-    grid = problem.grid
+    grid = problem.require_grid("solve")
     fitted = settings.reference is not None
     rows = n_rhs + settings.reference_rows(n_rhs)
     stored = n_slices * rows * grid.size * np.dtype(settings.dtype).itemsize  # + log φ, fitted

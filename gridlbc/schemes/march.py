@@ -32,7 +32,7 @@ def open_slices(plan: MarchPlan, terminal: Terminal):
     stored, and the log-scales ``(len(kept), K)``. Returns ``(slices, scales, blocks,
     flushed)``, ``blocks`` the work blocks of :func:`~gridlbc.storage.store_kernel` and
     ``flushed`` the values it flushed to zero."""
-    K, N = terminal.count, plan.problem.grid.size
+    K, N = terminal.count, plan.problem.require_grid("solve").size
     slices = plan.storage(K, len(plan.kept), N)
     scales = np.empty((len(plan.kept), K))
     blocks = np.zeros(work_blocks(N), dtype=np.int64)

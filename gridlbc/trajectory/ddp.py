@@ -132,8 +132,8 @@ def cost_derivatives(
     negative eigenvalues set to zero (the Gauss–Newton model must not reward deviations).
     """
     timed = getattr(cost, "time_dependent", False)
-    if isinstance(cost, (Quadratic, Tracking)):
-        diff = cost.difference(x, t) if timed else cost.difference(x)
+    if isinstance(cost, (Quadratic, Tracking)):  # a Tracking cost is the time-dependent one
+        diff = cost.difference(x, t) if isinstance(cost, Tracking) else cost.difference(x)
         W = cost.weights
         return 2.0 * diff @ W, np.broadcast_to(2.0 * W, (len(x), *W.shape)).copy()
     P, d = x.shape

@@ -59,7 +59,7 @@ def march_fitted(
     slices, scales, blocks, flushed = open_slices(plan, terminal)
     progress = plan.progress_bar("splitting")
     log_phi = RelativeZ(
-        plan.storage(len(kept), plan.problem.grid.size), np.empty(len(kept))
+        plan.storage(len(kept), plan.problem.require_grid("solve").size), np.empty(len(kept))
     )  # log φ at the stored times, shared by the solutions: they are evaluated relative to it
     store_reference(Z[reference], log_scale[reference], log_phi, -1)
     merge = step.cost_factor.size == 0
@@ -124,7 +124,7 @@ def march_log(
     """
     ell, log_scale, kept = terminal.values, float(terminal.log_scale[0]), plan.kept
     cost = step.log_cost[None, :] if step.log_cost.size else None  # C: log z += cost
-    slices = plan.storage(1, len(kept), plan.problem.grid.size)
+    slices = plan.storage(1, len(kept), plan.problem.require_grid("solve").size)
     scales = np.empty((len(kept), 1))
     slot = len(kept) - 1
     slices[0, slot], scales[slot, 0] = ell[0], log_scale
