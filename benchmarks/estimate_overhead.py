@@ -1,39 +1,49 @@
 """What the error estimate costs: the catalogue's default solves with and without it.
 
-In-process, after a warm-up, the shortest of five alternating solves each way, and their ratio.
+In-process, after a warm-up, the shortest of five alternating solves each way, and their ratio
+(docs/accuracy.rst, "Measured").
 
     python benchmarks/estimate_overhead.py
 """
 
+from __future__ import annotations
+
 import time
 import warnings
 
-import gridlbc as g
+import gridlbc
 from gridlbc.studies import problems as P
 
-warnings.simplefilter("ignore")
-cases = [
-    ("swingup 256", P.swingup_problem()),
-    ("mild 128", P.mild_pendulum_problem()),
-    ("steep 201 λ=1", P.steep_swingup_problem()),
-    ("coordination 81", P.coordination_problem()),
-    ("rotor 101", P.rotor_problem()),
-    ("pointmass h=0.1", P.pointmass_problem(0.1)),
-    ("obstacle", P.obstacle_problem()),
-]
-for name, pb in cases:
-    g.solve(pb)
-    g.solve(pb, error_estimate=False)
-    a = []
-    b = []
-    for _ in range(5):
-        t = time.perf_counter()
-        g.solve(pb, error_estimate=False)
-        b.append(time.perf_counter() - t)
-        t = time.perf_counter()
-        g.solve(pb)
-        a.append(time.perf_counter() - t)
-    print(
-        f"{name:18s} without {min(b):.3f}s with {min(a):.3f}s ratio {min(a) / min(b):.2f}",
-        flush=True,
-    )
+CASES = {
+    "swing-up 256²": lambda: P.swingup_problem(),
+    "mild pendulum 128²": lambda: P.mild_pendulum_problem(),
+    "steep swing-up 201²": lambda: P.steep_swingup_problem(),
+    "coordination 81²": lambda: P.coordination_problem(),
+    "rotor 101²": lambda: P.rotor_problem(),
+    "point mass h = 0.1": lambda: P.pointmass_problem(0.1),
+    "obstacle": lambda: P.obstacle_problem(),
+}
+
+
+def _shortest(problem, repeats: int, **options) -> float:
+    walls = []
+    for _ in range(repeats):
+        started = time.perf_counter()
+        gridlbc.solve(problem, **options)
+        walls.append(time.perf_counter() - started)
+    return min(walls)
+
+
+def main(repeats: int = 5) -> None:
+    warnings.simplefilter("ignore", gridlbc.GridlbcWarning)
+    print(f"{'problem':<22}{'without':>10}{'with':>10}{'ratio':>8}")
+    for name, build in CASES.items():
+        problem = build()
+        _shortest(problem, 1)  # compile and warm the caches
+        without = _shortest(problem, repeats, error_estimate=False)
+        with_estimate = _shortest(problem, repeats)
+        print(f"{name:<22}{without:>9.3f}s{with_estimate:>9.3f}s{with_estimate / without:>8.2f}")
+
+
+if __name__ == "__main__":
+    main()
