@@ -54,6 +54,24 @@ def pendulum(
     )
 
 
+def lq_point_mass(n=41):
+    """The linear-quadratic point mass on [−4, 4]² (``n`` nodes per axis), T = 1, λ = 0.5, R = 2,
+    with a state cost: its exact value is gridlbc.reference.lq_solution's (Riccati)."""
+    import gridlbc as g
+    from gridlbc.systems import PointMass
+
+    grid = g.Grid([g.Axis(-4, 4, n), g.Axis(-4, 4, n)])
+    return g.Problem(
+        PointMass(),
+        grid,
+        1.0,
+        g.Quadratic([0, 0], [2, 1]),
+        state_cost=g.Quadratic([0, 0], [0.5, 0.1]),
+        control_cost=2.0,
+        temperature=0.5,
+    )
+
+
 def line(n=41, horizon=1.0, **options):
     """SingleIntegrator on [−3, 3] with ``n`` nodes and g = x²; ``options`` go to Problem."""
     import gridlbc as g

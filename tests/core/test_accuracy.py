@@ -8,26 +8,13 @@ import warnings
 
 import numpy as np
 import pytest
+from conftest import lq_point_mass
 
 import gridlbc as g
 from gridlbc import accuracy
 from gridlbc.reference import lq_solution
-from gridlbc.systems import PointMass
 
 STATES = np.array([[1.0, -0.5], [-1.5, 1.0], [0.5, 1.5]])
-
-
-def _point_mass(n):
-    grid = g.Grid([g.Axis(-4, 4, n), g.Axis(-4, 4, n)])
-    return g.Problem(
-        PointMass(),
-        grid,
-        1.0,
-        g.Quadratic([0, 0], [2, 1]),
-        state_cost=g.Quadratic([0, 0], [0.5, 0.1]),
-        control_cost=2.0,
-        temperature=0.5,
-    )
 
 
 def _quiet_solve(problem, **options):
@@ -37,7 +24,7 @@ def _quiet_solve(problem, **options):
 
 
 def test_the_estimate_does_not_change_the_solution():
-    problem = _point_mass(41)
+    problem = lq_point_mass(41)
     with_estimate = _quiet_solve(problem)
     without = g.solve(problem, error_estimate=False)
     assert with_estimate.embedded is not None and without.embedded is None
@@ -62,7 +49,7 @@ def test_estimate_is_at_least_half_the_true_error_at_nine_in_ten_states(n):
     # difference |v_2h − v_h| bounds the error of a first-order scheme in the asymptotic range,
     # and overestimates second-order parts; it must be at least half the true error at ≥ 90 %
     # of the states that matter.
-    problem = _point_mass(n)
+    problem = lq_point_mass(n)
     solution = _quiet_solve(problem)
     X = accuracy.states_that_matter(solution)
     true_error = np.abs(solution.value(X, 0.0) - lq_solution(problem).value(X, 0.0))
@@ -71,7 +58,7 @@ def test_estimate_is_at_least_half_the_true_error_at_nine_in_ten_states(n):
 
 
 def test_a_long_step_warns_and_tol_brings_the_error_within_it():
-    problem = _point_mass(41)
+    problem = lq_point_mass(41)
     with pytest.warns(g.ResolutionWarning, match="the estimated error of v exceeds"):
         g.solve(problem, dt=0.5)
     solution = _quiet_solve(problem, tol=0.02, states=STATES, dt=0.5)
@@ -82,7 +69,7 @@ def test_a_long_step_warns_and_tol_brings_the_error_within_it():
 
 
 def test_tol_says_what_limits_it():
-    problem = _point_mass(21)
+    problem = lq_point_mass(21)
     with pytest.warns(g.ResolutionWarning, match="max_nodes"):
         g.solve(problem, tol=1e-4, states=STATES, max_nodes=500)
     with pytest.raises(ValueError, match="tol must be"):
@@ -92,7 +79,7 @@ def test_tol_says_what_limits_it():
 
 
 def test_a_combination_carries_its_components_estimates():
-    problem = _point_mass(41)
+    problem = lq_point_mass(41)
     costs = [g.Quadratic([1, 0], [2, 1]), g.Quadratic([-1, 0], [2, 1])]
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", g.ResolutionWarning)

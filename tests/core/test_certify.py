@@ -9,26 +9,13 @@ value :func:`_chain_value` computes in closed form by a discrete Riccati recursi
 
 import numpy as np
 import pytest
-from conftest import ESTIMATE_ABOVE_TOLERANCE
+from conftest import ESTIMATE_ABOVE_TOLERANCE, lq_point_mass
 
 import gridlbc as g
 from gridlbc.reference import lq_solution
-from gridlbc.systems import PointMass, SingleIntegrator
+from gridlbc.systems import SingleIntegrator
 
 N_STEPS = 300  # simulate's default: dt = T / 300
-
-
-def _point_mass(n=41):
-    grid = g.Grid([g.Axis(-4, 4, n), g.Axis(-4, 4, n)])
-    return g.Problem(
-        PointMass(),
-        grid,
-        1.0,
-        g.Quadratic([0, 0], [2, 1]),
-        state_cost=g.Quadratic([0, 0], [0.5, 0.1]),
-        control_cost=2.0,
-        temperature=0.5,
-    )
 
 
 X0 = np.array([1.0, -0.5])
@@ -68,7 +55,7 @@ def _chain_value(problem, x0, n_steps=N_STEPS):
 
 def test_chain_value_converges_to_riccati_at_first_order():
     # The reference itself: O(Δt) from the continuous optimum, so halving Δt halves the distance.
-    problem = _point_mass()
+    problem = lq_point_mass()
     exact = float(lq_solution(problem).value(X0, 0.0))
     errors = [abs(_chain_value(problem, X0, k) - exact) for k in (100, 200, 400)]
     ratios = np.array(errors[:-1]) / np.array(errors[1:])
@@ -77,13 +64,13 @@ def test_chain_value_converges_to_riccati_at_first_order():
 
 @pytest.fixture(scope="module")
 def grid_solution():
-    return g.solve(_point_mass())
+    return g.solve(lq_point_mass())
 
 
 @ESTIMATE_ABOVE_TOLERANCE
 @pytest.mark.parametrize("proposal", ["zero", "grid"])
 def test_lq_optimum_matches_riccati(proposal, grid_solution):
-    problem = _point_mass()
+    problem = lq_point_mass()
     policy = _zero if proposal == "zero" else grid_solution.policy
     cert = g.certify(problem, policy, X0, n_samples=1000, seed=4)
     riccati = float(lq_solution(problem).value(X0, 0.0))
@@ -99,7 +86,7 @@ def test_lq_optimum_matches_riccati(proposal, grid_solution):
 def test_good_proposal_has_smaller_error_and_gap(grid_solution):
     # The grid policy is close to optimal: its weights are nearly uniform (effective sample size
     # near n) and its SE is several times that of zero control, whose gap is clearly positive.
-    problem = _point_mass()
+    problem = lq_point_mass()
     zero = g.certify(problem, _zero, X0, n_samples=1000, seed=5)
     grid = g.certify(problem, grid_solution.policy, X0, n_samples=1000, seed=5)
     assert grid.optimal_value_se < zero.optimal_value_se / 2
@@ -110,7 +97,7 @@ def test_good_proposal_has_smaller_error_and_gap(grid_solution):
 
 def test_bad_policy_gives_right_optimum_with_larger_error_and_positive_gap():
     # Pushing the wrong way at constant force: the proposal is poor, yet v* is still the optimum.
-    problem = _point_mass()
+    problem = lq_point_mass()
     chain = _chain_value(problem, X0)
     zero = g.certify(problem, _zero, X0, n_samples=4000, seed=6)
     bad = g.certify(problem, lambda x, t: np.full((x.shape[0], 1), 0.6), X0, n_samples=4000, seed=6)
@@ -157,7 +144,7 @@ def test_small_temperature_does_not_underflow():
 
 
 def test_seed_reproduces_and_several_states_share_the_convention():
-    problem = _point_mass()
+    problem = lq_point_mass()
     a = g.certify(problem, _zero, X0, n_samples=300, seed=3)
     b = g.certify(problem, _zero, X0, n_samples=300, seed=3)
     c = g.certify(problem, _zero, X0, n_samples=300, seed=4)
@@ -175,7 +162,7 @@ def test_seed_reproduces_and_several_states_share_the_convention():
 
 
 def test_few_effective_samples_warn_and_flag_the_summary():
-    problem = _point_mass()
+    problem = lq_point_mass()
     with pytest.warns(g.CertificateWarning, match="proposal closer to optimal.*more samples.*λ"):
         cert = g.certify(
             problem, lambda x, t: np.full((x.shape[0], 1), 3.0), X0, n_samples=200, seed=1
@@ -187,7 +174,7 @@ def test_heavy_weight_tail_is_flagged_where_the_effective_sample_size_passes():
     # A constant push of 1.5 against the optimum: with 20 000 samples the effective sample size
     # clears its threshold, but the weights' tail is heavy (PSIS k̂ > 0.7), so the certificate is
     # untrusted and the warning says that a better proposal, not more samples, is the fix.
-    problem = _point_mass()
+    problem = lq_point_mass()
     with pytest.warns(g.CertificateWarning, match="heavy tail.*not fix.*grid solution"):
         cert = g.certify(
             problem, lambda x, t: np.full((x.shape[0], 1), 1.5), X0, n_samples=20_000, seed=0
@@ -201,7 +188,7 @@ def test_tail_shape_is_light_for_good_proposals():
     # The Riccati policy is optimal for the SDE: S_u varies only by the chain's O(Δt), so the
     # weights are nearly constant and k̂ < 0.5 (reliable); zero control is poorer but its weights
     # are log-normal-like, still light-tailed (k̂ < 0.5), and both certificates are trusted.
-    problem = _point_mass()
+    problem = lq_point_mass()
     riccati = g.certify(problem, lq_solution(problem).policy, X0, n_samples=2000, seed=0)
     zero = g.certify(problem, _zero, X0, n_samples=2000, seed=0)
     assert riccati.pareto_k < 0.5 and zero.pareto_k < 0.5
@@ -217,7 +204,7 @@ def test_poor_policy_judged_under_a_good_proposal():
     # J of the poor policy by plain Monte Carlo, v* under the Riccati proposal: v* is as tight as
     # Riccati's own certificate and its tail light, where the poor policy as its own proposal has
     # a heavy tail. The gap's SE is that of two independent estimates.
-    problem = _point_mass()
+    problem = lq_point_mass()
     riccati = lq_solution(problem)
     judged = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=riccati)
     chain = _chain_value(problem, X0)
@@ -243,7 +230,7 @@ def test_poor_policy_judged_under_a_good_proposal():
 
 def test_without_proposal_the_policy_is_its_own_proposal():
     # proposal=None keeps one set of samples: the ESS and v* are those of the policy's weights.
-    problem = _point_mass()
+    problem = lq_point_mass()
     cert = g.certify(problem, _zero, X0, n_samples=500, seed=3)
     rollouts = g.simulate(problem, _zero, X0, n_samples=500, seed=3)
     assert not cert.separate_proposal
@@ -289,7 +276,7 @@ def test_interval_covers_the_chain_optimum_at_its_level(proposal):
     # 200 independent certificates (one start state repeated: each row its own samples); the
     # share whose 95 % interval holds the chain's exact v* is binomial around 0.95 with SE
     # √(0.95 · 0.05 / 200): within 3 of them, for a good and a poor proposal.
-    problem = _point_mass()
+    problem = lq_point_mass()
     policy = lq_solution(problem).policy if proposal == "riccati" else _zero
     starts = np.repeat(X0[None], COVERAGE_SEEDS, axis=0)
     cert = g.certify(problem, policy, starts, n_samples=500, seed=12, progress=False)
@@ -301,7 +288,7 @@ def test_interval_covers_the_chain_optimum_at_its_level(proposal):
 
 
 def test_interval_of_one_state_and_its_level():
-    problem = _point_mass()
+    problem = lq_point_mass()
     cert = g.certify(problem, _zero, X0, n_samples=400, seed=2)
     lower, upper = cert.interval(0.95)
     assert isinstance(lower, float) and lower < cert.optimal_value < upper
@@ -323,11 +310,17 @@ def test_box_exits_are_counted_as_simulate_counts_them():
 
 def test_progress_bar_on_request(capsys):
     g.certify(
-        _point_mass(), _zero, X0, n_samples=10, seed=0, progress=True, min_effective_sample_size=1
+        lq_point_mass(), _zero, X0, n_samples=10, seed=0, progress=True, min_effective_sample_size=1
     )
     assert "300/300 steps" in capsys.readouterr().err
     g.certify(
-        _point_mass(), _zero, X0, n_samples=10, seed=0, progress=False, min_effective_sample_size=1
+        lq_point_mass(),
+        _zero,
+        X0,
+        n_samples=10,
+        seed=0,
+        progress=False,
+        min_effective_sample_size=1,
     )
     assert capsys.readouterr().err == ""
 
@@ -348,4 +341,4 @@ def test_progress_bar_on_request(capsys):
 def test_bad_input_is_named(kwargs, error, match):
     args = {"policy": _zero, "x0": X0, "n_samples": 1} | kwargs
     with pytest.raises(error, match=match):
-        g.certify(_point_mass(11), args.pop("policy"), args.pop("x0"), **args)
+        g.certify(lq_point_mass(11), args.pop("policy"), args.pop("x0"), **args)
