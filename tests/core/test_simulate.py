@@ -6,12 +6,12 @@ is exactly zero for the linear systems used where stated, O(Δt) otherwise.
 
 import numpy as np
 import pytest
-from conftest import line
+from conftest import line, lq_point_mass
 
 import gridlbc as g
 from gridlbc.reference import lq_solution
 from gridlbc.simulate import _em_kernel, em_step_numpy, reflect_into_box
-from gridlbc.systems import Pendulum, PointMass
+from gridlbc.systems import Pendulum
 
 
 def _line(temperature=1.0, control_cost=1.0, horizon=1.0, state_cost=None, n=41):
@@ -101,16 +101,7 @@ def test_grid_policy_cost_matches_riccati():
     # The grid policy's mean cost vs the exact optimum: within 3 SE plus the discretisation error
     # |v_grid − v_riccati| measured at this grid (the policy error enters the cost only at second
     # order, so this is generous). The Riccati policy itself must match within 3 SE + O(Δt) bias.
-    grid = g.Grid([g.Axis(-4, 4, 61), g.Axis(-4, 4, 61)])
-    problem = g.Problem(
-        PointMass(),
-        grid,
-        1.0,
-        g.Quadratic([0, 0], [2, 1]),
-        state_cost=g.Quadratic([0, 0], [0.5, 0.1]),
-        control_cost=2.0,
-        temperature=0.5,
-    )
+    problem = lq_point_mass(61)
     x0 = np.array([1.0, -0.5])
     exact = lq_solution(problem)
     v_exact = float(exact.value(x0, 0.0))
