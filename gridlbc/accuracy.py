@@ -376,7 +376,8 @@ def solve_to_tolerance(
     (:func:`assess`). If it exceeds ``tol``, a solve at 2Δt on the same grid measures the time
     step's share ê_t = abs(v_{h,2Δt} − v_{h,Δt}): where ê_t is at least half the estimate, Δt is
     halved; otherwise every axis is refined (h → h/2, :func:`refined_grid`, with the scheme's
-    default step for it, never longer than the current one), unless that would exceed
+    default step for the finer grid, or the current Δt once it has been set or halved), unless
+    that would exceed
     ``max_nodes`` or the memory, in which case Δt is halved instead and the limit is reported.
 
     Parameters
