@@ -5,7 +5,7 @@ solves a linear PDE (paper §3.2); solved on a grid, it gives the optimal value 
 and solutions for different terminal costs superpose into new optimal controllers.
 """
 
-from . import costs, reference, systems, trajectory
+from . import costs, reference, regions, systems, trajectory
 from .certify import Certificate, certify
 from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
@@ -23,7 +23,7 @@ from .project import Projection, project, projection
 from .schemes import METHODS
 from .settings import PRESETS, SolverSettings
 from .simulate import Rollouts, simulate
-from .solution import Solution, SolveDiagnostics
+from .solution import Solution, SolveDiagnostics, StationarySolution
 from .solver import solve, solve_many
 from .sweep import SweepMember, sweep  # imports Dask only when a sweep runs
 
@@ -49,6 +49,7 @@ __all__ = [
     "Solution",
     "SolveDiagnostics",
     "SolverSettings",
+    "StationarySolution",
     "SweepMember",
     "UnderflowWarning",
     "certify",
@@ -59,6 +60,7 @@ __all__ = [
     "project",
     "projection",
     "reference",
+    "regions",
     "save",
     "simulate",
     "solve",

@@ -422,7 +422,7 @@ def certify(
     n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
     starts = problem.wrap(problem.check_states(x0, "x0"))
-    K = step_count(problem.horizon, dt)
+    K = step_count(problem.require_horizon("certify"), dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
     runs = 1 if proposal is None else 2
@@ -488,7 +488,7 @@ def certify(
         **{name: float(c[0]) if single else c for name, c in estimates.items()},
         final_states=final[0] if single else final,
         n_samples=n,
-        dt=problem.horizon / K,
+        dt=problem.require_horizon("certify") / K,
         temperature=lam,
         min_effective_sample_size=float(min_effective_sample_size),
         max_pareto_k=float(max_pareto_k),

@@ -92,7 +92,9 @@ def _problem_differences(p0: Problem, p: Problem) -> list[str]:
     if p.system != p0.system:
         differs.append(f"system ({p0.system!r} vs {p.system!r})")
     if p.horizon != p0.horizon:
-        differs.append(f"horizon ({p0.horizon:g} vs {p.horizon:g})")
+        differs.append(f"horizon ({p0.horizon!r} vs {p.horizon!r})")
+    if (p.exit is None) != (p0.exit is None):
+        differs.append("exit set (one has none)")
     if p.temperature != p0.temperature:
         differs.append(f"temperature λ ({p0.temperature:g} vs {p.temperature:g})")
     if not np.array_equal(p.R, p0.R):
@@ -123,11 +125,14 @@ def check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
             nodes = p0.grid.nodes() if nodes is None else nodes  # built once, only if needed
             if not _same_cost(p.state_cost, p0.state_cost, nodes):
                 differs.append("state cost q (values differ at the grid nodes)")
+        both_exit = p.exit is not None and p0.exit is not None
+        if p.grid == p0.grid and both_exit and not np.array_equal(p.exit_mask(), p0.exit_mask()):
+            differs.append("exit set E (different nodes)")
         if differs:
             raise ValueError(
                 f"solutions[{i}] and solutions[0] must solve the same PDE to combine, but differ "
-                f"in: {'; '.join(differs)}. Only the terminal cost may differ (gridlbc.solve_many "
-                "solves several terminal costs consistently)."
+                f"in: {'; '.join(differs)}. Only the terminal and exit costs may differ "
+                "(gridlbc.solve_many solves several terminal costs consistently)."
             )
         if not np.array_equal(s.times, ref.times):
             operators.append(
@@ -268,7 +273,7 @@ class CombinedSolution(FieldEvaluation):
         return Fields(None, L, z.sum(axis=0), None, g.sum(axis=0) if gradient else None)
 
     @state_evaluation
-    def blend_weights(self, x, t) -> np.ndarray:
+    def blend_weights(self, x, t=0.0) -> np.ndarray:
         """α_i(x, t) = w_i z_i / Σ_j w_j z_j, shape ``(N, n)`` (``(n,)`` for one state):
         non-negative and summing to one when the weights are; NaN (with an UnderflowWarning) where Σ
         w_j z_j underflowed."""
@@ -330,7 +335,7 @@ class Combination:
         return top, terms, terms.sum(axis=0)
 
     @state_evaluation
-    def log_desirability(self, x, t) -> np.ndarray:
+    def log_desirability(self, x, t=0.0) -> np.ndarray:
         """log Σ w_i z_i(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``) (−inf, with an
         UnderflowWarning, where it is not positive)."""
         top, _, total = self._scaled(x, t)
@@ -340,19 +345,19 @@ class Combination:
             return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, total)) + top)
 
     @state_evaluation
-    def desirability(self, x, t) -> np.ndarray:
+    def desirability(self, x, t=0.0) -> np.ndarray:
         """z = Σ w_i z_i, shape ``(N,)`` (a scalar for one state ``(d,)``) (may underflow: use
         :meth:`value`)."""
         with np.errstate(under="ignore", over="ignore"):
             return np.exp(self.log_desirability(x, t))
 
     @state_evaluation
-    def value(self, x, t) -> np.ndarray:
+    def value(self, x, t=0.0) -> np.ndarray:
         """v = −λ log Σ w_i z_i, shape ``(N,)`` (a scalar for one state ``(d,)``)."""
         return -self.temperature * self.log_desirability(x, t)
 
     @state_evaluation
-    def blend_weights(self, x, t) -> np.ndarray:
+    def blend_weights(self, x, t=0.0) -> np.ndarray:
         """α_i(x, t), shape ``(N, n)`` (``(n,)`` for one state) (NaN, with an UnderflowWarning,
         where Σ w_j z_j ≤ 0)."""
         return _normalised(self._scaled(x, t)[1])
@@ -364,7 +369,7 @@ class Combination:
         return combined_error(self.components, self.blend_weights(x, t), x, t)
 
     @state_evaluation
-    def policy(self, x, t) -> np.ndarray:
+    def policy(self, x, t=0.0) -> np.ndarray:
         """u = Σ α_i u_i, shape ``(N, m)`` (``(m,)`` for one state); components with α_i = 0 are not
         evaluated there."""
         alpha = self.blend_weights(x, t)
@@ -455,24 +460,32 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
     if all(isinstance(c, Solution) for c in components):
         solutions, operators = check_components(components)
         w = check_weights(weights, len(solutions))
-        base = solutions[0].problem
-        cost = CompositeCost(tuple(s.problem.terminal_cost for s in solutions), w, base.temperature)
+        problem = composite_problem(solutions, w)
         if not operators:
-            return CombinedSolution(solutions, w, base.replace(terminal_cost=cost))
-        return Combination(
-            solutions, w, base.replace(terminal_cost=cost), f"{'; '.join(operators)}: {EXACT_HINT}"
-        )
+            return CombinedSolution(solutions, w, problem)
+        return Combination(solutions, w, problem, f"{'; '.join(operators)}: {EXACT_HINT}")
     components = _check_general_components(components)
     w = check_weights(weights, len(components))
-    base = components[0].problem
-    cost = CompositeCost(tuple(c.problem.terminal_cost for c in components), w, base.temperature)
     kinds = sorted({type(c).__name__ for c in components})
     return Combination(
         components,
         w,
-        base.replace(terminal_cost=cost),
+        composite_problem(components, w),
         f"components of kinds {', '.join(kinds)} combine through their values",
     )
+
+
+def composite_problem(components, w: np.ndarray) -> Problem:
+    """The problem a combination solves: the components' with each cost paid at the end (the
+    terminal cost, and the exit cost of a first-exit problem) replaced by its
+    :class:`CompositeCost`."""
+    base = components[0].problem
+    ends = {}
+    for name in ("terminal_cost", "exit_cost"):
+        if getattr(base, name) is not None:
+            costs = tuple(getattr(c.problem, name) for c in components)
+            ends[name] = CompositeCost(costs, w, base.temperature)
+    return base.replace(**ends)
 
 
 BLEND_MODES = ("average", "sum")
@@ -499,7 +512,7 @@ class NaiveBlend:
     weights: np.ndarray
     mode: str = "average"
 
-    def policy(self, x, t) -> np.ndarray:
+    def policy(self, x, t=0.0) -> np.ndarray:
         """u(x, t) = Σ w_i u_i(x, t) / Σ w_i (or Σ w_i u_i(x, t)), shape ``(N, m)``."""
         u = [np.asarray(c.policy(x, t), dtype=float) for c in self.components]
         shapes = {a.shape for a in u}

@@ -96,6 +96,34 @@ class Quadratic:
         return f"Quadratic(center={self.center.tolist()}, weights={np.asarray(w).tolist()})"
 
 
+@dataclass(frozen=True)
+class Constant:
+    """The cost c(x) = value everywhere (an exit cost given as a number).
+
+    Parameters
+    ----------
+    value : float
+        The constant, finite.
+    dim : int
+        The state's coordinates.
+    """
+
+    value: float
+    dim: int
+
+    def __post_init__(self):
+        try:
+            value = float(self.value)
+        except (TypeError, ValueError):
+            raise TypeError(f"a constant cost must be a number, got {self.value!r}") from None
+        if not np.isfinite(value):
+            raise ValueError(f"a constant cost must be finite, got {value}")
+        object.__setattr__(self, "value", value)
+
+    def __call__(self, x) -> np.ndarray:
+        return np.full(np.shape(x)[0], self.value)
+
+
 def wrap_angle(angles) -> np.ndarray:
     """Angles (radians) to the nearest image of 0, in [−π, π).
 

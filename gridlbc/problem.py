@@ -25,8 +25,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._numba import jit
-from .costs import Quadratic, Tracking, evaluate_cost, wrap_angle
+from .costs import Constant, Quadratic, Tracking, evaluate_cost, wrap_angle
 from .grid import Grid, check_states
+from .regions import bind_periods, check_region, region_mask
 from .systems.base import ControlAffineSystem
 
 
@@ -63,9 +64,24 @@ def _positive_float(name: str, value) -> float:
     return value
 
 
+AVERAGE = "average"
+"""``horizon=AVERAGE``: the average-cost problem (SPEC §9), a task that goes on forever."""
+
+
+def _horizon(value) -> float | str | None:
+    if value is None or (isinstance(value, str) and value == AVERAGE):
+        return value
+    if isinstance(value, str):
+        raise TypeError(
+            f"horizon must be a time T > 0, None (first exit) or {AVERAGE!r}, got {value!r}"
+        )
+    return _positive_float("horizon", value)
+
+
 @dataclass(frozen=True, eq=False)
 class Problem:
-    """A system, a grid, a horizon and the costs; the input to :func:`gridlbc.solve`.
+    """A system, a grid, a horizon or an exit set, and the costs; the input to
+    :func:`gridlbc.solve`.
 
     Parameters
     ----------
@@ -75,11 +91,15 @@ class Problem:
         The state-space box; one axis per state coordinate. ``None`` for a grid-free problem
         (trajectory methods, :func:`gridlbc.simulate`): no box, and :func:`gridlbc.solve`
         refuses it.
-    horizon : float
-        T > 0, in the system's time unit.
-    terminal_cost : callable
-        g(x) on ``(N, d)`` states, e.g. :class:`gridlbc.costs.Quadratic`. Quadratic costs are made
-        wrap-aware on the periodic axes.
+    horizon : float, None or "average"
+        T > 0, in the system's time unit. ``None``: a stationary first-exit problem, which ends
+        when the state enters ``exit`` (SPEC §9, docs page :doc:`first_exit`). ``"average"``: the
+        average-cost problem, which never ends: the solution is the optimal cost per unit time
+        and the relative value.
+    terminal_cost : callable, optional
+        g(x) on ``(N, d)`` states, e.g. :class:`gridlbc.costs.Quadratic`, paid at T; required
+        with a horizon T, and absent without one. Quadratic costs are made wrap-aware on the
+        periodic axes.
     state_cost : callable, optional
         q(x) ≥ 0 on ``(N, d)`` states; zero when omitted. A cost with ``time_dependent = True``
         (:class:`gridlbc.costs.Tracking`) is q(x, t): trajectory methods and
@@ -92,16 +112,25 @@ class Problem:
         The periodic coordinates (angles: period 2π, wrapped into [−π, π)) of a grid-free
         problem; default the system's ``angle_axes``, ``()`` for none. With a grid, the grid's
         periodic axes decide (give ``periodic`` only to restate them).
+    exit : region or callable, optional
+        The exit set E: the task ends when the state first enters it (at τ), paying
+        ``exit_cost`` there. A :mod:`gridlbc.regions` shape (``Box``, ``Ball``, ``a | b``) or
+        any callable returning a boolean mask ``(N,)`` of states ``(N, d)``. With a horizon T as
+        well, the task ends at min(τ, T).
+    exit_cost : callable or float, optional
+        g_E(x), finite, paid on entering E (default 0).
     """
 
     system: ControlAffineSystem
     grid: Grid | None
-    horizon: float
-    terminal_cost: Callable[..., np.ndarray]
+    horizon: float | str | None
+    terminal_cost: Callable[..., np.ndarray] | None = None
     state_cost: Callable[..., np.ndarray] | None = None
     control_cost: float | ArrayLike = 1.0
     temperature: float = 1.0
     periodic: tuple[int, ...] | None = None
+    exit: Callable[..., np.ndarray] | None = None
+    exit_cost: Callable[..., np.ndarray] | float | None = None
 
     def __post_init__(self):
         sys, grid = self.system, self.grid
@@ -123,12 +152,93 @@ class Problem:
             return object.__setattr__(self, k, v)
 
         set_("periodic", self._check_periodic(self.periodic))
-        set_("horizon", _positive_float("horizon", self.horizon))
+        set_("horizon", _horizon(self.horizon))
         set_("temperature", _positive_float("temperature", self.temperature))
         set_("control_cost", _control_cost_matrix(self.control_cost, sys.control_dim))
-        set_("terminal_cost", self._bind_cost(self.terminal_cost, "terminal_cost"))
+        self._check_ending()
+        if self.terminal_cost is not None:
+            set_("terminal_cost", self._bind_cost(self.terminal_cost, "terminal_cost"))
         if self.state_cost is not None:
             set_("state_cost", self._bind_cost(self.state_cost, "state_cost"))
+        if self.exit is not None:
+            region = check_region(self.exit, sys.state_dim)
+            set_("exit", bind_periods(region, self.periods))
+            cost = 0.0 if self.exit_cost is None else self.exit_cost
+            cost = Constant(cost, sys.state_dim) if not callable(cost) else cost
+            set_("exit_cost", self._bind_cost(cost, "exit_cost"))
+
+    def _check_ending(self) -> None:
+        """How the task ends is stated once: a horizon with a terminal cost, an exit set, or
+        forever (``"average"``)."""
+        h, g, E = self.horizon, self.terminal_cost, self.exit
+        if self.exit_cost is not None and E is None:
+            raise ValueError("exit_cost is paid on entering the exit set: give exit= as well")
+        if h == AVERAGE:
+            if E is not None or g is not None:
+                raise ValueError(
+                    "an average-cost problem (horizon='average') never ends: drop exit= and "
+                    "terminal_cost (give horizon=None for a first-exit problem)"
+                )
+        elif h is None:
+            if E is None:
+                raise ValueError(
+                    "horizon=None poses a first-exit problem: give its exit set exit=E (a "
+                    "gridlbc.regions shape or a mask function), or horizon='average' for a task "
+                    "that goes on forever, or a horizon T"
+                )
+            if g is not None:
+                raise ValueError(
+                    "terminal_cost is paid at the horizon T, and this problem has none "
+                    "(horizon=None): the first-exit cost is exit_cost"
+                )
+        elif g is None:
+            raise ValueError(
+                f"terminal_cost is required with a horizon (T = {h:g}): give g(x), e.g. "
+                "gridlbc.costs.Quadratic(center, weights)"
+            )
+
+    @property
+    def stationary(self) -> bool:
+        """Whether the problem has no horizon (first exit with ``horizon=None``, or average
+        cost): its solution does not depend on time."""
+        return self.horizon is None or self.horizon == AVERAGE
+
+    @property
+    def average_cost(self) -> bool:
+        """Whether this is the average-cost problem (``horizon="average"``)."""
+        return self.horizon == AVERAGE
+
+    def exit_mask(self, x=None) -> np.ndarray:
+        """Which states (default: the grid nodes) lie in the exit set E, boolean ``(N,)`` (all
+        False without one)."""
+        x = self.require_grid("exit_mask()").nodes() if x is None else self.check_states(x)
+        if self.exit is None:
+            return np.zeros(x.shape[0], dtype=bool)
+        return region_mask(self.exit, x)
+
+    def exit_values(self, x=None) -> np.ndarray:
+        """g_E at states (default: the grid nodes), checked finite."""
+        x = self.require_grid("exit_values()").nodes() if x is None else self.check_states(x)
+        if self.exit_cost is None:
+            raise ValueError("this problem has no exit set (exit=None), so no exit cost")
+        return evaluate_cost(self.exit_cost, x, "exit_cost")
+
+    def require_horizon(self, what: str) -> float:
+        """T as a float, or a clear error naming ``what`` needs a horizon."""
+        if self.horizon is None or isinstance(self.horizon, str):
+            raise ValueError(
+                f"{what} needs a horizon T, and this problem has none (horizon="
+                f"{self.horizon!r}: a first-exit or average-cost problem)"
+            )
+        return float(self.horizon)
+
+    def require_terminal_cost(self, what: str) -> Callable[..., np.ndarray]:
+        """g, or a clear error naming ``what`` needs a terminal cost."""
+        if self.terminal_cost is None:
+            raise ValueError(
+                f"{what} needs a terminal cost g(x), and this problem has none (no horizon)"
+            )
+        return self.terminal_cost
 
     def _check_periodic(self, periodic) -> tuple[int, ...] | None:
         if periodic is None:
@@ -236,6 +346,11 @@ class Problem:
     def terminal_values(self, x=None) -> np.ndarray:
         """g at states (default: the grid nodes), checked finite."""
         x = self.require_grid("terminal_values()").nodes() if x is None else self.check_states(x)
+        if self.terminal_cost is None:
+            raise ValueError(
+                "this problem has no terminal cost (no horizon): a first-exit problem pays "
+                "exit_cost on its exit set"
+            )
         return evaluate_cost(self.terminal_cost, x, "terminal_cost")
 
     def state_cost_values(self, x=None, t=None) -> np.ndarray:
@@ -312,9 +427,15 @@ class Problem:
             if self.grid is not None
             else f"no grid (periodic {list(self.periodic_axes)})"
         )
-        return (
-            f"{type(self.system).__name__} on {where}, T={self.horizon:g}, λ={self.temperature:g}"
-        )
+        if self.horizon is None:
+            ending = f"first exit to {self.exit!r}"
+        elif self.horizon == AVERAGE:
+            ending = "average cost"
+        else:
+            ending = f"T={self.horizon:g}" + (
+                f", exit to {self.exit!r}" if self.exit is not None else ""
+            )
+        return f"{type(self.system).__name__} on {where}, {ending}, λ={self.temperature:g}"
 
 
 @jit

@@ -60,6 +60,8 @@ class Stencil:
         The time's position in it, θ ∈ [0, 1].
     input_matrix : ndarray (N, d+1, d, m) or None
         B at the simplices' vertices; ``None`` when no gradient is wanted.
+    steady : bool
+        A stationary solution's stencil: one stored slice, no time (``slot`` 0, ``theta`` 0).
     """
 
     grid: Grid
@@ -68,10 +70,13 @@ class Stencil:
     slot: int
     theta: float
     input_matrix: np.ndarray | None = None
+    steady: bool = False
 
     @property
     def time_weights(self) -> np.ndarray:
-        """(1 − θ, θ), the weights of the two slices around the time."""
+        """(1 − θ, θ), the weights of the two slices around the time ((1,) when steady)."""
+        if self.steady:
+            return np.ones(1)
         return np.array([1.0 - self.theta, self.theta])
 
     @property
@@ -80,8 +85,9 @@ class Stencil:
         return self.input_matrix is not None
 
     def pair(self, slices: np.ndarray) -> np.ndarray:
-        """The two stored slices ``(2, size)`` around the time (a view, not a copy)."""
-        return slices[self.slot : self.slot + 2]
+        """The two stored slices ``(2, size)`` around the time (a view, not a copy); the one
+        slice ``(1, size)`` when steady."""
+        return slices[self.slot : self.slot + (1 if self.steady else 2)]
 
     def interpolate(self, at_vertices: np.ndarray, time_weights: np.ndarray) -> np.ndarray:
         """Σ_s τ_s Σ_v w_v f_s(vertex v), ``(N,)``, from values at the vertices ``(2, N, d+1)``."""
@@ -101,7 +107,7 @@ class Stencil:
         g = np.zeros((self.nodes.shape[0], B.shape[-1]))
         for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
             d = node_gradient(self.grid, pair, self.nodes.ravel(), int(k), log_divisor=log_divisor)
-            d = np.einsum("s,snv->nv", time_weights, d.reshape((2, *self.nodes.shape)))
+            d = np.einsum("s,snv->nv", time_weights, d.reshape((len(pair), *self.nodes.shape)))
             g += np.einsum("nv,nvm,nv->nm", self.weights, B[:, :, k, :], d)
         return g
 

@@ -259,7 +259,7 @@ def simulate(
     """
     check_problem_and_policy(problem, policy)
     x = _initial_states(problem, x0, n_samples)
-    K = step_count(problem.horizon, dt)
+    K = step_count(problem.require_horizon("simulate"), dt)
     n, d, m = x.shape[0], problem.system.state_dim, problem.system.control_dim
     states = np.empty((n, K + 1, d))
     controls = np.empty((n, K, m))
@@ -389,7 +389,7 @@ def euler_maruyama(
     SamplePaths
     """
     reflect = check_boundary(problem, boundary) == "reflect"
-    T = problem.horizon
+    T = problem.require_horizon("simulate")
     step = T / n_steps
     grid, system = problem.grid, problem.system
     n, m = x.shape[0], system.control_dim

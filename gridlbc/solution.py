@@ -150,13 +150,13 @@ class FieldEvaluation:
         return self.fields(x, t, gradient).scaled()
 
     @state_evaluation
-    def log_desirability(self, x, t) -> np.ndarray:
+    def log_desirability(self, x, t=0.0) -> np.ndarray:
         """log z(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``) (−inf where z underflowed,
         with an UnderflowWarning)."""
         return self.fields(x, t, gradient=False).log_desirability()
 
     @state_evaluation
-    def desirability(self, x, t) -> np.ndarray:
+    def desirability(self, x, t=0.0) -> np.ndarray:
         """z(x, t) = exp(−v/λ), shape ``(N,)`` (a scalar for one state ``(d,)``). May underflow to 0
         far from the goal: use :meth:`log_desirability` or :meth:`value` for the full range."""
         L, z, _ = self.scaled_fields(x, t, gradient=False)
@@ -164,13 +164,13 @@ class FieldEvaluation:
             return z * np.exp(L)
 
     @state_evaluation
-    def value(self, x, t) -> np.ndarray:
+    def value(self, x, t=0.0) -> np.ndarray:
         """Optimal cost-to-go v(x, t) = −λ log z(x, t), shape ``(N,)`` (a scalar for one state
         ``(d,)``)."""
         return -self.temperature * self.log_desirability(x, t)
 
     @state_evaluation
-    def policy(self, x, t) -> np.ndarray:
+    def policy(self, x, t=0.0) -> np.ndarray:
         """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v, shape ``(N, m)`` (``(m,)`` for one
         state)."""
         return self.fields(x, t).policy(self.temperature, self.problem.R_inv)
@@ -298,7 +298,9 @@ class Solution(FieldEvaluation):
         at the vertices when ``gradient`` (:class:`~gridlbc.representation.Stencil`)."""
         grid = self.grid
         x = grid.check_states(x)
-        j, theta = bracket(self.times, check_time(t, self.problem.horizon))
+        j, theta = bracket(
+            self.times, check_time(t, self.problem.require_horizon("a time-dependent solution"))
+        )
         idx, bw = barycentric(grid, x)
         return Stencil(grid, idx, bw, j, theta, self._input_matrix_at(idx) if gradient else None)
 
@@ -307,3 +309,27 @@ class Solution(FieldEvaluation):
         ``x`` ``(N, d)``, time ``t`` (the gradients, for the policy, only when ``gradient``)."""
         stencil = self.stencil(x, t, gradient)
         return self.representation.fields(stencil, self.slices, self.log_scales)
+
+
+@dataclass(frozen=True, eq=False)
+class StationarySolution(Solution):
+    """The solved desirability of a stationary problem (SPEC §9, :mod:`gridlbc.stationary`): a
+    first-exit problem without a horizon, or the average-cost problem. One stored slice and no
+    time: ``value(x)``, ``policy(x)``, ``desirability(x)`` accept a time ``t`` and ignore it.
+
+    Attributes
+    ----------
+    average_cost : float or None
+        The optimal cost per unit time c of an average-cost problem (its value is then the
+        relative value h, min 0); None for first exit.
+    """
+
+    average_cost: float | None = None
+
+    def stencil(self, x, t=0.0, gradient: bool = True) -> Stencil:
+        """The simplices of states ``x`` ``(N, d)`` (``t`` is ignored)."""
+        grid = self.grid
+        x = grid.check_states(x)
+        idx, bw = barycentric(grid, x)
+        B = self._input_matrix_at(idx) if gradient else None
+        return Stencil(grid, idx, bw, 0, 0.0, B, steady=True)

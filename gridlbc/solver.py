@@ -17,6 +17,7 @@ is :mod:`gridlbc.settings`; where the slices live is :mod:`gridlbc.storage`.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import math
 import numbers
@@ -34,9 +35,11 @@ from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
 from .grid import flat_chunks
 from .problem import Problem
+from .schemes import METHODS
 from .schemes.protocol import Marched, MarchPlan, Terminal
 from .settings import SolverSettings, is_own_reference, resolve_settings
 from .solution import OperatorSignature, Solution, SolveDiagnostics
+from .stationary import exit_nodes, solve_stationary
 from .storage import check_memory, memory_estimate
 
 
@@ -93,6 +96,9 @@ def _terminal_data(problem: Problem, terminal_costs, log: bool = False):
     for r, cost in enumerate(terminal_costs):
         g = Z[r]  # g, then in place −(g − min g)/λ, then its exp
         g[:] = problem.grid.node_values(problem.replace(terminal_cost=cost).terminal_values)
+        if problem.exit is not None:  # the task ends on entering E, paying g_E there
+            exit_nodes = problem.exit_mask()
+            g[exit_nodes] = problem.exit_values()[exit_nodes]
         g_min = g.min()
         np.negative(np.subtract(g, g_min, out=g), out=g)
         np.divide(g, lam, out=g)
@@ -154,12 +160,22 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
+    if problem.stationary:
+        raise ValueError(
+            "solve_many marches several terminal costs over one horizon; this problem has none "
+            "(first exit or average cost): solve each exit cost with gridlbc.solve, one operator "
+            "for all (they combine exactly)"
+        )
     terminal_costs = list(terminal_costs)
     if not terminal_costs:
         raise ValueError("terminal_costs is empty: give at least one terminal cost")
     s = resolve_settings(settings, options)
+    if problem.exit is not None and not s.scheme.supports_exit:
+        s = _exit_settings(s, explicit="method" in options or settings not in (None, "default"))
     scheme = s.scheme
     grid = problem.require_grid("solve")
+    if problem.exit is not None:
+        exit_nodes(problem)  # refuse an exit set the grid cannot resolve
     problem.noise_diagonal(grid.node_coordinates([0]))  # refuse cross-diffusion before any work
     plan = MarchPlan(problem, 0.0, 0, [], s.dtype, s.mmap_dir, s.progress, options=s.__dict__)
     K = len(terminal_costs)
@@ -181,6 +197,20 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     if s.error_estimate:
         _embed(problem, terminal_costs, s, plan.dt, solutions)
     return solutions
+
+
+def _exit_settings(s: SolverSettings, explicit: bool) -> SolverSettings:
+    """The settings for a problem with an exit set and a horizon: a scheme that implements the
+    exit (:attr:`~gridlbc.schemes.protocol.Scheme.supports_exit`), the implicit one unless
+    another was asked for by name, which is then an error."""
+    if explicit:
+        able = [name for name, scheme in METHODS.items() if scheme.supports_exit]
+        raise ValueError(
+            f"method={s.method!r} does not implement an exit set (SPEC §9): solve a problem "
+            f"with exit= and a horizon with method={' or '.join(map(repr, able))}, or give "
+            "horizon=None for the stationary first-exit problem"
+        )
+    return dataclasses.replace(s, method="implicit", fitting="auto", courant=None)
 
 
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
@@ -305,6 +335,13 @@ def solve(
         Value, desirability and policy at any (x, t), with :class:`SolveDiagnostics` and an
         error estimate (:meth:`Solution.error_estimate`).
     """
+    if isinstance(problem, Problem) and problem.stationary:
+        if dt is not None or settings is not None or tol is not None or states is not None:
+            raise TypeError(
+                "a stationary problem (horizon None or 'average') has no time step and no "
+                "time-march settings: give its options by name (rates=, linear_solver=)"
+            )
+        return solve_stationary(problem, **options)
     if isinstance(dt, (SolverSettings, str)):
         if settings is not None:
             raise TypeError(

@@ -38,7 +38,7 @@ class LQSolution:
 
     def coefficients(self, t: float) -> tuple[np.ndarray, np.ndarray, float]:
         """(P(t), p(t), c₀(t))."""
-        T = self.problem.horizon
+        T = self.problem.require_horizon("lq_solution")
         y = self._dense(T - check_time(t, T))
         d = self.problem.state_dim
         return y[: d * d].reshape(d, d), y[d * d : d * d + d], float(y[-1])

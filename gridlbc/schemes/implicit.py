@@ -1,13 +1,14 @@
 """Implicit upwind scheme for the linear Bellman PDE : the reference discretisation.
 
-The generator of a continuous-time Markov chain on the nodes approximates aᵀ∇ + tr(D ∇²),
-D = ½ λ B R⁻¹ Bᵀ (diagonal): from node i along axis k it jumps
+The generator L of a continuous-time Markov chain on the nodes approximates aᵀ∇ + tr(D ∇²),
+D = ½ λ B R⁻¹ Bᵀ (diagonal), with upwind jump rates (:mod:`gridlbc.schemes.generator`): from
+node i along axis k it jumps
 
     to i + e_k at rate max(a_k, 0)/h_k + D_kk/h_k²,    to i − e_k at rate max(−a_k, 0)/h_k + D_kk/h_k²,
 
 with periodic wrap, and jumps that would leave a closed axis suppressed (a reflecting state
-constraint: no probability leaves the box). With L that generator (rows sum to zero) backward
-Euler reads
+constraint: no probability leaves the box). The nodes of an exit set (SPEC §9), if the problem
+has one, do not jump: z keeps its exit value exp(−g_E/λ) there. Backward Euler reads
 
     (I + Δt diag(q/λ) − Δt L) z(t) = z(t + Δt),
 
@@ -27,51 +28,15 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
-from .. import boundary
 from ..backends.numba.implicit import gauss_seidel_kernel
-from ..boundary import Boundary
 from ..problem import Problem
+from .generator import generator_matrix
 from .march import march_linear
 from .protocol import Marched, MarchPlan, SchemeBase, StepRule, Terminal
 from .tails import check_resolution
 
 DIRECT_LIMIT = 400_000
 """Grids with more nodes than this (or more than two dimensions) use the iterative solver."""
-
-
-def generator_matrix(problem: Problem) -> sp.csr_matrix:
-    """The upwind generator L (N×N, CSR): off-diagonal rates ≥ 0, rows summing to zero; a jump
-    out of the box along a closed axis is dropped (``Boundary.REFLECTING``,
-    :mod:`gridlbc.boundary`)."""
-    grid = problem.grid
-    boundaries = boundary.require(
-        grid, (Boundary.PERIODIC, Boundary.REFLECTING), "the implicit scheme"
-    )
-    x = grid.nodes()
-    drift = np.asarray(problem.system.drift(x), dtype=float)
-    diffusion = 0.5 * problem.noise_diagonal(x)
-    n_nodes = grid.size
-    flat = np.arange(n_nodes)
-    multi = np.unravel_index(flat, grid.shape)
-    rows, cols, rates = [], [], []
-    for k, ax in enumerate(grid.axes):
-        h, s = ax.spacing, int(grid.strides[k])
-        i = multi[k]
-        for sign in (1, -1):
-            rate = np.maximum(sign * drift[:, k], 0.0) / h + diffusion[:, k] / h**2
-            target_i = i + sign
-            if boundaries[k] is Boundary.PERIODIC:
-                target = flat + s * (np.mod(target_i, ax.n) - i)
-                keep = rate > 0
-            else:  # Boundary.REFLECTING: no jump out of the box
-                target = flat + sign * s
-                keep = (rate > 0) & (target_i >= 0) & (target_i < ax.n)
-            rows.append(flat[keep])
-            cols.append(target[keep])
-            rates.append(rate[keep])
-    rows, cols, rates = map(np.concatenate, (rows, cols, rates))
-    off = sp.coo_matrix((rates, (rows, cols)), shape=(n_nodes, n_nodes)).tocsr()
-    return (off - sp.diags(np.asarray(off.sum(axis=1)).ravel())).tocsr()
 
 
 LINEAR_SOLVERS = ("auto", "direct", "gauss-seidel", "bicgstab")
@@ -115,8 +80,9 @@ class ImplicitStep:
                 f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, got {linear_solver!r}"
             )
         grid = problem.grid
-        q = problem.state_cost_values()
-        L = generator_matrix(problem)
+        exit_nodes = problem.exit_mask()
+        q = np.where(exit_nodes, 0.0, problem.state_cost_values())
+        L = generator_matrix(problem, "upwind", absorbing=exit_nodes)
         self.matrix = (
             sp.identity(grid.size, format="csr") + sp.diags(dt * q / problem.temperature) - dt * L
         ).tocsr()
@@ -214,6 +180,7 @@ class ImplicitScheme(SchemeBase):
 
     name = "implicit"
     supports_fitting = False
+    supports_exit = True
     step = ImplicitStep
 
     def step_rule(self, settings) -> StepRule:

@@ -20,7 +20,8 @@ solver calls them:
    (:class:`~gridlbc.solution.ResolutionWarning`).
 
 ``scheme.supports_fitting`` says whether ``fitting=`` applies (:class:`gridlbc.SolverSettings`
-resolves ``"auto"`` with it). Inside, a scheme builds a :class:`StepOperator` and steps it; the
+resolves ``"auto"`` with it); ``scheme.supports_exit`` whether it solves problems with an exit set
+(SPEC §9: z held at exp(−g_E/λ) on E). Inside, a scheme builds a :class:`StepOperator` and steps it; the
 solver never sees the operator except through :attr:`Marched.operator` (its memory and iteration
 counts go to the diagnostics).
 """
@@ -168,6 +169,7 @@ class Scheme(Protocol):
 
     name: str
     supports_fitting: bool
+    supports_exit: bool
 
     def estimate_bytes(self, grid: Grid) -> int:
         """Memory of the operator on ``grid``, without building it."""
@@ -191,6 +193,7 @@ class SchemeBase:
 
     name: str
     supports_fitting: bool = False
+    supports_exit: bool = False
     step: type
 
     def estimate_bytes(self, grid: Grid) -> int:

@@ -161,7 +161,9 @@ class TrajectoryExpansion:
 
     def _bracket(self, t) -> tuple[int, float]:
         """Times are checked and bracketed exactly as a grid Solution's slices are."""
-        return bracket(self.times, check_time(t, self.problem.horizon))
+        return bracket(
+            self.times, check_time(t, self.problem.require_horizon("a trajectory component"))
+        )
 
     def _at(self, field: np.ndarray, j: int, theta: float) -> np.ndarray:
         return (1.0 - theta) * field[j] + theta * field[j + 1]
@@ -296,7 +298,9 @@ def expand(
     q = timed_state_cost(problem)
     if q is not None:
         running = running + np.asarray(q(states[:-1], trajectory.times[:-1]), dtype=float)
-    terminal = float(np.asarray(problem.terminal_cost(states[-1:]), dtype=float)[0])
+    terminal = float(
+        np.asarray(problem.require_terminal_cost("expand")(states[-1:]), dtype=float)[0]
+    )
     to_go = terminal + dt * np.concatenate([np.cumsum(running[::-1])[::-1], [0.0]])
     if stochastic:
         B = np.asarray(problem.system.input_matrix(states), dtype=float)  # (K+1, d, m)
@@ -341,7 +345,7 @@ def _check_same_problem(problem: Problem, trajectory: Trajectory) -> None:
     differs = []
     if other.system != problem.system:
         differs.append(f"system ({other.system!r} vs {problem.system!r})")
-    if not np.isclose(trajectory.times[-1], problem.horizon, rtol=1e-12, atol=0):
+    if not np.isclose(trajectory.times[-1], problem.require_horizon("expand"), rtol=1e-12, atol=0):
         differs.append(
             f"horizon (the trajectory ends at {trajectory.times[-1]:g}, the problem's "
             f"T is {problem.horizon:g})"

@@ -64,9 +64,9 @@ def shooting_for(problem: Problem, x0: np.ndarray, n_intervals: int) -> Shooting
     return Shooting(
         problem.system,
         x0,
-        problem.horizon,
+        problem.require_horizon("trajectory optimisation"),
         n_intervals,
-        problem.terminal_cost,
+        problem.require_terminal_cost("trajectory optimisation"),
         timed_state_cost(problem),
         problem.R,
     )
@@ -208,7 +208,7 @@ def _check_problem(problem: Problem, x0) -> tuple[np.ndarray, int]:
             f"{type(system).__name__}.drift / .input_matrix must return shapes "
             f"(N, {d}) / (N, {d}, {m}), got {a.shape} / {B.shape}"
         )
-    if np.shape(problem.terminal_cost(x0[None])) != (1,):
+    if np.shape(problem.require_terminal_cost("optimize")(x0[None])) != (1,):
         raise ValueError(f"terminal_cost must return shape (N,) for states (N, {d})")
     q = timed_state_cost(problem)
     if q is not None and np.shape(q(x0[None], np.zeros(1))) != (1,):

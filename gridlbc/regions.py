@@ -1,0 +1,174 @@
+"""Sets of states: the exit sets E of first-exit problems (SPEC §9; docs page :doc:`first_exit`).
+
+A region is anything that answers which of ``N`` states ``(N, d)`` lie in it with a boolean mask
+``(N,)``: one of the shapes here, their union ``a | b``, or any callable of that form, e.g.
+``lambda x: x[:, 0] >= 0.45`` (the mountain car's flag). The shapes here know their geometry,
+so :class:`Ball` measures distance to the nearest image on periodic axes, like
+:class:`gridlbc.costs.Quadratic` does, once a :class:`gridlbc.Problem` gives it the periods.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .costs import wrap_difference
+
+
+def _vector(name: str, value: ArrayLike, allow_inf: bool = False) -> np.ndarray:
+    v = np.atleast_1d(np.asarray(value, dtype=float))
+    if v.ndim != 1 or np.any(np.isnan(v)) or (not allow_inf and not np.all(np.isfinite(v))):
+        raise ValueError(
+            f"{name} must be a finite vector (one entry per coordinate), got {value!r}"
+        )
+    return v
+
+
+class RegionBase:
+    """What the shapes share: a union by ``|`` and a description."""
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        raise NotImplementedError
+
+    def __or__(self, other) -> Union:
+        return Union((self, other))
+
+    def with_periods(self, periods) -> RegionBase:
+        """The same region on a state space with these periods (``inf`` where not periodic)."""
+        return self
+
+
+@dataclass(frozen=True, eq=False, init=False)
+class Box(RegionBase):
+    """The axis-aligned box {x : lower ≤ x ≤ upper}; ``±inf`` leaves a side open, so
+    ``Box([0.45, -inf], [inf, inf])`` is the half-space x₀ ≥ 0.45.
+
+    Parameters
+    ----------
+    lower, upper : array_like (d,)
+        The corners (``-inf``/``inf`` allowed).
+    """
+
+    lower: np.ndarray
+    upper: np.ndarray
+
+    def __init__(self, lower: ArrayLike, upper: ArrayLike):
+        lo, hi = _vector("Box lower", lower, True), _vector("Box upper", upper, True)
+        if lo.shape != hi.shape:
+            raise ValueError(f"Box lower and upper differ in length: {lo.size} and {hi.size}")
+        if np.any(lo > hi):
+            raise ValueError(f"Box lower must not exceed upper, got {lo} and {hi}")
+        object.__setattr__(self, "lower", lo)
+        object.__setattr__(self, "upper", hi)
+
+    @property
+    def dim(self) -> int:
+        return self.lower.size
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        return np.all((x >= self.lower) & (x <= self.upper), axis=1)
+
+    def __repr__(self) -> str:
+        return f"Box({self.lower.tolist()}, {self.upper.tolist()})"
+
+
+@dataclass(frozen=True, eq=False, init=False)
+class Ball(RegionBase):
+    """The ellipsoid {x : Σ_k ((x_k − c_k)/r_k)² ≤ 1}, to the nearest image on periodic axes.
+
+    Parameters
+    ----------
+    center : array_like (d,)
+        c.
+    radius : float or array_like (d,)
+        r, one radius or one per coordinate (``inf`` ignores a coordinate: a slab).
+    periods : array_like (d,), optional
+        Filled in by :class:`gridlbc.Problem` from its periodic axes.
+    """
+
+    center: np.ndarray
+    radius: np.ndarray
+    periods: np.ndarray | None
+
+    def __init__(self, center: ArrayLike, radius: ArrayLike, periods: ArrayLike | None = None):
+        c = _vector("Ball center", center)
+        r = np.broadcast_to(_vector("Ball radius", radius, True), c.shape).copy()
+        if np.any(r <= 0):
+            raise ValueError(f"Ball radius must be positive, got {radius!r}")
+        object.__setattr__(self, "center", c)
+        object.__setattr__(self, "radius", r)
+        p = None if periods is None else np.broadcast_to(_vector("periods", periods, True), c.shape)
+        object.__setattr__(self, "periods", p)
+
+    @property
+    def dim(self) -> int:
+        return self.center.size
+
+    def with_periods(self, periods) -> Ball:
+        return Ball(self.center, self.radius, periods)
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        diff = x - self.center
+        if self.periods is not None:
+            diff = wrap_difference(diff, self.periods)
+        return np.sum((diff / self.radius) ** 2, axis=1) <= 1.0
+
+    def __repr__(self) -> str:
+        return f"Ball({self.center.tolist()}, {self.radius.tolist()})"
+
+
+@dataclass(frozen=True, eq=False)
+class Union(RegionBase):
+    """The union of regions (``a | b``)."""
+
+    parts: tuple
+
+    def with_periods(self, periods) -> Union:
+        return Union(tuple(bind_periods(p, periods) for p in self.parts))
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        mask = np.zeros(x.shape[0], dtype=bool)
+        for part in self.parts:
+            mask |= region_mask(part, x)
+        return mask
+
+    def __repr__(self) -> str:
+        return " | ".join(repr(p) for p in self.parts)
+
+
+def bind_periods(region, periods):
+    """``region`` made wrap-aware with ``periods`` where it knows how (:class:`Ball`)."""
+    return region.with_periods(periods) if isinstance(region, RegionBase) else region
+
+
+def check_region(region, dim: int, name: str = "exit") -> Callable[[np.ndarray], np.ndarray]:
+    """``region`` if it is a region of ``dim``-dimensional states: a callable (checked for its
+    dimension where it knows it); a clear error otherwise."""
+    if not callable(region):
+        raise TypeError(
+            f"{name} must be a region (gridlbc.regions.Box, Ball, their union a | b) or a "
+            f"callable returning a boolean mask (N,) of states (N, d), got "
+            f"{type(region).__name__}"
+        )
+    known = getattr(region, "dim", None)
+    if known is not None and known != dim:
+        raise ValueError(f"{name} is a region of {known} coordinates but the state has {dim}")
+    return region
+
+
+def region_mask(region, x: np.ndarray, name: str = "exit") -> np.ndarray:
+    """The boolean mask ``(N,)`` of the states ``x`` ``(N, d)`` in ``region``, checked."""
+    mask = np.asarray(region(x))
+    if mask.shape != (x.shape[0],):
+        raise ValueError(
+            f"{name} returned shape {mask.shape} for {x.shape[0]} states: a region must return "
+            "one boolean per state, shape (N,)"
+        )
+    if mask.dtype != bool:
+        if not np.all((mask == 0) | (mask == 1)):
+            raise ValueError(f"{name} must return booleans (a mask), got values {mask[:5]}")
+        mask = mask.astype(bool)
+    return mask

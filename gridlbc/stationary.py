@@ -1,0 +1,355 @@
+"""Stationary problems: first exit without a horizon, and average cost (SPEC §9; docs page
+:doc:`first_exit`; Todorov 2009).
+
+**First exit.** The task ends at τ, the first time the state enters the exit set E, paying
+g_E(x_τ). Off E, z = exp(−v/λ) solves the *linear* stationary equation
+
+    (q/λ) z = aᵀ∇z + (λ/2) tr(B R⁻¹ Bᵀ ∇²z),        z = exp(−g_E/λ) on E.
+
+On the grid, aᵀ∇ + (λ/2) tr(B R⁻¹ Bᵀ ∇²) becomes the generator L of a monotone Markov chain on the
+nodes (:mod:`gridlbc.schemes.generator`; exponentially fitted rates by default), and the equation
+the sparse linear system
+
+    (diag(q/λ) − L)_II z_I = L_IE z_E,        z_E = exp(−g_E/λ),
+
+over the nodes I off E, with the nodes of E as known values. Its matrix is a non-singular
+M-matrix exactly when every node can reach E or a node with q > 0 along the chain's jumps
+(:func:`check_well_posed` refuses a problem where some cannot: their z would be undetermined).
+It is solved directly (sparse LU) or by a Krylov method; no time marching. The solution is
+linear in z_E: exit costs g_i on one E, solved with one operator, superpose exactly,
+z = Σ_i w_i z_i (:func:`gridlbc.combine`).
+
+**Average cost.** A task that never ends has an optimal cost per unit time c and a relative value
+h(x) (v(x, T) ≈ c T + h(x) for long horizons): e = exp(−h/λ) is the principal eigenfunction of
+the same operator,
+
+    (L − diag(q/λ)) e = −(c/λ) e,
+
+the eigenvalue of largest real part, whose eigenvector is positive (Perron–Frobenius: the
+matrix's off-diagonal entries are non-negative). It is found by shift-and-invert Arnoldi
+(scipy's ARPACK) about σ = −min q/λ + ε, which is above the principal eigenvalue and closer to it
+than to any other. h is normalised to min h = 0.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import time
+import warnings
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.csgraph as csgraph
+import scipy.sparse.linalg as spla
+
+from .accuracy import check_accuracy, embedded_estimate, embedded_grid
+from .errors import GridlbcWarning, ResolutionWarning
+from .grid import Grid
+from .problem import Problem
+from .schemes.generator import RATES, generator_matrix
+from .solution import OperatorSignature, SolveDiagnostics, StationarySolution
+
+LINEAR_SOLVERS = ("auto", "direct", "gmres")
+"""How the first-exit system is solved:
+
+- ``"direct"``: sparse LU (SuperLU with a fill-reducing ordering), exact to rounding;
+- ``"gmres"``: restarted GMRES preconditioned by an incomplete LU factorisation (relative
+  residual ``tol``), for grids whose LU would not fit;
+- ``"auto"``: direct up to :data:`DIRECT_LIMIT` unknowns in up to two dimensions, and up to
+  :data:`DIRECT_LIMIT_3D` in three or more, GMRES beyond.
+"""
+
+DIRECT_LIMIT = 1_000_000
+"""Most unknowns of a 1-D or 2-D problem solved by sparse LU under ``"auto"``."""
+
+DIRECT_LIMIT_3D = 150_000
+"""Most unknowns of a problem of three or more dimensions solved by sparse LU under ``"auto"``
+(the LU's fill-in grows far faster there)."""
+
+
+@dataclass(frozen=True)
+class StationarySettings:
+    """How a stationary problem is solved.
+
+    Parameters
+    ----------
+    rates : str
+        The generator's jump rates, ``"fitted"`` (default) or ``"upwind"``
+        (:mod:`gridlbc.schemes.generator`).
+    linear_solver : str
+        One of :data:`LINEAR_SOLVERS`.
+    tol : float
+        The relative residual at which GMRES stops (and the eigen-solver's tolerance).
+    error_estimate : bool
+        Also solve on the embedded grid (every other node) so that the solution carries an
+        a-posteriori error estimate (:meth:`gridlbc.Solution.error_estimate`,
+        :mod:`gridlbc.accuracy`), and warn where it exceeds the default tolerance.
+    """
+
+    rates: str = "fitted"
+    linear_solver: str = "auto"
+    tol: float = 1e-10
+    error_estimate: bool = True
+
+    def __post_init__(self):
+        if self.rates not in RATES:
+            raise ValueError(f"rates must be one of {', '.join(RATES)}, got {self.rates!r}")
+        if self.linear_solver not in LINEAR_SOLVERS:
+            raise ValueError(
+                f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)} for a stationary "
+                f"problem, got {self.linear_solver!r}"
+            )
+        if not (0 < self.tol < 1):
+            raise ValueError(f"tol must lie in (0, 1), got {self.tol}")
+
+
+def stationary_settings(options: dict) -> StationarySettings:
+    """:class:`StationarySettings` from keyword options, with a clear error for the options of a
+    time march (``dt``, ``method``, ...) that do not apply."""
+    known = set(StationarySettings.__dataclass_fields__)
+    ignored = {"progress"}
+    unknown = sorted(set(options) - known - ignored)
+    if unknown:
+        raise TypeError(
+            f"{', '.join(unknown)} do not apply to a stationary problem (no time march): it "
+            f"takes {', '.join(sorted(known))}"
+        )
+    return StationarySettings(**{k: v for k, v in options.items() if k in known})
+
+
+def exit_nodes(problem: Problem) -> np.ndarray:
+    """The grid nodes in the exit set, boolean ``(N,)``, or a clear error when the grid cannot
+    resolve the set (no node in it) or when every node is in it."""
+    grid = problem.require_grid("a first-exit solve")
+    mask = problem.exit_mask()
+    if not mask.any():
+        raise ValueError(
+            f"the exit set {problem.exit!r} contains no node of the grid ({grid.describe()}): it "
+            "lies outside the box or is narrower than a cell. Move it into the box, widen it, or "
+            "refine the grid"
+        )
+    if mask.all():
+        raise ValueError(
+            f"every node of the grid lies in the exit set {problem.exit!r}: the task ends before "
+            "it starts; shrink the exit set or widen the box"
+        )
+    return mask
+
+
+def check_well_posed(L: sp.csr_matrix, sinks: np.ndarray, grid: Grid) -> None:
+    """Refuse a problem in which some nodes can reach neither a sink (a node of E or one with
+    q > 0) along the chain's jumps: their desirability is undetermined (nothing is ever paid
+    and nothing ends the task; the linear system is singular there). A breadth-first search
+    from a virtual node joined to every sink, along the jumps reversed."""
+    n = grid.size
+    off = (L - sp.diags(L.diagonal())).tocsr()
+    targets = np.flatnonzero(sinks)
+    source = sp.csr_matrix(
+        (np.ones(len(targets)), (np.zeros(len(targets), dtype=np.int64), targets)), shape=(1, n)
+    )
+    graph = sp.bmat([[off.T, None], [source, sp.csr_matrix((1, 1))]], format="csr")
+    reached = np.zeros(n + 1, dtype=bool)
+    reached[csgraph.breadth_first_order(graph, n, directed=True, return_predecessors=False)] = True
+    if not reached[:n].all():
+        stuck = np.flatnonzero(~reached[:n])
+        x = np.array2string(grid.node_coordinates(stuck[:1])[0], precision=3, separator=", ")
+        raise ValueError(
+            f"{len(stuck)} of {n} nodes (e.g. {x}) reach neither the exit set nor a state cost "
+            "q > 0: the problem is ill-posed there (nothing ends the task and nothing is paid). "
+            "Give a state cost q > 0, or an exit set that every state can reach"
+        )
+
+
+def _digest(*arrays: np.ndarray) -> str:
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(np.ascontiguousarray(a).tobytes())
+    return "sha256:" + h.hexdigest()[:16]
+
+
+def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: int):
+    """z with A z = b, and the iteration count (0 for the direct solve)."""
+    n = A.shape[0]
+    method = s.linear_solver
+    if method == "auto":
+        limit = DIRECT_LIMIT if ndim <= 2 else DIRECT_LIMIT_3D
+        method = "direct" if n <= limit else "gmres"
+    if method == "direct":
+        return spla.splu(A.tocsc()).solve(b), 0
+    ilu = spla.spilu(A.tocsc(), drop_tol=1e-4, fill_factor=10)
+    preconditioner = spla.LinearOperator(A.shape, ilu.solve)
+    count = [0]
+
+    def _count(_):
+        count[0] += 1
+
+    z, info = spla.gmres(
+        A,
+        b,
+        rtol=s.tol,
+        atol=0.0,
+        M=preconditioner,
+        restart=50,
+        maxiter=200,
+        callback=_count,
+        callback_type="pr_norm",
+    )
+    if info != 0:
+        raise RuntimeError(
+            f"GMRES did not reach the relative residual {s.tol:g} in {count[0]} iterations: "
+            "give linear_solver='direct' if it fits in memory"
+        )
+    return z, count[0]
+
+
+def solve_first_exit(problem: Problem, s: StationarySettings) -> StationarySolution:
+    """The stationary first-exit solution of ``problem`` (module docstring).
+
+    Parameters
+    ----------
+    problem : Problem
+        With ``horizon=None`` and an exit set.
+    s : StationarySettings
+
+    Returns
+    -------
+    StationarySolution
+    """
+    start = time.perf_counter()
+    grid = problem.require_grid("solve")
+    problem.noise_diagonal(grid.node_coordinates([0]))  # refuse cross-diffusion first
+    E = exit_nodes(problem)
+    lam = problem.temperature
+    q = np.where(E, 0.0, problem.state_cost_values())
+    L = generator_matrix(problem, s.rates, absorbing=E)
+    check_well_posed(L, E | (q > 0), grid)
+    g_exit = problem.exit_values()[E]
+    top = -g_exit.min() / lam  # z_E = exp(−g_E/λ) = e^top · exp(−(g_E − min g_E)/λ)
+    interior = np.flatnonzero(~E)
+    A = (sp.diags(q / lam) - L).tocsr()
+    A_ii = A[interior][:, interior]
+    coupling = -A[interior][:, np.flatnonzero(E)]
+    with np.errstate(under="ignore"):
+        z_exit = np.exp(-(g_exit - g_exit.min()) / lam)
+    setup = time.perf_counter() - start
+    z = np.empty(grid.size)
+    z[E] = z_exit
+    z[interior], iterations = _solve_linear(A_ii, coupling @ z_exit, s, grid.ndim)
+    np.clip(z, 0.0, None, out=z)  # an iterative solve's rounding may dip below zero
+    return _package(problem, s, z, top, start, setup, iterations, _digest(E, q, L.data))
+
+
+def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySolution:
+    """The average-cost solution of ``problem``: c and the relative value (module docstring).
+
+    Parameters
+    ----------
+    problem : Problem
+        With ``horizon="average"``.
+    s : StationarySettings
+
+    Returns
+    -------
+    StationarySolution
+        With ``average_cost`` c; its value is the relative value h (min 0).
+    """
+    start = time.perf_counter()
+    grid = problem.require_grid("solve")
+    problem.noise_diagonal(grid.node_coordinates([0]))
+    lam = problem.temperature
+    q = problem.state_cost_values()
+    M = (generator_matrix(problem, s.rates) - sp.diags(q / lam)).tocsc()
+    scale = max(float(np.abs(M.diagonal()).max()), 1e-300)
+    sigma = -q.min() / lam + 1e-3 * scale
+    setup = time.perf_counter() - start
+    values, vectors = spla.eigs(M, k=1, sigma=sigma, which="LM", tol=s.tol)
+    mu = float(values[0].real)
+    e = vectors[:, 0].real
+    e = e * np.sign(e[np.argmax(np.abs(e))])
+    if e.min() < -1e-8 * e.max():
+        warnings.warn(
+            "the principal eigenvector has negative entries beyond rounding: the chain may not "
+            "be irreducible (parts of the box it never leaves); the relative value is unreliable",
+            ResolutionWarning,
+            stacklevel=3,
+        )
+    e = np.clip(e / e.max(), 0.0, None)
+    solution = _package(problem, s, e, 0.0, start, setup, 0, _digest(q, M.data))
+    object.__setattr__(solution, "average_cost", -lam * mu)
+    return solution
+
+
+def _package(problem, s, z, top, start, setup, iterations, digest) -> StationarySolution:
+    """A :class:`StationarySolution` of nodal ``z`` · e^top."""
+    peak = float(z.max())
+    Z = z / peak if peak > 0 else z
+    diagnostics = SolveDiagnostics(
+        method="stationary",
+        dt=0.0,
+        steps=0,
+        store_every=1,
+        wall_time=time.perf_counter() - start,
+        setup_time=setup,
+        underflow_nodes=int(np.count_nonzero(Z == 0)),
+        stored_bytes=int(Z.nbytes),
+        operator_bytes=0,
+        courant=0.0,
+        iterations=(iterations,) if iterations else (),
+    )
+    operator = OperatorSignature(f"stationary-{s.rates}", 0.0, digest)
+    return StationarySolution(
+        problem,
+        np.zeros(1),
+        Z[None, :],
+        np.array([top + np.log(peak)]) if peak > 0 else np.array([top]),
+        diagnostics,
+        operator,
+    )
+
+
+def solve_stationary(problem: Problem, **options) -> StationarySolution:
+    """Solve a stationary problem: first exit (``horizon=None``) or average cost
+    (``horizon="average"``); :func:`gridlbc.solve` calls this for them.
+
+    Parameters
+    ----------
+    problem : Problem
+    **options
+        :class:`StationarySettings` fields.
+
+    Returns
+    -------
+    StationarySolution
+    """
+    s = stationary_settings(options)
+    solve = solve_average_cost if problem.average_cost else solve_first_exit
+    solution = solve(problem, s)
+    if s.error_estimate and not problem.average_cost:
+        _embed(problem, s, solution)
+    return solution
+
+
+def _embed(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
+    """Attach the embedded estimate (:mod:`gridlbc.accuracy`): the same problem on the grids with
+    every other node (2h and 4h), whose own warnings are silenced."""
+    levels = []
+    grid: Grid | None = problem.require_grid("an embedded solve")
+    for _ in range(2):
+        grid = embedded_grid(grid) if grid is not None else None
+        if grid is None:
+            break
+        coarse = problem.replace(grid=grid)
+        if not coarse.exit_mask().any():
+            break
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GridlbcWarning)
+            try:
+                levels.append(solve_first_exit(coarse, s))
+            except ValueError:  # the exit set or the costs are not resolved that coarsely
+                break
+    if not levels:
+        return
+    coarser = levels[1] if len(levels) > 1 else None
+    object.__setattr__(solution, "embedded", embedded_estimate(solution, levels[0], coarser))
+    check_accuracy(solution)

@@ -1,0 +1,215 @@
+"""First-exit and average-cost problems (SPEC §9, gridlbc.stationary): closed forms, the
+stationary solve against time marching, exact composition, and bad input."""
+
+import numpy as np
+import pytest
+import scipy.linalg as sl
+
+import gridlbc as g
+from gridlbc.regions import Ball, Box
+from gridlbc.systems import PointMass, SingleIntegrator
+
+LAM, R, Q = 0.5, 1.0, 2.0
+
+
+def corridor(n, exit_cost=None, rates="fitted"):
+    """dx = u dt + dξ on [0, 2] with q = Q, ending at either end: z'' = k² z, k² = 2QR/λ²."""
+    grid = g.Grid([g.Axis(0.0, 2.0, n)])
+    ends = Box([-np.inf], [0.0]) | Box([2.0], [np.inf])
+    problem = g.Problem(
+        SingleIntegrator(),
+        grid,
+        None,
+        state_cost=lambda x: np.full(len(x), Q),
+        control_cost=R,
+        temperature=LAM,
+        exit=ends,
+        exit_cost=exit_cost,
+    )
+    return g.solve(problem, rates=rates)
+
+
+def corridor_exact(x, g0=0.0, g1=0.0):
+    """v on the corridor with exit costs g0 at 0 and g1 at 2: z = A e^{kx} + B e^{−kx}."""
+    k = np.sqrt(2 * Q * R) / LAM
+    z0, z1 = np.exp(-g0 / LAM), np.exp(-g1 / LAM)
+    A, B = np.linalg.solve([[1.0, 1.0], [np.exp(2 * k), np.exp(-2 * k)]], [z0, z1])
+    return -LAM * np.log(A * np.exp(k * x) + B * np.exp(-k * x))
+
+
+def test_first_exit_value_converges_to_the_closed_form_at_second_order():
+    # Pure noise along the axis: the fitted rates are central differences, O(h²). Halving h
+    # must divide the error by 4 (3.5 allows for the next term); the policy follows −R⁻¹v'.
+    x = np.linspace(0.1, 1.9, 7)[:, None]
+    cost = lambda y: np.where(y[:, 0] < 1.0, 0.0, 1.0)  # noqa: E731
+    errors = []
+    for n in (41, 81, 161):
+        s = corridor(n, exit_cost=cost)
+        errors.append(np.abs(s.value(x) - corridor_exact(x[:, 0], 0.0, 1.0)).max())
+    assert errors[0] / errors[1] > 3.5 and errors[1] / errors[2] > 3.5
+    assert errors[-1] < 1e-3
+    exact_slope = (corridor_exact(0.5 + 1e-6, 0, 1) - corridor_exact(0.5 - 1e-6, 0, 1)) / 2e-6
+    assert s.policy(np.array([0.5]))[0] == pytest.approx(-exact_slope / R, rel=2e-3)
+
+
+def test_value_ignores_time_and_one_state_gives_a_scalar():
+    s = corridor(41)
+    assert s.value(np.array([1.0])) == s.value(np.array([1.0]), 3.7)
+    assert np.ndim(s.value(np.array([1.0]))) == 0
+    assert s.policy(np.array([[0.5], [1.5]])).shape == (2, 1)
+
+
+def test_error_estimate_covers_the_actual_error():
+    # The embedded estimate (2h solve, observed order) against the closed form.
+    s = corridor(41)
+    x = np.array([[0.5], [1.0], [1.5]])
+    actual = np.abs(s.value(x) - corridor_exact(x[:, 0]))
+    estimate = s.error_estimate(x)
+    assert np.all(estimate >= 0.5 * actual) and np.all(estimate <= 4 * actual + 1e-3)
+
+
+def point_mass_bays(n=41, horizon=None, exit_cost=None, **solve_options):
+    grid = g.Grid([g.Axis(-2, 2, n), g.Axis(-3, 3, n)])
+    bays = Ball([1.2, 0.0], [0.3, 0.6]) | Ball([-1.2, 0.0], [0.3, 0.6])
+    terminal = None if horizon is None else (lambda x: np.zeros(len(x)))
+    problem = g.Problem(
+        PointMass(),
+        grid,
+        horizon,
+        terminal,
+        state_cost=lambda x: 0.5 + 0.1 * x[:, 1] ** 2,
+        temperature=0.5,
+        exit=bays,
+        exit_cost=exit_cost,
+    )
+    return g.solve(problem, **solve_options)
+
+
+def test_stationary_solve_is_the_steady_state_of_the_time_march():
+    # Backward Euler with the same upwind generator, marched for T = 40 (the slowest decay of
+    # z is faster than e^{-q_min T/λ} = e^{-40}), reaches the stationary solution to rounding.
+    stationary = point_mass_bays(rates="upwind", error_estimate=False)
+    marched = point_mass_bays(horizon=40.0, dt=0.1, error_estimate=False)
+    assert marched.diagnostics.method == "implicit"
+    x = np.array([[-1.0, 0.0], [0.0, 1.0], [1.5, -1.0], [0.3, 2.5]])
+    np.testing.assert_allclose(marched.value(x, 0.0), stationary.value(x), rtol=1e-9, atol=1e-12)
+
+
+def test_exit_costs_on_one_exit_set_combine_exactly():
+    g1 = lambda x: np.where(x[:, 0] > 0, 0.0, 3.0)  # noqa: E731
+    g2 = lambda x: np.where(x[:, 0] > 0, 3.0, 0.0)  # noqa: E731
+    w = np.array([0.3, 0.7])
+    parts = [point_mass_bays(exit_cost=c, error_estimate=False) for c in (g1, g2)]
+    combined = g.combine(parts, w)
+    assert combined.exact
+
+    def composite(x):
+        return -0.5 * np.log(w[0] * np.exp(-g1(x) / 0.5) + w[1] * np.exp(-g2(x) / 0.5))
+
+    direct = point_mass_bays(exit_cost=composite, error_estimate=False)
+    x = direct.grid.nodes()[::17]
+    np.testing.assert_allclose(combined.value(x), direct.value(x), rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(combined.policy(x), direct.policy(x), rtol=1e-9, atol=1e-9)
+
+
+def test_components_with_other_exit_sets_do_not_combine():
+    a = point_mass_bays(n=21, error_estimate=False)
+    other = a.problem.replace(exit=Ball([1.2, 0.0], [0.3, 0.6]))
+    with pytest.raises(ValueError, match="exit set"):
+        g.combine([a, g.solve(other, error_estimate=False)])
+
+
+def test_average_cost_matches_riccati():
+    # 1-D: c = (λ/R) √(QR/2) and h = √(QR/2) x², both O(h²) on the grid (central rates).
+    P = np.sqrt(Q * R / 2)
+    problem = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-4, 4, 161)]),
+        "average",
+        state_cost=g.costs.Quadratic([0.0], [Q]),
+        control_cost=R,
+        temperature=LAM,
+    )
+    s = g.solve(problem)
+    assert s.average_cost == pytest.approx(LAM / R * P, rel=2e-3)
+    x = np.array([[0.5], [1.0]])
+    np.testing.assert_allclose(s.value(x) - s.value(np.array([[0.0]])), P * x[:, 0] ** 2, atol=3e-3)
+
+
+def test_average_cost_of_the_point_mass_matches_the_riccati_equation():
+    # c = tr(Σ P) with AᵀX + XA − X B R⁻¹ Bᵀ X + 2Q = 0, P = X/2; the position axis is upwind
+    # (no noise there), so the grid error is first order: 61² nodes are within 1e-3.
+    A, B = np.array([[0.0, 1.0], [0.0, 0.0]]), np.array([[0.0], [1.0]])
+    P = sl.solve_continuous_are(A, B, 2 * np.diag([1.0, 0.1]), np.eye(1)) / 2
+    grid = g.Grid([g.Axis(-3, 3, 61), g.Axis(-4, 4, 61)])
+    problem = g.Problem(
+        PointMass(),
+        grid,
+        "average",
+        state_cost=g.costs.Quadratic([0, 0], [1, 0.1]),
+        temperature=0.5,
+    )
+    assert g.solve(problem).average_cost == pytest.approx(0.5 * P[1, 1], rel=1e-3)
+
+
+@pytest.mark.parametrize(
+    "kwargs, error, match",
+    [
+        ({"exit": "goal"}, TypeError, "exit must be a region"),
+        ({"exit": None}, ValueError, "exit set exit=E"),
+        ({"exit": Box([0.0], [1.0])}, ValueError, "region of 1 coordinates"),
+        ({"exit_cost": 1.0, "exit": None, "horizon": 1.0}, ValueError, "give exit= as well"),
+        ({"terminal_cost": lambda x: x[:, 0]}, ValueError, "terminal_cost is paid"),
+        ({"horizon": "average"}, ValueError, "never ends"),
+    ],
+)
+def test_ill_posed_problems_are_refused(kwargs, error, match):
+    args = dict(
+        horizon=None,
+        exit=Box([1.5, -np.inf], [np.inf, np.inf]),
+        terminal_cost=None,
+        state_cost=lambda x: np.ones(len(x)),
+    )
+    args.update(kwargs)
+    grid = g.Grid([g.Axis(-2, 2, 11), g.Axis(-2, 2, 11)])
+    if args["horizon"] == 1.0 and args["terminal_cost"] is None:
+        args["terminal_cost"] = lambda x: np.zeros(len(x))
+    with pytest.raises(error, match=match):
+        g.Problem(PointMass(), grid, **args)
+
+
+def test_exit_sets_the_grid_cannot_resolve_are_refused():
+    grid = g.Grid([g.Axis(-2, 2, 11), g.Axis(-2, 2, 11)])
+    q = lambda x: np.ones(len(x))  # noqa: E731
+    outside = g.Problem(PointMass(), grid, None, state_cost=q, exit=Ball([5.0, 0.0], 0.5))
+    with pytest.raises(ValueError, match="contains no node of the grid"):
+        g.solve(outside)
+    thin = g.Problem(PointMass(), grid, None, state_cost=q, exit=Ball([0.1, 0.1], 0.05))
+    with pytest.raises(ValueError, match="narrower than a cell"):
+        g.solve(thin)
+
+
+def test_a_stationary_problem_without_cost_or_reachable_exit_is_refused():
+    # The control drives x₀ only and nothing moves x₁: with no state cost, the states below the
+    # exit strip x₁ ≥ 1.5 never end their task and never pay. With the strip across x₀ instead,
+    # every state reaches it by diffusing along x₀: well-posed.
+    system = g.systems.LinearSystem(np.zeros((2, 2)), [1.0, 0.0])
+    grid = g.Grid([g.Axis(-2, 2, 21), g.Axis(-2, 2, 21)])
+    across = g.Problem(system, grid, None, exit=Box([1.5, -np.inf], [np.inf, np.inf]))
+    assert np.isfinite(g.solve(across, error_estimate=False).value(np.array([0.0, 0.0])))
+    unreachable = across.replace(exit=Box([-np.inf, 1.5], [np.inf, np.inf]))
+    with pytest.raises(ValueError, match="reach neither the exit set nor a state cost"):
+        g.solve(unreachable)
+
+
+def test_time_march_settings_are_refused_for_a_stationary_problem():
+    s = corridor(21)
+    with pytest.raises(TypeError, match="no time step"):
+        g.solve(s.problem, 0.1)
+    with pytest.raises(TypeError, match="do not apply"):
+        g.solve(s.problem, method="splitting")
+    with pytest.raises(ValueError, match="solve each exit cost"):
+        g.solve_many(s.problem, [lambda x: x[:, 0]])
+    horizon = s.problem.replace(horizon=1.0, terminal_cost=lambda x: np.zeros(len(x)))
+    with pytest.raises(ValueError, match="does not implement an exit set"):
+        g.solve(horizon, method="splitting")
