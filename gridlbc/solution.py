@@ -319,6 +319,24 @@ class StationarySolution(Solution):
 
     Attributes
     ----------
+    problem : Problem
+    times : ndarray (1,)
+        ``[0.0]``: one slice, independent of time.
+    slices : ndarray (1, N)
+        z/e^ℓ at the nodes (max 1).
+    log_scales : ndarray (1,)
+        ℓ.
+    diagnostics : SolveDiagnostics
+        ``method`` "stationary", no steps; ``iterations`` of an iterative linear solve.
+    operator : OperatorSignature
+        ``method`` names the generator's rates; ``reference`` a digest of the generator, the
+        exit nodes and q (solutions with equal signatures combine exactly).
+    representation : LinearZ
+        The slice holds z itself.
+    embedded : gridlbc.accuracy.EmbeddedEstimate or None
+        The solves on the embedded grids (:meth:`error_estimate`).
+    refinement : tuple
+        Empty (no ``tol=`` for stationary problems yet).
     average_cost : float or None
         The optimal cost per unit time c of an average-cost problem (its value is then the
         relative value h, min 0); None for first exit.
