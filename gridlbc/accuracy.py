@@ -324,13 +324,18 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         "level), so this grid may be far better than the estimate says: it is an upper bound "
         "here; gridlbc.certify at your states tells."
     )
+    change = (
+        "Give a finer grid"
+        if solution.problem.stationary
+        else f"Solve with tol={tol:g} to refine dt and the grid until the estimate meets it, or "
+        "give a finer grid or a smaller dt"
+    )
     warnings.warn(
         f"the estimated error of v exceeds {tol:.0%} of |v| at {a.share_above:.0%} of the states "
         f"that matter ({QUANTILE:.0%} of them are within {a.error:.1%}; the largest, "
         f"{a.worst_error:.0%}, is at {state}): measured against solves on the grids with every "
-        f"other node, see solution.error_estimate(x) at your own states.{loose} Solve with "
-        f"tol={tol:g} to refine dt and the grid until the estimate meets it, or give a finer "
-        "grid or a smaller dt (docs page 'accuracy')",
+        f"other node, see solution.error_estimate(x) at your own states.{loose} {change} "
+        "(docs page 'accuracy')",
         ResolutionWarning,
         stacklevel=4,
     )

@@ -46,7 +46,7 @@ from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
 from .representation import REPRESENTATIONS, LinearZ, LogZ, RelativeZ
-from .solution import OperatorSignature, Solution, SolveDiagnostics
+from .solution import OperatorSignature, Solution, SolveDiagnostics, StationarySolution
 
 FORMAT = "gridlbc-solution"
 FORMAT_VERSION = 2
@@ -68,6 +68,24 @@ class GridCost:
 
     def __call__(self, x) -> np.ndarray:
         return interpolate(self.grid, self.values, x)
+
+
+class GridRegion:
+    """An exit set known at the grid nodes (a saved first-exit problem's): a state lies in it where
+    the barycentric interpolation of the nodes' membership is at least ½, so every node keeps
+    its own."""
+
+    def __init__(self, grid: Grid, mask, description: str = "a saved exit set"):
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != (grid.size,):
+            raise ValueError(f"GridRegion mask must have shape ({grid.size},), got {mask.shape}")
+        self.grid, self.mask, self.description = grid, mask, description
+
+    def __call__(self, x) -> np.ndarray:
+        return interpolate(self.grid, self.mask.astype(float), x) >= 0.5
+
+    def __repr__(self) -> str:
+        return self.description
 
 
 def _digest(*arrays) -> str:
@@ -154,6 +172,19 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
         "control_cost": problem.control_cost.tolist(),
         "terminal_cost": cost_record(problem.terminal_cost, "terminal", problem, arrays),
         "state_cost": cost_record(problem.state_cost, "state_cost", problem, arrays),
+        **_exit_record(problem, arrays),
+    }
+
+
+def _exit_record(problem: Problem, arrays: dict) -> dict:
+    """A first-exit problem's exit set (its nodes, into ``arrays``) and exit cost; nothing for a
+    problem without one (so the records of other problems are unchanged)."""
+    if problem.exit is None:
+        return {}
+    arrays["exit_mask"] = problem.exit_mask()
+    return {
+        "exit": repr(problem.exit),
+        "exit_cost": cost_record(problem.exit_cost, "exit_cost", problem, arrays),
     }
 
 
@@ -224,6 +255,8 @@ def _record(solution: Solution, arrays: dict) -> dict:
         "operator": asdict(solution.operator),
         "sha256": _digest(solution.times, solution.slices, solution.log_scales),
     }
+    if isinstance(solution, StationarySolution) and solution.average_cost is not None:
+        meta["average_cost"] = solution.average_cost
     if reference is not None:
         meta["reference_sha256"] = _digest(reference.log_slices, reference.log_scales)
     return meta
@@ -319,6 +352,9 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
                 f"{str(path)!r} is corrupted: its fitting reference does not match its checksum"
             )
     grid = Grid([Axis(**a) for a in meta["grid"]])
+    exit_set = None
+    if "exit" in meta:
+        exit_set = GridRegion(grid, contents["exit_mask"], meta["exit"])
     problem = Problem(
         _system_from_record(meta["system"]),
         grid,
@@ -327,6 +363,8 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
         state_cost=_cost_from_record(meta["state_cost"], "state_cost", grid, contents),
         control_cost=np.array(meta["control_cost"]),
         temperature=meta["temperature"],
+        exit=exit_set,
+        exit_cost=_cost_from_record(meta.get("exit_cost"), "exit_cost", grid, contents),
     )
     diag = dict(meta["diagnostics"])
     diag["iterations"] = tuple(diag.get("iterations", ()))
@@ -340,7 +378,10 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
         )
     else:
         name, operator = meta["representation"], OperatorSignature(**meta["operator"])
-    return Solution(
+    kind, extra = Solution, {}
+    if problem.stationary:
+        kind, extra = StationarySolution, {"average_cost": meta.get("average_cost")}
+    return kind(
         problem,
         times,
         slices,
@@ -348,6 +389,7 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
         diagnostics,
         operator,
         _representation(str(name), reference, path),
+        **extra,
     )
 
 

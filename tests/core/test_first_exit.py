@@ -4,6 +4,7 @@ stationary solve against time marching, exact composition, and bad input."""
 import numpy as np
 import pytest
 import scipy.linalg as sl
+from conftest import EXACTNESS_ONLY
 
 import gridlbc as g
 from gridlbc.regions import Ball, Box
@@ -213,3 +214,25 @@ def test_time_march_settings_are_refused_for_a_stationary_problem():
     horizon = s.problem.replace(horizon=1.0, terminal_cost=lambda x: np.zeros(len(x)))
     with pytest.raises(ValueError, match="does not implement an exit set"):
         g.solve(horizon, method="splitting")
+
+
+@EXACTNESS_ONLY  # a round trip to rounding: the 41² grid's own accuracy is not under test
+def test_stationary_solutions_save_and_load_exactly(tmp_path):
+    s = point_mass_bays(n=41, exit_cost=lambda x: 0.5 * x[:, 0] ** 2)
+    path = g.save(s, tmp_path / "bays.npz")
+    loaded = g.load(path)
+    assert isinstance(loaded, g.StationarySolution)
+    x = s.grid.nodes()[::7] + 0.01
+    np.testing.assert_array_equal(loaded.value(x), s.value(x))
+    np.testing.assert_array_equal(loaded.problem.exit_mask(), s.problem.exit_mask())
+    np.testing.assert_array_equal(loaded.error_estimate(x), s.error_estimate(x))
+    assert g.combine([loaded, g.load(path)]).exact
+    average = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-4, 4, 41)]),
+        "average",
+        state_cost=g.costs.Quadratic([0.0], [Q]),
+        temperature=LAM,
+    )
+    a = g.solve(average)
+    assert g.load(g.save(a, tmp_path / "average.npz")).average_cost == a.average_cost
