@@ -52,6 +52,14 @@ through B(u dt + dε); the fold is a fixed function of the state after the step,
 produced it. The likelihood ratio of the passive noise law N(0, λR⁻¹dt) to the controlled one
 N(u dt, λR⁻¹dt) at dε' is the Girsanov factor exp(−(uᵀR dε + ½uᵀRu dt)/λ) whatever the folds do,
 so E_u[exp(−S_u/λ)] is the reflected chain's Feynman–Kac desirability exactly.
+
+**Tasks that end** (SPEC §9). With an exit set E the same argument holds up to the stopping time
+τ (the first step in E, or the end): S_u = g_E(x_τ) + ∫₀^τ (q + ½uᵀRu) dt + ∫₀^τ uᵀR dε, and
+E_u[exp(−S_u/λ)] is the stopped chain's desirability, because the stopping rule is a function of
+the path, which the change of measure leaves alone (optional stopping of the Girsanov
+martingale). A problem without a horizon is rolled out to ``max_time``; a sample still running
+then pays only what it has accrued, which biases v* and J low. :attr:`Certificate.unexited_fraction`
+reports their share and :func:`certify` warns above :data:`MAX_UNEXITED`.
 """
 
 from __future__ import annotations
@@ -72,6 +80,7 @@ from .simulate import (
     check_problem_and_policy,
     check_sample_count,
     euler_maruyama,
+    rollout_horizon,
     step_count,
 )
 
@@ -82,6 +91,10 @@ MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
 MAX_PARETO_K = 0.7
 """Above this PSIS tail shape k̂ the weights' tail is too heavy for the estimate to be trusted
 (Vehtari et al., JMLR 2024, §3.2) and :func:`certify` warns."""
+
+MAX_UNEXITED = 0.01
+"""Above this share of samples that had not reached the exit set by ``max_time`` (a first-exit
+problem without a horizon), :func:`certify` warns: their costs are truncated."""
 
 PROGRESS_DELAY = 2.0
 """Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
@@ -153,6 +166,9 @@ class Certificate:
         With ``certify(..., richardson=True)``: v* extrapolated to a vanishing Euler–Maruyama
         step, 2 v̂*(Δt) − v̂*(2Δt) (Δt this certificate's :attr:`dt`; the estimator's bias is
         O(Δt)), and its SE √(4 SE(Δt)² + SE(2Δt)²) (independent draws). None otherwise.
+    unexited_fraction : float or ndarray (k,)
+        For a first-exit problem: the share of the proposal's samples that had not reached the
+        exit set by the end (truncated costs, see the module docstring); 0 otherwise.
     """
 
     start_states: np.ndarray
@@ -177,6 +193,7 @@ class Certificate:
     boundary: str = "free"
     extrapolated_value: float | np.ndarray | None = None
     extrapolated_value_se: float | np.ndarray | None = None
+    unexited_fraction: float | np.ndarray = 0.0
 
     @property
     def step_contribution(self) -> float | np.ndarray | None:
@@ -334,6 +351,7 @@ def certify(
     proposal=None,
     boundary: str = "free",
     richardson: bool = False,
+    max_time: float | None = None,
 ) -> Certificate:
     """Estimate the true optimal cost v*(x₀) by importance sampling, and the cost of ``policy``.
 
@@ -391,6 +409,9 @@ def certify(
         O(Δt) bias away: :attr:`Certificate.extrapolated_value`, its SE and
         :attr:`Certificate.step_contribution`; :meth:`Certificate.interval` then bounds the
         SDE's optimum. Costs half as much again.
+    max_time : float, optional
+        For a first-exit problem without a horizon (required there): the paths stop at this
+        time; the share that had not exited is :attr:`Certificate.unexited_fraction`.
 
     Returns
     -------
@@ -404,6 +425,7 @@ def certify(
             "max_pareto_k": max_pareto_k,
             "proposal": proposal,
             "boundary": boundary,
+            "max_time": max_time,
         }
         fine = certify(problem, policy, x0, dt=dt, seed=seed, **options)
         coarse_seed = None if seed is None else seed + 1
@@ -422,7 +444,14 @@ def certify(
     n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
     starts = problem.wrap(problem.check_states(x0, "x0"))
-    K = step_count(problem.require_horizon("certify"), dt)
+    if problem.average_cost:
+        raise ValueError(
+            "certify estimates the optimal cost-to-go of a task that ends; an average-cost "
+            "problem has none (its value is relative): simulate the policy for a long max_time "
+            "and compare the cost per unit time with solution.average_cost"
+        )
+    T = rollout_horizon(problem, max_time)
+    K = step_count(T, dt)
     k = starts.shape[0]
     x = np.repeat(starts, n, axis=0)
     runs = 1 if proposal is None else 2
@@ -436,7 +465,7 @@ def certify(
     )
     rng = np.random.default_rng(seed)
     path = euler_maruyama(
-        problem, sampler, x, K, rng, True, lambda step, x_new, u: bar.update(step + 1), boundary
+        problem, sampler, x, K, rng, True, lambda step, x_new, u: bar.update(step + 1), boundary, T
     )
     lam = problem.temperature
     C = (path.running_cost + path.terminal_cost).reshape(k, n)
@@ -453,6 +482,7 @@ def certify(
             True,
             lambda step, x_new, u: bar.update(K + step + 1),
             boundary,
+            T,
         )
         C_own = (own.running_cost + own.terminal_cost).reshape(k, n)
         left_own = own.left_box.reshape(k, n)
@@ -482,19 +512,31 @@ def certify(
             CertificateWarning,
             stacklevel=2,
         )
+    unexited = np.zeros(k)
+    if path.exit_times is not None and problem.stationary:
+        unexited = np.isnan(path.exit_times).reshape(k, n).mean(axis=1)
+        for i in np.flatnonzero(unexited > MAX_UNEXITED):
+            warnings.warn(
+                f"certify: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
+                f"the exit set by max_time = {T:g}: their costs are cut short, so v* and J are "
+                "underestimated. Raise max_time, or use a proposal that reaches the exit sooner.",
+                CertificateWarning,
+                stacklevel=2,
+            )
     final = path.final_states.reshape(k, n, -1)
     return Certificate(
         starts,
         **{name: float(c[0]) if single else c for name, c in estimates.items()},
         final_states=final[0] if single else final,
         n_samples=n,
-        dt=problem.require_horizon("certify") / K,
+        dt=T / K,
         temperature=lam,
         min_effective_sample_size=float(min_effective_sample_size),
         max_pareto_k=float(max_pareto_k),
         seed=seed,
         separate_proposal=proposal is not None,
         boundary=boundary,
+        unexited_fraction=float(unexited[0]) if single else unexited,
     )
 
 

@@ -5,6 +5,11 @@ A region is anything that answers which of ``N`` states ``(N, d)`` lie in it wit
 ``lambda x: x[:, 0] >= 0.45`` (the mountain car's flag). The shapes here know their geometry,
 so :class:`Ball` measures distance to the nearest image on periodic axes, like
 :class:`gridlbc.costs.Quadratic` does, once a :class:`gridlbc.Problem` gives it the periods.
+
+They also know the point of the region nearest to a state outside it (``nearest``, exact for
+boxes and round balls, the radial projection for an ellipsoid). Rollouts use it to catch the
+paths that enter the region between two time steps (the Brownian-bridge crossing probability,
+:mod:`gridlbc.simulate`); a plain callable region is checked at the steps only.
 """
 
 from __future__ import annotations
@@ -40,6 +45,10 @@ class RegionBase:
         """The same region on a state space with these periods (``inf`` where not periodic)."""
         return self
 
+    def nearest(self, x: np.ndarray) -> np.ndarray:
+        """The point of the region nearest to each state ``x`` ``(N, d)`` (``x`` itself inside)."""
+        raise NotImplementedError
+
 
 @dataclass(frozen=True, eq=False, init=False)
 class Box(RegionBase):
@@ -70,6 +79,9 @@ class Box(RegionBase):
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         return np.all((x >= self.lower) & (x <= self.upper), axis=1)
+
+    def nearest(self, x: np.ndarray) -> np.ndarray:
+        return np.clip(x, self.lower, self.upper)
 
     def __repr__(self) -> str:
         return f"Box({self.lower.tolist()}, {self.upper.tolist()})"
@@ -116,6 +128,13 @@ class Ball(RegionBase):
             diff = wrap_difference(diff, self.periods)
         return np.sum((diff / self.radius) ** 2, axis=1) <= 1.0
 
+    def nearest(self, x: np.ndarray) -> np.ndarray:
+        diff = x - self.center
+        if self.periods is not None:
+            diff = wrap_difference(diff, self.periods)
+        rho = np.sqrt(np.sum((diff / self.radius) ** 2, axis=1))
+        return x - diff * (1.0 - 1.0 / np.maximum(rho, 1.0))[:, None]
+
     def __repr__(self) -> str:
         return f"Ball({self.center.tolist()}, {self.radius.tolist()})"
 
@@ -135,8 +154,22 @@ class Union(RegionBase):
             mask |= region_mask(part, x)
         return mask
 
+    def nearest(self, x: np.ndarray) -> np.ndarray:
+        if not all(isinstance(p, RegionBase) for p in self.parts):
+            raise NotImplementedError("a union with a plain callable has no geometry")
+        points = np.stack([p.nearest(x) for p in self.parts])  # (parts, N, d)
+        best = np.argmin(np.sum((points - x) ** 2, axis=2), axis=0)
+        return points[best, np.arange(x.shape[0])]
+
     def __repr__(self) -> str:
         return " | ".join(repr(p) for p in self.parts)
+
+
+def has_geometry(region) -> bool:
+    """Whether ``region`` can say its nearest points (:meth:`RegionBase.nearest`)."""
+    if isinstance(region, Union):
+        return all(has_geometry(p) for p in region.parts)
+    return isinstance(region, RegionBase) and type(region).nearest is not RegionBase.nearest
 
 
 def bind_periods(region, periods):

@@ -21,6 +21,23 @@ cost is the rectangle rule of the running cost plus the terminal cost,
 whose sample mean estimates E[J]; for the optimal policy that is v(x₀, 0) = −λ log z(x₀, 0), up to
 the O(Δt) bias of the scheme and the standard error σ/√n of the mean.
 
+**Tasks that end** (SPEC §9). With an exit set E a sample stops at τ, the first step that lands
+in E, and pays g_E(x_τ) there in place of g(x_T); a sample that starts in E pays g_E(x₀) and
+never moves. The paths run to min(τ, T), or to ``max_time`` for a first-exit problem without a
+horizon, where a sample that has not exited pays what it has accrued so far (truncated:
+:attr:`Rollouts.n_unexited` counts them). Checked at the steps only, a path that enters E
+between two steps and leaves again would be missed, an O(√Δt) bias. Where the region knows its
+geometry (the shapes of :mod:`gridlbc.regions`) the step also ends the sample with the
+probability that the Brownian bridge between its two states crossed into E,
+
+    p = exp(−2 d₀ d₁ / (σₙ² Δt)),
+
+d₀, d₁ the distances of the two states from E and σₙ² = nᵀ λ B R⁻¹ Bᵀ n the noise's variance
+along the outward normal n at the first (exact for a flat boundary and constant coefficients; the
+bias is then O(Δt)); it pays g_E at the point of E nearest to the second state. The bridge
+between two states does not depend on the drift, so this randomised stopping rule is the same
+under the controlled and the passive process and :func:`gridlbc.certify`'s weight stays exact.
+
 The policy and the drift are evaluated once per step for all samples (vectorised callables); the
 per-sample update of state and cost is one numba kernel over the samples.
 """
@@ -29,12 +46,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
 from ._numba import jit
 from .costs import evaluate_cost
 from .problem import Problem
+from .regions import RegionBase, has_geometry
 
 DEFAULT_STEPS = 300
 """Euler–Maruyama steps over the horizon when ``dt`` is not given."""
@@ -93,9 +112,11 @@ class Rollouts:
     controls : ndarray (n, k − 1, m)
         The control applied on each step.
     costs : ndarray (n,)
-        Realised cost per sample: Σ (q + ½ uᵀRu) Δt + g(x_T).
+        Realised cost per sample: Σ (q + ½ uᵀRu) Δt + g(x_T), or up to τ + g_E(x_τ) for a sample
+        that reached the exit set.
     terminal_costs : ndarray (n,)
-        g(x_T) per sample (part of ``costs``).
+        g(x_T) or g_E(x_τ) per sample (part of ``costs``); 0 for a sample of a problem without a
+        horizon that had not exited.
     left_box : ndarray (n,) of bool
         Samples that crossed an edge of the grid's box on a non-periodic axis at some step (with
         ``boundary="free"`` they keep going, and a grid solution is clamped to the box there; with
@@ -103,6 +124,9 @@ class Rollouts:
     seed : int or None
     boundary : str
         ``"free"`` or ``"reflect"`` (see the module docstring).
+    exit_times : ndarray (n,) or None
+        With an exit set: τ per sample (0 for a start in E), NaN where it had not exited by the
+        end; None without one. After τ a sample's state stays where it entered E.
     """
 
     times: np.ndarray
@@ -113,6 +137,13 @@ class Rollouts:
     left_box: np.ndarray
     seed: int | None
     boundary: str = "free"
+    exit_times: np.ndarray | None = None
+
+    @property
+    def n_unexited(self) -> int:
+        """Samples of a first-exit problem that had not reached the exit set by the end (0
+        without an exit set)."""
+        return 0 if self.exit_times is None else int(np.isnan(self.exit_times).sum())
 
     @property
     def n_samples(self) -> int:
@@ -143,9 +174,11 @@ class Rollouts:
         return int(self.left_box.sum())
 
     def summary(self) -> str:
+        ending = "" if self.exit_times is None else f", {self.n_unexited} had not exited"
         return (
             f"cost {self.mean_cost:.4g} ± {self.standard_error:.2g} (SE) over "
             f"{self.n_samples} samples, Δt = {self.dt:.3g}, {self.n_left_box} left the box"
+            f"{ending}"
         )
 
 
@@ -199,6 +232,42 @@ def step_count(horizon: float, dt) -> int:
     return math.ceil(horizon / dt - 1e-9)
 
 
+def rollout_horizon(problem: Problem, max_time) -> float:
+    """How long the rollouts of ``problem`` run: its horizon T, or ``max_time`` for a problem
+    without one (first exit: the cap on τ; average cost: the averaging time).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem.
+    max_time : float or None
+        Given for (and only for) a problem without a horizon.
+    """
+    if problem.stationary:
+        if max_time is None:
+            raise ValueError(
+                "this problem has no horizon: give max_time, the time at which rollouts stop "
+                "(for first exit, well beyond the typical time to reach the exit set: samples "
+                "still running then are reported as not exited)"
+            )
+        return _positive_time(max_time)
+    if max_time is not None:
+        raise TypeError(
+            f"max_time caps a problem without a horizon; this one ends at T = {problem.horizon:g}"
+        )
+    return problem.require_horizon("simulate")
+
+
+def _positive_time(value) -> float:
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"max_time must be a number, got {value!r}") from None
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"max_time must be positive and finite, got {value}")
+    return value
+
+
 def _controls(policy, x: np.ndarray, t: float, m: int, step: int) -> np.ndarray:
     u = np.asarray(policy(x, t), dtype=float)
     if u.shape != (x.shape[0], m):
@@ -225,6 +294,7 @@ def simulate(
     seed: int | None = None,
     noise: bool = True,
     boundary: str = "free",
+    max_time: float | None = None,
 ) -> Rollouts:
     """Roll out ``policy`` on the SDE of ``problem`` and accumulate each sample's cost.
 
@@ -252,6 +322,9 @@ def simulate(
         At a closed (non-periodic) edge of the grid's box: ``"free"`` lets the state leave the box
         (the SDE on Rᵈ); ``"reflect"`` folds it back in after each step (the solver's reflecting
         state constraint, SPEC §3). A problem without a grid has no box: ``"free"`` only.
+    max_time : float, optional
+        For a problem without a horizon (required there): the rollouts stop at this time
+        (first exit: the samples that had not exited are counted in ``n_unexited``).
 
     Returns
     -------
@@ -259,7 +332,8 @@ def simulate(
     """
     check_problem_and_policy(problem, policy)
     x = _initial_states(problem, x0, n_samples)
-    K = step_count(problem.require_horizon("simulate"), dt)
+    T = rollout_horizon(problem, max_time)
+    K = step_count(T, dt)
     n, d, m = x.shape[0], problem.system.state_dim, problem.system.control_dim
     states = np.empty((n, K + 1, d))
     controls = np.empty((n, K, m))
@@ -269,12 +343,20 @@ def simulate(
         controls[:, k] = u
 
     path = euler_maruyama(
-        problem, policy, x, K, np.random.default_rng(seed), noise, record, boundary
+        problem, policy, x, K, np.random.default_rng(seed), noise, record, boundary, T
     )
     states[:, 0] = path.start
     costs = path.running_cost + path.terminal_cost
     return Rollouts(
-        path.times, states, controls, costs, path.terminal_cost, path.left_box, seed, boundary
+        path.times,
+        states,
+        controls,
+        costs,
+        path.terminal_cost,
+        path.left_box,
+        seed,
+        boundary,
+        path.exit_times,
     )
 
 
@@ -351,6 +433,7 @@ class SamplePaths:
     terminal_cost: np.ndarray  # g(x_K)
     ito: np.ndarray  # Σ uᵀR dε
     left_box: np.ndarray
+    exit_times: np.ndarray | None = None  # τ, NaN where not exited; None without an exit set
 
 
 def euler_maruyama(
@@ -362,8 +445,12 @@ def euler_maruyama(
     noise: bool = True,
     on_step=None,
     boundary: str = "free",
+    horizon: float | None = None,
 ) -> SamplePaths:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
+
+    With an exit set a sample stops on the first step that lands in it (module docstring): its
+    state, costs and Girsanov term are frozen from then on, and its control is recorded as 0.
 
     Parameters
     ----------
@@ -383,13 +470,15 @@ def euler_maruyama(
         ``on_step(k, x_{k+1}, u_k)``, called after each step (recording, progress).
     boundary : {"free", "reflect"}
         At closed edges of the grid's box (see :func:`simulate`).
+    horizon : float, optional
+        How long the paths run (:func:`rollout_horizon`; default the problem's T).
 
     Returns
     -------
     SamplePaths
     """
     reflect = check_boundary(problem, boundary) == "reflect"
-    T = problem.require_horizon("simulate")
+    T = problem.require_horizon("simulate") if horizon is None else horizon
     step = T / n_steps
     grid, system = problem.grid, problem.system
     n, m = x.shape[0], system.control_dim
@@ -399,28 +488,96 @@ def euler_maruyama(
     running = np.zeros(n)
     ito = np.zeros(n)
     left = np.zeros(n, dtype=bool)
-    x = problem.wrap(x)
-    start = x
+    x = np.array(problem.wrap(x), dtype=float)  # a copy: the loop updates it in place
+    start = x.copy()
+    end_cost = np.zeros(n)
+    exits = _Exits(problem, x, end_cost) if problem.exit is not None else None
     eps = np.zeros((n, m))
     for k in range(n_steps):
         t = k * step
-        u = _controls(policy, x, t, m, k)
-        drift = np.ascontiguousarray(system.drift(x), dtype=float)
-        B = np.ascontiguousarray(system.input_matrix(x), dtype=float)
-        if problem.state_cost is not None:
-            running += problem.state_cost_values(x, t) * step
         if noise:
-            eps = rng.standard_normal((n, m))
-        x_new = np.empty_like(x)
-        _em_kernel(x, drift, B, u, eps, root, R, step, x_new, running, ito)
-        x = problem.wrap(x_new)
-        if grid is not None:
-            left |= np.any(((x < grid.lo) | (x > grid.hi)) & ~grid.periodic, axis=1)
-            if reflect:
-                reflect_into_box(x, grid.lo, grid.hi, ~grid.periodic)
+            eps = rng.standard_normal((n, m))  # for every sample: the draws do not depend on τ
+        # the samples still running: all of them (a view) without an exit set
+        alive = slice(None) if exits is None else exits.alive.copy()
+        x_a = x[alive]
+        u = np.zeros((n, m))
+        if x_a.shape[0]:
+            u_a = _controls(policy, x_a, t, m, k)
+            drift = np.ascontiguousarray(system.drift(x_a), dtype=float)
+            B = np.ascontiguousarray(system.input_matrix(x_a), dtype=float)
+            running_a, ito_a = running[alive], ito[alive]
+            if problem.state_cost is not None:
+                running_a += problem.state_cost_values(x_a, t) * step
+            x_new = np.empty_like(x_a)
+            eps_a = np.ascontiguousarray(eps[alive])
+            _em_kernel(x_a, drift, B, u_a, eps_a, root, R, step, x_new, running_a, ito_a)
+            running[alive], ito[alive], u[alive] = running_a, ito_a, u_a
+            x_new = problem.wrap(x_new)
+            if grid is not None:
+                left[alive] |= np.any(((x_new < grid.lo) | (x_new > grid.hi)) & ~grid.periodic, 1)
+                if reflect:
+                    reflect_into_box(x_new, grid.lo, grid.hi, ~grid.periodic)
+            if exits is not None:
+                exits.step(x_a, x_new, B @ root if noise else None, (k + 1) * step, rng)
+            x[alive] = x_new
         if on_step is not None:
             on_step(k, x, u)
-    terminal = evaluate_cost(problem.terminal_cost, x, "terminal_cost")
+    running_at_end = slice(None) if exits is None else exits.alive
+    if not problem.stationary:  # the samples still running at T pay g(x_T)
+        end_cost[running_at_end] = evaluate_cost(
+            problem.require_terminal_cost("simulate"), x[running_at_end], "terminal_cost"
+        )
     times = np.arange(n_steps + 1) * step
     times[-1] = T
-    return SamplePaths(times, start, running, x, terminal, ito, left)
+    exit_times = None if exits is None else exits.times
+    return SamplePaths(times, start, running, x, end_cost, ito, left, exit_times)
+
+
+class _Exits:
+    """Which samples have reached the exit set, when, and the exit cost they paid (into
+    ``end_cost``); the bridge crossing where the region knows its geometry (module docstring)."""
+
+    def __init__(self, problem: Problem, x: np.ndarray, end_cost: np.ndarray):
+        self.problem, self.end_cost = problem, end_cost
+        geometric = has_geometry(problem.exit)
+        self.region = cast(RegionBase, problem.exit) if geometric else None
+        self.alive = np.ones(x.shape[0], dtype=bool)
+        self.times = np.full(x.shape[0], np.nan)
+        self._stop(np.arange(x.shape[0]), self.problem.exit_mask(x), x, 0.0)
+
+    def step(self, before, after, noise_factor, t: float, rng) -> None:
+        """Stop the running samples (in order, ``before`` → ``after``, both ``(n_alive, d)``)
+        that entered E during the step ending at ``t``; ``noise_factor`` ``(n_alive, d, m)`` is
+        B C √(λ Δt) with C Cᵀ = R⁻¹ (None without noise: no bridge)."""
+        running = np.flatnonzero(self.alive)
+        entered = self.problem.exit_mask(after)
+        where = after
+        if self.region is not None and noise_factor is not None:
+            draws = rng.random(len(running))
+            out = np.flatnonzero(~entered)
+            crossed = draws[out] < self._crossing(before[out], after[out], noise_factor[out])
+            if crossed.any():
+                where = after.copy()
+                hit = out[crossed]
+                where[hit] = self.region.nearest(after[hit])
+                entered[hit] = True
+        self._stop(running, entered, where, t)
+
+    def _crossing(self, before, after, noise_factor) -> np.ndarray:
+        """p = exp(−2 d₀ d₁ / (σₙ² Δt)) per sample (module docstring)."""
+        region = self.region
+        assert region is not None
+        normal = before - region.nearest(before)
+        d0 = np.linalg.norm(normal, axis=1)
+        d1 = np.linalg.norm(after - region.nearest(after), axis=1)
+        normal /= np.maximum(d0, np.finfo(float).tiny)[:, None]
+        variance = np.sum(np.einsum("nd,ndm->nm", normal, noise_factor) ** 2, axis=1)
+        with np.errstate(divide="ignore", under="ignore"):
+            return np.where(variance > 0, np.exp(-2 * d0 * d1 / variance), 0.0)
+
+    def _stop(self, running, entered, where, t: float) -> None:
+        ids = running[entered]
+        if len(ids):
+            self.end_cost[ids] = self.problem.exit_values(where[entered])
+            self.times[ids] = t
+            self.alive[ids] = False
