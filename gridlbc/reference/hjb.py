@@ -401,7 +401,9 @@ class HJBSolution:
         return self.problem.require_grid("an HJBSolution")
 
     def _nodal_at(self, t) -> np.ndarray:
-        j, theta = bracket(self.times, check_time(t, self.problem.horizon))
+        j, theta = bracket(
+            self.times, check_time(t, self.problem.require_horizon("an HJBSolution"))
+        )
         return (1 - theta) * self.values[j] + theta * self.values[j + 1]
 
     @state_evaluation
@@ -477,7 +479,7 @@ def solve_hjb(
     diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
     q = problem.state_cost_values(x)
     _, spacing, shape, strides, periodic = grid.kernel_arrays()
-    T = problem.horizon
+    T = problem.require_horizon("solve_hjb")
     max_step = T if dt is None else min(float(dt), T)
 
     v = problem.terminal_values(x).copy()

@@ -527,14 +527,15 @@ def simulate_with_push(
     ``(times, states (n, k, d))`` on the joined time grid, where t_p appears twice: the state just
     before the kick, then just after it.
     """
-    if not 0 < push_time < problem.horizon:
-        raise ValueError(f"push_time must lie in (0, T = {problem.horizon:g}), got {push_time}")
+    T = problem.require_horizon("a pushed rollout")
+    if not 0 < push_time < T:
+        raise ValueError(f"push_time must lie in (0, T = {T:g}), got {push_time}")
     before = simulate(
         problem.replace(horizon=push_time), policy, x0, n_samples, dt=dt, seed=seed, noise=noise
     )
     pushed = before.final_states + np.asarray(kick, dtype=float)
     after = simulate(
-        problem.replace(horizon=problem.horizon - push_time),
+        problem.replace(horizon=T - push_time),
         lambda x, t: policy(x, t + push_time),
         pushed,
         n_samples,
@@ -550,7 +551,7 @@ def remaining_task(problem: Problem, policy, start_time: float):
     """The task left at ``start_time``: the problem on [t_s, T] (horizon T − t_s) and the policy
     with its clock shifted, ``policy(x, t + t_s)``; e.g. to certify costs from a pushed state."""
     return (
-        problem.replace(horizon=problem.horizon - start_time),
+        problem.replace(horizon=problem.require_horizon("remaining_task()") - start_time),
         lambda x, t: policy(x, t + start_time),
     )
 
