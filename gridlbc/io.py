@@ -379,19 +379,11 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
         )
     else:
         name, operator = meta["representation"], OperatorSignature(**meta["operator"])
-    kind, extra = Solution, {}
+    representation = _representation(str(name), reference, path)
+    fields = (problem, times, slices, scales, diagnostics, operator, representation)
     if problem.stationary:
-        kind, extra = StationarySolution, {"average_cost": meta.get("average_cost")}
-    return kind(
-        problem,
-        times,
-        slices,
-        scales,
-        diagnostics,
-        operator,
-        _representation(str(name), reference, path),
-        **extra,
-    )
+        return StationarySolution(*fields, average_cost=meta.get("average_cost"))
+    return Solution(*fields)
 
 
 def _representation(name: str, reference: RelativeZ | None, path) -> LinearZ | RelativeZ | LogZ:
