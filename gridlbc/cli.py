@@ -168,7 +168,7 @@ def _cmd_solve(args) -> int:
 
 def _sweep_axes(args) -> list[tuple[str, list]]:
     """The swept quantities: (column name, values), in the order of the flags' help."""
-    axes = []
+    axes: list[tuple[str, list]] = []
     for item in args.param_values or ():
         key, sep, values = item.partition("=")
         if not sep or not key.strip():
@@ -249,7 +249,7 @@ def _cmd_sweep(args) -> int:
     for m, combo in zip(members, combos):
         swept = [",".join(f"{c:g}" for c in v) if isinstance(v, list) else f"{v:g}" for v in combo]
         values = [] if m.values is None else [f"{v:.6g}" for v in m.values]
-        if m.error:
+        if m.path is None:  # failed: no file
             values = ["-"] * (0 if states is None else len(states))
             status = f"failed: {m.error}"
         else:
@@ -278,13 +278,14 @@ def _cmd_combine(args) -> int:
 
     solutions = [load(p) for p in args.solutions]
     grid = solutions[0].grid
-    weights = None
+    weights: list[float] | np.ndarray | None = None
     if args.weights is not None and args.project is not None:
         raise ValueError("give either --weights or --project TARGET, not both")
     if args.weights is not None:
         weights = _vector(args.weights, "--weights")
     if args.project is not None:
         costs = [s.problem.terminal_cost for s in solutions]
+        target_weights: list[float] | np.ndarray
         if args.project_weights is not None:
             target_weights = _vector(args.project_weights, "--project-weights")
         elif isinstance(costs[0], Quadratic):
@@ -372,17 +373,19 @@ def _cmd_certify(args) -> int:
             for h in ("predicted v", "certified v*", "± SE", "error", "policy cost", "gap", "ESS")
         )
     )
-    for i in range(states.shape[0]):
-        v, se = cert.optimal_value[i], cert.optimal_value_se[i]
-        row = (
-            predicted[i],
-            v,
-            se,
-            predicted[i] - v,
-            cert.policy_cost[i],
-            cert.gap[i],
-            cert.effective_sample_size[i],
-        )
+    # one row per start state: with (k, d) states every estimate is a (k,) array
+    table = np.column_stack(
+        [
+            predicted,
+            cert.optimal_value,
+            cert.optimal_value_se,
+            predicted - cert.optimal_value,
+            cert.policy_cost,
+            cert.gap,
+            cert.effective_sample_size,
+        ]
+    )
+    for row in table:
         print(" ".join(f"{x:12.5g}" for x in row))
     for w in caught:
         print(f"warning: {w.message}", file=sys.stderr)

@@ -139,7 +139,7 @@ class Grid:
         shape = self.shape
         return np.array([math.prod(shape[k + 1 :]) for k in range(self.ndim)], dtype=np.int64)
 
-    def kernel_arrays(self) -> tuple[np.ndarray, ...]:
+    def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``(lo, spacing, shape, strides, periodic)``: the grid as the arrays compiled kernels
         take (float64, float64, int64, int64, bool; each of shape ``(d,)``)."""
         return (

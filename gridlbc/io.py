@@ -134,7 +134,8 @@ def cost_record(cost, name: str, problem: Problem, arrays: dict) -> dict | None:
         return None
     if isinstance(cost, Quadratic):
         return quadratic_record(cost)
-    arrays[f"{name}_nodes"] = np.asarray(cost(problem.grid.nodes()), dtype=float)
+    nodes = problem.require_grid("recording a non-quadratic cost").nodes()
+    arrays[f"{name}_nodes"] = np.asarray(cost(nodes), dtype=float)
     return {"kind": "nodes", "type": f"{type(cost).__module__}.{type(cost).__qualname__}"}
 
 
@@ -161,7 +162,7 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
     return {
         "grid": [
             {"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": a.name}
-            for a in problem.grid.axes
+            for a in problem.require_grid("problem_record()").axes
         ],
         "system": {
             "class": f"{type(system).__module__}.{type(system).__qualname__}",
@@ -169,7 +170,7 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
         },
         "horizon": problem.horizon,
         "temperature": problem.temperature,
-        "control_cost": problem.control_cost.tolist(),
+        "control_cost": problem.R.tolist(),
         "terminal_cost": cost_record(problem.terminal_cost, "terminal", problem, arrays),
         "state_cost": cost_record(problem.state_cost, "state_cost", problem, arrays),
         **_exit_record(problem, arrays),
@@ -378,19 +379,11 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
         )
     else:
         name, operator = meta["representation"], OperatorSignature(**meta["operator"])
-    kind, extra = Solution, {}
+    representation = _representation(str(name), reference, path)
+    fields = (problem, times, slices, scales, diagnostics, operator, representation)
     if problem.stationary:
-        kind, extra = StationarySolution, {"average_cost": meta.get("average_cost")}
-    return kind(
-        problem,
-        times,
-        slices,
-        scales,
-        diagnostics,
-        operator,
-        _representation(str(name), reference, path),
-        **extra,
-    )
+        return StationarySolution(*fields, average_cost=meta.get("average_cost"))
+    return Solution(*fields)
 
 
 def _representation(name: str, reference: RelativeZ | None, path) -> LinearZ | RelativeZ | LogZ:

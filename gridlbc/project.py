@@ -99,8 +99,9 @@ def _gaussian_inner(c_i, A_i, c_j, A_j) -> float:
     return math.exp(0.5 * c_i.size * math.log(2 * math.pi) - 0.5 * logdet - 0.5 * quad)
 
 
-def _analytic(costs, lam) -> np.ndarray:
-    """Gram matrix of all ``costs`` (quadratics on Rᵈ), shape (n, n)."""
+def analytic_gram(costs, lam) -> np.ndarray:
+    """Gram matrix ⟨h_i, h_j⟩ = ∫ e^{−(g_i + g_j)/λ} dx of all ``costs`` (quadratics on Rᵈ,
+    λ = ``lam``) in closed form, shape (n, n): the ``"analytic"`` method of :func:`projection`."""
     A = [2.0 * c.weights / lam for c in costs]
     n = len(costs)
     G = np.empty((n, n))
@@ -203,7 +204,7 @@ def projection(
         dims = {c.dim for c in everything}
         if len(dims) != 1:
             raise ValueError(f"costs have different state dimensions {sorted(dims)}")
-        G, scales = _analytic(everything, lam), np.zeros(len(everything))
+        G, scales = analytic_gram(everything, lam), np.zeros(len(everything))
     else:
         assert grid is not None, "_choose_method picks quadrature only with a grid"
         G, scales = _quadrature(everything, lam, grid)

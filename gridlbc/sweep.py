@@ -209,16 +209,18 @@ def _run_member(
     """Solve (or reuse) one member on a worker; every failure is returned, never raised."""
     import numba
 
-    numba.set_num_threads(max(1, min(numba_threads, numba.config.NUMBA_NUM_THREADS)))
-    path = Path(path)
+    # numba.config sets its options from the environment at import, out of mypy's sight
+    largest = numba.config.NUMBA_NUM_THREADS  # type: ignore[attr-defined]
+    numba.set_num_threads(max(1, min(numba_threads, largest)))
+    file = Path(path)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            solution = _finished(path, key)
+            solution = _finished(file, key)
             reused = solution is not None
             if not reused:
                 solution = solve(problem, settings=settings)
-                _save_atomic(solution, path, key)
+                _save_atomic(solution, file, key)
             values = None if states is None else solution.value(states, 0.0)
             error = None
         except Exception as exc:
@@ -364,7 +366,7 @@ def sweep(
     ]
     state_tag = (
         "none"
-        if states is None
+        if points is None
         else hashlib.sha256(np.ascontiguousarray(points[0]).tobytes()).hexdigest()[:16]
     )
     outcomes: dict[str, _Outcome] = {}

@@ -146,7 +146,8 @@ def decimate(
             )
         slices[r] = z / top
         scales[r] = L + math.log(top)
-        if fitted:  # log φ at the coarse nodes: the original's own log z, or its I[log φ]
+        # fitted: log φ at the coarse nodes, the original's own log z or its I[log φ]
+        if reference is not None:
             ell = fields.log_base
             assert ell is not None  # LogZ and RelativeZ interpolate a log-factor
             ell = np.maximum(
@@ -319,11 +320,12 @@ def _component_label(solution: Solution, i: int) -> str:
     return f"component {i + 1}"
 
 
-def _shared_references(solutions) -> tuple[list, list]:
+def _shared_references(solutions) -> tuple[list[RelativeZ], list[int | None]]:
     """The distinct fitting references of ``solutions`` (equal arrays count once: solutions
     solved together, or decimated from such, share theirs) and, per solution, the index of its
     own in that list (None without one)."""
-    distinct, index = [], []
+    distinct: list[RelativeZ] = []
+    index: list[int | None] = []
     for s in solutions:
         ref = s.reference
         if ref is None:
@@ -486,7 +488,8 @@ def _decimation_error(originals, embedding: Embedding, weights, seed: int = 0):
     rng = np.random.default_rng(seed)
     X = rng.uniform(grid.lo, grid.hi, (2000, grid.ndim))
     full, small = combine(originals, weights), combine(embedding.components, weights)
-    errors, spread = [], 0.0
+    errors: list[np.ndarray] = []
+    spread = 0.0
     for t in np.append(0.0, rng.uniform(0, originals[0].problem.horizon, 4)):
         a, b = full.value(X, t), small.value(X, t)
         ok = np.isfinite(a) & np.isfinite(b)
@@ -494,8 +497,8 @@ def _decimation_error(originals, embedding: Embedding, weights, seed: int = 0):
             return math.inf, math.inf, float(np.ptp(a[ok])) if ok.any() else math.inf
         errors.append(np.abs(a - b)[ok])
         spread = max(spread, float(np.ptp(a[ok])))
-    errors = np.concatenate(errors)
-    return float(errors.max()), float(np.median(errors)), spread
+    gaps = np.concatenate(errors)
+    return float(gaps.max()), float(np.median(gaps)), spread
 
 
 def write_page(

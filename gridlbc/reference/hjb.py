@@ -63,7 +63,7 @@ from ..problem import Problem, bracket, check_time, state_evaluation
 
 
 @jit
-def _hamiltonian_kernel(
+def hamiltonian_kernel(
     v,
     drift,
     gain,
@@ -305,7 +305,7 @@ def hamiltonian_numpy(
     Minimises over each control by brute force over candidate points that contain the minimiser:
     the kink and both branch minimisers, each clipped to the box, and the box's finite ends.
     """
-    grid = problem.grid
+    grid = problem.require_grid("hamiltonian_numpy()")
     x = grid.nodes()
     drift = np.asarray(problem.system.drift(x), dtype=float)
     diffusion = 0.5 * problem.noise_diagonal(x)
@@ -398,10 +398,12 @@ class HJBSolution:
 
     @property
     def grid(self) -> Grid:
-        return self.problem.grid
+        return self.problem.require_grid("an HJBSolution")
 
     def _nodal_at(self, t) -> np.ndarray:
-        j, theta = bracket(self.times, check_time(t, self.problem.horizon))
+        j, theta = bracket(
+            self.times, check_time(t, self.problem.require_horizon("an HJBSolution"))
+        )
         return (1 - theta) * self.values[j] + theta * self.values[j + 1]
 
     @state_evaluation
@@ -477,7 +479,7 @@ def solve_hjb(
     diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
     q = problem.state_cost_values(x)
     _, spacing, shape, strides, periodic = grid.kernel_arrays()
-    T = problem.horizon
+    T = problem.require_horizon("solve_hjb")
     max_step = T if dt is None else min(float(dt), T)
 
     v = problem.terminal_values(x).copy()
@@ -491,7 +493,7 @@ def solve_hjb(
     for j in range(slices - 1, -1, -1):
         remaining = interval
         while remaining > 1e-12 * interval:
-            _hamiltonian_kernel(
+            hamiltonian_kernel(
                 v,
                 drift,
                 structure.gain,

@@ -91,7 +91,8 @@ class StepBound:
         """Called with every step the solver takes; this bound has nothing to say."""
 
 
-class Terminal(NamedTuple):
+@dataclass(frozen=True)
+class Terminal:
     """The terminal data of a solve, prepared by the solver.
 
     ``values`` ``(rows, N)``: the scaled desirabilities Z = z_T e^{−ℓ} (max 1 per row) with their
@@ -133,7 +134,7 @@ class MarchPlan:
 
     def progress_bar(self, label: str) -> ProgressBar:
         """A progress bar over the steps, ``label`` and the grid in front."""
-        grid = self.problem.grid
+        grid = self.problem.require_grid("a march")
         return ProgressBar(
             self.steps, self.progress, f"{label} {grid.describe()}", work_per_item=grid.size
         )
@@ -194,7 +195,7 @@ class SchemeBase:
     name: str
     supports_fitting: bool = False
     supports_exit: bool = False
-    step: type
+    step: type[StepOperator]
 
     def estimate_bytes(self, grid: Grid) -> int:
         """Memory of the operator on ``grid`` (``step.estimate_bytes``)."""

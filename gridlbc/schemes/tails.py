@@ -43,7 +43,7 @@ def check_resolution(
     The scheme cannot carry such a fall of z: it fills it with its own tails, so v is
     underestimated, more so as λ falls. ``diffusion``: the D_k of the problem if already evaluated
     (e.g. :attr:`gridlbc.schemes.splitting.SplittingStep.diffusion`). Returns that share."""
-    grid = problem.grid
+    grid = problem.require_grid("check_resolution()")
     flagged, worst = 0, (0.0, 0.0, "")
     if diffusion is None:
         diffusion = diffusion_coefficients(problem)
@@ -69,7 +69,7 @@ def count_at_cap(
     """Add to ``flagged`` the nodes whose v/λ rises to a noise-axis neighbour by ≥ 0.9 of the tail
     cap, and keep the worst (rise, cap, axis) seen (``diffusion``: the D_k of
     :func:`gridlbc.schemes.noise.diffusion_coefficients`)."""
-    grid, lam = problem.grid, problem.temperature
+    grid, lam = problem.require_grid("count_at_cap()"), problem.temperature
     for flat in flat_chunks(grid.size):
         index = np.stack(np.unravel_index(flat, grid.shape), axis=1)
         hit = np.zeros(flat.size, dtype=bool)

@@ -23,19 +23,21 @@ from __future__ import annotations
 
 import math
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..certify import certify
+from ..certify import Certificate, certify
 from ..errors import UnderflowWarning
 from ..problem import Problem
 from ..reference import lq_solution
-from ..reference.hjb import solve_hjb
+from ..reference.hjb import HJBSolution, solve_hjb
+from ..solution import Solution
 from ..solver import solve
 from .problems import pendulum_problem, pointmass_problem
 
-SOLVERS = {
+SOLVERS: dict[str, Callable[[Problem], Solution | HJBSolution]] = {
     "splitting": lambda problem: solve(problem, method="splitting", fitting=None),
     "implicit": lambda problem: solve(problem, method="implicit"),
     "hjb": solve_hjb,
@@ -146,8 +148,8 @@ class _Run:
 def _run(solver: str, problem: Problem, points: np.ndarray):
     solution = SOLVERS[solver](problem)
     run = _Run(
-        problem.grid.shape,
-        float(problem.grid.spacing.max()),
+        solution.grid.shape,
+        float(solution.grid.spacing.max()),
         solution.diagnostics.dt,
         solution.value(points, 0.0),
         solution.policy(points, 0.0),
@@ -433,7 +435,9 @@ def temperature_study(
     splitting z solver and the HJB solver, and sample both along ω = 0 at t = 0."""
     theta = np.linspace(-math.pi, math.pi, 361)[:-1]
     x = np.column_stack([theta, np.zeros_like(theta)])
-    fields = {key: [] for key in ("value_z", "policy_z", "value_hjb", "policy_hjb")}
+    fields: dict[str, list[np.ndarray]] = {
+        key: [] for key in ("value_z", "policy_z", "value_hjb", "policy_hjb")
+    }
     underflow, span, span_z = [], [], []
     for lam in temperatures:
         problem = pendulum_problem(n, temperature=lam, **problem_options)
@@ -456,7 +460,7 @@ def temperature_study(
         underflow_nodes=np.array(underflow),
         value_span=np.array(span),
         value_span_z=np.array(span_z),
-        grid_size=pendulum_problem(n).grid.size,
+        grid_size=pendulum_problem(n).require_grid("temperature_study()").size,
     )
 
 
@@ -489,7 +493,7 @@ def plot_temperature(study: TemperatureStudy, path=None):
 
 # -- against the certified optimum ----------------------------------------------------------------
 
-SCHEMES = {
+SCHEMES: dict[str, Callable[[Problem, float | None], Solution | HJBSolution]] = {
     "splitting": lambda problem, dt: solve(problem, dt=dt, method="splitting", fitting=None),
     "fitted": lambda problem, dt: solve(problem, dt=dt, method="splitting", fitting="terminal"),
     "implicit": lambda problem, dt: solve(problem, dt=dt, method="implicit"),
@@ -529,7 +533,7 @@ class CertifiedStudy:
     """
 
     start: np.ndarray
-    truth: object
+    truth: Certificate
     proposal: tuple
     rows: tuple[CertifiedRow, ...]
 
@@ -592,7 +596,7 @@ def certified_study(
     start = np.asarray(start, dtype=float)
     proposal = (configs[-1][0], max(sizes), configs[-1][1]) if proposal is None else tuple(proposal)
     say = print if progress else (lambda *a, **k: None)
-    solutions = {}
+    solutions: dict[tuple, Solution | HJBSolution] = {}
 
     def solved(scheme, n, dt):
         key = (scheme, n, dt)
@@ -637,9 +641,9 @@ def certified_study(
                     d.steps,
                     d.wall_time,
                     float(sol.value(start, 0.0)),
-                    own.policy_cost,
-                    own.policy_cost_se,
-                    own.effective_sample_size,
+                    float(own.policy_cost),  # one start state: floats
+                    float(own.policy_cost_se),
+                    float(own.effective_sample_size),
                     samples,
                 )
             )

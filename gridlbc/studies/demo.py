@@ -17,6 +17,7 @@ from __future__ import annotations
 import math
 import time
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -143,7 +144,7 @@ def run_demo(
     plot_fields(
         sol,
         out / "demo_swingup.png",
-        f"Pendulum swing-up ({problem.grid.describe()}, {d.method}, fitted): t = 0",
+        f"Pendulum swing-up ({sol.grid.describe()}, {d.method}, fitted): t = 0",
     )
     plot_fields(
         combined,
@@ -191,7 +192,7 @@ def interactive_demo(
     problem = swingup_problem(grid_size, horizon=INTERACTIVE_HORIZON)
     goals = [Quadratic(list(c), INTERACTIVE_GOAL_WEIGHTS) for c in INTERACTIVE_GOALS]
     solutions = solve_many(problem, goals, fitting="terminal", progress=progress)
-    options = {
+    options: dict[str, Any] = {  # write_page's keywords, of several types
         "weights": INTERACTIVE_WEIGHTS,
         "state": SWINGUP_START,
         "max_bytes": 4_000_000,

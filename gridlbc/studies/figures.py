@@ -26,7 +26,9 @@ from __future__ import annotations
 import textwrap
 import time
 import warnings
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -46,6 +48,7 @@ from .problems import (
     OBSTACLE_TARGET,
     OBSTACLE_WEIGHTS,
     SWINGUP_START,
+    CapsuleObstacle,
     coordination_problem,
     gymnast_problem,
     obstacle_problem,
@@ -88,7 +91,7 @@ def cost_reward_space(out, n: int = 201) -> list[Path]:
         solution,
         path,
         f"Pendulum swing-up, cost space vs reward space "
-        f"({problem.grid.describe()}, T = {problem.horizon:g}, λ = "
+        f"({solution.grid.describe()}, T = {problem.horizon:g}, λ = "
         f"{problem.temperature:g}, g = 10θ² + 0.5ω²): t = 0",
     )
     return [path]
@@ -205,10 +208,21 @@ COMPLETION_RADIUS = 0.25
 lies within this distance of it."""
 
 
+def _wall(problem: Problem) -> CapsuleObstacle:
+    """The wall task's state cost: the capsule obstacle of :func:`~.problems.obstacle_problem`."""
+    wall = problem.state_cost
+    if not isinstance(wall, CapsuleObstacle):
+        raise TypeError(
+            "the interpolation figure needs the wall task (obstacle_problem), whose state cost "
+            f"is a CapsuleObstacle, got {type(wall).__name__}"
+        )
+    return wall
+
+
 def _inside_wall(problem: Problem, run) -> np.ndarray:
     """Per rollout of ``run`` on the wall task and per time: whether the state is inside the
     wall (its cost above half the wall's height), shape (n, k)."""
-    wall = problem.state_cost
+    wall = _wall(problem)
     states = run.states
     return wall(states.reshape(-1, 2)).reshape(states.shape[:2]) > wall.height / 2
 
@@ -265,9 +279,10 @@ def interpolation(
     """
     plt = _pyplot()
     problem = obstacle_problem(n)
-    lam, start, wall = problem.temperature, OBSTACLE_START, problem.state_cost
+    grid = problem.require_grid("the interpolation figure")
+    lam, start, wall = problem.temperature, OBSTACLE_START, _wall(problem)
     goals = [Quadratic(c, OBSTACLE_WEIGHTS) for c in OBSTACLE_GOALS]
-    fit = project_weights(problem.terminal_cost, goals, problem.grid, temperature=lam)
+    fit = project_weights(problem.terminal_cost, goals, grid, temperature=lam)
     upper, lower = obstacle_trajectories(problem, restarts=restarts)
     lbc = combine([upper, lower], fit.weights)
     naive = naive_blend([upper, lower], fit.weights)
@@ -320,7 +335,7 @@ def interpolation(
     upper_row, lower_row = fig.subfigures(2, 1, height_ratios=(1.1, 1))
     top = list(upper_row.subplots(1, 3))
     ax_reach, ax_stop, ax_wall, ax_cost = lower_row.subplots(1, 4)
-    (x_lo, x_hi), (y_lo, y_hi) = ((a.lo, a.hi) for a in problem.grid.axes)
+    (x_lo, x_hi), (y_lo, y_hi) = ((a.lo, a.hi) for a in grid.axes)
     X, Y = np.meshgrid(np.linspace(x_lo, x_hi, 201), np.linspace(y_lo, y_hi, 301))
     plane = np.column_stack([X.ravel(), Y.ravel()])
     value = exact.value(plane, 0.0).reshape(X.shape)
@@ -348,8 +363,8 @@ def interpolation(
                 lw=1,
                 label="the components' paths" if component is upper else None,
             )
-        for k, goal in enumerate(OBSTACLE_GOALS):
-            ax.plot(*goal, "X", color="w", mec="k", ms=8, label="solved goals" if k == 0 else None)
+        for i, goal in enumerate(OBSTACLE_GOALS):
+            ax.plot(*goal, "X", color="w", mec="k", ms=8, label="solved goals" if i == 0 else None)
         ax.plot(*OBSTACLE_TARGET, "*", color="gold", mec="k", ms=15, label="intermediate goal c̄")
         ax.plot(*start, "o", color="w", mec="k", ms=7, label="start")
         ax.plot([], [], color="C3", label="wall (q = H/2)")
@@ -455,13 +470,13 @@ def interpolation(
         label=f"LBC: J = {ours.policy_cost:.3f} ± "
         f"{ours.policy_cost_se:.3f}, J − v* = {ours.gap:+.3f} ± {ours.gap_se:.3f}",
     )
-    for k, label in enumerate(labels):
+    for i, label in enumerate(labels):
         c = certificates[label]
         ax_cost.text(
             0.02,
-            k + 0.42,
-            f"{means[k]:+.3f} ± {errors[k]:.3f} "
-            f"({means[k] / errors[k]:+.0f} SE); J = {c.policy_cost:.3f} ± "
+            i + 0.42,
+            f"{means[i]:+.3f} ± {errors[i]:.3f} "
+            f"({means[i] / errors[i]:+.0f} SE); J = {c.policy_cost:.3f} ± "
             f"{c.policy_cost_se:.3f}, J − v* = {c.gap:+.3f} ± {c.gap_se:.3f}",
             transform=ax_cost.get_yaxis_transform(),
             va="center",
@@ -485,7 +500,7 @@ def interpolation(
         f"g = {W[0]:g}(x − cₓ)² + {W[1]:g}(y − c_y)², projected w = "
         f"({fit.weights[0]:.3f}, {fit.weights[1]:.3f}); wall q = {wall.height:g} within "
         f"{wall.radius:g} of x = 0, |y| ≤ {wall.end[1]:g}; grid references on "
-        f"{'×'.join(map(str, problem.grid.shape))}",
+        f"{'×'.join(map(str, grid.shape))}",
         fontsize=11,
     )
     return [_save(fig, out, "interpolation.png")]
@@ -512,14 +527,15 @@ def simulate_with_push(
     ``(times, states (n, k, d))`` on the joined time grid, where t_p appears twice: the state just
     before the kick, then just after it.
     """
-    if not 0 < push_time < problem.horizon:
-        raise ValueError(f"push_time must lie in (0, T = {problem.horizon:g}), got {push_time}")
+    T = problem.require_horizon("a pushed rollout")
+    if not 0 < push_time < T:
+        raise ValueError(f"push_time must lie in (0, T = {T:g}), got {push_time}")
     before = simulate(
         problem.replace(horizon=push_time), policy, x0, n_samples, dt=dt, seed=seed, noise=noise
     )
     pushed = before.final_states + np.asarray(kick, dtype=float)
     after = simulate(
-        problem.replace(horizon=problem.horizon - push_time),
+        problem.replace(horizon=T - push_time),
         lambda x, t: policy(x, t + push_time),
         pushed,
         n_samples,
@@ -535,7 +551,7 @@ def remaining_task(problem: Problem, policy, start_time: float):
     """The task left at ``start_time``: the problem on [t_s, T] (horizon T − t_s) and the policy
     with its clock shifted, ``policy(x, t + t_s)``; e.g. to certify costs from a pushed state."""
     return (
-        problem.replace(horizon=problem.horizon - start_time),
+        problem.replace(horizon=problem.require_horizon("remaining_task()") - start_time),
         lambda x, t: policy(x, t + start_time),
     )
 
@@ -604,10 +620,10 @@ def coordination(
             else {"color": "C1", "lw": 0.6, "alpha": 0.5}
         )
         for s in range(states.shape[0]):
-            name = label if s == 0 else None
-            ax_alpha.plot(times, alpha[s], label=name, **style)
-            ax_x.plot(times, states[s, :, 0], label=name, **style)
-            ax_v.plot(times, states[s, :, 1], label=name, **style)
+            legend = label if s == 0 else None
+            ax_alpha.plot(times, alpha[s], label=legend, **style)
+            ax_x.plot(times, states[s, :, 0], label=legend, **style)
+            ax_v.plot(times, states[s, :, 1], label=legend, **style)
     for ax in (ax_alpha, ax_x, ax_v):
         ax.axvline(push_time, color="k", ls=":", lw=1)
         ax.grid(alpha=0.3)
@@ -667,7 +683,8 @@ def coordination(
     ax_cost.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.13))
     fig.suptitle(
         f"Coordination with a push: point mass with two acceptable outcomes (w = 1, 1), "
-        f"{problem.grid.describe()}, λ = {problem.temperature:g}"
+        f"{problem.require_grid('the coordination figure').describe()}, "
+        f"λ = {problem.temperature:g}"
     )
     return [_save(fig, out, "coordination.png")]
 
@@ -801,7 +818,7 @@ def certified_convergence(
 # -- all --------------------------------------------------------------------------------------------
 
 
-FIGURES = {
+FIGURES: dict[str, tuple[Callable[..., list[Path]], dict[str, Any], dict[str, Any]]] = {
     "cost_reward_space": (cost_reward_space, {}, {"n": 61}),
     "projection": (projection, {}, {"points": 401}),
     "interpolation": (

@@ -73,9 +73,11 @@ class CheckResult:
     note: str = ""
 
 
-def _row(
+def result_row(
     check, case, measured, reference=math.nan, standard_error=math.nan, bound=math.nan, note=""
 ) -> CheckResult:
+    """The :class:`CheckResult` of a measurement: passed when |measured − reference| ≤ ``bound``
+    (measured ≤ bound without a reference), ``None`` without a bound (a number reported only)."""
     measured, reference, bound = float(measured), float(reference), float(bound)
     if math.isnan(bound):
         passed = None
@@ -195,7 +197,7 @@ def check_superposition(n: int = 64, n_states: int = 1000, seed: int = 0) -> lis
         errors["α"] = np.max(np.abs(combined.blend_weights(x, t) - alpha))
         for name, err in errors.items():
             rows.append(
-                _row(
+                result_row(
                     "superposition",
                     f"{name} at {len(x)} {where}, t={t:g}",
                     err,
@@ -229,7 +231,9 @@ def _max_relative(a, b) -> float:
 
 
 def _mc_row(check, case, rollouts, reference, bound, note="") -> CheckResult:
-    return _row(check, case, rollouts.mean_cost, reference, rollouts.standard_error, bound, note)
+    return result_row(
+        check, case, rollouts.mean_cost, reference, rollouts.standard_error, bound, note
+    )
 
 
 def _certificate_rows(
@@ -253,7 +257,7 @@ def _certificate_rows(
         + ("" if cert.trusted else " — too few: v* is not trustworthy")
         + f", Δt = {cert.dt:.3g}, {100 * cert.left_box_fraction:.1f} % left the box"
     )
-    optimum = _row(
+    optimum = result_row(
         check,
         f"{case}: certified optimum v*",
         v,
@@ -267,10 +271,12 @@ def _certificate_rows(
     rows = [optimum]
     if not math.isnan(predicted):
         rows.append(
-            _row(check, f"{case}: predicted v(x0,0) vs v*", predicted, v, se, prediction_bound)
+            result_row(
+                check, f"{case}: predicted v(x0,0) vs v*", predicted, v, se, prediction_bound
+            )
         )
     rows.append(
-        _row(
+        result_row(
             check,
             f"{case}: policy cost J",
             cert.policy_cost,
@@ -279,7 +285,7 @@ def _certificate_rows(
             cost_bound,
         )
     )
-    rows.append(_row(check, f"{case}: gap J − v*", cert.gap, standard_error=cert.gap_se))
+    rows.append(result_row(check, f"{case}: gap J − v*", cert.gap, standard_error=cert.gap_se))
     return rows
 
 
@@ -308,7 +314,7 @@ def check_pointmass_optimality(
     bias = 2 * exact_run.dt * abs(v_exact)
     case = f"PointMass {_shape(grid)}"
     return [
-        _row(
+        result_row(
             "optimality",
             f"{case}: grid v(x0,0)",
             v_grid,
@@ -413,8 +419,8 @@ def check_interpolation(
             "interpolation", f"{case}: {name}", cert, predicted, note="under the target task"
         )
         theta_error, omega_error = _final_errors(cert.final_states, target.center)
-        rows.append(_row("interpolation", f"{case}: {name} mean |θ_T − θ̄|", theta_error))
-        rows.append(_row("interpolation", f"{case}: {name} mean |ω_T − ω̄|", omega_error))
+        rows.append(result_row("interpolation", f"{case}: {name} mean |θ_T − θ̄|", theta_error))
+        rows.append(result_row("interpolation", f"{case}: {name} mean |ω_T − ω̄|", omega_error))
     rows[-1] = CheckResult(
         **{
             **asdict(rows[-1]),
@@ -433,7 +439,7 @@ def check_interpolation(
 # -- d. coordination --------------------------------------------------------------------------------
 
 
-def _exact_coordination(references, temperature):
+def exact_coordination(references, temperature):
     """The exact value and policy of Σ z_i for LQ components: v = −λ log Σ exp(−v_i/λ),
     u = Σ α_i u_i with α = softmax(−v_i/λ) (each z_i exact by Riccati); states ``(N, d)`` (one
     state ``(d,)`` counts as N = 1)."""
@@ -477,7 +483,7 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
         # Away from the middle ≥ 90% must reach the nearer goal; near 0 the split is reported.
         decided = abs(s) >= 0.5
         rows.append(
-            _row(
+            result_row(
                 "coordination",
                 f"start x={s:+g}: fraction ending at goal +1",
                 to_plus,
@@ -487,7 +493,7 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
             )
         )
     x0 = np.array([0.0, 0.0])
-    exact_value, exact_policy = _exact_coordination([lq_solution(s.problem) for s in sols], lam)
+    exact_value, exact_policy = exact_coordination([lq_solution(s.problem) for s in sols], lam)
     v_exact = float(exact_value(x0, 0.0)[0])
     v_grid = float(combined.value(x0, 0.0))
     case = f"start x=0, {_shape(grid)}"
@@ -500,7 +506,7 @@ def check_coordination(n: int = 81, samples: int = 400, seed: int = 0) -> list[C
     bias = 2 * exact_run.dt * abs(v_exact)
     return [
         *rows,
-        _row(
+        result_row(
             "coordination",
             f"{case}: grid −λ log(z₁+z₂)",
             v_grid,

@@ -11,7 +11,7 @@ from scipy.integrate import quad
 
 import gridlbc as g
 from gridlbc.combine import CompositeCost
-from gridlbc.project import _analytic
+from gridlbc.project import analytic_gram
 
 COMPONENTS = [
     g.Quadratic([-1, 0], [4, 0.5]),
@@ -33,7 +33,7 @@ def test_gaussian_inner_product_matches_numerical_integral(lam):
         epsrel=1e-13,
         points=[-0.4, 0.7],
     )
-    np.testing.assert_allclose(_analytic([a, b], lam)[0, 1], numeric, rtol=1e-10)
+    np.testing.assert_allclose(analytic_gram([a, b], lam)[0, 1], numeric, rtol=1e-10)
 
 
 @pytest.mark.parametrize("lam", [1.0, 0.3])

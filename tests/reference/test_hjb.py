@@ -11,8 +11,8 @@ from gridlbc import Axis, Grid, Problem
 from gridlbc.costs import Quadratic
 from gridlbc.reference import lq_solution, solve_hjb
 from gridlbc.reference.hjb import (
-    _hamiltonian_kernel,
     control_structure,
+    hamiltonian_kernel,
     hamiltonian_numpy,
     multilinear,
     value_gradient,
@@ -32,7 +32,7 @@ def _kernel_hamiltonian(problem, v, control_bounds=None):
     s = control_structure(problem, x, control_bounds)
     H, rate = np.empty(grid.size), np.empty(grid.size)
     control = np.empty((grid.size, s.axis.size))
-    _hamiltonian_kernel(
+    hamiltonian_kernel(
         v,
         np.ascontiguousarray(problem.system.drift(x)),
         s.gain,

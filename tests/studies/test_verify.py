@@ -13,18 +13,18 @@ from gridlbc.reference import lq_solution
 from gridlbc.studies.verify import (
     CheckResult,
     VerificationReport,
-    _exact_coordination,
-    _row,
     check_superposition,
+    exact_coordination,
+    result_row,
     run_verification,
 )
 
 
 def test_row_status():
-    assert _row("c", "x", 1.0, 1.05, bound=0.1).passed is True
-    assert _row("c", "x", 1.0, 1.2, bound=0.1).passed is False
-    assert _row("c", "x", 1e-12, bound=1e-10).passed is True  # no reference: measured ≤ bound
-    assert _row("c", "x", 3.0).passed is None
+    assert result_row("c", "x", 1.0, 1.05, bound=0.1).passed is True
+    assert result_row("c", "x", 1.0, 1.2, bound=0.1).passed is False
+    assert result_row("c", "x", 1e-12, bound=1e-10).passed is True  # no reference: measured ≤ bound
+    assert result_row("c", "x", 3.0).passed is None
 
 
 def test_superposition_rows_pass_at_small_size():
@@ -40,7 +40,7 @@ def test_exact_coordination_reference_is_the_log_sum_exp(rng):
     grid = g.Grid([g.Axis(-3, 3, 5), g.Axis(-3, 3, 5)])
     base = g.Problem(PointMass(), grid, 1.0, g.Quadratic([-1, 0], [1, 1]), temperature=0.4)
     refs = [lq_solution(base), lq_solution(base.replace(terminal_cost=g.Quadratic([1, 0], [1, 1])))]
-    value, policy = _exact_coordination(refs, 0.4)
+    value, policy = exact_coordination(refs, 0.4)
     x = rng.uniform(-2, 2, (20, 2))
     z = sum(np.exp(-r.value(x, 0.2) / 0.4) for r in refs)
     np.testing.assert_allclose(value(x, 0.2), -0.4 * np.log(z), rtol=1e-12)
@@ -74,8 +74,8 @@ def test_report_table_and_json(tmp_path):
 
 
 def test_report_fails_when_a_row_fails():
-    ok = _row("c", "x", 1.0, 1.0, bound=0.1)
-    bad = _row("c", "y", 2.0, 1.0, bound=0.1)
+    ok = result_row("c", "x", 1.0, 1.0, bound=0.1)
+    bad = result_row("c", "y", 2.0, 1.0, bound=0.1)
     assert VerificationReport((ok,)).passed
     assert not VerificationReport((ok, bad)).passed
     assert "FAIL" in VerificationReport((ok, bad)).table()

@@ -43,7 +43,7 @@ def cost_sampling_step(problem: Problem) -> tuple[float, str]:
     steep cost (a wall, a narrow well): the default step is held below this."""
     if problem.state_cost is None:
         return math.inf, ""
-    grid = problem.grid
+    grid = problem.require_grid("cost_sampling_step()")
     q = grid.reshape(grid.node_values(problem.state_cost_values))
     span = float(q.max() - q.min())
     limit, axis = math.inf, ""
@@ -107,7 +107,7 @@ def check_control_step(problem: Problem, solution: Solution) -> float:
     grid in one step it is several percent (Pendulum-v1; docs/schemes.rst). The step it
     suggests aims at two thirds of the threshold, since u* itself changes with the step.
     Returns that root mean square."""
-    grid, dt = problem.grid, solution.diagnostics.dt
+    grid, dt = problem.require_grid("check_control_step()"), solution.diagnostics.dt
     x = grid.node_coordinates(np.arange(0, grid.size, max(1, grid.size // _CONTROL_SAMPLE)))
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")  # an underflowed policy (NaN) is the caller's to hear of
@@ -147,7 +147,7 @@ def check_fitted_resolution(problem: Problem, solution: Solution, diffusion: lis
     below one; where it is of order one the quadratics bulge between nodes, and the value is
     off by far more than the scheme's order suggests and moves with Δt (docs/schemes.rst, for the
     calibration). ``diffusion``: the D_k per axis. Returns the largest median."""
-    grid = problem.grid
+    grid = problem.require_grid("check_fitted_resolution()")
     ell = -solution.value_nodes(0) / problem.temperature
     finite = np.isfinite(ell)
     top = float(ell[finite].max()) if finite.any() else 0.0

@@ -89,8 +89,9 @@ class CurvatureCorrection:
 
     def __init__(self, feet: Feet):
         self.feet = feet
-        self._stencils = None  # where the Hessian's stencils sit (stencils(); first call)
-        self._scratch = None  # the default output (first call without one)
+        # where the Hessian's stencils sit (stencils(); first call)
+        self._stencils: tuple[np.ndarray, np.ndarray] | None = None
+        self._scratch: np.ndarray | None = None  # the default output (first call without one)
 
     def __call__(
         self, ell: np.ndarray, out: np.ndarray | None = None, add_mean: bool = False
@@ -100,7 +101,7 @@ class CurvatureCorrection:
         scratch array (overwritten by the next call), which is returned."""
         feet, grid = self.feet, self.feet.grid
         record = self._stencils is None
-        if record:
+        if self._stencils is None:
             self._stencils = stencils(grid)
             self._places = np.empty(
                 grid.size if feet.layout == "compact" else 0, self._stencils[0].dtype
@@ -112,6 +113,7 @@ class CurvatureCorrection:
             if self._scratch is None:
                 self._scratch = np.empty(grid.size)
             out = self._scratch
+        place, stencil_rows = self._stencils
         if feet.layout == "compact":
             curvature_compact_kernel(
                 ell,
@@ -120,7 +122,8 @@ class CurvatureCorrection:
                 feet.frac,
                 feet.offsets,
                 self._columns,
-                *self._stencils,
+                place,
+                stencil_rows,
                 record,
                 self._places,
                 add_mean,
@@ -131,7 +134,8 @@ class CurvatureCorrection:
                 ell,
                 feet.idx,
                 feet.weights,
-                *self._stencils,
+                place,
+                stencil_rows,
                 np.array(grid.shape, dtype=np.int64),
                 grid.strides,
                 self._pairs,

@@ -44,14 +44,14 @@ FEET_BATCH = 1 << 20
 def foot(problem: Problem, x: np.ndarray, dt: float) -> np.ndarray:
     """The second-order (midpoint) foot X(x) = x + Δt a(x + ½Δt a(x)) of the states x after a
     time dt, wrapped and clamped."""
-    grid, system = problem.grid, problem.system
+    grid, system = problem.require_grid("the characteristic feet"), problem.system
     midpoint = grid.clamp(x + 0.5 * dt * np.asarray(system.drift(x), dtype=float))
     return grid.clamp(x + dt * np.asarray(system.drift(midpoint), dtype=float))
 
 
 def foot_chunks(problem: Problem, dt: float, start: int = 0, stop: int | None = None):
     """Feet X(x) (:func:`foot`) of the nodes start … stop − 1 (default: all), in chunks."""
-    grid = problem.grid
+    grid = problem.require_grid("the characteristic feet")
     for flat in flat_chunks(grid.size if stop is None else stop, start):
         yield flat, foot(problem, grid.node_coordinates(flat), dt)
 
@@ -130,7 +130,7 @@ class Feet:
     def __init__(self, problem: Problem, dt: float, layout: str = "compact"):
         if layout not in FEET_LAYOUTS:
             raise ValueError(f"feet must be one of {FEET_LAYOUTS}, got {layout!r}")
-        grid = problem.grid
+        grid = problem.require_grid("the characteristic feet")
         boundary.require(grid, (Boundary.PERIODIC, Boundary.REFLECTING), "the splitting's feet")
         if layout == "compact" and grid.ndim > MAX_COMPACT_DIM:
             layout = "table"

@@ -40,7 +40,7 @@ class SplittingStep:
     supports_fitting = True
 
     def __init__(self, problem: Problem, dt: float, feet: str = "compact"):
-        grid = problem.grid
+        grid = problem.require_grid("the splitting")
         if grid.size >= 2**31:
             raise ValueError(f"grid {grid.describe()} has ≥ 2³¹ nodes: int32 indices overflow")
         self.grid = grid
@@ -58,7 +58,7 @@ class SplittingStep:
             self.log_cost = self.log_mid_cost = np.empty(0)
         self.cost_factor = np.exp(self.log_cost)
         self.mid_cost_factor = np.exp(self.log_mid_cost)
-        self._buffers = {}
+        self._buffers: dict[tuple[int, int], np.ndarray] = {}
         self.curvature_correction = CurvatureCorrection(self.feet)
         """The fitted drift's curvature term at the feet:
         ``curvature_correction(ell, out=None, add_mean=False)``
@@ -85,7 +85,7 @@ class SplittingStep:
             self.log_mid_cost,
             *(axis.data for axis in self.noise),
             *(axis.variance for axis in self.noise),
-            *(a for a in self.diffusion if np.ndim(a)),
+            *(a for a in self.diffusion if isinstance(a, np.ndarray)),
         ]
         return int(sum(a.nbytes for a in arrays))
 
