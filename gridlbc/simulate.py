@@ -60,7 +60,7 @@ DEFAULT_STEPS = 300
 
 
 @jit
-def _em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost, ito):
+def em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost, ito):
     """x_out = x + (a + B u) dt + B dε with dε = (noise ε); cost += ½ uᵀ R u dt and
     ito += uᵀ R dε (the Girsanov term of :func:`gridlbc.certify`), for every sample."""
     n, d = x.shape
@@ -510,7 +510,7 @@ def euler_maruyama(
                 running_a += problem.state_cost_values(x_a, t) * step
             x_new = np.empty_like(x_a)
             eps_a = np.ascontiguousarray(eps[alive])
-            _em_kernel(x_a, drift, B, u_a, eps_a, root, R, step, x_new, running_a, ito_a)
+            em_kernel(x_a, drift, B, u_a, eps_a, root, R, step, x_new, running_a, ito_a)
             running[alive], ito[alive], u[alive] = running_a, ito_a, u_a
             x_new = problem.wrap(x_new)
             if grid is not None:

@@ -47,7 +47,7 @@ from .accuracy import check_accuracy, embedded_estimate, embedded_grid
 from .errors import GridlbcWarning, ResolutionWarning
 from .grid import Grid
 from .problem import Problem
-from .schemes.generator import RATES, generator_matrix
+from .schemes.generator import RATES, Generator, exit_generator, generator_matrix
 from .solution import OperatorSignature, SolveDiagnostics, StationarySolution
 
 LINEAR_SOLVERS = ("auto", "direct", "gmres")
@@ -85,12 +85,18 @@ class StationarySettings:
         Also solve on the embedded grid (every other node) so that the solution carries an
         a-posteriori error estimate (:meth:`gridlbc.Solution.error_estimate`,
         :mod:`gridlbc.accuracy`), and warn where it exceeds the default tolerance.
+    fit_exit : bool
+        Impose z = exp(−g_E/λ) where the exit set begins between two nodes, found by bisection
+        on its mask (:func:`gridlbc.schemes.generator.exit_generator`); False: at the nodes
+        inside it, which places the set's boundary only to within a cell (first order, and
+        irregular as the grid is refined).
     """
 
     rates: str = "fitted"
     linear_solver: str = "auto"
     tol: float = 1e-10
     error_estimate: bool = True
+    fit_exit: bool = True
 
     def __post_init__(self):
         if self.rates not in RATES:
@@ -222,22 +228,33 @@ def solve_first_exit(problem: Problem, s: StationarySettings) -> StationarySolut
     E = exit_nodes(problem)
     lam = problem.temperature
     q = np.where(E, 0.0, problem.state_cost_values())
-    L = generator_matrix(problem, s.rates, absorbing=E)
-    check_well_posed(L, E | (q > 0), grid)
-    g_exit = problem.exit_values()[E]
-    top = -g_exit.min() / lam  # z_E = exp(−g_E/λ) = e^top · exp(−(g_E − min g_E)/λ)
-    interior = np.flatnonzero(~E)
-    A = (sp.diags(q / lam) - L).tocsr()
-    A_ii = A[interior][:, interior]
-    coupling = -A[interior][:, np.flatnonzero(E)]
+    if s.fit_exit:
+        generator = exit_generator(problem, s.rates, E)
+    else:
+        L0 = generator_matrix(problem, s.rates, absorbing=E)
+        generator = Generator(L0, sp.csr_matrix((grid.size, 0)), np.empty((0, grid.ndim)))
+    L, to_boundary = generator.matrix, generator.boundary_rates
+    reaches_boundary = np.asarray(to_boundary.sum(axis=1)).ravel() > 0
+    check_well_posed(L, E | (q > 0) | reaches_boundary, grid)
+    g_nodes = problem.exit_values()[E]
+    g_points = np.empty(0)
+    if len(generator.boundary_points):
+        g_points = problem.exit_values(generator.boundary_points)
+    g_min = min(g_nodes.min(), np.min(g_points, initial=np.inf))
+    top = -g_min / lam  # z_E = exp(−g_E/λ) = e^top · exp(−(g_E − min g_E)/λ)
     with np.errstate(under="ignore"):
-        z_exit = np.exp(-(g_exit - g_exit.min()) / lam)
+        z_exit = np.exp(-(g_nodes - g_min) / lam)
+        z_points = np.exp(-(g_points - g_min) / lam)
+    interior = np.flatnonzero(~E)
+    A = (sp.diags(q / lam) - L).tocsr()[interior]
+    rhs = -A[:, np.flatnonzero(E)] @ z_exit + to_boundary[interior] @ z_points
     setup = time.perf_counter() - start
     z = np.empty(grid.size)
     z[E] = z_exit
-    z[interior], iterations = _solve_linear(A_ii, coupling @ z_exit, s, grid.ndim)
+    z[interior], iterations = _solve_linear(A[:, interior], rhs, s, grid.ndim)
     np.clip(z, 0.0, None, out=z)  # an iterative solve's rounding may dip below zero
-    return _package(problem, s, z, top, start, setup, iterations, _digest(E, q, L.data))
+    digest = _digest(E, q, L.data, to_boundary.data, generator.boundary_points)
+    return _package(problem, s, z, top, start, setup, iterations, digest)
 
 
 def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySolution:

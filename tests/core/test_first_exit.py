@@ -89,7 +89,8 @@ def point_mass_bays(n=41, horizon=None, exit_cost=None, **solve_options):
 def test_stationary_solve_is_the_steady_state_of_the_time_march():
     # Backward Euler with the same upwind generator, marched for T = 40 (the slowest decay of
     # z is faster than e^{-q_min T/λ} = e^{-40}), reaches the stationary solution to rounding.
-    stationary = point_mass_bays(rates="upwind", error_estimate=False)
+    # The march holds z on the exit set's nodes, so the stationary solve does too here.
+    stationary = point_mass_bays(rates="upwind", fit_exit=False, error_estimate=False)
     marched = point_mass_bays(horizon=40.0, dt=0.1, error_estimate=False)
     assert marched.diagnostics.method == "implicit"
     x = np.array([[-1.0, 0.0], [0.0, 1.0], [1.5, -1.0], [0.3, 2.5]])
@@ -236,3 +237,52 @@ def test_stationary_solutions_save_and_load_exactly(tmp_path):
     )
     a = g.solve(average)
     assert g.load(g.save(a, tmp_path / "average.npz")).average_cost == a.average_cost
+
+
+def two_bays_problem(n):
+    """Noise on both axes (control costs 1 and 2), q = 1 + x₁²/2, exits: a disc around (1, 0) and
+    the strip x₀ ≤ −1.8, paying x₁²/2 there."""
+    system = g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2))
+    grid = g.Grid([g.Axis(-2, 2, n), g.Axis(-2, 2, n)])
+    return g.Problem(
+        system,
+        grid,
+        None,
+        state_cost=lambda x: 1.0 + 0.5 * x[:, 1] ** 2,
+        control_cost=[1.0, 2.0],
+        temperature=0.5,
+        exit=Ball([1.0, 0.0], 0.4) | Box([-np.inf, -np.inf], [-1.8, np.inf]),
+        exit_cost=lambda x: 0.5 * x[:, 1] ** 2,
+    )
+
+
+def test_fitted_exit_boundary_converges_regularly():
+    # With the disc's boundary found between the nodes, refining the grid changes v smoothly
+    # (second order: the differences shrink about 4×); with the exit on the nodes it jumps as
+    # the disc gains and loses nodes (first order at best).
+    x = np.array([[0.0, 0.0], [0.5, 1.0]])
+    fitted = [g.solve(two_bays_problem(n), error_estimate=False).value(x) for n in (51, 101, 201)]
+    d1, d2 = np.abs(fitted[1] - fitted[0]), np.abs(fitted[2] - fitted[1])
+    assert np.all(d2 < d1 / 2.5), (d1, d2)
+
+
+def test_certified_first_exit_value_agrees_with_the_fine_grid():
+    # The certificate stops each path on entering E (with the bridge crossing between steps)
+    # and extrapolates the O(Δt) step bias away; its interval must hold the 201² prediction
+    # within 3 SE (the grid's own estimate is below 0.1 SE there).
+    solution = g.solve(two_bays_problem(201))
+    x = np.array([[0.0, 0.0], [-1.0, -1.0]])
+    c = g.certify(
+        solution.problem,
+        solution.policy,
+        x,
+        n_samples=1000,
+        dt=0.005,
+        seed=3,
+        max_time=20.0,
+        richardson=True,
+        progress=False,
+    )
+    assert np.all(c.unexited_fraction == 0) and np.all(c.trusted)
+    deviation = np.abs(c.extrapolated_value - solution.value(x)) / c.extrapolated_value_se
+    assert np.all(deviation < 3), deviation

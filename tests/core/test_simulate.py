@@ -10,7 +10,7 @@ from conftest import line, lq_point_mass
 
 import gridlbc as g
 from gridlbc.reference import lq_solution
-from gridlbc.simulate import _em_kernel, em_step_numpy, reflect_into_box
+from gridlbc.simulate import em_kernel, em_step_numpy, reflect_into_box
 from gridlbc.systems import Pendulum
 
 
@@ -32,7 +32,7 @@ def test_kernel_matches_numpy_reference(rng):
     M = rng.normal(size=(m, m))
     R = M @ M.T + np.eye(m)
     out, cost, ito = np.empty((n, d)), np.full(n, 0.25), np.full(n, -0.5)
-    _em_kernel(x, drift, B, u, eps, noise, R, 0.01, out, cost, ito)
+    em_kernel(x, drift, B, u, eps, noise, R, 0.01, out, cost, ito)
     x_ref, c_ref, ito_ref = em_step_numpy(x, drift, B, u, eps, noise, R, 0.01)
     np.testing.assert_allclose(out, x_ref, rtol=1e-13, atol=1e-14)
     np.testing.assert_allclose(cost, 0.25 + c_ref, rtol=1e-13)
