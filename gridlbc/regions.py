@@ -6,10 +6,11 @@ A region is anything that answers which of ``N`` states ``(N, d)`` lie in it wit
 so :class:`Ball` measures distance to the nearest image on periodic axes, like
 :class:`gridlbc.costs.Quadratic` does, once a :class:`gridlbc.Problem` gives it the periods.
 
-They also know the point of the region nearest to a state outside it (``nearest``, exact for
-boxes and round balls, the radial projection for an ellipsoid). Rollouts use it to catch the
-paths that enter the region between two time steps (the Brownian-bridge crossing probability,
-:mod:`gridlbc.simulate`); a plain callable region is checked at the steps only.
+They also know how far a state outside them is from their boundary and in which direction
+(:meth:`RegionBase.boundary_distance`: exact for boxes and round balls, to first order near the
+boundary of an ellipsoid). Rollouts use it to catch the paths that enter the region between two
+time steps (the Brownian-bridge crossing probability, :mod:`gridlbc.simulate`); a plain callable
+region is checked at the steps only.
 """
 
 from __future__ import annotations
@@ -45,8 +46,10 @@ class RegionBase:
         """The same region on a state space with these periods (``inf`` where not periodic)."""
         return self
 
-    def nearest(self, x: np.ndarray) -> np.ndarray:
-        """The point of the region nearest to each state ``x`` ``(N, d)`` (``x`` itself inside)."""
+    def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """For states ``x`` ``(N, d)`` outside the region: their distance to it ``(N,)`` and the
+        unit outward normal of its boundary there ``(N, d)`` (so ``x − distance · normal`` is
+        the nearest point of the region)."""
         raise NotImplementedError
 
 
@@ -80,8 +83,9 @@ class Box(RegionBase):
     def __call__(self, x: np.ndarray) -> np.ndarray:
         return np.all((x >= self.lower) & (x <= self.upper), axis=1)
 
-    def nearest(self, x: np.ndarray) -> np.ndarray:
-        return np.clip(x, self.lower, self.upper)
+    def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Exact: the nearest point is x clipped to the box."""
+        return _towards(x, np.clip(x, self.lower, self.upper))
 
     def __repr__(self) -> str:
         return f"Box({self.lower.tolist()}, {self.upper.tolist()})"
@@ -128,12 +132,17 @@ class Ball(RegionBase):
             diff = wrap_difference(diff, self.periods)
         return np.sum((diff / self.radius) ** 2, axis=1) <= 1.0
 
-    def nearest(self, x: np.ndarray) -> np.ndarray:
+    def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """From the level set ρ(x) = √(Σ_k ((x_k − c_k)/r_k)²) = 1: normal ∇ρ/|∇ρ| and distance
+        (ρ − 1)/|∇ρ|, exact for a round ball and to first order in the distance otherwise."""
         diff = x - self.center
         if self.periods is not None:
             diff = wrap_difference(diff, self.periods)
-        rho = np.sqrt(np.sum((diff / self.radius) ** 2, axis=1))
-        return x - diff * (1.0 - 1.0 / np.maximum(rho, 1.0))[:, None]
+        scaled = diff / self.radius
+        rho = np.maximum(np.sqrt(np.sum(scaled**2, axis=1)), np.finfo(float).tiny)
+        gradient = scaled / self.radius / rho[:, None]
+        size = np.maximum(np.linalg.norm(gradient, axis=1), np.finfo(float).tiny)
+        return np.maximum(rho - 1.0, 0.0) / size, gradient / size[:, None]
 
     def __repr__(self) -> str:
         return f"Ball({self.center.tolist()}, {self.radius.tolist()})"
@@ -154,22 +163,31 @@ class Union(RegionBase):
             mask |= region_mask(part, x)
         return mask
 
-    def nearest(self, x: np.ndarray) -> np.ndarray:
-        if not all(isinstance(p, RegionBase) for p in self.parts):
-            raise NotImplementedError("a union with a plain callable has no geometry")
-        points = np.stack([p.nearest(x) for p in self.parts])  # (parts, N, d)
-        best = np.argmin(np.sum((points - x) ** 2, axis=2), axis=0)
-        return points[best, np.arange(x.shape[0])]
+    def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The nearest part's."""
+        parts = [p.boundary_distance(x) for p in self.parts]
+        distances = np.stack([d for d, _ in parts])  # (parts, N)
+        best = np.argmin(distances, axis=0)
+        rows = np.arange(x.shape[0])
+        return distances[best, rows], np.stack([n for _, n in parts])[best, rows]
 
     def __repr__(self) -> str:
         return " | ".join(repr(p) for p in self.parts)
 
 
+def _towards(x: np.ndarray, nearest: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Distance and unit normal from the nearest points."""
+    offset = x - nearest
+    distance = np.linalg.norm(offset, axis=1)
+    return distance, offset / np.maximum(distance, np.finfo(float).tiny)[:, None]
+
+
 def has_geometry(region) -> bool:
-    """Whether ``region`` can say its nearest points (:meth:`RegionBase.nearest`)."""
+    """Whether ``region`` knows its boundary (:meth:`RegionBase.boundary_distance`)."""
     if isinstance(region, Union):
         return all(has_geometry(p) for p in region.parts)
-    return isinstance(region, RegionBase) and type(region).nearest is not RegionBase.nearest
+    own = type(region).boundary_distance if isinstance(region, RegionBase) else None
+    return own is not None and own is not RegionBase.boundary_distance
 
 
 def bind_periods(region, periods):

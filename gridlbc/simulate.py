@@ -555,25 +555,19 @@ class _Exits:
         if self.region is not None and noise_factor is not None:
             draws = rng.random(len(running))
             out = np.flatnonzero(~entered)
-            crossed = draws[out] < self._crossing(before[out], after[out], noise_factor[out])
+            region = self.region
+            d0, normal = region.boundary_distance(before[out])
+            d1, normal1 = region.boundary_distance(after[out])
+            variance = np.sum(np.einsum("nd,ndm->nm", normal, noise_factor[out]) ** 2, axis=1)
+            with np.errstate(divide="ignore", under="ignore"):
+                p = np.where(variance > 0, np.exp(-2 * d0 * d1 / variance), 0.0)
+            crossed = draws[out] < p
             if crossed.any():
                 where = after.copy()
                 hit = out[crossed]
-                where[hit] = self.region.nearest(after[hit])
+                where[hit] = after[hit] - d1[crossed, None] * normal1[crossed]
                 entered[hit] = True
         self._stop(running, entered, where, t)
-
-    def _crossing(self, before, after, noise_factor) -> np.ndarray:
-        """p = exp(−2 d₀ d₁ / (σₙ² Δt)) per sample (module docstring)."""
-        region = self.region
-        assert region is not None
-        normal = before - region.nearest(before)
-        d0 = np.linalg.norm(normal, axis=1)
-        d1 = np.linalg.norm(after - region.nearest(after), axis=1)
-        normal /= np.maximum(d0, np.finfo(float).tiny)[:, None]
-        variance = np.sum(np.einsum("nd,ndm->nm", normal, noise_factor) ** 2, axis=1)
-        with np.errstate(divide="ignore", under="ignore"):
-            return np.where(variance > 0, np.exp(-2 * d0 * d1 / variance), 0.0)
 
     def _stop(self, running, entered, where, t: float) -> None:
         ids = running[entered]

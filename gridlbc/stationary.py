@@ -175,7 +175,12 @@ def _digest(*arrays: np.ndarray) -> str:
 
 
 def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: int):
-    """z with A z = b, and the iteration count (0 for the direct solve)."""
+    """z with A z = b, and the iteration count (0 for the direct solve). The rows are first
+    divided by their diagonal: a node whose arm to the exit set is very short has a very large
+    rate to it, and the scaled row (unit diagonal, off-diagonal sum below 1) keeps both the
+    conditioning and an iterative solver's residual meaningful."""
+    inverse = sp.diags(1.0 / A.diagonal())
+    A, b = (inverse @ A).tocsr(), inverse @ b
     n = A.shape[0]
     method = s.linear_solver
     if method == "auto":

@@ -17,6 +17,8 @@ Monte-Carlo samples) so that tests can run it small, and returns the paths it wr
   and a GIF (the study of :mod:`gridlbc.studies.gymnast`).
 - :func:`certified_convergence` — the swing-up's predicted value and its policy's cost against
   the certified optimum as the grid is refined (:func:`gridlbc.certify`).
+- :func:`exit_bays` — a first-exit task (park in one of three bays): exit-cost components
+  combined into new optimal controllers, certified, and their blend weights as exit probabilities.
 - :func:`convergence` — error against grid spacing and the small-temperature study
   (:mod:`gridlbc.studies.convergence`).
 """
@@ -815,6 +817,94 @@ def certified_convergence(
     return [_save(plot_certified_convergence(study), out, "certified_convergence.png")]
 
 
+# -- exit bays: composition of first-exit tasks --------------------------------------------------
+
+
+BAY_WEIGHTS = ((1.0, 1.0, 1.0), (1.0, 0.02, 0.02), (0.02, 0.02, 1.0))
+"""The combinations of the bays figure: any bay, the left one, the right one."""
+
+
+def exit_bays(
+    out, n: int = 161, samples: int = 2000, traces: int = 12, dt: float = 0.005, seed: int = 0
+) -> list[Path]:
+    """A point mass parks in one of three bays (a first-exit task, :func:`~.problems.bays_problem`):
+    three components, each paying 0 at its own bay, solved once; their combinations with the
+    weights :data:`BAY_WEIGHTS` are the optimal controllers of the composite exit costs
+    (SPEC §9), made without solving again. For each: the value map with rollouts from
+    :data:`~.problems.BAY_START`, the prediction against the certified optimum, and the blend
+    weights α_i(x₀) = w_i z_i/Σ w_j z_j against the share of rollouts that parked in each bay
+    (with the components' cost e^{−5/λ} ≈ 5e−5 elsewhere, α_i is the optimal process's
+    probability of ending in bay i)."""
+    from .problems import BAY_CENTRES, BAY_START, bay_cost, bays_problem
+
+    plt = _pyplot()
+    base = bays_problem(n)
+    components = [solve(base.replace(exit_cost=bay_cost(i))) for i in range(3)]
+    fig, axes = plt.subplots(1, 4, figsize=(19, 4.6), constrained_layout=True)
+    grid = base.require_grid("the bays figure")
+    X, V = np.meshgrid(*grid.points(), indexing="ij")
+    shares, alphas = [], []
+    colours = ("tab:blue", "tab:orange", "tab:green")
+    for ax, w in zip(axes[:3], BAY_WEIGHTS):
+        combined = combine(components, w)
+        value = combined.value(grid.nodes()).reshape(grid.shape)
+        mesh = ax.pcolormesh(X, V, value, shading="auto", cmap="viridis", vmax=8.0)
+        fig.colorbar(mesh, ax=ax, label="v (predicted)")
+        ax.contour(X, V, base.exit_mask().reshape(grid.shape), [0.5], colors="white")
+        runs = simulate(
+            combined.problem, combined.policy, BAY_START, samples, dt=dt, seed=seed, max_time=15.0
+        )
+        bay = np.argmin(np.abs(runs.final_states[:, :1] - np.asarray(BAY_CENTRES)), axis=1)
+        assert runs.exit_times is not None  # the problem has an exit set
+        exit_times = runs.exit_times
+        parked = ~np.isnan(exit_times)
+        shares.append([np.mean(parked & (bay == i)) for i in range(3)])
+        alphas.append(combined.blend_weights(BAY_START))
+        for r in range(traces):
+            end = int(np.searchsorted(runs.times, exit_times[r])) + 1 if parked[r] else None
+            path = runs.states[r, :end]
+            ax.plot(path[:, 0], path[:, 1], color=colours[bay[r]], lw=0.8, alpha=0.9)
+        ax.plot(*BAY_START, "w*", ms=12)
+        c = certify(
+            combined.problem,
+            combined.policy,
+            BAY_START,
+            samples,
+            dt=dt,
+            seed=seed + 1,
+            max_time=15.0,
+            progress=False,
+        )
+        predicted = float(combined.value(BAY_START))
+        estimate = float(combined.error_estimate(BAY_START))
+        ax.set_title(
+            f"w = {w}: v(x₀) predicted {predicted:.3f} (est. error {estimate:.3f}),\n"
+            f"certified {c.optimal_value:.3f} ± {c.optimal_value_se:.3f} (Δt {dt:g}), "
+            f"policy cost J = {c.policy_cost:.3f} ± {c.policy_cost_se:.3f}",
+            fontsize=9,
+        )
+        ax.set_xlabel("position")
+        ax.set_ylabel("velocity")
+    ax = axes[3]
+    width = 0.25
+    for i in range(3):  # one bar per bay in each group of a weight setting
+        spots = np.arange(len(BAY_WEIGHTS)) + (i - 1) * width
+        share = np.array([s[i] for s in shares])
+        se = np.sqrt(share * (1 - share) / samples)
+        ax.bar(spots, share, width, yerr=2 * se, color=colours[i], label=f"parked in bay {i + 1}")
+        ax.plot(spots, [a[i] for a in alphas], "kD", ms=5, label="α_i(x₀)" if i == 0 else None)
+    ax.set_xticks(np.arange(len(BAY_WEIGHTS)), [f"w = {w}" for w in BAY_WEIGHTS], fontsize=8)
+    ax.set_ylabel("share of rollouts (±2 SE)")
+    ax.set_title("blend weights α_i(x₀) = where it parks", fontsize=10)
+    ax.legend(fontsize=8)
+    fig.suptitle(
+        f"Tasks that end: park in one of three bays (point mass, {n}² grid, "
+        f"λ = {base.temperature:g}); three exit-cost components solved once, recombined",
+        fontsize=11,
+    )
+    return [_save(fig, out, "exit_bays.png")]
+
+
 # -- all --------------------------------------------------------------------------------------------
 
 
@@ -833,6 +923,7 @@ FIGURES: dict[str, tuple[Callable[..., list[Path]], dict[str, Any], dict[str, An
         {},
         {"sizes": (16, 32), "samples": 40, "truth_samples": 80},
     ),
+    "exit_bays": (exit_bays, {}, {"n": 41, "samples": 100, "traces": 4, "dt": 0.02}),
     "convergence": (
         convergence,
         {},

@@ -29,6 +29,7 @@ import numpy as np
 from ..costs import Quadratic
 from ..grid import Axis, Grid
 from ..problem import Problem
+from ..regions import Ball, Union
 from ..systems import Acrobot, LinearSystem, Pendulum, PlanarChain, PointMass
 from ..trajectory import expand, optimize
 
@@ -154,6 +155,60 @@ def coordination_problem(n: int = 81) -> Problem:
     (the problem's own terminal cost is the goal at −1; combine it with the goal at +1)."""
     grid = Grid([Axis(-3.0, 3.0, n, name="position"), Axis(-4.0, 4.0, n, name="velocity")])
     return Problem(PointMass(), grid, 3.0, Quadratic([-1.0, 0.0], GOAL_WEIGHTS), temperature=0.3)
+
+
+# -- exit bays (a task that ends) ------------------------------------------------------------------
+
+BAY_CENTRES = (-1.3, 0.0, 1.3)
+"""Positions of the three parking bays of :func:`bays_problem`."""
+
+BAY_START = np.array([-0.6, 1.2])
+"""Start (position, velocity) of the bays figure: between the left and middle bays, moving right."""
+
+BAY_MISS = 5.0
+"""Exit cost of a bay-indicator component at the bays it does not prefer (e^{−BAY_MISS/λ} ≈ 5e−5)."""
+
+
+def bays_problem(n: int = 121) -> Problem:
+    """A point mass parks in one of three bays and stops there (first exit, no horizon): the
+    exit set is the three ellipses {|x − c_i| ≤ 0.2, |v| ≤ 0.4}, q = 0.5 + 0.05 v² per second,
+    λ = 0.5, on [−2, 2] × [−3, 3]. Its exit cost is 0; the components of the bays figure pay 0 at
+    one bay and :data:`BAY_MISS` at the others (:func:`bay_cost`)."""
+    grid = Grid([Axis(-2.0, 2.0, n, name="position"), Axis(-3.0, 3.0, n, name="velocity")])
+    bays = Union(tuple(Ball([c, 0.0], [0.2, 0.4]) for c in BAY_CENTRES))
+    return Problem(
+        PointMass(),
+        grid,
+        None,
+        state_cost=BayStateCost(),
+        temperature=0.5,
+        exit=bays,
+    )
+
+
+@dataclass(frozen=True)
+class BayStateCost:
+    """q(x) = 0.5 + 0.05 v²: time costs, and so does speed."""
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        return 0.5 + 0.05 * x[:, 1] ** 2
+
+
+@dataclass(frozen=True)
+class BayCost:
+    """Exit cost 0 at bay ``index`` (the nearest bay to the state) and :data:`BAY_MISS` at the
+    others."""
+
+    index: int
+
+    def __call__(self, x: np.ndarray) -> np.ndarray:
+        nearest = np.argmin(np.abs(x[:, :1] - np.asarray(BAY_CENTRES)), axis=1)
+        return np.where(nearest == self.index, 0.0, BAY_MISS)
+
+
+def bay_cost(index: int) -> BayCost:
+    """The exit cost of the component that prefers bay ``index`` (0, 1, 2 from the left)."""
+    return BayCost(index)
 
 
 # -- rotor -----------------------------------------------------------------------------------------

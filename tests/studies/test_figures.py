@@ -21,6 +21,7 @@ PNG = b"\x89PNG\r\n\x1a\n"
         ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1, "restarts": 2}),
         ("coordination", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
         ("gymnast", {"n": 5, "reference": False}),
+        ("exit_bays", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
         ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),
         (
             "convergence",
