@@ -192,9 +192,11 @@ def test_fig7_noisy_lbc_is_within_half_of_the_certified_optimum(fig7):
 
     LBC is a poor proposal for v*: its weights have a heavy tail (PSIS k̂ > 0.7), so the
     certificate warns and is untrusted, and its v* is biased upward (issue 28: an independent
-    estimate with the 51⁴ grid policy as proposal is 18.7–18.9 at this Δt, free box edges). A
-    too-high v* makes J ≤ 1.5 v* easier; against the grid-proposal figure the claim still holds
-    with room (1.5 × 18.7 = 28 against J ≈ 20.4), which this test is too short to recompute."""
+    estimate with the 51⁴ grid policy as proposal is 18.7–18.9 at this Δt, free box edges; 19.04 ±
+    0.02 with them reflecting, the default, which leaves LBC's 300 paths here untouched: none
+    reaches an edge). A too-high v* makes J ≤ 1.5 v* easier; against the grid-proposal figure the
+    claim still holds with room (1.5 × 18.7 = 28 against J ≈ 20.4), which this test is too short
+    to recompute."""
     problem, components, _ = fig7
     lbc = gridlbc.combine(components)
     with pytest.warns(gridlbc.CertificateWarning, match="heavy tail"):
