@@ -38,14 +38,15 @@ reliable, 0.5–0.7 slow but usable, above 0.7 (:data:`MAX_PARETO_K`) unreliable
 sample count. A certificate is trusted only with enough effective samples *and* k̂ below that;
 the remedy for a large k̂ is a proposal closer to optimal, not more samples.
 
-**Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. With
-``boundary="free"`` (the default) the SDE lives on all of Rᵈ otherwise, so samples that cross a
+**Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. By
+default the certificate concerns the problem the solver solves: with a grid that has closed
+(non-periodic) axes, ``boundary="reflect"`` folds every step back into the box on those axes, as
+the solver's reflecting state constraint keeps the probability in it, and v* is the optimum of
+that constrained problem; a problem without a grid has no box, and its SDE lives on Rᵈ. With
+``boundary="free"`` the SDE lives on all of Rᵈ for a gridded problem too, so samples that cross a
 non-periodic edge of the grid's box keep going (a grid solution's policy is clamped to the box
-there) and v* is the optimum of the problem on Rᵈ; the share of samples that left the box, and the
-share of the optimal path measure that did (the weighted share), say when the grid's
-state-constrained boundary matters. With ``boundary="reflect"`` every step is folded back into the
-box on the closed axes, as the solver's reflecting state constraint keeps the probability in it,
-and v* is the optimum of that constrained problem. The weight stays exact: the fold acts on the
+there) and v* is the optimum of the problem on Rᵈ. The share of samples that crossed an edge, and
+the share of the optimal path measure that did (the weighted share), say when the box matters. The weight stays exact: the fold acts on the
 state, not on the noise. The controlled chain driven by the noise dε is, step by step, the passive
 chain (the same steps and folds, u = 0) driven by dε' = u dt + dε, because u enters the step only
 through B(u dt + dε); the fold is a fixed function of the state after the step, whichever noise
@@ -76,10 +77,10 @@ from .problem import Problem
 from .progress import ProgressBar
 from .psis import pareto_k
 from .simulate import (
-    check_boundary,
     check_problem_and_policy,
     check_sample_count,
     euler_maruyama,
+    resolve_boundary,
     rollout_horizon,
     step_count,
 )
@@ -161,7 +162,8 @@ class Certificate:
         ``left_box_fraction`` come from independent samples of the judged policy and
         ``gap_se`` = √(SE(J)² + SE(v*)²)); False: one set of samples of the policy gave all.
     boundary : str
-        ``"free"`` (the SDE on Rᵈ) or ``"reflect"`` (closed edges of the box reflect).
+        ``"free"`` (the SDE on Rᵈ) or ``"reflect"`` (closed edges of the box reflect), as
+        resolved (:func:`gridlbc.simulate.resolve_boundary`).
     extrapolated_value, extrapolated_value_se : float, ndarray (k,) or None
         With ``certify(..., richardson=True)``: v* extrapolated to a vanishing Euler–Maruyama
         step, 2 v̂*(Δt) − v̂*(2Δt) (Δt this certificate's :attr:`dt`; the estimator's bias is
@@ -349,7 +351,7 @@ def certify(
     min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
     max_pareto_k: float = MAX_PARETO_K,
     proposal=None,
-    boundary: str = "free",
+    boundary: str | None = None,
     richardson: bool = False,
     max_time: float | None = None,
 ) -> Certificate:
@@ -398,12 +400,13 @@ def certify(
         The importance-sampling proposal for v* (a :class:`~gridlbc.Solution`, a combination, or a
         callable ``policy(x, t)``); None: ``policy`` itself. Its ``n_samples`` paths are drawn
         first from the seeded generator, those of ``policy`` after them (independent).
-    boundary : {"free", "reflect"}
-        At a closed edge of the grid's box (:func:`gridlbc.simulate`): ``"free"`` certifies the
-        problem on Rᵈ, ``"reflect"`` the problem with the box as a reflecting state constraint,
-        as the solver treats it; use it to compare with a grid prediction where the paths reach
-        the edge. The Girsanov weight is exact for both (module docstring). Problems without a
-        grid: ``"free"`` only.
+    boundary : {"free", "reflect"}, optional
+        At a closed edge of the grid's box (:func:`gridlbc.simulate`): ``"reflect"`` certifies
+        the problem with the box as a reflecting state constraint, as the solver treats it, so a
+        grid prediction and its certificate concern the same problem; ``"free"`` the problem on
+        Rᵈ (the box only a computational domain). None (default): ``"reflect"`` when the grid
+        has a closed axis, ``"free"`` otherwise (no grid: no box). The Girsanov weight is exact
+        for both (module docstring).
     richardson : bool
         Also certify at twice the step, from independent draws (seed + 1), and extrapolate the
         O(Δt) bias away: :attr:`Certificate.extrapolated_value`, its SE and
@@ -440,7 +443,7 @@ def certify(
         )
     check_problem_and_policy(problem, policy)
     sampler = policy if proposal is None else _proposal_policy(proposal)
-    check_boundary(problem, boundary)
+    boundary = resolve_boundary(problem, boundary)
     n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
     starts = problem.wrap(problem.check_states(x0, "x0"))

@@ -587,10 +587,10 @@ def _add_workflow_parsers(sub):
     certify.add_argument(
         "--boundary",
         choices=("free", "reflect"),
-        default="free",
-        help="closed box edges: 'free' lets paths leave the box (the problem on R^d, the "
-        "default), 'reflect' folds them back as the solver's state constraint does (use it "
-        "where paths reach the edge)",
+        default=None,
+        help="closed box edges: 'reflect' folds paths back as the solver's state constraint "
+        "does (the default where the grid has a closed axis: the certificate then concerns "
+        "the problem the solution solved), 'free' lets them leave the box (the problem on R^d)",
     )
     certify.add_argument("--quiet", action="store_true", help="no progress output")
     certify.set_defaults(func=_cmd_certify)

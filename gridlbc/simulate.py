@@ -8,8 +8,10 @@ i.e. x_{k+1} = x_k + (a(x_k) + B(x_k) u_k) Δt + √(λ Δt) B(x_k) C ε_k with 
 and ε_k ~ N(0, I_m), periodic coordinates wrapped after each step (into the grid's box, or into
 [−π, π) for a grid-free problem). The noise B C ε needs no diagonal B R⁻¹ Bᵀ.
 
-**Box edges.** ``boundary="free"`` (the default) lets the state cross a closed (non-periodic) edge
-of the grid's box and go on: the SDE on Rᵈ. ``boundary="reflect"`` folds it back after each step,
+**Box edges.** By default (``boundary=None``) the rollouts treat the box as the solver does:
+``"reflect"`` when the problem's grid has a closed (non-periodic) axis, ``"free"`` for a problem
+without a grid (no box). ``boundary="free"`` lets the state cross a closed edge of the grid's box
+and go on: the SDE on Rᵈ. ``boundary="reflect"`` folds it back after each step,
 x ← lo + L − |((x − lo) mod 2L) − L| with L = hi − lo, which lands in [lo, hi]: the
 symmetrized Euler scheme of a diffusion reflected at the edge (Bossy, Gobet & Talay, J. Appl.
 Probab. 41(3), 2004), the simulated counterpart of the solver's state constraint (SPEC §3: no
@@ -123,7 +125,7 @@ class Rollouts:
         ``"reflect"`` they were folded back). All False for a grid-free problem (no box).
     seed : int or None
     boundary : str
-        ``"free"`` or ``"reflect"`` (see the module docstring).
+        ``"free"`` or ``"reflect"``, as resolved (see the module docstring).
     exit_times : ndarray (n,) or None
         With an exit set: τ per sample (0 for a start in E), NaN where it had not exited by the
         end; None without one. After τ a sample's state stays where it entered E.
@@ -293,7 +295,7 @@ def simulate(
     dt: float | None = None,
     seed: int | None = None,
     noise: bool = True,
-    boundary: str = "free",
+    boundary: str | None = None,
     max_time: float | None = None,
 ) -> Rollouts:
     """Roll out ``policy`` on the SDE of ``problem`` and accumulate each sample's cost.
@@ -318,10 +320,12 @@ def simulate(
         Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
     noise : bool
         False: the deterministic closed loop (ε = 0).
-    boundary : {"free", "reflect"}
+    boundary : {"free", "reflect"}, optional
         At a closed (non-periodic) edge of the grid's box: ``"free"`` lets the state leave the box
         (the SDE on Rᵈ); ``"reflect"`` folds it back in after each step (the solver's reflecting
-        state constraint, SPEC §3). A problem without a grid has no box: ``"free"`` only.
+        state constraint, SPEC §3). None (default): as the solver, ``"reflect"`` when the grid has
+        a closed axis, ``"free"`` otherwise (:func:`resolve_boundary`). A problem without a grid
+        has no box: ``"free"`` only.
     max_time : float, optional
         For a problem without a horizon (required there): the rollouts stop at this time
         (first exit: the samples that had not exited are counted in ``n_unexited``).
@@ -331,6 +335,7 @@ def simulate(
     Rollouts
     """
     check_problem_and_policy(problem, policy)
+    boundary = resolve_boundary(problem, boundary)
     x = _initial_states(problem, x0, n_samples)
     T = rollout_horizon(problem, max_time)
     K = step_count(T, dt)
@@ -362,6 +367,24 @@ def simulate(
 
 BOUNDARIES = ("free", "reflect")
 """What the rollouts do at a closed edge of the grid's box (see the module docstring)."""
+
+
+def resolve_boundary(problem: Problem, boundary=None) -> str:
+    """``boundary`` checked (:func:`check_boundary`), or for None the problem's own: ``"reflect"``
+    when its grid has a closed (non-periodic) axis, as the solver treats it (SPEC §3), ``"free"``
+    when it has no grid (no box) or only periodic axes (no edges).
+
+    Parameters
+    ----------
+    problem : Problem
+        Its grid (if any) is the box.
+    boundary : str, optional
+        ``"free"``, ``"reflect"`` or None.
+    """
+    if boundary is None:
+        grid = problem.grid
+        return "reflect" if grid is not None and not np.all(grid.periodic) else "free"
+    return check_boundary(problem, boundary)
 
 
 def check_boundary(problem: Problem, boundary) -> str:
@@ -444,7 +467,7 @@ def euler_maruyama(
     rng,
     noise: bool = True,
     on_step=None,
-    boundary: str = "free",
+    boundary: str | None = None,
     horizon: float | None = None,
 ) -> SamplePaths:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
@@ -468,8 +491,8 @@ def euler_maruyama(
         Whether to add it.
     on_step : callable, optional
         ``on_step(k, x_{k+1}, u_k)``, called after each step (recording, progress).
-    boundary : {"free", "reflect"}
-        At closed edges of the grid's box (see :func:`simulate`).
+    boundary : {"free", "reflect"}, optional
+        At closed edges of the grid's box (see :func:`simulate`; None: :func:`resolve_boundary`).
     horizon : float, optional
         How long the paths run (:func:`rollout_horizon`; default the problem's T).
 
@@ -477,7 +500,7 @@ def euler_maruyama(
     -------
     SamplePaths
     """
-    reflect = check_boundary(problem, boundary) == "reflect"
+    reflect = resolve_boundary(problem, boundary) == "reflect"
     T = problem.require_horizon("simulate") if horizon is None else horizon
     step = T / n_steps
     grid, system = problem.grid, problem.system

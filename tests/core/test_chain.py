@@ -179,6 +179,7 @@ def test_free_chain_noise_is_diagonal_and_full_R_is_refused():
         seed=0,
         dt=0.5,
         noise=True,
+        boundary="free",  # the raw noise: the reflection at p = ±1 would fold the increments
     )
     dp = rollouts.states[:, 1, 4:] - rollouts.states[:, 0, 4:]
     # Cov = λ R⁻¹ dt with R⁻¹ = [[4, -2], [-2, 4]]/3: the correlation is −0.5 (SE ≈ 0.04).

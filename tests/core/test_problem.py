@@ -59,7 +59,9 @@ def test_grid_solvers_refuse_a_grid_free_problem():
 
 def test_rollouts_without_a_grid_equal_those_on_a_grid():
     """Wrapping into [−π, π) is the grid's [lo, hi) for lo = −π: the same seed gives the same
-    rollouts bit for bit, and no sample counts as leaving a box."""
+    rollouts bit for bit with the grid's closed edges free, and no sample counts as leaving a box.
+    By default the grid's closed edges reflect (as the solver's), the grid-free problem's are
+    free (it has none)."""
     g, q = Quadratic([0.0, 0.0], [4.0, 0.5]), Quadratic([0.0, 0.0], [0.3, 0.0])
     grid = Grid([Axis(-np.pi, np.pi, 16, periodic=True), Axis(-1, 1, 9)])
     on_grid = Problem(Pendulum(), grid, 2.0, g, q, control_cost=0.5, temperature=0.7)
@@ -68,15 +70,18 @@ def test_rollouts_without_a_grid_equal_those_on_a_grid():
     def policy(x, t):
         return -3.0 * np.sin(x[:, :1]) - x[:, 1:]
 
-    a = simulate(on_grid, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02)
+    a = simulate(on_grid, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02, boundary="free")
     b = simulate(free, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02)
+    assert b.boundary == "free"
+    assert simulate(on_grid, policy, [2.5, 0.0], seed=3, dt=0.02).boundary == "reflect"
     np.testing.assert_array_equal(a.states, b.states)
     np.testing.assert_array_equal(a.costs, b.costs)
     assert a.n_left_box > 0 and b.n_left_box == 0  # velocities beyond ±1 leave the grid's box
     assert np.all((b.states[..., 0] >= -np.pi) & (b.states[..., 0] < np.pi))
     with pytest.warns(CertificateWarning):  # a poor proposal: only the equality matters here
         c, d = (
-            certify(p, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02) for p in (on_grid, free)
+            certify(p, policy, [2.5, 0.0], n_samples=50, seed=3, dt=0.02, boundary=b)
+            for p, b in ((on_grid, "free"), (free, None))
         )
     assert c.optimal_value == d.optimal_value and c.policy_cost == d.policy_cost
     assert c.left_box_fraction > 0 and d.left_box_fraction == 0

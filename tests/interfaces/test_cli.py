@@ -157,15 +157,15 @@ def test_certify_prints_what_gridlbc_certify_computes(tmp_path):
     ):
         np.testing.assert_allclose(rows[:, column], expected, rtol=1e-4)  # printed to 5 digits
     assert "certified optimum v*" in result.stdout and result.stderr == ""
+    # By default the closed edges reflect, as in the solve the certificate judges.
+    assert "box edges reflect" in result.stdout
     one_line_error(run("certify", str(path)), "--state")
-    reflected = run(
-        "certify", str(path), "--state=0,0", "--samples=200", "--seed=3", "--boundary=reflect"
-    )
+    free = run("certify", str(path), "--state=0,0", "--samples=200", "--seed=3", "--boundary=free")
     cert = gridlbc.certify(
-        problem, solution.policy, states[1], n_samples=200, seed=3, boundary="reflect"
+        problem, solution.policy, states[1], n_samples=200, seed=3, boundary="free"
     )
-    assert "box edges reflect" in reflected.stdout
-    v = float(reflected.stdout.splitlines()[-1].split()[1])
+    assert "box edges free" in free.stdout
+    v = float(free.stdout.splitlines()[-1].split()[1])
     assert v == pytest.approx(cert.optimal_value, rel=1e-4)
 
 
