@@ -538,10 +538,12 @@ def euler_maruyama(
             x_new = problem.wrap(x_new)
             if grid is not None:
                 left[alive] |= np.any(((x_new < grid.lo) | (x_new > grid.hi)) & ~grid.periodic, 1)
-                if reflect:
-                    reflect_into_box(x_new, grid.lo, grid.hi, ~grid.periodic)
-            if exits is not None:
+            still: slice | np.ndarray = slice(None)
+            if exits is not None:  # before any fold: a step into an exit set beyond an edge ends
                 exits.step(x_a, x_new, B @ root if noise else None, (k + 1) * step, rng)
+                still = exits.alive[alive]
+            if reflect and grid is not None:
+                x_new[still] = reflect_into_box(x_new[still], grid.lo, grid.hi, ~grid.periodic)
             x[alive] = x_new
         if on_step is not None:
             on_step(k, x, u)
