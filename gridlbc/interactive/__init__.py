@@ -57,6 +57,10 @@ DEFAULT_TIMES = 41
 ROLLOUT_STEPS = 300
 """Euler steps of the page's rollout over the horizon (``gridlbc.simulate``'s default)."""
 
+STATIONARY_ROLLOUT_TIME = 10.0
+"""The page's rollout of a first-exit (stationary) solution stops at the exit set or after this
+time."""
+
 RASTER = (320, 240)
 """Evaluation points of each heat map, (horizontal, vertical)."""
 
@@ -121,7 +125,7 @@ def decimate(
         [Axis(a.lo, a.hi, min(int(n), a.n), a.periodic, a.name) for a, n in zip(grid.axes, shape)]
     )
     n_stored = len(solution.times)
-    if n_times is not None and (int(n_times) < 2):
+    if n_times is not None and (int(n_times) < 2) and n_stored > 1:
         raise ValueError(f"n_times must be at least 2 (t = 0 and T), got {n_times}")
     kept = _slice_indices(n_stored, n_stored if n_times is None else int(n_times))
     if dtype not in ("float32", "float64"):
@@ -163,7 +167,7 @@ def decimate(
         flushed_values=flushed,
         underflow_nodes=int(np.count_nonzero(stored[0] == 0)),
     )
-    return Solution(
+    return type(solution)(
         solution.problem.replace(grid=coarse),
         solution.times[kept].copy(),
         stored,
@@ -370,6 +374,16 @@ def page_data(
         else grid.check_states(state, "state")[0]
     )
     B = np.asarray(system.input_matrix(grid.nodes()[:1]), dtype=float)[0]
+    # A stationary (first-exit) solution has one slice and no time: the page, made for time
+    # slices, gets it twice over [0, STATIONARY_ROLLOUT_TIME] (so z does not change with t), the exit set's
+    # nodes, and stops its rollout there.
+    stationary = problem.stationary
+    horizon = STATIONARY_ROLLOUT_TIME if stationary else problem.horizon
+    times = [0.0, horizon] if stationary else first.times.tolist()
+
+    def stored(array: np.ndarray) -> np.ndarray:
+        return np.repeat(array, 2, axis=0) if stationary else array
+
     names = [a.name or n for a, n in zip(grid.axes, system.state_names)]
     labels = labels or [_component_label(s, i) for i, s in enumerate(comps)]
     references = _shared_references(comps)
@@ -382,7 +396,11 @@ def page_data(
             {"lo": a.lo, "hi": a.hi, "n": a.n, "periodic": a.periodic, "name": nm}
             for a, nm in zip(grid.axes, names)
         ],
-        "horizon": problem.horizon,
+        "horizon": horizon,
+        "stationary": stationary,
+        "exit": None
+        if problem.exit is None
+        else base64.b64encode(problem.exit_mask().astype(np.uint8).tobytes()).decode("ascii"),
         "temperature": problem.temperature,
         "R": problem.R.tolist(),
         "R_inv": problem.R_inv.tolist(),
@@ -390,14 +408,14 @@ def page_data(
         "state_cost": None
         if problem.state_cost is None
         else (_page_cost(problem.state_cost) or "other"),
-        "times": first.times.tolist(),
+        "times": times,
         "dtype": embedding.dtype,
         "components": [
             {
                 "label": lab,
                 "terminal_cost": _page_cost(s.problem.terminal_cost),
-                "log_scales": s.log_scales.tolist(),
-                "slices": _base64(s.slices),
+                "log_scales": stored(s.log_scales).tolist(),
+                "slices": _base64(stored(s.slices)),
                 "reference": k,
             }
             for lab, s, k in zip(labels, comps, references[1])
@@ -490,7 +508,9 @@ def _decimation_error(originals, embedding: Embedding, weights, seed: int = 0):
     full, small = combine(originals, weights), combine(embedding.components, weights)
     errors: list[np.ndarray] = []
     spread = 0.0
-    for t in np.append(0.0, rng.uniform(0, originals[0].problem.horizon, 4)):
+    problem = originals[0].problem
+    times = [0.0] if problem.stationary else np.append(0.0, rng.uniform(0, problem.horizon, 4))
+    for t in times:
         a, b = full.value(X, t), small.value(X, t)
         ok = np.isfinite(a) & np.isfinite(b)
         if np.any(np.isfinite(a) != np.isfinite(b)):

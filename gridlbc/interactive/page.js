@@ -278,6 +278,18 @@
     for (let k = 0; k < d; k++) if (periodic[k]) x[k] = lo[k] + pyMod(x[k] - lo[k], period[k]);
     return x;
   }
+  // the exit set of a first-exit problem, by its nodes: a state is in it when its nearest node is
+  const exitNodes = DATA.exit === null ? null : Uint8Array.from(atob(DATA.exit), (c) => c.charCodeAt(0));
+  function inExit(x) {
+    if (exitNodes === null) return false;
+    let index = 0;
+    for (let k = 0; k < d; k++) {
+      let i = Math.round((x[k] - lo[k]) / spacing[k]);
+      i = periodic[k] ? pyMod(i, shape[k]) : Math.min(Math.max(i, 0), shape[k] - 1);
+      index += i * strides[k];
+    }
+    return exitNodes[index] === 1;
+  }
 
   // noise-free Euler rollout of the combined policy from (x0, t0), as gridlbc.simulate
   function rollout(w, x0, t0) {
@@ -287,7 +299,8 @@
     const states = [x.slice()], ts = [t0], controls = [], alphas = [];
     let cost = 0, message = "";
     const stateCost = DATA.state_cost;
-    for (let k = 0; k < K; k++) {
+    let exited = inExit(x);
+    for (let k = 0; k < K && !exited; k++) {
       const t = t0 + k * step;
       const e = evaluate(w, x, t);
       if (!e.policy.every(Number.isFinite)) {
@@ -308,9 +321,14 @@
       x = wrap(next);
       states.push(x.slice()); ts.push(k + 1 === K ? T : t0 + (k + 1) * step);
       controls.push(e.policy); alphas.push(e.alpha);
+      exited = inExit(x);
+    }
+    if (DATA.stationary && !exited && message === "") {
+      message = "the rollout had not reached the exit set by t = " + T + " s";
     }
     const complete = message === "";
-    const terminal = complete && quadraticCosts ? compositeTerminalCost(w, x) : NaN;
+    // a first-exit task pays its exit cost, which the page does not know: no total then
+    const terminal = complete && quadraticCosts && !DATA.stationary ? compositeTerminalCost(w, x) : NaN;
     return { states: states, times: ts, controls: controls, alphas: alphas, steps: K,
       cost: cost + terminal, message: message, complete: complete };
   }
@@ -810,7 +828,10 @@
     showWeights();
     const time = $("time");
     time.max = String(T); time.step = String(T / 1000); time.value = String(state.t);
-    const showTime = () => { $("time-label").textContent = "t = " + state.t.toFixed(3) + " s"; };
+    time.disabled = DATA.stationary;
+    const showTime = () => {
+      $("time-label").textContent = DATA.stationary ? "first exit: no time (the task ends at the exit set)" : "t = " + state.t.toFixed(3) + " s";
+    };
     showTime();
     time.addEventListener("input", () => { state.t = Number(time.value); showTime(); update(true); });
     $("all-ones").addEventListener("click", () => { state.weights = comps.map(() => 1); state.goal = null; state.projection = null; showWeights(); update(false); });
@@ -819,7 +840,7 @@
     $("policy-map").addEventListener("click", onClick);
     const sc = DATA.state_cost === null ? "none" : "q(x) included";
     $("about").innerHTML = DATA.system.name + " " + JSON.stringify(DATA.system.parameters).replace(/"/g, "") +
-      "; horizon T = " + T + " s, temperature λ = " + lambda + ", R = " + JSON.stringify(R) + ", state cost: " + sc +
+      (DATA.stationary ? "; first exit (rollouts stop at the exit set, or after " + T + " s)" : "; horizon T = " + T + " s") + ", temperature λ = " + lambda + ", R = " + JSON.stringify(R) + ", state cost: " + sc +
       ". Embedded: " + DATA.embedding + ". The page computes exactly what <code>gridlbc.combine</code> computes on these data" +
       " (grey on a map: desirability underflowed). Rollout: noise-free Euler steps of T/" + DATA.rollout_steps + ", as <code>gridlbc.simulate(..., noise=False)</code>." +
       (DATA.note ? " " + DATA.note : "");

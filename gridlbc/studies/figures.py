@@ -878,7 +878,8 @@ def exit_bays(
         predicted = float(combined.value(BAY_START))
         estimate = float(combined.error_estimate(BAY_START))
         ax.set_title(
-            f"w = {w}: v(x₀) predicted {predicted:.3f} (est. error {estimate:.3f}),\n"
+            f"w = ({', '.join(f'{v:g}' for v in w)}): v(x₀) predicted {predicted:.3f} "
+            f"(est. error {estimate:.3f}),\n"
             f"certified {c.optimal_value:.3f} ± {c.optimal_value_se:.3f} (Δt {dt:g}), "
             f"policy cost J = {c.policy_cost:.3f} ± {c.policy_cost_se:.3f}",
             fontsize=9,
@@ -893,7 +894,8 @@ def exit_bays(
         se = np.sqrt(share * (1 - share) / samples)
         ax.bar(spots, share, width, yerr=2 * se, color=colours[i], label=f"parked in bay {i + 1}")
         ax.plot(spots, [a[i] for a in alphas], "kD", ms=5, label="α_i(x₀)" if i == 0 else None)
-    ax.set_xticks(np.arange(len(BAY_WEIGHTS)), [f"w = {w}" for w in BAY_WEIGHTS], fontsize=8)
+    labels = ["w = (" + ", ".join(f"{v:g}" for v in w) + ")" for w in BAY_WEIGHTS]
+    ax.set_xticks(np.arange(len(BAY_WEIGHTS)), labels, fontsize=8)
     ax.set_ylabel("share of rollouts (±2 SE)")
     ax.set_title("blend weights α_i(x₀) = where it parks", fontsize=10)
     ax.legend(fontsize=8)

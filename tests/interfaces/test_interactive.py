@@ -201,6 +201,25 @@ def test_pointmass_projection_is_closed_form(tmp_path):
 
 
 @SMOKE_SIZES
+@needs_chromium
+def test_first_exit_page_equals_combine_and_stops_at_the_exit(tmp_path):
+    # Three parking bays (a stationary first-exit problem): the page holds its one slice over
+    # [0, T] (time does not matter), evaluates gridlbc.combine exactly, and its rollout ends in
+    # the exit set.
+    from gridlbc.studies.problems import bay_cost, bays_problem
+
+    base = bays_problem(41)
+    parts = [gridlbc.solve(base.replace(exit_cost=bay_cost(i))) for i in range(3)]
+    page = tmp_path / "bays.html"
+    write_page(parts, page)
+    weights = (1.0, 0.02, 0.02)
+    out = _dump(page, "weights=1,0.02,0.02&state=-0.6,1.2&time=3")
+    _assert_probe(out["probe"], gridlbc.combine(parts, weights), weights, (-0.6, 1.2), 0.0)
+    html = page.read_text()
+    assert '"stationary":true' in html and "first exit: no time" in html
+
+
+@SMOKE_SIZES
 def test_decimate_evaluates_the_solution_itself(pendulum_files):
     sol = gridlbc.load(pendulum_files[0])
     small = decimate(sol, (11, 9), n_times=5)
