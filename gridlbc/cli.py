@@ -8,6 +8,7 @@ stderr and exit status 2, never a traceback.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -148,19 +149,28 @@ def _config(data: dict, args):
 
 def _cmd_solve(args) -> int:
     from .io import save
+    from .settings import SolverSettings
     from .solver import solve
 
     config = _config(_base_description(args), args)
     problem = config.problem
     if not args.quiet:
         print(f"solving {problem.describe()}", flush=True)
-    solution = solve(
-        problem, settings=config.settings, progress=not args.quiet or config.settings.progress
-    )
+    settings = config.settings
+    if isinstance(settings, SolverSettings):
+        solution = solve(problem, settings=settings, progress=not args.quiet or settings.progress)
+    else:  # a stationary problem: one linear solve, its options by name
+        solution = solve(problem, **dataclasses.asdict(settings))
     d = solution.diagnostics
     path = save(solution, args.out)
+    if problem.stationary:
+        how = solution.operator.method + (
+            f" ({d.iterations[0]} iterations)" if d.iterations else ""
+        )
+    else:
+        how = f"{d.method}, {d.steps} steps of dt = {d.dt:.4g}"
     print(
-        f"wrote {path}: {d.method}, {d.steps} steps of dt = {d.dt:.4g} in {d.wall_time:.1f} s"
+        f"wrote {path}: {how} in {d.wall_time:.1f} s"
         + (f", {d.underflow_nodes} nodes underflowed" if d.underflow_nodes else "")
     )
     return 0

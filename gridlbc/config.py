@@ -35,6 +35,20 @@ multiple of π in a string (``"pi"``, ``"-pi"``, ``"pi/2"``, ``"2*pi"``)::
     dt = 0.02
     fitting = "none"         # the plain operator ("auto", the default: fitted to g)
 
+A task that ends when the state enters an exit set (SPEC §9) leaves out ``horizon`` and
+``terminal_cost`` and gives the set as one or more regions (their union) and, optionally, the
+exit cost (a number or a quadratic table; default 0); its ``[solver]`` table takes the fields of
+:class:`gridlbc.stationary.StationarySettings` (``rates``, ``linear_solver``, ...)::
+
+    [[exit]]
+    box = { lower = [0.45, "-inf"], upper = ["inf", "inf"] }   # the half-plane x₀ ≥ 0.45
+    [[exit]]
+    ball = { center = [-1.3, 0], radius = [0.2, 0.4] }
+
+    exit_cost = 0.0
+
+``horizon = "average"`` poses the average-cost problem (no exit, no terminal cost).
+
 Every key is checked: an unknown or missing key or a bad value raises ``ValueError``, a value of
 the wrong type ``TypeError``, each naming the key.
 """
@@ -51,8 +65,10 @@ from pathlib import Path
 from . import systems
 from .costs import Quadratic
 from .grid import Axis, Grid
-from .problem import Problem
+from .problem import AVERAGE, Problem
+from .regions import Ball, Box, Union
 from .settings import SolverSettings
+from .stationary import StationarySettings
 
 TOP_KEYS = (
     "system",
@@ -63,8 +79,10 @@ TOP_KEYS = (
     "terminal_cost",
     "state_cost",
     "solver",
+    "exit",
+    "exit_cost",
 )
-REQUIRED_KEYS = ("system", "grid", "horizon", "terminal_cost")
+REQUIRED_KEYS = ("system", "grid")
 
 _PI = re.compile(r"^\s*([+-]?(?:\d+(?:\.\d*)?|\.\d+)?)\s*\*?\s*pi\s*(?:/\s*(\d+(?:\.\d*)?))?\s*$")
 
@@ -74,7 +92,7 @@ class ProblemConfig:
     """A problem read from a description, and how to solve it."""
 
     problem: Problem
-    settings: SolverSettings
+    settings: SolverSettings | StationarySettings
 
 
 def _is_float(text: str) -> bool:
@@ -85,12 +103,15 @@ def _is_float(text: str) -> bool:
     return True
 
 
-def number(value, key: str) -> float:
-    """A finite float from a TOML number or a multiple of π written as a string."""
+def number(value, key: str, allow_infinite: bool = False) -> float:
+    """A finite float from a TOML number or a multiple of π written as a string (``"inf"`` and
+    ``"-inf"`` too with ``allow_infinite``)."""
     if isinstance(value, bool):
         raise TypeError(f"{key} must be a number, got {value!r}")
     if isinstance(value, (int, float)) or (isinstance(value, str) and _is_float(value)):
         result = float(value)
+        if allow_infinite and math.isinf(result):
+            return result
     elif isinstance(value, str) and (match := _PI.match(value.lower())):
         coefficient = {"": 1.0, "+": 1.0, "-": -1.0}.get(match[1])
         coefficient = float(match[1]) if coefficient is None else coefficient
@@ -104,11 +125,11 @@ def number(value, key: str) -> float:
     return result
 
 
-def numbers(value, key: str) -> list | float:
+def numbers(value, key: str, allow_infinite: bool = False) -> list | float:
     """A number or a (nested) list of numbers, each as :func:`number`."""
     if isinstance(value, list):
-        return [numbers(v, f"{key}[{i}]") for i, v in enumerate(value)]
-    return number(value, key)
+        return [numbers(v, f"{key}[{i}]", allow_infinite) for i, v in enumerate(value)]
+    return number(value, key, allow_infinite)
 
 
 def _table(data, key: str, allowed, required=()) -> dict:
@@ -221,7 +242,57 @@ def _quadratic(data, key: str):
         raise ValueError(f"{key}: {exc}") from None
 
 
-def _solver_settings(data) -> SolverSettings:
+def _region(data, key: str):
+    """One region of an ``[[exit]]`` list: ``box = {lower, upper}`` or ``ball = {center,
+    radius}``."""
+    data = _table(data, key, ("box", "ball"))
+    if len(data) != 1:
+        raise ValueError(f"{key} must give exactly one of box or ball, got {sorted(data)}")
+    kind, shape = next(iter(data.items()))
+    fields = ("lower", "upper") if kind == "box" else ("center", "radius")
+    shape = _table(shape, f"{key}.{kind}", fields, fields)
+    values = [numbers(shape[f], f"{key}.{kind}.{f}", allow_infinite=True) for f in fields]
+    try:
+        return Box(*values) if kind == "box" else Ball(*values)
+    except ValueError as exc:
+        raise ValueError(f"{key}.{kind}: {exc}") from None
+
+
+def _exit(data):
+    """The exit set: the union of the ``[[exit]]`` regions (None without)."""
+    if data is None:
+        return None
+    if not isinstance(data, list) or not data:
+        raise TypeError("exit must be a list of regions: [[exit]] tables with box or ball")
+    regions = [_region(r, f"exit[{i}]") for i, r in enumerate(data)]
+    return regions[0] if len(regions) == 1 else Union(tuple(regions))
+
+
+def _exit_cost(data):
+    if data is None or isinstance(data, dict):
+        return _quadratic(data, "exit_cost")
+    return number(data, "exit_cost")
+
+
+def _horizon(data) -> float | str | None:
+    if "horizon" not in data:
+        if "exit" not in data:
+            raise ValueError(
+                "missing key 'horizon' (a task without one needs an exit set: [[exit]] regions, "
+                'or horizon = "average")'
+            )
+        return None
+    value = data["horizon"]
+    return AVERAGE if value == AVERAGE else number(value, "horizon")
+
+
+def _solver_settings(data, stationary: bool = False) -> SolverSettings | StationarySettings:
+    if stationary:
+        data = _table(data or {}, "solver", tuple(StationarySettings.__dataclass_fields__))
+        try:
+            return StationarySettings(**data)
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"solver: {exc}") from None
     fields = tuple(SolverSettings.__dataclass_fields__)
     data = _table(data or {}, "solver", fields)
     if data.get("fitting") == "none":  # TOML has no null: "none" is the plain operator
@@ -242,19 +313,24 @@ def problem_from_dict(data: dict) -> ProblemConfig:
     system = system_from_name(system_data["name"], parameters)
     grid = _grid(data["grid"], system)
     control_cost = numbers(data.get("control_cost", 1.0), "control_cost")
+    horizon = _horizon(data)
+    if isinstance(horizon, float) and "terminal_cost" not in data:
+        raise ValueError("missing key 'terminal_cost'")
     try:
         problem = Problem(
             system,
             grid,
-            number(data["horizon"], "horizon"),
-            _quadratic(data["terminal_cost"], "terminal_cost"),
+            horizon,
+            _quadratic(data.get("terminal_cost"), "terminal_cost"),
             state_cost=_quadratic(data.get("state_cost"), "state_cost"),
             control_cost=control_cost,
             temperature=number(data.get("temperature", 1.0), "temperature"),
+            exit=_exit(data.get("exit")),
+            exit_cost=_exit_cost(data.get("exit_cost")),
         )
     except TypeError as exc:
         raise ValueError(str(exc)) from None
-    return ProblemConfig(problem, _solver_settings(data.get("solver")))
+    return ProblemConfig(problem, _solver_settings(data.get("solver"), problem.stationary))
 
 
 def read_description(path) -> dict:

@@ -55,7 +55,7 @@ LINEAR_SOLVERS = ("auto", "direct", "gmres")
 
 - ``"direct"``: sparse LU (SuperLU with a fill-reducing ordering), exact to rounding;
 - ``"gmres"``: restarted GMRES preconditioned by an incomplete LU factorisation (relative
-  residual ``tol``), for grids whose LU would not fit;
+  residual ``residual``), for grids whose LU would not fit;
 - ``"auto"``: direct up to :data:`DIRECT_LIMIT` unknowns in up to two dimensions, and up to
   :data:`DIRECT_LIMIT_3D` in three or more, GMRES beyond.
 """
@@ -79,7 +79,7 @@ class StationarySettings:
         (:mod:`gridlbc.schemes.generator`).
     linear_solver : str
         One of :data:`LINEAR_SOLVERS`.
-    tol : float
+    residual : float
         The relative residual at which GMRES stops (and the eigen-solver's tolerance).
     error_estimate : bool
         Also solve on the embedded grid (every other node) so that the solution carries an
@@ -94,7 +94,7 @@ class StationarySettings:
 
     rates: str = "fitted"
     linear_solver: str = "auto"
-    tol: float = 1e-10
+    residual: float = 1e-10
     error_estimate: bool = True
     fit_exit: bool = True
 
@@ -106,8 +106,8 @@ class StationarySettings:
                 f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)} for a stationary "
                 f"problem, got {self.linear_solver!r}"
             )
-        if not (0 < self.tol < 1):
-            raise ValueError(f"tol must lie in (0, 1), got {self.tol}")
+        if not (0 < self.residual < 1):
+            raise ValueError(f"residual must lie in (0, 1), got {self.residual}")
 
 
 def stationary_settings(options: dict) -> StationarySettings:
@@ -198,7 +198,7 @@ def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: 
     z, info = spla.gmres(
         A,
         b,
-        rtol=s.tol,
+        rtol=s.residual,
         atol=0.0,
         M=preconditioner,
         restart=50,
@@ -208,7 +208,7 @@ def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: 
     )
     if info != 0:
         raise RuntimeError(
-            f"GMRES did not reach the relative residual {s.tol:g} in {count[0]} iterations: "
+            f"GMRES did not reach the relative residual {s.residual:g} in {count[0]} iterations: "
             "give linear_solver='direct' if it fits in memory"
         )
     return z, count[0]
@@ -285,7 +285,7 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
     scale = max(float(np.abs(M.diagonal()).max()), 1e-300)
     sigma = -q.min() / lam + 1e-3 * scale
     setup = time.perf_counter() - start
-    values, vectors = spla.eigs(M, k=1, sigma=sigma, which="LM", tol=s.tol)
+    values, vectors = spla.eigs(M, k=1, sigma=sigma, which="LM", tol=s.residual)
     mu = float(values[0].real)
     e = vectors[:, 0].real
     e = e * np.sign(e[np.argmax(np.abs(e))])

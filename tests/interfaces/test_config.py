@@ -109,3 +109,51 @@ def test_number(text, expected):
 def test_number_rejects(bad):
     with pytest.raises((ValueError, TypeError), match="k must be"):
         number(bad, "k")
+
+
+def _first_exit(**changes):
+    data = pointmass_description(0)
+    del data["horizon"], data["terminal_cost"]
+    data.pop("solver", None)  # the time march's settings do not apply
+    data["state_cost"] = {"center": [0, 0], "weights": [0.0, 0.05]}
+    data["exit"] = [
+        {"ball": {"center": [-1.0, 0], "radius": [0.3, 0.5]}},
+        {"box": {"lower": [1.5, "-inf"], "upper": ["inf", "inf"]}},
+    ]
+    data.update(changes)
+    return data
+
+
+def test_first_exit_description_builds_the_union_of_its_regions():
+    config = problem_from_dict(_first_exit(exit_cost=0.5, solver={"rates": "upwind"}))
+    problem = config.problem
+    assert problem.horizon is None and problem.terminal_cost is None
+    x = np.array([[-1.0, 0.2], [1.7, -3.0], [0.0, 0.0]])
+    np.testing.assert_array_equal(problem.exit_mask(x), [True, True, False])
+    np.testing.assert_array_equal(problem.exit_values(x), 0.5)
+    assert config.settings.rates == "upwind"
+    average = problem_from_dict(_first_exit(horizon="average", exit=None))
+    assert average.problem.average_cost
+
+
+@pytest.mark.parametrize(
+    "change, fragment",
+    [
+        ({"exit": [{"disc": {}}]}, "unknown key 'exit[0].disc'"),
+        ({"exit": [{"ball": {"center": [0, 0]}}]}, "missing key 'exit[0].ball.radius'"),
+        ({"exit": {"ball": {}}}, "exit must be a list of regions"),
+        ({"exit": [{"box": {"lower": [1, 0], "upper": [0, 1]}}]}, "must not exceed upper"),
+        ({"exit": None}, "needs an exit set"),
+        ({"solver": {"method": "splitting"}}, "unknown key 'solver.method'"),
+    ],
+)
+def test_first_exit_description_errors_name_the_key(change, fragment):
+    data = _first_exit()
+    for key, value in change.items():
+        if value is None:
+            del data[key]
+        else:
+            data[key] = value
+    with pytest.raises((ValueError, TypeError)) as info:
+        problem_from_dict(data)
+    assert fragment in str(info.value)
