@@ -33,7 +33,7 @@ from .accuracy import (
 )
 from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
-from .grid import flat_chunks
+from .grid import Grid, flat_chunks
 from .problem import Problem
 from .schemes import METHODS
 from .schemes.protocol import Marched, MarchPlan, Terminal
@@ -46,11 +46,11 @@ from .storage import check_memory, memory_estimate
 def courant_rates(problem: Problem) -> tuple[float, float]:
     """The Courant rates (1/time) of the drift: the maximum over the nodes of
     ``r(x) = max_k |a_k(x)| / h_k`` and its root mean square over them (in chunks of nodes)."""
-    grid = problem.grid
-    spacing = np.asarray(grid.spacing, dtype=float)
+    grid = problem.require_grid("courant_rates")
+    spacing = np.asarray(grid.spacing, dtype=np.float64)
     peak, squares = 0.0, 0.0
     for flat in flat_chunks(grid.size):
-        drift = np.asarray(problem.system.drift(grid.node_coordinates(flat)), dtype=float)
+        drift = np.asarray(problem.system.drift(grid.node_coordinates(flat)), dtype=np.float64)
         chunk_peak, chunk_squares = rate_sums(drift, spacing)
         peak, squares = max(peak, chunk_peak), squares + chunk_squares
     if math.isnan(squares):
@@ -71,7 +71,7 @@ def time_grid(
     number (against the largest rate or its root mean square over the nodes) and its fewest
     steps, and the step is also at most ``max_step`` (the scheme's
     :class:`~gridlbc.schemes.protocol.StepBound`)."""
-    T = problem.horizon
+    T = problem.require_horizon("a time grid")
     if settings.dt is not None:
         if settings.dt > T:
             raise ValueError(f"dt = {settings.dt} exceeds the horizon T = {T}")
@@ -91,11 +91,12 @@ def _terminal_data(problem: Problem, terminal_costs, log: bool = False):
     """Scaled terminal desirabilities Z (K, N), max 1 per row, and their log-scales ℓ (K,);
     with ``log``, log Z instead of Z."""
     lam = problem.temperature
-    Z = np.empty((len(terminal_costs), problem.grid.size))
+    grid = problem.require_grid("solve")
+    Z = np.empty((len(terminal_costs), grid.size))
     scales = np.empty(len(terminal_costs))
     for r, cost in enumerate(terminal_costs):
         g = Z[r]  # g, then in place −(g − min g)/λ, then its exp
-        g[:] = problem.grid.node_values(problem.replace(terminal_cost=cost).terminal_values)
+        g[:] = grid.node_values(problem.replace(terminal_cost=cost).terminal_values)
         if problem.exit is not None:  # the task ends on entering E, paying g_E there
             exit_nodes = problem.exit_mask()
             g[exit_nodes] = problem.exit_values()[exit_nodes]
@@ -219,12 +220,13 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     and warn where the estimate exceeds the default tolerance. The embedded solves' own warnings
     are not the user's: they are silenced."""
     levels = []
-    grid = problem.grid
+    grid: Grid | None = problem.require_grid("an embedded solve")
+    horizon = problem.require_horizon("an embedded solve")
     for _ in range(2):
-        grid = embedded_grid(grid)
+        grid = embedded_grid(grid) if grid is not None else None
         if grid is None:
             break
-        dt = min(2 * dt, problem.horizon)
+        dt = min(2 * dt, horizon)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             levels.append(
@@ -259,7 +261,7 @@ def _solutions(
     them)."""
     wall = plan.elapsed()
     times = np.array(plan.kept, dtype=float) * plan.dt
-    times[-1] = plan.problem.horizon
+    times[-1] = plan.problem.require_horizon("a time grid")
     step = marched.operator
     operator = OperatorSignature(s.method, plan.dt, terminal.fingerprint, terminal.log)
     out = []

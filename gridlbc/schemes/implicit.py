@@ -79,7 +79,7 @@ class ImplicitStep:
             raise ValueError(
                 f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, got {linear_solver!r}"
             )
-        grid = problem.grid
+        grid = problem.require_grid("the implicit scheme")
         exit_nodes = problem.exit_mask()
         q = np.where(exit_nodes, 0.0, problem.state_cost_values())
         L = generator_matrix(problem, "upwind", absorbing=exit_nodes)
