@@ -10,16 +10,14 @@ two ends, and how the process behaves there is a :class:`Boundary`:
   (:func:`gridlbc.schemes.splitting.diffusion.tridiagonal_factors`); the fitted diffusion
   continues a line by mirroring it at its ends (:mod:`gridlbc.backends.numba.fitted_node`); the
   implicit scheme suppresses the generator's jumps out of the box
-  (:func:`gridlbc.schemes.implicit.generator_matrix`).
+  (:func:`gridlbc.schemes.generator.generator_matrix`).
 
-An absorbing (exit) boundary, for first-exit problems, is the next member: the process stops at
-an end and pays an exit cost g_E there, so z takes the value exp(−g_E/λ) beyond the end instead of
-mirroring. Each of the places above then asks :func:`axis_boundaries` and takes the exit's value
-where it now reflects (a foot that leaves the box stops at the exit; the first and last rows of
-the tridiagonal system keep their outer neighbour with a known right-hand side; the fitted line
-is continued by the exit's value instead of its mirror image; the generator's jump out of the box
-becomes a jump to the exit). A scheme that meets a boundary it does not implement raises
-(:func:`require`), so adding a member cannot silently reflect.
+Exit sets (first-exit problems, SPEC §9) are not a kind of edge: they are regions of the state
+space (:mod:`gridlbc.regions`), anywhere in the box or beyond an edge, whose nodes the generator
+makes absorbing (:mod:`gridlbc.schemes.generator`), and where the rollouts stop
+(:mod:`gridlbc.simulate`). An exit at an edge is a region beyond it (``Box([hi, -inf], [inf,
+inf])``). A scheme that meets a boundary it does not implement raises (:func:`require`), so a
+new member cannot silently reflect.
 """
 
 from __future__ import annotations

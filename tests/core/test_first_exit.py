@@ -286,3 +286,33 @@ def test_certified_first_exit_value_agrees_with_the_fine_grid():
     assert np.all(c.unexited_fraction == 0) and np.all(c.trusted)
     deviation = np.abs(c.extrapolated_value - solution.value(x)) / c.extrapolated_value_se
     assert np.all(deviation < 3), deviation
+
+
+@pytest.mark.parametrize("linear_solver", ["bicgstab", "gmres"])
+def test_iterative_solvers_agree_with_the_direct_solve(linear_solver):
+    # A 3-D chain with a ball-shaped exit. The Krylov solves stop at a relative residual of
+    # 1e-12 on the row-scaled system (unit diagonal, an M-matrix with ‖A⁻¹‖∞ at most the
+    # expected number of jumps to exit, here below 10³): z then matches LU to 1e-9 of its
+    # largest value, and v = −λ log z to 1e-6 where z is above 1e-3 of it (v within 7λ of
+    # the minimum; further out the error of v grows as λ · 1e-9 / z).
+    chain = g.systems.LinearSystem(np.diag([0.5, 0.5], 1), np.eye(3))
+    grid = g.Grid([g.Axis(-2, 2, 17) for _ in range(3)])
+    problem = g.Problem(
+        chain,
+        grid,
+        None,
+        state_cost=lambda x: 1.0 + 0.25 * np.sum(x**2, axis=1),
+        control_cost=[1.0, 2.0, 3.0],
+        temperature=0.5,
+        exit=Ball([1.0, 0.0, 0.0], 0.6),
+    )
+    direct = g.solve(problem, linear_solver="direct", error_estimate=False)
+    iterative = g.solve(problem, linear_solver=linear_solver, error_estimate=False)
+    z, z_direct = iterative.slices[0] * np.exp(iterative.log_scales[0]), direct.slices[0]
+    z_direct = z_direct * np.exp(direct.log_scales[0])
+    np.testing.assert_allclose(z, z_direct, rtol=0, atol=1e-9 * z_direct.max())
+    near = z_direct > 1e-3 * z_direct.max()
+    np.testing.assert_allclose(
+        iterative.value_nodes()[near], direct.value_nodes()[near], rtol=0, atol=1e-6
+    )
+    assert iterative.diagnostics.iterations[0] > 0
