@@ -265,13 +265,16 @@ class Certificate:
         rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in _ESTIMATES]
         lines = []
         edge = "reached an edge (reflected)" if self.boundary == "reflect" else "left the box"
+        unexited = np.broadcast_to(np.asarray(self.unexited_fraction, dtype=float), rows[0].shape)
         for i, x0 in enumerate(self.start_states):
             v, v_se, J, J_se, gap, gap_se, ess, k_hat, left, left_opt = (r[i] for r in rows)
             flag = ""
+            if unexited[i] > 0:
+                flag = f"; {100 * unexited[i]:.1f} % had not exited (costs cut short)"
             if ess < self.min_effective_sample_size:
-                flag = " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
+                flag += " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
             elif k_hat > self.max_pareto_k:
-                flag = f" — HEAVY WEIGHT TAIL (k̂ > {self.max_pareto_k:g}), v* not trustworthy"
+                flag += f" — HEAVY WEIGHT TAIL (k̂ > {self.max_pareto_k:g}), v* not trustworthy"
             lines.append(
                 f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
                 f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
