@@ -133,8 +133,8 @@ class Ball(RegionBase):
         return np.sum((diff / self.radius) ** 2, axis=1) <= 1.0
 
     def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """From the level set ρ(x) = √(Σ_k ((x_k − c_k)/r_k)²) = 1: normal ∇ρ/|∇ρ| and distance
-        (ρ − 1)/|∇ρ|, exact for a round ball and to first order in the distance otherwise."""
+        """From the level set ρ(x) = √(Σ_k ((x_k − c_k)/r_k)²) = 1: normal ∇ρ / ‖∇ρ‖ and distance
+        (ρ − 1) / ‖∇ρ‖, exact for a round ball and to first order in the distance otherwise."""
         diff = x - self.center
         if self.periods is not None:
             diff = wrap_difference(diff, self.periods)
