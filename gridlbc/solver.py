@@ -39,7 +39,7 @@ from .schemes import METHODS
 from .schemes.protocol import Marched, MarchPlan, Terminal
 from .settings import SolverSettings, is_own_reference, resolve_settings
 from .solution import OperatorSignature, Solution, SolveDiagnostics
-from .stationary import exit_nodes, solve_stationary
+from .stationary import exit_nodes, solve_first_exit_to_tolerance, solve_stationary
 from .storage import check_memory, memory_estimate
 
 
@@ -321,7 +321,9 @@ def solve(
         A relative tolerance on v: solve again, halving Δt or refining the grid, until the
         embedded error estimate meets it (:func:`gridlbc.accuracy.solve_to_tolerance`; the path
         taken is in ``solution.refinement``). Default: one solve, which warns when its estimate
-        exceeds :data:`gridlbc.accuracy.DEFAULT_TOLERANCE`.
+        exceeds :data:`gridlbc.accuracy.DEFAULT_TOLERANCE`. For a first-exit problem without a
+        horizon the grid alone is refined
+        (:func:`gridlbc.stationary.solve_first_exit_to_tolerance`).
     states : array_like (N, d), optional
         With ``tol``: the states where it must hold (default: the nodes whose value is at most
         the median, :func:`gridlbc.accuracy.states_that_matter`).
@@ -329,20 +331,27 @@ def solve(
         With ``tol``: refine the grid no further than this many nodes.
     **options
         Any :class:`SolverSettings` field, e.g. ``method="implicit"``, ``store_every=5``,
-        ``progress=True``.
+        ``progress=True``; for a problem without a horizon (first exit, ``horizon=None``, or
+        average cost, ``"average"``), the fields of
+        :class:`gridlbc.stationary.StationarySettings` instead (docs page :doc:`first_exit`).
 
     Returns
     -------
     Solution
         Value, desirability and policy at any (x, t), with :class:`SolveDiagnostics` and an
-        error estimate (:meth:`Solution.error_estimate`).
+        error estimate (:meth:`Solution.error_estimate`); a
+        :class:`gridlbc.StationarySolution` (no time) for a problem without a horizon.
     """
     if isinstance(problem, Problem) and problem.stationary:
-        if dt is not None or settings is not None or tol is not None or states is not None:
+        if dt is not None or settings is not None:
             raise TypeError(
                 "a stationary problem (horizon None or 'average') has no time step and no "
                 "time-march settings: give its options by name (rates=, linear_solver=)"
             )
+        if tol is not None:
+            return solve_first_exit_to_tolerance(problem, tol, states, max_nodes, **options)
+        if states is not None or max_nodes is not None:
+            raise TypeError("states= and max_nodes= apply with tol=: give tol or drop them")
         return solve_stationary(problem, **options)
     if isinstance(dt, (SolverSettings, str)):
         if settings is not None:

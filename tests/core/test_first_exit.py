@@ -316,3 +316,16 @@ def test_iterative_solvers_agree_with_the_direct_solve(linear_solver):
         iterative.value_nodes()[near], direct.value_nodes()[near], rtol=0, atol=1e-6
     )
     assert iterative.diagnostics.iterations[0] > 0
+
+
+def test_solve_to_a_tolerance_refines_the_grid_until_the_estimate_meets_it():
+    # From 21² the grid is halved until the embedded estimate at the state is below 0.5 %; the
+    # actual error against a 401² solve (whose own estimate is 1e-4) must then be within tol.
+    x = np.array([[0.0, 0.0]])
+    solution = g.solve(two_bays_problem(21), tol=0.005, states=x)
+    errors = [r.error for r in solution.refinement]
+    assert len(errors) >= 2 and errors[-1] <= 0.005 < errors[0]
+    reference = g.solve(two_bays_problem(401), error_estimate=False).value(x)
+    assert abs(solution.value(x) - reference)[0] <= 0.005 * abs(reference)[0]
+    with pytest.warns(g.ResolutionWarning, match="max_nodes"):
+        g.solve(two_bays_problem(21), tol=1e-4, states=x, max_nodes=5000)
