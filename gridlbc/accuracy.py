@@ -32,9 +32,11 @@ The estimate never changes the solution it checks. It sees what refining h and �
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
 the value's curvature. It cannot see an error that all the solves share: a box too small for the
 process (reflection at a closed axis acts the same on each), or a feature that every grid misses
-entirely. Where the observed order is below 1 the coarser solves are not converging: they are
-too coarse to say how accurate this grid is (as 4-D grids of a few dozen nodes per axis can be),
-the estimate is an upper bound that may be loose, and the warning says so.
+entirely. Where the observed order is below 1 the coarser solves are not converging at first
+order: they are too coarse to say how accurate this grid is, and the estimate is rough in either
+direction (far above the error on 4-D grids of a few dozen nodes per axis, below it where the
+solves converge slowly: half the error on a first-exit pendulum swing-up), and the warning says
+so.
 
 **Relative error.** ``ê / max(abs(v), λ)``: a value below the temperature λ is compared with λ,
 the scale on which v = −λ log z is resolved (near a goal v can be arbitrarily small while its
@@ -181,8 +183,8 @@ class EmbeddedEstimate:
         The same problem solved on the grid with every other node, step 2Δt.
     observed_order : float
         log₂ of the ratio of the differences between successive levels (NaN without a third
-        level). Below 1 the coarser solves are not converging: they are too coarse to say how
-        accurate this grid is, and the estimate is an upper bound that may be loose.
+        level). Below 1 the coarser solves are not converging at first order: they are too
+        coarse to say how accurate this grid is, and the estimate is rough in either direction.
     order : float
         q, the observed order clipped to [1, 2] (1 without a third level), used where the two
         solves differ by at most :data:`ASYMPTOTIC`.
@@ -320,9 +322,9 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     loose = (
         ""
         if solution.embedded.converging
-        else " The coarser grids do not converge (their differences shrink by less than 2 per "
-        "level), so this grid may be far better than the estimate says: it is an upper bound "
-        "here; gridlbc.certify at your states tells."
+        else " The coarser grids converge slowly or not at all (their differences shrink by less "
+        "than 2 per level), so the estimate is rough: the error may be well above or well below "
+        "it; gridlbc.certify at your states tells."
     )
     change = (
         "Give a finer grid"
