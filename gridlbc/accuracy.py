@@ -414,10 +414,7 @@ def solve_to_tolerance(
     from .solver import solve_many
     from .storage import available_memory
 
-    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
-        raise ValueError(f"tol must be a relative error in (0, 1), e.g. 0.02; got {tol!r}")
-    if options.get("error_estimate") is False:
-        raise ValueError("tol needs the embedded estimate: drop error_estimate=False")
+    check_tolerance(tol, options)
     base = resolve_settings(settings, options)
     dt = base.dt
     history: list[Refinement] = []
@@ -486,14 +483,34 @@ def solve_to_tolerance(
             continue
         problem = problem.replace(grid=finer)
         dt = None if dt is None else min(dt, solution.diagnostics.dt)
+    where = f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}"
+    advice = "raise max_refinements or max_nodes, store float32 or use mmap_dir"
+    finish(solution, tol, history, where, limit, max_refinements, advice)
+    return solution
+
+
+def check_tolerance(tol, options: dict) -> None:
+    """A clear error unless ``tol`` is a relative error in (0, 1) and the ``options`` keep the
+    embedded estimate that a solve to a tolerance reads."""
+    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+        raise ValueError(f"tol must be a relative error in (0, 1), e.g. 0.02; got {tol!r}")
+    if options.get("error_estimate") is False:
+        raise ValueError("tol needs the embedded estimate: drop error_estimate=False")
+
+
+def finish(
+    solution, tol: float, history: list, where: str, limit: str, rounds: int, advice: str
+) -> None:
+    """Record the ``history`` of a solve to a tolerance on ``solution`` and warn
+    (:class:`gridlbc.ResolutionWarning`) if its last estimate still exceeds ``tol``, saying
+    ``where`` it stopped, why (``limit``, or the ``rounds`` spent) and what to change
+    (``advice``)."""
     object.__setattr__(solution, "refinement", tuple(history))
     if history[-1].error > tol:
-        why = limit or f"max_refinements = {max_refinements} rounds were spent"
+        why = limit or f"max_refinements = {rounds} rounds were spent"
         warnings.warn(
             f"solve(tol={tol:g}) reached an estimated error of {history[-1].error:.1%} on "
-            f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}, not "
-            f"{tol:.1%}: {why}; raise max_refinements or max_nodes, store float32 or use mmap_dir",
+            f"{where}, not {tol:.1%}: {why}; {advice}",
             ResolutionWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
-    return solution

@@ -54,7 +54,8 @@ def _control_cost_matrix(control_cost, m: int) -> np.ndarray:
     return R
 
 
-def _positive_float(name: str, value) -> float:
+def positive_float(name: str, value) -> float:
+    """``value`` as a positive finite float, or a clear error naming ``name``."""
     try:
         value = float(value)
     except (TypeError, ValueError):
@@ -75,7 +76,7 @@ def _horizon(value) -> float | str | None:
         raise TypeError(
             f"horizon must be a time T > 0, None (first exit) or {AVERAGE!r}, got {value!r}"
         )
-    return _positive_float("horizon", value)
+    return positive_float("horizon", value)
 
 
 @dataclass(frozen=True, eq=False)
@@ -153,7 +154,7 @@ class Problem:
 
         set_("periodic", self._check_periodic(self.periodic))
         set_("horizon", _horizon(self.horizon))
-        set_("temperature", _positive_float("temperature", self.temperature))
+        set_("temperature", positive_float("temperature", self.temperature))
         set_("control_cost", _control_cost_matrix(self.control_cost, sys.control_dim))
         self._check_ending()
         if self.terminal_cost is not None:

@@ -54,7 +54,7 @@ import numpy as np
 
 from ._numba import jit
 from .costs import evaluate_cost
-from .problem import Problem
+from .problem import Problem, positive_float
 from .regions import RegionBase, has_geometry
 
 DEFAULT_STEPS = 300
@@ -252,22 +252,12 @@ def rollout_horizon(problem: Problem, max_time) -> float:
                 "(for first exit, well beyond the typical time to reach the exit set: samples "
                 "still running then are reported as not exited)"
             )
-        return _positive_time(max_time)
+        return positive_float("max_time", max_time)
     if max_time is not None:
         raise TypeError(
             f"max_time caps a problem without a horizon; this one ends at T = {problem.horizon:g}"
         )
     return problem.require_horizon("simulate")
-
-
-def _positive_time(value) -> float:
-    try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise TypeError(f"max_time must be a number, got {value!r}") from None
-    if not (np.isfinite(value) and value > 0):
-        raise ValueError(f"max_time must be positive and finite, got {value}")
-    return value
 
 
 def _controls(policy, x: np.ndarray, t: float, m: int, step: int) -> np.ndarray:

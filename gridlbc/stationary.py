@@ -47,8 +47,10 @@ from .accuracy import (
     Refinement,
     assess,
     check_accuracy,
+    check_tolerance,
     embedded_estimate,
     embedded_grid,
+    finish,
     refined_grid,
 )
 from .errors import GridlbcWarning, ResolutionWarning
@@ -398,11 +400,8 @@ def solve_first_exit_to_tolerance(
     """
     if problem.average_cost:
         raise ValueError("tol= applies to first-exit problems, not to the average cost")
-    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
-        raise ValueError(f"tol must be a relative error in (0, 1), e.g. 0.02; got {tol!r}")
+    check_tolerance(tol, options)
     s = stationary_settings(options)
-    if not s.error_estimate:
-        raise ValueError("tol needs the embedded estimate: drop error_estimate=False")
     history: list[Refinement] = []
     limit = ""
     while True:
@@ -433,15 +432,9 @@ def solve_first_exit_to_tolerance(
         if limit:
             break
         problem = problem.replace(grid=finer)
-    object.__setattr__(solution, "refinement", tuple(history))
-    if history[-1].error > tol:
-        why = limit or f"max_refinements = {max_refinements} refinements were spent"
-        warnings.warn(
-            f"solve(tol={tol:g}) reached an estimated error of {history[-1].error:.1%} on "
-            f"{'×'.join(map(str, solution.grid.shape))}, not {tol:.1%}: {why}",
-            ResolutionWarning,
-            stacklevel=3,
-        )
+    where = "×".join(map(str, solution.grid.shape))
+    advice = "raise max_refinements or max_nodes"
+    finish(solution, tol, history, where, limit, max_refinements, advice)
     return solution
 
 
