@@ -32,6 +32,7 @@ import numpy as np
 from .costs import Quadratic, evaluate_cost
 from .errors import ProjectionWarning
 from .grid import Grid
+from .regions import check_region, region_mask
 
 PROJECTION_METHODS = ("auto", "analytic", "quadrature")
 
@@ -124,10 +125,17 @@ def _trapezoid_weights(grid: Grid) -> np.ndarray:
     return out.ravel()
 
 
-def _quadrature(costs, lam, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
-    """Gram matrix of all ``costs`` sampled on ``grid``, and the log-scales s_i with
-    h_i = e^{s_i} h̃_i, max h̃_i = 1 at the nodes (the Gram is of the h̃_i)."""
+def _quadrature(costs, lam, grid: Grid, where=None) -> tuple[np.ndarray, np.ndarray]:
+    """Gram matrix of all ``costs`` sampled on ``grid`` (on its nodes in the region ``where``
+    only, if given), and the log-scales s_i with h_i = e^{s_i} h̃_i, max h̃_i = 1 at the nodes
+    (the Gram is of the h̃_i)."""
     nodes = grid.nodes()
+    weights = _trapezoid_weights(grid)
+    if where is not None:
+        inside = region_mask(check_region(where, grid.ndim, "where"), nodes, "where")
+        if not inside.any():
+            raise ValueError("where contains no node of the grid: nothing to project on")
+        nodes, weights = nodes[inside], weights[inside]
     H = np.empty((len(costs), nodes.shape[0]))
     scales = np.empty(len(costs))
     for r, c in enumerate(costs):
@@ -137,7 +145,7 @@ def _quadrature(costs, lam, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
         scales[r] = -g.min() / lam
         with np.errstate(under="ignore"):
             H[r] = np.exp(-(g - g.min()) / lam)
-    return (H * _trapezoid_weights(grid)) @ H.T, scales
+    return (H * weights) @ H.T, scales
 
 
 def _choose_method(method, costs, grid) -> str:
@@ -172,12 +180,13 @@ def projection(
     *,
     temperature: float = 1.0,
     method: str = "auto",
+    where=None,
 ) -> Projection:
     """Project h̄ = exp(−ḡ/λ) onto span{exp(−g_i/λ)}; the full report.
 
     Parameters
     ----------
-    target_cost, component_costs, grid, temperature, method
+    target_cost, component_costs, grid, temperature, method, where
         As for :func:`project`.
 
     Returns
@@ -198,7 +207,11 @@ def projection(
     lam = float(temperature)
     if not (np.isfinite(lam) and lam > 0):
         raise ValueError(f"temperature must be positive and finite, got {temperature}")
-    method = _choose_method(method, [target_cost, *costs], grid)
+    if where is not None and method == "analytic":
+        raise ValueError("where= samples the inner products on the grid: use method='quadrature'")
+    method = _choose_method(
+        "quadrature" if where is not None else method, [*costs, target_cost], grid
+    )
     everything = [*costs, target_cost]
     if method == "analytic":
         dims = {c.dim for c in everything}
@@ -207,7 +220,7 @@ def projection(
         G, scales = analytic_gram(everything, lam), np.zeros(len(everything))
     else:
         assert grid is not None, "_choose_method picks quadrature only with a grid"
-        G, scales = _quadrature(everything, lam, grid)
+        G, scales = _quadrature(everything, lam, grid, where)
     n = len(costs)
     A, b, target_norm2 = G[:n, :n], G[:n, n], G[n, n]
     # Solve the unit-diagonal system: Â = D A D, D = diag(A)^{-1/2}.
@@ -269,6 +282,7 @@ def project(
     *,
     temperature: float = 1.0,
     method: str = "auto",
+    where=None,
 ) -> np.ndarray:
     """Weights w (n,) with Σ w_i exp(−g_i/λ) the L² projection of exp(−ḡ/λ) (paper §3–4).
 
@@ -285,11 +299,17 @@ def project(
         λ of h = exp(−g/λ); use the problem's temperature (keyword only).
     method : str
         ``"auto"`` (analytic when possible), ``"analytic"`` or ``"quadrature"``.
+    where : region or callable, optional
+        Project on the grid's nodes in this region only (keyword only): for exit costs, the
+        exit set ``problem.exit``, the only place where they are paid (docs page
+        :doc:`first_exit`). Implies quadrature.
 
     Warns :class:`ProjectionWarning` when the weights are negative, far from summing to one, the
     residual is large or the Gram matrix ill-conditioned; :func:`projection` returns all of it.
     """
-    result = projection(target_cost, component_costs, grid, temperature=temperature, method=method)
+    result = projection(
+        target_cost, component_costs, grid, temperature=temperature, method=method, where=where
+    )
     for message in result.messages:
         warnings.warn(message, ProjectionWarning, stacklevel=2)
     return result.weights

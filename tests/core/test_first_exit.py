@@ -329,3 +329,30 @@ def test_solve_to_a_tolerance_refines_the_grid_until_the_estimate_meets_it():
     assert abs(solution.value(x) - reference)[0] <= 0.005 * abs(reference)[0]
     with pytest.warns(g.ResolutionWarning, match="max_nodes"):
         g.solve(two_bays_problem(21), tol=1e-4, states=x, max_nodes=5000)
+
+
+def test_projection_on_the_exit_set_recovers_the_weights_of_exit_costs():
+    # Exit costs are paid on E only: off E these components and the target differ arbitrarily,
+    # yet on E the target is −λ log Σ w_i e^{−g_i/λ}, so projecting on E's nodes gives w back.
+    from gridlbc.studies.problems import bay_cost, bays_problem
+
+    problem = bays_problem(41)
+    inside = problem.exit
+    w = np.array([0.3, 0.65, 0.05])  # summing to one: no warning
+
+    def component(i):
+        def g(x):
+            return np.where(inside(x), bay_cost(i)(x), 2.0 + np.sin(7 * x[:, 0] + i))
+
+        return g
+
+    parts = [component(i) for i in range(3)]
+
+    def target(x):
+        on = -0.5 * np.log(sum(wi * np.exp(-p(x) / 0.5) for wi, p in zip(w, parts)))
+        return np.where(inside(x), on, 3.0 * np.cos(x[:, 1]))
+
+    weights = g.project(target, parts, problem.grid, temperature=0.5, where=inside)
+    np.testing.assert_allclose(weights, w, rtol=1e-9)
+    off = g.projection(target, parts, problem.grid, temperature=0.5)  # over the whole box
+    assert np.abs(off.weights - w).max() > 0.05
