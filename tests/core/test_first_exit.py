@@ -356,3 +356,26 @@ def test_projection_on_the_exit_set_recovers_the_weights_of_exit_costs():
     np.testing.assert_allclose(weights, w, rtol=1e-9)
     off = g.projection(target, parts, problem.grid, temperature=0.5)  # over the whole box
     assert np.abs(off.weights - w).max() > 0.05
+
+
+def test_average_cost_is_the_long_run_cost_rate_of_its_policy(rng):
+    # Rolled out for T = 100 from the stationary law, the relative value's policy pays c per
+    # unit time. Under Euler–Maruyama with u = −(2P/R) x (P = √(QR/2)) the chain's exact rate is
+    # c/(1 − Δt) = 0.5/(1 − Δt) (its stationary variance σ²/(2K − K²Δt), K = 2P/R); the
+    # grid's policy and the finite T move it by far less than the 3-SE tolerance.
+    problem = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-4, 4, 161)]),
+        "average",
+        state_cost=g.costs.Quadratic([0.0], [Q]),
+        control_cost=R,
+        temperature=LAM,
+    )
+    solution = g.solve(problem)
+    dt, T, n = 0.01, 100.0, 400
+    K = 2 * np.sqrt(Q * R / 2) / R
+    variance = (LAM / R) / (2 * K - K**2 * dt)
+    x0 = rng.normal(0.0, np.sqrt(variance), (n, 1))
+    runs = g.simulate(problem, solution.policy, x0, n_samples=n, dt=dt, seed=1, max_time=T)
+    chain_rate = solution.average_cost / (1 - dt)
+    assert abs(runs.mean_cost / T - chain_rate) < 3 * runs.standard_error / T
