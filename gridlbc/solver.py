@@ -39,7 +39,12 @@ from .schemes import METHODS
 from .schemes.protocol import Marched, MarchPlan, Terminal
 from .settings import SolverSettings, is_own_reference, resolve_settings
 from .solution import OperatorSignature, Solution, SolveDiagnostics
-from .stationary import exit_nodes, solve_first_exit_to_tolerance, solve_stationary
+from .stationary import (
+    exit_nodes,
+    solve_first_exit_to_tolerance,
+    solve_stationary,
+    solve_stationary_many,
+)
 from .storage import check_memory, memory_estimate
 
 
@@ -147,7 +152,8 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     problem : Problem
         The shared system, grid, horizon, state cost and temperature.
     terminal_costs : sequence of callable
-        The terminal costs g_i.
+        The terminal costs g_i; for a first-exit problem without a horizon, its exit costs
+        (one factorisation for all: :func:`gridlbc.stationary.solve_stationary_many`).
     settings : SolverSettings or str, optional
         A :class:`SolverSettings` or a preset's name, as for :func:`solve`.
     **options
@@ -157,19 +163,21 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     -------
     list of Solution
         One per cost, each exactly as :func:`solve` would return for
-        ``problem.replace(terminal_cost=g_i)``.
+        ``problem.replace(terminal_cost=g_i)`` (``exit_cost=g_i``).
     """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
-    if problem.stationary:
-        raise ValueError(
-            "solve_many marches several terminal costs over one horizon; this problem has none "
-            "(first exit or average cost): solve each exit cost with gridlbc.solve, one operator "
-            "for all (they combine exactly)"
-        )
     terminal_costs = list(terminal_costs)
     if not terminal_costs:
         raise ValueError("terminal_costs is empty: give at least one terminal cost")
+    if problem.stationary:
+        if problem.average_cost or settings is not None:
+            raise ValueError(
+                "solve_many of a problem without a horizon takes the exit costs of a first-exit "
+                "problem (no settings object: its options by name); an average-cost problem has "
+                "no end costs to vary"
+            )
+        return solve_stationary_many(problem, terminal_costs, **options)
     s = resolve_settings(settings, options)
     if problem.exit is not None and not s.scheme.supports_exit:
         s = _exit_settings(s, explicit="method" in options or settings not in (None, "default"))

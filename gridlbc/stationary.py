@@ -192,7 +192,8 @@ def _digest(*arrays: np.ndarray) -> str:
 
 
 def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: int):
-    """z with A z = b, and the iteration count (0 for the direct solve). The rows are first
+    """Z with A Z = b for right-hand sides ``b`` ``(n, K)``, and the iteration count (0 for the
+    direct solve, which factorises once for all K). The rows are first
     divided by their diagonal: a node whose arm to the exit set is very short has a very large
     rate to it, and the scaled row (unit diagonal, off-diagonal sum below 1) keeps both the
     conditioning and an iterative solver's residual meaningful."""
@@ -203,17 +204,20 @@ def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: 
         method = "direct" if ndim <= 2 and A.shape[0] <= DIRECT_LIMIT else "bicgstab"
     if method == "direct":
         return spla.splu(A.tocsc()).solve(b), 0
-    z, iterations = _krylov(A, b, s.residual, method)
-    if z is None and s.linear_solver == "auto":  # BiCGSTAB stalled: ILU-preconditioned GMRES
-        method = "gmres"
-        z, more = _krylov(A, b, s.residual, method)
-        iterations += more
-    if z is None:
-        raise RuntimeError(
-            f"{method} did not reach the relative residual {s.residual:g} in {iterations} "
-            "iterations: give linear_solver='direct' if its factorisation fits in memory"
-        )
-    return z, iterations
+    Z, total = np.empty_like(b), 0
+    for r in range(b.shape[1]):
+        z, iterations = _krylov(A, b[:, r], s.residual, method)
+        if z is None and s.linear_solver == "auto":  # BiCGSTAB stalled: ILU-preconditioned GMRES
+            z, more = _krylov(A, b[:, r], s.residual, "gmres")
+            iterations += more
+        if z is None:
+            raise RuntimeError(
+                f"the Krylov solve did not reach the relative residual {s.residual:g} in "
+                f"{iterations} iterations: give linear_solver='direct' if its factorisation fits "
+                "in memory"
+            )
+        Z[:, r], total = z, total + iterations
+    return Z, total
 
 
 def _krylov(A: sp.csr_matrix, b: np.ndarray, residual: float, method: str):
@@ -256,6 +260,28 @@ def solve_first_exit(problem: Problem, s: StationarySettings) -> StationarySolut
     -------
     StationarySolution
     """
+    return solve_first_exit_many(problem, [problem.exit_cost], s)[0]
+
+
+def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -> list:
+    """First-exit solutions of ``problem`` for several exit costs on its exit set: one generator,
+    one factorisation (or one Krylov solve per cost), so that they are solutions of one linear
+    operator and combine exactly (:func:`gridlbc.combine`).
+
+    Parameters
+    ----------
+    problem : Problem
+        With ``horizon=None`` and an exit set; its own ``exit_cost`` is not used.
+    exit_costs : sequence of callable
+        The exit costs g_i.
+    s : StationarySettings
+
+    Returns
+    -------
+    list of StationarySolution
+        One per exit cost, each as :func:`solve_first_exit` gives for
+        ``problem.replace(exit_cost=g_i)``.
+    """
     start = time.perf_counter()
     grid = problem.require_grid("solve")
     problem.noise_diagonal(grid.node_coordinates([0]))  # refuse cross-diffusion first
@@ -270,25 +296,32 @@ def solve_first_exit(problem: Problem, s: StationarySettings) -> StationarySolut
     L, to_boundary = generator.matrix, generator.boundary_rates
     reaches_boundary = np.asarray(to_boundary.sum(axis=1)).ravel() > 0
     check_well_posed(L, E | (q > 0) | reaches_boundary, grid)
-    g_nodes = problem.exit_values()[E]
-    g_points = np.empty(0)
-    if len(generator.boundary_points):
-        g_points = problem.exit_values(generator.boundary_points)
-    g_min = min(g_nodes.min(), np.min(g_points, initial=np.inf))
-    top = -g_min / lam  # z_E = exp(−g_E/λ) = e^top · exp(−(g_E − min g_E)/λ)
-    with np.errstate(under="ignore"):
-        z_exit = np.exp(-(g_nodes - g_min) / lam)
-        z_points = np.exp(-(g_points - g_min) / lam)
     interior = np.flatnonzero(~E)
     A = (sp.diags(q / lam) - L).tocsr()[interior]
-    rhs = -A[:, np.flatnonzero(E)] @ z_exit + to_boundary[interior] @ z_points
+    problems = [problem.replace(exit_cost=cost) for cost in exit_costs]
+    tops, z_exits, rhs = [], [], []
+    for p in problems:
+        g_nodes = p.exit_values()[E]
+        g_points = np.empty(0)
+        if len(generator.boundary_points):
+            g_points = p.exit_values(generator.boundary_points)
+        g_min = min(g_nodes.min(), np.min(g_points, initial=np.inf))
+        tops.append(-g_min / lam)  # z_E = exp(−g_E/λ) = e^top · exp(−(g_E − min g_E)/λ)
+        with np.errstate(under="ignore"):
+            z_exit = np.exp(-(g_nodes - g_min) / lam)
+            z_points = np.exp(-(g_points - g_min) / lam)
+        z_exits.append(z_exit)
+        rhs.append(-A[:, np.flatnonzero(E)] @ z_exit + to_boundary[interior] @ z_points)
     setup = time.perf_counter() - start
-    z = np.empty(grid.size)
-    z[E] = z_exit
-    z[interior], iterations = _solve_linear(A[:, interior], rhs, s, grid.ndim)
-    np.clip(z, 0.0, None, out=z)  # an iterative solve's rounding may dip below zero
+    Z, iterations = _solve_linear(A[:, interior], np.stack(rhs, axis=1), s, grid.ndim)
     digest = _digest(E, q, L.data, to_boundary.data, generator.boundary_points)
-    return _package(problem, s, z, top, start, setup, iterations, digest)
+    out = []
+    for r, p in enumerate(problems):
+        z = np.empty(grid.size)
+        z[E], z[interior] = z_exits[r], Z[:, r]
+        np.clip(z, 0.0, None, out=z)  # an iterative solve's rounding may dip below zero
+        out.append(_package(p, s, z, tops[r], start, setup, iterations, digest))
+    return out
 
 
 def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySolution:
@@ -438,6 +471,31 @@ def solve_first_exit_to_tolerance(
     return solution
 
 
+def solve_stationary_many(problem: Problem, exit_costs, **options) -> list:
+    """:func:`gridlbc.solve_many` for a first-exit problem: one operator, several exit costs
+    (:func:`solve_first_exit_many`), each solution with its embedded estimate.
+
+    Parameters
+    ----------
+    problem : Problem
+        With ``horizon=None`` and an exit set.
+    exit_costs : sequence of callable
+        The exit costs g_i.
+    **options
+        :class:`StationarySettings` fields.
+
+    Returns
+    -------
+    list of StationarySolution
+    """
+    s = stationary_settings(options)
+    exit_costs = list(exit_costs)
+    solutions = solve_first_exit_many(problem, exit_costs, s)
+    if s.error_estimate:
+        _embed_many(problem, exit_costs, s, solutions)
+    return solutions
+
+
 def solve_stationary(problem: Problem, **options) -> StationarySolution:
     """Solve a stationary problem: first exit (``horizon=None``) or average cost
     (``horizon="average"``); :func:`gridlbc.solve` calls this for them.
@@ -461,8 +519,14 @@ def solve_stationary(problem: Problem, **options) -> StationarySolution:
 
 
 def _embed(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
-    """Attach the embedded estimate (:mod:`gridlbc.accuracy`): the same problem on the grids with
-    every other node (2h and 4h), whose own warnings are silenced."""
+    """Attach the embedded estimate to one solution (:func:`_embed_many`)."""
+    _embed_many(problem, [problem.exit_cost], s, [solution])
+
+
+def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) -> None:
+    """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
+    and exit cost on the grids with every other node (2h and 4h), whose own warnings are
+    silenced; and warn where an estimate exceeds the default tolerance."""
     levels = []
     grid: Grid | None = problem.require_grid("an embedded solve")
     for _ in range(2):
@@ -475,11 +539,13 @@ def _embed(problem: Problem, s: StationarySettings, solution: StationarySolution
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             try:
-                levels.append(solve_first_exit(coarse, s))
+                levels.append(solve_first_exit_many(coarse, exit_costs, s))
             except ValueError:  # the exit set or the costs are not resolved that coarsely
                 break
     if not levels:
         return
-    coarser = levels[1] if len(levels) > 1 else None
-    object.__setattr__(solution, "embedded", embedded_estimate(solution, levels[0], coarser))
-    check_accuracy(solution)
+    for r, solution in enumerate(solutions):
+        coarser = levels[1][r] if len(levels) > 1 else None
+        estimate = embedded_estimate(solution, levels[0][r], coarser)
+        object.__setattr__(solution, "embedded", estimate)
+        check_accuracy(solution)

@@ -39,7 +39,7 @@ def bay(side):
     return lambda x: np.where(np.sign(x[:, 0]) == side, 0.0, 5.0)
 
 
-left, right = (gridlbc.solve(base.replace(exit_cost=bay(s))) for s in (-1, 1))
+left, right = gridlbc.solve_many(base, [bay(-1), bay(1)])  # one operator, two exit costs
 x0 = np.array([0.3, 0.5])
 fig, axes = plt.subplots(1, 3, figsize=(13, 3.8), constrained_layout=True)
 X, V = np.meshgrid(*grid.points(), indexing="ij")

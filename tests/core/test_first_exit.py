@@ -210,8 +210,8 @@ def test_time_march_settings_are_refused_for_a_stationary_problem():
         g.solve(s.problem, 0.1)
     with pytest.raises(TypeError, match="do not apply"):
         g.solve(s.problem, method="splitting")
-    with pytest.raises(ValueError, match="solve each exit cost"):
-        g.solve_many(s.problem, [lambda x: x[:, 0]])
+    with pytest.raises(ValueError, match="takes the exit costs"):
+        g.solve_many(s.problem, [lambda x: x[:, 0]], "fast")
     horizon = s.problem.replace(horizon=1.0, terminal_cost=lambda x: np.zeros(len(x)))
     with pytest.raises(ValueError, match="does not implement an exit set"):
         g.solve(horizon, method="splitting")
@@ -379,3 +379,18 @@ def test_average_cost_is_the_long_run_cost_rate_of_its_policy(rng):
     runs = g.simulate(problem, solution.policy, x0, n_samples=n, dt=dt, seed=1, max_time=T)
     chain_rate = solution.average_cost / (1 - dt)
     assert abs(runs.mean_cost / T - chain_rate) < 3 * runs.standard_error / T
+
+
+@EXACTNESS_ONLY  # equality to rounding: the 41² grid's own accuracy is not under test
+def test_solve_many_solves_exit_costs_with_one_operator():
+    # One factorisation for several exit costs: each equals its own solve to rounding, with its
+    # own embedded estimate, and they combine exactly.
+    costs = [lambda x: np.where(x[:, 0] > 0, 0.0, 3.0), lambda x: 0.2 * x[:, 1] ** 2]
+    base = point_mass_bays(n=41, error_estimate=False).problem
+    together = g.solve_many(base, costs)
+    x = base.grid.nodes()[::13]
+    for cost, solution in zip(costs, together):
+        alone = g.solve(base.replace(exit_cost=cost))
+        np.testing.assert_allclose(solution.value(x), alone.value(x), rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(solution.error_estimate(x), alone.error_estimate(x), rtol=1e-9)
+    assert g.combine(together).exact
