@@ -7,12 +7,13 @@ g_E(x_τ). Off E, z = exp(−v/λ) solves the *linear* stationary equation
     (q/λ) z = aᵀ∇z + (λ/2) tr(B R⁻¹ Bᵀ ∇²z),        z = exp(−g_E/λ) on E.
 
 On the grid, aᵀ∇ + (λ/2) tr(B R⁻¹ Bᵀ ∇²) becomes the generator L of a monotone Markov chain on the
-nodes (:mod:`gridlbc.schemes.generator`; exponentially fitted rates by default), and the equation
-the sparse linear system
+nodes (:mod:`gridlbc.schemes.generator`; exponentially fitted rates by default), whose nodes next
+to E jump to the points b where their arms enter E (the set's boundary fitted between the
+nodes), and the equation the sparse linear system
 
-    (diag(q/λ) − L)_II z_I = L_IE z_E,        z_E = exp(−g_E/λ),
+    (diag(q/λ) − L)_II z_I = L_IE z_E + L_Ib z_b,        z_E, z_b = exp(−g_E/λ) there,
 
-over the nodes I off E, with the nodes of E as known values. Its matrix is a non-singular
+over the nodes I off E, with the nodes of E and the boundary points as known values. Its matrix is a non-singular
 M-matrix exactly when every node can reach E or a node with q > 0 along the chain's jumps
 (:func:`check_well_posed` refuses a problem where some cannot: their z would be undetermined).
 It is solved directly (sparse LU) or by a Krylov method; no time marching. The solution is
@@ -97,7 +98,8 @@ class StationarySettings:
     linear_solver : str
         One of :data:`LINEAR_SOLVERS`.
     residual : float
-        The relative residual at which GMRES stops (and the eigen-solver's tolerance).
+        The relative residual at which the Krylov solvers stop (and the eigen-solver's
+        tolerance).
     error_estimate : bool
         Also solve on the embedded grid (every other node) so that the solution carries an
         a-posteriori error estimate (:meth:`gridlbc.Solution.error_estimate`,
