@@ -23,11 +23,12 @@ gives its cost and the certified optimum v* with the effective sample size.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..certify import certify
+from ..certify import CertificateWarning, certify
 from ..combine import CompositeCost, combine, naive_blend
 from ..costs import Quadratic, wrap_angle
 from ..project import projection
@@ -54,7 +55,14 @@ class DiveRun:
     shape_error : float
         ‖(θ2, θ3, θ4)(T)‖, how far from straight (rad).
     certificate : Certificate or None
-        :func:`gridlbc.certify` of the controller on the noisy target problem.
+        :func:`gridlbc.certify` of the controller on the noisy target problem, the controller as
+        its own proposal (its tail k̂ says whether that v* estimate can be used).
+    noisy_costs : ndarray or None
+        The realised cost of each noisy path (:func:`gridlbc.simulate`, the same paths as the
+        certificate's): every controller at a take-off gets the same noise, so differences of
+        these are paired.
+    policy : callable or None
+        The controller ``policy(x, t)`` (e.g. as a proposal for another certificate).
     """
 
     label: str
@@ -66,6 +74,23 @@ class DiveRun:
     entry_error: float
     shape_error: float
     certificate: object = None
+    noisy_costs: np.ndarray | None = None
+    policy: object = None
+
+    @property
+    def noisy_cost(self) -> tuple[float, float]:
+        """(mean, standard error) of :attr:`noisy_costs`."""
+        if self.noisy_costs is None:
+            raise ValueError(f"{self.label}: no noisy paths (certify_samples=0)")
+        c = self.noisy_costs
+        return float(c.mean()), float(c.std(ddof=1) / np.sqrt(c.size))
+
+    def paired_difference(self, other: DiveRun) -> tuple[float, float]:
+        """This run's noisy cost minus ``other``'s on the same paths' noise: (mean, its SE)."""
+        if self.noisy_costs is None or other.noisy_costs is None:
+            raise ValueError("paired_difference needs noisy paths on both runs")
+        d = self.noisy_costs - other.noisy_costs
+        return float(d.mean()), float(d.std(ddof=1) / np.sqrt(d.size))
 
 
 def dive_run(problem, policy, label, momentum_scale, dt, certify_samples=0, seed=0) -> DiveRun:
@@ -74,9 +99,14 @@ def dive_run(problem, policy, label, momentum_scale, dt, certify_samples=0, seed
     x0 = diver_start(momentum_scale)
     run = simulate(problem, policy, x0, dt=dt, noise=False)
     final = run.final_states[0]
-    certificate = None
+    certificate = costs = None
     if certify_samples:
-        certificate = certify(problem, policy, x0, n_samples=certify_samples, dt=dt, seed=seed)
+        with warnings.catch_warnings():  # the tail k̂ and ESS are reported with the run
+            warnings.simplefilter("ignore", CertificateWarning)
+            certificate = certify(
+                problem, policy, x0, n_samples=certify_samples, dt=dt, seed=seed, progress=False
+            )
+        costs = simulate(problem, policy, x0, certify_samples, dt=dt, seed=seed).costs
     return DiveRun(
         label,
         momentum_scale,
@@ -87,6 +117,8 @@ def dive_run(problem, policy, label, momentum_scale, dt, certify_samples=0, seed
         float(abs(wrap_angle(final[0]))),
         float(np.linalg.norm(wrap_angle(final[1:4]))),
         certificate,
+        costs,
+        policy,
     )
 
 
@@ -282,12 +314,14 @@ their combinations and the optima."""
 def plot_study(interpolation, coordination, path=None):
     """Fig. 6 and Fig. 8: strobed dives of the interpolation experiment (top: the two component
     dives, LBC, the naive blend and the optima), the entry poses over κ for LBC and the single
-    tracker and the costs against κ (bottom: noise-free, and with noise where the runs carry a
-    certificate, as the policy's mean cost J ± 2 standard errors)."""
+    tracker and the noise-free costs against κ (middle), and, where the runs carry noisy paths,
+    the noisy costs J ± 2 SE against κ and each controller's difference from the single tracker
+    ± 3 paired SE (bottom: a bar across zero is a tie)."""
     import matplotlib.pyplot as plt
 
-    fig = plt.figure(figsize=(18, 9))
-    grid = fig.add_gridspec(2, 6, height_ratios=[1, 1])
+    noisy = any(r.noisy_costs is not None for r in coordination)
+    fig = plt.figure(figsize=(18, 13.5 if noisy else 9))
+    grid = fig.add_gridspec(3 if noisy else 2, 6, height_ratios=[1, 1, 1] if noisy else [1, 1])
     by_label = {r.label: r for r in interpolation}
     shown = [by_label[label] for label in _FIG6_PANELS if label in by_label]
     for col, run in enumerate(shown):
@@ -297,18 +331,18 @@ def plot_study(interpolation, coordination, path=None):
             _draw_body(
                 ax, points[k], _COLORS[run.label], alpha=0.2 + 0.8 * k / (len(run.times) - 1)
             )
-        ax.set(
-            aspect="equal",
-            xticks=[],
-            yticks=[],
-            xlim=(-1.5, 4.5),
-            ylim=(-2.8, 2.4),
-            title=f"{run.label}: J = {run.cost:.3g}\nentry {np.degrees(run.entry_error):.0f}° "
-            f"from vertical, shape {np.degrees(run.shape_error):.0f}°",
+        title = (
+            f"{run.label}: J = {run.cost:.3g}\nentry {np.degrees(run.entry_error):.0f}° "
+            f"from vertical, shape {np.degrees(run.shape_error):.0f}°"
         )
+        if run.noisy_costs is not None:
+            J, se = run.noisy_cost
+            title += f"\nnoisy J = {J:.1f} ± {se:.1f}"
+        ax.set(aspect="equal", xticks=[], yticks=[], xlim=(-1.5, 4.5), ylim=(-2.8, 2.4))
+        ax.set_title(title, fontsize=10)
     fig.text(
         0.01,
-        0.97,
+        0.985,
         "Fig. 6, interpolation: under- and over-rotating dives combined to enter "
         "vertically (hands dotted, light to dark in time)",
         fontsize=11,
@@ -331,40 +365,73 @@ def plot_study(interpolation, coordination, path=None):
         ylim=(-4.3, 1.8),
         title="Fig. 8, coordination: entry poses (vertical: straight, hands down)",
     )
+    labels = ("LBC", "LBC, deterministic v̄", "naive blend", "single tracker (κ = 1)", "optimum")
+    rows = {
+        label: sorted((r for r in coordination if r.label == label), key=lambda r: r.momentum_scale)
+        for label in labels
+    }
     axc = fig.add_subplot(grid[1, 3:])
-    noisy = False
-    for label in (
-        "LBC",
-        "LBC, deterministic v̄",
-        "naive blend",
-        "single tracker (κ = 1)",
-        "optimum",
-    ):
-        rows = sorted((r for r in coordination if r.label == label), key=lambda r: r.momentum_scale)
-        kappa = [r.momentum_scale for r in rows]
-        axc.plot(kappa, [r.cost for r in rows], "o-", color=_COLORS[label], label=label, ms=4)
-        certified = [r for r in rows if r.certificate is not None]
-        if certified and label != "optimum":
-            noisy = True
-            axc.errorbar(
-                [r.momentum_scale for r in certified],
-                [r.certificate.policy_cost for r in certified],
-                yerr=[2 * r.certificate.policy_cost_se for r in certified],
-                fmt="s:",
+    for label in labels:
+        kappa = [r.momentum_scale for r in rows[label]]
+        axc.plot(
+            kappa, [r.cost for r in rows[label]], "o-", color=_COLORS[label], label=label, ms=4
+        )
+    axc.set(
+        xlabel="take-off angular momentum κ (× nominal)",
+        ylabel="noise-free cost J",
+        yscale="log",
+        title="coordination, noise-free: cost against κ (components at 0.85, 1, 1.15)",
+    )
+    axc.legend(fontsize=8)
+    if noisy:
+        n_paths = next(r.noisy_costs.size for r in coordination if r.noisy_costs is not None)
+        axn = fig.add_subplot(grid[2, :3])
+        axd = fig.add_subplot(grid[2, 3:])
+        single = {r.momentum_scale: r for r in rows["single tracker (κ = 1)"]}
+        for label in labels[:-1]:
+            noisy_rows = [r for r in rows[label] if r.noisy_costs is not None]
+            kappa = np.array([r.momentum_scale for r in noisy_rows])
+            J = np.array([r.noisy_cost for r in noisy_rows])
+            axn.errorbar(
+                kappa,
+                J[:, 0],
+                yerr=2 * J[:, 1],
+                fmt="s-",
                 color=_COLORS[label],
                 ms=4,
                 capsize=2,
-                alpha=0.8,
+                label=label,
             )
-    axc.set(
-        xlabel="take-off angular momentum κ (× nominal)",
-        ylabel="cost J",
-        yscale="log",
-        title="coordination: cost against κ (components at 0.85, 1, 1.15)"
-        + ("\nsolid: noise-free; dotted squares: with noise, mean ± 2 SE" if noisy else ""),
-    )
-    axc.legend(fontsize=8)
-    fig.tight_layout(rect=(0, 0, 1, 0.96))
+            if label == "single tracker (κ = 1)":
+                continue
+            d = np.array([r.paired_difference(single[r.momentum_scale]) for r in noisy_rows])
+            tie = np.abs(d[:, 0]) < 3 * d[:, 1]
+            axd.errorbar(
+                kappa,
+                d[:, 0],
+                yerr=3 * d[:, 1],
+                fmt="-",
+                color=_COLORS[label],
+                capsize=2,
+                label=label,
+            )
+            axd.plot(kappa[~tie], d[~tie, 0], "s", color=_COLORS[label], ms=5)
+            axd.plot(kappa[tie], d[tie, 0], "s", mfc="white", color=_COLORS[label], ms=5)
+        axn.set(
+            xlabel="take-off angular momentum κ (× nominal)",
+            ylabel="noisy cost J (mean ± 2 SE)",
+            title=f"coordination with noise ({n_paths} paths, the same noise for every controller)",
+        )
+        axn.legend(fontsize=8)
+        axd.axhline(0.0, color="tab:orange", lw=1.5)
+        axd.set(
+            xlabel="take-off angular momentum κ (× nominal)",
+            ylabel="J − J(single tracker), paired (± 3 SE)",
+            title="with noise, against the single κ = 1 tracker: below 0 is cheaper; "
+            "open squares: a tie",
+        )
+        axd.legend(fontsize=8)
+    fig.tight_layout(rect=(0, 0, 1, 0.975))
     if path is not None:
         fig.savefig(path, dpi=100)
     return fig
