@@ -43,7 +43,8 @@ each P, feedback saturated at the χ²_4 99 % Mahalanobis radius ρ_max = 3.64).
     saturation radius (the default, None; 3 and 5 for the default gain) × v̄ in α (with the λ
     term or deterministic), each rolled out at --seeds seeds of --samples paths: J ± SE at each
     seed, the mean and worst ratio J / v* over the seeds with v* the reference (r) at --noisy-dt,
-    and J − v* ± SE over all the seeds' paths.
+    J − v* ± SE over all the seeds' paths, and the difference from the same controller with the
+    default treatment (the first row of each controller) ± its paired SE.
 
 Trajectories, the grid solutions and the reference (r) are cached in --cache (a rerun reads
 them).
@@ -609,8 +610,9 @@ def main(argv=None):
         print(
             f"{'controller':<12} {'gain':<16} {'radius':>6} {'v̄':<5} {'noise-free':>10} | "
             + " ".join(f"{'seed ' + str(k):>13}" for k in seeds)
-            + f" | {'mean':>5} {'worst':>5} {'J − v*':>13}"
+            + f" | {'mean':>5} {'worst':>5} {'J − v*':>13} {'− default':>14}"
         )
+        defaults: dict = {}  # each controller's costs with the default treatment, for pairing
         for feedback in ("projected-newton", "gauss-newton", "newton"):
             for radius in ("auto", None, 3.0, 5.0):
                 for stochastic in (True, False):
@@ -645,12 +647,16 @@ def main(argv=None):
                         stats = [mean_se(cost) for cost in costs]
                         ratio = [J / v_star["value"] for J, _ in stats]
                         J, se = mean_se(np.concatenate(costs))
+                        pooled = np.concatenate(costs)
+                        base = defaults.setdefault(label, pooled)  # the first row is the default
+                        d, d_se = mean_se(pooled - base) if base is not pooled else (0.0, 0.0)
                         print(
                             f"{label:<12} {feedback:<16} {radius!s:>6} "
                             f"{'λ' if stochastic else 'det':<5} {run.costs[0]:10.2f} | "
                             + " ".join(f"{J_k:6.2f} ± {se_k:4.2f}" for J_k, se_k in stats)
                             + f" | {np.mean(ratio):5.3f} {np.max(ratio):5.3f} "
-                            f"{J - v_star['value']:6.2f} ± {np.hypot(se, v_star['se']):4.2f}",
+                            f"{J - v_star['value']:6.2f} ± {np.hypot(se, v_star['se']):4.2f} "
+                            f"{d:+6.2f} ± {d_se:5.2f}",
                             flush=True,
                         )
 
