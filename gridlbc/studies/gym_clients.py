@@ -272,3 +272,155 @@ def clipped(policy, bound: float = 1.0):
 def zero_policy(x) -> np.ndarray:
     """No force: the car never reaches the flag (score 0)."""
     return np.zeros((np.atleast_2d(x).shape[0], 1))
+
+
+# ---------------------------------------------------------------------------------------------
+# Dynamic programming on gym's own map: the best achievable score, for comparison.
+
+
+@jit
+def _bilinear(V, p, v, lo_p, lo_v, hp, hv):
+    """Bilinear interpolation of ``V`` (n_p, n_v) at (p, v), clamped to the box."""
+    n_p, n_v = V.shape
+    s = min(max((p - lo_p) / hp, 0.0), n_p - 1.0)
+    t = min(max((v - lo_v) / hv, 0.0), n_v - 1.0)
+    i = min(int(s), n_p - 2)
+    j = min(int(t), n_v - 2)
+    a = s - i
+    b = t - j
+    return (1 - a) * ((1 - b) * V[i, j] + b * V[i, j + 1]) + a * (
+        (1 - b) * V[i + 1, j] + b * V[i + 1, j + 1]
+    )
+
+
+@jit
+def _gym_step(p, v, u):
+    """Gym's map for one state and one force (clipped to ±1): (p', v', terminated)."""
+    force = min(max(u, -1.0), 1.0)
+    v = v + force * MC_POWER - MC_GRAVITY * math.cos(3.0 * p)
+    v = min(max(v, -MC_MAX_SPEED), MC_MAX_SPEED)
+    p = min(max(p + v, MC_MIN_POSITION), MC_MAX_POSITION)
+    if p == MC_MIN_POSITION and v < 0.0:
+        v = 0.0
+    return p, v, (p >= MC_GOAL and v >= 0.0)
+
+
+@jit
+def _bellman_sweep(V, out, best_u, positions, velocities, forces, price, goal_reward):
+    """One Bellman update on gym's map: out(x) = max_u [−0.1u² − price + (goal_reward if the
+    step reaches the flag else V(x'))]; returns the largest change."""
+    n_p, n_v = V.shape
+    lo_p, lo_v = positions[0], velocities[0]
+    hp, hv = positions[1] - positions[0], velocities[1] - velocities[0]
+    change = 0.0
+    for i in range(n_p):
+        for j in range(n_v):
+            best = -np.inf
+            arg = 0.0
+            for u in forces:
+                p, v, done = _gym_step(positions[i], velocities[j], u)
+                value = -0.1 * u * u - price
+                if done:
+                    value += goal_reward
+                else:
+                    value += _bilinear(V, p, v, lo_p, lo_v, hp, hv)
+                if value > best:
+                    best, arg = value, u
+            change = max(change, abs(best - V[i, j]))
+            out[i, j] = best
+            best_u[i, j] = arg
+    return change
+
+
+@dataclass(frozen=True, eq=False)
+class DPSolution:
+    """Dynamic programming on gym's map (:func:`mountain_car_dp`): the value ``values``
+    (n_p, n_v) on the nodes ``positions`` × ``velocities`` (expected score to go), the force
+    set, the price per step (0 for the exact time-limited DP), the steps (or sweeps) taken and
+    the wall time."""
+
+    positions: np.ndarray
+    velocities: np.ndarray
+    values: np.ndarray
+    forces: np.ndarray
+    price: float
+    sweeps: int
+    wall_time: float
+
+    def value(self, x) -> np.ndarray:
+        """Interpolated value (score to go) at states ``(N, 2)``."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        p, v = self.positions, self.velocities
+        return np.array(
+            [
+                _bilinear(self.values, s[0], s[1], p[0], v[0], p[1] - p[0], v[1] - v[0])
+                for s in x
+            ]
+        )
+
+    def policy(self, x, forces: int = 201) -> np.ndarray:
+        """The greedy force of the stationary DP at states ``(N, 2)``, ``(N, 1)``: one-step
+        look-ahead over ``forces`` evenly spaced forces in [−1, 1] on gym's map."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        grid_u = np.linspace(-1.0, 1.0, forces)
+        V, out, arg = self.values, np.empty((len(x), 1)), np.empty((len(x), 1))
+        _greedy(V, x, self.positions, self.velocities, grid_u, self.price, MC_GOAL_REWARD, out, arg)
+        return arg
+
+
+@jit
+def _greedy(V, x, positions, velocities, forces, price, goal_reward, out, arg):
+    lo_p, lo_v = positions[0], velocities[0]
+    hp, hv = positions[1] - positions[0], velocities[1] - velocities[0]
+    for n in range(x.shape[0]):
+        best = -np.inf
+        for u in forces:
+            p, v, done = _gym_step(x[n, 0], x[n, 1], u)
+            value = -0.1 * u * u - price
+            value += goal_reward if done else _bilinear(V, p, v, lo_p, lo_v, hp, hv)
+            if value > best:
+                best, arg[n, 0] = value, u
+        out[n, 0] = best
+
+
+def mountain_car_dp(
+    n=(451, 301), forces: int = 41, price: float = 0.0, steps: int = MC_STEPS, tol: float = 1e-9
+) -> DPSolution:
+    """Dynamic programming on gym's deterministic map with bilinear interpolation of the value
+    on an ``n`` = (n_p, n_v) grid of gym's box and ``forces`` forces evenly spaced in [−1, 1].
+
+    ``price = 0``: the exact episode, ``steps`` Bellman updates backward from V = 0 (a
+    truncated episode earns nothing more); the value is the best expected score with that many
+    steps left. ``price > 0``: a stationary problem that charges ``price`` per step instead of
+    limiting the steps (the discrete analogue of the time cost q), iterated until the largest
+    change is below ``tol`` (at most ``steps`` × 20 sweeps); its greedy policy
+    (:meth:`DPSolution.policy`) can be played in gym.
+    """
+    import time
+
+    started = time.perf_counter()
+    counts = np.broadcast_to(np.atleast_1d(n), (2,)).tolist()
+    positions = np.linspace(MC_MIN_POSITION, MC_MAX_POSITION, int(counts[0]))
+    velocities = np.linspace(-MC_MAX_SPEED, MC_MAX_SPEED, int(counts[1]))
+    grid_u = np.linspace(-1.0, 1.0, forces)
+    V = np.zeros((positions.size, velocities.size))
+    out, best_u = np.empty_like(V), np.empty_like(V)
+    sweeps = 0
+    limit = steps if price == 0 else 20 * steps
+    while sweeps < limit:
+        change = _bellman_sweep(V, out, best_u, positions, velocities, grid_u, price, MC_GOAL_REWARD)
+        V, out = out, V
+        sweeps += 1
+        if price > 0 and change < tol:
+            break
+    return DPSolution(
+        positions, velocities, V.copy(), grid_u, float(price), sweeps, time.perf_counter() - started
+    )
+
+
+def start_states(samples: int = 1001) -> np.ndarray:
+    """Gym's start distribution on an even grid of ``samples`` points: x₀ ∈ [−0.6, −0.4] (the
+    midpoints of equal cells), v₀ = 0; the mean of a value over them is its expectation over
+    x₀ ~ U[−0.6, −0.4] to O(samples⁻²)."""
+    edges = np.linspace(-0.6, -0.4, samples + 1)
+    return np.column_stack([0.5 * (edges[1:] + edges[:-1]), np.zeros(samples)])
