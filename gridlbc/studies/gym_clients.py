@@ -352,10 +352,7 @@ class DPSolution:
         x = np.atleast_2d(np.asarray(x, dtype=float))
         p, v = self.positions, self.velocities
         return np.array(
-            [
-                _bilinear(self.values, s[0], s[1], p[0], v[0], p[1] - p[0], v[1] - v[0])
-                for s in x
-            ]
+            [_bilinear(self.values, s[0], s[1], p[0], v[0], p[1] - p[0], v[1] - v[0]) for s in x]
         )
 
     def policy(self, x, forces: int = 201) -> np.ndarray:
@@ -408,7 +405,9 @@ def mountain_car_dp(
     sweeps = 0
     limit = steps if price == 0 else 20 * steps
     while sweeps < limit:
-        change = _bellman_sweep(V, out, best_u, positions, velocities, grid_u, price, MC_GOAL_REWARD)
+        change = _bellman_sweep(
+            V, out, best_u, positions, velocities, grid_u, price, MC_GOAL_REWARD
+        )
         V, out = out, V
         sweeps += 1
         if price > 0 and change < tol:
