@@ -96,11 +96,31 @@ def mountain_car(args) -> tuple[str, list[tuple]]:
         log(f"  {name} λ={lam:g} R={r:g} q={q:g}: {episodes.summary()}")
         setting = (
             f"λ={lam:g}, R={r:g}, q={q:g}, {n[0]}×{n[1]}; best of {len(settings)} "
-            f"(search {found[0]:.2f} on {args.search_episodes})"
+            f"(search {found[0]:.3f} on {args.search_episodes})"
         )
         rows.append((name, setting, seconds, episodes))
         if best is None or found[0] > best[0]:
             best = (found[0], episodes)
+
+    # the same linear solve where the grid is too coarse for the noise (the docs' warning case)
+    lam, r, q = args.coarse_setting
+    coarse_n = tuple(args.coarse_grid)
+    problem = mountain_car_problem(coarse_n, temperature=lam, control_cost=r, time_cost=q)
+    started = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GridlbcWarning)
+        solution = gridlbc.solve(problem, error_estimate=False)
+    seconds = time.perf_counter() - started
+    episodes = run_mountain_car(clipped(solution.policy), args.episodes)
+    log(f"  linearly solvable, coarse λ={lam:g} R={r:g} q={q:g}: {episodes.summary()}")
+    rows.append(
+        (
+            "linearly solvable, clipped, grid too coarse for λ",
+            f"λ={lam:g}, R={r:g}, q={q:g}, {coarse_n[0]}×{coarse_n[1]}",
+            seconds,
+            episodes,
+        )
+    )
 
     # dynamic programming on gym's map
     dp = mountain_car_dp(tuple(args.dp_grid), args.dp_forces)
@@ -133,7 +153,7 @@ def mountain_car(args) -> tuple[str, list[tuple]]:
     assert best is not None
     episodes = best[1]
     headline = (
-        f"{MOUNTAIN_CAR_ID}: mean {episodes.mean:.2f} ± {episodes.standard_error:.2f} over "
+        f"{MOUNTAIN_CAR_ID}: mean {episodes.mean:.3f} ± {episodes.standard_error:.3f} over "
         f"{episodes.scores.size} episodes"
     )
     return headline, rows
@@ -145,17 +165,17 @@ def table(env_id: str, rows, episodes: int) -> None:
         f"{env_id}, score = gym's summed reward, mean ± standard error over {episodes} episodes "
         "(seeds 0, 1, …); machine shared, times noisy"
     )
-    print("| policy | settings | solve | score | reached | steps |")
-    print("|---|---|---|---|---|---|")
+    print("| policy | settings | solve | score | reached | steps | max abs(u) |")
+    print("|---|---|---|---|---|---|---|")
     for name, setting, seconds, result in rows:
         solve = "–" if seconds is None else f"{seconds:.1f} s"
         if isinstance(result, str):
-            print(f"| {name} | {setting} | {solve} | {result} | – | – |")
+            print(f"| {name} | {setting} | {solve} | {result} | – | – | – |")
         else:
             print(
-                f"| {name} | {setting} | {solve} | {result.mean:.2f} ± "
-                f"{result.standard_error:.2f} | {result.reached.mean():.1%} | "
-                f"{result.steps.mean():.0f} |"
+                f"| {name} | {setting} | {solve} | {result.mean:.3f} ± "
+                f"{result.standard_error:.3f} | {result.reached.mean():.1%} | "
+                f"{result.steps.mean():.0f} | {result.peak_force.max():.2f} |"
             )
 
 
@@ -178,6 +198,7 @@ def main(argv=None):
         "--quick", action="store_true", help="a look in a minute: small grids, few episodes"
     )
     args = parser.parse_args(argv)
+    args.coarse_setting, args.coarse_grid = (0.01, 0.2, 1e-3), [241, 201]
     args.linear_search = list(itertools.product((0.05, 0.1), (0.1, 0.2), (7e-4, 1e-3, 1.5e-3)))
     args.hjb_search = [(0.05, 0.2, q) for q in (7e-4, 1e-3, 1.5e-3)]
     if args.quick:

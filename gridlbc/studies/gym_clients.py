@@ -180,13 +180,15 @@ def mountain_car_step(x: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndar
 @dataclass(frozen=True)
 class Episodes:
     """Gym episodes: ``scores`` (n,) the summed rewards, ``steps`` (n,) their lengths,
-    ``reached`` (n,) whether the flag was reached, ``starts`` (n, d), ``seeds`` (n,)."""
+    ``reached`` (n,) whether the flag was reached, ``starts`` (n, d), ``seeds`` (n,), and
+    ``peak_force`` (n,) the largest |u| the policy asked for."""
 
     scores: np.ndarray
     steps: np.ndarray
     reached: np.ndarray
     starts: np.ndarray
     seeds: np.ndarray
+    peak_force: np.ndarray
 
     @property
     def mean(self) -> float:
@@ -198,7 +200,7 @@ class Episodes:
 
     def summary(self) -> str:
         return (
-            f"{self.mean:.2f} ± {self.standard_error:.2f} ({self.scores.size} episodes, "
+            f"{self.mean:.3f} ± {self.standard_error:.3f} ({self.scores.size} episodes, "
             f"{self.reached.mean():.1%} reached, mean {self.steps.mean():.0f} steps)"
         )
 
@@ -239,6 +241,7 @@ def run_mountain_car(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
     steps = np.zeros(episodes, dtype=np.int64)
     reached = np.zeros(episodes, dtype=bool)
     running = np.ones(episodes, dtype=bool)
+    peak = np.zeros(episodes)
     while running.any():
         active = np.flatnonzero(running)
         u = np.asarray(policy(obs[active]), dtype=float)
@@ -247,6 +250,7 @@ def run_mountain_car(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
                 f"policy must return finite forces of shape ({active.size}, 1), got shape "
                 f"{u.shape}" + ("" if u.shape != (active.size, 1) else " with NaN or inf")
             )
+        peak[active] = np.maximum(peak[active], np.abs(u[:, 0]))
         for i, ui in zip(active, u):
             obs[i], reward, terminated, truncated, _ = envs[i].step(ui.astype(np.float32))
             scores[i] += reward
@@ -256,7 +260,7 @@ def run_mountain_car(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
                 reached[i] = terminated
     for env in envs:
         env.close()
-    return Episodes(scores, steps, reached, starts, seeds)
+    return Episodes(scores, steps, reached, starts, seeds, peak)
 
 
 def clipped(policy, bound: float = 1.0):
