@@ -491,7 +491,7 @@ def solve_hjb(
         iteration; ``"march"``, the explicit time march (the steps above, ``dt`` and
         ``courant`` apply) until the value stops changing, a cross-check.
     tol : float
-        First exit only: stop when no nodal value changes by more than ``tol`` · (1 + max |v|)
+        First exit only: stop when no nodal value changes by more than ``tol`` · (1 + max ``|v|``)
         in an iteration (policy iteration), or per unit time (march).
     max_iterations : int
         First exit only: the most policy iterations (× 10⁵ time steps for the march).

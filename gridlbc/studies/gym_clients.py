@@ -181,7 +181,7 @@ def mountain_car_step(x: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndar
 class Episodes:
     """Gym episodes: ``scores`` (n,) the summed rewards, ``steps`` (n,) their lengths,
     ``reached`` (n,) whether the flag was reached, ``starts`` (n, d), ``seeds`` (n,), and
-    ``peak_force`` (n,) the largest |u| the policy asked for."""
+    ``peak_force`` (n,) the largest ``|u|`` the policy asked for."""
 
     scores: np.ndarray
     steps: np.ndarray
