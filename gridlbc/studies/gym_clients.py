@@ -1,4 +1,5 @@
-"""Gymnasium's first-exit tasks as gridlbc problems: ``MountainCarContinuous-v0``.
+"""Gymnasium's first-exit tasks as gridlbc problems: ``MountainCarContinuous-v0`` (and the model
+of ``Acrobot-v1``, :class:`GymAcrobot`, without a client yet).
 
 **Gym's map** (gymnasium ``classic_control/continuous_mountain_car.py``), one step per time unit,
 state (position x, velocity v), force u clipped to [−1, 1]:
@@ -427,3 +428,77 @@ def start_states(samples: int = 1001) -> np.ndarray:
     x₀ ~ U[−0.6, −0.4] to O(samples⁻²)."""
     edges = np.linspace(-0.6, -0.4, samples + 1)
     return np.column_stack([0.5 * (edges[1:] + edges[:-1]), np.zeros(samples)])
+
+
+# ---------------------------------------------------------------------------------------------
+# Acrobot-v1: the model only (groundwork; no client yet, see the docs' Limits).
+
+ACROBOT_ID = "Acrobot-v1"
+ACROBOT_STEP = 0.2
+"""Gym's time step (s), integrated by RK4 with the torque held."""
+ACROBOT_STEPS = 500
+ACROBOT_TORQUES = (-1.0, 0.0, 1.0)
+
+
+class GymAcrobot(ControlAffineSystem):
+    """Gym's ``Acrobot-v1`` ("book" dynamics: rods of mass 1 and length 1, centres of mass at
+    half length, moments of inertia 1, g = 9.8, torque on the second joint) in canonical
+    momenta, so that the torque drives one axis and the noise λ B R⁻¹ Bᵀ is diagonal.
+
+    State (θ₁, θ₂, p₁, p₂), angles as gym measures them (θ₁ = 0 hanging down, θ₂ relative to
+    the first link), p = M(θ₂) θ̇ with
+
+        M = [[3.5 + cos θ₂, 1.25 + ½ cos θ₂], [1.25 + ½ cos θ₂, 1.25]],
+        V = −14.7 cos θ₁ − 4.9 cos(θ₁ + θ₂).
+
+    Hamilton's equations: θ̇ = M⁻¹p, ṗ₁ = −∂V/∂θ₁, ṗ₂ = ½ θ̇ᵀ (∂M/∂θ₂) θ̇ − ∂V/∂θ₂ + τ, i.e.
+    a = (M⁻¹p, −∂V/∂θ₁, ½ θ̇ᵀ M' θ̇ − ∂V/∂θ₂) and B = (0, 0, 0, 1). The tip is above the bar
+    when −cos θ₁ − cos(θ₁ + θ₂) > 1 (gym's end of the episode).
+    """
+
+    state_dim = 4
+    control_dim = 1
+    state_names = ("theta1", "theta2", "p1", "p2")
+    angle_axes = (0, 1)
+
+    @staticmethod
+    def mass_matrix(theta2) -> np.ndarray:
+        """M(θ₂), shape ``(N, 2, 2)``."""
+        c = np.cos(np.asarray(theta2, dtype=float))
+        M = np.empty(c.shape + (2, 2))
+        M[..., 0, 0] = 3.5 + c
+        M[..., 0, 1] = M[..., 1, 0] = 1.25 + 0.5 * c
+        M[..., 1, 1] = 1.25
+        return M
+
+    def velocities(self, x) -> np.ndarray:
+        """θ̇ = M⁻¹ p, shape ``(N, 2)``."""
+        x = self._states(x)
+        return np.linalg.solve(self.mass_matrix(x[:, 1]), x[:, 2:, None])[..., 0]
+
+    def from_velocities(self, x) -> np.ndarray:
+        """Gym's state (θ₁, θ₂, θ̇₁, θ̇₂) ``(N, 4)`` as (θ₁, θ₂, p₁, p₂)."""
+        x = self._states(x)
+        p = np.einsum("nij,nj->ni", self.mass_matrix(x[:, 1]), x[:, 2:])
+        return np.column_stack([x[:, :2], p])
+
+    def drift(self, x):
+        x = self._states(x)
+        t1, t2 = x[:, 0], x[:, 1]
+        w = self.velocities(x)
+        s2 = np.sin(t2)
+        dp1 = -14.7 * np.sin(t1) - 4.9 * np.sin(t1 + t2)
+        dp2 = -0.5 * s2 * w[:, 0] ** 2 - 0.5 * s2 * w[:, 0] * w[:, 1] - 4.9 * np.sin(t1 + t2)
+        return np.column_stack([w, dp1, dp2])
+
+    def input_matrix(self, x):
+        x = self._states(x)
+        B = np.zeros((x.shape[0], 4, 1))
+        B[:, 3, 0] = 1.0
+        return B
+
+
+def acrobot_above_bar(x) -> np.ndarray:
+    """Gym's end of the episode, −cos θ₁ − cos(θ₁ + θ₂) > 1, for states ``(N, ≥ 2)``."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    return -np.cos(x[:, 0]) - np.cos(x[:, 0] + x[:, 1]) > 1.0
