@@ -502,3 +502,86 @@ def acrobot_above_bar(x) -> np.ndarray:
     """Gym's end of the episode, −cos θ₁ − cos(θ₁ + θ₂) > 1, for states ``(N, ≥ 2)``."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     return -np.cos(x[:, 0]) - np.cos(x[:, 0] + x[:, 1]) > 1.0
+
+
+def acrobot_problem(
+    n=(21, 21, 21, 21),
+    momenta=(15.0, 8.0),
+    temperature: float = 1.0,
+    control_cost: float = 0.1,
+) -> Problem:
+    """Gym's Acrobot-v1 as a minimum-time first-exit problem: q = 1 per second (gym's −1 per
+    0.2 s step, up to a factor), exit when the tip is above the bar, θ₁ and θ₂ periodic and the
+    momenta on [−p₁, p₁] × [−p₂, p₂] (``momenta``), ``n`` nodes per axis. The control cost R and
+    the temperature λ set the noise λ/R on p₂; gym's torque has no cost, so R only shapes the
+    linear policy, whose sign picks gym's torque (:func:`acrobot_torques`)."""
+    counts = np.broadcast_to(np.atleast_1d(n), (4,)).tolist()
+    grid = Grid(
+        [
+            Axis(-math.pi, math.pi, int(counts[0]), periodic=True, name="theta1"),
+            Axis(-math.pi, math.pi, int(counts[1]), periodic=True, name="theta2"),
+            Axis(-momenta[0], momenta[0], int(counts[2]), name="p1"),
+            Axis(-momenta[1], momenta[1], int(counts[3]), name="p2"),
+        ]
+    )
+    return Problem(
+        GymAcrobot(),
+        grid,
+        None,
+        state_cost=_TimeCost(1.0),
+        control_cost=control_cost,
+        temperature=temperature,
+        exit=acrobot_above_bar,
+    )
+
+
+def acrobot_torques(solution):
+    """Gym's action (0, 1, 2 for torque −1, 0, +1) from a solution's policy at gym's states
+    ``(N, 4)`` = (θ₁, θ₂, θ̇₁, θ̇₂): the sign of the continuous torque u = −R⁻¹Bᵀ∇v. For a
+    minimum-time task with |τ| ≤ 1 and no torque cost the bounded optimum is bang-bang,
+    τ = −sign(Bᵀ∇v), and u has that sign; 0 would be optimal only where Bᵀ∇v = 0. (Rounding u
+    to the nearest of the three instead mostly gives 0 and never swings up: −500.)"""
+    system = solution.problem.system
+
+    def actions(x):
+        u = solution.policy(system.from_velocities(x))[:, 0]
+        return np.where(u < 0, 0, 2)
+
+    return actions
+
+
+def run_acrobot(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
+    """Play ``policy(x) -> (N,)`` actions in {0, 1, 2} (x: gym's internal states ``(N, 4)`` =
+    (θ₁, θ₂, θ̇₁, θ̇₂)) in gym's ``Acrobot-v1``, one env per episode reset with seeds
+    ``seed + i``, the running ones stepped together. ``reached``: the tip got above the bar;
+    ``peak_force`` is 1 if any nonzero torque was used."""
+    gymnasium = _gymnasium()
+    episodes = _check_episodes(episodes)
+    envs = [gymnasium.make(ACROBOT_ID) for _ in range(episodes)]
+    seeds = seed + np.arange(episodes)
+    for env, s in zip(envs, seeds):
+        env.reset(seed=int(s))
+    states = np.array([env.unwrapped.state for env in envs], dtype=float)
+    starts = states.copy()
+    scores = np.zeros(episodes)
+    steps = np.zeros(episodes, dtype=np.int64)
+    reached = np.zeros(episodes, dtype=bool)
+    peak = np.zeros(episodes)
+    running = np.ones(episodes, dtype=bool)
+    while running.any():
+        active = np.flatnonzero(running)
+        actions = np.asarray(policy(states[active]))
+        if actions.shape != (active.size,) or not np.all(np.isin(actions, (0, 1, 2))):
+            raise ValueError(f"policy must return ({active.size},) actions in {{0, 1, 2}}")
+        peak[active] = np.maximum(peak[active], np.abs(actions - 1))
+        for i, a in zip(active, actions):
+            _, reward, terminated, truncated, _ = envs[i].step(int(a))
+            states[i] = envs[i].unwrapped.state
+            scores[i] += reward
+            steps[i] += 1
+            if terminated or truncated:
+                running[i] = False
+                reached[i] = terminated
+    for env in envs:
+        env.close()
+    return Episodes(scores, steps, reached, starts, seeds, peak)

@@ -117,3 +117,15 @@ def test_acrobot_model_in_canonical_momenta_is_gyms_book_dynamics(rng):
         np.testing.assert_allclose(rates[:2], gym_rates[:2], atol=1e-12)
         np.testing.assert_allclose(accel, gym_rates[2:], rtol=1e-9, atol=1e-9)
     assert acrobot_above_bar([[np.pi, 0.0], [0.0, 0.0]]).tolist() == [True, False]
+
+
+def test_acrobot_minimum_time_policy_swings_up():
+    # 11⁴ (a fraction of a second): gym's torque as the sign of the linear policy gets the tip
+    # above the bar in every episode, far sooner than gym's 500 steps (measured about −80).
+    from gridlbc.studies.gym_clients import acrobot_problem, acrobot_torques, run_acrobot
+
+    solution = gridlbc.solve(acrobot_problem((11, 11, 11, 11)), error_estimate=False)
+    episodes = run_acrobot(acrobot_torques(solution), episodes=5)
+    assert episodes.reached.all() and episodes.mean > -150
+    with pytest.raises(ValueError, match="actions"):
+        run_acrobot(lambda x: np.full(len(x), 3), episodes=2)
