@@ -1,5 +1,5 @@
-"""Gymnasium's first-exit tasks as gridlbc problems: ``MountainCarContinuous-v0`` (and the model
-of ``Acrobot-v1``, :class:`GymAcrobot`, without a client yet).
+"""Gymnasium's first-exit tasks as gridlbc problems: ``MountainCarContinuous-v0`` and, on a coarse
+4-D grid, ``Acrobot-v1`` (:class:`GymAcrobot`, :func:`acrobot_problem`).
 
 **Gym's map** (gymnasium ``classic_control/continuous_mountain_car.py``), one step per time unit,
 state (position x, velocity v), force u clipped to [−1, 1]:
@@ -431,7 +431,7 @@ def start_states(samples: int = 1001) -> np.ndarray:
 
 
 # ---------------------------------------------------------------------------------------------
-# Acrobot-v1: the model only (groundwork; no client yet, see the docs' Limits).
+# Acrobot-v1: a minimum-time first exit on a coarse 4-D grid (see the docs' "Real clients").
 
 ACROBOT_ID = "Acrobot-v1"
 ACROBOT_STEP = 0.2
