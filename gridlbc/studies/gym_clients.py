@@ -538,7 +538,7 @@ def acrobot_problem(
 def acrobot_torques(solution):
     """Gym's action (0, 1, 2 for torque −1, 0, +1) from a solution's policy at gym's states
     ``(N, 4)`` = (θ₁, θ₂, θ̇₁, θ̇₂): the sign of the continuous torque u = −R⁻¹Bᵀ∇v. For a
-    minimum-time task with |τ| ≤ 1 and no torque cost the bounded optimum is bang-bang,
+    minimum-time task with ``|τ| ≤ 1`` and no torque cost the bounded optimum is bang-bang,
     τ = −sign(Bᵀ∇v), and u has that sign; 0 would be optimal only where Bᵀ∇v = 0. (Rounding u
     to the nearest of the three instead mostly gives 0 and never swings up: −500.)"""
     system = solution.problem.system
