@@ -44,6 +44,21 @@ refused, bounded or not.
 Boundaries: periodic axes wrap; on a closed axis the transitions out of the box are
 suppressed (δ⁻ = 0 at the lower end, δ⁺ = 0 at the upper end: a reflecting state constraint).
 
+First exit (``horizon=None`` with an exit set E, SPEC §9). The stationary HJB
+
+    0 = q + min_u [ ½ uᵀR u + (a + B u)ᵀ∇v ] + ½ tr(Σ ∇²v)  off E,      v = g_E on E,
+
+is solved on the same controlled Markov chain by policy iteration (Howard): for the current
+control, the chain's jump rates r_ij (those of the explicit step above, divided by Δt) give the
+*linear* equation Σ_j r_ij (v_j − v_i) + q_i + ½ uᵢᵀR uᵢ = 0 at the nodes off E, with v = g_E at
+the nodes of E, solved by sparse LU; the control is then replaced by the kernel's exact minimiser
+against the new v, and the two steps repeat until the control no longer changes (to ``tol`` in
+v). Each step can only lower v (monotone convergence), and the fixed point is the discrete HJB's
+solution, the steady state of the time march (which ``solve_hjb(..., method="march")`` runs, as a
+cross-check). The exit set is on the nodes (first order in its position). The controls start at
+zero: a problem in which some nodes reach neither E nor q > 0 under that control is refused
+(the linear system would be singular there).
+
 Evaluation anywhere: v by multilinear (tensor-product) interpolation of the nodal values, linear
 in time between stored slices; the policy u* = −R⁻¹ B(x)ᵀ ∇v from nodal central differences of v
 (one-sided at the ends of a closed axis), interpolated the same way.
@@ -53,9 +68,12 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
 
 from .._numba import jit
 from ..grid import Grid
@@ -401,24 +419,31 @@ class HJBSolution:
         return self.problem.require_grid("an HJBSolution")
 
     def _nodal_at(self, t) -> np.ndarray:
+        if self.problem.stationary:
+            return self.values[0]  # a first-exit solution does not depend on time
+        if t is None:
+            raise TypeError(
+                "this solution has a horizon: give the time t (value(x, t), policy(x, t))"
+            )
         j, theta = bracket(
             self.times, check_time(t, self.problem.require_horizon("an HJBSolution"))
         )
         return (1 - theta) * self.values[j] + theta * self.values[j + 1]
 
     @state_evaluation
-    def value(self, x, t) -> np.ndarray:
-        """v(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``)."""
+    def value(self, x, t=None) -> np.ndarray:
+        """v(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``); ``t`` is required with a
+        horizon and ignored for a first-exit solution."""
         return multilinear(self.grid, self._nodal_at(t), x)[0]
 
     @state_evaluation
-    def gradient(self, x, t) -> np.ndarray:
+    def gradient(self, x, t=None) -> np.ndarray:
         """∇v(x, t) from interpolated nodal central differences, shape ``(N, d)`` (``(d,)`` for one
         state)."""
         return multilinear(self.grid, value_gradient(self.grid, self._nodal_at(t)), x).T
 
     @state_evaluation
-    def policy(self, x, t) -> np.ndarray:
+    def policy(self, x, t=None) -> np.ndarray:
         """u*(x, t) = clip(−R⁻¹ B(x)ᵀ ∇v(x, t), lo, hi), shape ``(N, m)`` (``(m,)`` for one state).
 
         The minimiser of ½ uᵀRu + uᵀBᵀ∇v over the box ``control_bounds`` (R is diagonal, so
@@ -437,8 +462,12 @@ def solve_hjb(
     *,
     courant: float = 0.9,
     slices: int = 50,
+    method: str | None = None,
+    tol: float = 1e-10,
+    max_iterations: int = 500,
 ) -> HJBSolution:
-    """Solve the nonlinear HJB of ``problem`` in value space, backward from v(T) = g.
+    """Solve the nonlinear HJB of ``problem`` in value space, backward from v(T) = g, or, for a
+    first-exit problem (``horizon=None``), its stationary equation (module docstring).
 
     Parameters
     ----------
@@ -457,6 +486,15 @@ def solve_hjb(
         In (0, 1]: the fraction of the monotonicity limit used.
     slices : int
         Number of stored time intervals (uniform in t, values linear in t between them).
+    method : str, optional
+        First exit only: ``"policy"`` (default), policy iteration with a sparse solve per
+        iteration; ``"march"``, the explicit time march (the steps above, ``dt`` and
+        ``courant`` apply) until the value stops changing, a cross-check.
+    tol : float
+        First exit only: stop when no nodal value changes by more than ``tol`` · (1 + max ``|v|``)
+        in an iteration (policy iteration), or per unit time (march).
+    max_iterations : int
+        First exit only: the most policy iterations (× 10⁵ time steps for the march).
 
     Returns
     -------
@@ -472,6 +510,19 @@ def solve_hjb(
     if isinstance(slices, bool) or not isinstance(slices, (int, np.integer)) or slices < 1:
         raise ValueError(f"slices must be a positive integer, got {slices!r}")
     started = time.perf_counter()
+    if problem.average_cost:
+        raise ValueError(
+            "solve_hjb solves problems with a horizon or an exit set, not average cost"
+        )
+    if problem.horizon is None:
+        return _solve_first_exit(
+            problem, dt, control_bounds, courant, method or "policy", tol, max_iterations, started
+        )
+    if method is not None:
+        raise ValueError(
+            f"method={method!r} applies to first-exit problems (horizon=None); this one has a "
+            "horizon and is marched backward from T"
+        )
     grid = problem.require_grid("solve_hjb")
     x = grid.nodes()
     structure = control_structure(problem, x, control_bounds)
@@ -531,3 +582,162 @@ def solve_hjb(
     )
     times = np.linspace(0.0, T, slices + 1)
     return HJBSolution(problem, times, values, diagnostics, structure.bounds)
+
+
+FIRST_EXIT_METHODS = ("policy", "march")
+"""How :func:`solve_hjb` solves a first-exit problem (its ``method``)."""
+
+
+def controlled_chain(
+    problem: Problem,
+    structure: ControlStructure,
+    drift: np.ndarray,
+    diffusion: np.ndarray,
+    control: np.ndarray,
+) -> sp.csr_matrix:
+    """The jump rates of the explicit scheme's chain under ``control`` ``(N, m)`` as a sparse
+    matrix W (W_ij = rate i → j, zero diagonal): along axis k, to i ± e_k at
+    b_k^± / h_k + D_k / h_k² with b = a + B u; periodic axes wrap, and a jump out of a closed
+    axis is dropped (module docstring)."""
+    grid = problem.require_grid("the controlled chain")
+    flat = np.arange(grid.size)
+    multi = np.unravel_index(flat, grid.shape)
+    rows, cols, values = [], [], []
+    for k, ax in enumerate(grid.axes):
+        h, s = ax.spacing, int(grid.strides[k])
+        b = drift[:, k].copy()
+        for j in np.flatnonzero(structure.axis == k):
+            b += structure.gain[:, j] * control[:, j]
+        for sign in (1, -1):
+            rate = np.maximum(sign * b, 0.0) / h + diffusion[:, k] / h**2
+            target = multi[k] + sign
+            if ax.periodic:
+                keep = np.ones(grid.size, dtype=bool)
+                to = flat + s * (np.mod(target, ax.n) - multi[k])
+            else:
+                keep = (target >= 0) & (target < ax.n)
+                to = flat + sign * s
+            keep &= rate > 0
+            rows.append(flat[keep])
+            cols.append(to[keep])
+            values.append(rate[keep])
+    entries = (np.concatenate(values), (np.concatenate(rows), np.concatenate(cols)))
+    return sp.coo_matrix(entries, shape=(grid.size, grid.size)).tocsr()
+
+
+def _solve_first_exit(
+    problem: Problem, dt, control_bounds, courant, method, tol, max_iterations, started
+) -> HJBSolution:
+    if method not in FIRST_EXIT_METHODS:
+        raise ValueError(
+            f"method must be one of {', '.join(FIRST_EXIT_METHODS)} for a first-exit problem, "
+            f"got {method!r}"
+        )
+    if not (0 < tol < 1):
+        raise ValueError(f"tol must lie in (0, 1), got {tol}")
+    if isinstance(max_iterations, bool) or not isinstance(max_iterations, (int, np.integer)):
+        raise ValueError(f"max_iterations must be a positive integer, got {max_iterations!r}")
+    if max_iterations < 1:
+        raise ValueError(f"max_iterations must be a positive integer, got {max_iterations!r}")
+    grid = problem.require_grid("solve_hjb")
+    x = grid.nodes()
+    structure = control_structure(problem, x, control_bounds)
+    drift = np.ascontiguousarray(problem.system.drift(x), dtype=float)
+    diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
+    E = problem.exit_mask()
+    if not E.any() or E.all():
+        raise ValueError(
+            f"the exit set {problem.exit!r} contains {'every' if E.any() else 'no'} node of the "
+            f"grid ({grid.describe()}): solve_hjb places it on the nodes; move, widen or shrink "
+            "it, or refine the grid"
+        )
+    q = np.where(E, 0.0, problem.state_cost_values(x))
+    _, spacing, shape, strides, periodic = grid.kernel_arrays()
+    v = np.zeros(grid.size)
+    v[E] = problem.exit_values(x[E])
+    H = np.empty(grid.size)
+    rate = np.empty(grid.size)
+    control = np.zeros((grid.size, structure.axis.size))
+    lo, hi = structure.bounds[:, 0], structure.bounds[:, 1]
+    control[:] = np.clip(0.0, lo, hi)
+
+    def greedy(v):
+        hamiltonian_kernel(
+            v,
+            drift,
+            structure.gain,
+            structure.axis,
+            structure.r,
+            structure.bounds,
+            diffusion,
+            q,
+            shape,
+            strides,
+            spacing,
+            periodic,
+            H,
+            rate,
+            control,
+        )
+
+    interior = np.flatnonzero(~E)
+    steps, smallest, largest = 0, math.inf, 0.0
+    converged = False
+    if method == "policy":
+        for steps in range(1, max_iterations + 1):
+            W = controlled_chain(problem, structure, drift, diffusion, control)
+            cost = q + 0.5 * (control**2) @ structure.r
+            total = np.asarray(W.sum(axis=1)).ravel()
+            A = (sp.diags(total) - W).tocsr()[interior]
+            rhs = cost[interior] - A[:, np.flatnonzero(E)] @ v[E]
+            scale = np.where(total[interior] > 0, total[interior], 1.0)
+            A_II = (sp.diags(1.0 / scale) @ A[:, interior]).tocsc()
+            try:
+                with warnings.catch_warnings():
+                    warnings.simplefilter("error", spla.MatrixRankWarning)
+                    new = spla.splu(A_II).solve(rhs / scale)
+            except (RuntimeError, spla.MatrixRankWarning):
+                new = np.full(interior.size, np.nan)
+            if not np.all(np.isfinite(new)):
+                raise ValueError(
+                    "under the current control some nodes reach the exit set only with "
+                    "probability < 1 and pay no state cost: the first-exit value is undefined "
+                    "there. Give a state cost q > 0, noise, or an exit set every state can reach"
+                )
+            change = np.abs(new - v[interior]).max() if steps > 1 else np.inf
+            v[interior] = new
+            greedy(v)
+            if change <= tol * (1.0 + np.abs(v).max()):
+                converged = True
+                break
+    else:  # the explicit march to steady state: the cross-check
+        max_step = np.inf if dt is None else float(dt)
+        while steps < 100_000 * max_iterations:
+            steps += 1
+            greedy(v)
+            step = min(max_step, courant / max(rate[~E].max(), 1e-300))
+            smallest, largest = min(smallest, step), max(largest, step)
+            speed = np.abs(H[interior]).max()
+            v[interior] += step * H[interior]
+            if speed <= tol * (1.0 + np.abs(v).max()):
+                converged = True
+                break
+        if not np.all(np.isfinite(v)):
+            raise FloatingPointError("the HJB value became non-finite while marching")
+    if not converged:
+        warnings.warn(
+            f"solve_hjb's first-exit {method} did not converge to tol={tol:g} in {steps} "
+            "iterations: the value is the last iterate",
+            RuntimeWarning,
+            stacklevel=3,
+        )
+    diagnostics = HJBDiagnostics(
+        method="policy-iteration" if method == "policy" else "markov-chain-march",
+        dt=0.0,
+        min_step=0.0 if method == "policy" else smallest,
+        max_step=0.0 if method == "policy" else largest,
+        steps=steps,
+        courant=0.0 if method == "policy" else courant,
+        wall_time=time.perf_counter() - started,
+    )
+    return HJBSolution(problem, np.zeros(1), v[None, :].copy(), diagnostics, structure.bounds)

@@ -296,3 +296,132 @@ def test_control_bounds_are_checked():
     assert np.all(np.abs(u[:, 0]) <= 1) and np.all(u[:, 1] >= 0)
     with pytest.raises(ValueError, match="diagonal control_cost"):
         solve_hjb(two.replace(control_cost=[[2.0, 0.5], [0.5, 1.0]]), control_bounds=(-1, 1))
+
+
+# --- first exit (horizon=None with an exit set) ----------------------------------------------
+
+CORRIDOR_Q, CORRIDOR_R, CORRIDOR_LAM = 1.0, 1.0, 0.5
+
+
+def _corridor(n, exit_cost=None):
+    """dx = u dt + dξ on [0, 2], q = 1, ending at either end (the linear solve's closed-form
+    test in tests/core/test_first_exit.py): the HJB and the z-equation are the same PDE."""
+    from gridlbc.regions import Box
+    from gridlbc.systems import SingleIntegrator
+
+    return Problem(
+        SingleIntegrator(),
+        Grid([Axis(0.0, 2.0, n)]),
+        None,
+        state_cost=lambda x: np.full(len(x), CORRIDOR_Q),
+        control_cost=CORRIDOR_R,
+        temperature=CORRIDOR_LAM,
+        exit=Box([-np.inf], [0.0]) | Box([2.0], [np.inf]),
+        exit_cost=exit_cost,
+    )
+
+
+def _corridor_exact(x, g0=0.0, g1=1.0):
+    k = np.sqrt(2 * CORRIDOR_Q * CORRIDOR_R) / CORRIDOR_LAM
+    z0, z1 = np.exp(-g0 / CORRIDOR_LAM), np.exp(-g1 / CORRIDOR_LAM)
+    A, B = np.linalg.solve([[1.0, 1.0], [np.exp(2 * k), np.exp(-2 * k)]], [z0, z1])
+    return -CORRIDOR_LAM * np.log(A * np.exp(k * x) + B * np.exp(-k * x))
+
+
+def _exit_costs(y):
+    return np.where(y[:, 0] < 1.0, 0.0, 1.0)
+
+
+def test_first_exit_hjb_converges_to_the_closed_form_at_first_order():
+    # Unbounded control: min_u[½Ru² + u v'] = −v'²/2R, and the HJB is the z-equation's PDE,
+    # whose solution on the corridor is closed form. The upwind chain is first order: halving h
+    # halves the error (measured 0.0184, 0.0093, 0.0047); the policy is −v'/R (exact −1.392).
+    x = np.linspace(0.1, 1.9, 7)[:, None]
+    errors = []
+    for n in (41, 81, 161):
+        solution = solve_hjb(_corridor(n, _exit_costs))
+        assert solution.diagnostics.method == "policy-iteration"
+        assert solution.diagnostics.steps < 20
+        errors.append(np.abs(solution.value(x) - _corridor_exact(x[:, 0])).max())
+    assert 1.8 < errors[0] / errors[1] < 2.2 and 1.8 < errors[1] / errors[2] < 2.2
+    assert errors[-1] < 6e-3
+    slope = (_corridor_exact(0.5 + 1e-6) - _corridor_exact(0.5 - 1e-6)) / 2e-6
+    assert solution.policy(np.array([0.5]))[0] == pytest.approx(-slope / CORRIDOR_R, rel=5e-3)
+    # a first-exit solution ignores time
+    assert solution.value(np.array([0.7])) == solution.value(np.array([0.7]), 3.0)
+
+
+def test_first_exit_policy_iteration_is_the_steady_state_of_the_march():
+    problem = _corridor(41, _exit_costs)
+    howard = solve_hjb(problem)
+    marched = solve_hjb(problem, method="march", tol=1e-10)
+    assert marched.diagnostics.method == "markov-chain-march"
+    np.testing.assert_allclose(marched.values[0], howard.values[0], atol=1e-8)
+    bounded = (-0.5, 0.5)
+    np.testing.assert_allclose(
+        solve_hjb(problem, control_bounds=bounded, method="march", tol=1e-10).values[0],
+        solve_hjb(problem, control_bounds=bounded).values[0],
+        atol=1e-8,
+    )
+
+
+def test_first_exit_hjb_agrees_with_the_linear_solve_in_two_dimensions():
+    # A point mass parking in one of two bays (the first-exit page's kind of task), unbounded:
+    # the value-space solve (first order; its Richardson extrapolation from 41² and 81²) and the
+    # z-space solve (gridlbc.solve, 161²) are two discretisations of one PDE. Measured
+    # differences ≤ 0.036 on values near 3.
+    import gridlbc
+    from gridlbc.regions import Ball
+    from gridlbc.systems import PointMass
+
+    def problem(n):
+        return Problem(
+            PointMass(),
+            Grid([Axis(-2, 2, n), Axis(-3, 3, n)]),
+            None,
+            state_cost=lambda x: 0.5 + 0.1 * x[:, 1] ** 2,
+            temperature=0.5,
+            exit=Ball([1.2, 0.0], [0.3, 0.6]) | Ball([-1.2, 0.0], [0.3, 0.6]),
+            exit_cost=lambda x: x[:, 0] ** 2,
+        )
+
+    x = np.array([[0.0, 0.0], [0.5, -1.0], [-0.3, 1.0], [1.6, 0.5]])
+    coarse, fine = (solve_hjb(problem(n)).value(x) for n in (41, 81))
+    linear = gridlbc.solve(problem(161), error_estimate=False).value(x)
+    np.testing.assert_allclose(2 * fine - coarse, linear, atol=0.05)
+    assert np.all(fine > linear)  # first order from above here: the upwind diffusion's cost
+
+
+def test_first_exit_hjb_with_bounds():
+    problem = _corridor(41, _exit_costs)
+    free = solve_hjb(problem)
+    wide = solve_hjb(problem, control_bounds=(-100, 100))
+    np.testing.assert_allclose(wide.values, free.values, atol=1e-12)
+    tight = solve_hjb(problem, control_bounds=(-0.5, 0.5))
+    nodes = problem.grid.nodes()
+    assert np.all(tight.values[0] >= free.values[0] - 1e-12)
+    assert tight.values[0].max() > free.values[0].max() + 0.01
+    assert np.abs(tight.policy(nodes)).max() <= 0.5
+
+
+def test_first_exit_hjb_refuses_bad_input():
+    problem = _corridor(21)
+    with pytest.raises(ValueError, match="method"):
+        solve_hjb(problem, method="newton")
+    with pytest.raises(ValueError, match="first-exit"):
+        solve_hjb(pointmass_problem(0.5), method="policy")
+    with pytest.raises(ValueError, match="tol"):
+        solve_hjb(problem, tol=0.0)
+    with pytest.raises(TypeError, match="time t"):
+        solve_hjb(pointmass_problem(0.5)).value([0.0, 0.0])
+    # no state cost, no drift and no noise (B = 0): nothing ever reaches the exit, v undefined
+    from gridlbc.regions import Box
+
+    stuck = Problem(
+        LinearSystem([[0.0]], [[0.0]]),
+        Grid([Axis(-1, 1, 11)]),
+        None,
+        exit=Box([0.9], [np.inf]),
+    )
+    with pytest.raises(ValueError, match="undefined"):
+        solve_hjb(stuck)
