@@ -419,13 +419,23 @@ def solve_to_tolerance(
     dt = base.dt
     history: list[Refinement] = []
     limit = ""
+    coarser = None  # (problem, step) of the last round, to return to if a finer grid won't fit
     while True:
         started = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ResolutionWarning)
-            solution = solve_many(
-                problem, [problem.terminal_cost], base, dt=dt, error_estimate=True
-            )[0]
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ResolutionWarning)
+                solution = solve_many(
+                    problem, [problem.terminal_cost], base, dt=dt, error_estimate=True
+                )[0]
+        except MemoryError:
+            if coarser is None:
+                raise
+            # the finer grid does not fit after all: stay on the last one, halve its step
+            limit = f"memory: the grid {problem.grid.shape} does not fit in the memory available"
+            problem, dt = coarser[0], coarser[1] / 2
+            coarser = None
+            continue
         a = assess(solution, tol, states)
         if a is None:
             raise ValueError(
@@ -481,6 +491,7 @@ def solve_to_tolerance(
         if limit:
             dt = solution.diagnostics.dt / 2
             continue
+        coarser = (problem, solution.diagnostics.dt)
         problem = problem.replace(grid=finer)
         dt = None if dt is None else min(dt, solution.diagnostics.dt)
     where = f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}"

@@ -78,6 +78,26 @@ def test_tol_says_what_limits_it():
         g.solve(problem, states=STATES)
 
 
+def test_tol_stays_on_the_last_grid_when_a_finer_one_does_not_fit(monkeypatch):
+    # The memory check before refining is an estimate; if the finer solve's own check refuses
+    # it, solve(tol=) keeps the grid it had, halves the step and says memory limited it.
+    import gridlbc.solver as solver
+
+    check = solver.check_memory
+
+    def tight(estimate, what, mmap_dir):
+        if "41×41" in what:
+            raise MemoryError(f"{what} needs more memory than is available")
+        return check(estimate, what, mmap_dir)
+
+    monkeypatch.setattr(solver, "check_memory", tight)
+    with pytest.warns(g.ResolutionWarning, match="memory"):
+        solution = g.solve(lq_point_mass(21), tol=1e-4, states=STATES, max_refinements=3)
+    assert solution.grid.shape == (21, 21)
+    steps = [r.dt for r in solution.refinement]
+    assert steps[-1] < steps[0]
+
+
 def test_a_combination_carries_its_components_estimates():
     problem = lq_point_mass(41)
     costs = [g.Quadratic([1, 0], [2, 1]), g.Quadratic([-1, 0], [2, 1])]
