@@ -49,6 +49,7 @@ from ..grid import Axis, Grid
 from ..problem import Problem
 from ..regions import Box
 from ..systems.base import ControlAffineSystem
+from .gym_pendulum import Episodes as PendulumEpisodes
 
 MOUNTAIN_CAR_ID = "MountainCarContinuous-v0"
 MC_POWER = 0.0015
@@ -179,25 +180,15 @@ def mountain_car_step(x: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndar
 
 
 @dataclass(frozen=True)
-class Episodes:
-    """Gym episodes: ``scores`` (n,) the summed rewards, ``steps`` (n,) their lengths,
-    ``reached`` (n,) whether the flag was reached, ``starts`` (n, d), ``seeds`` (n,), and
+class Episodes(PendulumEpisodes):
+    """Gym episodes: ``scores`` (n,) the summed rewards, ``starts`` (n, d), ``seeds`` (n,) (as
+    :class:`gridlbc.studies.gym_pendulum.Episodes`, whose mean and standard error they share),
+    ``steps`` (n,) their lengths, ``reached`` (n,) whether the goal was reached, and
     ``peak_force`` (n,) the largest ``|u|`` the policy asked for."""
 
-    scores: np.ndarray
     steps: np.ndarray
     reached: np.ndarray
-    starts: np.ndarray
-    seeds: np.ndarray
     peak_force: np.ndarray
-
-    @property
-    def mean(self) -> float:
-        return float(self.scores.mean())
-
-    @property
-    def standard_error(self) -> float:
-        return float(self.scores.std(ddof=1) / math.sqrt(self.scores.size))
 
     def summary(self) -> str:
         return (
@@ -232,11 +223,30 @@ def run_mountain_car(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
     force is passed to gym as given (gym clips it, and charges 0.1u² on the unclipped u: clip
     your policy). Score = gym's summed reward. Needs gymnasium.
     """
+
+    def forces(x):
+        u = np.asarray(policy(x), dtype=float)
+        if u.shape != (x.shape[0], 1) or not np.all(np.isfinite(u)):
+            raise ValueError(
+                f"policy must return finite forces of shape ({x.shape[0]}, 1), got shape "
+                f"{u.shape}" + ("" if u.shape != (x.shape[0], 1) else " with NaN or inf")
+            )
+        return [ui.astype(np.float32) for ui in u], np.abs(u[:, 0])
+
+    return _play(MOUNTAIN_CAR_ID, episodes, seed, forces, lambda env, obs: obs)
+
+
+def _play(env_id: str, episodes: int, seed: int, act, observe) -> Episodes:
+    """One gym env per episode, reset with seeds ``seed + i``, the running ones stepped together:
+    ``act(states)`` → (gym's actions, the size of each) for the running episodes' states
+    ``(n, d)``, ``observe(env, obs)`` → the state the policy sees after a reset or a step."""
     gymnasium = _gymnasium()
     episodes = _check_episodes(episodes)
-    envs = [gymnasium.make(MOUNTAIN_CAR_ID) for _ in range(episodes)]
+    envs = [gymnasium.make(env_id) for _ in range(episodes)]
     seeds = seed + np.arange(episodes)
-    obs = np.array([env.reset(seed=int(s))[0] for env, s in zip(envs, seeds)], dtype=float)
+    states = np.array(
+        [observe(env, env.reset(seed=int(s))[0]) for env, s in zip(envs, seeds)], dtype=float
+    )
     starts = np.array([env.unwrapped.state for env in envs], dtype=float)
     scores = np.zeros(episodes)
     steps = np.zeros(episodes, dtype=np.int64)
@@ -245,15 +255,11 @@ def run_mountain_car(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
     peak = np.zeros(episodes)
     while running.any():
         active = np.flatnonzero(running)
-        u = np.asarray(policy(obs[active]), dtype=float)
-        if u.shape != (active.size, 1) or not np.all(np.isfinite(u)):
-            raise ValueError(
-                f"policy must return finite forces of shape ({active.size}, 1), got shape "
-                f"{u.shape}" + ("" if u.shape != (active.size, 1) else " with NaN or inf")
-            )
-        peak[active] = np.maximum(peak[active], np.abs(u[:, 0]))
-        for i, ui in zip(active, u):
-            obs[i], reward, terminated, truncated, _ = envs[i].step(ui.astype(np.float32))
+        actions, size = act(states[active])
+        peak[active] = np.maximum(peak[active], size)
+        for i, a in zip(active, actions):
+            obs, reward, terminated, truncated, _ = envs[i].step(a)
+            states[i] = observe(envs[i], obs)
             scores[i] += reward
             steps[i] += 1
             if terminated or truncated:
@@ -261,7 +267,7 @@ def run_mountain_car(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
                 reached[i] = terminated
     for env in envs:
         env.close()
-    return Episodes(scores, steps, reached, starts, seeds, peak)
+    return Episodes(scores, starts, seeds, steps, reached, peak)
 
 
 def clipped(policy, bound: float = 1.0):
@@ -555,33 +561,11 @@ def run_acrobot(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
     (θ₁, θ₂, θ̇₁, θ̇₂)) in gym's ``Acrobot-v1``, one env per episode reset with seeds
     ``seed + i``, the running ones stepped together. ``reached``: the tip got above the bar;
     ``peak_force`` is 1 if any nonzero torque was used."""
-    gymnasium = _gymnasium()
-    episodes = _check_episodes(episodes)
-    envs = [gymnasium.make(ACROBOT_ID) for _ in range(episodes)]
-    seeds = seed + np.arange(episodes)
-    for env, s in zip(envs, seeds):
-        env.reset(seed=int(s))
-    states = np.array([env.unwrapped.state for env in envs], dtype=float)
-    starts = states.copy()
-    scores = np.zeros(episodes)
-    steps = np.zeros(episodes, dtype=np.int64)
-    reached = np.zeros(episodes, dtype=bool)
-    peak = np.zeros(episodes)
-    running = np.ones(episodes, dtype=bool)
-    while running.any():
-        active = np.flatnonzero(running)
-        actions = np.asarray(policy(states[active]))
-        if actions.shape != (active.size,) or not np.all(np.isin(actions, (0, 1, 2))):
-            raise ValueError(f"policy must return ({active.size},) actions in {{0, 1, 2}}")
-        peak[active] = np.maximum(peak[active], np.abs(actions - 1))
-        for i, a in zip(active, actions):
-            _, reward, terminated, truncated, _ = envs[i].step(int(a))
-            states[i] = envs[i].unwrapped.state
-            scores[i] += reward
-            steps[i] += 1
-            if terminated or truncated:
-                running[i] = False
-                reached[i] = terminated
-    for env in envs:
-        env.close()
-    return Episodes(scores, steps, reached, starts, seeds, peak)
+
+    def torques(x):
+        actions = np.asarray(policy(x))
+        if actions.shape != (x.shape[0],) or not np.all(np.isin(actions, (0, 1, 2))):
+            raise ValueError(f"policy must return ({x.shape[0]},) actions in {{0, 1, 2}}")
+        return [int(a) for a in actions], np.abs(actions - 1)
+
+    return _play(ACROBOT_ID, episodes, seed, torques, lambda env, obs: env.unwrapped.state)
