@@ -455,6 +455,34 @@ class HJBSolution:
         return np.clip(u, self.control_bounds[:, 0], self.control_bounds[:, 1])
 
 
+def _hamiltonian(grid: Grid, structure, drift, diffusion, q):
+    """``hamiltonian(v, H, rate, control)``: :func:`hamiltonian_kernel` of this grid, control
+    structure, drift, diffusion and state cost, writing H, the step's rate and the minimising
+    control in place."""
+    _, spacing, shape, strides, periodic = grid.kernel_arrays()
+
+    def hamiltonian(v, H, rate, control):
+        hamiltonian_kernel(
+            v,
+            drift,
+            structure.gain,
+            structure.axis,
+            structure.r,
+            structure.bounds,
+            diffusion,
+            q,
+            shape,
+            strides,
+            spacing,
+            periodic,
+            H,
+            rate,
+            control,
+        )
+
+    return hamiltonian
+
+
 def solve_hjb(
     problem: Problem,
     dt: float | None = None,
@@ -529,7 +557,7 @@ def solve_hjb(
     drift = np.ascontiguousarray(problem.system.drift(x), dtype=float)
     diffusion = np.ascontiguousarray(0.5 * problem.noise_diagonal(x))
     q = problem.state_cost_values(x)
-    _, spacing, shape, strides, periodic = grid.kernel_arrays()
+    hamiltonian = _hamiltonian(grid, structure, drift, diffusion, q)
     T = problem.require_horizon("solve_hjb")
     max_step = T if dt is None else min(float(dt), T)
 
@@ -544,23 +572,7 @@ def solve_hjb(
     for j in range(slices - 1, -1, -1):
         remaining = interval
         while remaining > 1e-12 * interval:
-            hamiltonian_kernel(
-                v,
-                drift,
-                structure.gain,
-                structure.axis,
-                structure.r,
-                structure.bounds,
-                diffusion,
-                q,
-                shape,
-                strides,
-                spacing,
-                periodic,
-                H,
-                rate,
-                control,
-            )
+            hamiltonian(v, H, rate, control)
             limit = min(max_step, courant / max(rate.max(), 1e-300))
             n_sub = max(1, math.ceil(remaining / limit - 1e-9))
             step = remaining / n_sub
@@ -652,7 +664,7 @@ def _solve_first_exit(
             "it, or refine the grid"
         )
     q = np.where(E, 0.0, problem.state_cost_values(x))
-    _, spacing, shape, strides, periodic = grid.kernel_arrays()
+    hamiltonian = _hamiltonian(grid, structure, drift, diffusion, q)
     v = np.zeros(grid.size)
     v[E] = problem.exit_values(x[E])
     H = np.empty(grid.size)
@@ -662,23 +674,7 @@ def _solve_first_exit(
     control[:] = np.clip(0.0, lo, hi)
 
     def greedy(v):
-        hamiltonian_kernel(
-            v,
-            drift,
-            structure.gain,
-            structure.axis,
-            structure.r,
-            structure.bounds,
-            diffusion,
-            q,
-            shape,
-            strides,
-            spacing,
-            periodic,
-            H,
-            rate,
-            control,
-        )
+        hamiltonian(v, H, rate, control)
 
     interior = np.flatnonzero(~E)
     steps, smallest, largest = 0, math.inf, 0.0
