@@ -121,17 +121,23 @@ def test_components_with_other_exit_sets_do_not_combine():
         g.combine([a, g.solve(other, error_estimate=False)])
 
 
-def test_average_cost_matches_riccati():
-    # 1-D: c = (λ/R) √(QR/2) and h = √(QR/2) x², both O(h²) on the grid (central rates).
-    P = np.sqrt(Q * R / 2)
-    problem = g.Problem(
+def quadratic_average(n):
+    """dx = u dt + dξ on [−4, 4] (n nodes) with q = Q x², forever: the LQ average-cost problem,
+    c = (λ/R) √(QR/2) and h = √(QR/2) x² (Riccati)."""
+    return g.Problem(
         SingleIntegrator(),
-        g.Grid([g.Axis(-4, 4, 161)]),
+        g.Grid([g.Axis(-4, 4, n)]),
         "average",
         state_cost=g.costs.Quadratic([0.0], [Q]),
         control_cost=R,
         temperature=LAM,
     )
+
+
+def test_average_cost_matches_riccati():
+    # 1-D: c = (λ/R) √(QR/2) and h = √(QR/2) x², both O(h²) on the grid (central rates).
+    P = np.sqrt(Q * R / 2)
+    problem = quadratic_average(161)
     s = g.solve(problem)
     assert s.average_cost == pytest.approx(LAM / R * P, rel=2e-3)
     x = np.array([[0.5], [1.0]])
@@ -228,14 +234,7 @@ def test_stationary_solutions_save_and_load_exactly(tmp_path):
     np.testing.assert_array_equal(loaded.problem.exit_mask(), s.problem.exit_mask())
     np.testing.assert_array_equal(loaded.error_estimate(x), s.error_estimate(x))
     assert g.combine([loaded, g.load(path)]).exact
-    average = g.Problem(
-        SingleIntegrator(),
-        g.Grid([g.Axis(-4, 4, 41)]),
-        "average",
-        state_cost=g.costs.Quadratic([0.0], [Q]),
-        temperature=LAM,
-    )
-    a = g.solve(average)
+    a = g.solve(quadratic_average(41))
     assert g.load(g.save(a, tmp_path / "average.npz")).average_cost == a.average_cost
 
 
@@ -363,14 +362,7 @@ def test_average_cost_is_the_long_run_cost_rate_of_its_policy(rng):
     # unit time. Under Euler–Maruyama with u = −(2P/R) x (P = √(QR/2)) the chain's exact rate is
     # c/(1 − Δt) = 0.5/(1 − Δt) (its stationary variance σ²/(2K − K²Δt), K = 2P/R); the
     # grid's policy and the finite T move it by far less than the 3-SE tolerance.
-    problem = g.Problem(
-        SingleIntegrator(),
-        g.Grid([g.Axis(-4, 4, 161)]),
-        "average",
-        state_cost=g.costs.Quadratic([0.0], [Q]),
-        control_cost=R,
-        temperature=LAM,
-    )
+    problem = quadratic_average(161)
     solution = g.solve(problem)
     dt, T, n = 0.01, 100.0, 400
     K = 2 * np.sqrt(Q * R / 2) / R
