@@ -513,7 +513,7 @@ def euler_maruyama(
         # the samples still running: all of them (a view) without an exit set
         alive = slice(None) if exits is None else exits.alive.copy()
         x_a = x[alive]
-        u = np.zeros((n, m))
+        u = np.zeros((n, m))  # a stopped sample's control is 0 (replaced by u_a without exits)
         if x_a.shape[0]:
             u_a = _controls(policy, x_a, t, m, k)
             drift = np.ascontiguousarray(system.drift(x_a), dtype=float)
@@ -524,7 +524,10 @@ def euler_maruyama(
             x_new = np.empty_like(x_a)
             eps_a = np.ascontiguousarray(eps[alive])
             em_kernel(x_a, drift, B, u_a, eps_a, root, R, step, x_new, running_a, ito_a)
-            running[alive], ito[alive], u[alive] = running_a, ito_a, u_a
+            if exits is None:  # views of the whole arrays: nothing to put back
+                u = u_a
+            else:
+                running[alive], ito[alive], u[alive] = running_a, ito_a, u_a
             x_new = problem.wrap(x_new)
             if grid is not None:
                 left[alive] |= np.any(((x_new < grid.lo) | (x_new > grid.hi)) & ~grid.periodic, 1)
