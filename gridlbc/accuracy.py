@@ -254,6 +254,18 @@ def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
     return EmbeddedEstimate(embedded, observed, order, floor)
 
 
+def attach_estimates(solutions, levels: list) -> None:
+    """Give each of ``solutions`` its :class:`EmbeddedEstimate` from the solves ``levels[0][r]``
+    (2h) and, if present, ``levels[1][r]`` (4h), and warn (:func:`check_accuracy`) where one
+    exceeds the default tolerance; nothing without levels (a grid too coarse to embed)."""
+    if not levels:
+        return
+    for r, solution in enumerate(solutions):
+        coarser = levels[1][r] if len(levels) > 1 else None
+        object.__setattr__(solution, "embedded", embedded_estimate(solution, levels[0][r], coarser))
+        check_accuracy(solution)
+
+
 def judged_states(solution, states=None) -> np.ndarray:
     """``states`` as ``(N, d)``, or :func:`states_that_matter` when None."""
     if states is None:

@@ -25,12 +25,7 @@ import warnings
 
 import numpy as np
 
-from .accuracy import (
-    check_accuracy,
-    embedded_estimate,
-    embedded_grid,
-    solve_to_tolerance,
-)
+from .accuracy import attach_estimates, embedded_grid, solve_to_tolerance
 from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
 from .grid import Grid, flat_chunks
@@ -99,12 +94,14 @@ def _terminal_data(problem: Problem, terminal_costs, log: bool = False):
     grid = problem.require_grid("solve")
     Z = np.empty((len(terminal_costs), grid.size))
     scales = np.empty(len(terminal_costs))
+    if problem.exit is not None:  # the task ends on entering E, paying g_E there
+        on_exit = problem.exit_mask()
+        exit_values = problem.exit_values()[on_exit]
     for r, cost in enumerate(terminal_costs):
         g = Z[r]  # g, then in place −(g − min g)/λ, then its exp
         g[:] = grid.node_values(problem.replace(terminal_cost=cost).terminal_values)
-        if problem.exit is not None:  # the task ends on entering E, paying g_E there
-            exit_nodes = problem.exit_mask()
-            g[exit_nodes] = problem.exit_values()[exit_nodes]
+        if problem.exit is not None:
+            g[on_exit] = exit_values
         g_min = g.min()
         np.negative(np.subtract(g, g_min, out=g), out=g)
         np.divide(g, lam, out=g)
@@ -247,12 +244,7 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
                     error_estimate=False,
                 )
             )
-    if not levels:
-        return
-    for r, solution in enumerate(solutions):
-        coarser = levels[1][r] if len(levels) > 1 else None
-        object.__setattr__(solution, "embedded", embedded_estimate(solution, levels[0][r], coarser))
-        check_accuracy(solution)
+    attach_estimates(solutions, levels)
 
 
 def _solutions(

@@ -47,9 +47,8 @@ import scipy.sparse.linalg as spla
 from .accuracy import (
     Refinement,
     assess,
-    check_accuracy,
+    attach_estimates,
     check_tolerance,
-    embedded_estimate,
     embedded_grid,
     finish,
     refined_grid,
@@ -544,10 +543,4 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
                 levels.append(solve_first_exit_many(coarse, exit_costs, s))
             except ValueError:  # the exit set or the costs are not resolved that coarsely
                 break
-    if not levels:
-        return
-    for r, solution in enumerate(solutions):
-        coarser = levels[1][r] if len(levels) > 1 else None
-        estimate = embedded_estimate(solution, levels[0][r], coarser)
-        object.__setattr__(solution, "embedded", estimate)
-        check_accuracy(solution)
+    attach_estimates(solutions, levels)
