@@ -534,13 +534,10 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
         grid = embedded_grid(grid) if grid is not None else None
         if grid is None:
             break
-        coarse = problem.replace(grid=grid)
-        if not coarse.exit_mask().any():
-            break
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             try:
-                levels.append(solve_first_exit_many(coarse, exit_costs, s))
+                levels.append(solve_first_exit_many(problem.replace(grid=grid), exit_costs, s))
             except ValueError:  # the exit set or the costs are not resolved that coarsely
                 break
     attach_estimates(solutions, levels)
