@@ -59,6 +59,7 @@ change.
 
 from __future__ import annotations
 
+import dataclasses
 import time
 import warnings
 from dataclasses import dataclass
@@ -371,6 +372,10 @@ class Refinement:
         The part of it from the time step (a solve at 2Δt on the same grid), NaN if not measured.
     wall_time : float
         Seconds for this solve and its estimates.
+    dtype : str
+        How its slices were stored: ``"float64"`` or ``"float32"``.
+    store_every : int
+        It stored every ``store_every``-th step's slice (and the last).
     """
 
     shape: tuple[int, ...]
@@ -378,6 +383,8 @@ class Refinement:
     error: float
     time_error: float
     wall_time: float
+    dtype: str = "float64"
+    store_every: int = 1
 
 
 def solve_to_tolerance(
@@ -395,9 +402,10 @@ def solve_to_tolerance(
     (:func:`assess`). If it exceeds ``tol``, a solve at 2Δt on the same grid measures the time
     step's share ê_t = abs(v_{h,2Δt} − v_{h,Δt}): where ê_t is at least half the estimate, Δt is
     halved; otherwise every axis is refined (h → h/2, :func:`refined_grid`, with the scheme's
-    default step for the finer grid, or the current Δt once it has been set or halved), unless
-    that would exceed
-    ``max_nodes`` or the memory, in which case Δt is halved instead and the limit is reported.
+    default step for the finer grid, or the current Δt once it has been set or halved). If the
+    finer grid's slices would not fit in memory they are stored as float32, then only every k-th
+    (:func:`fitting_storage`); if even that would not fit, or the finer grid would exceed
+    ``max_nodes``, Δt is halved instead and the limit is reported.
 
     Parameters
     ----------
@@ -424,7 +432,6 @@ def solve_to_tolerance(
     """
     from .settings import resolve_settings
     from .solver import solve_many
-    from .storage import available_memory
 
     check_tolerance(tol, options)
     base = resolve_settings(settings, options)
@@ -459,12 +466,13 @@ def solve_to_tolerance(
         if not done:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", ResolutionWarning)
-                half = solve_many(
+                half = solve_many(  # only its t = 0 slice is read: store no other
                     problem,
                     [problem.terminal_cost],
                     base,
                     dt=2 * solution.diagnostics.dt,
                     error_estimate=False,
+                    store_every=solution.diagnostics.steps,
                 )[0]
             rel = relative_difference(solution, half, judged_states(solution, states))
             time_error = statistic(rel, states is not None)
@@ -475,12 +483,15 @@ def solve_to_tolerance(
                 a.error,
                 time_error,
                 time.perf_counter() - started,
+                base.dtype,
+                base.store_every,
             )
         )
         if base.progress:
+            stored = "" if base.store_every == 1 else f", every {base.store_every}th slice stored"
             print(
-                f"tol: grid {'×'.join(map(str, problem.grid.shape))}, dt {solution.diagnostics.dt:.4g}: "
-                f"estimated error {a.error:.2%}",
+                f"tol: grid {'×'.join(map(str, problem.grid.shape))}, dt {solution.diagnostics.dt:.4g}"
+                f" ({base.dtype}{stored}): estimated error {a.error:.2%}",
                 flush=True,
             )
         if done:
@@ -488,28 +499,60 @@ def solve_to_tolerance(
         if time_error >= 0.5 * a.error:
             dt = solution.diagnostics.dt / 2
             continue
-        finer = refined_grid(problem.grid)
-        if max_nodes is not None and finer.size > max_nodes:
-            limit = f"the grid {finer.shape} would exceed max_nodes = {max_nodes}"
+        finer = problem.replace(grid=refined_grid(problem.grid))
+        next_dt = None if dt is None else min(dt, solution.diagnostics.dt)
+        if max_nodes is not None and finer.grid.size > max_nodes:
+            limit = f"the grid {finer.grid.shape} would exceed max_nodes = {max_nodes}"
         else:
-            # the finer solve needs about 2^(d+1) times this one's memory (nodes and steps)
-            need = solution.diagnostics.memory_estimate * 2 * finer.size / problem.grid.size
-            available = available_memory()
-            if available is not None and need > 0.9 * available:
-                limit = (
-                    f"memory: the grid {finer.shape} would need about {need / 2**30:.1f} GiB "
-                    f"of {available / 2**30:.1f} GiB available"
-                )
+            storage = fitting_storage(finer, dataclasses.replace(base, dt=next_dt))
+            if isinstance(storage, str):
+                limit = storage
+            else:
+                base = dataclasses.replace(storage, dt=base.dt)
         if limit:
             dt = solution.diagnostics.dt / 2
             continue
         coarser = (problem, solution.diagnostics.dt)
-        problem = problem.replace(grid=finer)
-        dt = None if dt is None else min(dt, solution.diagnostics.dt)
+        problem, dt = finer, next_dt
     where = f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}"
     advice = "raise max_refinements or max_nodes, store float32 or use mmap_dir"
     finish(solution, tol, history, where, limit, max_refinements, advice)
     return solution
+
+
+def fitting_storage(problem, settings):
+    """``settings`` for a solve of ``problem`` whose slices fit in the memory available, or a
+    message saying why none do.
+
+    The slices of every stored step dominate a time-marched solve's memory. If they do not fit,
+    they are stored as float32 (the march itself stays in double precision), then only every
+    k-th step's slice is stored (k = 2, 4, …: the value at t = 0, which the tolerance judges, is
+    unchanged; the value and the policy between stored slices are interpolated in time). The
+    embedded solve (2^−(d+1) of the nodes) is held with the solution, hence the margin.
+    """
+    from .solver import planned_memory
+    from .storage import available_memory
+
+    available = available_memory()
+    if available is None:
+        return settings
+    margin = 1.0 + 2.0 ** -(problem.grid.ndim + 1)
+    candidate, stored = settings, None
+    while True:
+        need = planned_memory(problem, candidate)
+        if need["ram"] * margin <= 0.9 * available:
+            return candidate
+        if candidate.dtype == "float64":
+            candidate = dataclasses.replace(candidate, dtype="float32")
+        elif need["stored"] != stored:  # fewer slices still help
+            stored = need["stored"]
+            candidate = dataclasses.replace(candidate, store_every=2 * candidate.store_every)
+        else:
+            need = need["ram"] * margin
+            return (
+                f"memory: the grid {problem.grid.shape} would need about {need / 2**30:.1f} GiB "
+                f"of {available / 2**30:.1f} GiB available even storing few slices"
+            )
 
 
 def check_tolerance(tol, options: dict) -> None:

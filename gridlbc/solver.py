@@ -87,6 +87,23 @@ def time_grid(
     return T / n, n
 
 
+def kept_steps(steps: int, store_every: int) -> list[int]:
+    """The steps whose slices a solve of ``steps`` steps stores: every ``store_every``-th and the
+    last."""
+    return sorted(set(range(0, steps + 1, store_every)) | {steps})
+
+
+def planned_memory(problem: Problem, settings: SolverSettings) -> dict[str, int]:
+    """The bytes :func:`solve` of ``problem`` with ``settings`` would hold
+    (:func:`gridlbc.storage.memory_estimate`), its step chosen as the solve chooses it, without
+    solving."""
+    if problem.exit is not None and not settings.scheme.supports_exit:
+        settings = _exit_settings(settings, explicit=False)
+    bound = settings.scheme.step_bound(problem)
+    _, steps = time_grid(problem, settings, courant_rates(problem), bound.limit)
+    return memory_estimate(problem, settings, len(kept_steps(steps, settings.store_every)))
+
+
 def _terminal_data(problem: Problem, terminal_costs, log: bool = False):
     """Scaled terminal desirabilities Z (K, N), max 1 per row, and their log-scales ℓ (K,);
     with ``log``, log Z instead of Z."""
@@ -192,7 +209,7 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     bound = scheme.step_bound(problem)
     plan.dt, plan.steps = time_grid(problem, s, rates, bound.limit)
     bound.check(plan.dt)  # only a given dt can exceed it: the default is held below
-    plan.kept = sorted(set(range(0, plan.steps + 1, s.store_every)) | {plan.steps})
+    plan.kept = kept_steps(plan.steps, s.store_every)
     estimate = memory_estimate(problem, s, len(plan.kept), K)
     check_memory(estimate, what, s.mmap_dir)
 

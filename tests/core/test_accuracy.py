@@ -108,3 +108,26 @@ def test_a_combination_carries_its_components_estimates():
     alpha = combined.blend_weights(STATES, 0.0)
     expected = sum(alpha[:, i] * c.error_estimate(STATES) for i, c in enumerate(components))
     np.testing.assert_allclose(combined.error_estimate(STATES), expected, rtol=1e-12)
+
+
+def test_tol_stores_fewer_slices_where_the_finer_grid_would_not_fit_otherwise(monkeypatch):
+    # The stored slices dominate a march's memory. Where the finer grid's would not fit,
+    # solve(tol=) stores them as float32, then only every k-th, rather than stop refining; the
+    # value at t = 0, which tol judges, is the same march's (float32 rounding of the slice).
+    import gridlbc.storage as storage
+    from gridlbc.settings import resolve_settings
+    from gridlbc.solver import planned_memory
+
+    finer = lq_point_mass(41)
+    full = planned_memory(finer, resolve_settings(None, {}))["ram"]
+    lean = planned_memory(finer, resolve_settings(None, {"dtype": "float32", "store_every": 8}))
+    available = 0.5 * (full + lean["ram"]) / 0.9
+    assert lean["ram"] * 1.2 < 0.9 * available < full  # only the leaner storage fits
+    monkeypatch.setattr(storage, "available_memory", lambda: available)
+    solution = _quiet_solve(lq_point_mass(21), tol=1e-4, states=STATES, max_refinements=2)
+    rounds = [r for r in solution.refinement if r.shape == (41, 41)]
+    assert rounds and rounds[0].dtype == "float32" and rounds[0].store_every > 1
+    assert solution.grid.shape == (41, 41) and solution.slices.dtype == np.float32
+    monkeypatch.undo()
+    direct = g.solve(finer, dt=solution.diagnostics.dt, error_estimate=False)
+    np.testing.assert_allclose(solution.value(STATES, 0.0), direct.value(STATES, 0.0), rtol=1e-6)
