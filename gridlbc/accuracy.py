@@ -127,6 +127,12 @@ def states_that_matter(solution) -> np.ndarray:
     """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``
     (at most :data:`SAMPLE` of them, evenly spaced).
 
+    A task that ends (an exit set) counts every node outside the exit set instead: there the
+    value is the cost of getting to E, largest where a task typically starts (far from E: a
+    pendulum hanging at rest, when E is near the top), so the better half would judge only the
+    states next to E; the nodes in E do not count, their value is the exit cost, given, not
+    solved for.
+
     Parameters
     ----------
     solution : Solution
@@ -138,10 +144,14 @@ def states_that_matter(solution) -> np.ndarray:
         The states at which a solve is judged when the user gives none.
     """
     v = solution.value_nodes(0)
-    finite = np.isfinite(v)
-    if not finite.any():
+    chosen = np.isfinite(v)
+    if solution.problem.exit is not None:
+        chosen &= ~solution.problem.exit_mask()
+    elif chosen.any():
+        chosen &= v <= np.median(v[chosen])
+    keep = np.flatnonzero(chosen)
+    if len(keep) == 0:
         return np.empty((0, solution.grid.ndim))
-    keep = np.flatnonzero(finite & (v <= np.median(v[finite])))
     if len(keep) > SAMPLE:
         keep = keep[np.linspace(0, len(keep) - 1, SAMPLE).astype(np.int64)]
     return solution.grid.node_coordinates(keep)

@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.regions import Ball, Box
 from gridlbc.systems import Acrobot, ControlAffineSystem, LinearSystem, Pendulum, PointMass
 
 PI = math.pi
@@ -434,6 +435,9 @@ class Member:
         Also try trajectory components (LQR trackers) as the certificate's proposal.
     tags : tuple of str
         What kind of problem it is.
+    max_time : float or None
+        For a task that ends without a horizon: the certificate's paths stop here (long enough
+        that all but a negligible share have exited; ``truths.json`` records the share).
     """
 
     name: str
@@ -445,6 +449,7 @@ class Member:
     fast: bool = False
     trajectory: bool = False
     tags: tuple[str, ...] = field(default=())
+    max_time: float | None = None
 
 
 def refine(problem: Problem, factor: float) -> Problem:
@@ -460,6 +465,31 @@ def refine(problem: Problem, factor: float) -> Problem:
         for a in problem.grid.axes
     ]
     return problem.replace(grid=Grid(axes))
+
+
+def hot_band():
+    grid = _grid((-PI, PI, 201, True), (-10, 10, 201))
+    return Problem(
+        Pendulum(),
+        grid,
+        None,
+        state_cost=lambda x: np.full(len(x), 0.5),
+        control_cost=3.0,
+        temperature=2.0,
+        exit=Box([-0.5, -np.inf], [0.5, np.inf]),
+    )
+
+
+def dock():
+    grid = _grid((-2, 2, 201), (-2, 2, 201))
+    return Problem(
+        PointMass(),
+        grid,
+        None,
+        state_cost=lambda x: 1.0 + x[:, 0] ** 2,
+        temperature=0.05,
+        exit=Ball([0.0, 0.0], [0.1, 0.1]),
+    )
 
 
 def _s(*rows) -> np.ndarray:
@@ -616,6 +646,23 @@ MEMBERS: tuple[Member, ...] = (
         fine=1.5,
         cert_dt=0.002,
         tags=("local feature", "closed"),
+    ),
+    Member(
+        "hot_band",
+        hot_band,
+        _s((PI, 0.0), (2.0, 2.0), (-2.0, -3.0)),
+        "first exit: a pendulum swung into the band |θ| < 0.5 at any speed, λ = 2, R = 3; its "
+        "default solve was 25 % low and its warning judged only the states next to the band",
+        max_time=30.0,
+        tags=("first exit", "slow dynamics", "periodic", "expensive control"),
+    ),
+    Member(
+        "dock",
+        dock,
+        _s((1.5, 0.0), (-1.0, 1.0), (0.5, -1.5)),
+        "first exit: a point mass docked at rest in a small ball, λ = 0.05 (18 % low at 201²)",
+        max_time=20.0,
+        tags=("first exit", "narrow goal", "closed"),
     ),
 )
 

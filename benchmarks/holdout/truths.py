@@ -49,23 +49,20 @@ class _Result:
     effective_sample_size: np.ndarray
     policy_cost: np.ndarray
     optimal_left_box_fraction: np.ndarray
+    unexited_fraction: np.ndarray
 
 
-def _certify(problem, policy, states, n, dt, seed):
+def _certify(problem, policy, states, n, dt, seed, max_time=None):
     """Certify every state with ``policy``, or state i with ``policy[i]`` if it is a list."""
+    options = {"n_samples": n, "dt": dt, "seed": seed, "progress": False, "max_time": max_time}
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if isinstance(policy, list):
             certificates = [
-                gridlbc.certify(problem, u, x, n_samples=n, dt=dt, seed=seed, progress=False)
-                for u, x in zip(policy, states)
+                gridlbc.certify(problem, u, x, **options) for u, x in zip(policy, states)
             ]
         else:
-            certificates = [
-                gridlbc.certify(
-                    problem, policy, states, n_samples=n, dt=dt, seed=seed, progress=False
-                )
-            ]
+            certificates = [gridlbc.certify(problem, policy, states, **options)]
     result = _Result(
         *(
             np.concatenate([np.atleast_1d(getattr(c, f.name)) for c in certificates])
@@ -96,14 +93,16 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
     dt = member.cert_dt
     pilots = {}
     for name, policy in proposals.items():
-        c, _ = _certify(problem, policy, member.states, pilot, dt, seed)
+        c, _ = _certify(problem, policy, member.states, pilot, dt, seed, member.max_time)
         pilots[name] = c
     best = max(pilots, key=lambda k: float(np.min(pilots[k].effective_sample_size)))
     c = pilots[best]
     ratio = np.max(np.asarray(c.optimal_value_se) / (target * np.abs(c.optimal_value)))
     n = int(min(n_max, max(n_min, math.ceil(pilot * ratio**2 / 100) * 100)))
-    coarse, w1 = _certify(problem, proposals[best], member.states, n, dt, seed + 1)
-    finer, w2 = _certify(problem, proposals[best], member.states, n, dt / 2, seed + 2)
+    coarse, w1 = _certify(problem, proposals[best], member.states, n, dt, seed + 1, member.max_time)
+    finer, w2 = _certify(
+        problem, proposals[best], member.states, n, dt / 2, seed + 2, member.max_time
+    )
     states = []
     for i, x in enumerate(member.states):
         v, v1 = float(finer.optimal_value[i]), float(coarse.optimal_value[i])
@@ -115,6 +114,7 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
                 "ess": float(finer.effective_sample_size[i]),
                 "policy_cost": float(finer.policy_cost[i]),
                 "left_box": float(finer.optimal_left_box_fraction[i]),
+                "unexited": float(finer.unexited_fraction[i]),
                 "v_coarse_dt": v1,
                 "se_coarse_dt": float(coarse.optimal_value_se[i]),
                 "step_bias": (v1 - v) / abs(v),

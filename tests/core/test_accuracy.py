@@ -131,3 +131,26 @@ def test_tol_stores_fewer_slices_where_the_finer_grid_would_not_fit_otherwise(mo
     monkeypatch.undo()
     direct = g.solve(finer, dt=solution.diagnostics.dt, error_estimate=False)
     np.testing.assert_allclose(solution.value(STATES, 0.0), direct.value(STATES, 0.0), rtol=1e-6)
+
+
+def test_a_task_that_ends_is_judged_outside_its_exit_set_and_at_its_costliest_starts():
+    # For first exit the value is the cost of reaching E: its states that matter are every node
+    # outside E (whose values are given, exact), including the far ones where tasks start.
+    from gridlbc.regions import Box
+    from gridlbc.systems import PointMass
+
+    grid = g.Grid([g.Axis(-2.0, 2.0, 41), g.Axis(-2.0, 2.0, 41)])
+    problem = g.Problem(
+        PointMass(),
+        grid,
+        None,
+        state_cost=lambda x: np.ones(len(x)),
+        temperature=0.5,
+        exit=Box([1.5, -np.inf], [np.inf, np.inf]),
+    )
+    solution = g.solve(problem, error_estimate=False)
+    X = accuracy.states_that_matter(solution)
+    assert not problem.exit_mask(X).any()
+    assert len(X) == grid.size - np.count_nonzero(problem.exit_mask())
+    v = solution.value_nodes(0)
+    assert solution.value(X, 0.0).max() == pytest.approx(v[np.isfinite(v)].max())
