@@ -418,8 +418,8 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
     the upper one with x = 1 being the largest row sum, −min q/λ. Two methods, after
     ``s.linear_solver`` (:func:`_method`):
 
-    - direct: shift-and-invert Arnoldi (ARPACK) about σ = −min q/λ + ε, one sparse LU of
-      M − σI;
+    - direct: shift-and-invert Arnoldi (ARPACK, started from 1) about σ = −min q/λ + ε, one
+      sparse LU of M − σI;
     - iterative (Noda's inverse iteration): from e₀ = 1, σ₀ = −min q/λ + ε,
 
           (σ_k I − M) y = e_k,      e_{k+1} = y / max y,
@@ -446,7 +446,10 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
     sigma = upper + 1e-3 * max(float(np.abs(M.diagonal()).max()), 1e-300)
     method = _method(s, ndim, n)
     if method == "direct":
-        values, vectors = spla.eigs(M.tocsc(), k=1, sigma=sigma, which="LM", tol=s.residual)
+        start = np.ones(n)  # ARPACK's default start is random: the same solve, the same digits
+        values, vectors = spla.eigs(
+            M.tocsc(), k=1, sigma=sigma, which="LM", tol=s.residual, v0=start
+        )
         e = vectors[:, 0].real
         return float(values[0].real), e / e[np.argmax(np.abs(e))], ()
     e, rho, counts = np.ones(n), np.nan, []
