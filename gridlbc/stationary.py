@@ -429,11 +429,13 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
       iterative solve does not resolve e's entries), never above σ_k, and ρ = eᵀMe / eᵀe
       the Rayleigh quotient (δ = ``residual`` ‖M‖_∞). σ_k stays above μ, so each shifted system
       is an M-matrix, solved as the first-exit system is (rows scaled, BiCGSTAB, ILU-GMRES where
-      it stalls), from the guess e_k / (σ_k − ρ_k), to the relative residual
-      max(``residual``, min(10⁻², r_k / 10)) with r_k the eigen-residual of e_k below: a solve's
-      error reaches e_{k+1} damped by (σ_k − μ)/(σ_k − μ₂) (μ₂ the next eigenvalue), so the
-      eigen-residual still falls by 10 or more per shift, and the nearly singular last systems
-      are not solved more precisely than they need. σ_k − μ shrinks superlinearly. Should a
+      it stalls), from the guess y₀ = e_k / (σ_k − ρ_k), to the backward error
+      η_k = max(``residual``, min(10⁻², r_k / 10)), r_k the eigen-residual of e_k below: it stops
+      at ‖A y − b‖ ≤ η_k ‖A‖_∞ ‖y₀‖ (at most 0.1 ‖b‖). e_{k+1} is then an exact step of a
+      matrix within η_k of the scaled σ_k I − M, so the eigen-residual falls to about η_k per
+      shift, while the nearly singular last systems (‖y‖ ≈ ‖e‖ / (σ_k − μ), far above ‖b‖) are
+      not solved to a residual relative to ‖b‖ that they need not and often cannot reach.
+      σ_k − μ shrinks superlinearly. Should a
       solve come out negative (eᵀy < 0: σ fell below μ), the shift returns to the last one
       above μ and stays there (plain inverse iteration, linear convergence).
 
@@ -452,15 +454,22 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
         )
         e = vectors[:, 0].real
         return float(values[0].real), e / e[np.argmax(np.abs(e))], ()
-    e, rho, counts = np.ones(n), np.nan, []
+    e, counts = np.ones(n), []
+    rho = float(e @ (M @ e)) / n
     above, fixed = sigma, False
     identity = sp.identity(n, format="csr")
-    error = eigen_residual(M, float(np.ones(n) @ (M @ np.ones(n))) / n, e)
+    error = eigen_residual(M, rho, e)
     for _ in range(MAX_SHIFTS):
         A, inverse = _scaled_rows(sigma * identity - M)
-        guess = None if np.isnan(rho) or sigma <= rho else e / (sigma - rho)
-        inner = max(s.residual, min(1e-2, 0.1 * error))
-        y, iterations = _iterative(A, inverse @ e, s, method, guess, inner)
+        b = inverse @ e
+        guess = e / (sigma - rho) if sigma > rho else None
+        # the backward error max(residual, min(10⁻², r_k/10)) as a residual relative to b:
+        # ‖A y − b‖ ≤ η ‖A‖ ‖y‖ with ‖y‖ ≈ ‖e‖ / (σ − ρ)
+        backward = max(s.residual, min(1e-2, 0.1 * error))
+        growth = 1.0
+        if guess is not None:
+            growth = float(abs(A).sum(axis=1).max() * np.linalg.norm(guess) / np.linalg.norm(b))
+        y, iterations = _iterative(A, b, s, method, guess, min(0.1, backward * max(growth, 1.0)))
         counts.append(iterations)
         if e @ y < 0:  # σ fell below μ: back to the last shift above it, and keep it
             sigma, fixed = above, True
