@@ -14,11 +14,18 @@ It prints the seconds (setup + solve, shortest of ``repeats``) and the relative 
 and each method's time relative to ``splu`` in the same run; a method that took more than
 :data:`TIME_LIMIT` is not run on the larger cases.
 
-    python benchmarks/stationary_solvers.py
+``--average`` instead solves the average-cost problem of the same chains (no exit set; q as
+above) with ``gridlbc.solve(..., error_estimate=False)`` by ARPACK about a sparse LU
+(``linear_solver="direct"``) and by Noda's inverse iteration on BiCGSTAB (``"bicgstab"``, with
+the ILU-GMRES fallback of ``"auto"``), and prints each one's seconds, eigen-residual
+‖(M − μI)e‖ / (‖M‖∞‖e‖), Krylov iterations (per shift) and the difference of the two c.
+
+    python benchmarks/stationary_solvers.py [--average]
 """
 
 from __future__ import annotations
 
+import sys
 import time
 
 import numpy as np
@@ -136,5 +143,73 @@ def main(repeats: int = 1) -> None:
         print(f"{name:<12}{A.shape[0]:>10}" + "".join(f"{c:>22}" for c in cells), flush=True)
 
 
+AVERAGE_CASES = {
+    "2-D 201²": (2, 201, False),
+    "2-D 401²": (2, 401, False),
+    "2-D 201², noise on x₂": (2, 201, True),
+    "3-D 21³": (3, 21, False),
+    "3-D 31³": (3, 31, False),
+    "3-D 41³": (3, 41, False),
+    "3-D 31³, noise on x₃": (3, 31, True),
+    "4-D 15⁴": (4, 15, False),
+    "4-D 21⁴": (4, 21, False),
+}
+"""name: (dimension, nodes per axis, noise on the last axis only)."""
+
+
+def average_problem(d: int, n: int, last_only: bool):
+    """The chain of :func:`system` without an exit: an average-cost problem (with noise, and
+    control, on the last axis only where ``last_only``: a mechanical chain)."""
+    A = np.diag(np.ones(d - 1), 1) * 0.5
+    B = np.eye(d)[:, -1:] if last_only else np.eye(d)
+    return g.Problem(
+        g.systems.LinearSystem(A, B),
+        g.Grid([g.Axis(-2, 2, n) for _ in range(d)]),
+        "average",
+        state_cost=lambda x: 1.0 + 0.25 * np.sum(x**2, axis=1),
+        control_cost=np.arange(1.0, B.shape[1] + 1),
+        temperature=0.5,
+    )
+
+
+def average_main() -> None:
+    from gridlbc.schemes.generator import generator_matrix
+    from gridlbc.stationary import eigen_residual
+
+    print(
+        f"{'problem':<24}{'unknowns':>9}{'LU+ARPACK':>12}{'residual':>10}{'Noda+BiCGSTAB':>15}"
+        f"{'residual':>10}{'×LU':>7}  {'|Δc|':>8}  iterations per shift",
+        flush=True,
+    )
+    too_slow = False
+    for name, (d, n, last_only) in AVERAGE_CASES.items():
+        problem = average_problem(d, n, last_only)
+        M = generator_matrix(problem, "fitted") - sp.diags(problem.state_cost_values() / 0.5)
+        out = {}
+        for method in ("direct", "bicgstab"):
+            if method == "direct" and (too_slow or d >= 4):  # 4-D LU: 258 s on 15⁴ (first exit)
+                continue
+            started = time.perf_counter()
+            s = g.solve(problem, linear_solver=method, error_estimate=False)
+            wall = time.perf_counter() - started
+            too_slow |= method == "direct" and wall > TIME_LIMIT
+            mu = -s.average_cost / problem.temperature
+            out[method] = (wall, eigen_residual(M, mu, s.slices[0]), s)
+        it = out["bicgstab"][2].diagnostics.iterations
+        if "direct" in out:
+            lu = f"{out['direct'][0]:>11.2f}s{out['direct'][1]:>10.0e}"
+            ratio = f"{out['bicgstab'][0] / out['direct'][0]:>7.2f}"
+            dc = abs(out["bicgstab"][2].average_cost - out["direct"][2].average_cost)
+            dc_text = f"{dc:>8.0e}"
+        else:
+            skipped = "(too slow)" if too_slow and d < 4 else "(not run)"
+            lu, ratio, dc_text = f"{skipped:>12}{'':>10}", f"{'':>7}", f"{'':>8}"
+        print(
+            f"{name:<24}{M.shape[0]:>9}{lu}{out['bicgstab'][0]:>14.2f}s"
+            f"{out['bicgstab'][1]:>10.0e}{ratio}  {dc_text}  {sum(it)} {it}",
+            flush=True,
+        )
+
+
 if __name__ == "__main__":
-    main()
+    average_main() if "--average" in sys.argv[1:] else main()

@@ -218,8 +218,8 @@ class EmbeddedEstimate:
         where the relative difference is at most :data:`ASYMPTOTIC` and 1 elsewhere."""
         v = solution.value(x, t)
         difference = np.abs(self.solution.value(x, t) - v)
-        near = relative_error(difference, v, solution.temperature) <= ASYMPTOTIC
-        return np.where(near, difference / (2.0**self.order - 1.0), difference)
+        relative = relative_error(difference, v, solution.temperature)
+        return richardson(difference, relative, self.order)
 
     def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
@@ -252,17 +252,103 @@ def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
     v, v2 = solution.value(X, 0.0), embedded.value(X, 0.0)
     observed = np.nan
     if coarser is not None:
-        fine, coarse = np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2)
-        usable = np.isfinite(fine) & np.isfinite(coarse)
-        if usable.any() and fine[usable].sum() > 0:
-            with np.errstate(divide="ignore"):
-                observed = float(np.log2(coarse[usable].sum() / fine[usable].sum()))
-    order = 1.0 if np.isnan(observed) else float(np.clip(observed, 1.0, 2.0))
+        observed = observed_order(np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2))
+    order = clipped_order(observed)
     estimate = EmbeddedEstimate(embedded, observed, order, 0.0)
     relative = relative_error(estimate.local(solution, X), v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
     return EmbeddedEstimate(embedded, observed, order, floor)
+
+
+def observed_order(fine, coarse) -> float:
+    """p = log₂( Σ coarse / Σ fine ) over the entries where both differences are finite: the
+    order observed from the differences between successive levels, ``fine`` = abs(v_2h − v_h)
+    and ``coarse`` = abs(v_4h − v_2h); NaN where nothing can be compared."""
+    fine, coarse = np.atleast_1d(np.asarray(fine, float)), np.atleast_1d(np.asarray(coarse, float))
+    usable = np.isfinite(fine) & np.isfinite(coarse)
+    if not usable.any() or fine[usable].sum() <= 0:
+        return np.nan
+    with np.errstate(divide="ignore"):
+        return float(np.log2(coarse[usable].sum() / fine[usable].sum()))
+
+
+def clipped_order(observed: float) -> float:
+    """q: the ``observed`` order clipped to [1, 2], and 1 where it is NaN (module docstring)."""
+    return 1.0 if np.isnan(observed) else float(np.clip(observed, 1.0, 2.0))
+
+
+def richardson(difference, relative, order: float) -> np.ndarray:
+    """The local estimate from abs(v_2h − v_h): ``difference`` / (2^q − 1) where its
+    ``relative`` size is at most :data:`ASYMPTOTIC`, the ``difference`` itself elsewhere (the
+    module docstring says why)."""
+    difference = np.asarray(difference, dtype=float)
+    near = np.asarray(relative) <= ASYMPTOTIC
+    return np.where(near, difference / (2.0**order - 1.0), difference)
+
+
+@dataclass(frozen=True)
+class ScalarEstimate:
+    """The embedded estimate of one number computed by a solve (an average cost c), from the same
+    number computed on the embedded grids h, 2h and 4h. With the order observed from them,
+
+        p = log₂( abs(c_4h − c_2h) / abs(c_2h − c_h) ),      q = p clipped to [1, 2]
+
+    (q = 1 without the 4h level), the estimate is
+
+        ê = max( abs(c_2h − c_h),  abs(c_4h − c_2h) / 2^q ) / (2^q − 1),
+
+    and without the division where abs(c_2h − c_h) exceeds :data:`ASYMPTOTIC` · abs(c_h), as for
+    the values (:func:`richardson`). The second term is the difference that the coarser pair
+    predicts between the finer: it keeps ê from vanishing where c_h and c_2h agree by chance
+    (two error terms of opposite sign crossing), as the floor does for the values.
+
+    Attributes
+    ----------
+    error : float
+        ê, in the units of the number.
+    observed_order : float
+        p before clipping (NaN without a third level).
+    levels : tuple of float
+        The number on the grids h, 2h (and 4h).
+    """
+
+    error: float
+    observed_order: float
+    levels: tuple[float, ...]
+
+    @property
+    def relative(self) -> float:
+        """ê / abs(c_h) (+inf where c_h is zero and ê is not)."""
+        fine = abs(self.levels[0])
+        if fine > 0:
+            return self.error / fine
+        return 0.0 if self.error == 0 else np.inf
+
+
+def scalar_estimate(levels) -> ScalarEstimate:
+    """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
+    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h).
+
+    Parameters
+    ----------
+    levels : sequence of float
+        c_h, c_2h and optionally c_4h.
+
+    Returns
+    -------
+    ScalarEstimate
+    """
+    c = [float(level) for level in levels]
+    difference = abs(c[1] - c[0])
+    observed, order = np.nan, 1.0
+    if len(c) > 2:
+        observed = observed_order(difference, abs(c[2] - c[1]))
+        order = clipped_order(observed)
+        difference = max(difference, abs(c[2] - c[1]) / 2.0**order)
+    relative = difference / abs(c[0]) if c[0] != 0 else np.inf
+    error = float(richardson(difference, relative, order))
+    return ScalarEstimate(error, observed, tuple(c))
 
 
 def attach_estimates(solutions, levels: list) -> None:
@@ -363,6 +449,38 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         "(docs page 'accuracy')",
         ResolutionWarning,
         stacklevel=4,
+    )
+
+
+def check_scalar(estimate: ScalarEstimate, name: str, tol: float = DEFAULT_TOLERANCE) -> None:
+    """Warn (:class:`gridlbc.ResolutionWarning`) when the relative :class:`ScalarEstimate` of the
+    number ``name`` exceeds ``tol``, as :func:`check_accuracy` does for the values.
+
+    Parameters
+    ----------
+    estimate : ScalarEstimate
+    name : str
+        What the number is, for the message (e.g. ``"the average cost c"``).
+    tol : float
+        The relative tolerance (default :data:`DEFAULT_TOLERANCE`).
+    """
+    if estimate.relative <= tol:
+        return
+    levels = ", ".join(f"{c:.4g}" for c in estimate.levels)
+    loose = (
+        " The coarser grids converge slowly or not at all (their differences shrink by less "
+        "than 2 per level), so the estimate is rough: the error may be well above or well below "
+        "it."
+        if estimate.observed_order < 1.0
+        else ""
+    )
+    warnings.warn(
+        f"the estimated error of {name} = {estimate.levels[0]:.6g} is {estimate.error:.3g}, "
+        f"{estimate.relative:.1%} of it (above {tol:.0%}): measured against the same solve on the "
+        f"grids with every other node ({levels} on h, 2h, 4h).{loose} Give a finer grid (docs "
+        "page 'accuracy')",
+        ResolutionWarning,
+        stacklevel=5,
     )
 
 

@@ -340,9 +340,14 @@ class StationarySolution(Solution):
     average_cost : float or None
         The optimal cost per unit time c of an average-cost problem (its value is then the
         relative value h, min 0); None for first exit.
+    average_cost_error : float or None
+        The embedded estimate of c's error, abs(c_2h − c) / (2^q − 1) with the order q observed
+        from c on the grids h, 2h and 4h (:func:`gridlbc.accuracy.scalar_estimate`); None for
+        first exit, without the estimate, or when loaded from a file.
     """
 
     average_cost: float | None = None
+    average_cost_error: float | None = None
 
     def stencil(self, x, t=0.0, gradient: bool = True) -> Stencil:
         """The simplices of states ``x`` ``(N, d)`` (``t`` is ignored)."""

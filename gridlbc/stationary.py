@@ -28,8 +28,13 @@ the same operator,
 
 the eigenvalue of largest real part, whose eigenvector is positive (Perron–Frobenius: the
 matrix's off-diagonal entries are non-negative). It is found by shift-and-invert Arnoldi
-(scipy's ARPACK) about σ = −min q/λ + ε, which is above the principal eigenvalue and closer to it
-than to any other. h is normalised to min h = 0.
+(scipy's ARPACK, one sparse LU) about σ = −min q/λ + ε, which is above the principal eigenvalue
+and closer to it than to any other, where the first-exit system would be solved by LU (one and
+two dimensions); otherwise by Noda's inverse iteration, whose shifts σ_k ↓ μ keep σ_k I − M a
+non-singular M-matrix solved by the same Krylov methods (:func:`principal_eigenpair`). h is
+normalised to min h = 0 at the nodes, and the embedded solves on the grids 2h and 4h, normalised
+the same way, give the estimates of h (:meth:`StationarySolution.error_estimate`) and of c
+(``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate`).
 """
 
 from __future__ import annotations
@@ -48,10 +53,12 @@ from .accuracy import (
     Refinement,
     assess,
     attach_estimates,
+    check_scalar,
     check_tolerance,
     embedded_grid,
     finish,
     refined_grid,
+    scalar_estimate,
 )
 from .errors import GridlbcWarning, ResolutionWarning
 from .grid import Grid
@@ -83,6 +90,10 @@ DIRECT_LIMIT = 1_000_000
 
 MAX_ITERATIONS = 5_000
 """Iterations of BiCGSTAB (restarts of GMRES: a tenth) before it counts as not converged."""
+
+MAX_SHIFTS = 50
+"""Shifts of the average cost's iterative eigen-solve (:func:`principal_eigenpair`) before it
+counts as not converged."""
 
 
 @dataclass(frozen=True)
@@ -192,37 +203,66 @@ def _digest(*arrays: np.ndarray) -> str:
     return "sha256:" + h.hexdigest()[:16]
 
 
+def _method(s: StationarySettings, ndim: int, unknowns: int) -> str:
+    """The linear solver that ``s.linear_solver`` names, ``"auto"`` resolved: sparse LU in one
+    and two dimensions up to :data:`DIRECT_LIMIT` unknowns, BiCGSTAB otherwise."""
+    if s.linear_solver != "auto":
+        return s.linear_solver
+    return "direct" if ndim <= 2 and unknowns <= DIRECT_LIMIT else "bicgstab"
+
+
+def _scaled_rows(A: sp.spmatrix) -> tuple[sp.csr_matrix, sp.dia_matrix]:
+    """A with its rows divided by their diagonal, and that diagonal's inverse (for the
+    right-hand sides): a node whose arm to the exit set is very short has a very large rate to
+    it, and the scaled row (unit diagonal, off-diagonal sum below 1) keeps both the conditioning
+    and an iterative solver's residual meaningful."""
+    inverse = sp.diags(1.0 / A.diagonal())
+    return (inverse @ A).tocsr(), inverse
+
+
 def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: int):
     """Z with A Z = b for right-hand sides ``b`` ``(n, K)``, and the iteration count (0 for the
-    direct solve, which factorises once for all K). The rows are first
-    divided by their diagonal: a node whose arm to the exit set is very short has a very large
-    rate to it, and the scaled row (unit diagonal, off-diagonal sum below 1) keeps both the
-    conditioning and an iterative solver's residual meaningful."""
-    inverse = sp.diags(1.0 / A.diagonal())
-    A, b = (inverse @ A).tocsr(), inverse @ b
-    method = s.linear_solver
-    if method == "auto":
-        method = "direct" if ndim <= 2 and A.shape[0] <= DIRECT_LIMIT else "bicgstab"
+    direct solve, which factorises once for all K), the rows scaled first (:func:`_scaled_rows`)."""
+    A, inverse = _scaled_rows(A)
+    b = inverse @ b
+    method = _method(s, ndim, A.shape[0])
     if method == "direct":
         return spla.splu(A.tocsc()).solve(b), 0
     Z, total = np.empty_like(b), 0
     for r in range(b.shape[1]):
-        z, iterations = _krylov(A, b[:, r], s.residual, method)
-        if z is None and s.linear_solver == "auto":  # BiCGSTAB stalled: ILU-preconditioned GMRES
-            z, more = _krylov(A, b[:, r], s.residual, "gmres")
-            iterations += more
-        if z is None:
-            raise RuntimeError(
-                f"the Krylov solve did not reach the relative residual {s.residual:g} in "
-                f"{iterations} iterations: give linear_solver='direct' if its factorisation fits "
-                "in memory"
-            )
-        Z[:, r], total = z, total + iterations
+        Z[:, r], iterations = _iterative(A, b[:, r], s, method)
+        total += iterations
     return Z, total
 
 
-def _krylov(A: sp.csr_matrix, b: np.ndarray, residual: float, method: str):
-    """(z, iterations) by BiCGSTAB or ILU-preconditioned GMRES; z None if it did not converge."""
+def _iterative(
+    A: sp.csr_matrix,
+    b: np.ndarray,
+    s: StationarySettings,
+    method: str,
+    guess=None,
+    residual: float | None = None,
+):
+    """(z, iterations) with A z = b by ``method`` (``"bicgstab"`` or ``"gmres"``) from ``guess``
+    to the relative ``residual`` (default ``s.residual``), falling back on ILU-preconditioned
+    GMRES where BiCGSTAB stalls under ``"auto"``; a clear error if neither reaches it."""
+    residual = s.residual if residual is None else residual
+    z, iterations = _krylov(A, b, residual, method, guess)
+    if z is None and s.linear_solver == "auto":  # BiCGSTAB stalled: ILU-preconditioned GMRES
+        z, more = _krylov(A, b, residual, "gmres", guess)
+        iterations += more
+    if z is None:
+        raise RuntimeError(
+            f"the Krylov solve did not reach the relative residual {residual:g} in "
+            f"{iterations} iterations: give linear_solver='direct' if its factorisation fits "
+            "in memory"
+        )
+    return z, iterations
+
+
+def _krylov(A: sp.csr_matrix, b: np.ndarray, residual: float, method: str, guess=None):
+    """(z, iterations) by BiCGSTAB or ILU-preconditioned GMRES from ``guess`` (default zero); z
+    None if it did not converge."""
     count = [0]
 
     def _count(_):
@@ -230,13 +270,14 @@ def _krylov(A: sp.csr_matrix, b: np.ndarray, residual: float, method: str):
 
     if method == "bicgstab":
         z, info = spla.bicgstab(
-            A, b, rtol=residual, atol=0.0, maxiter=MAX_ITERATIONS, callback=_count
+            A, b, x0=guess, rtol=residual, atol=0.0, maxiter=MAX_ITERATIONS, callback=_count
         )
     else:
         ilu = spla.spilu(A.tocsc(), drop_tol=1e-4, fill_factor=10)
         z, info = spla.gmres(
             A,
             b,
+            x0=guess,
             rtol=residual,
             atol=0.0,
             M=spla.LinearOperator(A.shape, ilu.solve),
@@ -321,7 +362,8 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
         z = np.empty(grid.size)
         z[E], z[interior] = z_exits[r], Z[:, r]
         np.clip(z, 0.0, None, out=z)  # an iterative solve's rounding may dip below zero
-        out.append(_package(p, s, z, tops[r], start, setup, iterations, digest))
+        counts = (iterations,) if iterations else ()
+        out.append(_package(p, s, z, tops[r], start, setup, counts, digest))
     return out
 
 
@@ -337,21 +379,17 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
     Returns
     -------
     StationarySolution
-        With ``average_cost`` c; its value is the relative value h (min 0).
+        With ``average_cost`` c; its value is the relative value h (min 0); ``diagnostics``
+        ``iterations`` holds the Krylov iterations of each shift of the iterative eigen-solve.
     """
     start = time.perf_counter()
     grid = problem.require_grid("solve")
     problem.noise_diagonal(grid.node_coordinates([0]))
     lam = problem.temperature
     q = problem.state_cost_values()
-    M = (generator_matrix(problem, s.rates) - sp.diags(q / lam)).tocsc()
-    scale = max(float(np.abs(M.diagonal()).max()), 1e-300)
-    sigma = -q.min() / lam + 1e-3 * scale
+    M = (generator_matrix(problem, s.rates) - sp.diags(q / lam)).tocsr()
     setup = time.perf_counter() - start
-    values, vectors = spla.eigs(M, k=1, sigma=sigma, which="LM", tol=s.residual)
-    mu = float(values[0].real)
-    e = vectors[:, 0].real
-    e = e * np.sign(e[np.argmax(np.abs(e))])
+    mu, e, iterations = principal_eigenpair(M, s, grid.ndim)
     if e.min() < -1e-8 * e.max():
         warnings.warn(
             "the principal eigenvector has negative entries beyond rounding: the chain may not "
@@ -360,13 +398,107 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
             stacklevel=3,
         )
     e = np.clip(e / e.max(), 0.0, None)
-    solution = _package(problem, s, e, 0.0, start, setup, 0, _digest(q, M.data))
+    solution = _package(problem, s, e, 0.0, start, setup, iterations, _digest(q, M.data))
     object.__setattr__(solution, "average_cost", -lam * mu)
     return solution
 
 
+def eigen_residual(M: sp.spmatrix, mu: float, e: np.ndarray) -> float:
+    """‖(M − μ I) e‖₂ / (‖M‖_∞ ‖e‖₂): the eigen-solve's convergence measure."""
+    norm = float(abs(M).sum(axis=1).max())
+    return float(np.linalg.norm(M @ e - mu * e) / (norm * np.linalg.norm(e)))
+
+
+def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
+    """The eigenvalue μ of largest real part of M = L − diag(q/λ) and its eigenvector e > 0 (max
+    entry 1), and the Krylov iterations per shift (empty for the direct solve).
+
+    M's off-diagonal entries are non-negative, so (Perron–Frobenius, for an irreducible chain) μ
+    is real and simple, e is positive, and for every σ > μ the matrix σI − M is a non-singular
+    M-matrix with a positive inverse. For any positive vector x the Collatz–Wielandt quotients
+    bracket μ,
+
+        min_i (Mx)_i / x_i  ≤  μ  ≤  max_i (Mx)_i / x_i,
+
+    the upper one with x = 1 being the largest row sum, −min q/λ. Two methods, after
+    ``s.linear_solver`` (:func:`_method`):
+
+    - direct: shift-and-invert Arnoldi (ARPACK, started from 1) about σ = −min q/λ + ε, one
+      sparse LU of M − σI;
+    - iterative (Noda's inverse iteration): from e₀ = 1, σ₀ = −min q/λ + ε,
+
+          (σ_k I − M) y = e_k,      e_{k+1} = y / max y,
+          σ_{k+1} = max( max_i (M e_{k+1})_i / e_{k+1,i},  ρ_{k+1} + δ ),
+
+      the Collatz–Wielandt quotient read where e_{k+1,i} ≥ √``residual`` (below that an
+      iterative solve does not resolve e's entries), never above σ_k, and ρ = eᵀMe / eᵀe
+      the Rayleigh quotient (δ = ``residual`` ‖M‖_∞). σ_k stays above μ, so each shifted system
+      is an M-matrix, solved as the first-exit system is (rows scaled, BiCGSTAB, ILU-GMRES where
+      it stalls), from the guess y₀ = e_k / (σ_k − ρ_k), to the backward error
+      η_k = max(``residual``, min(10⁻², r_k / 10)), r_k the eigen-residual of e_k below: it stops
+      at ‖A y − b‖ ≤ η_k ‖A‖_∞ ‖y₀‖ (at most 0.1 ‖b‖). e_{k+1} is then an exact step of a
+      matrix within η_k of the scaled σ_k I − M, so the eigen-residual falls to about η_k per
+      shift, while the nearly singular last systems (‖y‖ ≈ ‖e‖ / (σ_k − μ), far above ‖b‖) are
+      not solved to a residual relative to ‖b‖ that they need not and often cannot reach.
+      σ_k − μ shrinks superlinearly. Should a
+      solve come out negative (eᵀy < 0: σ fell below μ), the shift returns to the last one
+      above μ and stays there (plain inverse iteration, linear convergence).
+
+    Both stop when the eigen-residual ‖(M − ρI)e‖₂ ≤ ``residual`` · ‖M‖_∞ ‖e‖₂
+    (:func:`eigen_residual`); the iterative one after :data:`MAX_SHIFTS` shifts at most.
+    """
+    n = M.shape[0]
+    upper = float((M @ np.ones(n)).max())
+    norm = float(abs(M).sum(axis=1).max())
+    sigma = upper + 1e-3 * max(float(np.abs(M.diagonal()).max()), 1e-300)
+    method = _method(s, ndim, n)
+    if method == "direct":
+        start = np.ones(n)  # ARPACK's default start is random: the same solve, the same digits
+        values, vectors = spla.eigs(
+            M.tocsc(), k=1, sigma=sigma, which="LM", tol=s.residual, v0=start
+        )
+        e = vectors[:, 0].real
+        return float(values[0].real), e / e[np.argmax(np.abs(e))], ()
+    e, counts = np.ones(n), []
+    rho = float(e @ (M @ e)) / n
+    above, fixed = sigma, False
+    identity = sp.identity(n, format="csr")
+    error = eigen_residual(M, rho, e)
+    for _ in range(MAX_SHIFTS):
+        A, inverse = _scaled_rows(sigma * identity - M)
+        b = inverse @ e
+        guess = e / (sigma - rho) if sigma > rho else None
+        # the backward error max(residual, min(10⁻², r_k/10)) as a residual relative to b:
+        # ‖A y − b‖ ≤ η ‖A‖ ‖y‖ with ‖y‖ ≈ ‖e‖ / (σ − ρ)
+        backward = max(s.residual, min(1e-2, 0.1 * error))
+        growth = 1.0
+        if guess is not None:
+            growth = float(abs(A).sum(axis=1).max() * np.linalg.norm(guess) / np.linalg.norm(b))
+        y, iterations = _iterative(A, b, s, method, guess, min(0.1, backward * max(growth, 1.0)))
+        counts.append(iterations)
+        if e @ y < 0:  # σ fell below μ: back to the last shift above it, and keep it
+            sigma, fixed = above, True
+        else:
+            above = sigma
+        e = y / y[np.argmax(np.abs(y))]
+        Me = M @ e
+        rho = float(e @ Me / (e @ e))
+        error = float(np.linalg.norm(Me - rho * e) / (norm * np.linalg.norm(e)))
+        if error <= s.residual:
+            return rho, e, tuple(counts)
+        if not fixed:
+            resolved = e >= np.sqrt(s.residual)
+            quotient = float(np.max(Me[resolved] / e[resolved]))
+            sigma = min(sigma, max(quotient, rho + s.residual * norm))
+    raise RuntimeError(
+        f"the average cost's eigen-solve did not reach the residual {s.residual:g} in "
+        f"{MAX_SHIFTS} shifts ({sum(counts)} Krylov iterations): give linear_solver='direct' "
+        "if its factorisation fits in memory, or a larger residual="
+    )
+
+
 def _package(problem, s, z, top, start, setup, iterations, digest) -> StationarySolution:
-    """A :class:`StationarySolution` of nodal ``z`` · e^top."""
+    """A :class:`StationarySolution` of nodal ``z`` · e^top; ``iterations`` a tuple of counts."""
     peak = float(z.max())
     Z = z / peak if peak > 0 else z
     diagnostics = SolveDiagnostics(
@@ -380,7 +512,7 @@ def _package(problem, s, z, top, start, setup, iterations, digest) -> Stationary
         stored_bytes=int(Z.nbytes),
         operator_bytes=0,
         courant=0.0,
-        iterations=(iterations,) if iterations else (),
+        iterations=tuple(iterations),
     )
     operator = OperatorSignature(f"stationary-{s.rates}", 0.0, digest)
     return StationarySolution(
@@ -512,10 +644,14 @@ def solve_stationary(problem: Problem, **options) -> StationarySolution:
     StationarySolution
     """
     s = stationary_settings(options)
-    solve = solve_average_cost if problem.average_cost else solve_first_exit
-    solution = solve(problem, s)
-    if s.error_estimate and not problem.average_cost:
-        _embed(problem, s, solution)
+    if not problem.average_cost:
+        solution = solve_first_exit(problem, s)
+        if s.error_estimate:
+            _embed(problem, s, solution)
+        return solution
+    solution = solve_average_cost(problem, s)
+    if s.error_estimate:
+        _embed_average(problem, s, solution)
     return solution
 
 
@@ -526,9 +662,33 @@ def _embed(problem: Problem, s: StationarySettings, solution: StationarySolution
 
 def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) -> None:
     """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
-    and exit cost on the grids with every other node (2h and 4h), whose own warnings are
-    silenced; and warn where an estimate exceeds the default tolerance."""
-    levels = []
+    and exit cost on the grids with every other node (2h and 4h); and warn where an estimate
+    exceeds the default tolerance."""
+    levels = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
+    attach_estimates(solutions, levels)
+
+
+def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
+    """Attach to an average-cost solution the embedded estimates of its relative value h
+    (:func:`gridlbc.accuracy.attach_estimates`: h normalised to min 0 at the nodes on every
+    level, as on this one) and of its average cost c (``average_cost_error``,
+    :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h and 4h); warn where
+    either exceeds the default tolerance."""
+    levels = _levels(problem, lambda p: [solve_average_cost(p, s)])
+    attach_estimates([solution], levels)
+    if levels:
+        estimate = scalar_estimate(
+            [solution.average_cost] + [level[0].average_cost for level in levels]
+        )
+        object.__setattr__(solution, "average_cost_error", estimate.error)
+        check_scalar(estimate, "the average cost c")
+
+
+def _levels(problem: Problem, solve) -> list:
+    """``solve(problem on the grid)`` on the grids with every other node (2h) and the one below
+    it (4h), their own warnings silenced; fewer levels where a grid is too coarse to embed or
+    the problem is not resolved that coarsely (an exit set the coarse grid misses)."""
+    levels: list = []
     grid: Grid | None = problem.require_grid("an embedded solve")
     for _ in range(2):
         grid = embedded_grid(grid) if grid is not None else None
@@ -537,7 +697,7 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             try:
-                levels.append(solve_first_exit_many(problem.replace(grid=grid), exit_costs, s))
+                levels.append(solve(problem.replace(grid=grid)))
             except ValueError:  # the exit set or the costs are not resolved that coarsely
                 break
-    attach_estimates(solutions, levels)
+    return levels

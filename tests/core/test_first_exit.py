@@ -157,7 +157,11 @@ def test_average_cost_of_the_point_mass_matches_the_riccati_equation():
         state_cost=g.costs.Quadratic([0, 0], [1, 0.1]),
         temperature=0.5,
     )
-    assert g.solve(problem).average_cost == pytest.approx(0.5 * P[1, 1], rel=1e-3)
+    # h itself is coarser than c here (upwind position axis): its estimate warns
+    with pytest.warns(g.ResolutionWarning, match="error of v"):
+        solution = g.solve(problem)
+    assert solution.average_cost == pytest.approx(0.5 * P[1, 1], rel=1e-3)
+    assert solution.average_cost_error >= 0.5 * abs(solution.average_cost - 0.5 * P[1, 1])
 
 
 @pytest.mark.parametrize(
@@ -234,8 +238,10 @@ def test_stationary_solutions_save_and_load_exactly(tmp_path):
     np.testing.assert_array_equal(loaded.problem.exit_mask(), s.problem.exit_mask())
     np.testing.assert_array_equal(loaded.error_estimate(x), s.error_estimate(x))
     assert g.combine([loaded, g.load(path)]).exact
-    a = g.solve(quadratic_average(41))
-    assert g.load(g.save(a, tmp_path / "average.npz")).average_cost == a.average_cost
+    a = g.solve(quadratic_average(81))  # 41 nodes: h's estimate (7.8 %) warns
+    loaded = g.load(g.save(a, tmp_path / "average.npz"))
+    assert loaded.average_cost == a.average_cost
+    np.testing.assert_array_equal(loaded.error_estimate(x[:, :1]), a.error_estimate(x[:, :1]))
 
 
 def two_bays_problem(n):
@@ -386,3 +392,90 @@ def test_solve_many_solves_exit_costs_with_one_operator():
         np.testing.assert_allclose(solution.value(x), alone.value(x), rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(solution.error_estimate(x), alone.error_estimate(x), rtol=1e-9)
     assert g.combine(together).exact
+
+
+def lq_average_3d(n):
+    """A coupled 3-D chain dx = (Ax + u) dt + dξ, A = ½ on the superdiagonal, control costs 1, 2, 3,
+    q = |x|², λ = ½, on [−3, 3]³ (the stationary law's standard deviations are below 0.43, so
+    the box's reflection is negligible), forever; and its exact average cost
+    c = λ tr(B R⁻¹ Bᵀ P), P = X/2 with AᵀX + XA − X B R⁻¹ Bᵀ X + 2Q = 0."""
+    A, R3 = np.diag([0.5, 0.5], 1), np.diag([1.0, 2.0, 3.0])
+    P = sl.solve_continuous_are(A, np.eye(3), 2 * np.eye(3), R3) / 2
+    problem = g.Problem(
+        g.systems.LinearSystem(A, np.eye(3)),
+        g.Grid([g.Axis(-3, 3, n) for _ in range(3)]),
+        "average",
+        state_cost=g.costs.Quadratic([0.0] * 3, [1.0] * 3),
+        control_cost=np.diag(R3),
+        temperature=0.5,
+    )
+    return problem, 0.5 * np.trace(np.linalg.inv(R3) @ P)
+
+
+def test_average_cost_in_3d_converges_to_riccati_at_second_order():
+    # From 3-D the eigen-solve is iterative (Noda's inverse iteration on BiCGSTAB). Noise on
+    # every axis and cell Péclet numbers below 1: the fitted rates are central, O(h²), so
+    # halving h divides c's error by 4 (3.5–4.6 for the next terms), and 41³ (h = 0.15) is
+    # within 1 % (the error is about 0.2 h²; a 41³ solve's eigen-residual is 1e-12).
+    problem, exact = lq_average_3d(21)
+    coarse = g.solve(problem, error_estimate=False)
+    fine = g.solve(problem.replace(grid=lq_average_3d(41)[0].grid), error_estimate=False)
+    assert len(fine.diagnostics.iterations) >= 2  # one count of Krylov iterations per shift
+    errors = [abs(s.average_cost - exact) for s in (coarse, fine)]
+    assert 3.5 < errors[0] / errors[1] < 4.6, errors
+    assert errors[1] < 0.01 * exact
+
+
+@pytest.mark.parametrize("linear_solver", ["bicgstab", "gmres"])
+def test_iterative_eigen_solve_equals_the_direct_one(linear_solver):
+    # A 2-D coupled chain, 41²: both stop at an eigen-residual ‖(M − μI)e‖ ≤ 1e-12 ‖M‖∞‖e‖
+    # (‖M‖∞ ≈ 10²; μ is simple and well separated, so μ agrees to about 1e-10 and e to
+    # about 1e-10 of its largest entry: the iterative one measured 3e-13 and 3e-11). h = −λ log e
+    # then agrees to 1e-6 where e is above 1e-3 (h within 7λ of its minimum).
+    problem = g.Problem(
+        g.systems.LinearSystem(np.diag([0.5], 1), np.eye(2)),
+        g.Grid([g.Axis(-3, 3, 41) for _ in range(2)]),
+        "average",
+        state_cost=g.costs.Quadratic([0.0, 0.0], [1.0, 1.0]),
+        control_cost=[1.0, 2.0],
+        temperature=0.5,
+    )
+    direct = g.solve(problem, linear_solver="direct", error_estimate=False)
+    iterative = g.solve(problem, linear_solver=linear_solver, error_estimate=False)
+    assert direct.diagnostics.iterations == () and len(iterative.diagnostics.iterations) >= 2
+    assert iterative.average_cost == pytest.approx(direct.average_cost, rel=1e-10)
+    e, e_direct = iterative.slices[0], direct.slices[0]
+    np.testing.assert_allclose(e, e_direct, rtol=0, atol=1e-9)
+    near = e_direct > 1e-3
+    np.testing.assert_allclose(
+        iterative.value_nodes()[near], direct.value_nodes()[near], rtol=0, atol=1e-6
+    )
+
+
+@pytest.mark.parametrize("n", [33, 41, 81])
+def test_average_cost_error_estimate_covers_the_error(n):
+    # c from the solves on h, 2h and 4h (Richardson, order clipped to [1, 2]) against the
+    # Riccati c of the 1-D LQ problem: at least half the actual error, and within 4× of it once
+    # the levels converge (81: 1.06×; 33 and 41, whose 4h grids have 9 and 11 nodes, 2.4×).
+    solution = g.solve(quadratic_average(n)) if n == 81 else _quietly(quadratic_average(n))
+    actual = abs(solution.average_cost - LAM / R * np.sqrt(Q * R / 2))
+    assert 0.5 * actual <= solution.average_cost_error <= 4 * actual
+
+
+def _quietly(problem):
+    with pytest.warns(g.ResolutionWarning, match="error of v"):  # h's estimate, not c's
+        return g.solve(problem)
+
+
+def test_average_cost_warns_where_its_estimate_exceeds_the_tolerance():
+    # 21 nodes on [−4, 4] (h = 0.4, where v/λ rises by up to 6 per cell at the edges): c is 4 %
+    # low and its estimate, from 11 and 6 nodes, is 50 % of c: above the 5 % default, so the
+    # solve warns about c (and about h); error_estimate=False solves it silently.
+    problem = quadratic_average(21)
+    with pytest.warns(g.ResolutionWarning) as record:
+        solution = g.solve(problem)
+    messages = [str(w.message) for w in record]
+    assert any("average cost c" in m and "finer grid" in m for m in messages), messages
+    assert solution.average_cost_error > 0.05 * solution.average_cost
+    quiet = g.solve(problem, error_estimate=False)
+    assert quiet.average_cost_error is None and quiet.average_cost == solution.average_cost
