@@ -258,6 +258,7 @@ def _record(solution: Solution, arrays: dict) -> dict:
     }
     if isinstance(solution, StationarySolution) and solution.average_cost is not None:
         meta["average_cost"] = solution.average_cost
+        meta["average_cost_error"] = solution.average_cost_error
     if reference is not None:
         meta["reference_sha256"] = _digest(reference.log_slices, reference.log_scales)
     return meta
@@ -382,7 +383,11 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
     representation = _representation(str(name), reference, path)
     fields = (problem, times, slices, scales, diagnostics, operator, representation)
     if problem.stationary:
-        return StationarySolution(*fields, average_cost=meta.get("average_cost"))
+        return StationarySolution(
+            *fields,
+            average_cost=meta.get("average_cost"),
+            average_cost_error=meta.get("average_cost_error"),
+        )
     return Solution(*fields)
 
 

@@ -241,6 +241,7 @@ def test_stationary_solutions_save_and_load_exactly(tmp_path):
     a = g.solve(quadratic_average(81))  # 41 nodes: h's estimate (7.8 %) warns
     loaded = g.load(g.save(a, tmp_path / "average.npz"))
     assert loaded.average_cost == a.average_cost
+    assert loaded.average_cost_error == a.average_cost_error is not None
     np.testing.assert_array_equal(loaded.error_estimate(x[:, :1]), a.error_estimate(x[:, :1]))
 
 
