@@ -15,7 +15,7 @@ have (it prices the episode's length; see the module). The rows:
 - the published agents, quoted (rl-baselines3-zoo benchmark.md): ARS 96.67 ± 0.78, SAC 94.68,
   TD3 93.48.
 
-Acrobot-v1 (``GymAcrobot``, gym's book dynamics in canonical momenta): a minimum-time
+Acrobot-v1 (``gridlbc.studies.gym_acrobot``, gym's book dynamics in canonical momenta): a minimum-time
 first-exit solve (q = 1 per second, exit when the tip is above the bar) on a coarse 4-D grid,
 gym's torque the sign of the linear policy (grid size and λ searched as above), and the bounded
 HJB on 13⁴; QR-DQN −69.14 ± 9.97, PPO −73.5, DQN −76.6 quoted; no DP (4-D).
@@ -40,15 +40,17 @@ import warnings
 import gridlbc
 from gridlbc.errors import GridlbcWarning
 from gridlbc.reference import solve_hjb
-from gridlbc.studies.gym_clients import (
+from gridlbc.studies.gym_acrobot import (
     ACROBOT_ID,
-    MOUNTAIN_CAR_ID,
     acrobot_problem,
     acrobot_torques,
+    run_acrobot,
+)
+from gridlbc.studies.gym_clients import (
+    MOUNTAIN_CAR_ID,
     clipped,
     mountain_car_dp,
     mountain_car_problem,
-    run_acrobot,
     run_mountain_car,
     start_states,
 )
