@@ -482,16 +482,16 @@ def _bellman_kernel(values, out, successors, done, lo, spacing, shape, strides, 
     return change
 
 
-def acrobot_dp_grid(n=(31, 31, 31, 31)) -> Grid:
-    """Gym's state box: θ₁, θ₂ periodic on [−π, π), θ̇₁ ∈ ±4π, θ̇₂ ∈ ±9π (gym's clips),
-    ``n`` nodes per axis (one count or one per axis)."""
+def acrobot_dp_grid(n=(31, 31, 31, 31), speeds=MAX_SPEED) -> Grid:
+    """θ₁, θ₂ periodic on [−π, π), θ̇₁ ∈ ±``speeds[0]``, θ̇₂ ∈ ±``speeds[1]`` (by default gym's
+    clips, ±4π and ±9π), ``n`` nodes per axis (one count or one per axis)."""
     counts = np.broadcast_to(np.atleast_1d(n), (4,)).tolist()
     return Grid(
         [
             Axis(-math.pi, math.pi, int(counts[0]), periodic=True, name="theta1"),
             Axis(-math.pi, math.pi, int(counts[1]), periodic=True, name="theta2"),
-            Axis(-MAX_SPEED[0], MAX_SPEED[0], int(counts[2]), name="dtheta1"),
-            Axis(-MAX_SPEED[1], MAX_SPEED[1], int(counts[3]), name="dtheta2"),
+            Axis(-speeds[0], speeds[0], int(counts[2]), name="dtheta1"),
+            Axis(-speeds[1], speeds[1], int(counts[3]), name="dtheta2"),
         ]
     )
 
@@ -507,16 +507,19 @@ class AcrobotDP:
     wall_time: float
 
 
-def acrobot_dp(n=(31, 31, 31, 31), max_sweeps: int = ACROBOT_STEPS, tol: float = 1e-6) -> AcrobotDP:
+def acrobot_dp(
+    n=(31, 31, 31, 31), speeds=MAX_SPEED, max_sweeps: int = ACROBOT_STEPS, tol: float = 1e-6
+) -> AcrobotDP:
     """Value iteration on gym's deterministic map over its three torques, the value (gym steps
     to the bar, −1 reward each, the last free) interpolated multilinearly on
-    :func:`acrobot_dp_grid` ``(n)``; no model, only gym's step (RK4, wrapping, clips) and its
+    :func:`acrobot_dp_grid` ``(n, speeds)`` (beyond its velocities, the value at the box's
+    edge); no model, only gym's step (RK4, wrapping, clips) and its
     end test on the exact successor. Jacobi sweeps from C = 0: after k sweeps C is the optimum
     with k steps left (gym's limit is 500, the default ``max_sweeps``); stops earlier when the
     largest change is below ``tol``. The successors are computed once (16 bytes per node and
     torque, float32)."""
     started = time.perf_counter()
-    grid = acrobot_dp_grid(n)
+    grid = acrobot_dp_grid(n, speeds)
     successors = np.empty((grid.size, 3, 4), dtype=np.float32)
     done = np.empty((grid.size, 3), dtype=bool)
     _successor_kernel(grid.nodes(), successors, done)
