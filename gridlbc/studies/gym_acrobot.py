@@ -1,12 +1,30 @@
 """Gymnasium's ``Acrobot-v1`` as a minimum-time first-exit problem (:class:`GymAcrobot`,
 :func:`acrobot_problem`), played in gym (:func:`run_acrobot`).
 
-Gym's task: torques {−1, 0, +1} on the second joint, held for Δt = 0.2 s integrated by one RK4
-step, the angles wrapped to [−π, π] and the velocities clipped to ±4π and ±9π after each step;
-−1 per step until the tip is above the bar (−cos θ₁ − cos(θ₁ + θ₂) > 1), at most 500 steps,
-starts uniform in ±0.1 on all four coordinates.
-"""
+**Gym's task**: torques {−1, 0, +1} on the second joint, held for Δt = 0.2 s integrated by one
+RK4 step, the angles wrapped to [−π, π] and the velocities clipped to ±4π and ±9π after each
+step (:func:`acrobot_step`, gym's map); −1 per step until the tip is above the bar
+(−cos θ₁ − cos(θ₁ + θ₂) > 1), at most 500 steps, starts uniform in ±0.1 on all four
+coordinates.
 
+**The library's problem**: the continuous-time dynamics in canonical momenta (diagonal noise on
+p₂ alone), q = 1 per second, exit when the tip is above the bar, solved by ``gridlbc.solve``
+(linearly solvable) or ``solve_hjb(..., control_bounds=(-1, 1))`` (bounded torque).
+
+**Gym's three torques from a solve**, three ways:
+
+- :func:`acrobot_torques`: the sign of the continuous policy (the bounded minimum-time optimum
+  is bang-bang);
+- :meth:`StepsToGo.lookahead`: the best torque sequence of a few steps through gym's map, its
+  leaves scored by the solve's value (v / Δt steps to go);
+- :func:`rollout`: every torque for the next step (or sequence of a few), stepped by gym's map
+  and then continued by the sign policy on gym's map to the bar; the quickest wins. It is the
+  rollout of the sign policy (Bertsekas): never slower than it from any state, and it scores
+  each candidate by what actually happens in gym, not by the grid's value.
+
+:func:`acrobot_dp` is dynamic programming on gym's own map (no model, the value interpolated on a
+4-D grid of gym's angles and velocities): the optimum every agent is compared with.
+"""
 from __future__ import annotations
 
 import math
