@@ -25,6 +25,7 @@ p₂ alone), q = 1 per second, exit when the tip is above the bar, solved by ``g
 :func:`acrobot_dp` is dynamic programming on gym's own map (no model, the value interpolated on a
 4-D grid of gym's angles and velocities): the optimum every agent is compared with.
 """
+
 from __future__ import annotations
 
 import math
