@@ -15,10 +15,15 @@ have (it prices the episode's length; see the module). The rows:
 - the published agents, quoted (rl-baselines3-zoo benchmark.md): ARS 96.67 ± 0.78, SAC 94.68,
   TD3 93.48.
 
-Acrobot-v1 (``GymAcrobot``, gym's book dynamics in canonical momenta): a minimum-time
-first-exit solve (q = 1 per second, exit when the tip is above the bar) on a coarse 4-D grid,
-gym's torque the sign of the linear policy (grid size and λ searched as above), and the bounded
-HJB on 13⁴; QR-DQN −69.14 ± 9.97, PPO −73.5, DQN −76.6 quoted; no DP (4-D).
+Acrobot-v1 (``gridlbc.studies.gym_acrobot``, gym's book dynamics in canonical momenta): a
+minimum-time first-exit solve (q = 1 per second, exit when the tip is above the bar), its grid
+and λ searched on the rollout's score; gym's torque chosen three ways from it: the sign of its
+policy, a look-ahead of ``--acrobot-lookahead`` steps through gym's map on its value, and the
+rollout of the sign policy through gym's map (every torque sequence of length
+``--acrobot-rollout``, then the sign policy to the bar; the quickest wins). The bounded HJB on
+``--acrobot-hjb``⁴ the same way. Dynamic programming on gym's own map
+(``--acrobot-dp``⁴ nodes over the velocity box ``--acrobot-dp-speeds``): its predicted score at
+the episodes' starts, and its policy played. QR-DQN −69.14 ± 9.97, PPO −73.5, DQN −76.6 quoted.
 
 The first lines (stdout) are ``<env id>: mean <m> ± <se> over <N> episodes`` for the library's
 best policy (the better on the search's episodes of its linear and bounded HJB policies); then
@@ -33,22 +38,30 @@ from __future__ import annotations
 
 import argparse
 import itertools
+import math
 import sys
 import time
 import warnings
 
+import numpy as np
+
 import gridlbc
 from gridlbc.errors import GridlbcWarning
 from gridlbc.reference import solve_hjb
-from gridlbc.studies.gym_clients import (
+from gridlbc.studies.gym_acrobot import (
     ACROBOT_ID,
-    MOUNTAIN_CAR_ID,
+    StepsToGo,
+    acrobot_dp,
     acrobot_problem,
     acrobot_torques,
+    rollout,
+    run_acrobot,
+)
+from gridlbc.studies.gym_clients import (
+    MOUNTAIN_CAR_ID,
     clipped,
     mountain_car_dp,
     mountain_car_problem,
-    run_acrobot,
     run_mountain_car,
     start_states,
 )
@@ -171,62 +184,132 @@ def mountain_car(args) -> tuple[str, list[tuple]]:
     return headline, rows
 
 
+def _timed(play):
+    started = time.perf_counter()
+    episodes = play()
+    return episodes, time.perf_counter() - started
+
+
 def acrobot(args) -> tuple[str, list[tuple]]:
-    """Acrobot-v1: the minimum-time linear solve (torque = the sign of its policy), searched
-    like the mountain car's, and the bounded HJB on a coarse grid; no DP (4-D)."""
+    """Acrobot-v1: the minimum-time linear solve (grid and λ searched on the rollout's score)
+    and the bounded HJB, each played with gym's torque chosen three ways (the sign of the
+    policy, a look-ahead through gym's map on the solve's value, the rollout of the sign policy
+    through gym's map); dynamic programming on gym's own map for comparison."""
     gridlbc.solve(acrobot_problem((5, 5, 5, 5)), error_estimate=False)  # compile first
-    rows, best = [], None
-    found = None
-    for n, lam in args.acrobot_search:
+    acrobot_dp((5, 5, 5, 5), max_sweeps=2)
+
+    def linear(n, lam):
         problem = acrobot_problem((n,) * 4, temperature=lam)
+        started = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             solution = gridlbc.solve(problem, error_estimate=False)
-        episodes = run_acrobot(acrobot_torques(solution), args.search_episodes, seed=SEARCH_SEED)
-        log(f"  search Acrobot linear {n}⁴ λ={lam:g}: {episodes.summary()}")
+        return solution, time.perf_counter() - started
+
+    def score(name, setting, seconds, policy):
+        """A library row: searched on the search seeds, then scored; the play time noted."""
+        search = run_acrobot(policy, args.search_episodes, seed=SEARCH_SEED)
+        episodes, played = _timed(lambda: run_acrobot(policy, args.episodes))
+        log(
+            f"  Acrobot {name}: search {search.mean:.3f}, {episodes.summary()}, play {played:.0f} s"
+        )
+        setting += f"; play {played:.0f} s (search {search.mean:.2f})"
+        return (name, setting, seconds, episodes), search.mean
+
+    found = None
+    for n, lam in args.acrobot_search:
+        solution, _ = linear(n, lam)
+        episodes = run_acrobot(
+            rollout(acrobot_torques(solution)), args.search_episodes, SEARCH_SEED
+        )
+        log(f"  search Acrobot linear {n}⁴ λ={lam:g}, rollout: {episodes.summary()}")
         if found is None or episodes.mean > found[0]:
             found = (episodes.mean, (n, lam))
     assert found is not None
     n, lam = found[1]
-    problem = acrobot_problem((n,) * 4, temperature=lam)
-    started = time.perf_counter()
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", GridlbcWarning)
-        solution = gridlbc.solve(problem, error_estimate=False)
-    seconds = time.perf_counter() - started
-    episodes = run_acrobot(acrobot_torques(solution), args.episodes)
-    log(f"  Acrobot linear {n}⁴ λ={lam:g}: {episodes.summary()}")
-    rows.append(
-        (
-            "linearly solvable, minimum time, torque = sign(u)",
-            f"λ={lam:g}, R=0.1, q=1/s, {n}⁴, p ∈ ±(15, 8); best of "
-            f"{len(args.acrobot_search)} (search {found[0]:.3f} on {args.search_episodes})",
+    solution, seconds = linear(n, lam)
+    sign = acrobot_torques(solution)
+    where = f"λ={lam:g}, R=0.1, q=1/s, {n}⁴, p ∈ ±(15, 8)"
+    scored = [
+        score("linearly solvable, torque = sign(u)", where, seconds, sign),
+        score(
+            f"linearly solvable, look-ahead {args.acrobot_lookahead} steps on v",
+            where,
             seconds,
-            episodes,
-        )
-    )
-    best = episodes
-    if args.acrobot_hjb:
-        n = args.acrobot_hjb
-        problem = acrobot_problem((n,) * 4, temperature=0.1)
-        started = time.perf_counter()
-        bounded = solve_hjb(problem, control_bounds=(-1.0, 1.0))
-        seconds = time.perf_counter() - started
-        search = run_acrobot(acrobot_torques(bounded), args.search_episodes, seed=SEARCH_SEED)
-        episodes = run_acrobot(acrobot_torques(bounded), args.episodes)
-        log(f"  Acrobot HJB {n}⁴: search {search.mean:.3f}, {episodes.summary()}")
-        rows.append(
-            (
-                "HJB, control_bounds=(-1, 1), torque = sign(u)",
-                f"λ=0.1, R=0.1, q=1/s, {n}⁴, p ∈ ±(15, 8), policy iteration (search "
-                f"{search.mean:.3f} on {args.search_episodes})",
+            StepsToGo.from_solution(solution).lookahead(args.acrobot_lookahead),
+        ),
+    ]
+    for depth in args.acrobot_rollout:
+        scored.append(
+            score(
+                f"linearly solvable, rollout of sign(u), depth {depth}",
+                f"{where} (the best of {len(args.acrobot_search)} grids and λ)",
                 seconds,
-                episodes,
+                rollout(sign, depth),
             )
         )
-        if search.mean > found[0]:
-            best = episodes
-    rows.append(("DP optimum on gym's map", "not computed (4-D)", None, "–"))
+    if args.acrobot_hjb:
+        n = args.acrobot_hjb
+        started = time.perf_counter()
+        bounded = solve_hjb(acrobot_problem((n,) * 4, temperature=0.1), control_bounds=(-1, 1))
+        seconds = time.perf_counter() - started
+        where = f"λ=0.1, R=0.1, q=1/s, {n}⁴, policy iteration"
+        scored.append(
+            score(
+                "HJB, control_bounds=(-1, 1), torque = sign(u)",
+                where,
+                seconds,
+                acrobot_torques(bounded),
+            )
+        )
+        scored.append(
+            score(
+                "HJB, control_bounds=(-1, 1), rollout of sign(u), depth 1",
+                where,
+                seconds,
+                rollout(acrobot_torques(bounded)),
+            )
+        )
+    rows = [row for row, _ in scored]
+    best = max(scored, key=lambda item: item[1])[0][3]
+
+    # dynamic programming on gym's map
+    if args.acrobot_dp:
+        n, speeds = args.acrobot_dp, tuple(args.acrobot_dp_speeds)
+        dp = acrobot_dp((n,) * 4, speeds)
+        where = (
+            f"{n}⁴, θ̇ ∈ ±({speeds[0] / math.pi:g}π, {speeds[1] / math.pi:g}π), {dp.sweeps} sweeps "
+            f"(last change {dp.change:.0e})"
+        )
+        greedy = [
+            (
+                depth,
+                *_timed(lambda d=depth: run_acrobot(dp.steps_to_go.lookahead(d), args.episodes)),
+            )
+            for depth in (1, 3)
+        ]
+        predicted = 1.0 - dp.steps_to_go.costs(greedy[0][1].starts, 1).min(axis=1)
+        log(f"  Acrobot DP {n}⁴: predicted {predicted.mean():.2f} ({dp.wall_time:.0f} s)")
+        rows.append(
+            (
+                "DP optimum on gym's map (predicted at the episodes' starts)",
+                where,
+                dp.wall_time,
+                f"{predicted.mean():.2f} ± {predicted.std(ddof=1) / np.sqrt(predicted.size):.2f}",
+            )
+        )
+        for depth, episodes, played in greedy:
+            log(f"  Acrobot DP greedy, look-ahead {depth}: {episodes.summary()}")
+            rows.append(
+                (
+                    f"DP policy, played (look-ahead {depth} step{'s' if depth > 1 else ''} on its value)",
+                    f"{where}; play {played:.0f} s",
+                    dp.wall_time,
+                    episodes,
+                )
+            )
+    else:
+        rows.append(("DP optimum on gym's map", "skipped (--acrobot-dp 0)", None, "–"))
     for agent, mean, spread in PUBLISHED[ACROBOT_ID]:
         rows.append(
             (f"{agent} (quoted)", "rl-baselines3-zoo", None, f"{mean:.2f} {spread}".strip())
@@ -285,8 +368,23 @@ def main(argv=None):
         default=13,
         help="nodes per axis of the bounded Acrobot HJB (0: skip; 13⁴ takes about a minute)",
     )
+    parser.add_argument(
+        "--acrobot-dp",
+        type=int,
+        default=51,
+        help="nodes per axis of the DP on gym's Acrobot map (0: skip; 51⁴: minutes, 0.8 GB)",
+    )
+    parser.add_argument(
+        "--acrobot-dp-speeds",
+        type=float,
+        nargs=2,
+        default=[2 * math.pi, 3 * math.pi],
+        help="the DP grid's velocity box ±(θ̇₁, θ̇₂) (gym clips at 4π, 9π)",
+    )
+    parser.add_argument("--acrobot-lookahead", type=int, default=3)
+    parser.add_argument("--acrobot-rollout", type=int, nargs="+", default=[1, 2])
     args = parser.parse_args(argv)
-    args.acrobot_search = list(itertools.product((13, 15, 17), (1.0, 2.0)))
+    args.acrobot_search = list(itertools.product((11, 13, 17), (0.3, 1.0)))
     args.coarse_setting, args.coarse_grid = (0.01, 0.2, 1e-3), [241, 201]
     args.linear_search = list(itertools.product((0.05, 0.1), (0.1, 0.2), (7e-4, 1e-3, 1.5e-3)))
     args.hjb_search = [(0.05, 0.2, q) for q in (7e-4, 1e-3, 1.5e-3)]
@@ -295,6 +393,7 @@ def main(argv=None):
         args.grid, args.dp_grid, args.dp_forces = [301, 101], [101, 61], 11
         args.linear_search, args.hjb_search = [(0.1, 0.2, 3e-3)], [(0.05, 0.2, 3e-3)]
         args.acrobot_search, args.acrobot_hjb = [(11, 1.0)], 0
+        args.acrobot_dp, args.acrobot_rollout = 15, [1]
     results = []
     if "mountaincar" in args.only:
         results.append((MOUNTAIN_CAR_ID, *mountain_car(args)))
