@@ -63,11 +63,12 @@ import dataclasses
 import time
 import warnings
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import ResolutionWarning
+from .errors import GridlbcWarning, ResolutionWarning
 from .grid import Axis, Grid
 
 if TYPE_CHECKING:
@@ -88,29 +89,58 @@ SAMPLE = 20_000
 quantiles and medians of the estimate need no more, and a 4-D grid has millions."""
 
 
-def embedded_grid(grid: Grid) -> Grid | None:
-    """The grid with every other node of each axis (spacing 2h), or None when an axis would keep
-    fewer than three nodes (four on a periodic axis). A closed axis with an odd node count keeps
-    exactly its even-numbered nodes; with an even count the coarse spacing is slightly above 2h."""
-    axes = []
-    for a in grid.axes:
+def embedded_grid(grid: Grid, axes=None) -> Grid | None:
+    """The grid with every other node of each axis (spacing 2h), or of the given ``axes`` only;
+    None when an axis would keep fewer than three nodes (four on a periodic axis). A closed axis
+    with an odd node count keeps exactly its even-numbered nodes; with an even count the coarse
+    spacing is slightly above 2h."""
+    out = []
+    for i, a in enumerate(grid.axes):
+        if axes is not None and i not in axes:
+            out.append(a)
+            continue
         n = a.n // 2 if a.periodic else (a.n + 1) // 2
         if n < (4 if a.periodic else 3):
             return None
-        axes.append(Axis(a.lo, a.hi, n, periodic=a.periodic, name=a.name))
-    return Grid(axes)
+        out.append(Axis(a.lo, a.hi, n, periodic=a.periodic, name=a.name))
+    return Grid(out)
 
 
-def refined_grid(grid: Grid) -> Grid:
-    """The grid with every cell halved (spacing h/2): the grid whose embedded grid is ``grid``."""
+def refined_grid(grid: Grid, axes=None) -> Grid:
+    """The grid with every cell halved (spacing h/2), or only along the given ``axes``: the grid
+    whose embedded grid is ``grid``."""
     return Grid(
         [
-            Axis(
+            a
+            if axes is not None and i not in axes
+            else Axis(
                 a.lo, a.hi, 2 * a.n if a.periodic else 2 * a.n - 1, periodic=a.periodic, name=a.name
             )
-            for a in grid.axes
+            for i, a in enumerate(grid.axes)
         ]
     )
+
+
+def axes_to_refine(solution, solve_on, states=None) -> tuple[list[int], np.ndarray]:
+    """Which axes limit the accuracy of ``solution``: each axis's share of the error, measured by
+    solving again with only that axis coarsened (every other node, ``solve_on(grid)``, which may
+    return None where the problem cannot be posed on that grid) and reading the relative difference at the judged states (:func:`statistic`). The axes whose
+    share is at least half the largest are returned, with every share (NaN for an axis too
+    coarse to coarsen). A first-order error splits into per-axis parts C_i h_i; the parts of the
+    axes not returned are at most half the largest, so refining those alone gains little.
+    """
+    X = judged_states(solution, states)
+    grid = solution.grid
+    shares = np.full(grid.ndim, np.nan)
+    for i in range(grid.ndim):
+        coarse = embedded_grid(grid, axes=(i,))
+        other = None if coarse is None else solve_on(coarse)
+        if other is not None:
+            shares[i] = statistic(relative_difference(solution, other, X), states is not None)
+    if np.all(np.isnan(shares)):
+        return list(range(grid.ndim)), shares
+    top = np.nanmax(shares)
+    return [i for i in range(grid.ndim) if not shares[i] < 0.5 * top], shares
 
 
 def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) -> np.ndarray:
@@ -504,6 +534,10 @@ class Refinement:
         How its slices were stored: ``"float64"`` or ``"float32"``.
     store_every : int
         It stored every ``store_every``-th step's slice (and the last).
+    axis_errors : tuple of float
+        Where the grid was refined after it: each axis's share of the error, the relative
+        difference from a solve with only that axis coarsened (:func:`axes_to_refine`); the
+        axes with at least half the largest were refined. Empty otherwise.
     """
 
     shape: tuple[int, ...]
@@ -513,6 +547,7 @@ class Refinement:
     wall_time: float
     dtype: str = "float64"
     store_every: int = 1
+    axis_errors: tuple[float, ...] = ()
 
 
 def solve_to_tolerance(
@@ -529,8 +564,10 @@ def solve_to_tolerance(
     Each round solves on the current grid with the current step and reads the relative estimate
     (:func:`assess`). If it exceeds ``tol``, a solve at 2Δt on the same grid measures the time
     step's share ê_t = abs(v_{h,2Δt} − v_{h,Δt}): where ê_t is at least half the estimate, Δt is
-    halved; otherwise every axis is refined (h → h/2, :func:`refined_grid`, with the scheme's
-    default step for the finer grid, or the current Δt once it has been set or halved). If the
+    halved; otherwise the grid is refined (h → h/2, :func:`refined_grid`) along the axes that
+    limit it (:func:`axes_to_refine`: solves at the same step with one axis coarsened at a time),
+    with the scheme's default step for the finer grid, or the current Δt once it has been set or
+    halved. If the
     finer grid's slices would not fit in memory they are stored as float32, then only every k-th
     (:func:`fitting_storage`); if even that would not fit, or the finer grid would exceed
     ``max_nodes``, Δt is halved instead and the limit is reported.
@@ -592,16 +629,8 @@ def solve_to_tolerance(
         time_error = np.nan
         done = a.error <= tol or len(history) >= max_refinements
         if not done:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", ResolutionWarning)
-                half = solve_many(  # only its t = 0 slice is read: store no other
-                    problem,
-                    [problem.terminal_cost],
-                    base,
-                    dt=2 * solution.diagnostics.dt,
-                    error_estimate=False,
-                    store_every=solution.diagnostics.steps,
-                )[0]
+            steps = solution.diagnostics.steps
+            half = _march_quietly(problem, base, 2 * solution.diagnostics.dt, steps, problem.grid)
             rel = relative_difference(solution, half, judged_states(solution, states))
             time_error = statistic(rel, states is not None)
         history.append(
@@ -627,7 +656,11 @@ def solve_to_tolerance(
         if time_error >= 0.5 * a.error:
             dt = solution.diagnostics.dt / 2
             continue
-        finer = problem.replace(grid=refined_grid(problem.grid))
+        steps = solution.diagnostics.steps
+        solve_on = partial(_march_quietly, problem, base, solution.diagnostics.dt, steps)
+        axes, shares = axes_to_refine(solution, solve_on, states)
+        history[-1] = dataclasses.replace(history[-1], axis_errors=tuple(shares.tolist()))
+        finer = problem.replace(grid=refined_grid(problem.grid, axes))
         next_dt = None if dt is None else min(dt, solution.diagnostics.dt)
         if max_nodes is not None and finer.grid.size > max_nodes:
             limit = f"the grid {finer.grid.shape} would exceed max_nodes = {max_nodes}"
@@ -646,6 +679,24 @@ def solve_to_tolerance(
     advice = "raise max_refinements or max_nodes, store float32 or use mmap_dir"
     finish(solution, tol, history, where, limit, max_refinements, advice)
     return solution
+
+
+def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid):
+    """``problem`` solved on ``grid`` with step ``dt``, its warnings silenced and no estimate,
+    storing only the first and last slices (at most ``steps`` steps): a comparison solve of
+    :func:`solve_to_tolerance`, read at t = 0."""
+    from .solver import solve_many
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GridlbcWarning)
+        return solve_many(
+            problem.replace(grid=grid),
+            [problem.terminal_cost],
+            settings,
+            dt=dt,
+            error_estimate=False,
+            store_every=steps,
+        )[0]
 
 
 def fitting_storage(problem, settings):

@@ -39,10 +39,12 @@ the same way, give the estimates of h (:meth:`StationarySolution.error_estimate`
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import time
 import warnings
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 import scipy.sparse as sp
@@ -53,6 +55,7 @@ from .accuracy import (
     Refinement,
     assess,
     attach_estimates,
+    axes_to_refine,
     check_scalar,
     check_tolerance,
     embedded_grid,
@@ -538,8 +541,8 @@ def solve_first_exit_to_tolerance(
     max_refinements: int = 6,
     **options,
 ) -> StationarySolution:
-    """Solve a first-exit problem on finer and finer grids (h → h/2 on every axis) until its
-    embedded error estimate meets ``tol`` (:func:`gridlbc.accuracy.assess`), or ``max_nodes``,
+    """Solve a first-exit problem on finer and finer grids (h → h/2 along the axes that limit
+    it, :func:`gridlbc.accuracy.axes_to_refine`) until its embedded error estimate meets ``tol`` (:func:`gridlbc.accuracy.assess`), or ``max_nodes``,
     the memory or ``max_refinements`` stops it (then a :class:`gridlbc.ResolutionWarning` says
     which). :func:`gridlbc.solve` calls this for ``solve(problem, tol=...)``.
 
@@ -587,7 +590,9 @@ def solve_first_exit_to_tolerance(
         )
         if a.error <= tol or len(history) > max_refinements:
             break
-        finer = refined_grid(solution.grid)
+        axes, shares = axes_to_refine(solution, partial(_solve_quietly, problem, s), states)
+        history[-1] = dataclasses.replace(history[-1], axis_errors=tuple(shares.tolist()))
+        finer = refined_grid(solution.grid, axes)
         available = available_memory()
         if max_nodes is not None and finer.size > max_nodes:
             limit = f"the grid {finer.shape} would exceed max_nodes = {max_nodes}"
@@ -602,6 +607,17 @@ def solve_first_exit_to_tolerance(
     advice = "raise max_refinements or max_nodes"
     finish(solution, tol, history, where, limit, max_refinements, advice)
     return solution
+
+
+def _solve_quietly(problem: Problem, s: StationarySettings, grid: Grid):
+    """The first-exit solve of ``problem`` on ``grid`` without its warnings, or None where the
+    exit set or the costs are not resolved on that grid."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GridlbcWarning)
+        try:
+            return solve_first_exit(problem.replace(grid=grid), s)
+        except ValueError:
+            return None
 
 
 def solve_stationary_many(problem: Problem, exit_costs, **options) -> list:

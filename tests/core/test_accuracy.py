@@ -154,3 +154,23 @@ def test_a_task_that_ends_is_judged_outside_its_exit_set_and_at_its_costliest_st
     assert len(X) == grid.size - np.count_nonzero(problem.exit_mask())
     v = solution.value_nodes(0)
     assert solution.value(X, 0.0).max() == pytest.approx(v[np.isfinite(v)].max())
+
+
+def test_tol_refines_the_axis_that_limits_the_error():
+    # On a grid coarse along position and fine along velocity, a solve with the position axis
+    # coarsened differs far more than one with the velocity axis coarsened: the Riccati error is
+    # that axis's, and axes_to_refine names it alone. (Each share is the relative difference
+    # from coarsening one axis, the per-axis part C_i h_i of a first-order error.)
+    problem = lq_point_mass().replace(grid=g.Grid([g.Axis(-4, 4, 11), g.Axis(-4, 4, 161)]))
+    solution = _quiet_solve(problem, error_estimate=False)
+
+    def solve_on(grid):
+        return _quiet_solve(
+            problem.replace(grid=grid), dt=solution.diagnostics.dt, error_estimate=False
+        )
+
+    axes, shares = accuracy.axes_to_refine(solution, solve_on, STATES)
+    assert axes == [0] and shares[0] > 2 * shares[1]
+    refined = accuracy.refined_grid(problem.grid, axes)
+    assert refined.shape == (21, 161)
+    assert accuracy.embedded_grid(refined, axes=(0,)).shape == (11, 161)
