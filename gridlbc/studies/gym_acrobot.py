@@ -35,10 +35,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._numba import jit
+from ..costs import Constant
 from ..grid import Axis, Grid
 from ..problem import Problem
 from ..systems.base import ControlAffineSystem
-from .gym_clients import Episodes, _play, _TimeCost
+from .gym_clients import Episodes, play_episodes
 
 ACROBOT_ID = "Acrobot-v1"
 ACROBOT_STEP = 0.2
@@ -135,7 +136,7 @@ def acrobot_problem(
         GymAcrobot(),
         grid,
         None,
-        state_cost=_TimeCost(1.0),
+        state_cost=Constant(1.0, 4),
         control_cost=control_cost,
         temperature=temperature,
         exit=acrobot_above_bar,
@@ -169,7 +170,7 @@ def run_acrobot(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
             raise ValueError(f"policy must return ({x.shape[0]},) actions in {{0, 1, 2}}")
         return [int(a) for a in actions], np.abs(actions - 1)
 
-    return _play(ACROBOT_ID, episodes, seed, torques, lambda env, obs: env.unwrapped.state)
+    return play_episodes(ACROBOT_ID, episodes, seed, torques, lambda env, obs: env.unwrapped.state)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._numba import jit
+from ..costs import Constant
 from ..grid import Axis, Grid
 from ..problem import Problem
 from ..regions import Box
@@ -122,16 +123,6 @@ def mountain_car_grid(n=(241, 201)) -> Grid:
     )
 
 
-@dataclass(frozen=True)
-class _TimeCost:
-    """A constant state cost q per unit time (picklable, unlike a lambda)."""
-
-    rate: float
-
-    def __call__(self, x: np.ndarray) -> np.ndarray:
-        return np.full(len(x), self.rate)
-
-
 def mountain_car_problem(
     n=(241, 201),
     temperature: float = 0.01,
@@ -156,7 +147,7 @@ def mountain_car_problem(
         MountainCar(),
         mountain_car_grid(n),
         None,
-        state_cost=_TimeCost(float(time_cost)),
+        state_cost=Constant(float(time_cost), 2),
         control_cost=control_cost,
         temperature=temperature,
         exit=MOUNTAIN_CAR_EXIT,
@@ -233,10 +224,10 @@ def run_mountain_car(policy, episodes: int = 1000, seed: int = 0) -> Episodes:
             )
         return [ui.astype(np.float32) for ui in u], np.abs(u[:, 0])
 
-    return _play(MOUNTAIN_CAR_ID, episodes, seed, forces, lambda env, obs: obs)
+    return play_episodes(MOUNTAIN_CAR_ID, episodes, seed, forces, lambda env, obs: obs)
 
 
-def _play(env_id: str, episodes: int, seed: int, act, observe) -> Episodes:
+def play_episodes(env_id: str, episodes: int, seed: int, act, observe) -> Episodes:
     """One gym env per episode, reset with seeds ``seed + i``, the running ones stepped together:
     ``act(states)`` → (gym's actions, the size of each) for the running episodes' states
     ``(n, d)``, ``observe(env, obs)`` → the state the policy sees after a reset or a step."""
