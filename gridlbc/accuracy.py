@@ -121,13 +121,21 @@ def refined_grid(grid: Grid, axes=None) -> Grid:
     )
 
 
-def axes_to_refine(solution, solve_on, states=None) -> tuple[list[int], np.ndarray]:
+def axes_to_refine(
+    solution, solve_on, states=None, time_share: float = 0.0
+) -> tuple[list[int], np.ndarray]:
     """Which axes limit the accuracy of ``solution``: each axis's share of the error, measured by
     solving again with only that axis coarsened (every other node, ``solve_on(grid)``, which may
-    return None where the problem cannot be posed on that grid) and reading the relative difference at the judged states (:func:`statistic`). The axes whose
-    share is at least half the largest are returned, with every share (NaN for an axis too
-    coarse to coarsen). A first-order error splits into per-axis parts C_i h_i; the parts of the
-    axes not returned are at most half the largest, so refining those alone gains little.
+    return None where the problem cannot be posed on that grid) and reading the relative
+    difference at the judged states (:func:`statistic`).
+
+    A first-order error splits into per-axis parts C_i h_i (and the step's, ``time_share``, when
+    the embedded solve also doubles it): the difference D from the embedded solve, which
+    coarsens every axis, is then about the sum of the shares. Where it is (the shares add up to
+    at least half of D), the axes whose share is at least half the largest are returned:
+    refining the others alone would gain little. Where the shares do not add up, the errors are
+    not in that regime (the grids are too coarse for a per-axis model), and every axis is
+    returned. Also returned: every share (NaN for an axis too coarse to coarsen).
     """
     X = judged_states(solution, states)
     grid = solution.grid
@@ -137,7 +145,10 @@ def axes_to_refine(solution, solve_on, states=None) -> tuple[list[int], np.ndarr
         other = None if coarse is None else solve_on(coarse)
         if other is not None:
             shares[i] = statistic(relative_difference(solution, other, X), states is not None)
-    if np.all(np.isnan(shares)):
+    whole = statistic(
+        relative_difference(solution, solution.embedded.solution, X), states is not None
+    )
+    if np.all(np.isnan(shares)) or np.nansum(shares) + time_share < 0.5 * whole:
         return list(range(grid.ndim)), shares
     top = np.nanmax(shares)
     return [i for i in range(grid.ndim) if not shares[i] < 0.5 * top], shares
@@ -658,7 +669,7 @@ def solve_to_tolerance(
             continue
         steps = solution.diagnostics.steps
         solve_on = partial(_march_quietly, problem, base, solution.diagnostics.dt, steps)
-        axes, shares = axes_to_refine(solution, solve_on, states)
+        axes, shares = axes_to_refine(solution, solve_on, states, time_error)
         history[-1] = dataclasses.replace(history[-1], axis_errors=tuple(shares.tolist()))
         finer = problem.replace(grid=refined_grid(problem.grid, axes))
         next_dt = None if dt is None else min(dt, solution.diagnostics.dt)

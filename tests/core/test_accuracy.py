@@ -162,7 +162,7 @@ def test_tol_refines_the_axis_that_limits_the_error():
     # that axis's, and axes_to_refine names it alone. (Each share is the relative difference
     # from coarsening one axis, the per-axis part C_i h_i of a first-order error.)
     problem = lq_point_mass().replace(grid=g.Grid([g.Axis(-4, 4, 11), g.Axis(-4, 4, 161)]))
-    solution = _quiet_solve(problem, error_estimate=False)
+    solution = _quiet_solve(problem)
 
     def solve_on(grid):
         return _quiet_solve(
