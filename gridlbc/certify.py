@@ -68,6 +68,7 @@ from __future__ import annotations
 import dataclasses
 import math
 import warnings
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -96,6 +97,10 @@ MAX_PARETO_K = 0.7
 MAX_UNEXITED = 0.01
 """Above this share of samples that had not reached the exit set by ``max_time`` (a first-exit
 problem without a horizon), :func:`certify` warns: their costs are truncated."""
+
+AUTO_PROPOSAL_NODES = 1_000_000
+"""With ``proposal="auto"``, the most grid nodes :func:`certify` solves on by itself to pool a grid
+policy with the judged one (a larger grid is coarsened to this many, box unchanged)."""
 
 PROGRESS_DELAY = 2.0
 """Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
@@ -158,9 +163,10 @@ class Certificate:
         Above it likewise.
     seed : int or None
     separate_proposal : bool
-        Whether v* came from a separate proposal's samples (then J, its SE and
-        ``left_box_fraction`` come from independent samples of the judged policy and
-        ``gap_se`` = √(SE(J)² + SE(v*)²)); False: one set of samples of the policy gave all.
+        Whether v* came from other samples than the judged policy's alone (then J, its SE and
+        ``left_box_fraction`` come from the policy's own samples, its share of a pool or an
+        independent run, and ``gap_se`` = √(SE(J)² + SE(v*)²)); False: one set of samples of
+        the policy gave all.
     boundary : str
         ``"free"`` (the SDE on Rᵈ) or ``"reflect"`` (closed edges of the box reflect), as
         resolved (:func:`gridlbc.simulate.resolve_boundary`).
@@ -171,6 +177,12 @@ class Certificate:
     unexited_fraction : float or ndarray (k,)
         For a first-exit problem: the share of the proposal's samples that had not reached the
         exit set by the end (truncated costs, see the module docstring); 0 otherwise.
+    proposal_values, proposal_values_se : ndarray (J,) or (k, J), or None
+        With several proposals (``certify(..., proposal=[p₁, …, p_J])``): v̂* and its SE from
+        each proposal's own samples alone, to compare with the pooled :attr:`optimal_value`;
+        None with one proposal.
+    proposals : tuple of str
+        What drew the samples for v* (e.g. the judged policy and an automatic grid solution).
     """
 
     start_states: np.ndarray
@@ -196,6 +208,9 @@ class Certificate:
     extrapolated_value: float | np.ndarray | None = None
     extrapolated_value_se: float | np.ndarray | None = None
     unexited_fraction: float | np.ndarray = 0.0
+    proposal_values: np.ndarray | None = None
+    proposal_values_se: np.ndarray | None = None
+    proposals: tuple[str, ...] = ("the policy",)
 
     @property
     def step_contribution(self) -> float | np.ndarray | None:
@@ -283,7 +298,7 @@ class Certificate:
                 f"{100 * left:.1f} % ({100 * left_opt:.1f} % under the optimum){flag}"
             )
         source = (
-            "v* under a separate proposal, J from the policy's own samples"
+            f"v* from samples of {' pooled with '.join(self.proposals)}, J from the policy's own"
             if self.separate_proposal
             else "v* and J from the same samples of the policy"
         )
@@ -299,35 +314,57 @@ def _trusted(ess, k_hat, min_ess: float, max_k: float) -> np.ndarray:
     return (ess >= min_ess) & ~(k_hat > max_k)
 
 
+def _optimal_value(
+    a: np.ndarray, lam: float, counts: tuple[int, ...] = ()
+) -> tuple[float, float, np.ndarray]:
+    """v̂* = −λ log w̄ from log weights ``a``, its delta-method SE λ SE(w̄)/w̄, and the weights
+    w = exp(a − max a) (the largest is 1: nothing underflows).
+
+    SE(w̄)² = σ̂²(w)/n for one proposal. A pool whose proposals drew ``counts`` = (n_1, …, n_J)
+    consecutive samples each is stratified: w̄ = Σ_j (n_j/n) w̄_j, so SE(w̄)² = Σ_j n_j σ̂_j²/n²
+    with σ̂_j the spread within proposal j's samples (the spread between the w̄_j is not noise).
+    """
+    w = np.exp(a - a.max())
+    w_mean = w.mean()
+    n = a.shape[0]
+    strata = np.split(w, np.cumsum(counts)[:-1]) if counts else [w]
+    if min(len(part) for part in strata) > 1:
+        variance = sum(len(part) * part.var(ddof=1) for part in strata) / n**2
+        se = lam * math.sqrt(variance) / w_mean
+    else:
+        se = math.nan
+    return -lam * (a.max() + math.log(w_mean)), se, w
+
+
 def _estimates(
-    S: np.ndarray,
+    a: np.ndarray,
     C: np.ndarray,
     left: np.ndarray,
     lam: float,
     judged: tuple[np.ndarray, np.ndarray] | None = None,
+    counts: tuple[int, ...] = (),
 ) -> tuple:
-    """The certificate's estimates from one start state's samples of the proposal: S_u, realised
-    costs C, left the box; ``judged`` = (costs, left) of the judged policy's own samples when it
-    is not the proposal."""
-    n = S.shape[0]
-    a = -S / lam
-    w = np.exp(a - a.max())  # log-sum-exp: the largest weight is 1, nothing underflows
+    """The certificate's estimates from one start state's samples of the proposal: the log
+    weights a (−S_u/λ for one proposal), realised costs C, left the box; ``judged`` = (costs,
+    left) of the judged policy's own samples when it is not the proposal; ``counts`` the samples
+    of each pooled proposal, in order (:func:`_optimal_value`)."""
+    n = a.shape[0]
+    value, value_se, w = _optimal_value(a, lam, counts)
     w_mean = w.mean()
-    value = -lam * (a.max() + math.log(w_mean))
     ess = w.sum() ** 2 / np.dot(w, w)
-    root_n = math.sqrt(n)
     paired = judged is None
     weighted_left = np.dot(w, left) / w.sum()
     if judged is not None:
         C, left = judged
-    if n > 1:
-        value_se = lam * w.std(ddof=1) / (root_n * w_mean)
-        cost_se = C.std(ddof=1) / root_n
+    if n > 1 and C.shape[0] > 1:  # the judged policy's samples: n, or its share of a pool
+        cost_se = C.std(ddof=1) / math.sqrt(C.shape[0])
         gap_se = (
-            (C + lam * w / w_mean).std(ddof=1) / root_n if paired else math.hypot(cost_se, value_se)
+            (C + lam * w / w_mean).std(ddof=1) / math.sqrt(n)
+            if paired
+            else math.hypot(cost_se, value_se)
         )
     else:
-        value_se = cost_se = gap_se = math.nan
+        cost_se = gap_se = math.nan
     cost = C.mean()
     return (
         value,
@@ -353,7 +390,7 @@ def certify(
     progress: bool | None = None,
     min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
     max_pareto_k: float = MAX_PARETO_K,
-    proposal=None,
+    proposal="auto",
     boundary: str | None = None,
     richardson: bool = False,
     max_time: float | None = None,
@@ -365,12 +402,19 @@ def certify(
     "Certified optimality"). The judged policy's own cost J(policy) is the plain Monte-Carlo mean
     of its realised costs, and the gap J − v* ≥ 0 says how suboptimal it is.
 
-    Without ``proposal`` the judged policy is the proposal: one set of samples gives v*, J and the
-    gap, whose SE is that of the paired linearisation C + λw/w̄. A poor policy then makes a poor
-    proposal (few effective samples, a heavy weight tail: see :attr:`Certificate.pareto_k`); give
-    a better ``proposal`` (a grid solution of the same problem) and v* is estimated from its own
-    samples while J comes from independent samples of ``policy``, so the gap's standard error is
-    √(SE(J)² + SE(v*)²) of the two independent estimates.
+    The proposal sets only the variance, and a poor one (few effective samples, a heavy weight
+    tail: see :attr:`Certificate.pareto_k`) can make v̂* too high by many of its own standard
+    errors without any diagnostic showing it, because the paths that carry the weight are never
+    drawn. So by default (``proposal="auto"``) a policy that is not itself a grid solution of
+    ``problem`` is pooled with one: :func:`certify` solves the problem on its grid (coarsened to
+    :data:`AUTO_PROPOSAL_NODES` nodes at most, once per problem) and draws half the samples with
+    each policy, weighted by multiple importance sampling (the balance heuristic, module
+    docstring), which is as good as the better of the two up to a factor 2 in variance. J then
+    comes from the judged policy's half, and the gap's SE is √(SE(J)² + SE(v*)²). Without a grid
+    (or with ``proposal=None``) the judged policy is the only proposal: one set of samples gives
+    v*, J and the gap, whose SE is that of the paired linearisation C + λw/w̄. With a
+    ``proposal`` of your own (or a list of them, pooled the same way) v* is estimated from its
+    samples while J comes from independent samples of ``policy``.
 
     Parameters
     ----------
@@ -399,10 +443,14 @@ def certify(
     max_pareto_k : float
         Likewise where the PSIS tail shape k̂ of the weights exceeds this (Vehtari et al., JMLR
         2024: above 0.7 the estimate is unreliable whatever the sample count).
-    proposal : object with ``.policy(x, t)``, or callable, optional
-        The importance-sampling proposal for v* (a :class:`~gridlbc.Solution`, a combination, or a
-        callable ``policy(x, t)``); None: ``policy`` itself. Its ``n_samples`` paths are drawn
-        first from the seeded generator, those of ``policy`` after them (independent).
+    proposal : "auto", None, object with ``.policy(x, t)``, callable, or a list of them
+        The importance-sampling proposal for v*. ``"auto"`` (default): ``policy`` pooled with a
+        grid solution of the problem, or ``policy`` alone when it is a grid solution's policy of
+        this problem or the problem has no grid (:attr:`Certificate.proposals` says which). None:
+        ``policy`` alone. A :class:`~gridlbc.Solution`, a combination or a callable
+        ``policy(x, t)``: that proposal, its paths drawn first from the seeded generator and
+        those of ``policy`` after them (independent). A list or tuple: those proposals pooled
+        (``n_samples`` split between them; a member that *is* ``policy`` also gives J).
     boundary : {"free", "reflect"}, optional
         At a closed edge of the grid's box (:func:`gridlbc.simulate`): ``"reflect"`` certifies
         the problem with the box as a reflecting state constraint, as the solver treats it, so a
@@ -445,7 +493,6 @@ def certify(
             extrapolated_value_se=float(se) if single else se,
         )
     check_problem_and_policy(problem, policy)
-    sampler = policy if proposal is None else _proposal_policy(proposal)
     boundary = resolve_boundary(problem, boundary)
     n = check_sample_count(n_samples)
     single = np.ndim(x0) == 1
@@ -459,41 +506,67 @@ def certify(
     T = rollout_horizon(problem, max_time)
     K = step_count(T, dt)
     k = starts.shape[0]
-    x = np.repeat(starts, n, axis=0)
-    runs = 1 if proposal is None else 2
+    one_sample = n < 2 and isinstance(proposal, str)  # "auto" with one sample: nothing to share
+    samplers, names = _proposal_policies(problem, policy, None if one_sample else proposal)
+    if n < len(samplers):
+        raise ValueError(
+            f"n_samples = {n} is fewer than the {len(samplers)} proposals that share it: give at "
+            "least one sample per proposal"
+        )
+    own = next((j for j, sampler in enumerate(samplers) if sampler is policy), None)
+    runs = len(samplers) + (own is None)
     bar = ProgressBar(
         runs * K,
         progress is not False,
         f"certify {k}×{n} samples",
-        work_per_item=x.shape[0],
+        work_per_item=k * n,
         work_unit="sample-steps",
         delay=PROGRESS_DELAY if progress is None else 0.0,
     )
     rng = np.random.default_rng(seed)
-    path = euler_maruyama(
-        problem, sampler, x, K, rng, True, lambda step, x_new, u: bar.update(step + 1), boundary, T
-    )
     lam = problem.temperature
-    C = (path.running_cost + path.terminal_cost).reshape(k, n)
-    S = C + path.ito.reshape(k, n)
-    left = path.left_box.reshape(k, n)
-    judged: list = [None] * k
-    if proposal is not None:
-        own = euler_maruyama(
+    counts = [len(c) for c in np.array_split(np.arange(n), len(samplers))]
+    draws = []
+    for j, (sampler, n_j) in enumerate(zip(samplers, counts)):
+        path = euler_maruyama(
             problem,
-            policy,
-            x,
+            sampler,
+            np.repeat(starts, n_j, axis=0),
             K,
             rng,
             True,
-            lambda step, x_new, u: bar.update(K + step + 1),
+            lambda step, x_new, u, done=j * K: bar.update(done + step + 1),
             boundary,
             T,
+            scored=samplers if len(samplers) > 1 else (),
         )
-        C_own = (own.running_cost + own.terminal_cost).reshape(k, n)
-        left_own = own.left_box.reshape(k, n)
+        draws.append((path, n_j))
+    a, C, left, final, unexited, components = _mixture(draws, np.array(counts) / n, k, lam)
+    paired = len(samplers) == 1 and own == 0
+    judged: list = [None] * k
+    if not paired:
+        if own is None:  # the judged policy's own samples, independent of the proposals'
+            done = len(samplers) * K
+            path = euler_maruyama(
+                problem,
+                policy,
+                np.repeat(starts, n, axis=0),
+                K,
+                rng,
+                True,
+                lambda step, x_new, u: bar.update(done + step + 1),
+                boundary,
+                T,
+            )
+        else:  # its share of the pool: plain samples of the policy
+            path = draws[own][0]
+        C_own = (path.running_cost + path.terminal_cost).reshape(k, -1)
+        left_own = path.left_box.reshape(k, -1)
         judged = [(C_own[i], left_own[i]) for i in range(k)]
-    columns = np.array([_estimates(S[i], C[i], left[i], lam, judged[i]) for i in range(k)]).T
+    strata = tuple(counts) if len(counts) > 1 else ()
+    columns = np.array(
+        [_estimates(a[i], C[i], left[i], lam, judged[i], strata) for i in range(k)]
+    ).T
     estimates = dict(zip(_ESTIMATES, columns))
     ess, value = estimates["effective_sample_size"], estimates["optimal_value"]
     k_hat = estimates["pareto_k"]
@@ -518,18 +591,16 @@ def certify(
             CertificateWarning,
             stacklevel=2,
         )
-    unexited = np.zeros(k)
-    if path.exit_times is not None and problem.stationary:
-        unexited = np.isnan(path.exit_times).reshape(k, n).mean(axis=1)
-        for i in np.flatnonzero(unexited > MAX_UNEXITED):
-            warnings.warn(
-                f"certify: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
-                f"the exit set by max_time = {T:g}: their costs are cut short, so v* and J are "
-                "underestimated. Raise max_time, or use a proposal that reaches the exit sooner.",
-                CertificateWarning,
-                stacklevel=2,
-            )
-    final = path.final_states.reshape(k, n, -1)
+    if not problem.stationary:
+        unexited = np.zeros(k)
+    for i in np.flatnonzero(unexited > MAX_UNEXITED):
+        warnings.warn(
+            f"certify: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
+            f"the exit set by max_time = {T:g}: their costs are cut short, so v* and J are "
+            "underestimated. Raise max_time, or use a proposal that reaches the exit sooner.",
+            CertificateWarning,
+            stacklevel=2,
+        )
     return Certificate(
         starts,
         **{name: float(c[0]) if single else c for name, c in estimates.items()},
@@ -540,10 +611,135 @@ def certify(
         min_effective_sample_size=float(min_effective_sample_size),
         max_pareto_k=float(max_pareto_k),
         seed=seed,
-        separate_proposal=proposal is not None,
+        separate_proposal=not paired,
+        proposals=tuple(names),
         boundary=boundary,
         unexited_fraction=float(unexited[0]) if single else unexited,
+        proposal_values=None if components is None else components[0][0 if single else ...],
+        proposal_values_se=None if components is None else components[1][0 if single else ...],
     )
+
+
+def _mixture(draws, shares: np.ndarray, k: int, lam: float):
+    """Pool the samples of the proposals u_1…u_J (``draws``: per proposal its SamplePaths and
+    samples per start state) into log weights for one start state each (rows).
+
+    One proposal: a = −S_u/λ. Several, drawn n_j = c_j n each: the balance heuristic of multiple
+    importance sampling (Veach & Guibas 1995; Owen, "Monte Carlo theory, methods and examples",
+    §9.13) treats the pool as draws of the mixture Σ_j c_j Q_j, whose weight on a path is
+
+        a = −(g + ∫q dt)/λ − log Σ_j c_j dQ_j/dP
+          = −S_u/λ + log dQ_u/dP − log Σ_j c_j dQ_j/dP        (u the proposal that drew it),
+
+    exact for the chain like the single-proposal weight (every ratio is the Euler–Maruyama
+    transition densities', :func:`gridlbc.simulate.euler_maruyama`), and never larger than
+    −(g + ∫q)/λ − log c_j − log dQ_j/dP for any j: the pool is as good as its best member up to
+    the factor 1/c_j. Also returned, per proposal, v̂* and its SE from its own samples alone
+    (arrays (k, J), None for one proposal), to show how far each would have gone alone.
+
+    Returns a, C, left (k, n); the final states (k, n, d); the unexited shares (k,) (zeros
+    without an exit set); and the per-proposal (values, SEs) or None.
+    """
+    parts: list[list[np.ndarray]] = [[], [], [], [], []]
+    alone = []
+    for j, (path, n_j) in enumerate(draws):
+        C = path.running_cost + path.terminal_cost
+        a = -(C + path.ito) / lam
+        if path.log_likelihoods is not None:
+            alone.append([_optimal_value(row, lam)[:2] for row in a.reshape(k, n_j)])
+            pooled = np.log(shares) + path.log_likelihoods
+            top = pooled.max(axis=1, keepdims=True)
+            mixture = top[:, 0] + np.log(np.exp(pooled - top).sum(axis=1))
+            a = a + path.log_likelihoods[:, j] - mixture
+        exited = np.ones(C.shape, bool) if path.exit_times is None else ~np.isnan(path.exit_times)
+        for part, values in zip(parts, (a, C, path.left_box, path.final_states, ~exited)):
+            part.append(values.reshape(k, n_j, *values.shape[1:]))
+    a, C, left, final, unexited = (np.concatenate(part, axis=1) for part in parts)
+    components = None
+    if alone:
+        values = np.array(alone)  # (J, k, 2)
+        components = (values[..., 0].T, values[..., 1].T)
+    return a, C, left, final, unexited.mean(axis=1), components
+
+
+_GRID_PROPOSALS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+"""The grid solutions ``proposal="auto"`` solved, per problem (solved once per problem)."""
+
+
+def _proposal_policies(problem: Problem, policy, proposal) -> tuple[list, list[str]]:
+    """The proposals' policies and their names: ``[policy]`` for None; for ``"auto"`` the judged
+    policy pooled with a grid solution of the problem (:func:`_grid_proposal`) unless it is one
+    already; one per entry of a list or tuple of proposals; else ``[proposal's policy]``."""
+    if proposal is None:
+        return [policy], ["the policy"]
+    if isinstance(proposal, str):
+        if proposal != "auto":
+            raise ValueError(
+                f'proposal must be "auto", None, a solution, a callable or a list of them, got '
+                f"{proposal!r}"
+            )
+        owner = getattr(policy, "__self__", None)
+        if hasattr(owner, "desirability") and _same_problem(
+            getattr(owner, "problem", None), problem
+        ):
+            return [policy], ["the policy (a grid solution of this problem)"]
+        grid_policy, name = _grid_proposal(problem)
+        if grid_policy is None:
+            return [policy], [f"the policy ({name})"]
+        return [policy, grid_policy], ["the policy", name]
+    if isinstance(proposal, (list, tuple)):
+        if not proposal:
+            raise ValueError("proposal is an empty sequence: give one proposal or several")
+        names = [f"proposal {i + 1}" for i in range(len(proposal))]
+        return [_proposal_policy(p) for p in proposal], names
+    return [_proposal_policy(proposal)], ["the proposal"]
+
+
+def _same_problem(other, problem: Problem) -> bool:
+    """Whether ``other`` is ``problem`` or a copy of it (every field the same object)."""
+    return isinstance(other, Problem) and all(
+        getattr(other, f.name) is getattr(problem, f.name) for f in dataclasses.fields(Problem)
+    )
+
+
+def _grid_proposal(problem: Problem):
+    """A grid solution's policy for ``proposal="auto"`` and its name, or (None, why not).
+
+    The default :func:`gridlbc.solve` of the problem on its own grid, or, above
+    :data:`AUTO_PROPOSAL_NODES` nodes, on the same box with every axis's node count scaled by
+    (AUTO_PROPOSAL_NODES / nodes)^(1/d). Its warnings are silenced and non-finite controls
+    (where z underflowed) replaced by 0: any policy is a valid proposal, its quality only sets
+    the variance, which the certificate's diagnostics report.
+    """
+    from .grid import Axis, Grid
+    from .solver import solve
+
+    if problem.grid is None:
+        return None, "no grid to solve on"
+    if problem not in _GRID_PROPOSALS:
+        grid = problem.grid
+        scale = min(1.0, (AUTO_PROPOSAL_NODES / grid.size) ** (1.0 / grid.ndim))
+        axes = [
+            Axis(a.lo, a.hi, max(4 if a.periodic else 3, int(a.n * scale)), a.periodic, a.name)
+            for a in grid.axes
+        ]
+        coarse = problem if scale == 1.0 else problem.replace(grid=Grid(axes))
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                solution = solve(coarse)
+        except (ValueError, MemoryError) as error:
+            return None, f"no grid proposal: its solve failed ({error})"
+        _GRID_PROPOSALS[problem] = solution
+    solution = _GRID_PROPOSALS[problem]
+    horizon = problem.horizon
+
+    def policy(x, t):
+        t = t if horizon is None else min(t, horizon)
+        return np.nan_to_num(solution.policy(x, t), nan=0.0, posinf=0.0, neginf=0.0)
+
+    shape = "×".join(str(a.n) for a in solution.problem.grid.axes)
+    return policy, f"a {shape} grid solution (auto)"
 
 
 def _proposal_policy(proposal):

@@ -447,6 +447,7 @@ class SamplePaths:
     ito: np.ndarray  # Σ uᵀR dε
     left_box: np.ndarray
     exit_times: np.ndarray | None = None  # τ, NaN where not exited; None without an exit set
+    log_likelihoods: np.ndarray | None = None  # log dQ_j/dP per scored policy j, (n, J)
 
 
 def euler_maruyama(
@@ -459,11 +460,22 @@ def euler_maruyama(
     on_step=None,
     boundary: str | None = None,
     horizon: float | None = None,
+    scored=(),
 ) -> SamplePaths:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
 
     With an exit set a sample stops on the first step that lands in it (module docstring): its
     state, costs and Girsanov term are frozen from then on, and its control is recorded as 0.
+
+    For each policy u_j in ``scored`` the log-likelihood ratio of the chain driven by u_j to the
+    passive chain (u = 0), at the path drawn, is accumulated step by step (up to τ):
+
+        log dQ_j/dP = Σ_k ( u_jᵀ R dε'_k − ½ u_jᵀ R u_j Δt ) / λ,    dε'_k = u Δt + dε_k,
+
+    dε' being the passive chain's noise that produces the same step (u the sampling policy's
+    control, dε its noise). For u_j = u this is (Σ uᵀR dε + ½ Σ uᵀRu Δt)/λ, the inverse of the
+    Girsanov factor of :func:`gridlbc.certify`; the folds at reflecting edges and the stopping
+    rule are functions of the path and cancel from every ratio (:mod:`gridlbc.certify`).
 
     Parameters
     ----------
@@ -485,6 +497,10 @@ def euler_maruyama(
         At closed edges of the grid's box (see :func:`simulate`; None: :func:`resolve_boundary`).
     horizon : float, optional
         How long the paths run (:func:`rollout_horizon`; default the problem's T).
+    scored : sequence of callables
+        Policies whose log-likelihood ratios to the passive chain are accumulated
+        (:attr:`SamplePaths.log_likelihoods`, one column each; a policy that *is* ``policy``
+        reuses its controls). Requires ``noise``.
 
     Returns
     -------
@@ -506,6 +522,8 @@ def euler_maruyama(
     end_cost = np.zeros(n)
     exits = _Exits(problem, x, end_cost) if problem.exit is not None else None
     eps = np.zeros((n, m))
+    scored = tuple(scored)
+    log_likelihoods = np.zeros((n, len(scored))) if scored else None
     for k in range(n_steps):
         t = k * step
         if noise:
@@ -524,6 +542,14 @@ def euler_maruyama(
             x_new = np.empty_like(x_a)
             eps_a = np.ascontiguousarray(eps[alive])
             em_kernel(x_a, drift, B, u_a, eps_a, root, R, step, x_new, running_a, ito_a)
+            if log_likelihoods is not None:
+                passive_noise = u_a * step + eps_a @ root.T  # dε' = u Δt + dε
+                for j, other in enumerate(scored):
+                    u_j = u_a if other is policy else _controls(other, x_a, t, m, k)
+                    log_likelihoods[alive, j] += (
+                        np.einsum("ni,ij,nj->n", u_j, R, passive_noise - 0.5 * step * u_j)
+                        / problem.temperature
+                    )
             if exits is None:  # views of the whole arrays: nothing to put back
                 u = u_a
             else:
@@ -548,7 +574,7 @@ def euler_maruyama(
     times = np.arange(n_steps + 1) * step
     times[-1] = T
     exit_times = None if exits is None else exits.times
-    return SamplePaths(times, start, running, x, end_cost, ito, left, exit_times)
+    return SamplePaths(times, start, running, x, end_cost, ito, left, exit_times, log_likelihoods)
 
 
 class _Exits:

@@ -120,7 +120,7 @@ def test_zero_control_is_plain_feynman_kac():
     problem = g.Problem(
         SingleIntegrator(), grid, 1.0, g.Quadratic([0], [w]), control_cost=r_cost, temperature=lam
     )
-    cert = g.certify(problem, _zero, [x0], n_samples=5000, seed=9, boundary="free")
+    cert = g.certify(problem, _zero, [x0], n_samples=5000, seed=9, boundary="free", proposal=None)
     rollouts = g.simulate(problem, _zero, [x0], n_samples=5000, seed=9, boundary="free")
     a = -rollouts.costs / lam
     plain = -lam * (a.max() + np.log(np.mean(np.exp(a - a.max()))))
@@ -163,11 +163,20 @@ def test_seed_reproduces_and_several_states_share_the_convention():
     assert len(several.summary().splitlines()) == 4
 
 
+def _push(x, t):
+    return np.full((x.shape[0], 1), 1.5)
+
+
 def test_few_effective_samples_warn_and_flag_the_summary():
     problem = lq_point_mass()
     with pytest.warns(g.CertificateWarning, match="proposal closer to optimal.*more samples.*λ"):
         cert = g.certify(
-            problem, lambda x, t: np.full((x.shape[0], 1), 3.0), X0, n_samples=200, seed=1
+            problem,
+            lambda x, t: np.full((x.shape[0], 1), 3.0),
+            X0,
+            n_samples=200,
+            seed=1,
+            proposal=None,
         )
     assert not cert.trusted and "TOO FEW EFFECTIVE SAMPLES" in cert.summary()
 
@@ -178,9 +187,7 @@ def test_heavy_weight_tail_is_flagged_where_the_effective_sample_size_passes():
     # untrusted and the warning says that a better proposal, not more samples, is the fix.
     problem = lq_point_mass()
     with pytest.warns(g.CertificateWarning, match="heavy tail.*not fix.*grid solution"):
-        cert = g.certify(
-            problem, lambda x, t: np.full((x.shape[0], 1), 1.5), X0, n_samples=20_000, seed=0
-        )
+        cert = g.certify(problem, _push, X0, n_samples=20_000, seed=0, proposal=None)
     assert cert.effective_sample_size >= cert.min_effective_sample_size
     assert cert.pareto_k > cert.max_pareto_k and not cert.trusted
     assert "HEAVY WEIGHT TAIL" in cert.summary()
@@ -196,10 +203,6 @@ def test_tail_shape_is_light_for_good_proposals():
     assert riccati.pareto_k < 0.5 and zero.pareto_k < 0.5
     assert riccati.trusted and zero.trusted
     assert f"k̂ = {riccati.pareto_k:.2f}" in riccati.summary()
-
-
-def _push(x, t):
-    return np.full((x.shape[0], 1), 1.5)
 
 
 def test_poor_policy_judged_under_a_good_proposal():
@@ -222,22 +225,24 @@ def test_poor_policy_judged_under_a_good_proposal():
     )
     assert judged.gap_se == pytest.approx(np.hypot(judged.policy_cost_se, judged.optimal_value_se))
     with pytest.warns(g.CertificateWarning):
-        own = g.certify(problem, _push, X0, n_samples=2000, seed=0)
+        own = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=None)
     assert own.pareto_k > judged.pareto_k and not own.trusted
     # a callable proposal is the same as an object with .policy
     same = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=riccati.policy)
     assert same.optimal_value == judged.optimal_value and same.policy_cost == judged.policy_cost
-    assert "separate proposal" in judged.summary()
+    assert "v* from samples of the proposal, J from the policy's own" in judged.summary()
 
 
 def test_without_proposal_the_policy_is_its_own_proposal():
     # proposal=None keeps one set of samples: the ESS and v* are those of the policy's weights.
     problem = lq_point_mass()
-    cert = g.certify(problem, _zero, X0, n_samples=500, seed=3)
+    cert = g.certify(problem, _zero, X0, n_samples=500, seed=3, proposal=None)
     rollouts = g.simulate(problem, _zero, X0, n_samples=500, seed=3)
     assert not cert.separate_proposal
     assert cert.policy_cost == pytest.approx(rollouts.mean_cost, rel=1e-13)
     with pytest.raises(TypeError, match=r"proposal must have a \.policy"):
+        g.certify(problem, _zero, X0, n_samples=5, proposal=3.0)
+    with pytest.raises(ValueError, match=r'proposal must be "auto"'):
         g.certify(problem, _zero, X0, n_samples=5, proposal="riccati")
 
 
@@ -333,7 +338,7 @@ def test_interval_of_one_state_and_its_level():
 def test_box_exits_are_counted_as_simulate_counts_them():
     grid = g.Grid([g.Axis(-0.3, 0.3, 11)])
     problem = g.Problem(SingleIntegrator(), grid, 1.0, g.Quadratic([0], [1.0]))
-    cert = g.certify(problem, _zero, [0.0], n_samples=400, seed=2)
+    cert = g.certify(problem, _zero, [0.0], n_samples=400, seed=2, proposal=None)
     rollouts = g.simulate(problem, _zero, [0.0], n_samples=400, seed=2)
     assert cert.left_box_fraction == rollouts.left_box.mean() > 0.5
     np.testing.assert_array_equal(cert.final_states, rollouts.final_states)
@@ -343,7 +348,7 @@ def test_progress_bar_on_request(capsys):
     g.certify(
         lq_point_mass(), _zero, X0, n_samples=10, seed=0, progress=True, min_effective_sample_size=1
     )
-    assert "300/300 steps" in capsys.readouterr().err
+    assert "600/600 steps" in capsys.readouterr().err  # the policy's and the grid proposal's
     g.certify(
         lq_point_mass(),
         _zero,
@@ -391,3 +396,65 @@ def test_richardson_removes_the_step_bias_on_lq():
     assert cert.step_contribution == pytest.approx(cert.optimal_value - cert.extrapolated_value)
     plain = g.certify(problem, exact.policy, X0, 200, dt=0.05, seed=3, progress=False)
     assert plain.extrapolated_value is None and plain.step_contribution is None
+
+
+# -- several proposals pooled (multiple importance sampling) ---------------------------------------
+
+
+def test_scored_log_likelihoods_are_the_girsanov_terms():
+    # For the sampling policy u itself, log dQ_u/dP = (Σ uᵀR dε + ½ Σ uᵀRu Δt)/λ: the Itô term
+    # and the control cost the loop accumulates anyway (no state cost here, so the running cost
+    # is the control cost), to rounding; for zero control the ratio is 1 (log 0) exactly.
+    from gridlbc.simulate import euler_maruyama
+
+    problem = lq_point_mass().replace(state_cost=None)
+    x = np.repeat(X0[None], 50, axis=0)
+    path = euler_maruyama(
+        problem, _push, x, 40, np.random.default_rng(0), scored=(_push, _zero), boundary="free"
+    )
+    lam = problem.temperature
+    np.testing.assert_allclose(
+        path.log_likelihoods[:, 0], (path.ito + path.running_cost) / lam, rtol=1e-12
+    )
+    np.testing.assert_array_equal(path.log_likelihoods[:, 1], 0.0)
+
+
+def test_pooled_proposals_estimate_the_chain_optimum():
+    # Riccati and zero control pooled, half the samples each: the balance-heuristic weights are
+    # exact for the chain (like one proposal's), so v* is within 3 of its SE of the chain's value;
+    # each proposal's own estimate is reported beside it.
+    problem = lq_point_mass()
+    riccati = lq_solution(problem)
+    cert = g.certify(problem, _push, X0, n_samples=4000, seed=5, proposal=[riccati, _zero])
+    chain = _chain_value(problem, X0)
+    assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
+    assert cert.proposals == ("proposal 1", "proposal 2") and cert.separate_proposal
+    assert cert.proposal_values.shape == (2,) and cert.proposal_values_se.shape == (2,)
+    assert np.all(np.abs(cert.proposal_values - chain) < 3 * cert.proposal_values_se)
+    with pytest.raises(ValueError, match="fewer than the 2 proposals"):
+        g.certify(problem, _push, X0, n_samples=1, proposal=[riccati, _zero])
+    with pytest.raises(ValueError, match="empty sequence"):
+        g.certify(problem, _push, X0, n_samples=10, proposal=[])
+
+
+def test_by_default_a_poor_policy_is_pooled_with_a_grid_solution():
+    # The constant push as its own proposal has a heavy weight tail (the test above); by default
+    # certify pools it with a grid solution of the problem, and the pooled v* is trusted and
+    # within 3 SE of the chain's exact value. J comes from the push's half of the samples (plain
+    # Monte Carlo of the push): within 3 SE of simulate's estimate.
+    problem = lq_point_mass()
+    cert = g.certify(problem, _push, X0, n_samples=4000, seed=0)
+    assert cert.proposals[0] == "the policy" and "grid solution (auto)" in cert.proposals[1]
+    assert cert.trusted and cert.pareto_k < 0.5
+    assert abs(cert.optimal_value - _chain_value(problem, X0)) < 3 * cert.optimal_value_se
+    rollouts = g.simulate(problem, _push, X0, n_samples=4000, seed=1)
+    assert abs(cert.policy_cost - rollouts.mean_cost) < 3 * np.hypot(
+        cert.policy_cost_se, rollouts.standard_error
+    )
+    assert cert.gap_se == pytest.approx(np.hypot(cert.policy_cost_se, cert.optimal_value_se))
+    assert "pooled with a" in cert.summary()
+    # a grid solution of this problem is not pooled with another: it is the proposal
+    solution = g.solve(problem)
+    own = g.certify(problem, solution.policy, X0, n_samples=200, seed=0)
+    assert own.proposals == ("the policy (a grid solution of this problem)",)
+    assert not own.separate_proposal
