@@ -74,7 +74,8 @@ def study_row(n, method, dt, bounds, hip, n_noisy, rollout_dt, memory, seed=0):
         dt=rollout_dt,
         seed=seed,
         min_effective_sample_size=0,
-    )  # J and the ESS are used
+        proposal=None,
+    )  # J and the ESS of its own samples are used
     row = {
         "grid": f"{n}^4",
         "method": method,
@@ -220,6 +221,7 @@ def main(argv=None):
                 args.truth_samples,
                 dt=args.rollout_dt,
                 seed=1,
+                proposal=None,  # the best grid policy alone
             )
         del proposal, solution
         v, se = truth.optimal_value, truth.optimal_value_se

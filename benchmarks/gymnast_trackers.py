@@ -189,6 +189,7 @@ def reference_optimum(problem, args, cache: Path) -> dict:
             seed=10 + 2 * seed,
             richardson=True,
             progress=False,
+            proposal=None,  # the grid policy alone: it is the reference proposal
         )
         coarse = gridlbc.certify(  # the richardson partner, for its own diagnostics (same draws)
             problem,
@@ -198,6 +199,7 @@ def reference_optimum(problem, args, cache: Path) -> dict:
             dt=2 * fine.dt,
             seed=10 + 2 * seed + 1,
             progress=False,
+            proposal=None,
         )
         for cert in (coarse, fine):
             out["steps"].append(
@@ -252,8 +254,15 @@ def noisy_rows(problem, policies: dict, x0, samples, dt, seed, own=True):
         runs = gridlbc.simulate(problem, policy, x0, samples, dt=dt, seed=seed)
         cert = None
         if own:
-            cert = gridlbc.certify(
-                problem, policy, x0, n_samples=samples, dt=dt, seed=seed, progress=False
+            cert = gridlbc.certify(  # the controller's own certificate: it alone as proposal
+                problem,
+                policy,
+                x0,
+                n_samples=samples,
+                dt=dt,
+                seed=seed,
+                progress=False,
+                proposal=None,
             )
         rows[label] = (runs.costs, float(np.abs(runs.controls).max()), cert)
     return rows
@@ -359,6 +368,7 @@ def main(argv=None):
                     dt=args.noisy_dt,
                     seed=seed,
                     progress=False,
+                    proposal=None,  # LBC's own certificate
                 )
                 inside = lo_step <= own.optimal_value <= hi_step
                 print(
@@ -527,6 +537,7 @@ def main(argv=None):
                 dt=args.noisy_dt,
                 seed=1,
                 progress=False,
+                proposal=None,
             )
             tape = trackers[i].controls
             for k, d in enumerate(deltas):

@@ -54,7 +54,14 @@ class _Result:
 
 def _certify(problem, policy, states, n, dt, seed, max_time=None):
     """Certify every state with ``policy``, or state i with ``policy[i]`` if it is a list."""
-    options = {"n_samples": n, "dt": dt, "seed": seed, "progress": False, "max_time": max_time}
+    options = {
+        "n_samples": n,
+        "dt": dt,
+        "seed": seed,
+        "progress": False,
+        "max_time": max_time,
+        "proposal": None,  # the chosen proposal alone, as the stored truths were made
+    }
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if isinstance(policy, list):
