@@ -388,18 +388,17 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     setup = time.perf_counter() - start
     solver = _linear_solver(A[:, interior], s, grid.ndim)
     Z, iterations = solver(np.stack(rhs, axis=1))
-    corrected = False
+    digest = _digest(E, q, L.data, to_boundary.data, generator.boundary_points)
+    label = f"stationary-{s.rates}"
     if generator.second_order is not None:
         Z, corrected, more = _defect_correction(
             Z, solver, generator.second_order, q / lam, E, z_exits, z_boundary, s
         )
         iterations += more
-    digest = _digest(E, q, L.data, to_boundary.data, generator.boundary_points)
-    label = f"stationary-{s.rates}"
-    if corrected:  # another linear map of the exit values: another operator
-        L2, to_boundary2 = generator.second_order
-        digest = _digest(E, q, L.data, to_boundary.data, L2.data, to_boundary2.data)
-        label += f"+dc{s.defect_correction}"
+        if corrected:  # another linear map of the exit values: another operator
+            L2, to_boundary2 = generator.second_order
+            digest = _digest(digest.encode(), L2.data, to_boundary2.data)
+            label += f"+dc{s.defect_correction}"
     out = []
     for r, p in enumerate(problems):
         z = np.empty(grid.size)

@@ -234,7 +234,7 @@ def _assemble(
             for sign in (1, -1):
                 b_cols[sign] = np.full(n_nodes, -1)
                 b_cols[sign][cut[sign]] = b_offset + np.arange(np.count_nonzero(cut[sign]))
-                b_offset += np.count_nonzero(cut[sign])
+                b_offset += int(np.count_nonzero(cut[sign]))
             second += _second_order_axis(
                 flat, targets, valid, cut, arms, b_cols, drift[:, k], diffusion[:, k], h, up, down
             )
