@@ -397,7 +397,7 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
         iterations += more
         if corrected:  # another linear map of the exit values: another operator
             L2, to_boundary2 = generator.second_order
-            digest = _digest(digest.encode(), L2.data, to_boundary2.data)
+            digest = _digest(np.frombuffer(digest.encode(), np.uint8), L2.data, to_boundary2.data)
             label += f"+dc{s.defect_correction}"
     out = []
     for r, p in enumerate(problems):
