@@ -131,14 +131,14 @@ def exit_generator(
     weights 2D_kk / (h± (h₊ + h₋)) on unequal arms) and the drift differenced second-order
     upwind, along the direction of motion m = sign(a_k),
 
-        a_k ∂_k z ≈ |a_k| (4 z_{i+m} − z_{i+2m} − 3 z_i) / (2 h_k),
+        a_k ∂_k z ≈ abs(a_k) (4 z_{i+m} − z_{i+2m} − 3 z_i) / (2 h_k),
 
     so that it never differences across the exit set's boundary behind a node, where z need not
     be smooth (on an axis without noise the paths that start there move away from the set).
     Where the exit set lies on the arm ahead, at distance h_d (the arm behind h_u), the three
     points i − m, i and the boundary point b give
 
-        a_k ∂_k z ≈ |a_k| [h_u² (z_b − z_i) − h_d² (z_{i−m} − z_i)] / (h_d h_u (h_d + h_u)),
+        a_k ∂_k z ≈ abs(a_k) [h_u² (z_b − z_i) − h_d² (z_{i−m} − z_i)] / (h_d h_u (h_d + h_u)),
 
     where it lies two nodes ahead, central differences; where the node behind is not free
     either, and at the box's closed edges, L₂ keeps L₁'s rates along that axis. Its
