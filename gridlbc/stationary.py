@@ -122,6 +122,14 @@ class StationarySettings:
         on its mask (:func:`gridlbc.schemes.generator.exit_generator`); False: at the nodes
         inside it, which places the set's boundary only to within a cell (first order, and
         irregular as the grid is refined).
+    defect_correction : int
+        Steps of defect correction (0: none): the first-order solution z₁ corrected by the
+        residual of a second-order discretisation L₂ of the same generator, solved with the
+        same matrix, z_{j+1} = z_j + A₁⁻¹ (b₂ − A₂ z_j) (:func:`_defect_correction`). Still
+        linear in the exit values, so exit costs solved together combine exactly; second
+        order where z is resolved, and undone, with a :class:`gridlbc.ResolutionWarning`,
+        where a step would make z negative somewhere (z not resolved: v varies by much more
+        than λ over a cell). Needs ``fit_exit``.
     """
 
     rates: str = "fitted"
@@ -129,6 +137,7 @@ class StationarySettings:
     residual: float = 1e-12
     error_estimate: bool = True
     fit_exit: bool = True
+    defect_correction: int = 0
 
     def __post_init__(self):
         if self.rates not in RATES:
@@ -140,6 +149,13 @@ class StationarySettings:
             )
         if not (0 < self.residual < 1):
             raise ValueError(f"residual must lie in (0, 1), got {self.residual}")
+        steps = self.defect_correction
+        if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 0:
+            raise ValueError(
+                f"defect_correction must be a number of steps, 0, 1, 2, ..., got {steps!r}"
+            )
+        if steps and not self.fit_exit:
+            raise ValueError("defect_correction needs fit_exit=True (the exit set's boundary)")
 
 
 def stationary_settings(options: dict) -> StationarySettings:
@@ -226,16 +242,27 @@ def _scaled_rows(A: sp.spmatrix) -> tuple[sp.csr_matrix, sp.dia_matrix]:
 def _solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: int):
     """Z with A Z = b for right-hand sides ``b`` ``(n, K)``, and the iteration count (0 for the
     direct solve, which factorises once for all K), the rows scaled first (:func:`_scaled_rows`)."""
+    return _linear_solver(A, s, ndim)(b)
+
+
+def _linear_solver(A: sp.csr_matrix, s: StationarySettings, ndim: int):
+    """A function ``b (n, K) -> (Z, iterations)`` with A Z = b: :func:`_solve_linear` with its
+    factorisation (direct) or its scaled matrix (Krylov) kept for further right-hand sides."""
     A, inverse = _scaled_rows(A)
-    b = inverse @ b
     method = _method(s, ndim, A.shape[0])
     if method == "direct":
-        return spla.splu(A.tocsc()).solve(b), 0
-    Z, total = np.empty_like(b), 0
-    for r in range(b.shape[1]):
-        Z[:, r], iterations = _iterative(A, b[:, r], s, method)
-        total += iterations
-    return Z, total
+        lu = spla.splu(A.tocsc())
+        return lambda b: (lu.solve(inverse @ b), 0)
+
+    def solve(b):
+        b = inverse @ b
+        Z, total = np.empty_like(b), 0
+        for r in range(b.shape[1]):
+            Z[:, r], iterations = _iterative(A, b[:, r], s, method)
+            total += iterations
+        return Z, total
+
+    return solve
 
 
 def _iterative(
@@ -334,7 +361,7 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     lam = problem.temperature
     q = np.where(E, 0.0, problem.state_cost_values())
     if s.fit_exit:
-        generator = exit_generator(problem, s.rates, E)
+        generator = exit_generator(problem, s.rates, E, second_order=s.defect_correction > 0)
     else:
         L0 = generator_matrix(problem, s.rates, absorbing=E)
         generator = Generator(L0, sp.csr_matrix((grid.size, 0)), np.empty((0, grid.ndim)))
@@ -344,7 +371,7 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     interior = np.flatnonzero(~E)
     A = (sp.diags(q / lam) - L).tocsr()[interior]
     problems = [problem.replace(exit_cost=cost) for cost in exit_costs]
-    tops, z_exits, rhs = [], [], []
+    tops, z_exits, rhs, z_boundary = [], [], [], []
     for p in problems:
         g_nodes = p.exit_values()[E]
         g_points = np.empty(0)
@@ -356,18 +383,82 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
             z_exit = np.exp(-(g_nodes - g_min) / lam)
             z_points = np.exp(-(g_points - g_min) / lam)
         z_exits.append(z_exit)
+        z_boundary.append(z_points)
         rhs.append(-A[:, np.flatnonzero(E)] @ z_exit + to_boundary[interior] @ z_points)
     setup = time.perf_counter() - start
-    Z, iterations = _solve_linear(A[:, interior], np.stack(rhs, axis=1), s, grid.ndim)
+    solver = _linear_solver(A[:, interior], s, grid.ndim)
+    Z, iterations = solver(np.stack(rhs, axis=1))
     digest = _digest(E, q, L.data, to_boundary.data, generator.boundary_points)
+    label = f"stationary-{s.rates}"
+    if generator.second_order is not None:
+        Z, corrected, more = _defect_correction(
+            Z, solver, generator.second_order, q / lam, E, z_exits, z_boundary, s
+        )
+        iterations += more
+        if corrected:  # another linear map of the exit values: another operator
+            L2, to_boundary2 = generator.second_order
+            digest = _digest(np.frombuffer(digest.encode(), np.uint8), L2.data, to_boundary2.data)
+            label += f"+dc{s.defect_correction}"
     out = []
     for r, p in enumerate(problems):
         z = np.empty(grid.size)
         z[E], z[interior] = z_exits[r], Z[:, r]
         np.clip(z, 0.0, None, out=z)  # an iterative solve's rounding may dip below zero
         counts = (iterations,) if iterations else ()
-        out.append(_package(p, s, z, tops[r], start, setup, counts, digest))
+        out.append(_package(p, label, z, tops[r], start, setup, counts, digest))
     return out
+
+
+def _defect_correction(Z, solver, second_order, decay, E, z_exits, z_boundary, s):
+    """``s.defect_correction`` steps of defect correction (Hemker; Trottenberg, Oosterlee and
+    Schüller, *Multigrid*, §5.4) of the first-order solutions ``Z`` ``(n_I, K)`` of
+    A₁ z_I = b₁, A₁ = (diag(q/λ) − L₁)_II: with the second-order L₂ of the same generator
+    (:func:`gridlbc.schemes.generator.exit_generator`) and its system A₂ z_I = b₂,
+
+        z_{j+1} = z_j + A₁⁻¹ (b₂ − A₂ z_j),        b₂ = L₂_IE z_E + L₂_Ib z_b,
+
+    solved by ``solver`` (A₁'s factorisation or Krylov solve, reused). The fixed point is
+    L₂'s solution; one step from z₁ leaves the error A₁⁻¹ (A₁ − A₂)(z₁ − z) = O(h²) where z
+    and the first-order error are smooth, so one or two steps raise the order from one to
+    two on the axes without noise. Each step is linear in (z_E, z_b), so the columns of ``Z``
+    (exit costs on one exit set) stay solutions of one linear map.
+
+    Where z is not resolved (v changes by many λ across a cell) the first-order z is off by a
+    large factor, the correction overshoots and z can come out negative: then every column
+    keeps the first-order solution (the same map for all, so they still combine exactly) and
+    a :class:`gridlbc.ResolutionWarning` says so.
+
+    Returns
+    -------
+    (Z, corrected, iterations) : the corrected (or the first-order) solutions, whether the
+    correction was kept, the Krylov iterations of the correction solves (0 for LU).
+    """
+    L2, to_boundary2 = second_order
+    interior = np.flatnonzero(~E)
+    A2 = (sp.diags(decay) - L2).tocsr()[interior]
+    known = np.stack(
+        [
+            A2[:, np.flatnonzero(E)] @ z_exit - to_boundary2[interior] @ z_points
+            for z_exit, z_points in zip(z_exits, z_boundary)
+        ],
+        axis=1,
+    )  # −b₂ per column
+    A2 = A2[:, interior]
+    corrected, total = Z, 0
+    for _ in range(s.defect_correction):
+        delta, iterations = solver(-known - A2 @ corrected)
+        corrected, total = corrected + delta, total + iterations
+    if np.all(corrected > 0):
+        return corrected, True, total
+    negative = np.count_nonzero(np.any(corrected <= 0, axis=1))
+    warnings.warn(
+        f"defect correction made z ≤ 0 at {negative} of {len(corrected)} nodes: the grid does "
+        "not resolve z = exp(−v/λ) (v changes by much more than λ across a cell); the "
+        "solution is the first-order one. Refine the grid, or raise the temperature",
+        ResolutionWarning,
+        stacklevel=4,
+    )
+    return Z, False, total
 
 
 def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySolution:
@@ -401,7 +492,8 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
             stacklevel=3,
         )
     e = np.clip(e / e.max(), 0.0, None)
-    solution = _package(problem, s, e, 0.0, start, setup, iterations, _digest(q, M.data))
+    label = f"stationary-{s.rates}"
+    solution = _package(problem, label, e, 0.0, start, setup, iterations, _digest(q, M.data))
     object.__setattr__(solution, "average_cost", -lam * mu)
     return solution
 
@@ -500,8 +592,9 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
     )
 
 
-def _package(problem, s, z, top, start, setup, iterations, digest) -> StationarySolution:
-    """A :class:`StationarySolution` of nodal ``z`` · e^top; ``iterations`` a tuple of counts."""
+def _package(problem, label, z, top, start, setup, iterations, digest) -> StationarySolution:
+    """A :class:`StationarySolution` of nodal ``z`` · e^top; ``iterations`` a tuple of counts,
+    ``label`` the operator's name in its :class:`~gridlbc.solution.OperatorSignature`."""
     peak = float(z.max())
     Z = z / peak if peak > 0 else z
     diagnostics = SolveDiagnostics(
@@ -517,7 +610,7 @@ def _package(problem, s, z, top, start, setup, iterations, digest) -> Stationary
         courant=0.0,
         iterations=tuple(iterations),
     )
-    operator = OperatorSignature(f"stationary-{s.rates}", 0.0, digest)
+    operator = OperatorSignature(label, 0.0, digest)
     return StationarySolution(
         problem,
         np.zeros(1),

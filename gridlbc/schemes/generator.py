@@ -79,11 +79,16 @@ class Generator:
         The rates of the jumps from the nodes next to the exit set to its boundary points.
     boundary_points : ndarray (n_b, d)
         Where each of those arms meets the exit set.
+    second_order : tuple of two scipy.sparse.csr_matrix, or None
+        A second-order, not monotone, discretisation L₂ of the same generator on the same nodes
+        and boundary points (among the nodes, to the boundary points), for defect correction
+        (:func:`exit_generator`); None unless asked for.
     """
 
     matrix: sp.csr_matrix
     boundary_rates: sp.csr_matrix
     boundary_points: np.ndarray
+    second_order: tuple[sp.csr_matrix, sp.csr_matrix] | None = None
 
 
 def generator_matrix(
@@ -104,7 +109,9 @@ def generator_matrix(
     return _assemble(problem, rates, absorbing, fit_exit=False).matrix
 
 
-def exit_generator(problem: Problem, rates: str, exit_nodes: np.ndarray) -> Generator:
+def exit_generator(
+    problem: Problem, rates: str, exit_nodes: np.ndarray, second_order: bool = False
+) -> Generator:
     """The generator of a first-exit problem with its exit set's boundary fitted: a node next to
     the set along axis k jumps to the point where the segment to its neighbour enters the set,
     at distance θh (θ ∈ (0, 1], found by bisection on the set's mask), instead of to the
@@ -118,6 +125,25 @@ def exit_generator(problem: Problem, rates: str, exit_nodes: np.ndarray) -> Gene
     to the bisection's precision rather than to a cell, and the boundary condition
     z = exp(−g_E/λ) is imposed where the set begins.
 
+    With ``second_order`` it also assembles L₂, a second-order discretisation of
+    aᵀ∇ + tr(D∇²) on the same nodes and boundary points, for defect correction
+    (:mod:`gridlbc.stationary`): along each axis central diffusion (the Shortley–Weller
+    weights 2D_kk / (h± (h₊ + h₋)) on unequal arms) and the drift differenced second-order
+    upwind, along the direction of motion m = sign(a_k),
+
+        a_k ∂_k z ≈ abs(a_k) (4 z_{i+m} − z_{i+2m} − 3 z_i) / (2 h_k),
+
+    so that it never differences across the exit set's boundary behind a node, where z need not
+    be smooth (on an axis without noise the paths that start there move away from the set).
+    Where the exit set lies on the arm ahead, at distance h_d (the arm behind h_u), the three
+    points i − m, i and the boundary point b give
+
+        a_k ∂_k z ≈ abs(a_k) [h_u² (z_b − z_i) − h_d² (z_{i−m} − z_i)] / (h_d h_u (h_d + h_u)),
+
+    where it lies two nodes ahead, central differences; where the node behind is not free
+    either, and at the box's closed edges, L₂ keeps L₁'s rates along that axis. Its
+    off-diagonal entries may be negative (it is not an M-matrix) and its rows sum to zero.
+
     Parameters
     ----------
     problem : Problem
@@ -126,8 +152,10 @@ def exit_generator(problem: Problem, rates: str, exit_nodes: np.ndarray) -> Gene
         ``"upwind"`` or ``"fitted"`` away from the exit set (:data:`RATES`).
     exit_nodes : ndarray of bool (N,)
         The nodes in the exit set (absorbing).
+    second_order : bool
+        Also assemble L₂ (:attr:`Generator.second_order`).
     """
-    return _assemble(problem, rates, exit_nodes, fit_exit=True)
+    return _assemble(problem, rates, exit_nodes, fit_exit=True, second_order=second_order)
 
 
 BISECTIONS = 40
@@ -147,7 +175,11 @@ def _crossing(problem: Problem, start: np.ndarray, step: np.ndarray) -> np.ndarr
 
 
 def _assemble(
-    problem: Problem, rates: str, absorbing: np.ndarray | None, fit_exit: bool
+    problem: Problem,
+    rates: str,
+    absorbing: np.ndarray | None,
+    fit_exit: bool,
+    second_order: bool = False,
 ) -> Generator:
     if rates not in RATES:
         raise ValueError(f"rates must be one of {', '.join(RATES)}, got {rates!r}")
@@ -165,6 +197,8 @@ def _assemble(
     rows, cols, values = [], [], []
     b_rows, b_values, points = [], [], []
     total = np.zeros(n_nodes)
+    second: list = []  # the entries of L₂ (_second_order_axis)
+    b_offset = 0
     for k, ax in enumerate(grid.axes):
         h, s = ax.spacing, int(grid.strides[k])
         i = multi[k]
@@ -195,6 +229,15 @@ def _assemble(
             hp, hm, a, D = arms[1][fitted], arms[-1][fitted], drift[fitted, k], diffusion[fitted, k]
             up[fitted] = 2 * D / (hp * (hp + hm)) + np.maximum(a, 0.0) / hp
             down[fitted] = 2 * D / (hm * (hp + hm)) + np.maximum(-a, 0.0) / hm
+        if second_order:  # the boundary points' columns, in the order they are appended
+            b_cols = {}
+            for sign in (1, -1):
+                b_cols[sign] = np.full(n_nodes, -1)
+                b_cols[sign][cut[sign]] = b_offset + np.arange(np.count_nonzero(cut[sign]))
+                b_offset += int(np.count_nonzero(cut[sign]))
+            second += _second_order_axis(
+                flat, targets, valid, cut, arms, b_cols, drift[:, k], diffusion[:, k], h, up, down
+            )
         for sign, rate in ((1, up), (-1, down)):
             keep = valid[sign] & (rate > 0)
             total[keep] += rate[keep]
@@ -210,4 +253,69 @@ def _assemble(
     b_entries = (np.concatenate(b_values), (np.concatenate(b_rows), np.arange(n_b)))
     to_boundary = sp.coo_matrix(b_entries, shape=(n_nodes, n_b)).tocsr()
     boundary_points = np.concatenate(points) if points else np.empty((0, grid.ndim))
-    return Generator((off - sp.diags(total)).tocsr(), to_boundary, boundary_points)
+    pair = None
+    if second_order:
+        pair = _second_order_matrices(second, n_nodes, n_b)
+    return Generator((off - sp.diags(total)).tocsr(), to_boundary, boundary_points, pair)
+
+
+def _second_order_matrices(entries: list, n_nodes: int, n_b: int):
+    """(L₂ among the nodes, L₂ to the boundary points) from the entries of
+    :func:`_second_order_axis`, the diagonal making every row sum to zero."""
+    parts = {flag: [e for e in entries if e[3] is flag] for flag in (False, True)}
+    stacked = {}
+    for flag, group in parts.items():
+        rows = np.concatenate([e[0] for e in group] + [np.empty(0, dtype=np.int64)])
+        cols = np.concatenate([e[1] for e in group] + [np.empty(0, dtype=np.int64)])
+        values = np.concatenate([e[2] for e in group] + [np.empty(0)])
+        stacked[flag] = (rows, cols, values)
+    rows, cols, values = stacked[False]
+    off = sp.coo_matrix((values, (rows, cols)), shape=(n_nodes, n_nodes)).tocsr()
+    b_rows, b_cols, b_values = stacked[True]
+    to_boundary = sp.coo_matrix((b_values, (b_rows, b_cols)), shape=(n_nodes, n_b)).tocsr()
+    total = np.bincount(rows, values, n_nodes) + np.bincount(b_rows, b_values, n_nodes)
+    return (off - sp.diags(total)).tocsr(), to_boundary
+
+
+def _second_order_axis(flat, targets, valid, cut, arms, b_cols, a, D, h, up, down) -> list:
+    """The entries (rows, columns, coefficients, whether the columns are boundary points) of
+    the second-order L₂ along one axis (:func:`exit_generator`, ``second_order``), with L₁'s
+    rates ``up``, ``down`` for the box's closed edges."""
+    free1 = {m: valid[m] & ~cut[m] for m in (1, -1)}
+    free2 = {m: free1[m] & free1[m][targets[m]] for m in (1, -1)}
+    target2 = {m: targets[m][targets[m]] for m in (1, -1)}
+    moving = valid[1] | valid[-1] | cut[1] | cut[-1]
+    edge = moving & ~(valid[1] & valid[-1])
+    out = []
+
+    def add(where, m, coefficient, ahead=1):
+        """Coefficients on the node (or boundary point) ``ahead`` steps along m."""
+        if ahead == 2:
+            out.append((flat[where], target2[m][where], coefficient[where], False))
+            return
+        node, point = where & ~cut[m], where & cut[m]
+        out.append((flat[node], targets[m][node], coefficient[node], False))
+        out.append((flat[point], b_cols[m][point], coefficient[point], True))
+
+    for m, rate in ((1, up), (-1, down)):  # the box's edges: L₁'s rates
+        add(edge & valid[m] & (rate > 0), m, rate)
+    inner = moving & ~edge
+    hp, hm = arms[1], arms[-1]
+    for m, arm in ((1, hp), (-1, hm)):  # diffusion
+        add(inner & (D > 0), m, 2 * D / (arm * (hp + hm)))
+    speed = np.abs(a)
+    for m in (1, -1):  # drift, along the direction of motion m
+        go = inner & (np.sign(a) == m)
+        ahead, behind = arms[m], arms[-m]
+        at_exit = go & cut[m] & free1[-m]
+        add(at_exit, m, speed * behind / (ahead * (ahead + behind)))
+        add(at_exit, -m, -speed * ahead / (behind * (ahead + behind)))
+        add(go & cut[m] & ~free1[-m], m, speed / ahead)
+        upwind2 = go & free2[m]
+        add(upwind2, m, 2 * speed / h)
+        add(upwind2, m, -0.5 * speed / h, ahead=2)
+        central = go & free1[m] & ~free2[m] & free1[-m]
+        add(central, m, 0.5 * speed / h)
+        add(central, -m, -0.5 * speed / h)
+        add(go & free1[m] & ~free2[m] & ~free1[-m], m, speed / h)
+    return out
