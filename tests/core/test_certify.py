@@ -99,8 +99,16 @@ def test_bad_policy_gives_right_optimum_with_larger_error_and_positive_gap():
     # Pushing the wrong way at constant force: the proposal is poor, yet v* is still the optimum.
     problem = lq_point_mass()
     chain = _chain_value(problem, X0)
-    zero = g.certify(problem, _zero, X0, n_samples=4000, seed=6)
-    bad = g.certify(problem, lambda x, t: np.full((x.shape[0], 1), 0.6), X0, n_samples=4000, seed=6)
+    # each policy alone as its proposal (proposal=None; the default would pool both with a grid)
+    zero = g.certify(problem, _zero, X0, n_samples=4000, seed=6, proposal=None)
+    bad = g.certify(
+        problem,
+        lambda x, t: np.full((x.shape[0], 1), 0.6),
+        X0,
+        n_samples=4000,
+        seed=6,
+        proposal=None,
+    )
     assert bad.effective_sample_size >= bad.min_effective_sample_size
     assert abs(bad.optimal_value - chain) < 3 * bad.optimal_value_se
     assert bad.optimal_value_se > 1.5 * zero.optimal_value_se
