@@ -247,12 +247,14 @@ class Certificate:
     def interval(self, level: float = 0.95):
         """A confidence interval for v*(x₀) at ``level``, using that v* ≤ J(policy) always.
 
-        With z the standard normal quantile of (1 + level)/2,
+        With z the standard normal quantile of (1 + level)/2 and z′ that of (3 + level)/4,
 
-            lower = v̂* − z SE(v̂*),      upper = min(v̂* + z SE(v̂*), Ĵ + z SE(Ĵ)),
+            lower = v̂* − z SE(v̂*),      upper = min(v̂* + z′ SE(v̂*), Ĵ + z′ SE(Ĵ)),
 
         the upper end tightened by J(u) − v* = λ KL(P_u ‖ P*) ≥ 0, which holds for the
-        Euler–Maruyama chain as for the SDE. Both ends are normal approximations: they hold for
+        Euler–Maruyama chain as for the SDE. Each of the two upper bounds fails with probability
+        (1 − level)/4, so their minimum fails with at most (1 − level)/2 whether Ĵ and v̂* come
+        from the same samples or not (Bonferroni). Both ends are normal approximations: they hold for
         the time-discretised chain (its O(Δt) distance from the SDE's optimum is not included)
         and only as far as the certificate is :attr:`trusted` (a heavy weight tail biases v̂*
         upward beyond its SE). With ``certify(..., richardson=True)`` the interval is instead
@@ -278,10 +280,10 @@ class Certificate:
             half = z * np.asarray(self.extrapolated_value_se)
             lo, hi = centre - half, centre + half
             return (float(lo), float(hi)) if lo.ndim == 0 else (lo, hi)
-        value = np.asarray(self.optimal_value)
-        spread = z * np.asarray(self.optimal_value_se)
-        bound = np.asarray(self.policy_cost) + z * np.asarray(self.policy_cost_se)
-        lower, upper = value - spread, np.minimum(value + spread, bound)
+        z_upper = float(norm.ppf(0.25 * (3.0 + level)))
+        value, se = np.asarray(self.optimal_value), np.asarray(self.optimal_value_se)
+        bound = np.asarray(self.policy_cost) + z_upper * np.asarray(self.policy_cost_se)
+        lower, upper = value - z * se, np.minimum(value + z_upper * se, bound)
         if lower.ndim == 0:
             return float(lower), float(upper)
         return lower, upper
