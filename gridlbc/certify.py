@@ -442,7 +442,8 @@ def certify(
     n_samples : int
         Samples per start state (all k·n are rolled out together, the policy called on all).
     dt : float, optional
-        Euler–Maruyama step, as in :func:`gridlbc.simulate` (default T / 300). The estimate is
+        Euler–Maruyama step, as in :func:`gridlbc.simulate` (default T / 300; required for a
+        problem without a horizon, where ``max_time`` is only a cap). The estimate is
         exact for the time-discretised chain; its distance from the SDE's optimum is the scheme's
         O(Δt) weak error, so halve ``dt`` to check it where a few percent matter.
     seed : int, optional
@@ -516,7 +517,7 @@ def certify(
             "problem has none (its value is relative): simulate the policy for a long max_time "
             "and compare the cost per unit time with solution.average_cost"
         )
-    T = rollout_horizon(problem, max_time)
+    T = rollout_horizon(problem, max_time, dt)
     K = step_count(T, dt)
     k = starts.shape[0]
     one_sample = n < 2 and isinstance(proposal, str)  # "auto" with one sample: nothing to share

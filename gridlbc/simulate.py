@@ -234,7 +234,7 @@ def step_count(horizon: float, dt) -> int:
     return math.ceil(horizon / dt - 1e-9)
 
 
-def rollout_horizon(problem: Problem, max_time) -> float:
+def rollout_horizon(problem: Problem, max_time, dt=None) -> float:
     """How long the rollouts of ``problem`` run: its horizon T, or ``max_time`` for a problem
     without one (first exit: the cap on τ; average cost: the averaging time).
 
@@ -244,6 +244,10 @@ def rollout_horizon(problem: Problem, max_time) -> float:
         The problem.
     max_time : float or None
         Given for (and only for) a problem without a horizon.
+    dt : float or None
+        The step asked for. A problem without a horizon needs one: ``max_time`` is only a cap,
+        so the default T / :data:`DEFAULT_STEPS` would tie the step to it (30 s gives 0.1 s
+        steps, coarse enough to swing a pendulum up by integration error alone).
     """
     if problem.stationary:
         if max_time is None:
@@ -251,6 +255,13 @@ def rollout_horizon(problem: Problem, max_time) -> float:
                 "this problem has no horizon: give max_time, the time at which rollouts stop "
                 "(for first exit, well beyond the typical time to reach the exit set: samples "
                 "still running then are reported as not exited)"
+            )
+        if dt is None:
+            raise ValueError(
+                "this problem has no horizon: give dt, the Euler–Maruyama step, explicitly "
+                "(max_time is only a cap, so a default of max_time / "
+                f"{DEFAULT_STEPS} would tie the step to it); pick it for the dynamics' fastest "
+                "time scale and check it by halving it (certify: richardson=True)"
             )
         return positive_float("max_time", max_time)
     if max_time is not None:
@@ -302,7 +313,8 @@ def simulate(
     n_samples : int
         Number of independent samples.
     dt : float, optional
-        Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`).
+        Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`);
+        required for a problem without a horizon (``max_time`` is only a cap).
         The scheme's weak error is O(Δt) with a problem-dependent constant, large where the
         dynamics are fast (the README's swing-up tables are rolled out at Δt = 0.002). Pass a
         smaller ``dt`` when a cost must be checked to a few percent.
@@ -327,7 +339,7 @@ def simulate(
     check_problem_and_policy(problem, policy)
     boundary = resolve_boundary(problem, boundary)
     x = _initial_states(problem, x0, n_samples)
-    T = rollout_horizon(problem, max_time)
+    T = rollout_horizon(problem, max_time, dt)
     K = step_count(T, dt)
     n, d, m = x.shape[0], problem.system.state_dim, problem.system.control_dim
     states = np.empty((n, K + 1, d))

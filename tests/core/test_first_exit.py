@@ -480,3 +480,22 @@ def test_average_cost_warns_where_its_estimate_exceeds_the_tolerance():
     assert solution.average_cost_error > 0.05 * solution.average_cost
     quiet = g.solve(problem, error_estimate=False)
     assert quiet.average_cost_error is None and quiet.average_cost == solution.average_cost
+
+
+def test_rollouts_of_a_task_without_a_horizon_need_an_explicit_step():
+    # max_time is only a cap: a default step of max_time / 300 would tie the step to it (a
+    # 30 s cap gives 0.1 s steps, coarse enough to change the answer), so dt is required.
+    problem = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-2, 2, 41)]),
+        None,
+        state_cost=lambda x: np.ones(len(x)),
+        exit=Box([1.0], [np.inf]),
+    )
+
+    def zero(x, t):
+        return np.zeros((len(x), 1))
+
+    for run in (g.simulate, g.certify):
+        with pytest.raises(ValueError, match="give dt"):
+            run(problem, zero, [0.0], n_samples=10, max_time=30.0)
