@@ -121,21 +121,20 @@ def refined_grid(grid: Grid, axes=None) -> Grid:
     )
 
 
-def axes_to_refine(
-    solution, solve_on, states=None, time_share: float = 0.0
-) -> tuple[list[int], np.ndarray]:
-    """Which axes limit the accuracy of ``solution``: each axis's share of the error, measured by
-    solving again with only that axis coarsened (every other node, ``solve_on(grid)``, which may
-    return None where the problem cannot be posed on that grid) and reading the relative
-    difference at the judged states (:func:`statistic`).
+def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
+    """Each axis's share of the error of ``solution`` and the difference from its embedded solve.
 
-    A first-order error splits into per-axis parts C_i h_i (and the step's, ``time_share``, when
-    the embedded solve also doubles it): the difference D from the embedded solve, which
-    coarsens every axis, is then about the sum of the shares. Where it is (the shares add up to
-    at least half of D), the axes whose share is at least half the largest are returned:
-    refining the others alone would gain little. Where the shares do not add up, the errors are
-    not in that regime (the grids are too coarse for a per-axis model), and every axis is
-    returned. Also returned: every share (NaN for an axis too coarse to coarsen).
+    The share of axis i is the relative difference (:func:`statistic` at the judged states) from
+    a solve with only that axis coarsened (every other node, ``solve_on(grid)``, which may return
+    None where the problem cannot be posed on that grid; NaN then, and for an axis too coarse to
+    coarsen). The difference D from the embedded solve, which coarsens every axis (and doubles
+    the step), is read the same way.
+
+    Returns
+    -------
+    shares : ndarray (d,)
+    whole : float
+        D.
     """
     X = judged_states(solution, states)
     grid = solution.grid
@@ -148,10 +147,91 @@ def axes_to_refine(
     whole = statistic(
         relative_difference(solution, solution.embedded.solution, X), states is not None
     )
-    if np.all(np.isnan(shares)) or np.nansum(shares) + time_share < 0.5 * whole:
-        return list(range(grid.ndim)), shares
+    return shares, whole
+
+
+def shares_add_up(shares: np.ndarray, whole: float, time_share: float = 0.0) -> bool:
+    """Whether the per-axis shares (and the step's, ``time_share``) add up to at least half the
+    embedded difference ``whole``: a first-order error splits into parts C_i h_i (and C_t Δt)
+    whose sum the embedded solve, which coarsens everything, measures; where they do not add up
+    the errors are not in that regime (the grids are too coarse for a per-component model)."""
+    return bool(np.any(np.isfinite(shares)) and np.nansum(shares) + time_share >= 0.5 * whole)
+
+
+def axes_to_refine(
+    solution, solve_on, states=None, time_share: float = 0.0
+) -> tuple[list[int], np.ndarray]:
+    """Which axes limit the accuracy of ``solution``, from each axis's share of the error
+    (:func:`axis_shares`).
+
+    Where the shares add up (:func:`shares_add_up`), the axes whose share is at least half the
+    largest are returned: refining the others alone would gain little. Where they do not, every
+    axis is returned. Also returned: every share (NaN for an axis too coarse to coarsen).
+    """
+    shares, whole = axis_shares(solution, solve_on, states)
+    if not shares_add_up(shares, whole, time_share):
+        return list(range(solution.grid.ndim)), shares
     top = np.nanmax(shares)
-    return [i for i in range(grid.ndim) if not shares[i] < 0.5 * top], shares
+    return [i for i in range(solution.grid.ndim) if not shares[i] < 0.5 * top], shares
+
+
+def refinement_factors(errors, orders, tol: float) -> np.ndarray:
+    """The least refinement that brings a sum of error components within ``tol``.
+
+    With components e_k ≈ C_k h_k^(p_k) (``errors``, ``orders``: one per axis and one for the
+    step), refining component k by r_k ≥ 1 (h_k → h_k / r_k) leaves Σ_k e_k r_k^(−p_k). The
+    work grows as Π r_k; its least value with the sum at ``tol`` (Lagrange: log r_k =
+    (log e_k − log u_k) / p_k) gives the refined components budgets u_k ∝ 1/p_k that share
+    what the unrefined ones leave of ``tol``. A component already within its budget is not
+    refined (r_k = 1), and the budgets are shared again among the others.
+
+    Parameters
+    ----------
+    errors : array_like (m,)
+        e_k ≥ 0 (NaN: unknown, not refined).
+    orders : array_like (m,)
+        p_k > 0.
+    tol : float
+
+    Returns
+    -------
+    ndarray (m,)
+        r_k ≥ 1.
+    """
+    e = np.nan_to_num(np.asarray(errors, dtype=float), nan=0.0)
+    p = np.asarray(orders, dtype=float) * np.ones_like(e)
+    refined = e > 0
+    while True:
+        budget = tol - e[~refined].sum()
+        weights = np.where(refined, 1.0 / p, 0.0)
+        if not refined.any() or budget <= 0:
+            break
+        u = budget * weights / weights.sum()
+        within = refined & (e <= u)
+        if not within.any():
+            break
+        refined &= ~within
+    r = np.ones_like(e)
+    if refined.any() and budget > 0:
+        r[refined] = (e[refined] / u[refined]) ** (1.0 / p[refined])
+    return r
+
+
+def scaled_grid(grid: Grid, factors) -> Grid:
+    """The grid with each axis's spacing divided by at least ``factors[i]`` (≥ 1; 1 leaves the
+    axis as it is): the fewest cells that do so, an even number of them, so that the grid with
+    every other node (:func:`embedded_grid`) keeps spacing exactly 2h. A factor of 2 gives
+    :func:`refined_grid`."""
+    out = []
+    for a, r in zip(grid.axes, factors):
+        cells = a.n if a.periodic else a.n - 1
+        if r <= 1.0:
+            out.append(a)
+            continue
+        cells = 2 * int(np.ceil(cells * r / 2.0 - 1e-9))
+        n = cells if a.periodic else cells + 1
+        out.append(Axis(a.lo, a.hi, n, periodic=a.periodic, name=a.name))
+    return Grid(out)
 
 
 def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) -> np.ndarray:
@@ -559,6 +639,72 @@ class Refinement:
     dtype: str = "float64"
     store_every: int = 1
     axis_errors: tuple[float, ...] = ()
+    factors: tuple[float, ...] = ()
+    reason: str = ""
+
+
+def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:
+    """Why the measured shares cannot choose the next grid, or "" where they can.
+
+    The per-component model e ≈ Σ_i C_i h_i^p + C_t Δt (:func:`refinement_factors`) steers
+    only in its asymptotic range. Outside it, the estimate says that the solve is poor, not which
+    part to refine, and every axis and the step are refined. Out of range are: an estimate
+    above 100 % of v (the coarser solves are not near v at all); levels that do not converge at
+    first order (:attr:`EmbeddedEstimate.converging`: the observed order is below the schemes'
+    least, 1); and shares that do not add up to the embedded difference
+    (:func:`shares_add_up`)."""
+    if not error <= 1.0:
+        return f"estimate {error:.0%} above 100 % of v"
+    if not embedded.converging:
+        return f"levels not converging (observed order {embedded.observed_order:.2f} < 1)"
+    total = np.nansum(shares) + time_share
+    if not (total > 0 and shares_add_up(np.asarray(shares), whole, time_share)):
+        return f"shares add up to {total:.3g} of the embedded difference {whole:.3g}"
+    return ""
+
+
+def fitting_plan(problem, settings, factors, max_nodes: int | None = None):
+    """The grid refined by ``factors`` (:func:`scaled_grid`), or by less where that would exceed
+    ``max_nodes`` or the memory: the largest ``factors**α`` (α in [0, 1], bisected) whose grid
+    fits, with its storage (:func:`fitting_storage`).
+
+    Returns
+    -------
+    problem : Problem or None
+        On the chosen grid; None where no finer grid fits (``problem``'s own grid where no axis
+        is to be refined).
+    settings : SolverSettings or None
+        Its storage.
+    limit : str
+        What held the grid below ``factors`` ("" if nothing did).
+    """
+    factors = np.asarray(factors, dtype=float)
+
+    def attempt(alpha):
+        grid = scaled_grid(problem.grid, factors**alpha)
+        if max_nodes is not None and grid.size > max_nodes:
+            return grid, f"the grid {grid.shape} would exceed max_nodes = {max_nodes}"
+        return grid, fitting_storage(problem.replace(grid=grid), settings)
+
+    grid, storage = attempt(1.0)
+    if not isinstance(storage, str):
+        return problem.replace(grid=grid), storage, ""
+    limit = storage
+    if np.all(factors <= 1.0):
+        return None, None, limit
+    lo, hi, best = 0.0, 1.0, None
+    for _ in range(8):
+        mid = 0.5 * (lo + hi)
+        grid, storage = attempt(mid)
+        if isinstance(storage, str):
+            hi = mid
+        else:
+            lo = mid
+            if grid.shape != problem.grid.shape:
+                best = (grid, storage)
+    if best is None:
+        return None, None, limit
+    return problem.replace(grid=best[0]), best[1], limit
 
 
 def solve_to_tolerance(
@@ -664,27 +810,39 @@ def solve_to_tolerance(
             )
         if done:
             break
-        if time_error >= 0.5 * a.error:
-            dt = solution.diagnostics.dt / 2
-            continue
-        steps = solution.diagnostics.steps
-        solve_on = partial(_march_quietly, problem, base, solution.diagnostics.dt, steps)
-        axes, shares = axes_to_refine(solution, solve_on, states, time_error)
-        history[-1] = dataclasses.replace(history[-1], axis_errors=tuple(shares.tolist()))
-        finer = problem.replace(grid=refined_grid(problem.grid, axes))
-        next_dt = None if dt is None else min(dt, solution.diagnostics.dt)
-        if max_nodes is not None and finer.grid.size > max_nodes:
-            limit = f"the grid {finer.grid.shape} would exceed max_nodes = {max_nodes}"
+        step, steps = solution.diagnostics.dt, solution.diagnostics.steps
+        solve_on = partial(_march_quietly, problem, base, step, steps)
+        shares, whole = axis_shares(solution, solve_on, states)
+        reason = unsteerable(solution.embedded, a.error, shares, whole, time_error)
+        if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
+            factors = np.full(problem.grid.ndim + 1, 2.0)
         else:
-            storage = fitting_storage(finer, dataclasses.replace(base, dt=next_dt))
-            if isinstance(storage, str):
-                limit = storage
-            else:
-                base = dataclasses.replace(storage, dt=base.dt)
-        if limit:
-            dt = solution.diagnostics.dt / 2
+            components = np.append(shares, time_error)
+            orders = np.append(np.full(problem.grid.ndim, solution.embedded.order), 1.0)
+            scale = a.error / np.nansum(components)  # the components add up to the estimate
+            factors = refinement_factors(scale * components, orders, tol)
+        history[-1] = dataclasses.replace(
+            history[-1],
+            axis_errors=tuple(shares.tolist()),
+            factors=tuple(factors.tolist()),
+            reason=reason,
+        )
+        if reason:
+            next_dt = None if dt is None else step / 2
+        else:
+            next_dt = step / factors[-1]
+        finer, storage, capped = fitting_plan(
+            problem, dataclasses.replace(base, dt=next_dt), factors[:-1], max_nodes
+        )
+        if finer is not None and next_dt is not None:
+            next_dt = min(next_dt, base.scheme.step_bound(finer).limit)
+        if finer is None:  # not even a slightly finer grid fits: the step is all that is left
+            limit = capped
+            dt = step / 2 if next_dt is None or next_dt >= step else next_dt
             continue
-        coarser = (problem, solution.diagnostics.dt)
+        limit = capped
+        base = dataclasses.replace(storage, dt=base.dt)
+        coarser = (problem, step)
         problem, dt = finer, next_dt
     where = f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}"
     advice = "raise max_refinements or max_nodes, store float32 or use mmap_dir"
