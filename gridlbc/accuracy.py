@@ -647,16 +647,12 @@ def unsteerable(embedded, error: float, shares, whole: float, time_share: float)
     """Why the measured shares cannot choose the next grid, or "" where they can.
 
     The per-component model e ≈ Σ_i C_i h_i^p + C_t Δt (:func:`refinement_factors`) steers
-    only in its asymptotic range. Outside it, the estimate says that the solve is poor, not which
-    part to refine, and every axis and the step are refined. Out of range are: an estimate
-    above 100 % of v (the coarser solves are not near v at all); levels that do not converge at
-    first order (:attr:`EmbeddedEstimate.converging`: the observed order is below the schemes'
-    least, 1); and shares that do not add up to the embedded difference
-    (:func:`shares_add_up`)."""
+    where it describes the errors. Where it does not, the estimate says that the solve is poor,
+    not which part to refine, and every axis and the step are refined: an estimate above 100 %
+    of v (the coarser solves are not near v at all), or shares that do not add up to the
+    embedded difference (:func:`shares_add_up`)."""
     if not error <= 1.0:
         return f"estimate {error:.0%} above 100 % of v"
-    if not embedded.converging:
-        return f"levels not converging (observed order {embedded.observed_order:.2f} < 1)"
     total = np.nansum(shares) + time_share
     if not (total > 0 and shares_add_up(np.asarray(shares), whole, time_share)):
         return f"shares add up to {total:.3g} of the embedded difference {whole:.3g}"
@@ -761,6 +757,10 @@ def solve_to_tolerance(
     history: list[Refinement] = []
     limit = ""
     coarser = None  # (problem, step) of the last round, to return to if a finer grid won't fit
+    # The model is trusted to extrapolate as far as it has been checked: a factor of 2 (the span
+    # its shares were measured over) until a round's estimate comes within 2× of what the model
+    # predicted for it; each such round doubles the reach, a miss resets it.
+    reach, predicted = 2.0, np.nan
     while True:
         started = time.perf_counter()
         try:
@@ -783,6 +783,8 @@ def solve_to_tolerance(
                 f"the grid {problem.grid.shape} is too coarse to embed a grid with every other "
                 "node (each axis needs at least 5 nodes): give a finer grid"
             )
+        held = predicted / 2 <= a.error <= 2 * predicted
+        reach, predicted = (2 * reach if held else 2.0), np.nan
         time_error = np.nan
         done = a.error <= tol or len(history) >= max_refinements
         if not done:
@@ -820,14 +822,30 @@ def solve_to_tolerance(
             components = np.append(shares, time_error)
             orders = np.append(np.full(problem.grid.ndim, solution.embedded.order), 1.0)
             scale = a.error / np.nansum(components)  # the components add up to the estimate
-            factors = refinement_factors(scale * components, orders, tol)
+            factors = np.minimum(refinement_factors(scale * components, orders, tol), reach)
+            if not solution.embedded.converging:
+                # levels not converging at first order: the shares, measured between h and 2h,
+                # say which parts limit the error but not how far beyond h/2 the model holds:
+                # refine by 2 those at least half the largest (the others alone gain little)
+                top = np.nanmax(components)
+                factors = np.where(components >= 0.5 * top, np.minimum(factors, 2.0), 1.0)
+                reason = (
+                    f"observed order {solution.embedded.observed_order:.2f} < 1: the largest "
+                    "shares by 2"
+                )
+            else:
+                predicted = float(np.nansum(scale * components * factors**-orders))
         history[-1] = dataclasses.replace(
             history[-1],
             axis_errors=tuple(shares.tolist()),
             factors=tuple(factors.tolist()),
             reason=reason,
         )
-        if reason:
+        if base.progress:
+            plan = "refine by " + ", ".join(f"{f:.2f}" for f in factors)
+            plan += f" ({reason})" if reason else ""
+            print(f"tol: shares {np.round(shares, 4)}, step {time_error:.4f}: {plan}", flush=True)
+        if np.all(factors == 2.0):
             next_dt = None if dt is None else step / 2
         else:
             next_dt = step / factors[-1]

@@ -174,3 +174,45 @@ def test_tol_refines_the_axis_that_limits_the_error():
     refined = accuracy.refined_grid(problem.grid, axes)
     assert refined.shape == (21, 161)
     assert accuracy.embedded_grid(refined, axes=(0,)).shape == (11, 161)
+
+
+def test_refinement_factors_meet_tol_at_the_least_work():
+    # Components e_k ≈ C_k h_k^p_k refined by r_k leave Σ e_k r_k^(−p_k); the factors put that
+    # sum at tol exactly (up to rounding) with the least work Π r_k: no other factors on the
+    # constraint do better (Lagrange), and a component already small is left alone.
+    errors, orders, tol = np.array([0.04, 0.01, 0.002]), np.array([1.0, 2.0, 1.0]), 0.02
+    r = accuracy.refinement_factors(errors, orders, tol)
+    assert r[2] == 1.0 and np.all(r >= 1.0)
+    assert np.sum(errors * r ** (-orders)) == pytest.approx(tol, rel=1e-12)
+    rng = np.random.default_rng(0)
+    for _ in range(200):  # any other split of the budget between the two refined components
+        share = rng.uniform(0.01, 0.99)
+        budget = tol - errors[2]
+        other = (errors[:2] / (budget * np.array([share, 1 - share]))) ** (1 / orders[:2])
+        if np.all(other >= 1.0):
+            assert np.prod(other) >= np.prod(r[:2]) * (1 - 1e-12)
+    assert np.all(accuracy.refinement_factors(errors, orders, 1.0) == 1.0)
+
+
+def test_scaled_grid_keeps_even_cell_counts_and_doubles_like_refined_grid():
+    grid = g.Grid([g.Axis(-1, 1, 21), g.Axis(-np.pi, np.pi, 32, periodic=True), g.Axis(0, 1, 9)])
+    assert accuracy.scaled_grid(grid, [2.0, 2.0, 2.0]).shape == accuracy.refined_grid(grid).shape
+    finer = accuracy.scaled_grid(grid, [1.3, 1.01, 1.0])
+    assert finer.shape == (27, 34, 9)  # 20·1.3 = 26 cells; 32·1.01 → 34, even; axis 2 kept
+    assert accuracy.embedded_grid(finer).shape == (14, 17, 5)
+
+
+def test_tol_meets_a_step_limited_tolerance_in_the_rounds_the_model_predicts():
+    # From a step of 0.5 on 41² the time step dominates the error (first order in Δt). Once the
+    # levels converge (the observed order is at least the schemes' 1), the measured shares give
+    # the factors that put the predicted estimate at tol; rounding only refines further. So
+    # after at most one round that refines everything (the coarse levels out of range) and one
+    # steered round, the estimate meets tol: three solves.
+    problem = lq_point_mass(41)
+    solution = _quiet_solve(problem, tol=0.01, states=STATES, dt=0.5)
+    rounds = solution.refinement
+    assert rounds[-1].error <= 0.01 and len(rounds) <= 3
+    steered = [r for r in rounds[:-1] if not r.reason]
+    assert steered and len(steered[0].factors) == 3
+    true = lq_solution(solution.problem).value(STATES, 0.0)
+    assert np.max(np.abs(solution.value(STATES, 0.0) / true - 1)) <= 0.01
