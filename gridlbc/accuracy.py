@@ -815,23 +815,24 @@ def solve_to_tolerance(
         step, steps = solution.diagnostics.dt, solution.diagnostics.steps
         solve_on = partial(_march_quietly, problem, base, step, steps)
         shares, whole = axis_shares(solution, solve_on, states)
-        reason = unsteerable(solution.embedded, a.error, shares, whole, time_error)
+        embedded = solution.embedded
+        assert embedded is not None  # assess read it
+        reason = unsteerable(embedded, a.error, shares, whole, time_error)
         if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
             factors = np.full(problem.grid.ndim + 1, 2.0)
         else:
             components = np.append(shares, time_error)
-            orders = np.append(np.full(problem.grid.ndim, solution.embedded.order), 1.0)
+            orders = np.append(np.full(problem.grid.ndim, embedded.order), 1.0)
             scale = a.error / np.nansum(components)  # the components add up to the estimate
             factors = np.minimum(refinement_factors(scale * components, orders, tol), reach)
-            if not solution.embedded.converging:
+            if not embedded.converging:
                 # levels not converging at first order: the shares, measured between h and 2h,
                 # say which parts limit the error but not how far beyond h/2 the model holds:
                 # refine by 2 those at least half the largest (the others alone gain little)
                 top = np.nanmax(components)
                 factors = np.where(components >= 0.5 * top, np.minimum(factors, 2.0), 1.0)
                 reason = (
-                    f"observed order {solution.embedded.observed_order:.2f} < 1: the largest "
-                    "shares by 2"
+                    f"observed order {embedded.observed_order:.2f} < 1: the largest shares by 2"
                 )
             else:
                 predicted = float(np.nansum(scale * components * factors**-orders))
