@@ -38,6 +38,16 @@ reliable, 0.5–0.7 slow but usable, above 0.7 (:data:`MAX_PARETO_K`) unreliable
 sample count. A certificate is trusted only with enough effective samples *and* k̂ below that;
 the remedy for a large k̂ is a proposal closer to optimal, not more samples.
 
+**Pooled proposals.** Any policy is a valid proposal, so several can share the samples: with
+u_1…u_J drawing n_j = c_j n paths each, the balance heuristic of multiple importance sampling
+(Veach & Guibas 1995) weights a path by exp(−(g + ∫q dt)/λ) / Σ_j c_j dQ_j/dP, the passive
+process's density over the pool's. Each ratio dQ_j/dP is a product of Gaussian transition
+densities of the chain (:func:`gridlbc.simulate.euler_maruyama` accumulates it for every member
+along every path), so the pooled estimate is exact for the chain as one proposal's is, and its
+weights are at most 1/c_j times member j's own: the pool is nearly as good as its best member.
+That is why :func:`certify` pools a judged policy with a grid solution of the problem by default:
+no statistic of a poor proposal's own samples can reveal the weight they never reach.
+
 **Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. By
 default the certificate concerns the problem the solver solves: with a grid that has closed
 (non-periodic) axes, ``boundary="reflect"`` folds every step back into the box on those axes, as
@@ -142,7 +152,8 @@ class Certificate:
         J(u) − v* = λ KL(P_u ‖ P*) ≥ 0 and its SE: from the paired samples when the policy is its
         own proposal, √(SE(J)² + SE(v*)²) of independent samples otherwise.
     effective_sample_size : float or ndarray (k,)
-        (Σw)² / Σw² of the proposal's weights w = exp(−S_u/λ), between 1 and ``n_samples``.
+        (Σw)² / Σw² of the weights (w = exp(−S_u/λ) for one proposal, the pooled weights of the
+        module docstring for several), between 1 and ``n_samples``.
     pareto_k : float or ndarray (k,)
         The PSIS tail shape k̂ of the weights (:func:`gridlbc.psis.pareto_k`): < 0.5 reliable,
         0.5–0.7 slow, > :attr:`max_pareto_k` unreliable. NaN with too few samples to fit a tail.
@@ -236,12 +247,14 @@ class Certificate:
     def interval(self, level: float = 0.95):
         """A confidence interval for v*(x₀) at ``level``, using that v* ≤ J(policy) always.
 
-        With z the standard normal quantile of (1 + level)/2,
+        With z the standard normal quantile of (1 + level)/2 and z′ that of (3 + level)/4,
 
-            lower = v̂* − z SE(v̂*),      upper = min(v̂* + z SE(v̂*), Ĵ + z SE(Ĵ)),
+            lower = v̂* − z SE(v̂*),      upper = min(v̂* + z′ SE(v̂*), Ĵ + z′ SE(Ĵ)),
 
         the upper end tightened by J(u) − v* = λ KL(P_u ‖ P*) ≥ 0, which holds for the
-        Euler–Maruyama chain as for the SDE. Both ends are normal approximations: they hold for
+        Euler–Maruyama chain as for the SDE. Each of the two upper bounds fails with probability
+        (1 − level)/4, so their minimum fails with at most (1 − level)/2 whether Ĵ and v̂* come
+        from the same samples or not (Bonferroni). Both ends are normal approximations: they hold for
         the time-discretised chain (its O(Δt) distance from the SDE's optimum is not included)
         and only as far as the certificate is :attr:`trusted` (a heavy weight tail biases v̂*
         upward beyond its SE). With ``certify(..., richardson=True)`` the interval is instead
@@ -267,10 +280,10 @@ class Certificate:
             half = z * np.asarray(self.extrapolated_value_se)
             lo, hi = centre - half, centre + half
             return (float(lo), float(hi)) if lo.ndim == 0 else (lo, hi)
-        value = np.asarray(self.optimal_value)
-        spread = z * np.asarray(self.optimal_value_se)
-        bound = np.asarray(self.policy_cost) + z * np.asarray(self.policy_cost_se)
-        lower, upper = value - spread, np.minimum(value + spread, bound)
+        z_upper = float(norm.ppf(0.25 * (3.0 + level)))
+        value, se = np.asarray(self.optimal_value), np.asarray(self.optimal_value_se)
+        bound = np.asarray(self.policy_cost) + z_upper * np.asarray(self.policy_cost_se)
+        lower, upper = value - z * se, np.minimum(value + z_upper * se, bound)
         if lower.ndim == 0:
             return float(lower), float(upper)
         return lower, upper
