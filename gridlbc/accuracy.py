@@ -48,10 +48,18 @@ of the box, where a controlled process spends its time; the far corners of a box
 solve is poor, do not count), and the relative estimate is read there at its 90th percentile.
 With ``states=``, at its largest over them.
 
-**Tolerance.** :func:`solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve,
-halving Δt where the time step dominates the estimate (measured by a solve at 2Δt on the same
-grid) and otherwise refining every axis (h → h/2), until the estimate meets ``tol`` or a limit
-(memory, ``max_nodes``, ``max_refinements``) stops it, and reports the path it took in
+**Tolerance.** :func:`solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve
+until the estimate meets ``tol`` or a limit (memory, ``max_nodes``, ``max_refinements``) stops it.
+Between rounds it measures each part's share of the error, the step's by a solve at 2Δt and
+each axis's by a solve with that axis alone coarsened, and models the estimate as their sum,
+e ≈ Σ_i C_i h_i^q + C_t Δt: it chooses the factors by which to refine each axis and the step
+so that the predicted estimate meets ``tol`` at the least work (:func:`refinement_factors`),
+rounded to feasible grids and cut to what fits in memory (:func:`fitting_plan`). The model
+extrapolates only as far as it has been checked: by at most 2 per round until a round's
+estimate comes within 2× of what it predicted (each such round doubles the reach). Where it
+does not describe the errors (:func:`unsteerable`: an estimate above 100 % of v, or shares
+that do not add up to the embedded difference) every axis and the step are refined by 2;
+where the levels do not converge at first order, the largest shares by 2. The path is in
 :attr:`gridlbc.Solution.refinement`. A default solve whose estimate exceeds
 :data:`DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the estimate and what to
 change.
@@ -626,9 +634,16 @@ class Refinement:
     store_every : int
         It stored every ``store_every``-th step's slice (and the last).
     axis_errors : tuple of float
-        Where the grid was refined after it: each axis's share of the error, the relative
-        difference from a solve with only that axis coarsened (:func:`axes_to_refine`); the
-        axes with at least half the largest were refined. Empty otherwise.
+        Where it was followed by another round: each axis's share of the error, the relative
+        difference from a solve with only that axis coarsened (:func:`axis_shares`). Empty
+        otherwise.
+    factors : tuple of float
+        The refinement asked for after it, per axis and then for the step (h_i → h_i / r_i,
+        Δt → Δt / r_t; 1: unchanged); the grid reached may be coarser where memory or
+        ``max_nodes`` held it. Empty where it was the last round.
+    reason : str
+        Why the factors were not the model's own choice (:func:`unsteerable`, or levels that do
+        not converge at first order); "" where they were.
     """
 
     shape: tuple[int, ...]
@@ -715,15 +730,25 @@ def solve_to_tolerance(
     """Solve ``problem`` again and again until the embedded estimate meets ``tol``.
 
     Each round solves on the current grid with the current step and reads the relative estimate
-    (:func:`assess`). If it exceeds ``tol``, a solve at 2Δt on the same grid measures the time
-    step's share ê_t = abs(v_{h,2Δt} − v_{h,Δt}): where ê_t is at least half the estimate, Δt is
-    halved; otherwise the grid is refined (h → h/2, :func:`refined_grid`) along the axes that
-    limit it (:func:`axes_to_refine`: solves at the same step with one axis coarsened at a time),
-    with the scheme's default step for the finer grid, or the current Δt once it has been set or
-    halved. If the
-    finer grid's slices would not fit in memory they are stored as float32, then only every k-th
-    (:func:`fitting_storage`); if even that would not fit, or the finer grid would exceed
-    ``max_nodes``, Δt is halved instead and the limit is reported.
+    ê (:func:`assess`). If it exceeds ``tol``, it measures the step's share ê_t = abs(v_{h,2Δt} −
+    v_{h,Δt}) and each axis's share (:func:`axis_shares`: solves at the same step with one axis
+    coarsened at a time), and chooses the next grid and step:
+
+    - in the model's range (:func:`unsteerable` says nothing), the factors that bring the sum of
+      the shares, scaled to add up to ê and extrapolated with the observed order q for the axes
+      and 1 for the step, to ``tol`` at the least work (:func:`refinement_factors`), each at
+      most the *reach*: 2 until a round's estimate comes within 2× of the model's prediction
+      for it, doubled by each round that does, back to 2 by one that does not; where the levels
+      do not converge at first order (observed order below 1), only the shares at least half
+      the largest are refined, by at most 2;
+    - outside it, every axis by 2 with the scheme's default step for the finer grid (or half
+      the current step once one has been set).
+
+    The grid is the one with each axis's spacing divided by its factor (:func:`scaled_grid`);
+    where it would exceed ``max_nodes`` or the memory, the factors are reduced together to the
+    largest grid that fits (:func:`fitting_plan`: its slices stored as float32, then only every
+    k-th, :func:`fitting_storage`); if not even a slightly finer grid fits, Δt is halved
+    instead and the limit is reported.
 
     Parameters
     ----------
