@@ -48,10 +48,18 @@ of the box, where a controlled process spends its time; the far corners of a box
 solve is poor, do not count), and the relative estimate is read there at its 90th percentile.
 With ``states=``, at its largest over them.
 
-**Tolerance.** :func:`solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve,
-halving Δt where the time step dominates the estimate (measured by a solve at 2Δt on the same
-grid) and otherwise refining every axis (h → h/2), until the estimate meets ``tol`` or a limit
-(memory, ``max_nodes``, ``max_refinements``) stops it, and reports the path it took in
+**Tolerance.** :func:`solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve
+until the estimate meets ``tol`` or a limit (memory, ``max_nodes``, ``max_refinements``) stops it.
+Between rounds it measures each part's share of the error, the step's by a solve at 2Δt and
+each axis's by a solve with that axis alone coarsened, and models the estimate as their sum,
+e ≈ Σ_i C_i h_i^q + C_t Δt: it chooses the factors by which to refine each axis and the step
+so that the predicted estimate meets ``tol`` at the least work (:func:`refinement_factors`),
+rounded to feasible grids and cut to what fits in memory (:func:`fitting_plan`). The model
+extrapolates only as far as it has been checked: by at most 2 per round until a round's
+estimate comes within 2× of what it predicted (each such round doubles the reach). Where it
+does not describe the errors (:func:`unsteerable`: an estimate above 100 % of v, or shares
+that do not add up to the embedded difference) every axis and the step are refined by 2;
+where the levels do not converge at first order, the largest shares by 2. The path is in
 :attr:`gridlbc.Solution.refinement`. A default solve whose estimate exceeds
 :data:`DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the estimate and what to
 change.
@@ -121,21 +129,20 @@ def refined_grid(grid: Grid, axes=None) -> Grid:
     )
 
 
-def axes_to_refine(
-    solution, solve_on, states=None, time_share: float = 0.0
-) -> tuple[list[int], np.ndarray]:
-    """Which axes limit the accuracy of ``solution``: each axis's share of the error, measured by
-    solving again with only that axis coarsened (every other node, ``solve_on(grid)``, which may
-    return None where the problem cannot be posed on that grid) and reading the relative
-    difference at the judged states (:func:`statistic`).
+def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
+    """Each axis's share of the error of ``solution`` and the difference from its embedded solve.
 
-    A first-order error splits into per-axis parts C_i h_i (and the step's, ``time_share``, when
-    the embedded solve also doubles it): the difference D from the embedded solve, which
-    coarsens every axis, is then about the sum of the shares. Where it is (the shares add up to
-    at least half of D), the axes whose share is at least half the largest are returned:
-    refining the others alone would gain little. Where the shares do not add up, the errors are
-    not in that regime (the grids are too coarse for a per-axis model), and every axis is
-    returned. Also returned: every share (NaN for an axis too coarse to coarsen).
+    The share of axis i is the relative difference (:func:`statistic` at the judged states) from
+    a solve with only that axis coarsened (every other node, ``solve_on(grid)``, which may return
+    None where the problem cannot be posed on that grid; NaN then, and for an axis too coarse to
+    coarsen). The difference D from the embedded solve, which coarsens every axis (and doubles
+    the step), is read the same way.
+
+    Returns
+    -------
+    shares : ndarray (d,)
+    whole : float
+        D.
     """
     X = judged_states(solution, states)
     grid = solution.grid
@@ -148,10 +155,91 @@ def axes_to_refine(
     whole = statistic(
         relative_difference(solution, solution.embedded.solution, X), states is not None
     )
-    if np.all(np.isnan(shares)) or np.nansum(shares) + time_share < 0.5 * whole:
-        return list(range(grid.ndim)), shares
+    return shares, whole
+
+
+def shares_add_up(shares: np.ndarray, whole: float, time_share: float = 0.0) -> bool:
+    """Whether the per-axis shares (and the step's, ``time_share``) add up to at least half the
+    embedded difference ``whole``: a first-order error splits into parts C_i h_i (and C_t Δt)
+    whose sum the embedded solve, which coarsens everything, measures; where they do not add up
+    the errors are not in that regime (the grids are too coarse for a per-component model)."""
+    return bool(np.any(np.isfinite(shares)) and np.nansum(shares) + time_share >= 0.5 * whole)
+
+
+def axes_to_refine(
+    solution, solve_on, states=None, time_share: float = 0.0
+) -> tuple[list[int], np.ndarray]:
+    """Which axes limit the accuracy of ``solution``, from each axis's share of the error
+    (:func:`axis_shares`).
+
+    Where the shares add up (:func:`shares_add_up`), the axes whose share is at least half the
+    largest are returned: refining the others alone would gain little. Where they do not, every
+    axis is returned. Also returned: every share (NaN for an axis too coarse to coarsen).
+    """
+    shares, whole = axis_shares(solution, solve_on, states)
+    if not shares_add_up(shares, whole, time_share):
+        return list(range(solution.grid.ndim)), shares
     top = np.nanmax(shares)
-    return [i for i in range(grid.ndim) if not shares[i] < 0.5 * top], shares
+    return [i for i in range(solution.grid.ndim) if not shares[i] < 0.5 * top], shares
+
+
+def refinement_factors(errors, orders, tol: float) -> np.ndarray:
+    """The least refinement that brings a sum of error components within ``tol``.
+
+    With components e_k ≈ C_k h_k^(p_k) (``errors``, ``orders``: one per axis and one for the
+    step), refining component k by r_k ≥ 1 (h_k → h_k / r_k) leaves Σ_k e_k r_k^(−p_k). The
+    work grows as Π r_k; its least value with the sum at ``tol`` (Lagrange: log r_k =
+    (log e_k − log u_k) / p_k) gives the refined components budgets u_k ∝ 1/p_k that share
+    what the unrefined ones leave of ``tol``. A component already within its budget is not
+    refined (r_k = 1), and the budgets are shared again among the others.
+
+    Parameters
+    ----------
+    errors : array_like (m,)
+        e_k ≥ 0 (NaN: unknown, not refined).
+    orders : array_like (m,)
+        p_k > 0.
+    tol : float
+
+    Returns
+    -------
+    ndarray (m,)
+        r_k ≥ 1.
+    """
+    e = np.nan_to_num(np.asarray(errors, dtype=float), nan=0.0)
+    p = np.asarray(orders, dtype=float) * np.ones_like(e)
+    refined = e > 0
+    while True:
+        budget = tol - e[~refined].sum()
+        weights = np.where(refined, 1.0 / p, 0.0)
+        if not refined.any() or budget <= 0:
+            break
+        u = budget * weights / weights.sum()
+        within = refined & (e <= u)
+        if not within.any():
+            break
+        refined &= ~within
+    r = np.ones_like(e)
+    if refined.any() and budget > 0:
+        r[refined] = (e[refined] / u[refined]) ** (1.0 / p[refined])
+    return r
+
+
+def scaled_grid(grid: Grid, factors) -> Grid:
+    """The grid with each axis's spacing divided by at least ``factors[i]`` (≥ 1; 1 leaves the
+    axis as it is): the fewest cells that do so, an even number of them, so that the grid with
+    every other node (:func:`embedded_grid`) keeps spacing exactly 2h. A factor of 2 gives
+    :func:`refined_grid`."""
+    out = []
+    for a, r in zip(grid.axes, factors):
+        cells = a.n if a.periodic else a.n - 1
+        if r <= 1.0:
+            out.append(a)
+            continue
+        cells = 2 * int(np.ceil(cells * r / 2.0 - 1e-9))
+        n = cells if a.periodic else cells + 1
+        out.append(Axis(a.lo, a.hi, n, periodic=a.periodic, name=a.name))
+    return Grid(out)
 
 
 def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) -> np.ndarray:
@@ -546,9 +634,16 @@ class Refinement:
     store_every : int
         It stored every ``store_every``-th step's slice (and the last).
     axis_errors : tuple of float
-        Where the grid was refined after it: each axis's share of the error, the relative
-        difference from a solve with only that axis coarsened (:func:`axes_to_refine`); the
-        axes with at least half the largest were refined. Empty otherwise.
+        Where it was followed by another round: each axis's share of the error, the relative
+        difference from a solve with only that axis coarsened (:func:`axis_shares`). Empty
+        otherwise.
+    factors : tuple of float
+        The refinement asked for after it, per axis and then for the step (h_i → h_i / r_i,
+        Δt → Δt / r_t; 1: unchanged); the grid reached may be coarser where memory or
+        ``max_nodes`` held it. Empty where it was the last round.
+    reason : str
+        Why the factors were not the model's own choice (:func:`unsteerable`, or levels that do
+        not converge at first order); "" where they were.
     """
 
     shape: tuple[int, ...]
@@ -559,6 +654,68 @@ class Refinement:
     dtype: str = "float64"
     store_every: int = 1
     axis_errors: tuple[float, ...] = ()
+    factors: tuple[float, ...] = ()
+    reason: str = ""
+
+
+def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:
+    """Why the measured shares cannot choose the next grid, or "" where they can.
+
+    The per-component model e ≈ Σ_i C_i h_i^p + C_t Δt (:func:`refinement_factors`) steers
+    where it describes the errors. Where it does not, the estimate says that the solve is poor,
+    not which part to refine, and every axis and the step are refined: an estimate above 100 %
+    of v (the coarser solves are not near v at all), or shares that do not add up to the
+    embedded difference (:func:`shares_add_up`)."""
+    if not error <= 1.0:
+        return f"estimate {error:.0%} above 100 % of v"
+    total = np.nansum(shares) + time_share
+    if not (total > 0 and shares_add_up(np.asarray(shares), whole, time_share)):
+        return f"shares add up to {total:.3g} of the embedded difference {whole:.3g}"
+    return ""
+
+
+def fitting_plan(problem, settings, factors, max_nodes: int | None = None):
+    """The grid refined by ``factors`` (:func:`scaled_grid`), or by less where that would exceed
+    ``max_nodes`` or the memory: the largest ``factors**α`` (α in [0, 1], bisected) whose grid
+    fits, with its storage (:func:`fitting_storage`).
+
+    Returns
+    -------
+    problem : Problem or None
+        On the chosen grid; None where no finer grid fits (``problem``'s own grid where no axis
+        is to be refined).
+    settings : SolverSettings or None
+        Its storage.
+    limit : str
+        What held the grid below ``factors`` ("" if nothing did).
+    """
+    factors = np.asarray(factors, dtype=float)
+
+    def attempt(alpha):
+        grid = scaled_grid(problem.grid, factors**alpha)
+        if max_nodes is not None and grid.size > max_nodes:
+            return grid, f"the grid {grid.shape} would exceed max_nodes = {max_nodes}"
+        return grid, fitting_storage(problem.replace(grid=grid), settings)
+
+    grid, storage = attempt(1.0)
+    if not isinstance(storage, str):
+        return problem.replace(grid=grid), storage, ""
+    limit = storage
+    if np.all(factors <= 1.0):
+        return None, None, limit
+    lo, hi, best = 0.0, 1.0, None
+    for _ in range(8):
+        mid = 0.5 * (lo + hi)
+        grid, storage = attempt(mid)
+        if isinstance(storage, str):
+            hi = mid
+        else:
+            lo = mid
+            if grid.shape != problem.grid.shape:
+                best = (grid, storage)
+    if best is None:
+        return None, None, limit
+    return problem.replace(grid=best[0]), best[1], limit
 
 
 def solve_to_tolerance(
@@ -573,15 +730,25 @@ def solve_to_tolerance(
     """Solve ``problem`` again and again until the embedded estimate meets ``tol``.
 
     Each round solves on the current grid with the current step and reads the relative estimate
-    (:func:`assess`). If it exceeds ``tol``, a solve at 2Δt on the same grid measures the time
-    step's share ê_t = abs(v_{h,2Δt} − v_{h,Δt}): where ê_t is at least half the estimate, Δt is
-    halved; otherwise the grid is refined (h → h/2, :func:`refined_grid`) along the axes that
-    limit it (:func:`axes_to_refine`: solves at the same step with one axis coarsened at a time),
-    with the scheme's default step for the finer grid, or the current Δt once it has been set or
-    halved. If the
-    finer grid's slices would not fit in memory they are stored as float32, then only every k-th
-    (:func:`fitting_storage`); if even that would not fit, or the finer grid would exceed
-    ``max_nodes``, Δt is halved instead and the limit is reported.
+    ê (:func:`assess`). If it exceeds ``tol``, it measures the step's share ê_t = abs(v_{h,2Δt} −
+    v_{h,Δt}) and each axis's share (:func:`axis_shares`: solves at the same step with one axis
+    coarsened at a time), and chooses the next grid and step:
+
+    - in the model's range (:func:`unsteerable` says nothing), the factors that bring the sum of
+      the shares, scaled to add up to ê and extrapolated with the observed order q for the axes
+      and 1 for the step, to ``tol`` at the least work (:func:`refinement_factors`), each at
+      most the *reach*: 2 until a round's estimate comes within 2× of the model's prediction
+      for it, doubled by each round that does, back to 2 by one that does not; where the levels
+      do not converge at first order (observed order below 1), only the shares at least half
+      the largest are refined, by at most 2;
+    - outside it, every axis by 2 with the scheme's default step for the finer grid (or half
+      the current step once one has been set).
+
+    The grid is the one with each axis's spacing divided by its factor (:func:`scaled_grid`);
+    where it would exceed ``max_nodes`` or the memory, the factors are reduced together to the
+    largest grid that fits (:func:`fitting_plan`: its slices stored as float32, then only every
+    k-th, :func:`fitting_storage`); if not even a slightly finer grid fits, Δt is halved
+    instead and the limit is reported.
 
     Parameters
     ----------
@@ -615,6 +782,10 @@ def solve_to_tolerance(
     history: list[Refinement] = []
     limit = ""
     coarser = None  # (problem, step) of the last round, to return to if a finer grid won't fit
+    # The model is trusted to extrapolate as far as it has been checked: a factor of 2 (the span
+    # its shares were measured over) until a round's estimate comes within 2× of what the model
+    # predicted for it; each such round doubles the reach, a miss resets it.
+    reach, predicted = 2.0, np.nan
     while True:
         started = time.perf_counter()
         try:
@@ -637,6 +808,8 @@ def solve_to_tolerance(
                 f"the grid {problem.grid.shape} is too coarse to embed a grid with every other "
                 "node (each axis needs at least 5 nodes): give a finer grid"
             )
+        held = predicted / 2 <= a.error <= 2 * predicted
+        reach, predicted = (2 * reach if held else 2.0), np.nan
         time_error = np.nan
         done = a.error <= tol or len(history) >= max_refinements
         if not done:
@@ -664,27 +837,56 @@ def solve_to_tolerance(
             )
         if done:
             break
-        if time_error >= 0.5 * a.error:
-            dt = solution.diagnostics.dt / 2
-            continue
-        steps = solution.diagnostics.steps
-        solve_on = partial(_march_quietly, problem, base, solution.diagnostics.dt, steps)
-        axes, shares = axes_to_refine(solution, solve_on, states, time_error)
-        history[-1] = dataclasses.replace(history[-1], axis_errors=tuple(shares.tolist()))
-        finer = problem.replace(grid=refined_grid(problem.grid, axes))
-        next_dt = None if dt is None else min(dt, solution.diagnostics.dt)
-        if max_nodes is not None and finer.grid.size > max_nodes:
-            limit = f"the grid {finer.grid.shape} would exceed max_nodes = {max_nodes}"
+        step, steps = solution.diagnostics.dt, solution.diagnostics.steps
+        solve_on = partial(_march_quietly, problem, base, step, steps)
+        shares, whole = axis_shares(solution, solve_on, states)
+        embedded = solution.embedded
+        assert embedded is not None  # assess read it
+        reason = unsteerable(embedded, a.error, shares, whole, time_error)
+        if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
+            factors = np.full(problem.grid.ndim + 1, 2.0)
         else:
-            storage = fitting_storage(finer, dataclasses.replace(base, dt=next_dt))
-            if isinstance(storage, str):
-                limit = storage
+            components = np.append(shares, time_error)
+            orders = np.append(np.full(problem.grid.ndim, embedded.order), 1.0)
+            scale = a.error / np.nansum(components)  # the components add up to the estimate
+            factors = np.minimum(refinement_factors(scale * components, orders, tol), reach)
+            if not embedded.converging:
+                # levels not converging at first order: the shares, measured between h and 2h,
+                # say which parts limit the error but not how far beyond h/2 the model holds:
+                # refine by 2 those at least half the largest (the others alone gain little)
+                top = np.nanmax(components)
+                factors = np.where(components >= 0.5 * top, np.minimum(factors, 2.0), 1.0)
+                reason = (
+                    f"observed order {embedded.observed_order:.2f} < 1: the largest shares by 2"
+                )
             else:
-                base = dataclasses.replace(storage, dt=base.dt)
-        if limit:
-            dt = solution.diagnostics.dt / 2
+                predicted = float(np.nansum(scale * components * factors**-orders))
+        history[-1] = dataclasses.replace(
+            history[-1],
+            axis_errors=tuple(shares.tolist()),
+            factors=tuple(factors.tolist()),
+            reason=reason,
+        )
+        if base.progress:
+            plan = "refine by " + ", ".join(f"{f:.2f}" for f in factors)
+            plan += f" ({reason})" if reason else ""
+            print(f"tol: shares {np.round(shares, 4)}, step {time_error:.4f}: {plan}", flush=True)
+        if np.all(factors == 2.0):
+            next_dt = None if dt is None else step / 2
+        else:
+            next_dt = step / factors[-1]
+        finer, storage, capped = fitting_plan(
+            problem, dataclasses.replace(base, dt=next_dt), factors[:-1], max_nodes
+        )
+        if finer is not None and next_dt is not None:
+            next_dt = min(next_dt, base.scheme.step_bound(finer).limit)
+        if finer is None:  # not even a slightly finer grid fits: the step is all that is left
+            limit = capped
+            dt = step / 2 if next_dt is None or next_dt >= step else next_dt
             continue
-        coarser = (problem, solution.diagnostics.dt)
+        limit = capped
+        base = dataclasses.replace(storage, dt=base.dt)
+        coarser = (problem, step)
         problem, dt = finer, next_dt
     where = f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}"
     advice = "raise max_refinements or max_nodes, store float32 or use mmap_dir"
