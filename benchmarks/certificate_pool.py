@@ -4,9 +4,10 @@ a poor proposal.
 
 For each case and seed: v* ± SE, the tail shape k̂, the effective sample size, whether the
 certificate is trusted, and the distance from the reference in units of the combined SE. The
-references: the Euler–Maruyama chain's exact value for the LQ point mass (a discrete Riccati
-recursion at the same step), and for the gymnast the 51⁴ grid proposal's certificate at the same
-step, 19.091 ± 0.011 (8000 paths; ``benchmarks/gymnast_trackers.py``, table (r)).
+references: the Euler–Maruyama chain's exact value for the LQ point mass
+(``gridlbc.reference.euler_chain_value``, at the same step), and for the gymnast the 51⁴ grid
+proposal's certificate at the same step, 19.091 ± 0.011 (8000 paths;
+``benchmarks/gymnast_trackers.py``, table (r)).
 
     python benchmarks/certificate_pool.py [--seeds 0 1 2] [--paths 1000 3000] [--only lq gymnast]
 """
@@ -21,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 import gridlbc
+from gridlbc.reference import euler_chain_value
 from gridlbc.systems import PointMass
 
 GYMNAST_REFERENCE = (19.091, 0.011)
@@ -41,25 +43,6 @@ def lq_point_mass() -> gridlbc.Problem:
     )
 
 
-def chain_value(problem: gridlbc.Problem, x0: np.ndarray, n_steps: int = 300) -> float:
-    """−λ log E₀[exp(−(g(x_K) + Σ q Δt)/λ)] of the zero-control Euler–Maruyama chain, exactly
-    (the discrete Riccati recursion of tests/core/test_certify.py)."""
-    A, B = problem.system.linear_matrices()
-    lam, R, dt = problem.temperature, problem.R, problem.horizon / n_steps
-    WT, Wq, cq = problem.terminal_cost.weights, problem.state_cost.weights, np.zeros(2)
-    P, p, c = 2 * WT, np.zeros(2), 0.0
-    F = np.eye(2) + A * dt
-    for _ in range(n_steps):
-        N = B @ np.linalg.solve(R / dt + B.T @ P @ B, B.T)
-        logdet = np.linalg.slogdet(np.eye(B.shape[1]) + dt * np.linalg.solve(R, B.T @ P @ B))[1]
-        P, p, c = (
-            2 * Wq * dt + F.T @ (P - P @ N @ P) @ F,
-            -2 * Wq @ cq * dt + F.T @ (p - P @ N @ p),
-            cq @ Wq @ cq * dt + c - 0.5 * p @ N @ p + 0.5 * lam * logdet,
-        )
-    return float(0.5 * x0 @ P @ x0 + p @ x0 + c)
-
-
 def lq_case():
     problem = lq_point_mass()
     x0 = np.array([1.0, -0.5])
@@ -67,7 +50,14 @@ def lq_case():
     def push(x, t):
         return np.full((x.shape[0], 1), 1.5)
 
-    return "LQ point mass, push u = 1.5", problem, push, x0, {}, (chain_value(problem, x0), 0.0)
+    return (
+        "LQ point mass, push u = 1.5",
+        problem,
+        push,
+        x0,
+        {},
+        (euler_chain_value(problem, x0), 0.0),
+    )
 
 
 def gymnast_case():

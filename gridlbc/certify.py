@@ -540,40 +540,30 @@ def certify(
     rng = np.random.default_rng(seed)
     lam = problem.temperature
     counts = [len(c) for c in np.array_split(np.arange(n), len(samplers))]
-    draws = []
-    for j, (sampler, n_j) in enumerate(zip(samplers, counts)):
-        path = euler_maruyama(
+    scored = samplers if len(samplers) > 1 else ()
+
+    def roll(run: int, sampler, samples: int, scored=()):
+        """The ``run``-th roll-out (for the progress bar): ``samples`` paths per start state."""
+        return euler_maruyama(
             problem,
             sampler,
-            np.repeat(starts, n_j, axis=0),
+            np.repeat(starts, samples, axis=0),
             K,
             rng,
             True,
-            lambda step, x_new, u, done=j * K: bar.update(done + step + 1),
+            lambda step, x_new, u: bar.update(run * K + step + 1),
             boundary,
             T,
-            scored=samplers if len(samplers) > 1 else (),
+            scored=scored,
         )
-        draws.append((path, n_j))
+
+    draws = [(roll(j, s, n_j, scored), n_j) for j, (s, n_j) in enumerate(zip(samplers, counts))]
     a, C, left, final, unexited, components = _mixture(draws, np.array(counts) / n, k, lam)
     paired = len(samplers) == 1 and own == 0
     judged: list = [None] * k
     if not paired:
-        if own is None:  # the judged policy's own samples, independent of the proposals'
-            done = len(samplers) * K
-            path = euler_maruyama(
-                problem,
-                policy,
-                np.repeat(starts, n, axis=0),
-                K,
-                rng,
-                True,
-                lambda step, x_new, u: bar.update(done + step + 1),
-                boundary,
-                T,
-            )
-        else:  # its share of the pool: plain samples of the policy
-            path = draws[own][0]
+        # the judged policy's own samples: independent of the proposals', or its share of the pool
+        path = roll(len(samplers), policy, n) if own is None else draws[own][0]
         C_own = (path.running_cost + path.terminal_cost).reshape(k, -1)
         left_own = path.left_box.reshape(k, -1)
         judged = [(C_own[i], left_own[i]) for i in range(k)]

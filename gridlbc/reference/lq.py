@@ -9,6 +9,9 @@ v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward
 
 and u*(x, t) = −R⁻¹ Bᵀ (P x + p). The ODEs are integrated to near machine precision (DOP853).
 
+:func:`euler_chain_value` is the exact optimum of the Euler–Maruyama chain of the same problem,
+the number :func:`gridlbc.certify` estimates at a given step (docs page :doc:`validating`).
+
 """
 
 from __future__ import annotations
@@ -131,3 +134,51 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
     if not sol.success:
         raise RuntimeError(f"Riccati integration failed: {sol.message}")
     return LQSolution(problem, sol.sol)
+
+
+def euler_chain_value(problem: Problem, x0, n_steps: int = 300) -> float:
+    """The optimal cost of the Euler–Maruyama chain of a linear-quadratic problem from ``x0``:
+    −λ log E₀[exp(−(g(x_K) + Σ q(x_k) Δt)/λ)] for the zero-control chain
+    x_{k+1} = (I + A Δt) x_k + B η_k, η_k ~ N(0, λ R⁻¹ Δt), Δt = T / ``n_steps``, exactly.
+
+    v_k(x) = ½ xᵀP_k x + p_kᵀx + c_k; integrating η out of exp(−v_{k+1}/λ) gives, with
+    F = I + A Δt and N = B (R/Δt + BᵀPB)⁻¹ Bᵀ,
+
+        P_k = 2W_q Δt + Fᵀ(P − PNP)F,      p_k = −2W_q c_q Δt + Fᵀ(p − PNp),
+        c_k = c_qᵀW_q c_q Δt + c − ½ pᵀNp + (λ/2) log det(I + Δt R⁻¹BᵀPB).
+
+    This is what :func:`gridlbc.certify` estimates at the step Δt for any proposal (its
+    distance from :func:`lq_solution`'s value is the chain's O(Δt) weak error).
+
+    Parameters
+    ----------
+    problem : Problem
+        Linear dynamics and Quadratic (or no) state cost, a Quadratic terminal cost, horizon T.
+    x0 : array_like (d,)
+        The start state.
+    n_steps : int
+        Euler–Maruyama steps over T.
+    """
+    matrices = problem.system.linear_matrices()
+    if matrices is None:
+        raise TypeError(
+            f"euler_chain_value needs a linear system (a(x) = A x, constant B); "
+            f"{type(problem.system).__name__} is not"
+        )
+    A, B = matrices
+    lam, R, dt = problem.temperature, problem.R, problem.require_horizon("a chain") / n_steps
+    d = A.shape[0]
+    WT, cT = _quadratic_terms(problem.terminal_cost, "terminal_cost", d)
+    Wq, cq = _quadratic_terms(problem.state_cost, "state_cost", d)
+    P, p, c = 2 * WT, -2 * WT @ cT, cT @ WT @ cT
+    F = np.eye(d) + A * dt
+    for _ in range(n_steps):
+        N = B @ np.linalg.solve(R / dt + B.T @ P @ B, B.T)
+        logdet = np.linalg.slogdet(np.eye(B.shape[1]) + dt * np.linalg.solve(R, B.T @ P @ B))[1]
+        P, p, c = (
+            2 * Wq * dt + F.T @ (P - P @ N @ P) @ F,
+            -2 * Wq @ cq * dt + F.T @ (p - P @ N @ p),
+            cq @ Wq @ cq * dt + c - 0.5 * p @ N @ p + 0.5 * lam * logdet,
+        )
+    x0 = np.asarray(x0, dtype=float)
+    return float(0.5 * x0 @ P @ x0 + p @ x0 + c)

@@ -4,7 +4,8 @@ Every statistical tolerance is 3 standard errors of the estimate under test (the
 delta-method SE), plus, where the continuous-time Riccati value is the target, the Euler–Maruyama
 chain's exact distance from it: the estimator is exact for the time-discretised chain (the
 Girsanov weight is the ratio of the chain's Gaussian transition densities), whose Feynman–Kac
-value :func:`_chain_value` computes in closed form by a discrete Riccati recursion.
+value ``gridlbc.reference.euler_chain_value`` computes in closed form (a discrete Riccati
+recursion).
 """
 
 import numpy as np
@@ -13,7 +14,7 @@ from conftest import ESTIMATE_ABOVE_TOLERANCE, lq_point_mass
 from scipy.stats import norm
 
 import gridlbc as g
-from gridlbc.reference import lq_solution
+from gridlbc.reference import euler_chain_value, lq_solution
 from gridlbc.systems import SingleIntegrator
 
 N_STEPS = 300  # simulate's default: dt = T / 300
@@ -26,39 +27,11 @@ def _zero(x, t):
     return np.zeros((x.shape[0], 1))
 
 
-def _chain_value(problem, x0, n_steps=N_STEPS):
-    """−λ log E₀[exp(−(g(x_K) + Σ q(x_k) Δt)/λ)] for the zero-control Euler–Maruyama chain
-    x_{k+1} = (I + A Δt) x_k + B η_k, η_k ~ N(0, λ R⁻¹ Δt), exactly.
-
-    v_k(x) = ½ xᵀP_k x + p_kᵀx + c_k; integrating η out of exp(−v_{k+1}/λ) gives, with
-    F = I + A Δt and N = B (R/Δt + BᵀPB)⁻¹ Bᵀ,
-    P_k = 2W_q Δt + Fᵀ(P − PNP)F,  p_k = −2W_q c_q Δt + Fᵀ(p − PNp),
-    c_k = c_qᵀW_q c_q Δt + c − ½ pᵀNp + (λ/2) log det(I + Δt R⁻¹BᵀPB).
-    """
-    A, B = problem.system.linear_matrices()
-    lam, R, dt = problem.temperature, problem.R, problem.horizon / n_steps
-    d = A.shape[0]
-    WT, cT = problem.terminal_cost.weights, problem.terminal_cost.center
-    q = problem.state_cost
-    Wq, cq = (np.zeros((d, d)), np.zeros(d)) if q is None else (q.weights, q.center)
-    P, p, c = 2 * WT, -2 * WT @ cT, cT @ WT @ cT
-    F = np.eye(d) + A * dt
-    for _ in range(n_steps):
-        N = B @ np.linalg.solve(R / dt + B.T @ P @ B, B.T)
-        logdet = np.linalg.slogdet(np.eye(B.shape[1]) + dt * np.linalg.solve(R, B.T @ P @ B))[1]
-        P, p, c = (
-            2 * Wq * dt + F.T @ (P - P @ N @ P) @ F,
-            -2 * Wq @ cq * dt + F.T @ (p - P @ N @ p),
-            cq @ Wq @ cq * dt + c - 0.5 * p @ N @ p + 0.5 * lam * logdet,
-        )
-    return 0.5 * x0 @ P @ x0 + p @ x0 + c
-
-
 def test_chain_value_converges_to_riccati_at_first_order():
     # The reference itself: O(Δt) from the continuous optimum, so halving Δt halves the distance.
     problem = lq_point_mass()
     exact = float(lq_solution(problem).value(X0, 0.0))
-    errors = [abs(_chain_value(problem, X0, k) - exact) for k in (100, 200, 400)]
+    errors = [abs(euler_chain_value(problem, X0, k) - exact) for k in (100, 200, 400)]
     ratios = np.array(errors[:-1]) / np.array(errors[1:])
     np.testing.assert_allclose(ratios, 2.0, rtol=0.05)
 
@@ -75,7 +48,7 @@ def test_lq_optimum_matches_riccati(proposal, grid_solution):
     policy = _zero if proposal == "zero" else grid_solution.policy
     cert = g.certify(problem, policy, X0, n_samples=1000, seed=4)
     riccati = float(lq_solution(problem).value(X0, 0.0))
-    chain = _chain_value(problem, X0)
+    chain = euler_chain_value(problem, X0)
     assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
     assert abs(cert.optimal_value - riccati) < 3 * cert.optimal_value_se + abs(chain - riccati)
     assert abs(cert.policy_cost - cert.gap - cert.optimal_value) < 1e-12 * cert.policy_cost
@@ -99,7 +72,7 @@ def test_good_proposal_has_smaller_error_and_gap(grid_solution):
 def test_bad_policy_gives_right_optimum_with_larger_error_and_positive_gap():
     # Pushing the wrong way at constant force: the proposal is poor, yet v* is still the optimum.
     problem = lq_point_mass()
-    chain = _chain_value(problem, X0)
+    chain = euler_chain_value(problem, X0)
     # each policy alone as its proposal (proposal=None; the default would pool both with a grid)
     zero = g.certify(problem, _zero, X0, n_samples=4000, seed=6, proposal=None)
     bad = g.certify(
@@ -148,7 +121,7 @@ def test_small_temperature_does_not_underflow():
     cert = g.certify(problem, exact.policy, [2.0], n_samples=500, seed=1)
     v = float(exact.value([2.0], 0.0))
     assert np.exp(-v / problem.temperature) == 0.0
-    chain = _chain_value(problem, np.array([2.0]))
+    chain = euler_chain_value(problem, np.array([2.0]))
     assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
     assert abs(cert.optimal_value - v) < 3 * cert.optimal_value_se + abs(chain - v)
     assert cert.trusted  # the Riccati policy is near optimal for the chain: most samples count
@@ -167,7 +140,7 @@ def test_seed_reproduces_and_several_states_share_the_convention():
     several = g.certify(problem, _zero, [X0, [0.0, 0.0], [-1.0, 1.0]], n_samples=1000, seed=3)
     assert several.optimal_value.shape == several.gap_se.shape == (3,)
     assert several.start_states.shape == (3, 2)
-    chain = [_chain_value(problem, np.asarray(x)) for x in several.start_states]
+    chain = [euler_chain_value(problem, np.asarray(x)) for x in several.start_states]
     assert np.all(np.abs(several.optimal_value - chain) < 3 * several.optimal_value_se)
     assert len(several.summary().splitlines()) == 4
 
@@ -221,7 +194,7 @@ def test_poor_policy_judged_under_a_good_proposal():
     problem = lq_point_mass()
     riccati = lq_solution(problem)
     judged = g.certify(problem, _push, X0, n_samples=2000, seed=0, proposal=riccati)
-    chain = _chain_value(problem, X0)
+    chain = euler_chain_value(problem, X0)
     exact = float(riccati.value(X0, 0.0))
     assert judged.separate_proposal and judged.trusted
     assert abs(judged.optimal_value - chain) < 3 * judged.optimal_value_se
@@ -266,7 +239,7 @@ def test_reflected_certificate_is_the_constrained_problem_the_grid_solves():
     x0 = [0.8]
     free = g.certify(problem, solution.policy, x0, n_samples=4000, seed=0, boundary="free")
     reflected = g.certify(problem, solution.policy, x0, n_samples=4000, seed=0)  # the default
-    chain = _chain_value(problem, np.array(x0))
+    chain = euler_chain_value(problem, np.array(x0))
     assert abs(free.optimal_value - chain) < 3 * free.optimal_value_se
     se = np.hypot(free.optimal_value_se, reflected.optimal_value_se)
     assert reflected.optimal_value - free.optimal_value > 3 * se
@@ -310,7 +283,7 @@ def test_default_certificate_of_a_grid_solution_holds_the_fine_grid_prediction()
     free = g.certify(problem, solution.policy, x0, 4000, seed=0, progress=False, boundary="free")
     lower, upper = free.interval()
     assert not lower <= predicted <= upper
-    assert abs(free.optimal_value - _chain_value(problem, x0)) < 3 * free.optimal_value_se
+    assert abs(free.optimal_value - euler_chain_value(problem, x0)) < 3 * free.optimal_value_se
 
 
 COVERAGE_SEEDS = 200
@@ -326,7 +299,7 @@ def test_interval_covers_the_chain_optimum_at_its_level(proposal):
     starts = np.repeat(X0[None], COVERAGE_SEEDS, axis=0)
     cert = g.certify(problem, policy, starts, n_samples=500, seed=12, progress=False)
     lower, upper = cert.interval(0.95)
-    chain = _chain_value(problem, X0)
+    chain = euler_chain_value(problem, X0)
     covered = np.mean((lower <= chain) & (chain <= upper))
     assert abs(covered - 0.95) < 3 * np.sqrt(0.95 * 0.05 / COVERAGE_SEEDS)
     z_upper = norm.ppf(0.9875)  # the upper end's quantile: (3 + level)/4
@@ -436,7 +409,7 @@ def test_pooled_proposals_estimate_the_chain_optimum():
     problem = lq_point_mass()
     riccati = lq_solution(problem)
     cert = g.certify(problem, _push, X0, n_samples=4000, seed=5, proposal=[riccati, _zero])
-    chain = _chain_value(problem, X0)
+    chain = euler_chain_value(problem, X0)
     assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
     assert cert.proposals == ("proposal 1", "proposal 2") and cert.separate_proposal
     assert cert.proposal_values.shape == (2,) and cert.proposal_values_se.shape == (2,)
@@ -456,7 +429,7 @@ def test_by_default_a_poor_policy_is_pooled_with_a_grid_solution():
     cert = g.certify(problem, _push, X0, n_samples=4000, seed=0)
     assert cert.proposals[0] == "the policy" and "grid solution (auto)" in cert.proposals[1]
     assert cert.trusted and cert.pareto_k < 0.5
-    assert abs(cert.optimal_value - _chain_value(problem, X0)) < 3 * cert.optimal_value_se
+    assert abs(cert.optimal_value - euler_chain_value(problem, X0)) < 3 * cert.optimal_value_se
     rollouts = g.simulate(problem, _push, X0, n_samples=4000, seed=1)
     assert abs(cert.policy_cost - rollouts.mean_cost) < 3 * np.hypot(
         cert.policy_cost_se, rollouts.standard_error
