@@ -59,8 +59,11 @@ extrapolates only as far as it has been checked: by at most 2 per round until a 
 estimate comes within 2× of what it predicted (each such round doubles the reach). Where it
 does not describe the errors (:func:`unsteerable`: an estimate above 100 % of v, or shares
 that do not add up to the embedded difference) every axis and the step are refined by 2;
-where the levels do not converge at first order, the largest shares by 2. The path is in
-:attr:`gridlbc.Solution.refinement`. A default solve whose estimate exceeds
+where the levels do not converge at first order, the largest shares by 2. Where they do not
+converge, the estimate cannot prove a tolerance it meets (it is far above the error on 4-D
+grids of a few dozen nodes per axis): at a few states given by the user, certificates measure
+the error itself (:func:`certified_error`) and end the solve when they prove ``tol``. The path
+is in :attr:`gridlbc.Solution.refinement`. A default solve whose estimate exceeds
 :data:`DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the estimate and what to
 change.
 """
@@ -95,6 +98,18 @@ ASYMPTOTIC = 0.15
 SAMPLE = 20_000
 """At most this many of the states that matter are read (evenly spaced in the nodes' order):
 quantiles and medians of the estimate need no more, and a 4-D grid has millions."""
+
+
+CERTIFIED_STATES = 16
+""":func:`solve_to_tolerance` certifies the user's states (:func:`certified_error`) where the
+embedded levels do not converge, if there are at most this many."""
+
+CERTIFICATE_SAMPLES = 1000
+"""Samples per state of the certificates that :func:`certified_error` draws first (four times as
+many where the first ones cannot decide)."""
+
+CERTIFICATE_LEVEL = 0.95
+"""The confidence level of each state's certified interval (:func:`certified_error`)."""
 
 
 def embedded_grid(grid: Grid, axes=None) -> Grid | None:
@@ -542,6 +557,82 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     return Assessment(error, X[worst], float(rel[worst]), float(np.mean(rel > tol)), len(X))
 
 
+def certifiable(solution, states) -> bool:
+    """Whether :func:`solve_to_tolerance` certifies the user's ``states`` (:func:`certified_error`)
+    after a round whose estimate missed: where the embedded levels do not converge at first order
+    (the estimate is then rough in either direction: far above the error on 4-D grids of a few
+    dozen nodes per axis) and the user gave at most :data:`CERTIFIED_STATES` states."""
+    embedded = solution.embedded
+    if states is None or embedded is None or embedded.converging:
+        return False
+    return len(judged_states(solution, states)) <= CERTIFIED_STATES
+
+
+def certified_error(solution, X: np.ndarray, tol: float) -> float:
+    """The relative error of v at the states ``X`` measured against certified optima::
+
+        ê_c = max over x of  max(v(x) − lo(x), hi(x) − v(x)) / max(|v(x)|, λ),
+
+    with [lo, hi] the :data:`CERTIFICATE_LEVEL` interval of :func:`gridlbc.certify` at x for the
+    SDE's optimum: importance sampling with the solution's own policy as proposal (exact for any
+    proposal, docs page :doc:`validating`), extrapolated to a vanishing Euler–Maruyama step from
+    Δt_c and 2Δt_c (``richardson=True``), Δt_c = T/300 at first. It measures the error itself,
+    so it holds where the embedded estimate cannot say (levels that do not converge: grids too
+    coarse to judge this one). The certificates are drawn again, at most twice each, with half
+    the step where the step's contribution exceeds ``tol``/4 (the extrapolation leaves
+    O(Δt_c²), small beside it), and with four times the samples where the interval is too wide
+    to decide ``tol`` (v lies within ``tol`` of its centre, not of both ends).
+
+    Parameters
+    ----------
+    solution : Solution
+        A grid solution of a problem with a horizon.
+    X : ndarray (N, d)
+        The states.
+    tol : float
+        The relative tolerance the certificates must decide.
+
+    Returns
+    -------
+    float
+        ê_c; NaN where a certificate is not :attr:`~gridlbc.Certificate.trusted` at every
+        state (too few effective samples or a heavy weight tail: the solve's policy is too poor a
+        proposal to certify with).
+    """
+    from .certify import certify
+
+    v = np.asarray(solution.value(X, 0.0), dtype=float).reshape(-1)
+    scale = np.maximum(np.abs(v), solution.temperature)
+    n, dt = CERTIFICATE_SAMPLES, solution.problem.horizon / 300
+    halvings = more = 0
+    while True:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GridlbcWarning)
+            c = certify(
+                solution.problem,
+                solution.policy,
+                X,
+                n,
+                dt=dt,
+                seed=0,
+                progress=False,
+                proposal=None,
+                richardson=True,
+            )
+        if not np.all(c.trusted):
+            return np.nan
+        lo, hi = (np.asarray(end, dtype=float).reshape(-1) for end in c.interval(CERTIFICATE_LEVEL))
+        error = float(np.max(np.maximum(v - lo, hi - v) / scale))
+        step = np.abs(np.asarray(c.step_contribution, dtype=float).reshape(-1)) / scale
+        centre = np.abs(v - 0.5 * (lo + hi)) / scale
+        if step.max() > tol / 4 and halvings < 2:
+            dt, halvings = dt / 2, halvings + 1
+        elif error > tol and centre.max() <= tol and more < 2:
+            n, more = 4 * n, more + 1
+        else:
+            return error
+
+
 def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) when the embedded estimate of a default solve
     exceeds ``tol`` at the states that matter (:func:`assess`).
@@ -644,6 +735,10 @@ class Refinement:
     reason : str
         Why the factors were not the model's own choice (:func:`unsteerable`, or levels that do
         not converge at first order); "" where they were.
+    certified_error : float
+        Where the embedded levels did not converge and the user gave few states: the relative
+        error at those states measured against certified optima (:func:`certified_error`); NaN
+        where it was not measured or the certificates could not say.
     """
 
     shape: tuple[int, ...]
@@ -656,6 +751,11 @@ class Refinement:
     axis_errors: tuple[float, ...] = ()
     factors: tuple[float, ...] = ()
     reason: str = ""
+    certified_error: float = np.nan
+
+    def met(self, tol: float) -> bool:
+        """Whether this round proved ``tol``: by its estimate or at certified states."""
+        return bool(self.error <= tol or self.certified_error <= tol)
 
 
 def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:
@@ -744,6 +844,11 @@ def solve_to_tolerance(
     - outside it, every axis by 2 with the scheme's default step for the finer grid (or half
       the current step once one has been set).
 
+    Where the levels do not converge (the estimate is then rough in either direction) and the
+    user gave at most :data:`CERTIFIED_STATES` states, a round whose estimate misses ``tol`` is
+    also judged by certificates at those states (:func:`certified_error`), and ends the solve if
+    they prove it (:attr:`Refinement.certified_error`).
+
     The grid is the one with each axis's spacing divided by its factor (:func:`scaled_grid`);
     where it would exceed ``max_nodes`` or the memory, the factors are reduced together to the
     largest grid that fits (:func:`fitting_plan`: its slices stored as float32, then only every
@@ -810,8 +915,10 @@ def solve_to_tolerance(
             )
         held = predicted / 2 <= a.error <= 2 * predicted
         reach, predicted = (2 * reach if held else 2.0), np.nan
-        time_error = np.nan
-        done = a.error <= tol or len(history) >= max_refinements
+        time_error = certified = np.nan
+        if a.error > tol and certifiable(solution, states):
+            certified = certified_error(solution, judged_states(solution, states), tol)
+        done = a.error <= tol or certified <= tol or len(history) >= max_refinements
         if not done:
             steps = solution.diagnostics.steps
             half = _march_quietly(problem, base, 2 * solution.diagnostics.dt, steps, problem.grid)
@@ -826,13 +933,15 @@ def solve_to_tolerance(
                 time.perf_counter() - started,
                 base.dtype,
                 base.store_every,
+                certified_error=certified,
             )
         )
         if base.progress:
             stored = "" if base.store_every == 1 else f", every {base.store_every}th slice stored"
+            proved = "" if np.isnan(certified) else f", certified at the states {certified:.2%}"
             print(
                 f"tol: grid {'×'.join(map(str, problem.grid.shape))}, dt {solution.diagnostics.dt:.4g}"
-                f" ({base.dtype}{stored}): estimated error {a.error:.2%}",
+                f" ({base.dtype}{stored}): estimated error {a.error:.2%}{proved}",
                 flush=True,
             )
         if done:
@@ -964,10 +1073,16 @@ def finish(
     ``where`` it stopped, why (``limit``, or the ``rounds`` spent) and what to change
     (``advice``)."""
     object.__setattr__(solution, "refinement", tuple(history))
-    if history[-1].error > tol:
+    if not history[-1].met(tol):
         why = limit or f"max_refinements = {rounds} rounds were spent"
+        last = history[-1]
+        certified = (
+            ""
+            if np.isnan(last.certified_error)
+            else f" (certified at your states: {last.certified_error:.1%})"
+        )
         warnings.warn(
-            f"solve(tol={tol:g}) reached an estimated error of {history[-1].error:.1%} on "
+            f"solve(tol={tol:g}) reached an estimated error of {last.error:.1%}{certified} on "
             f"{where}, not {tol:.1%}: {why}; {advice}",
             ResolutionWarning,
             stacklevel=4,

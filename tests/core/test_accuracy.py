@@ -217,3 +217,31 @@ def test_tol_meets_a_step_limited_tolerance_in_the_rounds_the_model_predicts():
     assert steered and len(steered[0].factors) == 3
     true = lq_solution(solution.problem).value(STATES, 0.0)
     assert np.max(np.abs(solution.value(STATES, 0.0) / true - 1)) <= 0.01
+
+
+def test_certified_error_bounds_the_true_error_where_the_levels_do_not_converge():
+    # Δt = 0.5 on 41²: the levels h, 2h, 4h do not converge (observed order below 1), so the
+    # embedded estimate is rough in either direction. Certificates at the states measure the
+    # error itself: each state's 95 % interval holds the exact (Riccati) value unless that state's
+    # draw is one in twenty (seeded, so deterministic), and the bound is then at least the true
+    # error; it exceeds it by at most the interval's width (a few SE, well under 2 % of v here).
+    problem = lq_point_mass(41)
+    solution = _quiet_solve(problem, dt=0.5)
+    assert not solution.embedded.converging
+    v = solution.value(STATES, 0.0)
+    true = lq_solution(problem).value(STATES, 0.0)
+    actual = np.max(np.abs(v - true) / np.maximum(np.abs(v), problem.temperature))
+    certified = accuracy.certified_error(solution, STATES, 0.05)
+    assert actual <= certified <= actual + 0.02
+
+
+def test_tol_certifies_the_users_states_where_the_levels_do_not_converge():
+    problem = lq_point_mass(41)
+    solution = _quiet_solve(problem, tol=0.05, states=STATES, dt=0.5)
+    (only,) = solution.refinement  # the certificates proved tol in the first round
+    assert only.error > 0.05 >= only.certified_error and only.met(0.05)
+    true = lq_solution(problem).value(STATES, 0.0)
+    assert np.max(np.abs(solution.value(STATES, 0.0) / true - 1)) <= 0.05
+    # without states of the user's (half the box is judged), the estimate alone decides
+    unsure = _quiet_solve(problem, tol=0.05, dt=0.5, max_refinements=0)
+    assert np.isnan(unsure.refinement[0].certified_error) and not unsure.refinement[0].met(0.05)
