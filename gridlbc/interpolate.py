@@ -21,7 +21,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from .backends.numba.interpolation import central_gradient_kernel, kuhn_kernel
+from .backends.numba.interpolation import (
+    SERIAL_BELOW,
+    central_gradient_kernel,
+    central_gradient_kernel_serial,
+    kuhn_kernel,
+    kuhn_kernel_serial,
+)
 from .grid import Grid
 
 
@@ -35,7 +41,8 @@ def barycentric(grid: Grid, x) -> tuple[np.ndarray, np.ndarray]:
     n = x.shape[0]
     idx = np.empty((n, grid.ndim + 1), dtype=np.int64)
     weights = np.empty((n, grid.ndim + 1))
-    kuhn_kernel(np.ascontiguousarray(x), *grid.kernel_arrays(), idx, weights)
+    kernel = kuhn_kernel if n >= SERIAL_BELOW else kuhn_kernel_serial
+    kernel(np.ascontiguousarray(x), *grid.kernel_arrays(), idx, weights)
     return idx, weights
 
 
@@ -70,7 +77,10 @@ def node_gradient(
         np.empty((values.shape[0], 0)) if log_divisor is None else np.ascontiguousarray(log_divisor)
     )
     out = np.empty((values.shape[0], nodes.size), dtype=np.result_type(values.dtype, np.float64))
-    central_gradient_kernel(
+    kernel = (
+        central_gradient_kernel if nodes.size >= SERIAL_BELOW else central_gradient_kernel_serial
+    )
+    kernel(
         values,
         divisor,
         nodes,

@@ -123,3 +123,24 @@ def test_node_gradient_exact_for_affine_and_one_sided_at_ends(rng):
     h1 = grid.spacing[1]
     expected = (np.sin(np.pi * (x[:, 1] + h1)) - np.sin(np.pi * (x[:, 1] - h1))) / (2 * h1)
     np.testing.assert_allclose(d1, expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("d", [2, 4])
+def test_the_serial_and_threaded_kernels_agree_bitwise(d, monkeypatch):
+    # few states run in the calling thread (SERIAL_BELOW): the same arithmetic per item, so the
+    # two paths must give identical simplices, weights and gradients, not merely close ones
+    import gridlbc.interpolate as interpolation
+
+    grid = GRIDS[d]
+    rng = np.random.default_rng(3)
+    lo, hi = np.array([a.lo for a in grid.axes]), np.array([a.hi for a in grid.axes])
+    x = lo + (hi - lo) * rng.random((500, d))
+    values = rng.random((2, grid.size))
+    out = []
+    for threshold in (0, 10**9):
+        monkeypatch.setattr(interpolation, "SERIAL_BELOW", threshold)
+        idx, weights = barycentric(grid, x)
+        gradient = node_gradient(grid, values, idx.ravel(), d - 1, log_divisor=values)
+        out.append((idx, weights, gradient))
+    for threaded, serial in zip(*out):
+        np.testing.assert_array_equal(threaded, serial)

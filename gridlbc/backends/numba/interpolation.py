@@ -9,6 +9,12 @@ import numpy as np
 
 from .options import jit, jit_inline, jit_parallel, prange
 
+SERIAL_BELOW = 32_768
+"""Below this many states (or nodes), the interpolation kernels run in the calling thread: their
+work per item is a few hundred nanoseconds, and waking the threads costs more than it saves,
+many times more on a loaded machine, where each parallel call waits for every thread to be
+scheduled (a policy evaluated at each step of a few thousand simulated paths)."""
+
 
 @jit
 def cell(x, lo, spacing, n, periodic):
@@ -30,31 +36,45 @@ def cell(x, lo, spacing, n, periodic):
     return i, s - i
 
 
+@jit_inline
+def _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights):
+    """The Kuhn simplex and weights of state ``x[p]`` into ``idx[p]``, ``weights[p]``."""
+    d = x.shape[1]
+    frac = np.empty(d)
+    base = 0
+    for k in range(d):
+        i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
+        base += i * strides[k]
+    order = np.argsort(-frac, kind="mergesort")
+    # Walk from the base corner, one axis at a time in decreasing fractional order.
+    idx[p, 0] = base
+    weights[p, 0] = 1.0 - frac[order[0]]
+    node = base
+    for j in range(d):
+        k = order[j]
+        n = shape[k]
+        coord = (node // strides[k]) % n
+        if coord == n - 1:  # only reachable on a periodic axis
+            node -= (n - 1) * strides[k]
+        else:
+            node += strides[k]
+        idx[p, j + 1] = node
+        nxt = frac[order[j + 1]] if j + 1 < d else 0.0
+        weights[p, j + 1] = frac[k] - nxt
+
+
 @jit_parallel
 def kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
-    n_points, d = x.shape
-    for p in prange(n_points):
-        frac = np.empty(d)
-        base = 0
-        for k in range(d):
-            i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
-            base += i * strides[k]
-        order = np.argsort(-frac, kind="mergesort")
-        # Walk from the base corner, one axis at a time in decreasing fractional order.
-        idx[p, 0] = base
-        weights[p, 0] = 1.0 - frac[order[0]]
-        node = base
-        for j in range(d):
-            k = order[j]
-            n = shape[k]
-            coord = (node // strides[k]) % n
-            if coord == n - 1:  # only reachable on a periodic axis
-                node -= (n - 1) * strides[k]
-            else:
-                node += strides[k]
-            idx[p, j + 1] = node
-            nxt = frac[order[j + 1]] if j + 1 < d else 0.0
-            weights[p, j + 1] = frac[k] - nxt
+    """:func:`_kuhn_point` for every state, on the threads."""
+    for p in prange(x.shape[0]):
+        _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights)
+
+
+@jit
+def kuhn_kernel_serial(x, lo, spacing, shape, strides, periodic, idx, weights):
+    """:func:`_kuhn_point` for every state, in this thread (few states: :data:`SERIAL_BELOW`)."""
+    for p in range(x.shape[0]):
+        _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights)
 
 
 @jit_inline
@@ -64,33 +84,48 @@ def _ratio(z, log_divisor, r, node):
     return math.exp(math.log(value) - np.float64(log_divisor[r, node])) if value > 0.0 else 0.0
 
 
+@jit_inline
+def _central_gradient_node(p, z, log_divisor, nodes, k, shape, strides, spacing, periodic, out):
+    """∂y/∂x_k at the flat node ``nodes[p]`` into ``out[:, p]`` (:func:`central_gradient_kernel`)."""
+    n = shape[k]
+    s = strides[k]
+    h = spacing[k]
+    node = nodes[p]
+    i = (node // s) % n
+    if periodic:
+        up = node + s if i < n - 1 else node - (n - 1) * s
+        down = node - s if i > 0 else node + (n - 1) * s
+        scale = 0.5 / h
+    elif i == 0:
+        up, down, scale = node + s, node, 1.0 / h
+    elif i == n - 1:
+        up, down, scale = node, node - s, 1.0 / h
+    else:
+        up, down, scale = node + s, node - s, 0.5 / h
+    for r in range(z.shape[0]):
+        if log_divisor.shape[1] == 0:
+            out[r, p] = (z[r, up] - z[r, down]) * scale
+        else:
+            out[r, p] = (_ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)) * scale
+
+
 @jit_parallel
 def central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out):
     """∂y/∂x_axis at the given flat nodes for y = z (in z's precision), or y = z / e^{log_divisor}
     when ``log_divisor`` has columns (:func:`_ratio`): central differences, one-sided at closed
-    ends."""
-    k = axis
-    n = shape[k]
-    s = strides[k]
-    h = spacing[k]
-    n_rows = z.shape[0]
+    ends; on the threads."""
     for p in prange(nodes.shape[0]):
-        node = nodes[p]
-        i = (node // s) % n
-        if periodic:
-            up = node + s if i < n - 1 else node - (n - 1) * s
-            down = node - s if i > 0 else node + (n - 1) * s
-            scale = 0.5 / h
-        elif i == 0:
-            up, down, scale = node + s, node, 1.0 / h
-        elif i == n - 1:
-            up, down, scale = node, node - s, 1.0 / h
-        else:
-            up, down, scale = node + s, node - s, 0.5 / h
-        for r in range(n_rows):
-            if log_divisor.shape[1] == 0:
-                out[r, p] = (z[r, up] - z[r, down]) * scale
-            else:
-                out[r, p] = (
-                    _ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)
-                ) * scale
+        _central_gradient_node(
+            p, z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+        )
+
+
+@jit
+def central_gradient_kernel_serial(
+    z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+):
+    """:func:`central_gradient_kernel` in this thread (few nodes: :data:`SERIAL_BELOW`)."""
+    for p in range(nodes.shape[0]):
+        _central_gradient_node(
+            p, z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+        )
