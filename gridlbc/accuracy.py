@@ -79,7 +79,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .errors import GridlbcWarning, ResolutionWarning
+from .errors import GridlbcWarning, ResolutionWarning, warn_user
 from .grid import Axis, Grid
 
 if TYPE_CHECKING:
@@ -661,14 +661,13 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         else f"Solve with tol={tol:g} to refine dt and the grid until the estimate meets it, or "
         "give a finer grid or a smaller dt"
     )
-    warnings.warn(
+    warn_user(
         f"the estimated error of v exceeds {tol:.0%} of |v| at {a.share_above:.0%} of the states "
         f"that matter ({QUANTILE:.0%} of them are within {a.error:.1%}; the largest, "
         f"{a.worst_error:.0%}, is at {state}): measured against solves on the grids with every "
         f"other node, see solution.error_estimate(x) at your own states.{loose} {change} "
         "(docs page 'accuracy')",
         ResolutionWarning,
-        stacklevel=4,
     )
 
 
@@ -694,13 +693,12 @@ def check_scalar(estimate: ScalarEstimate, name: str, tol: float = DEFAULT_TOLER
         if estimate.observed_order < 1.0
         else ""
     )
-    warnings.warn(
+    warn_user(
         f"the estimated error of {name} = {estimate.levels[0]:.6g} is {estimate.error:.3g}, "
         f"{estimate.relative:.1%} of it (above {tol:.0%}): measured against the same solve on the "
         f"grids with every other node ({levels} on h, 2h, 4h).{loose} Give a finer grid (docs "
         "page 'accuracy')",
         ResolutionWarning,
-        stacklevel=5,
     )
 
 
@@ -1081,9 +1079,8 @@ def finish(
             if np.isnan(last.certified_error)
             else f" (certified at your states: {last.certified_error:.1%})"
         )
-        warnings.warn(
+        warn_user(
             f"solve(tol={tol:g}) reached an estimated error of {last.error:.1%}{certified} on "
             f"{where}, not {tol:.1%}: {why}; {advice}",
             ResolutionWarning,
-            stacklevel=4,
         )

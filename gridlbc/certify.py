@@ -83,7 +83,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import CertificateWarning
+from .errors import CertificateWarning, warn_user
 from .problem import Problem
 from .progress import ProgressBar
 from .psis import pareto_k
@@ -575,7 +575,7 @@ def certify(
     ess, value = estimates["effective_sample_size"], estimates["optimal_value"]
     k_hat = estimates["pareto_k"]
     for i in np.flatnonzero(~_trusted(ess, np.zeros(k), min_effective_sample_size, math.inf)):
-        warnings.warn(
+        warn_user(
             f"certify: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
             f"below {min_effective_sample_size:g}: v* = {value[i]:.4g} and its standard "
             "error are not trustworthy (a few samples carry all the weight exp(−S/λ)). Use a "
@@ -583,27 +583,24 @@ def certify(
             f"that the temperature λ = {lam:g} is small relative to the costs, which sharpens "
             "the weights.",
             CertificateWarning,
-            stacklevel=2,
         )
     for i in np.flatnonzero((ess >= min_effective_sample_size) & (k_hat > max_pareto_k)):
-        warnings.warn(
+        warn_user(
             f"certify: the weights exp(−S/λ) at x0 = {starts[i]} have a heavy tail (PSIS "
             f"k̂ = {k_hat[i]:.2f} > {max_pareto_k:g}): v* = {value[i]:.4g} is likely too high and "
             "its standard error too small, because the samples that carry the weight are rarely "
             "drawn. More samples do not fix this; a proposal closer to optimal does, e.g. the "
             "policy of a grid solution of this problem.",
             CertificateWarning,
-            stacklevel=2,
         )
     if not problem.stationary:
         unexited = np.zeros(k)
     for i in np.flatnonzero(unexited > MAX_UNEXITED):
-        warnings.warn(
+        warn_user(
             f"certify: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
             f"the exit set by max_time = {T:g}: their costs are cut short, so v* and J are "
             "underestimated. Raise max_time, or use a proposal that reaches the exit sooner.",
             CertificateWarning,
-            stacklevel=2,
         )
     return Certificate(
         starts,

@@ -24,13 +24,12 @@ near the target. :func:`project` warns about both.
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from .costs import Quadratic, evaluate_cost
-from .errors import ProjectionWarning
+from .errors import ProjectionWarning, warn_user
 from .grid import Grid
 from .regions import check_region, region_mask
 
@@ -311,5 +310,5 @@ def project(
         target_cost, component_costs, grid, temperature=temperature, method=method, where=where
     )
     for message in result.messages:
-        warnings.warn(message, ProjectionWarning, stacklevel=2)
+        warn_user(message, ProjectionWarning)
     return result.weights

@@ -31,13 +31,12 @@ stored z, so solutions that share one (the plain operator, or one φ) combine ex
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 from typing import ClassVar, Protocol
 
 import numpy as np
 
-from .errors import UnderflowWarning
+from .errors import UnderflowWarning, warn_user
 from .grid import Grid
 from .interpolate import node_gradient
 
@@ -298,12 +297,11 @@ def warn_underflow(bad: np.ndarray) -> None:
         Where it underflowed.
     """
     if np.any(bad):
-        warnings.warn(
+        warn_user(
             f"desirability underflowed at {int(bad.sum())} of {bad.size} query states: value is "
             "+inf there and the policy undefined (NaN). Shrink the box, or raise the temperature "
             "relative to the costs (docs page 'limitations').",
             UnderflowWarning,
-            stacklevel=5,
         )
 
 

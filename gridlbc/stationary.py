@@ -63,7 +63,7 @@ from .accuracy import (
     refined_grid,
     scalar_estimate,
 )
-from .errors import GridlbcWarning, ResolutionWarning
+from .errors import GridlbcWarning, ResolutionWarning, warn_user
 from .grid import Grid
 from .problem import Problem
 from .schemes.generator import RATES, Generator, exit_generator, generator_matrix
@@ -451,12 +451,11 @@ def _defect_correction(Z, solver, second_order, decay, E, z_exits, z_boundary, s
     if np.all(corrected > 0):
         return corrected, True, total
     negative = np.count_nonzero(np.any(corrected <= 0, axis=1))
-    warnings.warn(
+    warn_user(
         f"defect correction made z ≤ 0 at {negative} of {len(corrected)} nodes: the grid does "
         "not resolve z = exp(−v/λ) (v changes by much more than λ across a cell); the "
         "solution is the first-order one. Refine the grid, or raise the temperature",
         ResolutionWarning,
-        stacklevel=4,
     )
     return Z, False, total
 
@@ -485,11 +484,10 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
     setup = time.perf_counter() - start
     mu, e, iterations = principal_eigenpair(M, s, grid.ndim)
     if e.min() < -1e-8 * e.max():
-        warnings.warn(
+        warn_user(
             "the principal eigenvector has negative entries beyond rounding: the chain may not "
             "be irreducible (parts of the box it never leaves); the relative value is unreliable",
             ResolutionWarning,
-            stacklevel=3,
         )
     e = np.clip(e / e.max(), 0.0, None)
     label = f"stationary-{s.rates}"

@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .errors import warn_user
 from .fingerprint import UnidentifiableError, state_record
 from .io import FORMAT_VERSION, cost_record, load, problem_record, read_metadata, save
 from .problem import Problem
@@ -412,7 +413,7 @@ def sweep(
     for i, (key, path) in enumerate(zip(keys, paths)):
         o = outcomes[key]
         for category, message in o.warnings:
-            warnings.warn(f"sweep member {i}: {message}", category, stacklevel=2)
+            warn_user(f"sweep member {i}: {message}", category)
         members.append(
             SweepMember(
                 i,

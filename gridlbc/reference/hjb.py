@@ -76,6 +76,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from .._numba import jit
+from ..errors import warn_user
 from ..grid import Grid
 from ..problem import Problem, bracket, check_time, state_evaluation
 
@@ -721,11 +722,10 @@ def _solve_first_exit(
         if not np.all(np.isfinite(v)):
             raise FloatingPointError("the HJB value became non-finite while marching")
     if not converged:
-        warnings.warn(
+        warn_user(
             f"solve_hjb's first-exit {method} did not converge to tol={tol:g} in {steps} "
             "iterations: the value is the last iterate",
             RuntimeWarning,
-            stacklevel=3,
         )
     diagnostics = HJBDiagnostics(
         method="policy-iteration" if method == "policy" else "markov-chain-march",

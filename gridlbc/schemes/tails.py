@@ -10,11 +10,9 @@ cap.
 
 from __future__ import annotations
 
-import warnings
-
 import numpy as np
 
-from ..errors import ResolutionWarning
+from ..errors import ResolutionWarning, warn_user
 from ..grid import flat_chunks
 from ..problem import Problem
 from ..solution import Solution
@@ -51,14 +49,13 @@ def check_resolution(
         flagged, worst = count_at_cap(problem, value, step, flagged, worst, diffusion)
     share = flagged / (2 * grid.size)
     if share > TAIL_SHARE:
-        warnings.warn(
+        warn_user(
             f"the plain scheme cannot resolve this problem's desirability: at {100 * share:.0f} % "
             f"of the nodes v/λ rises from node to node faster than its diffusion's tails allow "
             f"(up to {worst[0]:.3g} per cell along {worst[2]}, where the tails cap it at "
             f"{worst[1]:.3g}), so v is underestimated there, increasingly as λ falls. Solve with "
             "fitting='terminal' (exact tails), or refine that axis, or raise the temperature.",
             ResolutionWarning,
-            stacklevel=4,
         )
     return share
 

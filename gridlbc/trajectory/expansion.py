@@ -62,14 +62,13 @@ state. ``radius=None`` never saturates.
 
 from __future__ import annotations
 
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 from scipy.stats import chi2
 
 from ..costs import wrap_difference
-from ..errors import TrajectoryWarning
+from ..errors import TrajectoryWarning, warn_user
 from ..problem import Problem, bracket, check_time, state_evaluation
 from ..reference.lq import is_linear_quadratic
 from .ddp import positive_part, sweeps
@@ -279,12 +278,11 @@ def expand(
     radius = _check_radius(radius, problem)
     _check_same_problem(problem, trajectory)
     if not trajectory.converged:
-        warnings.warn(
+        warn_user(
             f"the trajectory's optimisation did not converge ({trajectory.message}): "
             "its expansion is a local model of a suboptimal tape; optimise again with "
             "more restarts or intervals",
             TrajectoryWarning,
-            stacklevel=2,
         )
     U, X = trajectory.controls, trajectory.states
     K = len(U)

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import ResolutionWarning
+from ...errors import ResolutionWarning, warn_user
 from ...problem import Problem
 from ...solution import Solution
 from ..noise import diffusion_coefficients
@@ -80,7 +80,7 @@ class CostSamplingBound(StepBound):
         """The :class:`ResolutionWarning` for a given ``dt`` above the limit."""
         if dt <= self.limit * (1.0 + 1e-9):  # the default step is held below it
             return
-        warnings.warn(
+        warn_user(
             f"with Δt = {dt:.3g} one step's noise moves a path "
             f"{COST_NOISE_SCALE * math.sqrt(dt / self.limit):.2f} of the distance over which the "
             f"state cost rises (along {self.reason}), and the splitting samples that cost at three "
@@ -88,7 +88,6 @@ class CostSamplingBound(StepBound):
             f"policy can be far off. Pass dt ≤ {self.limit:.3g} (or leave dt to the default) and "
             "check with gridlbc.certify.",
             ResolutionWarning,
-            stacklevel=4,
         )
 
 
@@ -120,14 +119,13 @@ def check_control_step(problem: Problem, solution: Solution) -> float:
     if rms > CONTROL_STEP_CELLS:
         k = int(np.argmax(np.nanmean(cells**2, axis=0)))
         axis = grid.axes[k].name or f"axis {k}"
-        warnings.warn(
+        warn_user(
             f"the optimal control moves the state by {rms:.0f} cells per step (root mean square "
             f"over the nodes at t = 0, mostly along {axis}): the splitting takes the control and "
             f"the drift one after the other, and at such steps v and the policy can be several "
             f"percent off (its error falls as Δt²). Pass dt ≤ "
             f"{dt * CONTROL_STEP_CELLS / (1.5 * rms):.3g} and compare.",
             ResolutionWarning,
-            stacklevel=3,
         )
     return rms
 
@@ -165,7 +163,7 @@ def check_fitted_resolution(problem: Problem, solution: Solution, diffusion: lis
             if median > worst:
                 worst, worst_axis = median, ax.name or f"axis {k}"
     if worst > FIT_CURVATURE_JUMP:
-        warnings.warn(
+        warn_user(
             f"the grid does not resolve the curvature of log z along {worst_axis}: its second "
             f"difference changes by {worst:.2f} of itself from node to node (median over the "
             f"nodes that carry the solution, at t = 0; resolved grids stay well below "
@@ -173,6 +171,5 @@ def check_fitted_resolution(problem: Problem, solution: Solution, diffusion: lis
             "and v can be off by tens of percent and move with dt. Refine that axis (or the "
             "grid), or raise the temperature, and compare.",
             ResolutionWarning,
-            stacklevel=3,
         )
     return worst
