@@ -18,8 +18,8 @@ as proposal at half the step), ``exit_steeper`` (1, 2) −15.1 % (estimate 8.6 %
 ``coupled_pendulums`` (2, 0, 0, 0) +12.6 % (estimate 77 %). ``fast_lag`` (an actuator 50× faster
 than the state it drives) is linear-quadratic: checked against ``gridlbc.reference.lq_solution``
 instead (errors 0.003 %, 0.003 %, 0.44 %; estimates 0.036 %, 0.036 %, 0.47 %), but its default
-solve on 201² took 179 s (about 2 s for the other 201² problems here). The per-pair table is in
-the report of this round (scratch results are not kept). ``exit_brake_hot`` looked like an
+solve on 201² took 179 s (about 2 s for the other 201² problems here). The table is in
+docs/benchmarks.rst, "Stranger rounds". ``exit_brake_hot`` looked like an
 estimate a third of the error (1.4–1.8 % against 0.45–0.63 %) from the extrapolated truth,
 but its certificates at Δt = 0.002, 0.001, 0.0005 (n = 4000–6000, ESS 260–450) scatter by
 more than their SE (≈ 0.5 %) without a trend: against their mean the errors are 0.6–1.1 %,
