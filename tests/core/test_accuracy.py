@@ -4,6 +4,7 @@ The linear-quadratic point mass has an exact value (Riccati, gridlbc.reference.l
 the estimate is judged against the true error, not against another solve.
 """
 
+import inspect
 import warnings
 
 import numpy as np
@@ -245,3 +246,14 @@ def test_tol_certifies_the_users_states_where_the_levels_do_not_converge():
     # without states of the user's (half the box is judged), the estimate alone decides
     unsure = _quiet_solve(problem, tol=0.05, dt=0.5, max_refinements=0)
     assert np.isnan(unsure.refinement[0].certified_error) and not unsure.refinement[0].met(0.05)
+
+
+def test_a_warning_names_the_line_of_the_users_call():
+    # judged deep inside the library (solve → solve_many → the embedded estimate), attributed to
+    # the caller's line, the one a user would change
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        line = inspect.currentframe().f_lineno + 1
+        g.solve(lq_point_mass(41), dt=0.5)
+    (warning,) = [w for w in caught if issubclass(w.category, g.ResolutionWarning)]
+    assert (warning.filename, warning.lineno) == (__file__, line)
