@@ -1071,9 +1071,9 @@ def finish(
     ``where`` it stopped, why (``limit``, or the ``rounds`` spent) and what to change
     (``advice``)."""
     object.__setattr__(solution, "refinement", tuple(history))
-    if not history[-1].met(tol):
+    last = history[-1]
+    if not last.met(tol):
         why = limit or f"max_refinements = {rounds} rounds were spent"
-        last = history[-1]
         certified = (
             ""
             if np.isnan(last.certified_error)
