@@ -501,24 +501,27 @@ def cold_upright():
     return Problem(Pendulum(), grid, 2.5, cost, state_cost=cost, temperature=0.02)
 
 
-def rotor_well():
+def rotor_in_well(width: float, horizon: float, temperature: float) -> Problem:
+    """A rotor (a pendulum without gravity) on 201 periodic nodes held in a well of state and
+    terminal cost 3(1 − exp(−θ²/2w²)) + 0.05ω², w = ``width``, centred at θ = 0: midway between
+    two nodes of the odd axis."""
     grid = _grid((-PI, PI, 201, True), (-6, 6, 201))
 
     def cost(x):
         theta = (x[:, 0] + PI) % (2 * PI) - PI
-        return 3 * (1 - np.exp(-0.5 * (theta / 0.15) ** 2)) + 0.05 * x[:, 1] ** 2
+        return 3 * (1 - np.exp(-0.5 * (theta / width) ** 2)) + 0.05 * x[:, 1] ** 2
 
-    return Problem(Pendulum(gravity=0.0), grid, 4.0, cost, state_cost=cost, temperature=0.02)
+    return Problem(
+        Pendulum(gravity=0.0), grid, horizon, cost, state_cost=cost, temperature=temperature
+    )
+
+
+def rotor_well():
+    return rotor_in_well(0.15, 4.0, 0.02)
 
 
 def rotor_pit():
-    grid = _grid((-PI, PI, 201, True), (-6, 6, 201))
-
-    def cost(x):
-        theta = (x[:, 0] + PI) % (2 * PI) - PI
-        return 3 * (1 - np.exp(-0.5 * (theta / 0.07) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return Problem(Pendulum(gravity=0.0), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+    return rotor_in_well(0.07, 5.0, 0.005)
 
 
 def _s(*rows) -> np.ndarray:

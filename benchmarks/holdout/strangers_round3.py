@@ -42,6 +42,9 @@ from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.regions import Ball, Box
 from gridlbc.systems import ControlAffineSystem, LinearSystem, Pendulum, PointMass
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from corpus import refine
+
 OUT = Path(__file__).resolve().parent / "strangers_round3_results"
 
 PI = math.pi
@@ -49,20 +52,6 @@ PI = math.pi
 
 def G(*axes):
     return Grid([Axis(*a[:3], periodic=len(a) > 3 and a[3]) for a in axes])
-
-
-def refine(problem, factor):
-    axes = [
-        Axis(
-            a.lo,
-            a.hi,
-            round(a.n * factor) if a.periodic else round((a.n - 1) * factor) + 1,
-            a.periodic,
-            a.name,
-        )
-        for a in problem.grid.axes
-    ]
-    return problem.replace(grid=Grid(axes))
 
 
 def wrap(a):

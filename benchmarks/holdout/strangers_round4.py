@@ -120,7 +120,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
-from corpus import Unicycle, cold_upright  # noqa: E402
+from corpus import Unicycle, cold_upright, rotor_in_well, rotor_pit, rotor_well  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Axis, Grid, Problem, Quadratic  # noqa: E402
@@ -167,49 +167,14 @@ def colder_upright():
     return cold_upright().replace(temperature=0.01, horizon=5.0)
 
 
-def rotor_well():
-    """Rotor (no gravity) kept in a narrow well of state cost (σ = 0.15 rad, 5 cells), λ = 0.02."""
-
-    def cost(x):
-        x = np.atleast_2d(x)
-        th = r3.wrap(x[:, 0])
-        return 3 * (1 - np.exp(-0.5 * (th / 0.15) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return Problem(
-        Pendulum(gravity=0.0),
-        G((-PI, PI, 201, True), (-6, 6, 201)),
-        4.0,
-        cost,
-        state_cost=cost,
-        temperature=0.02,
-    )
-
-
 def rotor_well_cold():
-    """rotor_well at λ = 0.01 with a narrower well (σ = 0.1 rad, 3 cells) and T = 5."""
-
-    def cost(x):
-        x = np.atleast_2d(x)
-        th = r3.wrap(x[:, 0])
-        return 3 * (1 - np.exp(-0.5 * (th / 0.1) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return rotor_well().replace(terminal_cost=cost, state_cost=cost, temperature=0.01, horizon=5.0)
+    """rotor_well (corpus) at λ = 0.01 with a narrower well (σ = 0.1 rad, 3 cells) and T = 5."""
+    return rotor_in_well(0.1, 5.0, 0.01)
 
 
 def rotor_well_colder():
     """rotor_well_cold at λ = 0.005."""
     return rotor_well_cold().replace(temperature=0.005)
-
-
-def rotor_pit():
-    """rotor_well with a pit 0.07 rad wide (2.2 cells of the 201-node axis) at λ = 0.005, T = 5."""
-
-    def cost(x):
-        x = np.atleast_2d(x)
-        th = r3.wrap(x[:, 0])
-        return 3 * (1 - np.exp(-0.5 * (th / 0.07) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return rotor_well().replace(terminal_cost=cost, state_cost=cost, temperature=0.005, horizon=5.0)
 
 
 # ---- (2) first exit crossed only through the drift ----
