@@ -115,8 +115,9 @@ CERTIFICATE_LEVEL = 0.95
 def embedded_grid(grid: Grid, axes=None) -> Grid | None:
     """The grid with every other node of each axis (spacing 2h), or of the given ``axes`` only;
     None when an axis would keep fewer than three nodes (four on a periodic axis). A closed axis
-    with an odd node count keeps exactly its even-numbered nodes; with an even count the coarse
-    spacing is slightly above 2h."""
+    with an odd node count and a periodic one with an even count keep exactly their
+    even-numbered nodes; otherwise the coarse spacing is slightly above 2h, the coarse nodes are
+    not the fine ones, and the estimate also reads :func:`twin_grid`."""
     out = []
     for i, a in enumerate(grid.axes):
         if axes is not None and i not in axes:
@@ -127,6 +128,44 @@ def embedded_grid(grid: Grid, axes=None) -> Grid | None:
             return None
         out.append(Axis(a.lo, a.hi, n, periodic=a.periodic, name=a.name))
     return Grid(out)
+
+
+def nested(axis: Axis) -> bool:
+    """Whether every other node of ``axis`` is a node of its embedded axis: a periodic axis with
+    an even node count, a closed one with an odd count (an even number of cells)."""
+    return axis.n % 2 == (0 if axis.periodic else 1)
+
+
+def twin_grid(grid: Grid, axes=None) -> Grid | None:
+    """The embedded grid (:func:`embedded_grid`) with one node more on each axis whose embedded
+    axis is not nested in it (:func:`nested`: an odd periodic axis, an even closed one), or on
+    those of the given ``axes`` only; None when every such axis is nested or the grid is too
+    coarse to embed.
+
+    Why a second embedded grid: on an axis that is not nested, the coarse nodes can lie closer to
+    a narrow feature of the problem (a pit in the state cost) than any node of the grid, and the
+    coarse solve can then be *more* accurate than the fine one, hiding the fine grid's error.
+    Measured in units of their own cells, the offset f of the fine nodes from any point is the
+    sum of the offsets a and b of the two embedded axes (m and m + 1 nodes bracketing the fine
+    count's half: a periodic axis of 2m + 1 nodes has f = x(2m + 1)/L = a + b, a closed one of
+    2m nodes f = x(2m − 1)/L = a + b), so the fine grid's distance to the nearest node is at most
+    twice the larger of the two coarse ones (distance to the nearest integer is subadditive),
+    which is about what a coarse cell of 2h makes it: one of the two coarse grids misses every
+    point at least as badly as the grid itself. The estimate reads the larger of the two
+    differences (:meth:`EmbeddedEstimate.difference`)."""
+    coarse = embedded_grid(grid, axes)
+    if coarse is None:
+        return None
+    chosen = range(grid.ndim) if axes is None else axes
+    misaligned = [i for i in chosen if not nested(grid.axes[i])]
+    if not misaligned:
+        return None
+    return Grid(
+        [
+            Axis(c.lo, c.hi, c.n + 1, periodic=c.periodic, name=c.name) if i in misaligned else c
+            for i, c in enumerate(coarse.axes)
+        ]
+    )
 
 
 def refined_grid(grid: Grid, axes=None) -> Grid:
@@ -150,8 +189,9 @@ def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
     The share of axis i is the relative difference (:func:`statistic` at the judged states) from
     a solve with only that axis coarsened (every other node, ``solve_on(grid)``, which may return
     None where the problem cannot be posed on that grid; NaN then, and for an axis too coarse to
-    coarsen). The difference D from the embedded solve, which coarsens every axis (and doubles
-    the step), is read the same way.
+    coarsen), the larger of two where the axis is not nested (:func:`twin_grid`). The difference
+    D from the embedded solves, which coarsen every axis (and double the step), is read the same
+    way (:meth:`EmbeddedEstimate.difference`).
 
     Returns
     -------
@@ -160,16 +200,17 @@ def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
         D.
     """
     X = judged_states(solution, states)
-    grid = solution.grid
+    grid, given = solution.grid, states is not None
     shares = np.full(grid.ndim, np.nan)
     for i in range(grid.ndim):
-        coarse = embedded_grid(grid, axes=(i,))
-        other = None if coarse is None else solve_on(coarse)
-        if other is not None:
-            shares[i] = statistic(relative_difference(solution, other, X), states is not None)
-    whole = statistic(
-        relative_difference(solution, solution.embedded.solution, X), states is not None
-    )
+        for coarse in (embedded_grid(grid, axes=(i,)), twin_grid(grid, axes=(i,))):
+            other = None if coarse is None else solve_on(coarse)
+            if other is not None:
+                share = statistic(relative_difference(solution, other, X), given)
+                shares[i] = np.fmax(shares[i], share)
+    v = solution.value(X, 0.0)
+    difference = solution.embedded.difference(solution, X, 0.0)
+    whole = statistic(relative_error(difference, v, solution.temperature), given)
     return shares, whole
 
 
@@ -345,23 +386,37 @@ class EmbeddedEstimate:
         solves differ by at most :data:`ASYMPTOTIC`.
     floor : float
         The least relative error reported (the median over the states that matter).
+    twin : Solution or None
+        The same problem solved on :func:`twin_grid` (step 2Δt), where an axis's embedded grid
+        is not nested in the grid; None where every axis is.
     """
 
     solution: Solution
     observed_order: float
     order: float
     floor: float
+    twin: Solution | None = None
 
     @property
     def converging(self) -> bool:
         """Whether the levels converge at first order or better (or could not be compared)."""
         return not (self.observed_order < 1.0)
 
-    def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
-        """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t``, with q = ``order``
-        where the relative difference is at most :data:`ASYMPTOTIC` and 1 elsewhere."""
+    def difference(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``: the larger of the two embedded
+        solves' differences where there is a ``twin``."""
         v = solution.value(x, t)
         difference = np.abs(self.solution.value(x, t) - v)
+        if self.twin is not None:
+            difference = np.maximum(difference, np.abs(self.twin.value(x, t) - v))
+        return difference
+
+    def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t`` (:meth:`difference`),
+        with q = ``order`` where the relative difference is at most :data:`ASYMPTOTIC` and 1
+        elsewhere."""
+        v = solution.value(x, t)
+        difference = self.difference(solution, x, t)
         relative = relative_error(difference, v, solution.temperature)
         return richardson(difference, relative, self.order)
 
@@ -373,8 +428,9 @@ class EmbeddedEstimate:
         return np.maximum(self.local(solution, x, t), self.floor * scale)
 
 
-def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
-    """The estimate of ``solution`` from its embedded solve and, if given, the one below it.
+def embedded_estimate(solution, embedded, coarser=None, twin=None) -> EmbeddedEstimate:
+    """The estimate of ``solution`` from its embedded solve and, if given, the one below it and
+    the one on :func:`twin_grid`.
 
     Over the states that matter: the observed order::
 
@@ -387,6 +443,8 @@ def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
     ----------
     solution, embedded, coarser : Solution
         The solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); ``coarser`` None: no third solve.
+    twin : Solution or None
+        The solve on :func:`twin_grid` (step 2Δt), None where every axis is nested.
 
     Returns
     -------
@@ -398,11 +456,11 @@ def embedded_estimate(solution, embedded, coarser=None) -> EmbeddedEstimate:
     if coarser is not None:
         observed = observed_order(np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2))
     order = clipped_order(observed)
-    estimate = EmbeddedEstimate(embedded, observed, order, 0.0)
+    estimate = EmbeddedEstimate(embedded, observed, order, 0.0, twin)
     relative = relative_error(estimate.local(solution, X), v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
-    return EmbeddedEstimate(embedded, observed, order, floor)
+    return dataclasses.replace(estimate, floor=floor)
 
 
 def observed_order(fine, coarse) -> float:
@@ -470,24 +528,28 @@ class ScalarEstimate:
         return 0.0 if self.error == 0 else np.inf
 
 
-def scalar_estimate(levels) -> ScalarEstimate:
+def scalar_estimate(levels, twin: float | None = None) -> ScalarEstimate:
     """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
-    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h).
+    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and ``twin`` (:func:`twin_grid`: the
+    larger of abs(c_2h − c_h) and abs(c_twin − c_h) is read).
 
     Parameters
     ----------
     levels : sequence of float
         c_h, c_2h and optionally c_4h.
+    twin : float or None
+        The number on :func:`twin_grid`, None where every axis is nested.
 
     Returns
     -------
     ScalarEstimate
     """
     c = [float(level) for level in levels]
-    difference = abs(c[1] - c[0])
+    fine = abs(c[1] - c[0])
+    difference = fine if twin is None else max(fine, abs(twin - c[0]))
     observed, order = np.nan, 1.0
     if len(c) > 2:
-        observed = observed_order(difference, abs(c[2] - c[1]))
+        observed = observed_order(fine, abs(c[2] - c[1]))
         order = clipped_order(observed)
         difference = max(difference, abs(c[2] - c[1]) / 2.0**order)
     relative = difference / abs(c[0]) if c[0] != 0 else np.inf
@@ -495,15 +557,18 @@ def scalar_estimate(levels) -> ScalarEstimate:
     return ScalarEstimate(error, observed, tuple(c))
 
 
-def attach_estimates(solutions, levels: list) -> None:
+def attach_estimates(solutions, levels: list, twins=None) -> None:
     """Give each of ``solutions`` its :class:`EmbeddedEstimate` from the solves ``levels[0][r]``
-    (2h) and, if present, ``levels[1][r]`` (4h), and warn (:func:`check_accuracy`) where one
-    exceeds the default tolerance; nothing without levels (a grid too coarse to embed)."""
+    (2h), if present ``levels[1][r]`` (4h) and ``twins[r]`` (:func:`twin_grid`), and warn
+    (:func:`check_accuracy`) where one exceeds the default tolerance; nothing without levels (a
+    grid too coarse to embed)."""
     if not levels:
         return
     for r, solution in enumerate(solutions):
         coarser = levels[1][r] if len(levels) > 1 else None
-        object.__setattr__(solution, "embedded", embedded_estimate(solution, levels[0][r], coarser))
+        twin = twins[r] if twins is not None else None
+        estimate = embedded_estimate(solution, levels[0][r], coarser, twin)
+        object.__setattr__(solution, "embedded", estimate)
         check_accuracy(solution)
 
 

@@ -21,7 +21,10 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   (:meth:`gridlbc.Solution.error_estimate`, :mod:`gridlbc.accuracy`), its arrays under this
   prefix and its metadata as ``metadata["embedded"]`` (with the estimate's
   ``observed_order``, ``order`` and ``floor``, :class:`gridlbc.accuracy.EmbeddedEstimate`); absent when
-  the solution carries none.
+  the solution carries none;
+- ``embedded_twin.*``: the solve on the second embedded grid
+  (:func:`gridlbc.accuracy.twin_grid`), its metadata as ``metadata["embedded"]["twin"]``;
+  absent where every axis of the grid is nested.
 
 Version 1 files (before solutions knew their representation: it was
 ``diagnostics["interpolation"]``, ``"linear"``, ``"fitted"`` or ``"log"``, and the operator was
@@ -50,9 +53,11 @@ from .solution import OperatorSignature, Solution, SolveDiagnostics, StationaryS
 
 FORMAT = "gridlbc-solution"
 FORMAT_VERSION = 2
+"""The version :func:`save` writes."""
 EMBEDDED = "embedded."
 """The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
-"""The version :func:`save` writes."""
+TWIN = "embedded_twin."
+"""The prefix of the second embedded solve's arrays (:func:`gridlbc.accuracy.twin_grid`)."""
 READABLE_VERSIONS = (1, 2)
 """The versions :func:`load` reads."""
 
@@ -233,6 +238,10 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
             "floor": estimate.floor,
         }
         arrays.update({EMBEDDED + k: v for k, v in inner.items()})
+        if estimate.twin is not None:
+            twin: dict = {}
+            meta["embedded"]["twin"] = _record(estimate.twin, twin)
+            arrays.update({TWIN + k: v for k, v in twin.items()})
     if annotations is not None:
         meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
@@ -321,14 +330,17 @@ def load(path) -> Solution:
         )
     solution = _solution(meta, contents, version, path)
     if "embedded" in meta:
-        inner = {k[len(EMBEDDED) :]: v for k, v in contents.items() if k.startswith(EMBEDDED)}
         record = meta["embedded"]
         observed = record["observed_order"]
+        twin = None
+        if "twin" in record:
+            twin = _solution(record["twin"], _prefixed(contents, TWIN), version, path)
         estimate = EmbeddedEstimate(
-            _solution(record, inner, version, path),
+            _solution(record, _prefixed(contents, EMBEDDED), version, path),
             np.nan if observed is None else float(observed),
             float(record["order"]),
             float(record["floor"]),
+            twin,
         )
         object.__setattr__(solution, "embedded", estimate)
     return solution
@@ -400,3 +412,8 @@ def _representation(name: str, reference: RelativeZ | None, path) -> LinearZ | R
             raise ValueError(f"{str(path)!r} is corrupted: its fitting reference is missing")
         return reference
     return LogZ() if name == LogZ.name else LinearZ()
+
+
+def _prefixed(contents, prefix: str) -> dict:
+    """The arrays of ``contents`` whose names start with ``prefix``, without it."""
+    return {k[len(prefix) :]: v for k, v in contents.items() if k.startswith(prefix)}

@@ -25,7 +25,7 @@ import warnings
 
 import numpy as np
 
-from .accuracy import attach_estimates, embedded_grid, solve_to_tolerance
+from .accuracy import attach_estimates, embedded_grid, solve_to_tolerance, twin_grid
 from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
 from .grid import Grid, flat_chunks
@@ -238,30 +238,33 @@ def _exit_settings(s: SolverSettings, explicit: bool) -> SolverSettings:
 
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
     """Attach to each solution its embedded solve (the same problem on the grid with every other
-    node, step 2Δt) and the observed order from a third solve at 4h, 4Δt (:mod:`gridlbc.accuracy`),
-    and warn where the estimate exceeds the default tolerance. The embedded solves' own warnings
-    are not the user's: they are silenced."""
-    levels = []
-    grid: Grid | None = problem.require_grid("an embedded solve")
+    node, step 2Δt; also on :func:`~gridlbc.accuracy.twin_grid` where an axis is not nested) and
+    the observed order from a third solve at 4h, 4Δt (:mod:`gridlbc.accuracy`), and warn where
+    the estimate exceeds the default tolerance. The embedded solves' own warnings are not the
+    user's: they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
-    for _ in range(2):
-        grid = embedded_grid(grid) if grid is not None else None
-        if grid is None:
-            break
-        dt = min(2 * dt, horizon)
+
+    def solve_on(grid: Grid, factor: int) -> list[Solution]:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
-            levels.append(
-                solve_many(
-                    problem.replace(grid=grid),
-                    terminal_costs,
-                    s,
-                    dt=dt,
-                    progress=False,
-                    error_estimate=False,
-                )
+            return solve_many(
+                problem.replace(grid=grid),
+                terminal_costs,
+                s,
+                dt=min(factor * dt, horizon),
+                progress=False,
+                error_estimate=False,
             )
-    attach_estimates(solutions, levels)
+
+    fine = problem.require_grid("an embedded solve")
+    levels, grid = [], embedded_grid(fine)
+    for factor in (2, 4):
+        if grid is None:
+            break
+        levels.append(solve_on(grid, factor))
+        grid = embedded_grid(grid)
+    twin = twin_grid(fine)
+    attach_estimates(solutions, levels, None if twin is None else solve_on(twin, 2))
 
 
 def _solutions(

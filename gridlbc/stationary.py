@@ -62,6 +62,7 @@ from .accuracy import (
     finish,
     refined_grid,
     scalar_estimate,
+    twin_grid,
 )
 from .errors import GridlbcWarning, ResolutionWarning, warn_user
 from .grid import Grid
@@ -771,8 +772,8 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
     """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
     and exit cost on the grids with every other node (2h and 4h); and warn where an estimate
     exceeds the default tolerance."""
-    levels = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
-    attach_estimates(solutions, levels)
+    levels, twins = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
+    attach_estimates(solutions, levels, twins)
 
 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
@@ -781,30 +782,39 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
     level, as on this one) and of its average cost c (``average_cost_error``,
     :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h and 4h); warn where
     either exceeds the default tolerance."""
-    levels = _levels(problem, lambda p: [solve_average_cost(p, s)])
-    attach_estimates([solution], levels)
+    levels, twins = _levels(problem, lambda p: [solve_average_cost(p, s)])
+    attach_estimates([solution], levels, twins)
     if levels:
         estimate = scalar_estimate(
-            [solution.average_cost] + [level[0].average_cost for level in levels]
+            [solution.average_cost] + [level[0].average_cost for level in levels],
+            None if twins is None else twins[0].average_cost,
         )
         object.__setattr__(solution, "average_cost_error", estimate.error)
         check_scalar(estimate, "the average cost c")
 
 
-def _levels(problem: Problem, solve) -> list:
+def _levels(problem: Problem, solve) -> tuple[list, list | None]:
     """``solve(problem on the grid)`` on the grids with every other node (2h) and the one below
-    it (4h), their own warnings silenced; fewer levels where a grid is too coarse to embed or
-    the problem is not resolved that coarsely (an exit set the coarse grid misses)."""
-    levels: list = []
-    grid: Grid | None = problem.require_grid("an embedded solve")
-    for _ in range(2):
-        grid = embedded_grid(grid) if grid is not None else None
-        if grid is None:
-            break
+    it (4h), and on :func:`~gridlbc.accuracy.twin_grid` where an axis is not nested, their own
+    warnings silenced; fewer levels where a grid is too coarse to embed or the problem is not
+    resolved that coarsely (an exit set the coarse grid misses), and no twin then."""
+
+    def solve_on(grid: Grid):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             try:
-                levels.append(solve(problem.replace(grid=grid)))
+                return solve(problem.replace(grid=grid))
             except ValueError:  # the exit set or the costs are not resolved that coarsely
-                break
-    return levels
+                return None
+
+    fine = problem.require_grid("an embedded solve")
+    levels: list = []
+    grid = embedded_grid(fine)
+    while grid is not None and len(levels) < 2:
+        level = solve_on(grid)
+        if level is None:
+            break
+        levels.append(level)
+        grid = embedded_grid(grid)
+    twin = twin_grid(fine) if levels else None
+    return levels, None if twin is None else solve_on(twin)

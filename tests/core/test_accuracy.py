@@ -44,6 +44,36 @@ def test_embedded_grid_keeps_every_other_node():
     assert accuracy.embedded_grid(g.Grid([g.Axis(0, 1, 4)])) is None
 
 
+def test_twin_grid_brackets_the_axes_that_are_not_nested():
+    nested = g.Grid([g.Axis(-1, 1, 41), g.Axis(-np.pi, np.pi, 64, periodic=True)])
+    assert accuracy.twin_grid(nested) is None
+    grid = g.Grid([g.Axis(-1, 1, 40), g.Axis(-np.pi, np.pi, 63, periodic=True), g.Axis(0, 1, 41)])
+    assert accuracy.embedded_grid(grid).shape == (20, 31, 21)
+    assert accuracy.twin_grid(grid).shape == (21, 32, 21)
+    assert accuracy.twin_grid(grid, axes=(1,)).shape == (40, 32, 41)
+    assert accuracy.twin_grid(grid, axes=(2,)) is None
+
+
+@pytest.mark.parametrize("periodic, n", [(True, 63), (False, 40)])
+def test_one_of_the_two_embedded_axes_is_as_far_from_every_point_as_the_axis(periodic, n):
+    # the claim of twin_grid: the fine offset (in cells) is the sum of the two coarse ones, so
+    # the fine distance to the nearest node is at most 2h times the larger coarse offset, and
+    # 2h exceeds the larger coarse cell by at most the factor 1 + 1/(2m + 1) (m = n // 2 nodes)
+    fine = g.Axis(0.0, 1.0, n, periodic=periodic)
+    grid = g.Grid([fine])
+    coarse = [accuracy.embedded_grid(grid).axes[0], accuracy.twin_grid(grid).axes[0]]
+
+    def distance(axis, x):
+        cells = axis.n if axis.periodic else axis.n - 1
+        step = 1.0 / cells
+        return step * np.abs(x / step - np.round(x / step))
+
+    x = np.linspace(0.0, 1.0, 100_001)
+    bound = (1 + 1 / (2 * (n // 2) + 1)) * np.maximum(*(distance(a, x) for a in coarse))
+    assert np.all(distance(fine, x) <= bound + 1e-12)
+    assert np.any(distance(fine, x) > np.minimum(*(distance(a, x) for a in coarse)) + 1e-3)
+
+
 @pytest.mark.parametrize("n", [41, 81])
 def test_estimate_is_at_least_half_the_true_error_at_nine_in_ten_states(n):
     # the contract of docs/accuracy.rst, on a problem with an exact answer: the Richardson

@@ -74,3 +74,29 @@ def test_fast_members_predict_what_the_table_says():
         expected = table[(r["member"], tuple(r["state"]))]
         assert r["predicted"] == pytest.approx(expected, rel=1e-6), r
     assert "pairs with a truth" in result.stdout
+
+
+@pytest.mark.parametrize("periodic, n", [(True, 201), (False, 202)])
+def test_a_pit_between_nodes_of_an_axis_that_is_not_nested_is_not_silent(truths, periodic, n):
+    """rotor_pit: the pit's centre lies midway between two nodes (an odd periodic axis, or an
+    even closed one over the same circle: the same nodes plus one at +π), and the embedded axis
+    of n // 2 nodes has a node at it. Without the second embedded grid (twin_grid) the estimate
+    was half of a 10 % error and the solve silent; now it must be at least half the error
+    against the certified optimum at every state (the corpus calibration target) and warn. The
+    closed variant is judged against the periodic truth: reflection at ±π is never reached from
+    these states by a rotor held in the pit at λ = 0.005."""
+    import warnings
+
+    import gridlbc as g
+
+    member = BY_NAME["rotor_pit"]
+    problem = member.build()
+    theta, omega = problem.grid.axes
+    grid = g.Grid([g.Axis(theta.lo, theta.hi, n, periodic=periodic), omega])
+    truth = np.array([s["v_extrapolated"] for s in truths["rotor_pit"]["states"]])
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        solution = g.solve(problem.replace(grid=grid))
+    error = np.abs(solution.value(member.states) - truth)
+    assert np.all(solution.error_estimate(member.states) >= error / 2)
+    assert any(issubclass(w.category, g.ResolutionWarning) for w in caught)
