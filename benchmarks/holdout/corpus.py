@@ -713,6 +713,7 @@ MEMBERS: tuple[Member, ...] = (
         "(stranger round 4: its estimate was a fifth of a 0.4–1 % error, time and space errors "
         "of opposite sign)",
         cert_dt=0.002,
+        fast=True,
         tags=("low temperature", "narrow cost", "periodic"),
     ),
     Member(
@@ -723,6 +724,7 @@ MEMBERS: tuple[Member, ...] = (
         "centre lies between two nodes of the odd periodic axis (stranger round 4: 10 % high "
         "without a warning; 13 % with an estimate of 2 % at dt = 0.01)",
         cert_dt=0.002,
+        fast=True,
         tags=("low temperature", "narrow cost", "periodic"),
     ),
 )
