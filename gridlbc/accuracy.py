@@ -28,6 +28,11 @@ evaluated at any states by the same interpolation as the values, with
   agree (their difference changes sign) the error is not smaller, relative to v, than the
   typical one (:func:`embedded_estimate`).
 
+Where an axis's embedded axis is not nested in it (an odd periodic axis, an even closed one) the
+coarse nodes can sit closer to a narrow feature than the fine ones; the same problem is then also
+solved on :func:`twin_grid` (one node more on those axes, another 2^−(d+1) of the solve), and
+abs(v_2h − v_h) is the larger of the two differences.
+
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
 the value's curvature. It cannot see an error that all the solves share: a box too small for the
