@@ -1097,7 +1097,9 @@ def fitting_storage(problem, settings):
     they are stored as float32 (the march itself stays in double precision), then only every
     k-th step's slice is stored (k = 2, 4, …: the value at t = 0, which the tolerance judges, is
     unchanged; the value and the policy between stored slices are interpolated in time). The
-    embedded solve (2^−(d+1) of the nodes) is held with the solution, hence the margin.
+    embedded solve (2^−(d+1) of the slices' bytes: 2^−d of the nodes, half the steps) is held
+    with the solution, and so is the second one where the grid has one (:func:`twin_grid`), hence
+    the margin.
     """
     from .solver import planned_memory
     from .storage import available_memory
@@ -1105,7 +1107,8 @@ def fitting_storage(problem, settings):
     available = available_memory()
     if available is None:
         return settings
-    margin = 1.0 + 2.0 ** -(problem.grid.ndim + 1)
+    embedded = 1 if twin_grid(problem.grid) is None else 2
+    margin = 1.0 + embedded * 2.0 ** -(problem.grid.ndim + 1)
     candidate, stored = settings, None
     while True:
         need = planned_memory(problem, candidate)
