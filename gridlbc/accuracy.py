@@ -410,27 +410,28 @@ class EmbeddedEstimate:
     def difference(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``: the larger of the two embedded
         solves' differences where there is a ``twin``."""
-        v = solution.value(x, t)
-        difference = np.abs(self.solution.value(x, t) - v)
-        if self.twin is not None:
-            difference = np.maximum(difference, np.abs(self.twin.value(x, t) - v))
-        return difference
+        return self._read(solution, x, t)[1]
 
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t`` (:meth:`difference`),
         with q = ``order`` where the relative difference is at most :data:`ASYMPTOTIC` and 1
         elsewhere."""
-        v = solution.value(x, t)
-        difference = self.difference(solution, x, t)
-        relative = relative_error(difference, v, solution.temperature)
-        return richardson(difference, relative, self.order)
+        return self._read(solution, x, t)[2]
 
     def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
         relative to ``max(abs(v), λ)``."""
+        v, _, local = self._read(solution, x, t)
+        return np.maximum(local, self.floor * np.maximum(np.abs(v), solution.temperature))
+
+    def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
         v = solution.value(x, t)
-        scale = np.maximum(np.abs(v), solution.temperature)
-        return np.maximum(self.local(solution, x, t), self.floor * scale)
+        difference = np.abs(self.solution.value(x, t) - v)
+        if self.twin is not None:
+            difference = np.maximum(difference, np.abs(self.twin.value(x, t) - v))
+        relative = relative_error(difference, v, solution.temperature)
+        return v, difference, richardson(difference, relative, self.order)
 
 
 def embedded_estimate(solution, embedded, coarser=None, twin=None) -> EmbeddedEstimate:
