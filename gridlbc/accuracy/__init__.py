@@ -1,0 +1,109 @@
+"""How accurate is a solve: the embedded error estimate and solves to a tolerance (docs page
+:doc:`accuracy`, which explains what the estimate sees and what it cannot).
+
+- :mod:`gridlbc.accuracy.grids`: the embedded grids (every other node) and the finer ones;
+- :mod:`gridlbc.accuracy.estimate`: the embedded estimate, read at the states that matter, and
+  the default solve's warning;
+- :mod:`gridlbc.accuracy.certified`: the error measured by certificates where the estimate
+  cannot decide;
+- :mod:`gridlbc.accuracy.tolerance`: solves to a tolerance (``gridlbc.solve(problem, tol=...)``).
+
+Each module's docstring has its equations; the names imported here are the package's public
+ones.
+"""
+
+from .certified import (
+    CERTIFICATE_LEVEL,
+    CERTIFICATE_SAMPLES,
+    CERTIFIED_STATES,
+    certifiable,
+    certified_error,
+)
+from .estimate import (
+    ASYMPTOTIC,
+    DEFAULT_TOLERANCE,
+    QUANTILE,
+    SAMPLE,
+    Assessment,
+    EmbeddedEstimate,
+    ScalarEstimate,
+    assess,
+    attach_estimates,
+    check_accuracy,
+    check_scalar,
+    clipped_order,
+    embedded_estimate,
+    judged_states,
+    observed_order,
+    relative_difference,
+    relative_error,
+    richardson,
+    scalar_estimate,
+    states_that_matter,
+    statistic,
+)
+from .grids import (
+    embedded_grid,
+    nested,
+    refined_grid,
+    scaled_grid,
+    twin_grid,
+)
+from .tolerance import (
+    Refinement,
+    axes_to_refine,
+    axis_shares,
+    check_tolerance,
+    finish,
+    fitting_plan,
+    fitting_storage,
+    refinement_factors,
+    shares_add_up,
+    solve_to_tolerance,
+    unsteerable,
+)
+
+__all__ = [
+    "ASYMPTOTIC",
+    "CERTIFICATE_LEVEL",
+    "CERTIFICATE_SAMPLES",
+    "CERTIFIED_STATES",
+    "DEFAULT_TOLERANCE",
+    "QUANTILE",
+    "SAMPLE",
+    "Assessment",
+    "EmbeddedEstimate",
+    "Refinement",
+    "ScalarEstimate",
+    "assess",
+    "attach_estimates",
+    "axes_to_refine",
+    "axis_shares",
+    "certifiable",
+    "certified_error",
+    "check_accuracy",
+    "check_scalar",
+    "check_tolerance",
+    "clipped_order",
+    "embedded_estimate",
+    "embedded_grid",
+    "finish",
+    "fitting_plan",
+    "fitting_storage",
+    "judged_states",
+    "nested",
+    "observed_order",
+    "refined_grid",
+    "refinement_factors",
+    "relative_difference",
+    "relative_error",
+    "richardson",
+    "scalar_estimate",
+    "scaled_grid",
+    "shares_add_up",
+    "solve_to_tolerance",
+    "states_that_matter",
+    "statistic",
+    "twin_grid",
+    "unsteerable",
+]

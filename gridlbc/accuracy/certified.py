@@ -1,0 +1,104 @@
+"""Certified errors: where the embedded levels do not converge, the error at a few states measured
+against certified optima (docs page :doc:`accuracy`, "Certified states where the estimate cannot
+decide"; :func:`gridlbc.certify`, docs page :doc:`validating`).
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..errors import GridlbcWarning
+from .estimate import (
+    judged_states,
+)
+
+CERTIFIED_STATES = 16
+""":func:`solve_to_tolerance` certifies the user's states (:func:`certified_error`) where the
+embedded levels do not converge, if there are at most this many."""
+
+
+CERTIFICATE_SAMPLES = 1000
+"""Samples per state of the certificates that :func:`certified_error` draws first (four times as
+many where the first ones cannot decide)."""
+
+
+CERTIFICATE_LEVEL = 0.95
+"""The confidence level of each state's certified interval (:func:`certified_error`)."""
+
+
+def certifiable(solution, states) -> bool:
+    """Whether :func:`solve_to_tolerance` certifies the user's ``states`` (:func:`certified_error`)
+    after a round whose estimate missed: where the embedded levels do not converge at first order
+    (the estimate is then rough in either direction: far above the error on 4-D grids of a few
+    dozen nodes per axis) and the user gave at most :data:`CERTIFIED_STATES` states."""
+    embedded = solution.embedded
+    if states is None or embedded is None or embedded.converging:
+        return False
+    return len(judged_states(solution, states)) <= CERTIFIED_STATES
+
+
+def certified_error(solution, X: np.ndarray, tol: float) -> float:
+    """The relative error of v at the states ``X`` measured against certified optima::
+
+        ê_c = max over x of  max(v(x) − lo(x), hi(x) − v(x)) / max(|v(x)|, λ),
+
+    with [lo, hi] the :data:`CERTIFICATE_LEVEL` interval of :func:`gridlbc.certify` at x for the
+    SDE's optimum: importance sampling with the solution's own policy as proposal (exact for any
+    proposal, docs page :doc:`validating`), extrapolated to a vanishing Euler–Maruyama step from
+    Δt_c and 2Δt_c (``richardson=True``), Δt_c = T/300 at first. It measures the error itself,
+    so it holds where the embedded estimate cannot say (levels that do not converge: grids too
+    coarse to judge this one). The certificates are drawn again, at most twice each, with half
+    the step where the step's contribution exceeds ``tol``/4 (the extrapolation leaves
+    O(Δt_c²), small beside it), and with four times the samples where the interval is too wide
+    to decide ``tol`` (v lies within ``tol`` of its centre, not of both ends).
+
+    Parameters
+    ----------
+    solution : Solution
+        A grid solution of a problem with a horizon.
+    X : ndarray (N, d)
+        The states.
+    tol : float
+        The relative tolerance the certificates must decide.
+
+    Returns
+    -------
+    float
+        ê_c; NaN where a certificate is not :attr:`~gridlbc.Certificate.trusted` at every
+        state (too few effective samples or a heavy weight tail: the solve's policy is too poor a
+        proposal to certify with).
+    """
+    from ..certify import certify
+
+    v = np.asarray(solution.value(X, 0.0), dtype=float).reshape(-1)
+    scale = np.maximum(np.abs(v), solution.temperature)
+    n, dt = CERTIFICATE_SAMPLES, solution.problem.horizon / 300
+    halvings = more = 0
+    while True:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", GridlbcWarning)
+            c = certify(
+                solution.problem,
+                solution.policy,
+                X,
+                n,
+                dt=dt,
+                seed=0,
+                progress=False,
+                proposal=None,
+                richardson=True,
+            )
+        if not np.all(c.trusted):
+            return np.nan
+        lo, hi = (np.asarray(end, dtype=float).reshape(-1) for end in c.interval(CERTIFICATE_LEVEL))
+        error = float(np.max(np.maximum(v - lo, hi - v) / scale))
+        step = np.abs(np.asarray(c.step_contribution, dtype=float).reshape(-1)) / scale
+        centre = np.abs(v - 0.5 * (lo + hi)) / scale
+        if step.max() > tol / 4 and halvings < 2:
+            dt, halvings = dt / 2, halvings + 1
+        elif error > tol and centre.max() <= tol and more < 2:
+            n, more = 4 * n, more + 1
+        else:
+            return error

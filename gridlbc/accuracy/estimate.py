@@ -1,0 +1,479 @@
+"""The embedded error estimate of a solve: how it is made, read and warned about (docs page
+:doc:`accuracy`).
+
+**The embedded estimate.** A solve on a grid of spacing h with step Δt is accompanied by solves of
+the same problem, with the same scheme and settings, on the *embedded* grids that keep every other
+node of each axis: spacing 2h with step 2Δt, and 4h with 4Δt. Together they cost about
+2^−(d+1) + 2^−(2d+2) of the solve they check. If the error behaves as e(h) ≈ C h^p with
+Δt ∝ h, Richardson's argument gives v_2h − v_h ≈ (2^p − 1) C h^p, and the order p can be observed
+from the three solves::
+
+    p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) )   over the states that matter.
+
+:meth:`gridlbc.Solution.error_estimate` returns::
+
+    ê(x, t) = max( abs(v_2h(x, t) − v_h(x, t)) / (2^q − 1),  r · max(abs(v_h(x, t)), λ) ),
+
+evaluated at any states by the same interpolation as the values, with
+
+- q = p clipped to [1, 2] (the library's schemes are monotone, hence first order in general,
+  and second order at best) where the two solves differ by at most :data:`ASYMPTOTIC` relative
+  to the value, and q = 1 where they differ by more: a coarse solve that far from the fine one
+  is outside the range where Richardson's model holds, and an order observed from it says more
+  about the coarse grids than about this one (dividing by 3 there understated the error of a
+  25⁴ acrobot threefold);
+- the floor r, the median over the states that matter of the first term relative to the value:
+  errors accumulate with the cost along the characteristics, so where the two solves happen to
+  agree (their difference changes sign) the error is not smaller, relative to v, than the
+  typical one (:func:`embedded_estimate`).
+
+Where an axis's embedded axis is not nested in it (an odd periodic axis, an even closed one) the
+coarse nodes can sit closer to a narrow feature than the fine ones; the same problem is then also
+solved on :func:`twin_grid` (one node more on those axes, another 2^−(d+1) of the solve), and
+abs(v_2h − v_h) is the larger of the two differences.
+
+The estimate never changes the solution it checks. It sees what refining h and Δt would change:
+time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
+the value's curvature. It cannot see an error that all the solves share: a box too small for the
+process (reflection at a closed axis acts the same on each), or a feature that every grid misses
+entirely. Where the observed order is below 1 the coarser solves are not converging at first
+order: they are too coarse to say how accurate this grid is, and the estimate is rough in either
+direction (far above the error on 4-D grids of a few dozen nodes per axis, below it where the
+solves converge slowly: half the error on a first-exit pendulum swing-up), and the warning says
+so.
+
+**Relative error.** ``ê / max(abs(v), λ)``: a value below the temperature λ is compared with λ,
+the scale on which v = −λ log z is resolved (near a goal v can be arbitrarily small while its
+error is a fraction of λ).
+
+**Where it matters.** Without states from the user, a solve is judged at the states that matter:
+the nodes whose value at t = 0 is finite and at most the median over the grid (the better half
+of the box, where a controlled process spends its time; the far corners of a box, where every
+solve is poor, do not count), and the relative estimate is read there at its 90th percentile.
+With ``states=``, at its largest over them.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..errors import ResolutionWarning, warn_user
+
+if TYPE_CHECKING:
+    from ..solution import Solution
+
+
+DEFAULT_TOLERANCE = 0.05
+"""The relative error above which a default solve warns (:func:`check_accuracy`)."""
+
+
+QUANTILE = 0.9
+"""The share of the states that matter whose relative estimate must meet the tolerance."""
+
+
+ASYMPTOTIC = 0.15
+"""Where the embedded solve differs from the solve by more than this (relative to
+``max(abs(v), λ)``), the estimate does not divide by the observed order (the module docstring)."""
+
+
+SAMPLE = 20_000
+"""At most this many of the states that matter are read (evenly spaced in the nodes' order):
+quantiles and medians of the estimate need no more, and a 4-D grid has millions."""
+
+
+def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) -> np.ndarray:
+    """``estimate / max(|value|, λ)`` (see the module docstring); +inf where the value is not
+    finite (underflow)."""
+    value = np.asarray(value, dtype=float)
+    scale = np.maximum(np.abs(value), temperature)
+    with np.errstate(invalid="ignore"):
+        out = np.asarray(estimate, dtype=float) / scale
+    return np.where(np.isfinite(value) & np.isfinite(out), out, np.inf)
+
+
+def states_that_matter(solution) -> np.ndarray:
+    """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``
+    (at most :data:`SAMPLE` of them, evenly spaced).
+
+    A task that ends (an exit set) counts every node outside the exit set instead: there the
+    value is the cost of getting to E, largest where a task typically starts (far from E: a
+    pendulum hanging at rest, when E is near the top), so the better half would judge only the
+    states next to E; the nodes in E do not count, their value is the exit cost, given, not
+    solved for.
+
+    Parameters
+    ----------
+    solution : Solution
+        A grid solution.
+
+    Returns
+    -------
+    ndarray (M, d)
+        The states at which a solve is judged when the user gives none.
+    """
+    v = solution.value_nodes(0)
+    chosen = np.isfinite(v)
+    if solution.problem.exit is not None:
+        chosen &= ~solution.problem.exit_mask()
+    elif chosen.any():
+        chosen &= v <= np.median(v[chosen])
+    keep = np.flatnonzero(chosen)
+    if len(keep) == 0:
+        return np.empty((0, solution.grid.ndim))
+    if len(keep) > SAMPLE:
+        keep = keep[np.linspace(0, len(keep) - 1, SAMPLE).astype(np.int64)]
+    return solution.grid.node_coordinates(keep)
+
+
+@dataclass(frozen=True)
+class Assessment:
+    """The embedded estimate of a solve, read at a set of states.
+
+    Attributes
+    ----------
+    error : float
+        The relative estimate that is compared with the tolerance: its :data:`QUANTILE` over the
+        states that matter, or its maximum over the user's states.
+    worst_state : ndarray (d,)
+        Where the relative estimate is largest.
+    worst_error : float
+        The largest relative estimate.
+    share_above : float
+        The share of the states whose relative estimate exceeds the tolerance.
+    n_states : int
+        How many states were read.
+    """
+
+    error: float
+    worst_state: np.ndarray
+    worst_error: float
+    share_above: float
+    n_states: int
+
+
+@dataclass(frozen=True)
+class EmbeddedEstimate:
+    """What a solution's error estimate reads (the module docstring): the solve on the embedded
+    grid and the numbers observed from it and the one below it.
+
+    Attributes
+    ----------
+    solution : Solution
+        The same problem solved on the grid with every other node, step 2Δt.
+    observed_order : float
+        log₂ of the ratio of the differences between successive levels (NaN without a third
+        level). Below 1 the coarser solves are not converging at first order: they are too
+        coarse to say how accurate this grid is, and the estimate is rough in either direction.
+    order : float
+        q, the observed order clipped to [1, 2] (1 without a third level), used where the two
+        solves differ by at most :data:`ASYMPTOTIC`.
+    floor : float
+        The least relative error reported (the median over the states that matter).
+    twin : Solution or None
+        The same problem solved on :func:`twin_grid` (step 2Δt), where an axis's embedded grid
+        is not nested in the grid; None where every axis is.
+    """
+
+    solution: Solution
+    observed_order: float
+    order: float
+    floor: float
+    twin: Solution | None = None
+
+    @property
+    def converging(self) -> bool:
+        """Whether the levels converge at first order or better (or could not be compared)."""
+        return not (self.observed_order < 1.0)
+
+    def difference(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``: the larger of the two embedded
+        solves' differences where there is a ``twin``."""
+        return self._read(solution, x, t)[1]
+
+    def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t`` (:meth:`difference`),
+        with q = ``order`` where the relative difference is at most :data:`ASYMPTOTIC` and 1
+        elsewhere."""
+        return self._read(solution, x, t)[2]
+
+    def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
+        relative to ``max(abs(v), λ)``."""
+        v, _, local = self._read(solution, x, t)
+        return np.maximum(local, self.floor * np.maximum(np.abs(v), solution.temperature))
+
+    def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
+        v = solution.value(x, t)
+        difference = np.abs(self.solution.value(x, t) - v)
+        if self.twin is not None:
+            difference = np.maximum(difference, np.abs(self.twin.value(x, t) - v))
+        relative = relative_error(difference, v, solution.temperature)
+        return v, difference, richardson(difference, relative, self.order)
+
+
+def embedded_estimate(solution, embedded, coarser=None, twin=None) -> EmbeddedEstimate:
+    """The estimate of ``solution`` from its embedded solve and, if given, the one below it and
+    the one on :func:`twin_grid`.
+
+    Over the states that matter: the observed order::
+
+        p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) )
+
+    (NaN without the third solve) and the floor, the median of the local estimate relative to
+    ``max(abs(v), λ)`` (the module docstring says why each).
+
+    Parameters
+    ----------
+    solution, embedded, coarser : Solution
+        The solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); ``coarser`` None: no third solve.
+    twin : Solution or None
+        The solve on :func:`twin_grid` (step 2Δt), None where every axis is nested.
+
+    Returns
+    -------
+    EmbeddedEstimate
+    """
+    X = states_that_matter(solution)
+    v, v2 = solution.value(X, 0.0), embedded.value(X, 0.0)
+    observed = np.nan
+    if coarser is not None:
+        observed = observed_order(np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2))
+    order = clipped_order(observed)
+    estimate = EmbeddedEstimate(embedded, observed, order, 0.0, twin)
+    relative = relative_error(estimate.local(solution, X), v, solution.temperature)
+    relative = relative[np.isfinite(relative)]
+    floor = float(np.median(relative)) if len(relative) else 0.0
+    return dataclasses.replace(estimate, floor=floor)
+
+
+def observed_order(fine, coarse) -> float:
+    """p = log₂( Σ coarse / Σ fine ) over the entries where both differences are finite: the
+    order observed from the differences between successive levels, ``fine`` = abs(v_2h − v_h)
+    and ``coarse`` = abs(v_4h − v_2h); NaN where nothing can be compared."""
+    fine, coarse = np.atleast_1d(np.asarray(fine, float)), np.atleast_1d(np.asarray(coarse, float))
+    usable = np.isfinite(fine) & np.isfinite(coarse)
+    if not usable.any() or fine[usable].sum() <= 0:
+        return np.nan
+    with np.errstate(divide="ignore"):
+        return float(np.log2(coarse[usable].sum() / fine[usable].sum()))
+
+
+def clipped_order(observed: float) -> float:
+    """q: the ``observed`` order clipped to [1, 2], and 1 where it is NaN (module docstring)."""
+    return 1.0 if np.isnan(observed) else float(np.clip(observed, 1.0, 2.0))
+
+
+def richardson(difference, relative, order: float) -> np.ndarray:
+    """The local estimate from abs(v_2h − v_h): ``difference`` / (2^q − 1) where its
+    ``relative`` size is at most :data:`ASYMPTOTIC`, the ``difference`` itself elsewhere (the
+    module docstring says why)."""
+    difference = np.asarray(difference, dtype=float)
+    near = np.asarray(relative) <= ASYMPTOTIC
+    return np.where(near, difference / (2.0**order - 1.0), difference)
+
+
+@dataclass(frozen=True)
+class ScalarEstimate:
+    """The embedded estimate of one number computed by a solve (an average cost c), from the same
+    number computed on the embedded grids h, 2h and 4h. With the order observed from them,
+
+        p = log₂( abs(c_4h − c_2h) / abs(c_2h − c_h) ),      q = p clipped to [1, 2]
+
+    (q = 1 without the 4h level), the estimate is
+
+        ê = max( abs(c_2h − c_h),  abs(c_4h − c_2h) / 2^q ) / (2^q − 1),
+
+    and without the division where abs(c_2h − c_h) exceeds :data:`ASYMPTOTIC` · abs(c_h), as for
+    the values (:func:`richardson`). The second term is the difference that the coarser pair
+    predicts between the finer: it keeps ê from vanishing where c_h and c_2h agree by chance
+    (two error terms of opposite sign crossing), as the floor does for the values.
+
+    Attributes
+    ----------
+    error : float
+        ê, in the units of the number.
+    observed_order : float
+        p before clipping (NaN without a third level).
+    levels : tuple of float
+        The number on the grids h, 2h (and 4h).
+    """
+
+    error: float
+    observed_order: float
+    levels: tuple[float, ...]
+
+    @property
+    def relative(self) -> float:
+        """ê / abs(c_h) (+inf where c_h is zero and ê is not)."""
+        fine = abs(self.levels[0])
+        if fine > 0:
+            return self.error / fine
+        return 0.0 if self.error == 0 else np.inf
+
+
+def scalar_estimate(levels, twin: float | None = None) -> ScalarEstimate:
+    """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
+    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and ``twin`` (:func:`twin_grid`: the
+    larger of abs(c_2h − c_h) and abs(c_twin − c_h) is read).
+
+    Parameters
+    ----------
+    levels : sequence of float
+        c_h, c_2h and optionally c_4h.
+    twin : float or None
+        The number on :func:`twin_grid`, None where every axis is nested.
+
+    Returns
+    -------
+    ScalarEstimate
+    """
+    c = [float(level) for level in levels]
+    fine = abs(c[1] - c[0])
+    difference = fine if twin is None else max(fine, abs(twin - c[0]))
+    observed, order = np.nan, 1.0
+    if len(c) > 2:
+        observed = observed_order(fine, abs(c[2] - c[1]))
+        order = clipped_order(observed)
+        difference = max(difference, abs(c[2] - c[1]) / 2.0**order)
+    relative = difference / abs(c[0]) if c[0] != 0 else np.inf
+    error = float(richardson(difference, relative, order))
+    return ScalarEstimate(error, observed, tuple(c))
+
+
+def attach_estimates(solutions, levels: list, twins=None) -> None:
+    """Give each of ``solutions`` its :class:`EmbeddedEstimate` from the solves ``levels[0][r]``
+    (2h), if present ``levels[1][r]`` (4h) and ``twins[r]`` (:func:`twin_grid`), and warn
+    (:func:`check_accuracy`) where one exceeds the default tolerance; nothing without levels (a
+    grid too coarse to embed)."""
+    if not levels:
+        return
+    for r, solution in enumerate(solutions):
+        coarser = levels[1][r] if len(levels) > 1 else None
+        twin = twins[r] if twins is not None else None
+        estimate = embedded_estimate(solution, levels[0][r], coarser, twin)
+        object.__setattr__(solution, "embedded", estimate)
+        check_accuracy(solution)
+
+
+def judged_states(solution, states=None) -> np.ndarray:
+    """``states`` as ``(N, d)``, or :func:`states_that_matter` when None."""
+    if states is None:
+        return states_that_matter(solution)
+    return np.atleast_2d(np.asarray(states, dtype=float))
+
+
+def relative_difference(solution, other, X: np.ndarray) -> np.ndarray:
+    """abs(v_other − v) relative to the solution's value (:func:`relative_error`) at states ``X``
+    at t = 0: the embedded estimate when ``other`` is the embedded solve."""
+    v = solution.value(X, 0.0)
+    return relative_error(np.abs(other.value(X, 0.0) - v), v, solution.temperature)
+
+
+def statistic(rel: np.ndarray, given: bool) -> float:
+    """The number compared with a tolerance: the maximum over the user's states, the
+    :data:`QUANTILE` over the states that matter."""
+    if len(rel) == 0:
+        return np.inf
+    return float(rel.max()) if given else float(np.quantile(rel, QUANTILE))
+
+
+def assess(solution, tol: float, states=None) -> Assessment | None:
+    """Read the embedded estimate of ``solution`` at ``states`` (default: :func:`states_that_matter`).
+
+    Parameters
+    ----------
+    solution : Solution
+        A solution that carries its embedded solve.
+    tol : float
+        The relative tolerance that ``share_above`` counts against.
+    states : array_like (N, d) or (d,), optional
+        The states to judge; the statistic is then the maximum rather than the quantile.
+
+    Returns
+    -------
+    Assessment or None
+        None when the solution carries no embedded solve (a grid too coarse to embed).
+    """
+    if solution.embedded is None:
+        return None
+    X = judged_states(solution, states)
+    rel = relative_error(solution.error_estimate(X), solution.value(X, 0.0), solution.temperature)
+    if len(rel) == 0:
+        return Assessment(np.inf, np.full(solution.grid.ndim, np.nan), np.inf, 1.0, 0)
+    worst = int(np.argmax(rel))
+    error = statistic(rel, states is not None)
+    return Assessment(error, X[worst], float(rel[worst]), float(np.mean(rel > tol)), len(X))
+
+
+def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
+    """Warn (:class:`gridlbc.ResolutionWarning`) when the embedded estimate of a default solve
+    exceeds ``tol`` at the states that matter (:func:`assess`).
+
+    Parameters
+    ----------
+    solution : Solution
+        The solution to judge.
+    tol : float
+        The relative tolerance (default :data:`DEFAULT_TOLERANCE`).
+    """
+    a = assess(solution, tol)
+    if a is None or a.error <= tol:
+        return
+    state = np.array2string(a.worst_state, precision=3, separator=", ")
+    loose = (
+        ""
+        if solution.embedded.converging
+        else " The coarser grids converge slowly or not at all (their differences shrink by less "
+        "than 2 per level), so the estimate is rough: the error may be well above or well below "
+        "it; gridlbc.certify at your states tells."
+    )
+    change = (
+        "Give a finer grid"
+        if solution.problem.stationary
+        else f"Solve with tol={tol:g} to refine dt and the grid until the estimate meets it, or "
+        "give a finer grid or a smaller dt"
+    )
+    warn_user(
+        f"the estimated error of v exceeds {tol:.0%} of |v| at {a.share_above:.0%} of the states "
+        f"that matter ({QUANTILE:.0%} of them are within {a.error:.1%}; the largest, "
+        f"{a.worst_error:.0%}, is at {state}): measured against solves on the grids with every "
+        f"other node, see solution.error_estimate(x) at your own states.{loose} {change} "
+        "(docs page 'accuracy')",
+        ResolutionWarning,
+    )
+
+
+def check_scalar(estimate: ScalarEstimate, name: str, tol: float = DEFAULT_TOLERANCE) -> None:
+    """Warn (:class:`gridlbc.ResolutionWarning`) when the relative :class:`ScalarEstimate` of the
+    number ``name`` exceeds ``tol``, as :func:`check_accuracy` does for the values.
+
+    Parameters
+    ----------
+    estimate : ScalarEstimate
+    name : str
+        What the number is, for the message (e.g. ``"the average cost c"``).
+    tol : float
+        The relative tolerance (default :data:`DEFAULT_TOLERANCE`).
+    """
+    if estimate.relative <= tol:
+        return
+    levels = ", ".join(f"{c:.4g}" for c in estimate.levels)
+    loose = (
+        " The coarser grids converge slowly or not at all (their differences shrink by less "
+        "than 2 per level), so the estimate is rough: the error may be well above or well below "
+        "it."
+        if estimate.observed_order < 1.0
+        else ""
+    )
+    warn_user(
+        f"the estimated error of {name} = {estimate.levels[0]:.6g} is {estimate.error:.3g}, "
+        f"{estimate.relative:.1%} of it (above {tol:.0%}): measured against the same solve on the "
+        f"grids with every other node ({levels} on h, 2h, 4h).{loose} Give a finer grid (docs "
+        "page 'accuracy')",
+        ResolutionWarning,
+    )

@@ -1,0 +1,536 @@
+"""Solves to a tolerance: refine the step and the grid until the embedded estimate meets ``tol``
+(docs page :doc:`accuracy`).
+
+:func:`solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve
+until the estimate meets ``tol`` or a limit (memory, ``max_nodes``, ``max_refinements``) stops it.
+Between rounds it measures each part's share of the error, the step's by a solve at 2Δt and
+each axis's by a solve with that axis alone coarsened, and models the estimate as their sum,
+e ≈ Σ_i C_i h_i^q + C_t Δt: it chooses the factors by which to refine each axis and the step
+so that the predicted estimate meets ``tol`` at the least work (:func:`refinement_factors`),
+rounded to feasible grids and cut to what fits in memory (:func:`fitting_plan`). The model
+extrapolates only as far as it has been checked: by at most 2 per round until a round's
+estimate comes within 2× of what it predicted (each such round doubles the reach). Where it
+does not describe the errors (:func:`unsteerable`: an estimate above 100 % of v, or shares
+that do not add up to the embedded difference) every axis and the step are refined by 2;
+where the levels do not converge at first order, the largest shares by 2. Where they do not
+converge, the estimate cannot prove a tolerance it meets (it is far above the error on 4-D
+grids of a few dozen nodes per axis): at a few states given by the user, certificates measure
+the error itself (:func:`certified_error`) and end the solve when they prove ``tol``. The path
+is in :attr:`gridlbc.Solution.refinement`. A default solve whose estimate exceeds
+:data:`DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the estimate and what to
+change.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+import warnings
+from dataclasses import dataclass
+from functools import partial
+
+import numpy as np
+
+from ..errors import GridlbcWarning, ResolutionWarning, warn_user
+from ..grid import Grid
+from .certified import (
+    certifiable,
+    certified_error,
+)
+from .estimate import (
+    assess,
+    judged_states,
+    relative_difference,
+    relative_error,
+    statistic,
+)
+from .grids import (
+    embedded_grid,
+    scaled_grid,
+    twin_grid,
+)
+
+
+def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
+    """Each axis's share of the error of ``solution`` and the difference from its embedded solve.
+
+    The share of axis i is the relative difference (:func:`statistic` at the judged states) from
+    a solve with only that axis coarsened (every other node, ``solve_on(grid)``, which may return
+    None where the problem cannot be posed on that grid; NaN then, and for an axis too coarse to
+    coarsen), the larger of two where the axis is not nested (:func:`twin_grid`). The difference
+    D from the embedded solves, which coarsen every axis (and double the step), is read the same
+    way (:meth:`EmbeddedEstimate.difference`).
+
+    Returns
+    -------
+    shares : ndarray (d,)
+    whole : float
+        D.
+    """
+    X = judged_states(solution, states)
+    grid, given = solution.grid, states is not None
+    shares = np.full(grid.ndim, np.nan)
+    for i in range(grid.ndim):
+        for coarse in (embedded_grid(grid, axes=(i,)), twin_grid(grid, axes=(i,))):
+            other = None if coarse is None else solve_on(coarse)
+            if other is not None:
+                share = statistic(relative_difference(solution, other, X), given)
+                shares[i] = np.fmax(shares[i], share)
+    v = solution.value(X, 0.0)
+    difference = solution.embedded.difference(solution, X, 0.0)
+    whole = statistic(relative_error(difference, v, solution.temperature), given)
+    return shares, whole
+
+
+def shares_add_up(shares: np.ndarray, whole: float, time_share: float = 0.0) -> bool:
+    """Whether the per-axis shares (and the step's, ``time_share``) add up to at least half the
+    embedded difference ``whole``: a first-order error splits into parts C_i h_i (and C_t Δt)
+    whose sum the embedded solve, which coarsens everything, measures; where they do not add up
+    the errors are not in that regime (the grids are too coarse for a per-component model)."""
+    return bool(np.any(np.isfinite(shares)) and np.nansum(shares) + time_share >= 0.5 * whole)
+
+
+def axes_to_refine(
+    solution, solve_on, states=None, time_share: float = 0.0
+) -> tuple[list[int], np.ndarray]:
+    """Which axes limit the accuracy of ``solution``, from each axis's share of the error
+    (:func:`axis_shares`).
+
+    Where the shares add up (:func:`shares_add_up`), the axes whose share is at least half the
+    largest are returned: refining the others alone would gain little. Where they do not, every
+    axis is returned. Also returned: every share (NaN for an axis too coarse to coarsen).
+    """
+    shares, whole = axis_shares(solution, solve_on, states)
+    if not shares_add_up(shares, whole, time_share):
+        return list(range(solution.grid.ndim)), shares
+    top = np.nanmax(shares)
+    return [i for i in range(solution.grid.ndim) if not shares[i] < 0.5 * top], shares
+
+
+def refinement_factors(errors, orders, tol: float) -> np.ndarray:
+    """The least refinement that brings a sum of error components within ``tol``.
+
+    With components e_k ≈ C_k h_k^(p_k) (``errors``, ``orders``: one per axis and one for the
+    step), refining component k by r_k ≥ 1 (h_k → h_k / r_k) leaves Σ_k e_k r_k^(−p_k). The
+    work grows as Π r_k; its least value with the sum at ``tol`` (Lagrange: log r_k =
+    (log e_k − log u_k) / p_k) gives the refined components budgets u_k ∝ 1/p_k that share
+    what the unrefined ones leave of ``tol``. A component already within its budget is not
+    refined (r_k = 1), and the budgets are shared again among the others.
+
+    Parameters
+    ----------
+    errors : array_like (m,)
+        e_k ≥ 0 (NaN: unknown, not refined).
+    orders : array_like (m,)
+        p_k > 0.
+    tol : float
+
+    Returns
+    -------
+    ndarray (m,)
+        r_k ≥ 1.
+    """
+    e = np.nan_to_num(np.asarray(errors, dtype=float), nan=0.0)
+    p = np.asarray(orders, dtype=float) * np.ones_like(e)
+    refined = e > 0
+    while True:
+        budget = tol - e[~refined].sum()
+        weights = np.where(refined, 1.0 / p, 0.0)
+        if not refined.any() or budget <= 0:
+            break
+        u = budget * weights / weights.sum()
+        within = refined & (e <= u)
+        if not within.any():
+            break
+        refined &= ~within
+    r = np.ones_like(e)
+    if refined.any() and budget > 0:
+        r[refined] = (e[refined] / u[refined]) ** (1.0 / p[refined])
+    return r
+
+
+@dataclass(frozen=True)
+class Refinement:
+    """One solve of :func:`solve_to_tolerance`.
+
+    Attributes
+    ----------
+    shape : tuple of int
+        The grid's nodes per axis.
+    dt : float
+        The step.
+    error : float
+        The relative estimate at the states judged (:class:`Assessment`).
+    time_error : float
+        The part of it from the time step (a solve at 2Δt on the same grid), NaN if not measured.
+    wall_time : float
+        Seconds for this solve and its estimates.
+    dtype : str
+        How its slices were stored: ``"float64"`` or ``"float32"``.
+    store_every : int
+        It stored every ``store_every``-th step's slice (and the last).
+    axis_errors : tuple of float
+        Where it was followed by another round: each axis's share of the error, the relative
+        difference from a solve with only that axis coarsened (:func:`axis_shares`). Empty
+        otherwise.
+    factors : tuple of float
+        The refinement asked for after it, per axis and then for the step (h_i → h_i / r_i,
+        Δt → Δt / r_t; 1: unchanged); the grid reached may be coarser where memory or
+        ``max_nodes`` held it. Empty where it was the last round.
+    reason : str
+        Why the factors were not the model's own choice (:func:`unsteerable`, or levels that do
+        not converge at first order); "" where they were.
+    certified_error : float
+        Where the embedded levels did not converge and the user gave few states: the relative
+        error at those states measured against certified optima (:func:`certified_error`); NaN
+        where it was not measured or the certificates could not say.
+    """
+
+    shape: tuple[int, ...]
+    dt: float
+    error: float
+    time_error: float
+    wall_time: float
+    dtype: str = "float64"
+    store_every: int = 1
+    axis_errors: tuple[float, ...] = ()
+    factors: tuple[float, ...] = ()
+    reason: str = ""
+    certified_error: float = np.nan
+
+    def met(self, tol: float) -> bool:
+        """Whether this round proved ``tol``: by its estimate or at certified states."""
+        return bool(self.error <= tol or self.certified_error <= tol)
+
+
+def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:
+    """Why the measured shares cannot choose the next grid, or "" where they can.
+
+    The per-component model e ≈ Σ_i C_i h_i^p + C_t Δt (:func:`refinement_factors`) steers
+    where it describes the errors. Where it does not, the estimate says that the solve is poor,
+    not which part to refine, and every axis and the step are refined: an estimate above 100 %
+    of v (the coarser solves are not near v at all), or shares that do not add up to the
+    embedded difference (:func:`shares_add_up`)."""
+    if not error <= 1.0:
+        return f"estimate {error:.0%} above 100 % of v"
+    total = np.nansum(shares) + time_share
+    if not (total > 0 and shares_add_up(np.asarray(shares), whole, time_share)):
+        return f"shares add up to {total:.3g} of the embedded difference {whole:.3g}"
+    return ""
+
+
+def fitting_plan(problem, settings, factors, max_nodes: int | None = None):
+    """The grid refined by ``factors`` (:func:`scaled_grid`), or by less where that would exceed
+    ``max_nodes`` or the memory: the largest ``factors**α`` (α in [0, 1], bisected) whose grid
+    fits, with its storage (:func:`fitting_storage`).
+
+    Returns
+    -------
+    problem : Problem or None
+        On the chosen grid; None where no finer grid fits (``problem``'s own grid where no axis
+        is to be refined).
+    settings : SolverSettings or None
+        Its storage.
+    limit : str
+        What held the grid below ``factors`` ("" if nothing did).
+    """
+    factors = np.asarray(factors, dtype=float)
+
+    def attempt(alpha):
+        grid = scaled_grid(problem.grid, factors**alpha)
+        if max_nodes is not None and grid.size > max_nodes:
+            return grid, f"the grid {grid.shape} would exceed max_nodes = {max_nodes}"
+        return grid, fitting_storage(problem.replace(grid=grid), settings)
+
+    grid, storage = attempt(1.0)
+    if not isinstance(storage, str):
+        return problem.replace(grid=grid), storage, ""
+    limit = storage
+    if np.all(factors <= 1.0):
+        return None, None, limit
+    lo, hi, best = 0.0, 1.0, None
+    for _ in range(8):
+        mid = 0.5 * (lo + hi)
+        grid, storage = attempt(mid)
+        if isinstance(storage, str):
+            hi = mid
+        else:
+            lo = mid
+            if grid.shape != problem.grid.shape:
+                best = (grid, storage)
+    if best is None:
+        return None, None, limit
+    return problem.replace(grid=best[0]), best[1], limit
+
+
+def solve_to_tolerance(
+    problem,
+    tol: float,
+    states=None,
+    settings=None,
+    max_nodes: int | None = None,
+    max_refinements: int = 8,
+    **options,
+):
+    """Solve ``problem`` again and again until the embedded estimate meets ``tol``.
+
+    Each round solves on the current grid with the current step and reads the relative estimate
+    ê (:func:`assess`). If it exceeds ``tol``, it measures the step's share ê_t = abs(v_{h,2Δt} −
+    v_{h,Δt}) and each axis's share (:func:`axis_shares`: solves at the same step with one axis
+    coarsened at a time), and chooses the next grid and step:
+
+    - in the model's range (:func:`unsteerable` says nothing), the factors that bring the sum of
+      the shares, scaled to add up to ê and extrapolated with the observed order q for the axes
+      and 1 for the step, to ``tol`` at the least work (:func:`refinement_factors`), each at
+      most the *reach*: 2 until a round's estimate comes within 2× of the model's prediction
+      for it, doubled by each round that does, back to 2 by one that does not; where the levels
+      do not converge at first order (observed order below 1), only the shares at least half
+      the largest are refined, by at most 2;
+    - outside it, every axis by 2 with the scheme's default step for the finer grid (or half
+      the current step once one has been set).
+
+    Where the levels do not converge (the estimate is then rough in either direction) and the
+    user gave at most :data:`CERTIFIED_STATES` states, a round whose estimate misses ``tol`` is
+    also judged by certificates at those states (:func:`certified_error`), and ends the solve if
+    they prove it (:attr:`Refinement.certified_error`).
+
+    The grid is the one with each axis's spacing divided by its factor (:func:`scaled_grid`);
+    where it would exceed ``max_nodes`` or the memory, the factors are reduced together to the
+    largest grid that fits (:func:`fitting_plan`: its slices stored as float32, then only every
+    k-th, :func:`fitting_storage`); if not even a slightly finer grid fits, Δt is halved
+    instead and the limit is reported.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem; its grid is the first one tried.
+    tol : float
+        The relative tolerance on v (see :func:`relative_error`), in (0, 1).
+    states : array_like (N, d), optional
+        Where the tolerance must hold; default :func:`states_that_matter` (at :data:`QUANTILE`).
+    settings : SolverSettings or str, optional
+        As for :func:`gridlbc.solve`.
+    max_nodes : int, optional
+        Refine the grid no further than this many nodes (default: what the memory allows).
+    max_refinements : int
+        At most this many rounds after the first.
+    **options
+        Settings fields, as for :func:`gridlbc.solve`.
+
+    Returns
+    -------
+    Solution
+        The last solution, with :attr:`~gridlbc.Solution.refinement` (one :class:`Refinement` per
+        round). A :class:`gridlbc.ResolutionWarning` says what stopped it if ``tol`` was not met.
+    """
+    from ..settings import resolve_settings
+    from ..solver import solve_many
+
+    check_tolerance(tol, options)
+    base = resolve_settings(settings, options)
+    dt = base.dt
+    history: list[Refinement] = []
+    limit = ""
+    coarser = None  # (problem, step) of the last round, to return to if a finer grid won't fit
+    # The model is trusted to extrapolate as far as it has been checked: a factor of 2 (the span
+    # its shares were measured over) until a round's estimate comes within 2× of what the model
+    # predicted for it; each such round doubles the reach, a miss resets it.
+    reach, predicted = 2.0, np.nan
+    while True:
+        started = time.perf_counter()
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", ResolutionWarning)
+                solution = solve_many(
+                    problem, [problem.terminal_cost], base, dt=dt, error_estimate=True
+                )[0]
+        except MemoryError:
+            if coarser is None:
+                raise
+            # the finer grid does not fit after all: stay on the last one, halve its step
+            limit = f"memory: the grid {problem.grid.shape} does not fit in the memory available"
+            problem, dt = coarser[0], coarser[1] / 2
+            coarser = None
+            continue
+        a = assess(solution, tol, states)
+        if a is None:
+            raise ValueError(
+                f"the grid {problem.grid.shape} is too coarse to embed a grid with every other "
+                "node (each axis needs at least 5 nodes): give a finer grid"
+            )
+        held = predicted / 2 <= a.error <= 2 * predicted
+        reach, predicted = (2 * reach if held else 2.0), np.nan
+        time_error = certified = np.nan
+        if a.error > tol and certifiable(solution, states):
+            certified = certified_error(solution, judged_states(solution, states), tol)
+        done = a.error <= tol or certified <= tol or len(history) >= max_refinements
+        if not done:
+            steps = solution.diagnostics.steps
+            half = _march_quietly(problem, base, 2 * solution.diagnostics.dt, steps, problem.grid)
+            rel = relative_difference(solution, half, judged_states(solution, states))
+            time_error = statistic(rel, states is not None)
+        history.append(
+            Refinement(
+                problem.grid.shape,
+                solution.diagnostics.dt,
+                a.error,
+                time_error,
+                time.perf_counter() - started,
+                base.dtype,
+                base.store_every,
+                certified_error=certified,
+            )
+        )
+        if base.progress:
+            stored = "" if base.store_every == 1 else f", every {base.store_every}th slice stored"
+            proved = "" if np.isnan(certified) else f", certified at the states {certified:.2%}"
+            print(
+                f"tol: grid {'×'.join(map(str, problem.grid.shape))}, dt {solution.diagnostics.dt:.4g}"
+                f" ({base.dtype}{stored}): estimated error {a.error:.2%}{proved}",
+                flush=True,
+            )
+        if done:
+            break
+        step, steps = solution.diagnostics.dt, solution.diagnostics.steps
+        solve_on = partial(_march_quietly, problem, base, step, steps)
+        shares, whole = axis_shares(solution, solve_on, states)
+        embedded = solution.embedded
+        assert embedded is not None  # assess read it
+        reason = unsteerable(embedded, a.error, shares, whole, time_error)
+        if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
+            factors = np.full(problem.grid.ndim + 1, 2.0)
+        else:
+            components = np.append(shares, time_error)
+            orders = np.append(np.full(problem.grid.ndim, embedded.order), 1.0)
+            scale = a.error / np.nansum(components)  # the components add up to the estimate
+            factors = np.minimum(refinement_factors(scale * components, orders, tol), reach)
+            if not embedded.converging:
+                # levels not converging at first order: the shares, measured between h and 2h,
+                # say which parts limit the error but not how far beyond h/2 the model holds:
+                # refine by 2 those at least half the largest (the others alone gain little)
+                top = np.nanmax(components)
+                factors = np.where(components >= 0.5 * top, np.minimum(factors, 2.0), 1.0)
+                reason = (
+                    f"observed order {embedded.observed_order:.2f} < 1: the largest shares by 2"
+                )
+            else:
+                predicted = float(np.nansum(scale * components * factors**-orders))
+        history[-1] = dataclasses.replace(
+            history[-1],
+            axis_errors=tuple(shares.tolist()),
+            factors=tuple(factors.tolist()),
+            reason=reason,
+        )
+        if base.progress:
+            plan = "refine by " + ", ".join(f"{f:.2f}" for f in factors)
+            plan += f" ({reason})" if reason else ""
+            print(f"tol: shares {np.round(shares, 4)}, step {time_error:.4f}: {plan}", flush=True)
+        if np.all(factors == 2.0):
+            next_dt = None if dt is None else step / 2
+        else:
+            next_dt = step / factors[-1]
+        finer, storage, capped = fitting_plan(
+            problem, dataclasses.replace(base, dt=next_dt), factors[:-1], max_nodes
+        )
+        if finer is not None and next_dt is not None:
+            next_dt = min(next_dt, base.scheme.step_bound(finer).limit)
+        if finer is None:  # not even a slightly finer grid fits: the step is all that is left
+            limit = capped
+            dt = step / 2 if next_dt is None or next_dt >= step else next_dt
+            continue
+        limit = capped
+        base = dataclasses.replace(storage, dt=base.dt)
+        coarser = (problem, step)
+        problem, dt = finer, next_dt
+    where = f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}"
+    advice = "raise max_refinements or max_nodes, store float32 or use mmap_dir"
+    finish(solution, tol, history, where, limit, max_refinements, advice)
+    return solution
+
+
+def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid):
+    """``problem`` solved on ``grid`` with step ``dt``, its warnings silenced and no estimate,
+    storing only the first and last slices (at most ``steps`` steps): a comparison solve of
+    :func:`solve_to_tolerance`, read at t = 0."""
+    from ..solver import solve_many
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GridlbcWarning)
+        return solve_many(
+            problem.replace(grid=grid),
+            [problem.terminal_cost],
+            settings,
+            dt=dt,
+            error_estimate=False,
+            store_every=steps,
+        )[0]
+
+
+def fitting_storage(problem, settings):
+    """``settings`` for a solve of ``problem`` whose slices fit in the memory available, or a
+    message saying why none do.
+
+    The slices of every stored step dominate a time-marched solve's memory. If they do not fit,
+    they are stored as float32 (the march itself stays in double precision), then only every
+    k-th step's slice is stored (k = 2, 4, …: the value at t = 0, which the tolerance judges, is
+    unchanged; the value and the policy between stored slices are interpolated in time). The
+    embedded solve (2^−(d+1) of the slices' bytes: 2^−d of the nodes, half the steps) is held
+    with the solution, and so is the second one where the grid has one (:func:`twin_grid`), hence
+    the margin.
+    """
+    from ..solver import planned_memory
+    from ..storage import available_memory
+
+    available = available_memory()
+    if available is None:
+        return settings
+    embedded = 1 if twin_grid(problem.grid) is None else 2
+    margin = 1.0 + embedded * 2.0 ** -(problem.grid.ndim + 1)
+    candidate, stored = settings, None
+    while True:
+        need = planned_memory(problem, candidate)
+        if need["ram"] * margin <= 0.9 * available:
+            return candidate
+        if candidate.dtype == "float64":
+            candidate = dataclasses.replace(candidate, dtype="float32")
+        elif need["stored"] != stored:  # fewer slices still help
+            stored = need["stored"]
+            candidate = dataclasses.replace(candidate, store_every=2 * candidate.store_every)
+        else:
+            need = need["ram"] * margin
+            return (
+                f"memory: the grid {problem.grid.shape} would need about {need / 2**30:.1f} GiB "
+                f"of {available / 2**30:.1f} GiB available even storing few slices"
+            )
+
+
+def check_tolerance(tol, options: dict) -> None:
+    """A clear error unless ``tol`` is a relative error in (0, 1) and the ``options`` keep the
+    embedded estimate that a solve to a tolerance reads."""
+    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+        raise ValueError(f"tol must be a relative error in (0, 1), e.g. 0.02; got {tol!r}")
+    if options.get("error_estimate") is False:
+        raise ValueError("tol needs the embedded estimate: drop error_estimate=False")
+
+
+def finish(
+    solution, tol: float, history: list, where: str, limit: str, rounds: int, advice: str
+) -> None:
+    """Record the ``history`` of a solve to a tolerance on ``solution`` and warn
+    (:class:`gridlbc.ResolutionWarning`) if its last estimate still exceeds ``tol``, saying
+    ``where`` it stopped, why (``limit``, or the ``rounds`` spent) and what to change
+    (``advice``)."""
+    object.__setattr__(solution, "refinement", tuple(history))
+    last = history[-1]
+    if not last.met(tol):
+        why = limit or f"max_refinements = {rounds} rounds were spent"
+        certified = (
+            ""
+            if np.isnan(last.certified_error)
+            else f" (certified at your states: {last.certified_error:.1%})"
+        )
+        warn_user(
+            f"solve(tol={tol:g}) reached an estimated error of {last.error:.1%}{certified} on "
+            f"{where}, not {tol:.1%}: {why}; {advice}",
+            ResolutionWarning,
+        )
