@@ -54,6 +54,16 @@ def test_twin_grid_brackets_the_axes_that_are_not_nested():
     assert accuracy.twin_grid(grid, axes=(2,)) is None
 
 
+def test_a_number_reads_the_larger_of_the_two_embedded_differences():
+    # c_h, c_2h, c_4h = 1, 1.01, 1.03: differences 0.01 and 0.02 give the observed order 1, so
+    # the estimate is the difference itself; the twin's 0.05 is the larger and is read, while
+    # the order stays that of the nested chain
+    alone = accuracy.scalar_estimate([1.0, 1.01, 1.03])
+    both = accuracy.scalar_estimate([1.0, 1.01, 1.03], twin=1.05)
+    assert alone.observed_order == both.observed_order == pytest.approx(1.0)
+    assert alone.error == pytest.approx(0.01) and both.error == pytest.approx(0.05)
+
+
 @pytest.mark.parametrize("periodic, n", [(True, 63), (False, 40)])
 def test_one_of_the_two_embedded_axes_is_as_far_from_every_point_as_the_axis(periodic, n):
     # the claim of twin_grid: the fine offset (in cells) is the sum of the two coarse ones, so
