@@ -780,9 +780,10 @@ MEMBERS: tuple[Member, ...] = (
         "terminal_pit",
         terminal_pit,
         _s((0.2, 0.0), (0.6, -0.5), (0.0, 1.0)),
-        "a terminal cost only, a pit 0.04 wide (2 cells) at T = 0.5, λ = 0.05, centred midway "
-        "between two nodes of an odd closed axis, next to a node of its embedded axis (stranger "
-        "round 5: 11–36 % high with estimates of 1.5–4.6 %, no warning)",
+        "a terminal cost only, a pit 0.04 wide (2 cells) at T = 0.5, λ = 0.05 (exp(−g/λ) a "
+        "quarter of a cell wide), centred midway between two nodes of an odd closed axis, next to "
+        "a node of its embedded axis (stranger round 5: 11–36 % high with estimates of "
+        "1.5–4.6 %, no warning; space and time errors of opposite sign on both grids)",
         cert_dt=0.001,
         fast=True,
         tags=("narrow cost", "short horizon", "closed"),
