@@ -524,6 +524,44 @@ def rotor_pit():
     return rotor_in_well(0.07, 5.0, 0.005)
 
 
+def mass_pit():
+    """A point mass on 201 × 201 closed nodes over [−2, 2] × [−4, 4] held in a pit of state and
+    terminal cost 3(1 − exp(−(x − 0.37)²/2w²)) + 0.05v², w = 0.04 (two cells), λ = 0.005, T = 5.
+    The pit's centre lies midway between the nodes 0.36 and 0.38 of the odd (nested) axis, and
+    0.36 is a node of its embedded axis too."""
+    grid = _grid((-2, 2, 201), (-4, 4, 201))
+
+    def cost(x):
+        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - 0.37) / 0.04) ** 2)) + 0.05 * x[:, 1] ** 2
+
+    return Problem(PointMass(), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+
+
+def terminal_pit():
+    """A point mass on 201 × 201 closed nodes over [−2, 2] × [−4, 4] with a terminal cost only,
+    a pit 3(1 − exp(−(x − 0.37)²/2w²)) + 0.5v², w = 0.04, at T = 0.5, λ = 0.05: the pit's centre
+    lies midway between the nodes 0.36 and 0.38, and 0.36 is a node of the embedded axis."""
+    grid = _grid((-2, 2, 201), (-4, 4, 201))
+
+    def g(x):
+        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - 0.37) / 0.04) ** 2)) + 0.5 * x[:, 1] ** 2
+
+    return Problem(PointMass(), grid, 0.5, g, temperature=0.05)
+
+
+def rotor_pit_off():
+    """The rotor_pit rotor (λ = 0.005, T = 5, pit 0.07 rad wide) with its pit at θ = 0.7, on 202
+    periodic nodes: the centre lies midway between two nodes of the even (nested) axis, and one
+    of them is a node of its embedded axis."""
+    grid = _grid((-PI, PI, 202, True), (-6, 6, 201))
+
+    def cost(x):
+        theta = (x[:, 0] - 0.7 + PI) % (2 * PI) - PI
+        return 3 * (1 - np.exp(-0.5 * (theta / 0.07) ** 2)) + 0.05 * x[:, 1] ** 2
+
+    return Problem(Pendulum(gravity=0.0), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+
+
 def _s(*rows) -> np.ndarray:
     return np.array(rows, dtype=float)
 
@@ -723,6 +761,40 @@ MEMBERS: tuple[Member, ...] = (
         "the rotor_well rotor in a pit 0.07 rad wide (2.2 cells) at λ = 0.005, T = 5: the pit's "
         "centre lies between two nodes of the odd periodic axis (stranger round 4: 10 % high "
         "without a warning; 13 % with an estimate of 2 % at dt = 0.01)",
+        cert_dt=0.002,
+        fast=True,
+        tags=("low temperature", "narrow cost", "periodic"),
+    ),
+    Member(
+        "mass_pit",
+        mass_pit,
+        _s((0.1, 0.0), (0.8, 1.0), (-1.0, -1.0)),
+        "a point mass in a pit 0.04 wide (2 cells) at λ = 0.005, T = 5, centred midway between "
+        "two nodes of an odd closed axis, next to a node of its embedded axis (stranger round 5: "
+        "12 % high with an estimate of 0.8 %, no warning)",
+        cert_dt=0.002,
+        fast=True,
+        tags=("low temperature", "narrow cost", "closed"),
+    ),
+    Member(
+        "terminal_pit",
+        terminal_pit,
+        _s((0.2, 0.0), (0.6, -0.5), (0.0, 1.0)),
+        "a terminal cost only, a pit 0.04 wide (2 cells) at T = 0.5, λ = 0.05 (exp(−g/λ) a "
+        "quarter of a cell wide), centred midway between two nodes of an odd closed axis, next to "
+        "a node of its embedded axis (stranger round 5: 11–36 % high with estimates of "
+        "1.5–4.6 %, no warning; space and time errors of opposite sign on both grids)",
+        cert_dt=0.001,
+        fast=True,
+        tags=("narrow cost", "short horizon", "closed"),
+    ),
+    Member(
+        "rotor_pit_off",
+        rotor_pit_off,
+        _s((0.3, 0.0), (1.2, 1.0), (-1.5, -1.5)),
+        "the rotor_pit rotor with its pit at θ = 0.7 on 202 periodic nodes, midway between two "
+        "nodes of the even axis, next to a node of its embedded axis (stranger round 5: 8 % high "
+        "with an estimate of 0.8 %, no warning)",
         cert_dt=0.002,
         fast=True,
         tags=("low temperature", "narrow cost", "periodic"),
