@@ -22,9 +22,9 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   prefix and its metadata as ``metadata["embedded"]`` (with the estimate's
   ``observed_order``, ``order`` and ``floor``, :class:`gridlbc.accuracy.EmbeddedEstimate`); absent when
   the solution carries none;
-- ``embedded_twin.*``: the solve on the second embedded grid
-  (:func:`gridlbc.accuracy.twin_grid`), its metadata as ``metadata["embedded"]["twin"]``;
-  absent where every axis of the grid is nested.
+- ``embedded_pair0.*``, ``embedded_pair1.*``: the solves on the pair of grids of
+  :func:`gridlbc.accuracy.phase_pair`, their metadata as ``metadata["embedded"]["pair"]`` (a
+  list of two; ``"embedded"`` in place of the first where it is the embedded solve itself).
 
 Version 1 files (before solutions knew their representation: it was
 ``diagnostics["interpolation"]``, ``"linear"``, ``"fitted"`` or ``"log"``, and the operator was
@@ -56,8 +56,8 @@ FORMAT_VERSION = 2
 """The version :func:`save` writes."""
 EMBEDDED = "embedded."
 """The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
-TWIN = "embedded_twin."
-"""The prefix of the second embedded solve's arrays (:func:`gridlbc.accuracy.twin_grid`)."""
+PAIR = ("embedded_pair0.", "embedded_pair1.")
+"""The prefixes of the arrays of the solves on the pair of :func:`gridlbc.accuracy.phase_pair`."""
 READABLE_VERSIONS = (1, 2)
 """The versions :func:`load` reads."""
 
@@ -238,10 +238,16 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
             "floor": estimate.floor,
         }
         arrays.update({EMBEDDED + k: v for k, v in inner.items()})
-        if estimate.twin is not None:
-            twin: dict = {}
-            meta["embedded"]["twin"] = _record(estimate.twin, twin)
-            arrays.update({TWIN + k: v for k, v in twin.items()})
+        if estimate.pair is not None:
+            records: list = []
+            for prefix, side in zip(PAIR, estimate.pair, strict=True):
+                if side is estimate.solution:
+                    records.append("embedded")
+                    continue
+                held: dict = {}
+                records.append(_record(side, held))
+                arrays.update({prefix + k: v for k, v in held.items()})
+            meta["embedded"]["pair"] = records
     if annotations is not None:
         meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
@@ -332,15 +338,22 @@ def load(path) -> Solution:
     if "embedded" in meta:
         record = meta["embedded"]
         observed = record["observed_order"]
-        twin = None
-        if "twin" in record:
-            twin = _solution(record["twin"], _prefixed(contents, TWIN), version, path)
+        embedded = _solution(record, _prefixed(contents, EMBEDDED), version, path)
+        pair = None
+        if "pair" in record:
+            first, second = (
+                embedded
+                if side == "embedded"
+                else _solution(side, _prefixed(contents, prefix), version, path)
+                for prefix, side in zip(PAIR, record["pair"], strict=True)
+            )
+            pair = (first, second)
         estimate = EmbeddedEstimate(
-            _solution(record, _prefixed(contents, EMBEDDED), version, path),
+            embedded,
             np.nan if observed is None else float(observed),
             float(record["order"]),
             float(record["floor"]),
-            twin,
+            pair,
         )
         object.__setattr__(solution, "embedded", estimate)
     return solution

@@ -25,7 +25,7 @@ import warnings
 
 import numpy as np
 
-from .accuracy import attach_estimates, embedded_grid, solve_to_tolerance, twin_grid
+from .accuracy import attach_estimates, embedded_grid, phase_pair, solve_to_tolerance
 from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
 from .grid import Grid, flat_chunks
@@ -238,10 +238,10 @@ def _exit_settings(s: SolverSettings, explicit: bool) -> SolverSettings:
 
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
     """Attach to each solution its embedded solve (the same problem on the grid with every other
-    node, step 2Δt; also on :func:`~gridlbc.accuracy.twin_grid` where an axis is not nested) and
-    the observed order from a third solve at 4h, 4Δt (:mod:`gridlbc.accuracy`), and warn where
-    the estimate exceeds the default tolerance. The embedded solves' own warnings are not the
-    user's: they are silenced."""
+    node, step 2Δt), the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step
+    2Δt) and the observed order from a third solve at 4h, 4Δt (:mod:`gridlbc.accuracy`), and warn
+    where the estimate exceeds the default tolerance. The embedded solves' own warnings are not
+    the user's: they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
     def solve_on(grid: Grid, factor: int) -> list[Solution]:
@@ -257,14 +257,18 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             )
 
     fine = problem.require_grid("an embedded solve")
-    levels, grid = [], embedded_grid(fine)
+    embedded = grid = embedded_grid(fine)
+    levels = []
     for factor in (2, 4):
         if grid is None:
             break
         levels.append(solve_on(grid, factor))
         grid = embedded_grid(grid)
-    twin = twin_grid(fine)
-    attach_estimates(solutions, levels, None if twin is None else solve_on(twin, 2))
+    pair = phase_pair(fine) if levels else None
+    pairs = None
+    if pair is not None:  # the pair's first grid is the embedded one where every C is odd
+        pairs = [levels[0] if coarse == embedded else solve_on(coarse, 2) for coarse in pair]
+    attach_estimates(solutions, levels, pairs)
 
 
 def _solutions(

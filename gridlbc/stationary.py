@@ -60,9 +60,9 @@ from .accuracy import (
     check_tolerance,
     embedded_grid,
     finish,
+    phase_pair,
     refined_grid,
     scalar_estimate,
-    twin_grid,
 )
 from .errors import GridlbcWarning, ResolutionWarning, warn_user
 from .grid import Grid
@@ -772,8 +772,8 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
     """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
     and exit cost on the grids with every other node (2h and 4h); and warn where an estimate
     exceeds the default tolerance."""
-    levels, twins = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
-    attach_estimates(solutions, levels, twins)
+    levels, pairs = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
+    attach_estimates(solutions, levels, pairs)
 
 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
@@ -782,12 +782,12 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
     level, as on this one) and of its average cost c (``average_cost_error``,
     :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h and 4h); warn where
     either exceeds the default tolerance."""
-    levels, twins = _levels(problem, lambda p: [solve_average_cost(p, s)])
-    attach_estimates([solution], levels, twins)
+    levels, pairs = _levels(problem, lambda p: [solve_average_cost(p, s)])
+    attach_estimates([solution], levels, pairs)
     if levels:
         estimate = scalar_estimate(
             [solution.average_cost] + [level[0].average_cost for level in levels],
-            None if twins is None else twins[0].average_cost,
+            None if pairs is None else [side[0].average_cost for side in pairs],
         )
         object.__setattr__(solution, "average_cost_error", estimate.error)
         check_scalar(estimate, "the average cost c")
@@ -795,9 +795,9 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
 
 def _levels(problem: Problem, solve) -> tuple[list, list | None]:
     """``solve(problem on the grid)`` on the grids with every other node (2h) and the one below
-    it (4h), and on :func:`~gridlbc.accuracy.twin_grid` where an axis is not nested, their own
-    warnings silenced; fewer levels where a grid is too coarse to embed or the problem is not
-    resolved that coarsely (an exit set the coarse grid misses), and no twin then."""
+    it (4h), and on the pair of :func:`~gridlbc.accuracy.phase_pair`, their own warnings
+    silenced; fewer levels where a grid is too coarse to embed or the problem is not resolved
+    that coarsely (an exit set the coarse grid misses), and no pair then."""
 
     def solve_on(grid: Grid):
         with warnings.catch_warnings():
@@ -809,12 +809,15 @@ def _levels(problem: Problem, solve) -> tuple[list, list | None]:
 
     fine = problem.require_grid("an embedded solve")
     levels: list = []
-    grid = embedded_grid(fine)
+    embedded = grid = embedded_grid(fine)
     while grid is not None and len(levels) < 2:
         level = solve_on(grid)
         if level is None:
             break
         levels.append(level)
         grid = embedded_grid(grid)
-    twin = twin_grid(fine) if levels else None
-    return levels, None if twin is None else solve_on(twin)
+    pair = phase_pair(fine) if levels else None
+    if pair is None:
+        return levels, None
+    pairs = [levels[0] if coarse == embedded else solve_on(coarse) for coarse in pair]
+    return levels, None if any(side is None for side in pairs) else pairs

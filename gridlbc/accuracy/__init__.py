@@ -43,11 +43,11 @@ from .estimate import (
     statistic,
 )
 from .grids import (
+    cells,
     embedded_grid,
-    nested,
+    phase_pair,
     refined_grid,
     scaled_grid,
-    twin_grid,
 )
 from .tolerance import (
     Refinement,
@@ -79,6 +79,7 @@ __all__ = [
     "attach_estimates",
     "axes_to_refine",
     "axis_shares",
+    "cells",
     "certifiable",
     "certified_error",
     "check_accuracy",
@@ -91,8 +92,8 @@ __all__ = [
     "fitting_plan",
     "fitting_storage",
     "judged_states",
-    "nested",
     "observed_order",
+    "phase_pair",
     "refined_grid",
     "refinement_factors",
     "relative_difference",
@@ -104,6 +105,5 @@ __all__ = [
     "solve_to_tolerance",
     "states_that_matter",
     "statistic",
-    "twin_grid",
     "unsteerable",
 ]

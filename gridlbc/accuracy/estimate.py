@@ -27,10 +27,12 @@ evaluated at any states by the same interpolation as the values, with
   agree (their difference changes sign) the error is not smaller, relative to v, than the
   typical one (:func:`embedded_estimate`).
 
-Where an axis's embedded axis is not nested in it (an odd periodic axis, an even closed one) the
-coarse nodes can sit closer to a narrow feature than the fine ones; the same problem is then also
-solved on :func:`twin_grid` (one node more on those axes, another 2^−(d+1) of the solve), and
-abs(v_2h − v_h) is the larger of the two differences.
+abs(v_2h − v_h) is the larger of the embedded difference and abs(v_c₁ − v_c₂), the difference
+between the solves (step 2Δt) on a pair of grids whose cell counts add up to the grid's
+(:func:`phase_pair`): the embedded grid misses a narrow feature midway between two nodes by as
+much as the grid does, and the pair's difference is what sees that error. The pair costs one or
+two more coarse solves (one where every axis has an odd cell count: its first grid is then the
+embedded one).
 
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
@@ -173,16 +175,16 @@ class EmbeddedEstimate:
         solves differ by at most :data:`ASYMPTOTIC`.
     floor : float
         The least relative error reported (the median over the states that matter).
-    twin : Solution or None
-        The same problem solved on :func:`twin_grid` (step 2Δt), where an axis's embedded grid
-        is not nested in the grid; None where every axis is.
+    pair : tuple of two Solution, or None
+        The same problem solved on the grids of :func:`phase_pair` (step 2Δt); None where the
+        grid is too coarse for them.
     """
 
     solution: Solution
     observed_order: float
     order: float
     floor: float
-    twin: Solution | None = None
+    pair: tuple[Solution, Solution] | None = None
 
     @property
     def converging(self) -> bool:
@@ -190,8 +192,8 @@ class EmbeddedEstimate:
         return not (self.observed_order < 1.0)
 
     def difference(self, solution: Solution, x, t=0.0) -> np.ndarray:
-        """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``: the larger of the two embedded
-        solves' differences where there is a ``twin``."""
+        """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``: the larger of the embedded
+        difference and abs(v_c₁ − v_c₂), the ``pair``'s (:func:`phase_pair`)."""
         return self._read(solution, x, t)[1]
 
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
@@ -210,15 +212,16 @@ class EmbeddedEstimate:
         """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
         v = solution.value(x, t)
         difference = np.abs(self.solution.value(x, t) - v)
-        if self.twin is not None:
-            difference = np.maximum(difference, np.abs(self.twin.value(x, t) - v))
+        if self.pair is not None:
+            first, second = (solve.value(x, t) for solve in self.pair)
+            difference = np.maximum(difference, np.abs(first - second))
         relative = relative_error(difference, v, solution.temperature)
         return v, difference, richardson(difference, relative, self.order)
 
 
-def embedded_estimate(solution, embedded, coarser=None, twin=None) -> EmbeddedEstimate:
+def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEstimate:
     """The estimate of ``solution`` from its embedded solve and, if given, the one below it and
-    the one on :func:`twin_grid`.
+    those on :func:`phase_pair`.
 
     Over the states that matter: the observed order::
 
@@ -231,8 +234,8 @@ def embedded_estimate(solution, embedded, coarser=None, twin=None) -> EmbeddedEs
     ----------
     solution, embedded, coarser : Solution
         The solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); ``coarser`` None: no third solve.
-    twin : Solution or None
-        The solve on :func:`twin_grid` (step 2Δt), None where every axis is nested.
+    pair : tuple of two Solution, or None
+        The solves on :func:`phase_pair` (step 2Δt).
 
     Returns
     -------
@@ -244,7 +247,7 @@ def embedded_estimate(solution, embedded, coarser=None, twin=None) -> EmbeddedEs
     if coarser is not None:
         observed = observed_order(np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2))
     order = clipped_order(observed)
-    estimate = EmbeddedEstimate(embedded, observed, order, 0.0, twin)
+    estimate = EmbeddedEstimate(embedded, observed, order, 0.0, pair)
     relative = relative_error(estimate.local(solution, X), v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
@@ -316,17 +319,17 @@ class ScalarEstimate:
         return 0.0 if self.error == 0 else np.inf
 
 
-def scalar_estimate(levels, twin: float | None = None) -> ScalarEstimate:
+def scalar_estimate(levels, pair=None) -> ScalarEstimate:
     """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
-    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and ``twin`` (:func:`twin_grid`: the
-    larger of abs(c_2h − c_h) and abs(c_twin − c_h) is read).
+    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and on :func:`phase_pair` (the larger
+    of abs(c_2h − c_h) and abs(c_c₁ − c_c₂) is read).
 
     Parameters
     ----------
     levels : sequence of float
         c_h, c_2h and optionally c_4h.
-    twin : float or None
-        The number on :func:`twin_grid`, None where every axis is nested.
+    pair : tuple of two float, or None
+        The number on the grids of :func:`phase_pair`.
 
     Returns
     -------
@@ -334,7 +337,7 @@ def scalar_estimate(levels, twin: float | None = None) -> ScalarEstimate:
     """
     c = [float(level) for level in levels]
     fine = abs(c[1] - c[0])
-    difference = fine if twin is None else max(fine, abs(twin - c[0]))
+    difference = fine if pair is None else max(fine, abs(float(pair[0]) - float(pair[1])))
     observed, order = np.nan, 1.0
     if len(c) > 2:
         observed = observed_order(fine, abs(c[2] - c[1]))
@@ -345,17 +348,18 @@ def scalar_estimate(levels, twin: float | None = None) -> ScalarEstimate:
     return ScalarEstimate(error, observed, tuple(c))
 
 
-def attach_estimates(solutions, levels: list, twins=None) -> None:
+def attach_estimates(solutions, levels: list, pairs=None) -> None:
     """Give each of ``solutions`` its :class:`EmbeddedEstimate` from the solves ``levels[0][r]``
-    (2h), if present ``levels[1][r]`` (4h) and ``twins[r]`` (:func:`twin_grid`), and warn
+    (2h), if present ``levels[1][r]`` (4h) and ``pairs[0][r]``, ``pairs[1][r]``
+    (:func:`phase_pair`), and warn
     (:func:`check_accuracy`) where one exceeds the default tolerance; nothing without levels (a
     grid too coarse to embed)."""
     if not levels:
         return
     for r, solution in enumerate(solutions):
         coarser = levels[1][r] if len(levels) > 1 else None
-        twin = twins[r] if twins is not None else None
-        estimate = embedded_estimate(solution, levels[0][r], coarser, twin)
+        pair = (pairs[0][r], pairs[1][r]) if pairs is not None else None
+        estimate = embedded_estimate(solution, levels[0][r], coarser, pair)
         object.__setattr__(solution, "embedded", estimate)
         check_accuracy(solution)
 

@@ -3,11 +3,10 @@
 
 The embedded grid keeps every other node of each axis (spacing 2h). On a closed axis with an odd
 node count and a periodic one with an even count its nodes are the fine grid's even-numbered
-nodes (the axis is *nested*). Otherwise (an odd periodic axis, an even closed one) its nodes are
-not the fine ones and can lie closer to a narrow feature than any fine node; the estimate then
-also reads :func:`twin_grid`, one node more on those axes, and takes the larger of the two
-differences.
-"""
+nodes (the axis is *nested*); otherwise its spacing is slightly above 2h. Beside it the estimate
+reads a pair of grids whose cell counts add up to the grid's (:func:`phase_pair`): how much their
+solves differ says how much a solve at this resolution depends on where the nodes fall relative
+to the problem's narrow features, which the embedded grid alone cannot see."""
 
 from __future__ import annotations
 
@@ -20,8 +19,8 @@ def embedded_grid(grid: Grid, axes=None) -> Grid | None:
     """The grid with every other node of each axis (spacing 2h), or of the given ``axes`` only;
     None when an axis would keep fewer than three nodes (four on a periodic axis). A closed axis
     with an odd node count and a periodic one with an even count keep exactly their
-    even-numbered nodes; otherwise the coarse spacing is slightly above 2h, the coarse nodes are
-    not the fine ones, and the estimate also reads :func:`twin_grid`."""
+    even-numbered nodes; otherwise the coarse spacing is slightly above 2h and the coarse nodes
+    are not the fine ones."""
     out = []
     for i, a in enumerate(grid.axes):
         if axes is not None and i not in axes:
@@ -34,42 +33,42 @@ def embedded_grid(grid: Grid, axes=None) -> Grid | None:
     return Grid(out)
 
 
-def nested(axis: Axis) -> bool:
-    """Whether every other node of ``axis`` is a node of its embedded axis: a periodic axis with
-    an even node count, a closed one with an odd count (an even number of cells)."""
-    return axis.n % 2 == (0 if axis.periodic else 1)
+def cells(axis: Axis) -> int:
+    """The number of cells of ``axis``: its node count on a periodic axis, one less on a closed one."""
+    return axis.n if axis.periodic else axis.n - 1
 
 
-def twin_grid(grid: Grid, axes=None) -> Grid | None:
-    """The embedded grid (:func:`embedded_grid`) with one node more on each axis whose embedded
-    axis is not nested in it (:func:`nested`: an odd periodic axis, an even closed one), or on
-    those of the given ``axes`` only; None when every such axis is nested or the grid is too
-    coarse to embed.
+def phase_pair(grid: Grid, axes=None) -> tuple[Grid, Grid] | None:
+    """Two grids of about twice the spacing whose cell counts add up to the grid's along each axis
+    (or along the given ``axes`` only) without being equal: c₁ + c₂ = C with c₁ = (C − 1)/2 for
+    an odd count C and c₁ = C/2 − 1 for an even one; None where a grid would be too coarse (three
+    nodes, four on a periodic axis).
 
-    Why a second embedded grid: on an axis that is not nested, the coarse nodes can lie closer to
-    a narrow feature of the problem (a pit in the state cost) than any node of the grid, and the
-    coarse solve can then be *more* accurate than the fine one, hiding the fine grid's error.
-    Measured in units of their own cells, the offset f of the fine nodes from any point is the
-    sum of the offsets a and b of the two embedded axes (m and m + 1 nodes bracketing the fine
-    count's half: a periodic axis of 2m + 1 nodes has f = x(2m + 1)/L = a + b, a closed one of
-    2m nodes f = x(2m − 1)/L = a + b), so the fine grid's distance to the nearest node is at most
-    twice the larger of the two coarse ones (distance to the nearest integer is subadditive),
-    which is about what a coarse cell of 2h makes it: one of the two coarse grids misses every
-    point at least as badly as the grid itself. The estimate reads the larger of the two
-    differences (:meth:`EmbeddedEstimate.difference`)."""
-    coarse = embedded_grid(grid, axes)
-    if coarse is None:
-        return None
+    Why: how well a grid resolves a feature narrower than a few cells (a pit in the state cost, a
+    sharp goal) depends on how far the feature lies from the nearest node, and the embedded grid
+    (:func:`embedded_grid`), whose nodes are every other node of the grid, misses a feature
+    midway between two nodes by exactly as much as the grid does, so the difference between the
+    two solves cannot see that error. At a point x of an axis of length L, the offsets from the
+    nearest node measured in cells of each grid, f = xC/L, a = xc₁/L and b = xc₂/L, satisfy
+    f = a + b: where the grid's nodes are aligned with the feature (f an integer) the two
+    coarse grids miss it by the same distance and agree, and where the grid misses it (f near ½)
+    their offsets a and ½ − a differ and so do their solves, unless both are a quarter cell off.
+    The estimate reads abs(v_c₁ − v_c₂) beside the embedded difference
+    (:meth:`EmbeddedEstimate.difference`). Where C is odd (an odd periodic axis, an even closed
+    one) the embedded axis is itself the one of c₁ cells."""
     chosen = range(grid.ndim) if axes is None else axes
-    misaligned = [i for i in chosen if not nested(grid.axes[i])]
-    if not misaligned:
-        return None
-    return Grid(
-        [
-            Axis(c.lo, c.hi, c.n + 1, periodic=c.periodic, name=c.name) if i in misaligned else c
-            for i, c in enumerate(coarse.axes)
-        ]
-    )
+    pair: list[list[Axis]] = [[], []]
+    for i, a in enumerate(grid.axes):
+        C = cells(a)
+        counts = (C, C) if i not in chosen else ((C - 1) // 2, (C + 1) // 2)
+        if i in chosen and C % 2 == 0:
+            counts = (C // 2 - 1, C // 2 + 1)
+        for side, c in zip(pair, counts, strict=True):
+            n = c if a.periodic else c + 1
+            if n < (4 if a.periodic else 3):
+                return None
+            side.append(Axis(a.lo, a.hi, n, periodic=a.periodic, name=a.name))
+    return Grid(pair[0]), Grid(pair[1])
 
 
 def refined_grid(grid: Grid, axes=None) -> Grid:

@@ -47,7 +47,6 @@ from .estimate import (
 from .grids import (
     embedded_grid,
     scaled_grid,
-    twin_grid,
 )
 
 
@@ -57,9 +56,10 @@ def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
     The share of axis i is the relative difference (:func:`statistic` at the judged states) from
     a solve with only that axis coarsened (every other node, ``solve_on(grid)``, which may return
     None where the problem cannot be posed on that grid; NaN then, and for an axis too coarse to
-    coarsen), the larger of two where the axis is not nested (:func:`twin_grid`). The difference
-    D from the embedded solves, which coarsen every axis (and double the step), is read the same
-    way (:meth:`EmbeddedEstimate.difference`).
+    coarsen). The difference D from the embedded solves, which coarsen every axis (and double the
+    step), is read the same way (:meth:`EmbeddedEstimate.difference`, with the pair of
+    :func:`phase_pair`, which the shares leave out: where misaligned features make D, the shares
+    do not add up to it and every axis is refined, :func:`shares_add_up`).
 
     Returns
     -------
@@ -71,11 +71,10 @@ def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
     grid, given = solution.grid, states is not None
     shares = np.full(grid.ndim, np.nan)
     for i in range(grid.ndim):
-        for coarse in (embedded_grid(grid, axes=(i,)), twin_grid(grid, axes=(i,))):
-            other = None if coarse is None else solve_on(coarse)
-            if other is not None:
-                share = statistic(relative_difference(solution, other, X), given)
-                shares[i] = np.fmax(shares[i], share)
+        coarse = embedded_grid(grid, axes=(i,))
+        other = None if coarse is None else solve_on(coarse)
+        if other is not None:
+            shares[i] = statistic(relative_difference(solution, other, X), given)
     v = solution.value(X, 0.0)
     difference = solution.embedded.difference(solution, X, 0.0)
     whole = statistic(relative_error(difference, v, solution.temperature), given)
@@ -466,6 +465,13 @@ def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid):
         )[0]
 
 
+def storage_margin(ndim: int) -> float:
+    """1 + 3 · 2^−(d+1): the memory of a solution with its embedded solve and the pair's
+    (:func:`phase_pair`), relative to its own slices (each has 2^−d of the nodes and half the
+    steps)."""
+    return 1.0 + 3 * 2.0 ** -(ndim + 1)
+
+
 def fitting_storage(problem, settings):
     """``settings`` for a solve of ``problem`` whose slices fit in the memory available, or a
     message saying why none do.
@@ -475,7 +481,7 @@ def fitting_storage(problem, settings):
     k-th step's slice is stored (k = 2, 4, …: the value at t = 0, which the tolerance judges, is
     unchanged; the value and the policy between stored slices are interpolated in time). The
     embedded solve (2^−(d+1) of the slices' bytes: 2^−d of the nodes, half the steps) is held
-    with the solution, and so is the second one where the grid has one (:func:`twin_grid`), hence
+    with the solution, and so are the solves on the pair of grids (:func:`phase_pair`), hence
     the margin.
     """
     from ..solver import planned_memory
@@ -484,8 +490,7 @@ def fitting_storage(problem, settings):
     available = available_memory()
     if available is None:
         return settings
-    embedded = 1 if twin_grid(problem.grid) is None else 2
-    margin = 1.0 + embedded * 2.0 ** -(problem.grid.ndim + 1)
+    margin = storage_margin(problem.grid.ndim)
     candidate, stored = settings, None
     while True:
         need = planned_memory(problem, candidate)

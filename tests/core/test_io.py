@@ -10,7 +10,6 @@ from gridlbc.systems import Pendulum, PointMass
 
 @pytest.fixture
 def pendulum_solution():
-    # an odd periodic axis: the error estimate also has a second embedded solve (twin_grid)
     grid = Grid([Axis(-np.pi, np.pi, 15, periodic=True), Axis(-4.0, 4.0, 17)])
     problem = Problem(
         Pendulum(damping=0.1),
@@ -36,7 +35,7 @@ def test_round_trip_is_exact(tmp_path, pendulum_solution, rng):
     assert back.problem.system == sol.problem.system
     assert back.problem.grid == sol.problem.grid
     assert back.diagnostics == sol.diagnostics
-    assert back.embedded.twin is not None and sol.embedded.twin is not None
+    assert back.embedded.pair is not None and sol.embedded.pair is not None
     x = np.column_stack([rng.uniform(-4, 4, 50), rng.uniform(-4, 4, 50)])
     for t in (0.0, 0.37, 1.0):
         np.testing.assert_array_equal(back.value(x, t), sol.value(x, t))
