@@ -1,4 +1,5 @@
-"""Stranger round 5: narrow features off the axis centre, against the second embedded grid.
+"""Stranger round 5: narrow features off the axis centre, against the second embedded grid (since
+replaced by the pair of grids: the end of this docstring).
 
 Not a corpus member and not run by the tests. The runner, the certificate recipe and the output
 format are round 3's (``strangers_round3.run``: default solve, a finer solve's policy as the
@@ -150,6 +151,18 @@ within their estimates or warned (hot_narrow's 0.10 % against 0.06 % is within i
 extrapolated SE of about 0.08 %). ``aniso_r``'s certificates have ESS 52–160 (λR⁻¹ = 2 on the
 cheap input); it is linear-quadratic, and against ``gridlbc.reference.lq_solution`` (4.163,
 4.790, 7.655) its errors are −0.56 %, −0.94 %, −1.2 % with estimates 1.4 %, 1.8 %, 2.6 %, warned.
+
+**Afterwards (the same day): the pair of grids.** The second embedded grid was replaced by the pair
+of ``gridlbc.accuracy.phase_pair`` (cell counts c₁ + c₂ = C, c₁ ≠ c₂, on every axis), whose
+difference the estimate reads beside the embedded one (docs page "accuracy"). The three new corpus
+members with it (``run.py --only mass_pit terminal_pit rotor_pit_off``): ``mass_pit`` +11.9 %,
++4.0 %, +2.3 % with estimates 18.5 %, 2.7 %, 2.7 %, warned; ``terminal_pit`` +11 %, +36 %, +17 %
+with 18 %, 45 %, 18 %, not warned (the pit shapes the value at under 5 % of the states that
+matter, below the warning's 90th percentile), and ``solve(tol=0.05, states=...)`` ends on
+401 × 201 in two rounds at −0.1 %, +2.6 %, +1.1 % (its certificates bound the error at 3.4 %);
+``rotor_pit_off`` +7.8 %, +3.2 %, +1.7 % with 4.8 %, 1.7 %, 1.7 %. The pair alone, without the
+embedded grid, covered them too but warned falsely on the corpus's unicycles (errors 0.5 %,
+estimates up to 9 %), whose goals sit on a node that neither grid of the pair has.
 """
 
 from __future__ import annotations
