@@ -57,7 +57,6 @@ With ``states=``, at its largest over them.
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -208,15 +207,28 @@ class EmbeddedEstimate:
         v, _, local = self._read(solution, x, t)
         return np.maximum(local, self.floor * np.maximum(np.abs(v), solution.temperature))
 
+    def relative_error(self, solution: Solution, x, t=0.0) -> np.ndarray:
+        """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`)."""
+        v, _, local = self._read(solution, x, t)
+        scale = np.maximum(np.abs(v), solution.temperature)
+        return relative_error(np.maximum(local, self.floor * scale), v, solution.temperature)
+
     def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
         v = solution.value(x, t)
-        difference = np.abs(self.solution.value(x, t) - v)
-        if self.pair is not None:
-            first, second = (solve.value(x, t) for solve in self.pair)
-            difference = np.maximum(difference, np.abs(first - second))
-        relative = relative_error(difference, v, solution.temperature)
-        return v, difference, richardson(difference, relative, self.order)
+        pair = None if self.pair is None else [side.value(x, t) for side in self.pair]
+        difference, local = _local(v, self.solution.value(x, t), pair, solution, self.order)
+        return v, difference, local
+
+
+def _local(v, embedded, pair, solution, order: float) -> tuple[np.ndarray, np.ndarray]:
+    """The difference and the local term (:meth:`EmbeddedEstimate.local`) from the values of the
+    solve, of the embedded solve and of the ``pair`` (or None) at the same states."""
+    difference = np.abs(embedded - v)
+    if pair is not None:
+        difference = np.maximum(difference, np.abs(pair[0] - pair[1]))
+    relative = relative_error(difference, v, solution.temperature)
+    return difference, richardson(difference, relative, order)
 
 
 def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEstimate:
@@ -247,11 +259,12 @@ def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEs
     if coarser is not None:
         observed = observed_order(np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2))
     order = clipped_order(observed)
-    estimate = EmbeddedEstimate(embedded, observed, order, 0.0, pair)
-    relative = relative_error(estimate.local(solution, X), v, solution.temperature)
+    sides = None if pair is None else [side.value(X, 0.0) for side in pair]
+    _, local = _local(v, v2, sides, solution, order)
+    relative = relative_error(local, v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
-    return dataclasses.replace(estimate, floor=floor)
+    return EmbeddedEstimate(embedded, observed, order, floor, pair)
 
 
 def observed_order(fine, coarse) -> float:
@@ -406,7 +419,7 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     if solution.embedded is None:
         return None
     X = judged_states(solution, states)
-    rel = relative_error(solution.error_estimate(X), solution.value(X, 0.0), solution.temperature)
+    rel = solution.embedded.relative_error(solution, X)
     if len(rel) == 0:
         return Assessment(np.inf, np.full(solution.grid.ndim, np.nan), np.inf, 1.0, 0)
     worst = int(np.argmax(rel))
