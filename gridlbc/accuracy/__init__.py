@@ -15,8 +15,10 @@ ones.
 from .certified import (
     CERTIFICATE_LEVEL,
     CERTIFICATE_SAMPLES,
+    CERTIFICATE_STEPS,
     CERTIFIED_STATES,
     certifiable,
+    certificate_work,
     certified_error,
 )
 from .estimate import (
@@ -67,6 +69,7 @@ __all__ = [
     "ASYMPTOTIC",
     "CERTIFICATE_LEVEL",
     "CERTIFICATE_SAMPLES",
+    "CERTIFICATE_STEPS",
     "CERTIFIED_STATES",
     "DEFAULT_TOLERANCE",
     "QUANTILE",
@@ -81,6 +84,7 @@ __all__ = [
     "axis_shares",
     "cells",
     "certifiable",
+    "certificate_work",
     "certified_error",
     "check_accuracy",
     "check_scalar",

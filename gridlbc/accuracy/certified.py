@@ -28,15 +28,31 @@ CERTIFICATE_LEVEL = 0.95
 """The confidence level of each state's certified interval (:func:`certified_error`)."""
 
 
+CERTIFICATE_STEPS = 300
+"""The certificates' first Euler–Maruyama step is T / this (:func:`certified_error`)."""
+
+
+def certificate_work(n_states: int) -> int:
+    """The sample-steps of the first certificates at ``n_states`` states: samples × (the steps at
+    Δt_c and at 2Δt_c) × states (:func:`certified_error`)."""
+    return CERTIFICATE_SAMPLES * (CERTIFICATE_STEPS + CERTIFICATE_STEPS // 2) * n_states
+
+
 def certifiable(solution, states) -> bool:
     """Whether :func:`solve_to_tolerance` certifies the user's ``states`` (:func:`certified_error`)
     after a round whose estimate missed: where the embedded levels do not converge at first order
     (the estimate is then rough in either direction: far above the error on 4-D grids of a few
-    dozen nodes per axis) and the user gave at most :data:`CERTIFIED_STATES` states."""
+    dozen nodes per axis), the user gave at most :data:`CERTIFIED_STATES` states, and the round
+    cost at least as much as the certificates would: its node-steps (nodes × steps) against their
+    sample-steps (:func:`certificate_work`), each an interpolation or a stencil of about the same
+    cost. Where a round is cheaper, the next one is the cheaper way to learn more (on a 32² grid
+    the certificates took a hundred times as long as the round)."""
     embedded = solution.embedded
     if states is None or embedded is None or embedded.converging:
         return False
-    return len(judged_states(solution, states)) <= CERTIFIED_STATES
+    n = len(judged_states(solution, states))
+    work = solution.grid.size * solution.diagnostics.steps
+    return n <= CERTIFIED_STATES and work >= certificate_work(n)
 
 
 def certified_error(solution, X: np.ndarray, tol: float) -> float:
@@ -74,7 +90,7 @@ def certified_error(solution, X: np.ndarray, tol: float) -> float:
 
     v = np.asarray(solution.value(X, 0.0), dtype=float).reshape(-1)
     scale = np.maximum(np.abs(v), solution.temperature)
-    n, dt = CERTIFICATE_SAMPLES, solution.problem.horizon / 300
+    n, dt = CERTIFICATE_SAMPLES, solution.problem.horizon / CERTIFICATE_STEPS
     halvings = more = 0
     while True:
         with warnings.catch_warnings():

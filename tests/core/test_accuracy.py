@@ -286,7 +286,21 @@ def test_certified_error_bounds_the_true_error_where_the_levels_do_not_converge(
     assert actual <= certified <= actual + 0.02
 
 
-def test_tol_certifies_the_users_states_where_the_levels_do_not_converge():
+def test_a_round_cheaper_than_the_certificates_is_not_certified():
+    # 41² at Δt = 0.5: a few thousand node-steps against the certificates' 450 000 sample-steps
+    # per state; the next round is the cheaper way on
+    problem = lq_point_mass(41)
+    solution = _quiet_solve(problem, dt=0.5)
+    assert not solution.embedded.converging
+    assert solution.grid.size * solution.diagnostics.steps < accuracy.certificate_work(1)
+    assert not accuracy.certifiable(solution, STATES)
+
+
+def test_tol_certifies_the_users_states_where_the_levels_do_not_converge(monkeypatch):
+    import gridlbc.accuracy.certified as certified
+
+    # a round as costly as the certificates (here they are made to cost nothing)
+    monkeypatch.setattr(certified, "certificate_work", lambda n_states: 0)
     problem = lq_point_mass(41)
     solution = _quiet_solve(problem, tol=0.05, states=STATES, dt=0.5)
     (only,) = solution.refinement  # the certificates proved tol in the first round
