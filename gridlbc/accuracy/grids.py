@@ -38,9 +38,9 @@ def cells(axis: Axis) -> int:
     return axis.n if axis.periodic else axis.n - 1
 
 
-def phase_pair(grid: Grid, axes=None) -> tuple[Grid, Grid] | None:
+def phase_pair(grid: Grid) -> tuple[Grid, Grid] | None:
     """Two grids of about twice the spacing whose cell counts add up to the grid's along each axis
-    (or along the given ``axes`` only) without being equal: c₁ + c₂ = C with c₁ = (C − 1)/2 for
+    without being equal: c₁ + c₂ = C with c₁ = (C − 1)/2 for
     an odd count C and c₁ = C/2 − 1 for an even one; None where a grid would be too coarse (three
     nodes, four on a periodic axis).
 
@@ -56,13 +56,10 @@ def phase_pair(grid: Grid, axes=None) -> tuple[Grid, Grid] | None:
     The estimate reads abs(v_c₁ − v_c₂) beside the embedded difference
     (:meth:`EmbeddedEstimate.difference`). Where C is odd (an odd periodic axis, an even closed
     one) the embedded axis is itself the one of c₁ cells."""
-    chosen = range(grid.ndim) if axes is None else axes
     pair: list[list[Axis]] = [[], []]
-    for i, a in enumerate(grid.axes):
+    for a in grid.axes:
         C = cells(a)
-        counts = (C, C) if i not in chosen else ((C - 1) // 2, (C + 1) // 2)
-        if i in chosen and C % 2 == 0:
-            counts = (C // 2 - 1, C // 2 + 1)
+        counts = ((C - 1) // 2, (C + 1) // 2) if C % 2 else (C // 2 - 1, C // 2 + 1)
         for side, c in zip(pair, counts, strict=True):
             n = c if a.periodic else c + 1
             if n < (4 if a.periodic else 3):
