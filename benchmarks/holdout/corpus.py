@@ -562,6 +562,32 @@ def rotor_pit_off():
     return Problem(Pendulum(gravity=0.0), grid, 5.0, cost, state_cost=cost, temperature=0.005)
 
 
+def mass_pit_centre():
+    """mass_pit's point mass and pit (w = 0.04, λ = 0.005, T = 5, 201 × 201 closed nodes over
+    [−2, 2] × [−4, 4]) with the pit at x = 0.01: midway between the nodes 0 and 0.02 next to the
+    centre of the odd closed axis, where the two grids of the pair (99 and 101 cells) miss it by
+    about a quarter of their cell each (0.253 and 0.248), as the embedded grid does (0.25)."""
+    grid = _grid((-2, 2, 201), (-4, 4, 201))
+
+    def cost(x):
+        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - 0.01) / 0.04) ** 2)) + 0.05 * x[:, 1] ** 2
+
+    return Problem(PointMass(), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+
+
+def mass_pit_wall():
+    """mass_pit's point mass and pit on 200 × 201 closed nodes (the first axis even: 199 cells)
+    with the pit near the wall x = −2, midway between the nodes 10 and 11 (x = −2 + 10.5 h): the
+    pair's grids (99 and 100 cells) miss it by 0.224 and 0.276 of their cell."""
+    grid = _grid((-2, 2, 200), (-4, 4, 201))
+    centre = -2 + 10.5 * 4 / 199
+
+    def cost(x):
+        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - centre) / 0.04) ** 2)) + 0.05 * x[:, 1] ** 2
+
+    return Problem(PointMass(), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+
+
 def _s(*rows) -> np.ndarray:
     return np.array(rows, dtype=float)
 
@@ -798,6 +824,28 @@ MEMBERS: tuple[Member, ...] = (
         cert_dt=0.002,
         fast=True,
         tags=("low temperature", "narrow cost", "periodic"),
+    ),
+    Member(
+        "mass_pit_centre",
+        mass_pit_centre,
+        _s((0.2, 0.0), (0.8, 1.0), (-1.0, -1.0)),
+        "mass_pit with its pit at x = 0.01, midway between two nodes next to the centre of the "
+        "odd closed axis, where both grids of the pair miss it by a quarter of their cell "
+        "(stranger round 6: 15 % high with an estimate of 3.8 %, no warning)",
+        cert_dt=0.002,
+        fast=True,
+        tags=("low temperature", "narrow cost", "closed"),
+    ),
+    Member(
+        "mass_pit_wall",
+        mass_pit_wall,
+        _s((-1.6, 0.0), (-1.0, 1.0), (-0.5, -1.0)),
+        "mass_pit on 200 × 201 nodes with its pit midway between two nodes near the wall x = −2, "
+        "where the pair's grids miss it by 0.22 and 0.28 of their cell (stranger round 6: 16 % "
+        "high with an estimate of 2.5 %, no warning)",
+        cert_dt=0.002,
+        fast=True,
+        tags=("low temperature", "narrow cost", "closed"),
     ),
 )
 
