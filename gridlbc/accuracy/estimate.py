@@ -196,9 +196,9 @@ class EmbeddedEstimate:
         return self._read(solution, x, t)[1]
 
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
-        """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t`` (:meth:`difference`),
-        with q = ``order`` where the relative difference is at most :data:`ASYMPTOTIC` and 1
-        elsewhere."""
+        """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t``, with q = ``order``
+        where the relative difference is at most :data:`ASYMPTOTIC` and 1 elsewhere, and at
+        least the pair's difference abs(v_c₁ − v_c₂), undivided."""
         return self._read(solution, x, t)[2]
 
     def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
@@ -223,12 +223,16 @@ class EmbeddedEstimate:
 
 def _local(v, embedded, pair, solution, order: float) -> tuple[np.ndarray, np.ndarray]:
     """The difference and the local term (:meth:`EmbeddedEstimate.local`) from the values of the
-    solve, of the embedded solve and of the ``pair`` (or None) at the same states."""
+    solve, of the embedded solve and of the ``pair`` (or None) at the same states. Only the
+    embedded difference is divided by 2^q − 1: the pair's is not a difference between the
+    spacings h and 2h but how much a solve at 2h moves with where its nodes fall, an error the
+    grid shares, not a multiple of it."""
     difference = np.abs(embedded - v)
+    local = richardson(difference, relative_error(difference, v, solution.temperature), order)
     if pair is not None:
-        difference = np.maximum(difference, np.abs(pair[0] - pair[1]))
-    relative = relative_error(difference, v, solution.temperature)
-    return difference, richardson(difference, relative, order)
+        moved = np.abs(pair[0] - pair[1])
+        difference, local = np.maximum(difference, moved), np.maximum(local, moved)
+    return difference, local
 
 
 def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEstimate:
