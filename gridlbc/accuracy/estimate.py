@@ -27,12 +27,13 @@ evaluated at any states by the same interpolation as the values, with
   agree (their difference changes sign) the error is not smaller, relative to v, than the
   typical one (:func:`embedded_estimate`).
 
-abs(v_2h − v_h) is the larger of the embedded difference and abs(v_c₁ − v_c₂), the difference
-between the solves (step 2Δt) on a pair of grids whose cell counts add up to the grid's
-(:func:`phase_pair`): the embedded grid misses a narrow feature midway between two nodes by as
-much as the grid does, and the pair's difference is what sees that error. The pair costs one or
-two more coarse solves (one where every axis has an odd cell count: its first grid is then the
-embedded one).
+The estimate is also at least abs(v_c₁ − v_c₂), undivided: the difference between the solves
+(step 2Δt) on a pair of grids whose cell counts add up to the grid's (:func:`phase_pair`). The
+embedded grid misses a narrow feature midway between two nodes by as much as the grid does, and
+the pair's difference is what sees that error; it is how far a coarse solve moves with where its
+nodes fall, not a difference between h and 2h, so it is not divided by 2^q − 1. The pair costs
+one or two more coarse solves (one where every axis has an odd cell count: its first grid is
+then the embedded one).
 
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
