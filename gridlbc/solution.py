@@ -233,8 +233,9 @@ class Solution(FieldEvaluation):
         """An a-posteriori estimate of ``abs(v(x, t) − v_exact(x, t))`` (docs page
         :doc:`accuracy`): the Richardson estimate ``abs(v_2h(x, t) − v(x, t)) / (2^q − 1)``
         from the embedded solve (grid spacing 2h, step 2Δt) with the observed order q where the
-        two are close (1 elsewhere), and at least the typical relative error
-        (:class:`gridlbc.accuracy.EmbeddedEstimate`).
+        two are close (1 elsewhere), at least the difference between the solves on the pair of
+        :func:`gridlbc.accuracy.phase_pair` (which sees features between nodes), and at least
+        the typical relative error (:class:`gridlbc.accuracy.EmbeddedEstimate`).
 
         Parameters
         ----------
