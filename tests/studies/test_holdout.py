@@ -80,8 +80,8 @@ def test_fast_members_predict_what_the_table_says():
 def test_a_pit_between_nodes_of_an_axis_that_is_not_nested_is_not_silent(truths, periodic, n):
     """rotor_pit: the pit's centre lies midway between two nodes (an odd periodic axis, or an
     even closed one over the same circle: the same nodes plus one at +π), and the embedded axis
-    of n // 2 nodes has a node at it. Without the second embedded grid (twin_grid) the estimate
-    was half of a 10 % error and the solve silent; now it must be at least half the error
+    of n // 2 nodes has a node at it. Without the pair of grids (phase_pair) the estimate was
+    three quarters of a 10 % error and the solve silent; now it must be at least half the error
     against the certified optimum at every state (the corpus calibration target) and warn. The
     closed variant is judged against the periodic truth: reflection at ±π is never reached from
     these states by a rotor held in the pit at λ = 0.005."""
