@@ -38,8 +38,10 @@ then the embedded one).
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
 the value's curvature. It cannot see an error that all the solves share: a box too small for the
-process (reflection at a closed axis acts the same on each), or a feature that every grid misses
-entirely. Where the observed order is below 1 the coarser solves are not converging at first
+process (reflection at a closed axis acts the same on each), a feature that every grid misses
+entirely, or a narrow feature midway between two nodes where the pair's two offsets are equal
+(next to the ends of an axis, and its centre where its cell count is even: :func:`phase_pair`).
+Where the observed order is below 1 the coarser solves are not converging at first
 order: they are too coarse to say how accurate this grid is, and the estimate is rough in either
 direction (far above the error on 4-D grids of a few dozen nodes per axis, below it where the
 solves converge slowly: half the error on a first-exit pendulum swing-up), and the warning says

@@ -52,7 +52,9 @@ def phase_pair(grid: Grid) -> tuple[Grid, Grid] | None:
     nearest node measured in cells of each grid, f = xC/L, a = xc₁/L and b = xc₂/L, satisfy
     f = a + b: where the grid's nodes are aligned with the feature (f an integer) the two
     coarse grids miss it by the same distance and agree, and where the grid misses it (f near ½)
-    their offsets a and ½ − a differ and so do their solves, unless both are a quarter cell off.
+    their offsets a and ½ − a differ and so do their solves, unless both are a quarter cell off:
+    a ≡ b where x(c₂ − c₁)/L is an integer, next to the ends of the axis and, for an even C
+    (c₂ − c₁ = 2), next to its centre, where the pair is blind to such a feature.
     The estimate reads abs(v_c₁ − v_c₂) beside the embedded difference
     (:meth:`EmbeddedEstimate.difference`). Where C is odd (an odd periodic axis, an even closed
     one) the embedded axis is itself the one of c₁ cells."""
