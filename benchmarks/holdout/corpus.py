@@ -501,14 +501,16 @@ def cold_upright():
     return Problem(Pendulum(), grid, 2.5, cost, state_cost=cost, temperature=0.02)
 
 
-def rotor_in_well(width: float, horizon: float, temperature: float) -> Problem:
-    """A rotor (a pendulum without gravity) on 201 periodic nodes held in a well of state and
-    terminal cost 3(1 − exp(−θ²/2w²)) + 0.05ω², w = ``width``, centred at θ = 0: midway between
-    two nodes of the odd axis."""
-    grid = _grid((-PI, PI, 201, True), (-6, 6, 201))
+def rotor_in_well(
+    width: float, horizon: float, temperature: float, centre: float = 0.0, nodes: int = 201
+) -> Problem:
+    """A rotor (a pendulum without gravity) on ``nodes`` periodic nodes held in a well of state
+    and terminal cost 3(1 − exp(−Δθ²/2w²)) + 0.05ω², w = ``width``, Δθ = θ − ``centre`` wrapped;
+    θ = 0 lies midway between two nodes of an odd axis."""
+    grid = _grid((-PI, PI, nodes, True), (-6, 6, 201))
 
     def cost(x):
-        theta = (x[:, 0] + PI) % (2 * PI) - PI
+        theta = (x[:, 0] - centre + PI) % (2 * PI) - PI
         return 3 * (1 - np.exp(-0.5 * (theta / width) ** 2)) + 0.05 * x[:, 1] ** 2
 
     return Problem(
@@ -524,68 +526,59 @@ def rotor_pit():
     return rotor_in_well(0.07, 5.0, 0.005)
 
 
-def mass_pit():
-    """A point mass on 201 × 201 closed nodes over [−2, 2] × [−4, 4] held in a pit of state and
-    terminal cost 3(1 − exp(−(x − 0.37)²/2w²)) + 0.05v², w = 0.04 (two cells), λ = 0.005, T = 5.
-    The pit's centre lies midway between the nodes 0.36 and 0.38 of the odd (nested) axis, and
-    0.36 is a node of its embedded axis too."""
-    grid = _grid((-2, 2, 201), (-4, 4, 201))
+def mass_in_pit(
+    centre: float,
+    nodes: int = 201,
+    width: float = 0.04,
+    horizon: float = 5.0,
+    temperature: float = 0.005,
+    terminal_only: bool = False,
+) -> Problem:
+    """A point mass on ``nodes`` × 201 closed nodes over [−2, 2] × [−4, 4] in a pit of position
+    3(1 − exp(−(x − c)²/2w²)), c = ``centre``, w = ``width`` (two cells by default), plus 0.05v²
+    as state and terminal cost; ``terminal_only``: the pit plus 0.5v² as terminal cost only."""
+    grid = _grid((-2, 2, nodes), (-4, 4, 201))
+    speed = 0.5 if terminal_only else 0.05
 
     def cost(x):
-        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - 0.37) / 0.04) ** 2)) + 0.05 * x[:, 1] ** 2
+        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - centre) / width) ** 2)) + speed * x[:, 1] ** 2
 
-    return Problem(PointMass(), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+    if terminal_only:
+        return Problem(PointMass(), grid, horizon, cost, temperature=temperature)
+    return Problem(PointMass(), grid, horizon, cost, state_cost=cost, temperature=temperature)
+
+
+def mass_pit():
+    """The pit at x = 0.37, midway between the nodes 0.36 and 0.38 of the odd (nested) axis;
+    0.36 is a node of its embedded axis too."""
+    return mass_in_pit(0.37)
 
 
 def terminal_pit():
-    """A point mass on 201 × 201 closed nodes over [−2, 2] × [−4, 4] with a terminal cost only,
-    a pit 3(1 − exp(−(x − 0.37)²/2w²)) + 0.5v², w = 0.04, at T = 0.5, λ = 0.05: the pit's centre
-    lies midway between the nodes 0.36 and 0.38, and 0.36 is a node of the embedded axis."""
-    grid = _grid((-2, 2, 201), (-4, 4, 201))
-
-    def g(x):
-        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - 0.37) / 0.04) ** 2)) + 0.5 * x[:, 1] ** 2
-
-    return Problem(PointMass(), grid, 0.5, g, temperature=0.05)
+    """The pit at x = 0.37 as terminal cost only, T = 0.5, λ = 0.05 (between the nodes 0.36 and
+    0.38; 0.36 is a node of the embedded axis)."""
+    return mass_in_pit(0.37, horizon=0.5, temperature=0.05, terminal_only=True)
 
 
 def rotor_pit_off():
     """The rotor_pit rotor (λ = 0.005, T = 5, pit 0.07 rad wide) with its pit at θ = 0.7, on 202
     periodic nodes: the centre lies midway between two nodes of the even (nested) axis, and one
     of them is a node of its embedded axis."""
-    grid = _grid((-PI, PI, 202, True), (-6, 6, 201))
-
-    def cost(x):
-        theta = (x[:, 0] - 0.7 + PI) % (2 * PI) - PI
-        return 3 * (1 - np.exp(-0.5 * (theta / 0.07) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return Problem(Pendulum(gravity=0.0), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+    return rotor_in_well(0.07, 5.0, 0.005, centre=0.7, nodes=202)
 
 
 def mass_pit_centre():
-    """mass_pit's point mass and pit (w = 0.04, λ = 0.005, T = 5, 201 × 201 closed nodes over
-    [−2, 2] × [−4, 4]) with the pit at x = 0.01: midway between the nodes 0 and 0.02 next to the
-    centre of the odd closed axis, where the two grids of the pair (99 and 101 cells) miss it by
-    about a quarter of their cell each (0.253 and 0.248), as the embedded grid does (0.25)."""
-    grid = _grid((-2, 2, 201), (-4, 4, 201))
-
-    def cost(x):
-        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - 0.01) / 0.04) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return Problem(PointMass(), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+    """The pit at x = 0.01: midway between the nodes 0 and 0.02 next to the centre of the odd
+    closed axis, where the two grids of the pair (99 and 101 cells) miss it by about a quarter of
+    their cell each (0.253 and 0.248), as the embedded grid does (0.25)."""
+    return mass_in_pit(0.01)
 
 
 def mass_pit_wall():
-    """mass_pit's point mass and pit on 200 × 201 closed nodes (the first axis even: 199 cells)
-    with the pit near the wall x = −2, midway between the nodes 10 and 11 (x = −2 + 10.5 h): the
-    pair's grids (99 and 100 cells) miss it by 0.224 and 0.276 of their cell."""
-    grid = _grid((-2, 2, 200), (-4, 4, 201))
-    centre = -2 + 10.5 * 4 / 199
-
-    def cost(x):
-        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - centre) / 0.04) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return Problem(PointMass(), grid, 5.0, cost, state_cost=cost, temperature=0.005)
+    """The pit on 200 closed nodes (199 cells) near the wall x = −2, midway between the nodes 10
+    and 11 (x = −2 + 10.5 h): the pair's grids (99 and 100 cells) miss it by 0.224 and 0.276 of
+    their cell."""
+    return mass_in_pit(-2 + 10.5 * 4 / 199, nodes=200)
 
 
 def _s(*rows) -> np.ndarray:

@@ -178,10 +178,12 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
+import strangers_round4 as r4  # noqa: E402
+from corpus import mass_in_pit, rotor_in_well  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Axis, Grid, Problem, Quadratic  # noqa: E402
-from gridlbc.systems import ControlAffineSystem, LinearSystem, Pendulum, PointMass  # noqa: E402
+from gridlbc.systems import ControlAffineSystem, LinearSystem, PointMass  # noqa: E402
 
 OUT = HERE / "strangers_round5_results"
 PI = np.pi
@@ -193,23 +195,10 @@ def _wrap(a):
 
 
 # ---- (1) a narrow pit of state and terminal cost off the axis centre ----
-def rotor_pit_at(centre, n=201, width=0.07, horizon=5.0, temperature=0.005):
-    """A rotor (pendulum without gravity) in a Gaussian pit 3(1 − exp(−Δθ²/2w²)) + 0.05ω²
-    centred at θ = ``centre``, on ``n`` periodic nodes × 201 velocity nodes."""
-
-    def cost(x):
-        x = np.atleast_2d(x)
-        d = _wrap(x[:, 0] - centre)
-        return 3 * (1 - np.exp(-0.5 * (d / width) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return Problem(
-        Pendulum(gravity=0.0),
-        G((-PI, PI, n, True), (-6, 6, 201)),
-        horizon,
-        cost,
-        state_cost=cost,
-        temperature=temperature,
-    )
+def rotor_pit_at(centre, n=201):
+    """The corpus's rotor in a pit 0.07 rad wide (λ = 0.005, T = 5) centred at θ = ``centre``, on
+    ``n`` periodic nodes × 201 velocity nodes (:func:`corpus.rotor_in_well`)."""
+    return rotor_in_well(0.07, 5.0, 0.005, centre=centre, nodes=n)
 
 
 def rotor_pit_07():
@@ -230,23 +219,8 @@ def rotor_pit_seam():
     return rotor_pit_at(3.125)
 
 
-def mass_pit_at(centre, n=201, width=0.04, horizon=5.0, temperature=0.005):
-    """A point mass in a Gaussian pit of position 3(1 − exp(−Δx²/2w²)) + 0.05v² (state and
-    terminal cost) at x = ``centre``, on ``n`` closed nodes over [−2, 2] × 201 over [−4, 4]."""
-
-    def cost(x):
-        x = np.atleast_2d(x)
-        d = x[:, 0] - centre
-        return 3 * (1 - np.exp(-0.5 * (d / width) ** 2)) + 0.05 * x[:, 1] ** 2
-
-    return Problem(
-        PointMass(),
-        G((-2, 2, n), (-4, 4, 201)),
-        horizon,
-        cost,
-        state_cost=cost,
-        temperature=temperature,
-    )
+mass_pit_at = mass_in_pit
+"""The corpus's point mass in a pit of position at x = ``centre`` (:func:`corpus.mass_in_pit`)."""
 
 
 def mass_pit_odd():
@@ -264,30 +238,19 @@ def mass_well():
 def mass_pit_even():
     """Even closed axis (200): pit at x = 0.37 (0.09 h from a node; 0.69 h and 0.50 h from the
     two embedded axes' nearest)."""
-    return mass_pit_at(0.37, n=200)
+    return mass_pit_at(0.37, nodes=200)
 
 
 def mass_pit_even_mid():
     """Even closed axis (200): pit at x = −2 + 117.5 h = 0.3618, midway between two nodes."""
-    return mass_pit_at(-2 + 117.5 * 4 / 199, n=200)
+    return mass_pit_at(-2 + 117.5 * 4 / 199, nodes=200)
 
 
-class RotorSlider(ControlAffineSystem):
-    """(θ, ω, y): a rotor (θ̈ = u₁) and a slider driven directly (ẏ = u₂)."""
+class RotorSlider(r4.LaneMass):
+    """(θ, ω, y): round 4's lane mass with its first coordinate an angle (θ̈ = u₁, ẏ = u₂)."""
 
-    state_dim, control_dim, state_names = 3, 2, ("theta", "omega", "y")
+    state_names = ("theta", "omega", "y")
     angle_axes = (0,)
-
-    def drift(self, x):
-        x = self._states(x)
-        return np.stack([x[:, 1], np.zeros(len(x)), np.zeros(len(x))], 1)
-
-    def input_matrix(self, x):
-        x = self._states(x)
-        B = np.zeros((x.shape[0], 3, 2))
-        B[:, 1, 0] = 1.0
-        B[:, 2, 1] = 1.0
-        return B
 
 
 def pit_3d():
@@ -330,25 +293,15 @@ def pit_3d_nested():
 
 
 def terminal_pit_at(centre):
-    """terminal_pit with its pit at x = ``centre`` (the mechanism check)."""
-
-    def g(x):
-        x = np.atleast_2d(x)
-        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - centre) / 0.04) ** 2)) + 0.5 * x[:, 1] ** 2
-
-    return Problem(PointMass(), G((-2, 2, 201), (-4, 4, 201)), 0.5, g, temperature=0.05)
+    """The corpus's terminal_pit with its pit at x = ``centre`` (the mechanism check)."""
+    return mass_in_pit(centre, horizon=0.5, temperature=0.05, terminal_only=True)
 
 
 def terminal_pit():
     """Terminal cost only, T = 0.5: a narrow pit 3(1 − exp(−(x − 0.37)²/2w²)) + 0.5v², w = 0.04,
     on 201 closed nodes (between the nodes 0.36 and 0.38; 0.36 is a node of the embedded axis),
     λ = 0.05."""
-
-    def g(x):
-        x = np.atleast_2d(x)
-        return 3 * (1 - np.exp(-0.5 * ((x[:, 0] - 0.37) / 0.04) ** 2)) + 0.5 * x[:, 1] ** 2
-
-    return Problem(PointMass(), G((-2, 2, 201), (-4, 4, 201)), 0.5, g, temperature=0.05)
+    return terminal_pit_at(0.37)
 
 
 # ---- (2) other mechanisms ----

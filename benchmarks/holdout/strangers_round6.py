@@ -198,7 +198,7 @@ def mass_pit_wall():
     """mass_pit_centre's pit near the wall x = −2 of an even closed axis (200 nodes, C = 199,
     odd: no centre node), midway between the nodes 10 and 11 (x = −2 + 10.5 h = −1.789): the
     pair's offsets 0.224 and 0.276 (the embedded axis is c₁'s)."""
-    return r5.mass_pit_at(-2 + 10.5 * 4 / 199, n=200)
+    return r5.mass_pit_at(-2 + 10.5 * 4 / 199, nodes=200)
 
 
 def rotor_pit_seam():
@@ -257,7 +257,7 @@ def few_nodes():
     """A point mass on 41 × 101 closed nodes over [−2, 2] × [−4, 4] (h = 0.1 in x), pit
     w = 0.1 (one cell) at x = 0.05, midway next to the centre (pair offsets 0.263/0.238),
     λ = 0.02, T = 4."""
-    return r5.mass_pit_at(0.05, n=41, width=0.1, horizon=4.0, temperature=0.02).replace(
+    return r5.mass_pit_at(0.05, nodes=41, width=0.1, horizon=4.0, temperature=0.02).replace(
         grid=G((-2, 2, 41), (-4, 4, 101))
     )
 
@@ -361,7 +361,7 @@ for _x, _n, _X in [  # the position and node-count sweeps (one change each)
     (-1.79, 201, X_WALL),
 ]:
     P6[f"mass_pit_{_x:.4g}_{_n}"] = (
-        lambda _x=_x, _n=_n: r5.mass_pit_at(_x, n=_n),
+        lambda _x=_x, _n=_n: r5.mass_pit_at(_x, nodes=_n),
         _X,
         0.002,
         2.0,

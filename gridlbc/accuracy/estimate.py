@@ -210,7 +210,7 @@ class EmbeddedEstimate:
         v, _, local = self._read(solution, x, t)
         return np.maximum(local, self.floor * np.maximum(np.abs(v), solution.temperature))
 
-    def relative_error(self, solution: Solution, x, t=0.0) -> np.ndarray:
+    def relative(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`)."""
         v, _, local = self._read(solution, x, t)
         scale = np.maximum(np.abs(v), solution.temperature)
@@ -220,18 +220,20 @@ class EmbeddedEstimate:
         """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
         v = solution.value(x, t)
         pair = None if self.pair is None else [side.value(x, t) for side in self.pair]
-        difference, local = _local(v, self.solution.value(x, t), pair, solution, self.order)
+        difference, local = _local(
+            v, self.solution.value(x, t), pair, solution.temperature, self.order
+        )
         return v, difference, local
 
 
-def _local(v, embedded, pair, solution, order: float) -> tuple[np.ndarray, np.ndarray]:
+def _local(v, embedded, pair, temperature: float, order: float) -> tuple[np.ndarray, np.ndarray]:
     """The difference and the local term (:meth:`EmbeddedEstimate.local`) from the values of the
     solve, of the embedded solve and of the ``pair`` (or None) at the same states. Only the
     embedded difference is divided by 2^q − 1: the pair's is not a difference between the
     spacings h and 2h but how much a solve at 2h moves with where its nodes fall, an error the
     grid shares, not a multiple of it."""
     difference = np.abs(embedded - v)
-    local = richardson(difference, relative_error(difference, v, solution.temperature), order)
+    local = richardson(difference, relative_error(difference, v, temperature), order)
     if pair is not None:
         moved = np.abs(pair[0] - pair[1])
         difference, local = np.maximum(difference, moved), np.maximum(local, moved)
@@ -267,7 +269,7 @@ def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEs
         observed = observed_order(np.abs(v2 - v), np.abs(coarser.value(X, 0.0) - v2))
     order = clipped_order(observed)
     sides = None if pair is None else [side.value(X, 0.0) for side in pair]
-    _, local = _local(v, v2, sides, solution, order)
+    _, local = _local(v, v2, sides, solution.temperature, order)
     relative = relative_error(local, v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
@@ -426,7 +428,7 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     if solution.embedded is None:
         return None
     X = judged_states(solution, states)
-    rel = solution.embedded.relative_error(solution, X)
+    rel = solution.embedded.relative(solution, X)
     if len(rel) == 0:
         return Assessment(np.inf, np.full(solution.grid.ndim, np.nan), np.inf, 1.0, 0)
     worst = int(np.argmax(rel))
