@@ -209,7 +209,7 @@ class Solution(FieldEvaluation):
     diagnostics: SolveDiagnostics
     operator: OperatorSignature
     representation: Representation = field(default_factory=LinearZ)
-    _B_cache: dict = field(default_factory=dict, repr=False, compare=False)
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
     embedded: EmbeddedEstimate | None = field(default=None, repr=False, compare=False)
     refinement: tuple = field(default=(), repr=False, compare=False)
 
@@ -234,8 +234,10 @@ class Solution(FieldEvaluation):
         :doc:`accuracy`): the Richardson estimate ``abs(v_2h(x, t) − v(x, t)) / (2^q − 1)``
         from the embedded solve (grid spacing 2h, step 2Δt) with the observed order q where the
         two are close (1 elsewhere), at least the difference between the solves on the pair of
-        :func:`gridlbc.accuracy.phase_pair` (which sees features between nodes), and at least
-        the typical relative error (:class:`gridlbc.accuracy.EmbeddedEstimate`).
+        :func:`gridlbc.accuracy.phase_pair` (which sees features between nodes), at least
+        the typical relative error (:class:`gridlbc.accuracy.EmbeddedEstimate`), and at least
+        the cost that the grid's interpolants of the costs add along the solve's paths
+        (:func:`gridlbc.accuracy.cost_gap`, sampled with a fixed seed from 16 paths per state).
 
         Parameters
         ----------
@@ -285,10 +287,10 @@ class Solution(FieldEvaluation):
     def _input_matrix_at(self, nodes: np.ndarray) -> np.ndarray:
         system = self.problem.system
         if system.linear_matrices() is not None:  # constant B: evaluate once
-            B = self._B_cache.get("constant")
+            B = self._cache.get("input_matrix")
             if B is None:
                 B = np.asarray(system.input_matrix(self.grid.nodes()[:1]), dtype=float)[0]
-                self._B_cache["constant"] = B
+                self._cache["input_matrix"] = B
             return np.broadcast_to(B, nodes.shape + B.shape)
         coords = self.grid.node_coordinates(nodes.ravel())
         B = np.asarray(system.input_matrix(coords), dtype=float)

@@ -4,6 +4,8 @@
 - :mod:`gridlbc.accuracy.grids`: the embedded grids (every other node) and the finer ones;
 - :mod:`gridlbc.accuracy.estimate`: the embedded estimate, read at the states that matter, and
   the default solve's warning;
+- :mod:`gridlbc.accuracy.paths`: what the grid cannot see of the costs, sampled along the solve's
+  paths;
 - :mod:`gridlbc.accuracy.certified`: the error measured by certificates where the estimate
   cannot decide;
 - :mod:`gridlbc.accuracy.tolerance`: solves to a tolerance (``gridlbc.solve(problem, tol=...)``).
@@ -22,6 +24,8 @@ from .certified import (
     certified_error,
 )
 from .estimate import (
+    ASSESSED,
+    ASSESSED_PATHS,
     ASYMPTOTIC,
     DEFAULT_TOLERANCE,
     QUANTILE,
@@ -51,6 +55,7 @@ from .grids import (
     refined_grid,
     scaled_grid,
 )
+from .paths import PATH_SAMPLES, PATH_STEPS, cost_gap, terminal_gap
 from .tolerance import (
     Refinement,
     axes_to_refine,
@@ -66,12 +71,16 @@ from .tolerance import (
 )
 
 __all__ = [
+    "ASSESSED",
+    "ASSESSED_PATHS",
     "ASYMPTOTIC",
     "CERTIFICATE_LEVEL",
     "CERTIFICATE_SAMPLES",
     "CERTIFICATE_STEPS",
     "CERTIFIED_STATES",
     "DEFAULT_TOLERANCE",
+    "PATH_SAMPLES",
+    "PATH_STEPS",
     "QUANTILE",
     "SAMPLE",
     "Assessment",
@@ -90,6 +99,7 @@ __all__ = [
     "check_scalar",
     "check_tolerance",
     "clipped_order",
+    "cost_gap",
     "embedded_estimate",
     "embedded_grid",
     "finish",
@@ -109,5 +119,6 @@ __all__ = [
     "solve_to_tolerance",
     "states_that_matter",
     "statistic",
+    "terminal_gap",
     "unsteerable",
 ]

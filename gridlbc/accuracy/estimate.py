@@ -35,12 +35,17 @@ nodes fall, not a difference between h and 2h, so it is not divided by 2^q − 1
 one or two more coarse solves (one where every axis has an odd cell count: its first grid is
 then the embedded one).
 
+The estimate is also at least abs(γ(x, t)), the cost that the grid's interpolants of q and g add
+along the solve's own paths (:mod:`gridlbc.accuracy.paths`): it sees a cost narrower than a cell
+wherever the nodes fall, also where the pair's two offsets are equal and every coarser grid
+misses the feature alike (next to the ends of an axis, and its centre where its cell count is
+even: :func:`phase_pair`).
+
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
-the value's curvature. It cannot see an error that all the solves share: a box too small for the
-process (reflection at a closed axis acts the same on each), a feature that every grid misses
-entirely, or a narrow feature midway between two nodes where the pair's two offsets are equal
-(next to the ends of an axis, and its centre where its cell count is even: :func:`phase_pair`).
+the value's curvature. It cannot see an error that all the solves share and the paths do not
+feel: a box too small for the process (reflection at a closed axis acts the same on each), a
+feature that every grid misses and the paths step over.
 Where the observed order is below 1 the coarser solves are not converging at first
 order: they are too coarse to say how accurate this grid is, and the estimate is rough in either
 direction (far above the error on 4-D grids of a few dozen nodes per axis, below it where the
@@ -66,6 +71,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
+from .paths import PATH_SAMPLES, cost_gap
 
 if TYPE_CHECKING:
     from ..solution import Solution
@@ -85,8 +91,19 @@ ASYMPTOTIC = 0.15
 
 
 SAMPLE = 20_000
-"""At most this many of the states that matter are read (evenly spaced in the nodes' order):
-quantiles and medians of the estimate need no more, and a 4-D grid has millions."""
+"""At most this many of the states that matter give the floor (evenly spaced in the nodes'
+order): a median of the estimate needs no more, and a 4-D grid has millions."""
+
+
+ASSESSED = 256
+"""At most this many of the states that matter are judged against a tolerance (evenly spaced in
+the nodes' order): the estimate there samples paths from each (:mod:`gridlbc.accuracy.paths`),
+and a 90th percentile needs no more."""
+
+
+ASSESSED_PATHS = 4
+"""Paths per state from which the judged states' γ is sampled (:mod:`gridlbc.accuracy.paths`):
+their percentile averages the paths' noise over the states."""
 
 
 def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) -> np.ndarray:
@@ -99,9 +116,9 @@ def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) 
     return np.where(np.isfinite(value) & np.isfinite(out), out, np.inf)
 
 
-def states_that_matter(solution) -> np.ndarray:
+def states_that_matter(solution, limit: int = SAMPLE) -> np.ndarray:
     """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``
-    (at most :data:`SAMPLE` of them, evenly spaced).
+    (at most ``limit`` of them, evenly spaced).
 
     A task that ends (an exit set) counts every node outside the exit set instead: there the
     value is the cost of getting to E, largest where a task typically starts (far from E: a
@@ -113,6 +130,8 @@ def states_that_matter(solution) -> np.ndarray:
     ----------
     solution : Solution
         A grid solution.
+    limit : int
+        The most states returned.
 
     Returns
     -------
@@ -128,8 +147,8 @@ def states_that_matter(solution) -> np.ndarray:
     keep = np.flatnonzero(chosen)
     if len(keep) == 0:
         return np.empty((0, solution.grid.ndim))
-    if len(keep) > SAMPLE:
-        keep = keep[np.linspace(0, len(keep) - 1, SAMPLE).astype(np.int64)]
+    if len(keep) > limit:
+        keep = keep[np.linspace(0, len(keep) - 1, limit).astype(np.int64)]
     return solution.grid.node_coordinates(keep)
 
 
@@ -204,17 +223,24 @@ class EmbeddedEstimate:
         least the pair's difference abs(v_c₁ − v_c₂), undivided."""
         return self._read(solution, x, t)[2]
 
-    def error(self, solution: Solution, x, t=0.0) -> np.ndarray:
+    def error(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
-        relative to ``max(abs(v), λ)``."""
-        v, _, local = self._read(solution, x, t)
-        return np.maximum(local, self.floor * np.maximum(np.abs(v), solution.temperature))
+        relative to ``max(abs(v), λ)``, and at least abs(γ), the cost that the grid's
+        interpolants add along the solve's paths (:func:`~gridlbc.accuracy.paths.cost_gap`,
+        from ``samples`` paths per state)."""
+        return self._error(solution, x, t, samples)[1]
 
-    def relative(self, solution: Solution, x, t=0.0) -> np.ndarray:
+    def relative(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
         """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`)."""
+        v, error = self._error(solution, x, t, samples)
+        return relative_error(error, v, solution.temperature)
+
+    def _error(self, solution: Solution, x, t, samples: int) -> tuple[np.ndarray, np.ndarray]:
+        """v_h and :meth:`error` at ``x``."""
         v, _, local = self._read(solution, x, t)
-        scale = np.maximum(np.abs(v), solution.temperature)
-        return relative_error(np.maximum(local, self.floor * scale), v, solution.temperature)
+        floor = self.floor * np.maximum(np.abs(v), solution.temperature)
+        gap = np.abs(cost_gap(solution, x, t, samples))
+        return v, np.fmax(np.maximum(local, floor), gap)
 
     def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
@@ -387,9 +413,9 @@ def attach_estimates(solutions, levels: list, pairs=None) -> None:
 
 
 def judged_states(solution, states=None) -> np.ndarray:
-    """``states`` as ``(N, d)``, or :func:`states_that_matter` when None."""
+    """``states`` as ``(N, d)``, or :data:`ASSESSED` of :func:`states_that_matter` when None."""
     if states is None:
-        return states_that_matter(solution)
+        return states_that_matter(solution, ASSESSED)
     return np.atleast_2d(np.asarray(states, dtype=float))
 
 
@@ -428,7 +454,7 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     if solution.embedded is None:
         return None
     X = judged_states(solution, states)
-    rel = solution.embedded.relative(solution, X)
+    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS)
     if len(rel) == 0:
         return Assessment(np.inf, np.full(solution.grid.ndim, np.nan), np.inf, 1.0, 0)
     worst = int(np.argmax(rel))

@@ -103,6 +103,37 @@ def test_estimate_is_at_least_half_the_true_error_at_nine_in_ten_states(n):
     assert np.mean(estimate >= true_error / 2) >= 0.9
 
 
+def test_the_cost_gap_vanishes_for_costs_the_grid_represents_exactly():
+    """γ = E[∫ (I_h q − q) ds + (I_h g − g)(X_T)] along the solve's paths: the barycentric
+    interpolant reproduces affine functions (to rounding), so for affine q and g, positive on the
+    box, γ is zero at every state and time, and the estimate is the embedded one."""
+
+    def affine(x):
+        return 9.0 + x[:, 0] + 0.5 * x[:, 1]
+
+    problem = lq_point_mass(21).replace(state_cost=affine, terminal_cost=affine)
+    solution = _quiet_solve(problem)
+    for t in (0.0, 0.5, 1.0):
+        np.testing.assert_allclose(accuracy.cost_gap(solution, STATES, t), 0.0, atol=1e-12)
+        np.testing.assert_array_equal(
+            solution.error_estimate(STATES, t), solution.embedded.error(solution, STATES, t)
+        )
+
+
+def test_the_cost_gap_at_the_horizon_is_the_terminal_interpolants_error():
+    """At t = T, v(x, T) = I_h g(x): γ is (I_h g − g)(x), for g = 2 x₁² + x₂² at the midpoint of an
+    edge along x₁ exactly 2 (h/2)² (the chord of a parabola), zero at a node; the estimate is at
+    least that. The paths are seeded: the same states give the same γ."""
+    solution = _quiet_solve(lq_point_mass(21))
+    h = solution.grid.spacing[0]
+    x = np.array([[0.4 + h / 2, 1.2], [0.4, 1.2]])
+    np.testing.assert_allclose(accuracy.cost_gap(solution, x, 1.0), [h**2 / 2, 0.0], atol=1e-12)
+    assert solution.error_estimate(x, 1.0)[0] >= h**2 / 2
+    np.testing.assert_array_equal(
+        accuracy.cost_gap(solution, STATES), accuracy.cost_gap(solution, STATES)
+    )
+
+
 def test_a_long_step_warns_and_tol_brings_the_error_within_it():
     problem = lq_point_mass(41)
     with pytest.warns(g.ResolutionWarning, match="the estimated error of v exceeds"):

@@ -274,7 +274,10 @@ def test_default_certificate_of_a_grid_solution_holds_the_fine_grid_prediction()
     solution = g.solve(problem)
     x0 = np.array([0.8])
     predicted = float(solution.value(x0, 0.0))
-    assert float(solution.error_estimate(x0)) < 1e-6
+    # The estimate includes the cost that the barycentric interpolant of g adds along the
+    # solve's paths (gridlbc.accuracy.cost_gap): on average over a cell w h²/6 = 4.2e-6 here
+    # (w = 1, h = 0.005), which this fitted solve, exact for a quadratic log z, does not incur.
+    assert float(solution.error_estimate(x0)) < 1e-5
     cert = g.certify(problem, solution.policy, x0, n_samples=4000, seed=0, progress=False)
     assert cert.boundary == "reflect" and cert.trusted
     assert cert.left_box_fraction > 0.5  # the edge matters
