@@ -80,9 +80,10 @@ LINEAR_SOLVERS = ("auto", "direct", "bicgstab", "gmres")
   from zero: a few matrix products per iteration and no factorisation;
 - ``"gmres"``: restarted GMRES preconditioned by an incomplete LU factorisation, for systems on
   which BiCGSTAB stalls;
-- ``"auto"``: direct in one and two dimensions up to :data:`DIRECT_LIMIT` unknowns; otherwise
-  BiCGSTAB, and GMRES where BiCGSTAB does not converge (``benchmarks/stationary_solvers.py``
-  measures the choice, docs page :doc:`first_exit`).
+- ``"auto"``: direct in one and two dimensions up to :data:`DIRECT_LIMIT` unknowns, and beyond
+  it while the factorisation fits in half the available memory (:data:`BYTES_PER_NODE`);
+  otherwise BiCGSTAB, and GMRES where BiCGSTAB does not converge
+  (``benchmarks/stationary_solvers.py`` measures the choice, docs page :doc:`first_exit`).
 
 The residual bounds the iterative solves' error in z relative to its largest value, so
 v = −λ log z is accurate where z is not far below that (its error grows as λ · error / z): far
@@ -90,7 +91,13 @@ from the exit set, where v exceeds its minimum by many λ, the direct solve is t
 """
 
 DIRECT_LIMIT = 1_000_000
-"""Most unknowns of a 1-D or 2-D problem solved by sparse LU under ``"auto"``."""
+"""Unknowns of a 1-D or 2-D problem that ``"auto"`` solves by sparse LU whatever the memory
+reports (beyond them, while :data:`BYTES_PER_NODE` per unknown fits in half of it)."""
+
+BYTES_PER_NODE = 2500
+"""Peak memory of a first-exit solve by sparse LU per grid node (2.2 kB measured on 401² and
+801² grids, 1.9 kB on 1608×1601), for the choice of ``"auto"`` and for
+:func:`solve_first_exit_to_tolerance`'s check before refining."""
 
 MAX_ITERATIONS = 5_000
 """Iterations of BiCGSTAB (restarts of GMRES: a tenth) before it counts as not converged."""
@@ -225,10 +232,17 @@ def _digest(*arrays: np.ndarray) -> str:
 
 def _method(s: StationarySettings, ndim: int, unknowns: int) -> str:
     """The linear solver that ``s.linear_solver`` names, ``"auto"`` resolved: sparse LU in one
-    and two dimensions up to :data:`DIRECT_LIMIT` unknowns, BiCGSTAB otherwise."""
+    and two dimensions up to :data:`DIRECT_LIMIT` unknowns or while its factorisation fits in
+    half the available memory (a 2-D factorisation of millions of unknowns takes about a minute,
+    where the Krylov methods can stall on the same system: docs page :doc:`first_exit`),
+    BiCGSTAB otherwise."""
     if s.linear_solver != "auto":
         return s.linear_solver
-    return "direct" if ndim <= 2 and unknowns <= DIRECT_LIMIT else "bicgstab"
+    if ndim > 2:
+        return "bicgstab"
+    available = available_memory()
+    fits = available is not None and BYTES_PER_NODE * unknowns <= 0.5 * available
+    return "direct" if unknowns <= DIRECT_LIMIT or fits else "bicgstab"
 
 
 def _scaled_rows(A: sp.spmatrix) -> tuple[sp.csr_matrix, sp.dia_matrix]:
@@ -618,11 +632,6 @@ def _package(problem, label, z, top, start, setup, iterations, digest) -> Statio
         diagnostics,
         operator,
     )
-
-
-BYTES_PER_NODE = 2500
-"""Peak memory of a first-exit solve per grid node, for :func:`solve_first_exit_to_tolerance`'s
-check before refining (2.2 kB measured with sparse LU on 401² and 801² grids)."""
 
 
 def solve_first_exit_to_tolerance(
