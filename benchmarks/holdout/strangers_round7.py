@@ -123,7 +123,8 @@ goal on a node (``goal_3d_node``, c = (0.3, 0.2, −0.4)) is seen: +13.8 %, +0.5
 ``pit_3d_cell`` (builder ``goal_3d(running=True)``, the same cost as a state cost too): +25.9 %
 and +37.3 % (certificates; at least +27.0 % and +33.7 % against the 161³ solve) with estimates
 0.28 % and 1.37 %, silent; γ 0.02, 0.02, 1.1 % (0.1, 0.02, 0.48 % from 256 paths of 1000 steps);
-no warning with or without γ.
+no warning with or without γ. ``solve(problem, tol=0.05, states=X)`` stops on the default 41³
+grid and step for both, silent, with the same values.
 
 **Broken (2): a false warning from γ's Euler–Maruyama paths where the dynamics are fast.**
 ``stiff_relax`` (builder ``stiff_relax()``, ẋ = −50x + u₁, ẏ = u₂, 101², λ = 0.1, T = 5, a
