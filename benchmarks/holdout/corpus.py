@@ -581,6 +581,49 @@ def mass_pit_wall():
     return mass_in_pit(-2 + 10.5 * 4 / 199, nodes=200)
 
 
+GOAL_IN_CELL = np.array([0.35, 0.25, -0.45])
+"""The centre of a cell of goal_in_cell's 41³ grid (h = 0.1)."""
+
+
+def goal_in_cell(centre=GOAL_IN_CELL, running: bool = False) -> Problem:
+    """A 3-D single integrator ẋ = u on [−2, 2]³ (41³, h = 0.1), terminal cost only: a narrow goal
+    2(1 − exp(−|x − c|²/2w²)) + 0.1|x|², w = 0.05 (half a cell), at c = ``centre``, λ = 0.1,
+    T = 1; ``running``: the same cost as a state cost too (a pit)."""
+    c = np.asarray(centre, dtype=float)
+
+    def cost(x):
+        r2 = np.sum((x - c) ** 2, axis=1)
+        return 2 * (1 - np.exp(-0.5 * r2 / 0.05**2)) + 0.1 * np.sum(x**2, axis=1)
+
+    return Problem(
+        LinearSystem(np.zeros((3, 3)), np.eye(3)),
+        _grid(*[(-2, 2, 41)] * 3),
+        1.0,
+        cost,
+        state_cost=cost if running else None,
+        temperature=0.1,
+    )
+
+
+def stiff_relax(rate: float = 50.0, horizon: float = 5.0) -> Problem:
+    """A fast stable mode beside a slow one, ẋ = −k x + u₁ (k = ``rate``), ẏ = u₂ on [−2, 2]²
+    (101²): q = x² + 0.2 y² + an obstacle 20 exp(−(|x| − 1.7)²/2w²), w = 0.08 (two cells), where
+    no controlled path goes, g = x² + 0.2 y², λ = 0.1, T = ``horizon``."""
+
+    def cost(x):
+        wall = np.exp(-0.5 * ((np.abs(x[:, 0]) - 1.7) / 0.08) ** 2)
+        return x[:, 0] ** 2 + 0.2 * x[:, 1] ** 2 + 20 * wall
+
+    return Problem(
+        LinearSystem(np.diag([-rate, 0.0]), np.eye(2)),
+        _grid((-2, 2, 101), (-2, 2, 101)),
+        horizon,
+        Quadratic([0, 0], [1.0, 0.2]),
+        state_cost=cost,
+        temperature=0.1,
+    )
+
+
 def _s(*rows) -> np.ndarray:
     return np.array(rows, dtype=float)
 
@@ -839,6 +882,29 @@ MEMBERS: tuple[Member, ...] = (
         cert_dt=0.002,
         fast=True,
         tags=("low temperature", "narrow cost", "closed"),
+    ),
+    Member(
+        "goal_in_cell",
+        goal_in_cell,
+        _s((0.0, 0.0, 0.0), (1.0, -1.0, 0.5), (0.35, 0.25, -0.2)),
+        "a 3-D single integrator with a terminal goal half a cell wide at the centre of a cell, "
+        "λ = 0.1: the grid sees a shallow dip, its policy never goes into the goal (stranger round "
+        "7: 64 % and 87 % high with estimates of 0.4 % and 1.6 %, no warning; exact values by "
+        "quadrature in strangers_round7.py)",
+        fine=3.0,
+        cert_dt=0.002,
+        tags=("3-D", "narrow cost", "closed"),
+    ),
+    Member(
+        "stiff_relax",
+        stiff_relax,
+        _s((0.0, 0.0), (1.0, 0.5), (-1.5, -1.0)),
+        "a mode relaxing at rate 50 beside a slow one, with a wall no controlled path reaches "
+        "(stranger round 7: errors 0.1–0.3 %, warned when the estimate's paths stepped at T/100, "
+        "where Euler–Maruyama multiplies x by −1.5 per step)",
+        cert_dt=0.002,
+        fast=True,
+        tags=("fast dynamics", "closed"),
     ),
 )
 

@@ -177,6 +177,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
+from corpus import GOAL_IN_CELL, goal_in_cell, stiff_relax  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402
@@ -213,28 +214,6 @@ class Affine(ControlAffineSystem):
 
 
 # ---- (1) false alarms: accurate solves where γ could be large ----
-def stiff_relax(k=50.0, T=5.0):
-    """A fast stable mode beside a slow one: ẋ = −k x + u₁ (k = 50), ẏ = u₂ on [−2, 2]² (101²),
-    q = x² + 0.2 y² + an obstacle 20 exp(−(|x| − 1.7)²/2w²) (w = 0.08, two cells: resolved) far
-    where no controlled path goes, g = x² + 0.2 y², λ = 0.1, T = 5. Euler–Maruyama with T/100 =
-    0.05 multiplies x by 1 − kΔt = −1.5 per step: γ's paths explode to the walls through the
-    obstacle, the true ones never leave |x| < 0.1."""
-
-    def q(x):
-        x = np.atleast_2d(x)
-        return x[:, 0] ** 2 + 0.2 * x[:, 1] ** 2 + 20 * _bump(np.abs(x[:, 0]) - 1.7, 0.08)
-
-    sys_ = Affine(lambda x: np.stack([-k * x[:, 0], 0 * x[:, 1]], 1), np.eye(2))
-    return Problem(
-        sys_,
-        G((-2, 2, 101), (-2, 2, 101)),
-        T,
-        Quadratic([0, 0], [1.0, 0.2]),
-        state_cost=q,
-        temperature=0.1,
-    )
-
-
 def fast_spin(omega=30.0):
     """A fast rotation ẋ = −ωy + u₁, ẏ = ωx + u₂ (ω = 30) on [−2, 2]² (151²), q = r² /2 plus a
     resolved ring ridge 10 exp(−(r − 1.75)²/2w²) (w = 0.05) outside every start, g = 2r², λ = 0.2,
@@ -335,25 +314,12 @@ def notch_terminal_hot():
     )
 
 
-GOAL = np.array([0.35, 0.25, -0.45])
+GOAL = GOAL_IN_CELL
 
 
 def goal_3d(c=GOAL, running=False):
-    """A 3-D single integrator ẋ = u (three controls) on [−2, 2]³ (41³, h = 0.1), terminal cost
-    only: a narrow goal 2(1 − exp(−|x − c|²/2w²)) + 0.1|x|², w = 0.05, at the centre of a cell
-    c = (0.35, 0.25, −0.45), λ = 0.1, T = 1. ``running``: the same cost as a state cost too (a
-    pit)."""
-    c = np.asarray(c, float)
-
-    def g(x):
-        x = np.atleast_2d(x)
-        r2 = np.sum((x - c) ** 2, axis=1)
-        return 2 * (1 - np.exp(-0.5 * r2 / 0.05**2)) + 0.1 * np.sum(x**2, axis=1)
-
-    sys_ = Affine(lambda x: np.zeros_like(x), np.eye(3))
-    return Problem(
-        sys_, G(*[(-2, 2, 41)] * 3), 1.0, g, state_cost=g if running else None, temperature=0.1
-    )
+    """corpus.goal_in_cell: the 3-D goal (w = h/2) at ``c`` (a cell centre by default)."""
+    return goal_in_cell(c, running)
 
 
 def ridge_quiet_axis():

@@ -55,7 +55,7 @@ from .grids import (
     refined_grid,
     scaled_grid,
 )
-from .paths import PATH_SAMPLES, PATH_STEPS, cost_gap, terminal_gap
+from .paths import PATH_SAMPLES, PATH_WORK, cost_gap, terminal_gap
 from .tolerance import (
     Refinement,
     axes_to_refine,
@@ -80,7 +80,7 @@ __all__ = [
     "CERTIFIED_STATES",
     "DEFAULT_TOLERANCE",
     "PATH_SAMPLES",
-    "PATH_STEPS",
+    "PATH_WORK",
     "QUANTILE",
     "SAMPLE",
     "Assessment",

@@ -16,17 +16,23 @@ the policy π_h that is optimal with the interpolated costs (the solve's own pol
         ≥ γ(x, t) = E_{π_h}[ ∫_t^T (I_h q − q)(X_s) ds + (I_h g − g)(X_T) | X_t = x ],
 
 the expected cost that the grid adds along the paths its policy takes. :func:`cost_gap` samples γ
-with :data:`PATH_SAMPLES` Euler–Maruyama paths per state of :data:`PATH_STEPS` steps (rectangle
+with :data:`PATH_SAMPLES` Euler–Maruyama paths per state at the solve's own step Δt (rectangle
 rule, a fixed seed: the same states give the same numbers), reflected at closed edges as the solver
-does (:func:`gridlbc.simulate`). Where the costs vary smoothly, I_h q − q is O(h²) and γ is far
-below the embedded estimate; where a path lingers in a feature the grid does not resolve, γ is the
-error the solve makes there (``error_estimate`` reads abs(γ)).
+does (:func:`gridlbc.simulate`). The solve's step resolves the dynamics the solve resolves; a
+longer one can make the explicit paths unstable where the drift is stiff (ẋ = −kx with kΔt > 2),
+and they then cross costs the true process never reaches. Where the costs vary smoothly,
+I_h q − q is O(h²) and γ is mostly below the embedded estimate; where a path lingers in a feature
+the grid does not resolve, γ is the error the solve makes there (``error_estimate`` reads
+abs(γ)).
 
 What γ cannot see: the error of the scheme itself for the interpolated costs (the embedded solves
-measure that), and costs felt between the steps of the paths. It is zero for a solution read back
-by :func:`gridlbc.load` whose costs were not quadratics: those are stored as their nodal values,
-which the grid represents exactly. It is not sampled for a task that ends (an exit set) or
-without a horizon.
+measure that); costs felt between the steps of the paths; and a feature the solve's policy never
+approaches (γ is a bound along that policy: a goal narrower than a cell, which the grid sees as
+a shallow dip, is not sought, and is not seen). Where the paths spread over many cells of a
+smooth, steep cost, the chain's lattice represents it better than I_h does and γ overstates the
+error (by O(h²)). It is zero for a solution read back by :func:`gridlbc.load` whose costs were not
+quadratics: those are stored as their nodal values, which the grid represents exactly. It is not
+sampled for a task that ends (an exit set) or without a horizon.
 """
 
 from __future__ import annotations
@@ -40,14 +46,11 @@ from ..simulate import euler_maruyama
 
 PATH_SAMPLES = 16
 """Paths per state from which :func:`cost_gap` averages γ (fewer where many states are asked
-for: :data:`PATH_BUDGET`)."""
+for: :data:`PATH_WORK`)."""
 
-PATH_STEPS = 100
-"""Euler–Maruyama steps over the remaining horizon (the solve's own number where it took fewer)."""
-
-PATH_BUDGET = 65_536
-"""At most this many paths per call (at least 4 per state): a map of the estimate over many
-states samples each one more thinly."""
+PATH_WORK = 8_388_608
+"""At most this many path-steps per call (but at least 4 paths per state): a map of the estimate
+over many states samples each one more thinly."""
 
 SEED = 20090801
 """The paths' seed: the same states give the same γ."""
@@ -61,7 +64,7 @@ def sampled(problem) -> bool:
 def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
     """γ(x, t), the expected cost the grid's interpolants add along the solve's paths (module
     docstring), at states ``x`` (N, d): the mean over ``samples`` paths per state (fewer where
-    :data:`PATH_BUDGET` asks) driven by ``solution.policy`` from time ``t`` to T. Zero where
+    :data:`PATH_WORK` asks) driven by ``solution.policy`` from time ``t`` to T. Zero where
     :func:`sampled` is false; NaN for a state whose paths meet an underflowed policy (the solve
     has warned of it).
 
@@ -88,8 +91,8 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.nda
     grid, remaining = problem.grid, problem.horizon - t
     if remaining <= 0.0:  # v(x, T) = I_h g(x)
         return terminal_gap(solution, x)
-    samples = int(np.clip(PATH_BUDGET // n_states, min(4, samples), samples))
-    steps = max(1, min(PATH_STEPS, solution.diagnostics.steps))
+    steps = max(1, int(np.ceil(remaining / solution.diagnostics.dt - 1e-9)))
+    samples = int(np.clip(PATH_WORK // (n_states * steps), min(4, samples), samples))
     dt = remaining / steps
     q_nodes = nodal(solution, "state_cost") if problem.state_cost else None
     starts = np.repeat(x, samples, axis=0)
