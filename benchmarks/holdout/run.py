@@ -35,9 +35,9 @@ import gridlbc  # noqa: E402
 
 TRUTHS = HERE / "truths.json"
 OFF = 0.10
+"""A pair is "off" when its relative error exceeds this."""
 TOL = 0.05
 """The tolerance a member with a silent pair is solved to (:func:`tolerance_check`)."""
-"""A pair is "off" when its relative error exceeds this."""
 
 
 def load_truths(path: Path = TRUTHS) -> dict:
