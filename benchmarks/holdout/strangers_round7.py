@@ -178,6 +178,7 @@ sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
 from corpus import GOAL_IN_CELL, goal_in_cell, stiff_relax  # noqa: E402
+from strangers_round5 import _wrap  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402
@@ -191,10 +192,6 @@ G, S = r3.G, r3.S
 
 def _bump(d, width):
     return np.exp(-0.5 * (d / width) ** 2)
-
-
-def _wrap(a):
-    return (a + PI) % (2 * PI) - PI
 
 
 class Affine(ControlAffineSystem):

@@ -94,7 +94,7 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.nda
     steps = max(1, int(np.ceil(remaining / solution.diagnostics.dt - 1e-9)))
     samples = int(np.clip(PATH_WORK // (n_states * steps), min(4, samples), samples))
     dt = remaining / steps
-    q_nodes = nodal(solution, "state_cost") if problem.state_cost else None
+    q_nodes = nodal(solution, "state_cost") if problem.state_cost is not None else None
     starts = np.repeat(x, samples, axis=0)
     gap = np.zeros(starts.shape[0])
     undefined = np.zeros(starts.shape[0], dtype=bool)
