@@ -25,6 +25,9 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
 - ``embedded_pair0.*``, ``embedded_pair1.*``: the solves on the pair of grids of
   :func:`gridlbc.accuracy.phase_pair`, their metadata as ``metadata["embedded"]["pair"]`` (a
   list of two; ``"embedded"`` in place of the first where it is the embedded solve itself).
+- ``embedded_excess.*``: the embedded solve with the costs raised by their sub-cell excess
+  (:class:`gridlbc.accuracy.Response`), its metadata as ``metadata["embedded"]["excess"]``
+  with the excess's ``bound`` (no arrays where it was not solved).
 
 Version 1 files (before solutions knew their representation: it was
 ``diagnostics["interpolation"]``, ``"linear"``, ``"fitted"`` or ``"log"``, and the operator was
@@ -43,7 +46,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .accuracy import EmbeddedEstimate
+from .accuracy import EmbeddedEstimate, Response
 from .costs import Quadratic
 from .grid import Axis, Grid
 from .interpolate import interpolate
@@ -57,6 +60,7 @@ FORMAT_VERSION = 2
 EMBEDDED = "embedded."
 """The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
 PAIR = ("embedded_pair0.", "embedded_pair1.")
+EXCESS = "embedded_excess."
 """The prefixes of the arrays of the solves on the pair of :func:`gridlbc.accuracy.phase_pair`."""
 READABLE_VERSIONS = (1, 2)
 """The versions :func:`load` reads."""
@@ -248,6 +252,14 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
                 records.append(_record(side, held))
                 arrays.update({prefix + k: v for k, v in held.items()})
             meta["embedded"]["pair"] = records
+        response = estimate.excess
+        if response is not None:
+            raised: dict = {}
+            meta["embedded"]["excess"] = {
+                "bound": response.bound,
+                "raised": None if response.raised is None else _record(response.raised, raised),
+            }
+            arrays.update({EXCESS + k: v for k, v in raised.items()})
     if annotations is not None:
         meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
@@ -348,12 +360,19 @@ def load(path) -> Solution:
                 for prefix, side in zip(PAIR, record["pair"], strict=True)
             )
             pair = (first, second)
+        response = None
+        if "excess" in record:
+            raised = record["excess"]["raised"]
+            if raised is not None:
+                raised = _solution(raised, _prefixed(contents, EXCESS), version, path)
+            response = Response(embedded, raised, float(record["excess"]["bound"]))
         estimate = EmbeddedEstimate(
             embedded,
             np.nan if observed is None else float(observed),
             float(record["order"]),
             float(record["floor"]),
             pair,
+            response,
         )
         object.__setattr__(solution, "embedded", estimate)
     return solution

@@ -25,7 +25,13 @@ import warnings
 
 import numpy as np
 
-from .accuracy import attach_estimates, embedded_grid, phase_pair, solve_to_tolerance
+from .accuracy import (
+    attach_estimates,
+    embedded_grid,
+    phase_pair,
+    responses,
+    solve_to_tolerance,
+)
 from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
 from .grid import Grid, flat_chunks
@@ -239,17 +245,18 @@ def _exit_settings(s: SolverSettings, explicit: bool) -> SolverSettings:
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
     """Attach to each solution its embedded solve (the same problem on the grid with every other
     node, step 2Δt), the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step
-    2Δt) and the observed order from a third solve at 4h, 4Δt (:mod:`gridlbc.accuracy`), and warn
-    where the estimate exceeds the default tolerance. The embedded solves' own warnings are not
-    the user's: they are silenced."""
+    2Δt), the observed order from a third solve at 4h, 4Δt, and the embedded solve's response to
+    the costs' sub-cell excess (:mod:`gridlbc.accuracy.subcell`), and warn where the estimate
+    exceeds the default tolerance. The embedded solves' own warnings are not the user's: they are
+    silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
-    def solve_on(grid: Grid, factor: int) -> list[Solution]:
+    def solve_on(grid: Grid, factor: int, on: Problem = problem, costs=terminal_costs):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             return solve_many(
-                problem.replace(grid=grid),
-                terminal_costs,
+                on.replace(grid=grid),
+                costs,
                 s,
                 dt=min(factor * dt, horizon),
                 progress=False,
@@ -268,7 +275,15 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     pairs = None
     if pair is not None:  # the pair's first grid is the embedded one where every C is odd
         pairs = [levels[0] if coarse == embedded else solve_on(coarse, 2) for coarse in pair]
-    attach_estimates(solutions, levels, pairs)
+    excess = None
+    if levels:
+        excess = responses(
+            problem,
+            terminal_costs,
+            levels[0],
+            lambda on, costs: solve_on(levels[0][0].grid, 2, on, costs),
+        )
+    attach_estimates(solutions, levels, pairs, excess)
 
 
 def _solutions(

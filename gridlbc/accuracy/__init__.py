@@ -6,6 +6,8 @@
   the default solve's warning;
 - :mod:`gridlbc.accuracy.paths`: what the grid cannot see of the costs, sampled along the solve's
   paths;
+- :mod:`gridlbc.accuracy.subcell`: the costs' excess between the nodes and what it changes in a
+  coarse solve;
 - :mod:`gridlbc.accuracy.certified`: the error measured by certificates where the estimate
   cannot decide;
 - :mod:`gridlbc.accuracy.tolerance`: solves to a tolerance (``gridlbc.solve(problem, tol=...)``).
@@ -56,6 +58,7 @@ from .grids import (
     scaled_grid,
 )
 from .paths import PATH_SAMPLES, PATH_WORK, cost_gap, terminal_gap
+from .subcell import NEGLIGIBLE, Excess, Response, WithExcess, excess, half_lattice, responses
 from .tolerance import (
     Refinement,
     axes_to_refine,
@@ -79,14 +82,18 @@ __all__ = [
     "CERTIFICATE_STEPS",
     "CERTIFIED_STATES",
     "DEFAULT_TOLERANCE",
+    "NEGLIGIBLE",
     "PATH_SAMPLES",
     "PATH_WORK",
     "QUANTILE",
     "SAMPLE",
     "Assessment",
     "EmbeddedEstimate",
+    "Excess",
     "Refinement",
+    "Response",
     "ScalarEstimate",
+    "WithExcess",
     "assess",
     "attach_estimates",
     "axes_to_refine",
@@ -102,9 +109,11 @@ __all__ = [
     "cost_gap",
     "embedded_estimate",
     "embedded_grid",
+    "excess",
     "finish",
     "fitting_plan",
     "fitting_storage",
+    "half_lattice",
     "judged_states",
     "observed_order",
     "phase_pair",
@@ -112,6 +121,7 @@ __all__ = [
     "refinement_factors",
     "relative_difference",
     "relative_error",
+    "responses",
     "richardson",
     "scalar_estimate",
     "scaled_grid",

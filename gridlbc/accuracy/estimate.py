@@ -41,6 +41,11 @@ wherever the nodes fall, also where the pair's two offsets are equal and every c
 misses the feature alike (next to the ends of an axis, and its centre where its cell count is
 even: :func:`phase_pair`).
 
+And it is at least S(x, t) = abs(v_2h[g + δg, q + δq] − v_2h[g, q]), what the costs' excess
+between the nodes (δg, δq: the costs on the half lattice against their cubic reconstruction from
+the nodes) changes in the embedded solve (:mod:`gridlbc.accuracy.subcell`): it sees a goal or a
+pit narrower than a cell that the solve's paths never approach, which γ cannot.
+
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
 the value's curvature. It cannot see an error that all the solves share and the paths do not
@@ -72,6 +77,7 @@ import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
 from .paths import PATH_SAMPLES, cost_gap
+from .subcell import Response
 
 if TYPE_CHECKING:
     from ..solution import Solution
@@ -199,6 +205,9 @@ class EmbeddedEstimate:
     pair : tuple of two Solution, or None
         The same problem solved on the grids of :func:`phase_pair` (step 2Δt); None where the
         grid is too coarse for them.
+    excess : Response or None
+        What the costs' sub-cell excess changes in the embedded solve
+        (:class:`~gridlbc.accuracy.subcell.Response`); None where not measured.
     """
 
     solution: Solution
@@ -206,6 +215,7 @@ class EmbeddedEstimate:
     order: float
     floor: float
     pair: tuple[Solution, Solution] | None = None
+    excess: Response | None = None
 
     @property
     def converging(self) -> bool:
@@ -225,10 +235,18 @@ class EmbeddedEstimate:
 
     def error(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
-        relative to ``max(abs(v), λ)``, and at least abs(γ), the cost that the grid's
-        interpolants add along the solve's paths (:func:`~gridlbc.accuracy.paths.cost_gap`,
-        from ``samples`` paths per state)."""
+        relative to ``max(abs(v), λ)``, at least the :meth:`excess_response` S, and at least
+        abs(γ), the cost that the grid's interpolants add along the solve's paths
+        (:func:`~gridlbc.accuracy.paths.cost_gap`, from ``samples`` paths per state)."""
         return self._error(solution, x, t, samples)[1]
+
+    def excess_response(self, x, t=0.0) -> np.ndarray:
+        """S = abs(v_2h[g + δg, q + δq] − v_2h[g, q]) at states ``x`` (N, d), time ``t``: what
+        the costs' excess between the nodes changes in the embedded solve
+        (:class:`~gridlbc.accuracy.subcell.Response`); zero without it."""
+        if self.excess is None:
+            return np.zeros(len(np.atleast_2d(x)))
+        return self.excess(x, t)
 
     def relative(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
         """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`)."""
@@ -240,7 +258,8 @@ class EmbeddedEstimate:
         v, _, local = self._read(solution, x, t)
         floor = self.floor * np.maximum(np.abs(v), solution.temperature)
         gap = np.abs(cost_gap(solution, x, t, samples))
-        return v, np.fmax(np.maximum(local, floor), gap)
+        grid_terms = np.maximum(np.maximum(local, floor), self.excess_response(x, t))
+        return v, np.fmax(grid_terms, gap)
 
     def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
@@ -266,7 +285,7 @@ def _local(v, embedded, pair, temperature: float, order: float) -> tuple[np.ndar
     return difference, local
 
 
-def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEstimate:
+def embedded_estimate(solution, embedded, coarser=None, pair=None, excess=None) -> EmbeddedEstimate:
     """The estimate of ``solution`` from its embedded solve and, if given, the one below it and
     those on :func:`phase_pair`.
 
@@ -283,6 +302,9 @@ def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEs
         The solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); ``coarser`` None: no third solve.
     pair : tuple of two Solution, or None
         The solves on :func:`phase_pair` (step 2Δt).
+    excess : Response or None
+        What the costs' sub-cell excess changes in the embedded solve
+        (:attr:`EmbeddedEstimate.excess`).
 
     Returns
     -------
@@ -299,7 +321,7 @@ def embedded_estimate(solution, embedded, coarser=None, pair=None) -> EmbeddedEs
     relative = relative_error(local, v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
-    return EmbeddedEstimate(embedded, observed, order, floor, pair)
+    return EmbeddedEstimate(embedded, observed, order, floor, pair, excess)
 
 
 def observed_order(fine, coarse) -> float:
@@ -396,18 +418,19 @@ def scalar_estimate(levels, pair=None) -> ScalarEstimate:
     return ScalarEstimate(error, observed, tuple(c))
 
 
-def attach_estimates(solutions, levels: list, pairs=None) -> None:
+def attach_estimates(solutions, levels: list, pairs=None, excess=None) -> None:
     """Give each of ``solutions`` its :class:`EmbeddedEstimate` from the solves ``levels[0][r]``
-    (2h), if present ``levels[1][r]`` (4h) and ``pairs[0][r]``, ``pairs[1][r]``
-    (:func:`phase_pair`), and warn
-    (:func:`check_accuracy`) where one exceeds the default tolerance; nothing without levels (a
-    grid too coarse to embed)."""
+    (2h), if present ``levels[1][r]`` (4h), ``pairs[0][r]``, ``pairs[1][r]``
+    (:func:`phase_pair`) and ``excess[r]`` (what the costs' sub-cell excess changes,
+    :class:`~gridlbc.accuracy.subcell.Response`), and warn (:func:`check_accuracy`) where one exceeds the
+    default tolerance; nothing without levels (a grid too coarse to embed)."""
     if not levels:
         return
     for r, solution in enumerate(solutions):
         coarser = levels[1][r] if len(levels) > 1 else None
         pair = (pairs[0][r], pairs[1][r]) if pairs is not None else None
-        estimate = embedded_estimate(solution, levels[0][r], coarser, pair)
+        response = excess[r] if excess is not None else None
+        estimate = embedded_estimate(solution, levels[0][r], coarser, pair, response)
         object.__setattr__(solution, "embedded", estimate)
         check_accuracy(solution)
 

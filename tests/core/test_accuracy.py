@@ -4,6 +4,7 @@ The linear-quadratic point mass has an exact value (Riccati, gridlbc.reference.l
 the estimate is judged against the true error, not against another solve.
 """
 
+import dataclasses
 import inspect
 import warnings
 
@@ -132,6 +133,92 @@ def test_the_cost_gap_at_the_horizon_is_the_terminal_interpolants_error():
     np.testing.assert_array_equal(
         accuracy.cost_gap(solution, STATES), accuracy.cost_gap(solution, STATES)
     )
+
+
+def test_the_half_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
+    """R f on the half lattice (gridlbc.accuracy.subcell.refine): the four-point rule is exact for
+    cubics inside a closed axis where the curvature is of one sign (x³ + 10x², f'' from 14 to 32),
+    the end rule for quadratics, so a quadratic cost with a cross term has no excess at all; on a
+    periodic axis a wrapped quadratic's seam (a kink on a node) takes the smoother side's
+    quadratic and has none either."""
+    axis = g.Axis(-1.0, 2.0, 13)
+    x = accuracy.half_lattice(g.Grid([axis])).axes[0].points()
+    cubic = x**3 + 10 * x**2
+    rebuilt = accuracy.subcell.refine(cubic[::2], 0, axis)
+    np.testing.assert_allclose(rebuilt[3:-3], cubic[3:-3], atol=1e-13)
+    np.testing.assert_allclose(accuracy.subcell.refine(x[::2] ** 2, 0, axis), x**2, atol=1e-13)
+    problem = lq_point_mass(21)
+    tilted = g.Quadratic([0.3, -0.2], [[2.0, 0.7], [0.7, 1.0]])
+    found = accuracy.excess(problem.replace(state_cost=tilted), problem.grid, [tilted])
+    np.testing.assert_allclose(found.terminal, 0.0, atol=1e-12)
+    np.testing.assert_allclose(found.state, 0.0, atol=1e-12)
+    ring = g.Problem(
+        g.systems.Pendulum(),
+        g.Grid([g.Axis(-np.pi, np.pi, 64, periodic=True), g.Axis(-4, 4, 21)]),
+        1.0,
+        g.Quadratic([0.0, 0.0], [3.0, 0.1]),
+    )
+    seam = accuracy.excess(ring, ring.grid, [ring.terminal_cost])
+    np.testing.assert_allclose(seam.terminal, 0.0, atol=1e-12)
+
+
+def _narrow_goal():
+    """ẋ = u in 2-D (41², h = 0.1), terminal cost only: a goal half a cell wide at the centre of a
+    cell, g = 2 (1 − exp(−|x − c|²/2w²)) + 0.1 |x|², w = 0.05, λ = 0.1, T = 1; and its exact value
+    v(x) = −λ log E exp(−g(x + √(λT) N)/λ), N standard normal (passive dynamics X_T = x + √λ W_T),
+    by a product rule with step 0.01 on ±6 (the integrand is smooth on that scale)."""
+    centre, width, lam = np.array([0.05, -0.15]), 0.05, 0.1
+
+    def cost(x):
+        r2 = np.sum((x - centre) ** 2, axis=1)
+        return 2 * (1 - np.exp(-0.5 * r2 / width**2)) + 0.1 * np.sum(x**2, axis=1)
+
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2, 2, 41)] * 2),
+        1.0,
+        cost,
+        temperature=lam,
+    )
+    u = np.linspace(-6, 6, 1201)
+    U = np.stack(np.meshgrid(u, u, indexing="ij"), -1).reshape(-1, 2)
+    weight = np.exp(-0.5 * np.sum(U**2, axis=1)) * (u[1] - u[0]) ** 2 / (2 * np.pi)
+
+    def exact(X):
+        return np.array(
+            [-lam * np.log(weight @ np.exp(-cost(x + np.sqrt(lam) * U) / lam)) for x in X]
+        )
+
+    return problem, exact
+
+
+def test_a_goal_between_the_nodes_is_estimated_and_warned(tmp_path):
+    """The grid sees the goal as a shallow dip and is 0.7–0.9 (in units of v, 60–130 %) high. The
+    embedded solve's response to the costs' excess between the nodes (S) is what sees it: the
+    estimate is at least half the error at every state, and without S it is not. The response
+    comes back with a saved solution."""
+    problem, exact = _narrow_goal()
+    X = np.array([[0.0, 0.0], [0.5, 0.5], [-1.0, 0.3]])
+    with pytest.warns(g.ResolutionWarning, match="the estimated error of v exceeds"):
+        solution = g.solve(problem)
+    error = np.abs(solution.value(X) - exact(X))
+    assert np.all(error > 0.5)
+    estimate = solution.error_estimate(X)
+    assert np.all(estimate >= error / 2)
+    blind = dataclasses.replace(solution.embedded, excess=None)
+    assert np.any(blind.error(solution, X) < error / 2)
+    assert solution.embedded.excess.raised is not None
+    back = g.load(g.save(solution, tmp_path / "goal"))
+    np.testing.assert_array_equal(back.error_estimate(X), estimate)
+
+
+def test_a_negligible_excess_is_bounded_not_solved():
+    """Quadratic costs have no excess: the response is not solved, and S is its bound, zero to
+    rounding."""
+    solution = _quiet_solve(lq_point_mass(21))
+    response = solution.embedded.excess
+    assert response.raised is None and response.bound < 1e-12
+    np.testing.assert_array_equal(response(STATES), response.bound)
 
 
 def test_a_long_step_warns_and_tol_brings_the_error_within_it():

@@ -1,0 +1,358 @@
+"""Costs narrower than a cell, wherever they lie: their sub-cell excess and what it changes (docs
+page :doc:`accuracy`, "Costs between the nodes").
+
+A grid solve knows its costs only at its nodes. A goal or a pit narrower than a cell can sit
+between them, and a solve then answers a different problem, whose costs are shallow where the
+true ones are deep. The embedded solves (:mod:`gridlbc.accuracy.estimate`) miss such a feature
+as much as the grid does when their nodes miss it too, and the sampled cost gap γ
+(:mod:`gridlbc.accuracy.paths`) misses it when the solve's own paths never go there: a goal the
+grid cannot see is not sought. This module looks for such features in the costs themselves and
+measures what they change.
+
+**The excess.** On the *half lattice* (a point midway in every cell along every axis, spacing
+h/2, :func:`half_lattice`), the costs are compared with their reconstruction from the nodes:
+nodes keep their values, and midpoints take the four-point cubic rule along each axis in turn,
+
+    R f(x_{i+½}) = ( −f_{i−1} + 9 f_i + 9 f_{i+1} − f_{i+2} ) / 16,
+
+(the three-point quadratic ( 3 f_i + 6 f_{i+1} − f_{i+2} ) / 8 next to a closed end). The rule is
+exact for cubics along each axis, so for every quadratic cost the excess f − R f is zero at every
+point of the lattice, and for a smooth cost it is O(h⁴); where a feature narrower than a cell lies
+between the nodes it is the feature's whole depth.
+
+**Carried to a coarse grid.** The excess is averaged over the hat functions φ_j of a coarse grid
+(the coarsest embedded grid, :func:`excess`): for the terminal cost in the desirability, where a
+narrow goal's weight is what matters,
+
+    δg_j = −λ log( Σ_s φ_j(s) exp(−g(s)/λ) / Σ_s φ_j(s) exp(−R g(s)/λ) ),
+
+and for the state cost in the value, δq_j = Σ_s φ_j(s) (q − R q)(s) / Σ_s φ_j(s), sums over the
+points s of the half lattice. The coarse solve with costs g + δg and q + δq (:class:`WithExcess`)
+differs from the same coarse solve with g and q by what the costs between the nodes change:
+
+    S(x, t) = abs( v_c[g + δg, q + δq](x, t) − v_c[g, q](x, t) ),
+
+which :meth:`gridlbc.accuracy.EmbeddedEstimate.error` reads beside its other terms. S is zero for
+quadratic costs (δ = 0 exactly) and O(h⁴) for smooth ones; for a feature between the nodes it is
+the feature's effect on the value seen at the coarse grid's resolution, whether or not the
+solve's paths go near it.
+
+What S cannot see: a feature narrower than the half lattice's spacing that falls between its
+points too (a goal a tenth of a cell wide is sampled only if it lies near one of them), and a
+kink of a cost on a node (a wrapped quadratic's seam, ``abs(x)``) counts as a small excess
+although the nodes resolve it (the cubic rule is not exact across a kink). It is computed for the
+problems with a horizon that the embedded solves check; the costs are evaluated at 2^d points
+per node.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..grid import Axis, Grid, flat_chunks
+from ..interpolate import interpolate
+
+if TYPE_CHECKING:
+    from ..solution import Solution
+
+LATTICE_BLOCK = 1 << 21
+"""At most about this many points of the half lattice are held at once (:func:`excess` works
+through it in blocks of whole rows along the first axis)."""
+
+
+EXPONENT_CAP = 700.0
+"""exp(−(g − g_min)/λ) is evaluated with its exponent capped here: a sub-cell goal deeper than
+the nodes' lowest cost by more than this many λ is counted as this deep (still a huge excess)."""
+
+
+def half_lattice(grid: Grid) -> Grid:
+    """The grid with a point added midway in every cell along every axis (spacing h/2): its even
+    points are ``grid``'s nodes."""
+    return Grid(
+        Axis(a.lo, a.hi, 2 * a.n if a.periodic else 2 * a.n - 1, a.periodic, a.name)
+        for a in grid.axes
+    )
+
+
+KINK = 2.0
+"""A midpoint takes the one-sided quadratic of the smoother side where one side's second
+difference exceeds the other's this many times (a kink on a node, :func:`refine`)."""
+
+
+def midpoint(before, left, right, after) -> np.ndarray:
+    """The reconstruction midway between nodal values ``left`` and ``right`` from their
+    neighbours ``before`` and ``after`` (arrays of one shape): the four-point cubic rule
+    (−1, 9, 9, −1)/16, the mean of the two three-point quadratics
+
+        L = (−f_{i−1} + 6 f_i + 3 f_{i+1}) / 8,      R = (3 f_i + 6 f_{i+1} − f_{i+2}) / 8;
+
+    where one side's second difference exceeds the other's :data:`KINK` times (a kink on the
+    node between them: a wrapped quadratic's seam, ``abs(x)``) the quadratic of the smoother
+    side, which is exact there as well. Exact for every quadratic."""
+    left_q = (-before + 6.0 * left + 3.0 * right) / 8.0
+    right_q = (3.0 * left + 6.0 * right - after) / 8.0
+    bent_left = np.abs(before - 2.0 * left + right)
+    bent_right = np.abs(left - 2.0 * right + after)
+    smooth = np.where(bent_right > KINK * bent_left, left_q, 0.5 * (left_q + right_q))
+    return np.where(bent_left > KINK * bent_right, right_q, smooth)
+
+
+def refine(values: np.ndarray, axis: int, along_axis: Axis, rows=None) -> np.ndarray:
+    """Nodal ``values`` carried to the half lattice along ``axis`` (of the grid axis
+    ``along_axis``): the even points are the nodes, the odd ones take :func:`midpoint` (the
+    quadratic of the only side there is next to a closed end). ``rows``: only these points of
+    the half axis (default all)."""
+    f = np.moveaxis(values, axis, 0)
+    n, periodic = along_axis.n, along_axis.periodic
+    size = 2 * n if periodic else 2 * n - 1
+    rows = np.arange(size) if rows is None else np.asarray(rows)
+    i = rows // 2
+    out = f[i % n]
+    odd = rows % 2 == 1
+    if odd.any():
+        j = i[odd]
+        if periodic:
+            mid = midpoint(*(f[(j + k) % n] for k in (-1, 0, 1, 2)))
+        else:
+            before, after = f[np.maximum(j - 1, 0)], f[np.minimum(j + 2, n - 1)]
+            mid = midpoint(before, f[j], f[j + 1], after)
+            shape = (-1,) + (1,) * (f.ndim - 1)
+            first, last = (j == 0).reshape(shape), (j == n - 2).reshape(shape)
+            mid = np.where(first, (3.0 * f[j] + 6.0 * f[j + 1] - after) / 8.0, mid)
+            mid = np.where(last, (-before + 6.0 * f[j] + 3.0 * f[j + 1]) / 8.0, mid)
+        out[odd] = mid
+    return np.moveaxis(out, 0, axis)
+
+
+def hat_weights(coarse: Axis, points: np.ndarray) -> sp.csr_matrix:
+    """The matrix ``(coarse nodes, points)`` of the coarse axis's hat functions
+    φ_j(s) = max(0, 1 − abs(s − x_j)/H) at ``points`` (nearest image on a periodic axis)."""
+    x, H = coarse.points(), coarse.spacing
+    d = points[None, :] - x[:, None]
+    if coarse.periodic:
+        d = np.mod(d + 0.5 * coarse.period, coarse.period) - 0.5 * coarse.period
+    return sp.csr_matrix(np.maximum(0.0, 1.0 - np.abs(d) / H))
+
+
+def along(matrix: sp.csr_matrix, values: np.ndarray, axis: int) -> np.ndarray:
+    """``matrix`` applied to ``values`` along ``axis``."""
+    moved = np.moveaxis(values, axis, 0)
+    out = matrix @ moved.reshape(moved.shape[0], -1)
+    return np.moveaxis(np.asarray(out).reshape((matrix.shape[0],) + moved.shape[1:]), 0, axis)
+
+
+@dataclass(frozen=True)
+class Excess:
+    """The costs' sub-cell excess carried to the nodes of a coarse grid (module docstring).
+
+    Attributes
+    ----------
+    terminal : ndarray (K, Nc)
+        δg_j for each terminal cost.
+    state : ndarray (Nc,) or None
+        δq_j (None without a state cost).
+    """
+
+    terminal: np.ndarray
+    state: np.ndarray | None
+
+
+def excess(problem, coarse: Grid, terminal_costs) -> Excess:
+    """The sub-cell excess of ``problem``'s state cost and of each of ``terminal_costs``, averaged
+    over the hat functions of ``coarse`` (module docstring).
+
+    Parameters
+    ----------
+    problem : Problem
+        A problem on its grid (spacing h); the half lattice is this grid's.
+    coarse : Grid
+        The grid on whose nodes the excess is wanted (the same box).
+    terminal_costs : sequence of callable
+        The terminal costs g_i.
+
+    Returns
+    -------
+    Excess
+    """
+    grid = problem.require_grid("a sub-cell excess")
+    lam = problem.temperature
+    half = half_lattice(grid)
+    hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, half.axes, strict=True)]
+    terminals = [problem.replace(terminal_cost=g) for g in terminal_costs]
+    nodal = [grid.reshape(grid.node_values(p.terminal_values)) for p in terminals]
+    shifts = [float(g.min()) for g in nodal]
+    with_state = problem.state_cost is not None
+    if with_state:
+        nodal.append(grid.reshape(grid.node_values(problem.state_cost_values)))
+    true_z = np.zeros((len(terminals),) + coarse.shape)
+    rebuilt_z = np.zeros_like(true_z)
+    state_sum = np.zeros(coarse.shape)
+    for block in _blocks(half):
+        for i, (p, shift) in enumerate(zip(terminals, shifts, strict=False)):
+            true, rebuilt = block.values(p.terminal_values, nodal[i], grid)
+            true_z[i] += block.average(
+                np.exp(np.minimum(-(true - shift) / lam, EXPONENT_CAP)), hats
+            )
+            with np.errstate(under="ignore"):
+                rebuilt_z[i] += block.average(np.exp(-(rebuilt - shift) / lam), hats)
+        if with_state:
+            true, rebuilt = block.values(problem.state_cost_values, nodal[-1], grid)
+            state_sum += block.average(true - rebuilt, hats)
+    terminal = np.zeros(true_z.shape)
+    both = (true_z > 0) & (rebuilt_z > 0)
+    terminal[both] = -lam * np.log(true_z[both] / rebuilt_z[both])
+    unseen = (true_z > 0) & (rebuilt_z == 0)  # a goal where the nodes' desirability underflows
+    terminal[unseen] = -lam * (np.log(true_z[unseen]) + EXPONENT_CAP)
+    state = None
+    if with_state:
+        state = (state_sum / _hat_mass(hats, coarse)).reshape(-1)
+    return Excess(terminal.reshape(len(terminals), -1), state)
+
+
+@dataclass(frozen=True)
+class _Block:
+    """Whole rows ``rows`` (along the first axis) of the half lattice, and their ``points``."""
+
+    rows: np.ndarray
+    points: np.ndarray
+    shape: tuple[int, ...]
+
+    def values(self, f, nodes: np.ndarray, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+        """f at the block's points, and its reconstruction from its values at the ``nodes`` of
+        ``grid`` (:func:`refine` along each axis)."""
+        rebuilt = refine(nodes, 0, grid.axes[0], self.rows)
+        for k in range(1, grid.ndim):
+            rebuilt = refine(rebuilt, k, grid.axes[k])
+        true = np.concatenate([f(self.points[flat]) for flat in flat_chunks(len(self.points))])
+        return true.reshape(self.shape), rebuilt
+
+    def average(self, values: np.ndarray, hats: list) -> np.ndarray:
+        """Σ_s φ_j(s) values(s) over the block's points s, for every coarse node j."""
+        for k in range(1, len(hats)):
+            values = along(hats[k], values, k)
+        return along(hats[0][:, self.rows], values, 0)
+
+
+def _blocks(half: Grid):
+    """The half lattice in :class:`_Block` s of about :data:`LATTICE_BLOCK` points."""
+    row = int(np.prod(half.shape[1:]))
+    step = max(1, LATTICE_BLOCK // row)
+    for start in range(0, half.shape[0], step):
+        rows = np.arange(start, min(start + step, half.shape[0]))
+        flats = flat_chunks((rows[-1] + 1) * row, rows[0] * row)
+        points = np.concatenate([half.node_coordinates(flat) for flat in flats])
+        yield _Block(rows, points, (len(rows),) + half.shape[1:])
+
+
+def _hat_mass(hats, coarse: Grid) -> np.ndarray:
+    """Σ_s φ_j(s) over the half lattice for each coarse node (a product over the axes)."""
+    mass = np.ones(())
+    for H in hats:
+        mass = np.multiply.outer(mass, np.asarray(H.sum(axis=1)).ravel())
+    return mass.reshape(coarse.shape)
+
+
+@dataclass(frozen=True, eq=False)
+class WithExcess:
+    """A cost plus its sub-cell excess, interpolated from the nodes of a coarse grid:
+    ``cost(x) + I δ(x)``, at least ``floor`` (0 for a state cost, which must stay non-negative;
+    None for a terminal cost).
+
+    Parameters
+    ----------
+    cost : callable or None
+        The cost (None: zero).
+    grid : Grid
+        The coarse grid that holds δ.
+    delta : ndarray (Nc,)
+        δ at its nodes.
+    floor : float or None
+        The least value returned.
+    """
+
+    cost: Callable | None
+    grid: Grid
+    delta: np.ndarray
+    floor: float | None = None
+
+    def __call__(self, x) -> np.ndarray:
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        base = np.zeros(len(x)) if self.cost is None else np.asarray(self.cost(x), dtype=float)
+        out = base + interpolate(self.grid, self.delta, x)
+        return out if self.floor is None else np.maximum(out, self.floor)
+
+
+NEGLIGIBLE = 0.01
+"""Where sup|δg| + T sup|δq| is at most this many λ, the raised solve is not run: S is at most
+that bound everywhere (:class:`Response`), at most this share of max(abs(v), λ)."""
+
+
+@dataclass(frozen=True)
+class Response:
+    """What the costs' sub-cell excess changes in a coarse solve (module docstring).
+
+    Attributes
+    ----------
+    base : Solution
+        The coarse solve, v_c[g, q].
+    raised : Solution or None
+        The same with the costs raised by their excess, v_c[g + δg, q + δq]; None where
+        ``bound`` is negligible (:data:`NEGLIGIBLE`) and it was not solved.
+    bound : float
+        sup|δg| + T sup|δq| over the coarse nodes: S never exceeds it (v is 1-Lipschitz in the
+        costs, in the supremum norm, and so is a monotone scheme's).
+    """
+
+    base: Solution
+    raised: Solution | None
+    bound: float
+
+    def __call__(self, x, t=0.0) -> np.ndarray:
+        """S(x, t) = abs(v_c[g + δg, q + δq] − v_c[g, q]) at states ``x`` (N, d), or ``bound``
+        where the raised solve was not run; 0 where both values are infinite (underflow)."""
+        if self.raised is None:
+            return np.full(len(np.atleast_2d(x)), self.bound)
+        with np.errstate(invalid="ignore"):
+            response = np.abs(self.raised.value(x, t) - self.base.value(x, t))
+        return np.where(np.isnan(response), 0.0, response)
+
+
+def responses(problem, terminal_costs, base: list, solve) -> list[Response]:
+    """The :class:`Response` of each of ``base`` (the coarse solves of ``problem`` with each of
+    ``terminal_costs``) to the costs' sub-cell excess.
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem on its own grid, whose half lattice is sampled.
+    terminal_costs : sequence of callable
+    base : list of Solution
+        The coarse solves, one per terminal cost, all on one grid.
+    solve : callable
+        ``solve(problem, costs)`` → list of Solution: the coarse solve of the raised problem, as
+        ``base`` was solved.
+
+    Returns
+    -------
+    list of Response
+    """
+    coarse = base[0].grid
+    found = excess(problem, coarse, terminal_costs)
+    raise_state = 0.0 if found.state is None else float(np.abs(found.state).max())
+    bounds = [float(np.abs(dg).max()) + problem.horizon * raise_state for dg in found.terminal]
+    if max(bounds) <= NEGLIGIBLE * problem.temperature:
+        return [Response(b, None, bound) for b, bound in zip(base, bounds, strict=True)]
+    changes: dict = {}
+    if found.state is not None:
+        changes["state_cost"] = WithExcess(problem.state_cost, coarse, found.state, 0.0)
+    costs = [
+        WithExcess(problem.replace(terminal_cost=g).terminal_cost, coarse, dg)
+        for g, dg in zip(terminal_costs, found.terminal, strict=True)
+    ]
+    raised = solve(problem.replace(**changes), costs)
+    return [Response(b, r, bound) for b, r, bound in zip(base, raised, bounds, strict=True)]
