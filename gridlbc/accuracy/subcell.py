@@ -54,6 +54,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
+from ..costs import Constant, Quadratic
 from ..grid import Axis, Grid, flat_chunks
 from ..interpolate import interpolate
 
@@ -155,7 +156,8 @@ class Excess:
     terminal : ndarray (K, Nc)
         δg_j for each terminal cost.
     state : ndarray (Nc,) or None
-        δq_j (None without a state cost).
+        δq_j (None without a state cost, or for one the reconstruction reproduces:
+        :func:`reproduced`).
     """
 
     terminal: np.ndarray
@@ -183,35 +185,56 @@ def excess(problem, coarse: Grid, terminal_costs) -> Excess:
     lam = problem.temperature
     half = half_lattice(grid)
     hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, half.axes, strict=True)]
-    terminals = [problem.replace(terminal_cost=g) for g in terminal_costs]
-    nodal = [grid.reshape(grid.node_values(p.terminal_values)) for p in terminals]
+    terminal = np.zeros((len(terminal_costs),) + coarse.shape)
+    sampled = [
+        (i, p)
+        for i, p in enumerate(problem.replace(terminal_cost=g) for g in terminal_costs)
+        if not reproduced(p.terminal_cost)
+    ]
+    nodal = [grid.reshape(grid.node_values(p.terminal_values)) for _, p in sampled]
     shifts = [float(g.min()) for g in nodal]
-    with_state = problem.state_cost is not None
+    with_state = not reproduced(problem.state_cost)
     if with_state:
         nodal.append(grid.reshape(grid.node_values(problem.state_cost_values)))
-    true_z = np.zeros((len(terminals),) + coarse.shape)
+    true_z = np.zeros((len(sampled),) + coarse.shape)
     rebuilt_z = np.zeros_like(true_z)
     state_sum = np.zeros(coarse.shape)
-    for block in _blocks(half):
-        for i, (p, shift) in enumerate(zip(terminals, shifts, strict=False)):
-            true, rebuilt = block.values(p.terminal_values, nodal[i], grid)
-            true_z[i] += block.average(
+    for block in _blocks(half) if sampled or with_state else ():
+        for k, ((_, p), shift) in enumerate(zip(sampled, shifts, strict=True)):
+            true, rebuilt = block.values(p.terminal_values, nodal[k], grid)
+            true_z[k] += block.average(
                 np.exp(np.minimum(-(true - shift) / lam, EXPONENT_CAP)), hats
             )
             with np.errstate(under="ignore"):
-                rebuilt_z[i] += block.average(np.exp(-(rebuilt - shift) / lam), hats)
+                rebuilt_z[k] += block.average(np.exp(-(rebuilt - shift) / lam), hats)
         if with_state:
             true, rebuilt = block.values(problem.state_cost_values, nodal[-1], grid)
             state_sum += block.average(true - rebuilt, hats)
-    terminal = np.zeros(true_z.shape)
+    for k, (i, _) in enumerate(sampled):
+        terminal[i] = _log_ratio(true_z[k], rebuilt_z[k], lam)
+    state = (state_sum / _hat_mass(hats, coarse)).reshape(-1) if with_state else None
+    return Excess(terminal.reshape(len(terminal_costs), -1), state)
+
+
+def reproduced(cost) -> bool:
+    """Whether the reconstruction reproduces ``cost`` (absent, a :class:`~gridlbc.costs.Constant`
+    or a :class:`~gridlbc.costs.Quadratic`): its excess is zero without sampling it. A quadratic
+    wrapped on a periodic axis has a kink at its seam, where the cost is largest; where the seam
+    falls between two nodes, a ridge a path would cross there is as low on the grid as it is at
+    the nodes around it, which is not looked for."""
+    return cost is None or isinstance(cost, (Constant, Quadratic))
+
+
+def _log_ratio(true_z: np.ndarray, rebuilt_z: np.ndarray, lam: float) -> np.ndarray:
+    """δg = −λ log(true_z / rebuilt_z); 0 where both underflowed, and where only the
+    reconstruction did (a goal deeper than its surroundings by over :data:`EXPONENT_CAP` λ) its
+    logarithm is taken as −:data:`EXPONENT_CAP`."""
+    out = np.zeros(true_z.shape)
     both = (true_z > 0) & (rebuilt_z > 0)
-    terminal[both] = -lam * np.log(true_z[both] / rebuilt_z[both])
-    unseen = (true_z > 0) & (rebuilt_z == 0)  # a goal where the nodes' desirability underflows
-    terminal[unseen] = -lam * (np.log(true_z[unseen]) + EXPONENT_CAP)
-    state = None
-    if with_state:
-        state = (state_sum / _hat_mass(hats, coarse)).reshape(-1)
-    return Excess(terminal.reshape(len(terminals), -1), state)
+    out[both] = -lam * np.log(true_z[both] / rebuilt_z[both])
+    unseen = (true_z > 0) & (rebuilt_z == 0)
+    out[unseen] = -lam * (np.log(true_z[unseen]) + EXPONENT_CAP)
+    return out
 
 
 @dataclass(frozen=True)

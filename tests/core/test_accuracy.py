@@ -148,18 +148,27 @@ def test_the_half_lattice_reconstruction_is_exact_for_quadratics_and_across_a_se
     np.testing.assert_allclose(rebuilt[3:-3], cubic[3:-3], atol=1e-13)
     np.testing.assert_allclose(accuracy.subcell.refine(x[::2] ** 2, 0, axis), x**2, atol=1e-13)
     problem = lq_point_mass(21)
-    tilted = g.Quadratic([0.3, -0.2], [[2.0, 0.7], [0.7, 1.0]])
+
+    def tilted(x):  # a plain callable, sampled (a library Quadratic is not: reproduced())
+        d = x - [0.3, -0.2]
+        return 2.0 * d[:, 0] ** 2 + 1.4 * d[:, 0] * d[:, 1] + d[:, 1] ** 2
+
     found = accuracy.excess(problem.replace(state_cost=tilted), problem.grid, [tilted])
     np.testing.assert_allclose(found.terminal, 0.0, atol=1e-12)
     np.testing.assert_allclose(found.state, 0.0, atol=1e-12)
+
+    def wrapped(x):
+        return 3.0 * g.costs.wrap_angle(x[:, 0]) ** 2 + 0.1 * x[:, 1] ** 2
+
     ring = g.Problem(
         g.systems.Pendulum(),
         g.Grid([g.Axis(-np.pi, np.pi, 64, periodic=True), g.Axis(-4, 4, 21)]),
         1.0,
-        g.Quadratic([0.0, 0.0], [3.0, 0.1]),
+        wrapped,
     )
-    seam = accuracy.excess(ring, ring.grid, [ring.terminal_cost])
+    seam = accuracy.excess(ring, ring.grid, [wrapped])
     np.testing.assert_allclose(seam.terminal, 0.0, atol=1e-12)
+    assert accuracy.subcell.reproduced(g.Quadratic([0.0, 0.0], [3.0, 0.1]))
 
 
 def _narrow_goal():
