@@ -58,7 +58,16 @@ from .grids import (
     scaled_grid,
 )
 from .paths import PATH_SAMPLES, PATH_WORK, cost_gap, terminal_gap
-from .subcell import NEGLIGIBLE, Excess, Response, WithExcess, excess, half_lattice, responses
+from .subcell import (
+    NEGLIGIBLE,
+    Excess,
+    Response,
+    WithExcess,
+    excess,
+    lattice,
+    responses,
+    samples_per_cell,
+)
 from .tolerance import (
     Refinement,
     axes_to_refine,
@@ -113,8 +122,8 @@ __all__ = [
     "finish",
     "fitting_plan",
     "fitting_storage",
-    "half_lattice",
     "judged_states",
+    "lattice",
     "observed_order",
     "phase_pair",
     "refined_grid",
@@ -123,6 +132,7 @@ __all__ = [
     "relative_error",
     "responses",
     "richardson",
+    "samples_per_cell",
     "scalar_estimate",
     "scaled_grid",
     "shares_add_up",

@@ -62,71 +62,91 @@ if TYPE_CHECKING:
     from ..solution import Solution
 
 LATTICE_BLOCK = 1 << 21
-"""At most about this many points of the half lattice are held at once (:func:`excess` works
+"""At most about this many points of the sampling lattice are held at once (:func:`excess` works
 through it in blocks of whole rows along the first axis)."""
 
 
 EXPONENT_CAP = 700.0
-"""exp(−(g − g_min)/λ) is evaluated with its exponent capped here: a sub-cell goal deeper than
-the nodes' lowest cost by more than this many λ is counted as this deep (still a huge excess)."""
+"""The soft minimum's exponentials are evaluated with their exponents capped here: an excess
+deeper than this many λ/τ is counted as this deep (still a huge one)."""
 
 
-def half_lattice(grid: Grid) -> Grid:
-    """The grid with a point added midway in every cell along every axis (spacing h/2): its even
-    points are ``grid``'s nodes."""
+KINK = 2.0
+"""A point between two nodes takes the one-sided quadratic of the smoother side where one side's
+second difference exceeds the other's this many times (a kink on a node, :func:`refine`)."""
+
+
+def samples_per_cell(ndim: int) -> int:
+    """m, the lattice points per cell along each axis: 4 (spacing h/4) up to three dimensions,
+    2 (h/2) beyond, so that a node's cells hold at most 64 points (module docstring)."""
+    return 4 if ndim <= 3 else 2
+
+
+def lattice(grid: Grid, m: int | None = None) -> Grid:
+    """The sampling lattice of ``grid``: m points per cell along every axis (spacing h/m,
+    :func:`samples_per_cell` by default), every m-th of them a node of ``grid``."""
+    m = samples_per_cell(grid.ndim) if m is None else m
     return Grid(
-        Axis(a.lo, a.hi, 2 * a.n if a.periodic else 2 * a.n - 1, a.periodic, a.name)
+        Axis(a.lo, a.hi, m * a.n if a.periodic else m * (a.n - 1) + 1, a.periodic, a.name)
         for a in grid.axes
     )
 
 
-KINK = 2.0
-"""A midpoint takes the one-sided quadratic of the smoother side where one side's second
-difference exceeds the other's this many times (a kink on a node, :func:`refine`)."""
+def _lagrange(t: np.ndarray, nodes: tuple[int, ...]) -> list[np.ndarray]:
+    """The Lagrange weights at offsets ``t`` of the polynomial through the nodes at ``nodes``."""
+    weights = []
+    for a in nodes:
+        w = np.ones_like(t)
+        for b in nodes:
+            if b != a:
+                w = w * (t - b) / (a - b)
+        weights.append(w)
+    return weights
 
 
-def midpoint(before, left, right, after) -> np.ndarray:
-    """The reconstruction midway between nodal values ``left`` and ``right`` from their
-    neighbours ``before`` and ``after`` (arrays of one shape): the four-point cubic rule
-    (−1, 9, 9, −1)/16, the mean of the two three-point quadratics
-
-        L = (−f_{i−1} + 6 f_i + 3 f_{i+1}) / 8,      R = (3 f_i + 6 f_{i+1} − f_{i+2}) / 8;
-
-    where one side's second difference exceeds the other's :data:`KINK` times (a kink on the
-    node between them: a wrapped quadratic's seam, ``abs(x)``) the quadratic of the smoother
-    side, which is exact there as well. Exact for every quadratic."""
-    left_q = (-before + 6.0 * left + 3.0 * right) / 8.0
-    right_q = (3.0 * left + 6.0 * right - after) / 8.0
+def between(before, left, right, after, t: np.ndarray) -> np.ndarray:
+    """The reconstruction at offset ``t`` (0 < t < 1, in cells) from nodal value ``left`` towards
+    ``right``, with their neighbours ``before`` and ``after`` (arrays whose first axis matches
+    ``t``): the cubic through the four; where one side's second difference exceeds the other's
+    :data:`KINK` times (a kink on the node between them: a wrapped quadratic's seam, ``abs(x)``)
+    the quadratic through the three nodes of the smoother side, which is exact there as well.
+    Exact for every quadratic. At t = ½ the cubic is the rule (−1, 9, 9, −1)/16."""
+    t = t.reshape((-1,) + (1,) * (np.ndim(left) - 1))
+    f = (before, left, right, after)
+    cubic = sum(w * v for w, v in zip(_lagrange(t, (-1, 0, 1, 2)), f, strict=True))
+    left_q = sum(w * v for w, v in zip(_lagrange(t, (-1, 0, 1)), f[:3], strict=True))
+    right_q = sum(w * v for w, v in zip(_lagrange(t, (0, 1, 2)), f[1:], strict=True))
     bent_left = np.abs(before - 2.0 * left + right)
     bent_right = np.abs(left - 2.0 * right + after)
-    smooth = np.where(bent_right > KINK * bent_left, left_q, 0.5 * (left_q + right_q))
+    smooth = np.where(bent_right > KINK * bent_left, left_q, cubic)
     return np.where(bent_left > KINK * bent_right, right_q, smooth)
 
 
-def refine(values: np.ndarray, axis: int, along_axis: Axis, rows=None) -> np.ndarray:
-    """Nodal ``values`` carried to the half lattice along ``axis`` (of the grid axis
-    ``along_axis``): the even points are the nodes, the odd ones take :func:`midpoint` (the
-    quadratic of the only side there is next to a closed end). ``rows``: only these points of
-    the half axis (default all)."""
+def refine(values: np.ndarray, axis: int, along_axis: Axis, m: int, rows=None) -> np.ndarray:
+    """Nodal ``values`` carried to the lattice of m points per cell along ``axis`` (of the grid
+    axis ``along_axis``): every m-th point is a node, the others take :func:`between` (the
+    quadratic of the only side there is in the cell next to a closed end). ``rows``: only these
+    points of the lattice's axis (default all)."""
     f = np.moveaxis(values, axis, 0)
     n, periodic = along_axis.n, along_axis.periodic
-    size = 2 * n if periodic else 2 * n - 1
+    size = m * n if periodic else m * (n - 1) + 1
     rows = np.arange(size) if rows is None else np.asarray(rows)
-    i = rows // 2
+    i, offset = np.divmod(rows, m)
     out = f[i % n]
-    odd = rows % 2 == 1
-    if odd.any():
-        j = i[odd]
+    inside = offset > 0
+    if inside.any():
+        j, t = i[inside], offset[inside] / m
         if periodic:
-            mid = midpoint(*(f[(j + k) % n] for k in (-1, 0, 1, 2)))
+            before, left, right, after = (f[(j + k) % n] for k in (-1, 0, 1, 2))
+            out[inside] = between(before, left, right, after, t)
         else:
             before, after = f[np.maximum(j - 1, 0)], f[np.minimum(j + 2, n - 1)]
-            mid = midpoint(before, f[j], f[j + 1], after)
+            inner = between(before, f[j], f[j + 1], after, t)
             shape = (-1,) + (1,) * (f.ndim - 1)
-            first, last = (j == 0).reshape(shape), (j == n - 2).reshape(shape)
-            mid = np.where(first, (3.0 * f[j] + 6.0 * f[j + 1] - after) / 8.0, mid)
-            mid = np.where(last, (-before + 6.0 * f[j] + 3.0 * f[j + 1]) / 8.0, mid)
-        out[odd] = mid
+            first, last, tt = (j == 0).reshape(shape), (j == n - 2).reshape(shape), t.reshape(shape)
+            right_q = sum(w * v for w, v in zip(_lagrange(tt, (0, 1, 2)), (f[j], f[j + 1], after)))
+            left_q = sum(w * v for w, v in zip(_lagrange(tt, (-1, 0, 1)), (before, f[j], f[j + 1])))
+            out[inside] = np.where(first, right_q, np.where(last, left_q, inner))
     return np.moveaxis(out, 0, axis)
 
 
@@ -164,55 +184,58 @@ class Excess:
     state: np.ndarray | None
 
 
-def excess(problem, coarse: Grid, terminal_costs) -> Excess:
-    """The sub-cell excess of ``problem``'s state cost and of each of ``terminal_costs``, averaged
-    over the hat functions of ``coarse`` (module docstring).
+def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Excess:
+    """The sub-cell excess of ``problem``'s state cost and of each of ``terminal_costs``, as a soft
+    minimum over the hat functions of ``coarse`` (module docstring).
 
     Parameters
     ----------
     problem : Problem
-        A problem on its grid (spacing h); the half lattice is this grid's.
+        A problem on its grid (spacing h), whose lattice is sampled.
     coarse : Grid
         The grid on whose nodes the excess is wanted (the same box).
     terminal_costs : sequence of callable
         The terminal costs g_i.
+    m : int, optional
+        Lattice points per cell along each axis (default :func:`samples_per_cell`).
 
     Returns
     -------
     Excess
     """
     grid = problem.require_grid("a sub-cell excess")
-    lam = problem.temperature
-    half = half_lattice(grid)
-    hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, half.axes, strict=True)]
-    terminal = np.zeros((len(terminal_costs),) + coarse.shape)
-    sampled = [
-        (i, p)
-        for i, p in enumerate(problem.replace(terminal_cost=g) for g in terminal_costs)
+    m = samples_per_cell(grid.ndim) if m is None else m
+    points = lattice(grid, m)
+    hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, points.axes, strict=True)]
+    terminals = [problem.replace(terminal_cost=g) for g in terminal_costs]
+    # (index in the result or None for the state cost, the cost's values, its time scale τ)
+    sampled: list[tuple[int | None, Callable, float]] = [
+        (i, p.terminal_values, 1.0)
+        for i, p in enumerate(terminals)
         if not reproduced(p.terminal_cost)
     ]
-    nodal = [grid.reshape(grid.node_values(p.terminal_values)) for _, p in sampled]
-    shifts = [float(g.min()) for g in nodal]
-    with_state = not reproduced(problem.state_cost)
-    if with_state:
-        nodal.append(grid.reshape(grid.node_values(problem.state_cost_values)))
-    true_z = np.zeros((len(sampled),) + coarse.shape)
-    rebuilt_z = np.zeros_like(true_z)
-    state_sum = np.zeros(coarse.shape)
-    for block in _blocks(half) if sampled or with_state else ():
-        for k, ((_, p), shift) in enumerate(zip(sampled, shifts, strict=True)):
-            true, rebuilt = block.values(p.terminal_values, nodal[k], grid)
-            true_z[k] += block.average(
-                np.exp(np.minimum(-(true - shift) / lam, EXPONENT_CAP)), hats
-            )
-            with np.errstate(under="ignore"):
-                rebuilt_z[k] += block.average(np.exp(-(rebuilt - shift) / lam), hats)
-        if with_state:
-            true, rebuilt = block.values(problem.state_cost_values, nodal[-1], grid)
-            state_sum += block.average(true - rebuilt, hats)
-    for k, (i, _) in enumerate(sampled):
-        terminal[i] = _log_ratio(true_z[k], rebuilt_z[k], lam)
-    state = (state_sum / _hat_mass(hats, coarse)).reshape(-1) if with_state else None
+    if not reproduced(problem.state_cost):
+        sampled.append((None, problem.state_cost_values, problem.require_horizon("an excess")))
+    nodal = [grid.reshape(grid.node_values(values)) for _, values, _ in sampled]
+    anchors = [coarse.reshape(coarse.node_values(values)) for _, values, _ in sampled]
+    scale = problem.temperature
+    sums = np.zeros((2, len(sampled)) + coarse.shape)
+    for block in _blocks(points) if sampled else ():
+        for k, (_, values, tau) in enumerate(sampled):
+            true, rebuilt = block.values(values, nodal[k], grid, m)
+            anchor = block.spread(anchors[k], hats)
+            for side, cost in enumerate((true, rebuilt)):
+                exponent = np.minimum(-tau * (cost - anchor) / scale, EXPONENT_CAP)
+                with np.errstate(under="ignore"):
+                    sums[side, k] += block.average(np.exp(exponent), hats)
+    terminal = np.zeros((len(terminal_costs),) + coarse.shape)
+    state = None
+    for k, (i, _, tau) in enumerate(sampled):
+        soft = -scale / tau * _log_ratio(*sums[:, k])
+        if i is None:
+            state = soft.reshape(-1)
+        else:
+            terminal[i] = soft
     return Excess(terminal.reshape(len(terminal_costs), -1), state)
 
 
@@ -225,34 +248,30 @@ def reproduced(cost) -> bool:
     return cost is None or isinstance(cost, (Constant, Quadratic))
 
 
-def _log_ratio(true_z: np.ndarray, rebuilt_z: np.ndarray, lam: float) -> np.ndarray:
-    """δg = −λ log(true_z / rebuilt_z); 0 where both underflowed, and where only the
-    reconstruction did (a goal deeper than its surroundings by over :data:`EXPONENT_CAP` λ) its
-    logarithm is taken as −:data:`EXPONENT_CAP`."""
-    out = np.zeros(true_z.shape)
-    both = (true_z > 0) & (rebuilt_z > 0)
-    out[both] = -lam * np.log(true_z[both] / rebuilt_z[both])
-    unseen = (true_z > 0) & (rebuilt_z == 0)
-    out[unseen] = -lam * (np.log(true_z[unseen]) + EXPONENT_CAP)
-    return out
-
-
 @dataclass(frozen=True)
 class _Block:
-    """Whole rows ``rows`` (along the first axis) of the half lattice, and their ``points``."""
+    """Whole rows ``rows`` (along the first axis) of the sampling lattice, and their ``points``."""
 
     rows: np.ndarray
     points: np.ndarray
     shape: tuple[int, ...]
 
-    def values(self, f, nodes: np.ndarray, grid: Grid) -> tuple[np.ndarray, np.ndarray]:
+    def values(self, f, nodes: np.ndarray, grid: Grid, m: int) -> tuple[np.ndarray, np.ndarray]:
         """f at the block's points, and its reconstruction from its values at the ``nodes`` of
-        ``grid`` (:func:`refine` along each axis)."""
-        rebuilt = refine(nodes, 0, grid.axes[0], self.rows)
+        ``grid`` (:func:`refine` along each axis, m points per cell)."""
+        rebuilt = refine(nodes, 0, grid.axes[0], m, self.rows)
         for k in range(1, grid.ndim):
-            rebuilt = refine(rebuilt, k, grid.axes[k])
+            rebuilt = refine(rebuilt, k, grid.axes[k], m)
         true = np.concatenate([f(self.points[flat]) for flat in flat_chunks(len(self.points))])
         return true.reshape(self.shape), rebuilt
+
+    def spread(self, coarse_values: np.ndarray, hats: list) -> np.ndarray:
+        """The multilinear interpolant Σ_j φ_j(s) c_j of coarse nodal values at the block's
+        points s."""
+        values = along(hats[0][:, self.rows].T, coarse_values, 0)
+        for k in range(1, len(hats)):
+            values = along(hats[k].T, values, k)
+        return values
 
     def average(self, values: np.ndarray, hats: list) -> np.ndarray:
         """Σ_s φ_j(s) values(s) over the block's points s, for every coarse node j."""
@@ -261,23 +280,26 @@ class _Block:
         return along(hats[0][:, self.rows], values, 0)
 
 
-def _blocks(half: Grid):
-    """The half lattice in :class:`_Block` s of about :data:`LATTICE_BLOCK` points."""
-    row = int(np.prod(half.shape[1:]))
+def _blocks(points: Grid):
+    """The lattice ``points`` in :class:`_Block` s of about :data:`LATTICE_BLOCK` points."""
+    row = int(np.prod(points.shape[1:]))
     step = max(1, LATTICE_BLOCK // row)
-    for start in range(0, half.shape[0], step):
-        rows = np.arange(start, min(start + step, half.shape[0]))
+    for start in range(0, points.shape[0], step):
+        rows = np.arange(start, min(start + step, points.shape[0]))
         flats = flat_chunks((rows[-1] + 1) * row, rows[0] * row)
-        points = np.concatenate([half.node_coordinates(flat) for flat in flats])
-        yield _Block(rows, points, (len(rows),) + half.shape[1:])
+        coordinates = np.concatenate([points.node_coordinates(flat) for flat in flats])
+        yield _Block(rows, coordinates, (len(rows),) + points.shape[1:])
 
 
-def _hat_mass(hats, coarse: Grid) -> np.ndarray:
-    """Σ_s φ_j(s) over the half lattice for each coarse node (a product over the axes)."""
-    mass = np.ones(())
-    for H in hats:
-        mass = np.multiply.outer(mass, np.asarray(H.sum(axis=1)).ravel())
-    return mass.reshape(coarse.shape)
+def _log_ratio(true: np.ndarray, rebuilt: np.ndarray) -> np.ndarray:
+    """log(true / rebuilt); 0 where both sums underflowed (nothing is known there), and where
+    only the reconstruction's did, log(true) + :data:`EXPONENT_CAP`."""
+    out = np.zeros(true.shape)
+    both = (true > 0) & (rebuilt > 0)
+    out[both] = np.log(true[both] / rebuilt[both])
+    unseen = (true > 0) & (rebuilt == 0)
+    out[unseen] = np.log(true[unseen]) + EXPONENT_CAP
+    return out
 
 
 @dataclass(frozen=True, eq=False)

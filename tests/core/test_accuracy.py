@@ -136,17 +136,17 @@ def test_the_cost_gap_at_the_horizon_is_the_terminal_interpolants_error():
 
 
 def test_the_half_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
-    """R f on the half lattice (gridlbc.accuracy.subcell.refine): the four-point rule is exact for
+    """R f on the sampling lattice (gridlbc.accuracy.subcell.refine): the cubic rule is exact for
     cubics inside a closed axis where the curvature is of one sign (x³ + 10x², f'' from 14 to 32),
     the end rule for quadratics, so a quadratic cost with a cross term has no excess at all; on a
     periodic axis a wrapped quadratic's seam (a kink on a node) takes the smoother side's
     quadratic and has none either."""
-    axis = g.Axis(-1.0, 2.0, 13)
-    x = accuracy.half_lattice(g.Grid([axis])).axes[0].points()
+    axis, m = g.Axis(-1.0, 2.0, 13), 4
+    x = accuracy.lattice(g.Grid([axis]), m).axes[0].points()
     cubic = x**3 + 10 * x**2
-    rebuilt = accuracy.subcell.refine(cubic[::2], 0, axis)
-    np.testing.assert_allclose(rebuilt[3:-3], cubic[3:-3], atol=1e-13)
-    np.testing.assert_allclose(accuracy.subcell.refine(x[::2] ** 2, 0, axis), x**2, atol=1e-13)
+    rebuilt = accuracy.subcell.refine(cubic[::m], 0, axis, m)
+    np.testing.assert_allclose(rebuilt[m:-m], cubic[m:-m], atol=1e-13)
+    np.testing.assert_allclose(accuracy.subcell.refine(x[::m] ** 2, 0, axis, m), x**2, atol=1e-13)
     problem = lq_point_mass(21)
 
     def tilted(x):  # a plain callable, sampled (a library Quadratic is not: reproduced())
