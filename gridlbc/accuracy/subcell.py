@@ -54,6 +54,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import scipy.sparse as sp
 
+from ..backends.numba.lattice import refine_rows
 from ..costs import Constant, Quadratic
 from ..grid import Axis, Grid, flat_chunks
 from ..interpolate import interpolate
@@ -72,8 +73,8 @@ deeper than this many λ/τ is counted as this deep (still a huge one)."""
 
 
 KINK = 2.0
-"""A point between two nodes takes the one-sided quadratic of the smoother side where one side's
-second difference exceeds the other's this many times (a kink on a node, :func:`refine`)."""
+"""A point between two nodes takes the quadratic of the smoother side where one side's second
+difference exceeds the other's this many times (a kink on a node, :func:`refine`)."""
 
 
 def samples_per_cell(ndim: int) -> int:
@@ -92,62 +93,45 @@ def lattice(grid: Grid, m: int | None = None) -> Grid:
     )
 
 
-def _lagrange(t: np.ndarray, nodes: tuple[int, ...]) -> list[np.ndarray]:
-    """The Lagrange weights at offsets ``t`` of the polynomial through the nodes at ``nodes``."""
-    weights = []
-    for a in nodes:
-        w = np.ones_like(t)
-        for b in nodes:
-            if b != a:
-                w = w * (t - b) / (a - b)
-        weights.append(w)
+def _lagrange(m: int, nodes: tuple[int, ...]) -> np.ndarray:
+    """``(m, len(nodes))``: the Lagrange weights at the offsets o/m, o = 0 … m − 1, of the
+    polynomial through the nodes at positions ``nodes`` (in cells)."""
+    t = np.arange(m)[:, None] / m
+    weights = np.ones((m, len(nodes)))
+    for a, node in enumerate(nodes):
+        for other in nodes:
+            if other != node:
+                weights[:, a] *= (t[:, 0] - other) / (node - other)
     return weights
-
-
-def between(before, left, right, after, t: np.ndarray) -> np.ndarray:
-    """The reconstruction at offset ``t`` (0 < t < 1, in cells) from nodal value ``left`` towards
-    ``right``, with their neighbours ``before`` and ``after`` (arrays whose first axis matches
-    ``t``): the cubic through the four; where one side's second difference exceeds the other's
-    :data:`KINK` times (a kink on the node between them: a wrapped quadratic's seam, ``abs(x)``)
-    the quadratic through the three nodes of the smoother side, which is exact there as well.
-    Exact for every quadratic. At t = ½ the cubic is the rule (−1, 9, 9, −1)/16."""
-    t = t.reshape((-1,) + (1,) * (np.ndim(left) - 1))
-    f = (before, left, right, after)
-    cubic = sum(w * v for w, v in zip(_lagrange(t, (-1, 0, 1, 2)), f, strict=True))
-    left_q = sum(w * v for w, v in zip(_lagrange(t, (-1, 0, 1)), f[:3], strict=True))
-    right_q = sum(w * v for w, v in zip(_lagrange(t, (0, 1, 2)), f[1:], strict=True))
-    bent_left = np.abs(before - 2.0 * left + right)
-    bent_right = np.abs(left - 2.0 * right + after)
-    smooth = np.where(bent_right > KINK * bent_left, left_q, cubic)
-    return np.where(bent_left > KINK * bent_right, right_q, smooth)
 
 
 def refine(values: np.ndarray, axis: int, along_axis: Axis, m: int, rows=None) -> np.ndarray:
     """Nodal ``values`` carried to the lattice of m points per cell along ``axis`` (of the grid
-    axis ``along_axis``): every m-th point is a node, the others take :func:`between` (the
-    quadratic of the only side there is in the cell next to a closed end). ``rows``: only these
-    points of the lattice's axis (default all)."""
-    f = np.moveaxis(values, axis, 0)
-    n, periodic = along_axis.n, along_axis.periodic
-    size = m * n if periodic else m * (n - 1) + 1
-    rows = np.arange(size) if rows is None else np.asarray(rows)
-    i, offset = np.divmod(rows, m)
-    out = f[i % n]
-    inside = offset > 0
-    if inside.any():
-        j, t = i[inside], offset[inside] / m
-        if periodic:
-            before, left, right, after = (f[(j + k) % n] for k in (-1, 0, 1, 2))
-            out[inside] = between(before, left, right, after, t)
-        else:
-            before, after = f[np.maximum(j - 1, 0)], f[np.minimum(j + 2, n - 1)]
-            inner = between(before, f[j], f[j + 1], after, t)
-            shape = (-1,) + (1,) * (f.ndim - 1)
-            first, last, tt = (j == 0).reshape(shape), (j == n - 2).reshape(shape), t.reshape(shape)
-            right_q = sum(w * v for w, v in zip(_lagrange(tt, (0, 1, 2)), (f[j], f[j + 1], after)))
-            left_q = sum(w * v for w, v in zip(_lagrange(tt, (-1, 0, 1)), (before, f[j], f[j + 1])))
-            out[inside] = np.where(first, right_q, np.where(last, left_q, inner))
-    return np.moveaxis(out, 0, axis)
+    axis ``along_axis``). Every m-th point is a node; a point at offset t (0 < t < 1, in cells)
+    from node i towards i + 1 takes the cubic through nodes i − 1 … i + 2, except where one
+    side's second difference exceeds the other's :data:`KINK` times (a kink on the node between
+    them: a wrapped quadratic's seam, ``abs(x)``), where it takes the quadratic through the three
+    nodes of the smoother side, which is exact there as well; in the end cells of a closed axis
+    the only quadratic there is. Exact for every quadratic; at t = ½ the cubic is the rule
+    (−1, 9, 9, −1)/16. ``rows``: only these points of the lattice's axis (default all)."""
+    n = along_axis.n
+    size = m * n if along_axis.periodic else m * (n - 1) + 1
+    rows = np.arange(size) if rows is None else np.asarray(rows, dtype=np.int64)
+    moved = np.moveaxis(values, axis, -1)
+    flat = np.ascontiguousarray(moved.reshape(-1, n), dtype=float)
+    out = np.empty((flat.shape[0], len(rows)))
+    refine_rows(
+        flat,
+        rows,
+        m,
+        along_axis.periodic,
+        _lagrange(m, (-1, 0, 1, 2)),
+        _lagrange(m, (-1, 0, 1)),
+        _lagrange(m, (0, 1, 2)),
+        KINK,
+        out,
+    )
+    return np.moveaxis(out.reshape(moved.shape[:-1] + (len(rows),)), -1, axis)
 
 
 def hat_weights(coarse: Axis, points: np.ndarray) -> sp.csr_matrix:
@@ -282,12 +266,12 @@ class _Block:
 
 def _blocks(points: Grid):
     """The lattice ``points`` in :class:`_Block` s of about :data:`LATTICE_BLOCK` points."""
-    row = int(np.prod(points.shape[1:]))
-    step = max(1, LATTICE_BLOCK // row)
+    axes = [a.points() for a in points.axes]
+    step = max(1, LATTICE_BLOCK // int(np.prod(points.shape[1:])))
     for start in range(0, points.shape[0], step):
         rows = np.arange(start, min(start + step, points.shape[0]))
-        flats = flat_chunks((rows[-1] + 1) * row, rows[0] * row)
-        coordinates = np.concatenate([points.node_coordinates(flat) for flat in flats])
+        mesh = np.meshgrid(axes[0][rows], *axes[1:], indexing="ij")
+        coordinates = np.stack([c.reshape(-1) for c in mesh], axis=1)
         yield _Block(rows, coordinates, (len(rows),) + points.shape[1:])
 
 
