@@ -42,9 +42,10 @@ misses the feature alike (next to the ends of an axis, and its centre where its 
 even: :func:`phase_pair`).
 
 And it is at least S(x, t) = abs(v_2h[g + δg, q + δq] − v_2h[g, q]), what the costs' excess
-between the nodes (δg, δq: the costs on the half lattice against their cubic reconstruction from
-the nodes) changes in the embedded solve (:mod:`gridlbc.accuracy.subcell`): it sees a goal or a
-pit narrower than a cell that the solve's paths never approach, which γ cannot.
+between the nodes (δg, δq: the costs at points between the nodes against their reconstruction
+from the nodes, exact for quadratics) changes in the embedded solve
+(:mod:`gridlbc.accuracy.subcell`): it sees a goal or a well narrower than a cell that the
+solve's paths never approach, which γ cannot.
 
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for

@@ -1,48 +1,56 @@
-"""Costs narrower than a cell, wherever they lie: their sub-cell excess and what it changes (docs
-page :doc:`accuracy`, "Costs between the nodes").
+"""Costs narrower than a cell, wherever they lie: their excess between the nodes and what it
+changes (docs page :doc:`accuracy`, "Costs between the nodes").
 
-A grid solve knows its costs only at its nodes. A goal or a pit narrower than a cell can sit
-between them, and a solve then answers a different problem, whose costs are shallow where the
+A grid solve knows its costs only at its nodes. A goal or a well narrower than a cell can sit
+between them, and the solve then answers a different problem, whose costs are shallow where the
 true ones are deep. The embedded solves (:mod:`gridlbc.accuracy.estimate`) miss such a feature
 as much as the grid does when their nodes miss it too, and the sampled cost gap γ
 (:mod:`gridlbc.accuracy.paths`) misses it when the solve's own paths never go there: a goal the
 grid cannot see is not sought. This module looks for such features in the costs themselves and
 measures what they change.
 
-**The excess.** On the *half lattice* (a point midway in every cell along every axis, spacing
-h/2, :func:`half_lattice`), the costs are compared with their reconstruction from the nodes:
-nodes keep their values, and midpoints take the four-point cubic rule along each axis in turn,
+**The excess.** On the sampling *lattice*, m points per cell along every axis (spacing h/m;
+m = 4 up to three dimensions and 2 beyond, :func:`samples_per_cell`), each cost f is compared
+with its reconstruction R f from the nodes (:func:`refine`, along each axis in turn): nodes keep
+their values, and a point at offset t within a cell takes the cubic through the four nodes
+around it (at t = ½ the rule (−f_{i−1} + 9 f_i + 9 f_{i+1} − f_{i+2})/16), or, where one side's
+second difference exceeds the other's :data:`KINK` times (a kink on a node: a wrapped
+quadratic's seam, ``abs(x)``), the quadratic through the three nodes of the smoother side. R is
+exact for every quadratic, so the excess f − R f is zero at every lattice point for a quadratic
+cost and O(h⁴) for a smooth one; where a feature narrower than a cell lies between the nodes it
+is the feature's depth at the lattice points near it. The library's own quadratic costs are not
+sampled (:func:`reproduced`).
 
-    R f(x_{i+½}) = ( −f_{i−1} + 9 f_i + 9 f_{i+1} − f_{i+2} ) / 16,
+**Carried to the embedded grid.** On each node j of the embedded grid (spacing 2h, hat functions
+φ_j) the excess is summed up as a soft minimum at the temperature λ/τ,
 
-(the three-point quadratic ( 3 f_i + 6 f_{i+1} − f_{i+2} ) / 8 next to a closed end). The rule is
-exact for cubics along each axis, so for every quadratic cost the excess f − R f is zero at every
-point of the lattice, and for a smooth cost it is O(h⁴); where a feature narrower than a cell lies
-between the nodes it is the feature's whole depth.
+    δ_j = −(λ/τ) log( Σ_s φ_j(s) w(s) exp(−τ (f − R f)(s)/λ) / Σ_s φ_j(s) w(s) ),
+    w(s) = exp(−τ (R f(s) − I f_c(s))/λ),
 
-**Carried to a coarse grid.** The excess is averaged over the hat functions φ_j of a coarse grid
-(the coarsest embedded grid, :func:`excess`): for the terminal cost in the desirability, where a
-narrow goal's weight is what matters,
+over the lattice points s, with τ = 1 for the terminal cost g and τ = T, the horizon, for the
+state cost q. For g this is the ratio of the desirability exp(−g/λ) that the hat holds to the one
+its reconstruction holds: a narrow goal counts with its weight, as the value does. For q it is
+what a path that stays by the node for the whole horizon could gain: a narrow well is worth its
+depth to a path that holds still in it, a narrow pit (which a path can step around) little. The
+weights w favour the points where the reconstruction is low against I f_c, the embedded grid's
+multilinear interpolant of the cost at its own nodes, which keeps the exponentials in range.
 
-    δg_j = −λ log( Σ_s φ_j(s) exp(−g(s)/λ) / Σ_s φ_j(s) exp(−R g(s)/λ) ),
+**The response.** The embedded problem is solved once more with its costs raised by the excess,
+g + δg and q + δq (:class:`WithExcess`; q + δq at least 0), and
 
-and for the state cost in the value, δq_j = Σ_s φ_j(s) (q − R q)(s) / Σ_s φ_j(s), sums over the
-points s of the half lattice. The coarse solve with costs g + δg and q + δq (:class:`WithExcess`)
-differs from the same coarse solve with g and q by what the costs between the nodes change:
+    S(x, t) = abs( v_2h[g + δg, q + δq](x, t) − v_2h[g, q](x, t) )
 
-    S(x, t) = abs( v_c[g + δg, q + δq](x, t) − v_c[g, q](x, t) ),
+is what the costs between the nodes change, seen at the embedded grid's resolution whether or
+not the solve's paths go near them (:class:`Response`;
+:meth:`gridlbc.accuracy.EmbeddedEstimate.error` reads it beside its other terms). Where
+sup|δg| + T sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not run and S is that
+bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum norm).
 
-which :meth:`gridlbc.accuracy.EmbeddedEstimate.error` reads beside its other terms. S is zero for
-quadratic costs (δ = 0 exactly) and O(h⁴) for smooth ones; for a feature between the nodes it is
-the feature's effect on the value seen at the coarse grid's resolution, whether or not the
-solve's paths go near it.
-
-What S cannot see: a feature narrower than the half lattice's spacing that falls between its
-points too (a goal a tenth of a cell wide is sampled only if it lies near one of them), and a
-kink of a cost on a node (a wrapped quadratic's seam, ``abs(x)``) counts as a small excess
-although the nodes resolve it (the cubic rule is not exact across a kink). It is computed for the
-problems with a horizon that the embedded solves check; the costs are evaluated at 2^d points
-per node.
+What S cannot see: a feature much narrower than the lattice's spacing whose centre falls between
+its points (a goal an eighth of a cell wide at an eighth of a cell from a node, in three
+dimensions; at a quarter of a cell in four), where the nodes and the lattice see the same
+tail of it. It is computed for the problems with a horizon. Its cost: the costs evaluated at
+m^d lattice points per node, and where they have an excess, one more solve on the embedded grid.
 """
 
 from __future__ import annotations
@@ -358,7 +366,7 @@ def responses(problem, terminal_costs, base: list, solve) -> list[Response]:
     Parameters
     ----------
     problem : Problem
-        The problem on its own grid, whose half lattice is sampled.
+        The problem on its own grid, whose lattice is sampled.
     terminal_costs : sequence of callable
     base : list of Solution
         The coarse solves, one per terminal cost, all on one grid.
