@@ -143,13 +143,20 @@ def refine(values: np.ndarray, axis: int, along_axis: Axis, m: int, rows=None) -
 
 
 def hat_weights(coarse: Axis, points: np.ndarray) -> sp.csr_matrix:
-    """The matrix ``(coarse nodes, points)`` of the coarse axis's hat functions
-    φ_j(s) = max(0, 1 − abs(s − x_j)/H) at ``points`` (nearest image on a periodic axis)."""
-    x, H = coarse.points(), coarse.spacing
-    d = points[None, :] - x[:, None]
-    if coarse.periodic:
-        d = np.mod(d + 0.5 * coarse.period, coarse.period) - 0.5 * coarse.period
-    return sp.csr_matrix(np.maximum(0.0, 1.0 - np.abs(d) / H))
+    """The sparse matrix ``(coarse nodes, points)`` of the coarse axis's hat functions
+    φ_j(s) = max(0, 1 − abs(s − x_j)/H) at ``points`` in its box (two per point: the nodes of
+    the cell it lies in; nearest image on a periodic axis)."""
+    n, H = coarse.n, coarse.spacing
+    position = (np.asarray(points, dtype=float) - coarse.lo) / H
+    cell = np.floor(position).astype(np.int64)
+    if not coarse.periodic:
+        cell = np.clip(cell, 0, n - 2)
+    t = position - cell
+    columns = np.arange(len(position))
+    rows = np.concatenate([cell % n, (cell + 1) % n])
+    weights = np.concatenate([1.0 - t, t])
+    shape = (n, len(position))
+    return sp.csr_matrix((weights, (rows, np.concatenate([columns, columns]))), shape=shape)
 
 
 def along(matrix: sp.csr_matrix, values: np.ndarray, axis: int) -> np.ndarray:

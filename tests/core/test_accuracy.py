@@ -169,6 +169,9 @@ def test_the_half_lattice_reconstruction_is_exact_for_quadratics_and_across_a_se
     seam = accuracy.excess(ring, ring.grid, [wrapped])
     np.testing.assert_allclose(seam.terminal, 0.0, atol=1e-12)
     assert accuracy.subcell.reproduced(g.Quadratic([0.0, 0.0], [3.0, 0.1]))
+    for coarse in (g.Axis(-1.0, 2.0, 7), g.Axis(-np.pi, np.pi, 32, periodic=True)):
+        hats = accuracy.subcell.hat_weights(coarse, np.linspace(coarse.lo, coarse.hi, 97))
+        np.testing.assert_allclose(hats.sum(axis=0), 1.0, atol=1e-14)  # a partition of unity
 
 
 def _narrow_goal():
