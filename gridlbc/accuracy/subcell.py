@@ -10,7 +10,8 @@ grid cannot see is not sought. This module looks for such features in the costs 
 measures what they change.
 
 **The excess.** On the sampling *lattice*, m points per cell along every axis (spacing h/m;
-m = 4 up to three dimensions and 2 beyond, :func:`samples_per_cell`), each cost f is compared
+m = 4 where that is at most 2²⁴ points, a 2-D grid up to about 1000² or a 3-D one up to 64³, and
+2 otherwise, :func:`samples_per_cell`), each cost f is compared
 with its reconstruction R f from the nodes (:func:`refine`, along each axis in turn): nodes keep
 their values, and a point at offset t within a cell takes the cubic through the four nodes
 around it (at t = ½ the rule (−f_{i−1} + 9 f_i + 9 f_{i+1} − f_{i+2})/16), or, where one side's
@@ -47,9 +48,9 @@ sup|δg| + T sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not r
 bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum norm).
 
 What S cannot see: a feature much narrower than the lattice's spacing whose centre falls between
-its points (a goal an eighth of a cell wide at an eighth of a cell from a node, in three
-dimensions; at a quarter of a cell in four), where the nodes and the lattice see the same
-tail of it. It is computed for the problems with a horizon. Its cost: the costs evaluated at
+its points, where the nodes and the lattice see the same tail of it (a goal an eighth of a cell
+wide an eighth of a cell from a node with m = 4; a quarter of a cell wide a quarter of a cell off
+with m = 2, on larger grids and in 4-D). It is computed for the problems with a horizon. Its cost: the costs evaluated at
 m^d lattice points per node, and where they have an excess, one more solve on the embedded grid.
 """
 
@@ -85,16 +86,21 @@ KINK = 2.0
 difference exceeds the other's this many times (a kink on a node, :func:`refine`)."""
 
 
-def samples_per_cell(ndim: int) -> int:
-    """m, the lattice points per cell along each axis: 4 (spacing h/4) up to three dimensions,
-    2 (h/2) beyond, so that a node's cells hold at most 64 points (module docstring)."""
-    return 4 if ndim <= 3 else 2
+LATTICE_POINTS = 1 << 24
+"""The sampling lattice has 4 points per cell along each axis where it then holds at most this
+many points, 2 otherwise (:func:`samples_per_cell`)."""
 
 
-def lattice(grid: Grid, m: int | None = None) -> Grid:
-    """The sampling lattice of ``grid``: m points per cell along every axis (spacing h/m,
-    :func:`samples_per_cell` by default), every m-th of them a node of ``grid``."""
-    m = samples_per_cell(grid.ndim) if m is None else m
+def samples_per_cell(grid: Grid) -> int:
+    """m, the lattice points per cell along each axis: 4 (spacing h/4) where the lattice then
+    holds at most :data:`LATTICE_POINTS` points (a 2-D grid up to about 1000², 3-D up to 64³),
+    2 (spacing h/2) otherwise, so that sampling the costs stays a few seconds' work."""
+    return 4 if lattice(grid, 4).size <= LATTICE_POINTS else 2
+
+
+def lattice(grid: Grid, m: int) -> Grid:
+    """The sampling lattice of ``grid``: m points per cell along every axis (spacing h/m), every
+    m-th of them a node of ``grid``."""
     return Grid(
         Axis(a.lo, a.hi, m * a.n if a.periodic else m * (a.n - 1) + 1, a.periodic, a.name)
         for a in grid.axes
@@ -203,7 +209,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     Excess
     """
     grid = problem.require_grid("a sub-cell excess")
-    m = samples_per_cell(grid.ndim) if m is None else m
+    m = samples_per_cell(grid) if m is None else m
     points = lattice(grid, m)
     hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, points.axes, strict=True)]
     terminals = [problem.replace(terminal_cost=g) for g in terminal_costs]
