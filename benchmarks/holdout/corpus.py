@@ -13,7 +13,9 @@ Systems of the user's own are plain subclasses of :class:`gridlbc.systems.Contro
 (the README's recipe); the rest are built-ins with new costs, boxes, temperatures and control
 costs. Three members are the failures reported in issue 25: a fast vortex core in a slow field,
 a toll strip narrower than a cell across an axis only the drift moves, and a coarse 25⁴ acrobot
-started fast.
+started fast. Narrow terminal goals, where the certificates degenerate (ESS near 1), carry an
+``exact`` function instead (:func:`exact_goal`: a closed-form series), whose values ``truths.py``
+records.
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.regions import Ball, Box
@@ -187,6 +190,30 @@ class RigidBody(ControlAffineSystem):
     def input_matrix(self, x):
         w = self._states(x)
         return np.broadcast_to(np.diag(1.0 / self.inertia), (w.shape[0], 3, 3))
+
+
+class Affine(ControlAffineSystem):
+    """ẋ = a(x) + B u with a given drift function and a constant input matrix B (d × m)."""
+
+    def __init__(self, drift, B, names=None, angle_axes=()):
+        self._drift, self.B = drift, np.asarray(B, float)
+        self.state_dim, self.control_dim = self.B.shape
+        self.state_names = names or tuple(f"x{i}" for i in range(self.state_dim))
+        self.angle_axes = tuple(angle_axes)
+
+    def drift(self, x):
+        return self._drift(self._states(x))
+
+    def input_matrix(self, x):
+        return np.broadcast_to(self.B, (self._states(x).shape[0], *self.B.shape))
+
+
+def integrator(d, drift=None):
+    """ẋ = a + u in d dimensions (B = I, R = 1), a a constant vector (default 0)."""
+    if drift is None:
+        return LinearSystem(np.zeros((d, d)), np.eye(d))
+    a = np.asarray(drift, float)
+    return Affine(lambda x: np.broadcast_to(a, x.shape).copy(), np.eye(d))
 
 
 class RoundObstacle:
@@ -438,6 +465,10 @@ class Member:
     max_time : float or None
         For a task that ends without a horizon: the certificate's paths stop here (long enough
         that all but a negligible share have exited; ``truths.json`` records the share).
+    exact : callable or None
+        States (k, d) → the exact v*(x, 0) (closed form or quadrature), for problems whose
+        certificates degenerate; ``truths.py`` records it instead of a certificate. Its
+        docstring's first paragraph says how it is computed.
     """
 
     name: str
@@ -450,6 +481,7 @@ class Member:
     trajectory: bool = False
     tags: tuple[str, ...] = field(default=())
     max_time: float | None = None
+    exact: Callable[[np.ndarray], np.ndarray] | None = None
 
 
 def refine(problem: Problem, factor: float) -> Problem:
@@ -621,6 +653,166 @@ def stiff_relax(rate: float = 50.0, horizon: float = 5.0) -> Problem:
         Quadratic([0, 0], [1.0, 0.2]),
         state_cost=cost,
         temperature=0.1,
+    )
+
+
+# -- narrow goals with exact truths (stranger round 8) ------------------------------------------
+
+
+def goal_cost(D, w, c, a, m=None):
+    """g(y) = Σ aᵢ (yᵢ − mᵢ)² + D (1 − exp(−|y − c|²/2w²)) (the goal over the axes where c is
+    not None); ``g.spec`` keeps the parameters for :func:`log_z_goal`."""
+    a = np.asarray(a, float)
+    m = np.zeros(len(a)) if m is None else np.asarray(m, float)
+    idx = [i for i, ci in enumerate(c) if ci is not None]
+    cc = np.array([c[i] for i in idx], float)
+
+    def g(x):
+        x = np.atleast_2d(x)
+        r2 = np.sum((x[:, idx] - cc) ** 2, axis=1)
+        return np.sum(a * (x - m) ** 2, axis=1) + D * (1 - np.exp(-0.5 * r2 / w**2))
+
+    g.spec = dict(D=D, w=w, c=c, a=a, m=m)
+    return g
+
+
+def log_z_goal(mean, s2, spec, lam):
+    """log E exp(−g(Y)/λ), Y ~ N(mean, s2 I), g = :func:`goal_cost`'s: exp(D e^{−r²/2w²}/λ) =
+    Σₖ (D/λ)ᵏ/k! e^{−k r²/2w²}, each term a Gaussian integral in closed form, summed to
+    k ≈ D/λ + 12 √(D/λ) + 30 in log space."""
+    D, w, c, a, m = spec["D"], spec["w"], spec["c"], spec["a"], spec["m"]
+    mu = D / lam
+    K = int(mu + 12 * math.sqrt(mu) + 30)
+    k = np.arange(K, dtype=float)
+    logt = k * math.log(mu) - gammaln(k + 1)
+    p0 = 1.0 / s2
+    for i in range(len(mean)):
+        p1 = 2 * a[i] / lam
+        if c[i] is None:
+            P = p0 + p1
+            resid = p0 * p1 * (mean[i] - m[i]) ** 2 / P
+            logt = logt - 0.5 * math.log(P / p0) - 0.5 * resid
+        else:
+            p2 = k / w**2
+            P = p0 + p1 + p2
+            resid = (
+                p0 * p1 * (mean[i] - m[i]) ** 2
+                + p0 * p2 * (mean[i] - c[i]) ** 2
+                + p1 * p2 * (m[i] - c[i]) ** 2
+            ) / P
+            logt = logt - 0.5 * np.log(P / p0) - 0.5 * resid
+    top = logt.max()
+    return -mu + top + math.log(np.sum(np.exp(logt - top)))
+
+
+def exact_goal(build, drift=None):
+    """v(x, 0) for a :func:`goal_cost` terminal cost, ẋ = drift + u (a constant drift), no state
+    cost: v = −λ log E exp(−g(X_T)/λ), X_T ~ N(x + aT, λT I) (:func:`log_z_goal`; the closed walls
+    ignored, ≥ 3 standard deviations away against the pull of g)."""
+
+    def f(X):
+        """closed-form series (corpus.log_z_goal): v = −λ log E exp(−g(X_T)/λ), X_T ~ N(x + aT,
+        λT I), exp(D e^{−r²/2w²}/λ) summed term by term as Gaussian integrals"""
+        p = build()
+        lam, T = p.temperature, p.horizon
+        a = np.zeros(X.shape[1]) if drift is None else np.asarray(drift, float)
+        spec = p.terminal_cost.spec
+        return np.array([-lam * log_z_goal(x + a * T, lam * T, spec, lam) for x in X])
+
+    return f
+
+
+def goal_face_3d():
+    """corpus.goal_in_cell's goal (w = h/2 = 0.05, depth 2, + 0.1|x|², 41³, λ = 0.1, T = 1) at
+    the centre of a cell FACE: c = (0.35, 0.2, −0.4), midway on x, on nodes in y and z (1.12 w
+    from the face's four nodes)."""
+    p = goal_in_cell((0.35, 0.2, -0.4))
+    return p.replace(terminal_cost=goal_cost(2.0, 0.05, (0.35, 0.2, -0.4), [0.1] * 3))
+
+
+def goal_eighth():
+    """2-D ẋ = u on [−2, 2]² (201², h = 0.02), a goal w = h/8 = 0.0025, depth 1.5, + 0.1|x|², at
+    c = (0.305, −0.295): a quarter cell off a node on both axes, so every node, edge midpoint and
+    cell centre is 0.35 h = 2.8 w from it (the goal term there 0.98 of its far value). λ = 0.1,
+    T = 1."""
+    c = (0.305, -0.295)
+    return Problem(
+        integrator(2),
+        _grid((-2, 2, 201), (-2, 2, 201)),
+        1.0,
+        goal_cost(1.5, 0.0025, c, [0.1, 0.1]),
+        temperature=0.1,
+    )
+
+
+def goal_quarter():
+    """goal_eighth with a goal twice as wide, w = h/4 = 0.005, at the same quarter-cell offsets
+    (every node, edge midpoint and cell centre 1.41 w from it: the goal term there 0.37 of
+    its depth below the far value)."""
+    c = (0.305, -0.295)
+    return goal_eighth().replace(terminal_cost=goal_cost(1.5, 0.005, c, [0.1, 0.1]))
+
+
+def goal_4d():
+    """4-D ẋ = u on [−2, 2]⁴ (21⁴, h = 0.2), a goal w = 0.1 = h/2, + 0.1|x|², at the
+    cell centre c = (0.1, −0.3, 0.5, −0.1) (2 w from all 16 of its nodes), depth 3, λ = 0.2, T = 1."""
+    c = (0.1, -0.3, 0.5, -0.1)
+    return Problem(
+        integrator(4),
+        _grid(*[(-2, 2, 21)] * 4),
+        1.0,
+        goal_cost(3.0, 0.1, c, [0.1] * 4),
+        temperature=0.2,
+    )
+
+
+# -- narrow state-cost wells and pits (stranger round 8, certified) ------------------------------
+
+
+def well_face():
+    """ẋ = u on [−2, 2]² (81², h = 0.05): q = 2 − 1.5 exp(−|x − c|²/2w²), w = h/2, at the face
+    centre c = (0.025, −0.4) (midway on x₁, a node on x₂; on a node of the 2×, 4×, 8× grids),
+    g = 0.5|x|², λ = 0.02, T = 2. Sitting in the well (its LQ ground cost ≈ 0.98 + 0.5) beats
+    the plain q = 2 by ≈ 0.5 per unit time."""
+    c = np.array([0.025, -0.4])
+
+    def q(x):
+        x = np.atleast_2d(x)
+        return 2 - 1.5 * np.exp(-0.5 * np.sum((x - c) ** 2, 1) / 0.025**2)
+
+    return Problem(
+        integrator(2),
+        _grid((-2, 2, 81), (-2, 2, 81)),
+        2.0,
+        Quadratic([0, 0], [0.5, 0.5]),
+        state_cost=q,
+        temperature=0.02,
+    )
+
+
+DRIFT = (1.0, 0.0)
+"""pit_drift's constant drift (and stranger round 8's goal_drift's)."""
+
+
+def pit_drift():
+    """A drift carries the process through a narrow state-cost pit: ẋ₁ = 1 + u₁, ẋ₂ = u₂ on
+    [−2, 2]² (41², h = 0.1), q = 3(1 − exp(−|x − c|²/2w²)) + 0.5 x₂², w = h/2, at the face
+    centre c = (0.55, 0) (midway on x₁, a node on x₂; a node of the 2×, 4×, 8× grids),
+    g = 0.5|x|², λ = 0.05, T = 2 (holding still in it costs ½ + its LQ ground cost ≈ 0.9 < 3)."""
+    c = np.array([0.55, 0.0])
+
+    def q(x):
+        x = np.atleast_2d(x)
+        r2 = np.sum((x - c) ** 2, 1)
+        return 3 * (1 - np.exp(-0.5 * r2 / 0.05**2)) + 0.5 * x[:, 1] ** 2
+
+    return Problem(
+        integrator(2, DRIFT),
+        _grid((-2, 2, 41), (-2, 2, 41)),
+        2.0,
+        Quadratic([0, 0], [0.5, 0.5]),
+        state_cost=q,
+        temperature=0.05,
     )
 
 
@@ -905,6 +1097,66 @@ MEMBERS: tuple[Member, ...] = (
         cert_dt=0.002,
         fast=True,
         tags=("fast dynamics", "closed"),
+    ),
+    Member(
+        "goal_face_3d",
+        goal_face_3d,
+        _s((0.0, 0.0, 0.0), (1.0, -1.0, 0.5), (0.35, 0.2, -0.15)),
+        "goal_in_cell's terminal goal half a cell wide at the centre of a cell face (midway on x "
+        "only), λ = 0.1 (stranger round 8: 49 % and 56 % high with estimates of 2.8 % and 2.0 %, "
+        "no warning; exact values by a closed-form series)",
+        fine=1.5,
+        cert_dt=0.002,
+        tags=("3-D", "narrow cost", "closed"),
+        exact=exact_goal(goal_face_3d),
+    ),
+    Member(
+        "goal_quarter",
+        goal_quarter,
+        _s((0.0, 0.0), (0.3, -0.3), (-1.0, 0.5)),
+        "a 2-D single integrator on 201² with a terminal goal a quarter of a cell wide, a quarter "
+        "cell off a node on both axes, λ = 0.1 (stranger round 8: 27 % and 38 % high with "
+        "estimates of 0.13 % and 0.38 %, no warning; exact values by a closed-form series)",
+        cert_dt=0.002,
+        tags=("narrow cost", "closed"),
+        exact=exact_goal(goal_quarter),
+    ),
+    Member(
+        "goal_4d",
+        goal_4d,
+        _s((0.0, 0.0, 0.0, 0.0), (0.1, -0.3, 0.3, 0.1), (-1.0, 1.0, 0.0, 0.5)),
+        "a 4-D single integrator on 21⁴ with a terminal goal half a cell wide at the centre of a "
+        "cell, λ = 0.2 (stranger round 8: 26 % and 33 % high with estimates of 0.36 % and 0.41 %, "
+        "no warning; exact values by a closed-form series)",
+        fine=1.5,
+        cert_dt=0.002,
+        tags=("narrow cost", "coarse", "closed"),
+        exact=exact_goal(goal_4d),
+    ),
+    Member(
+        "well_face",
+        well_face,
+        _s((0.0, -0.4), (0.5, 0.0), (-0.5, -1.0)),
+        "a well of state cost half a cell wide at the centre of a cell face on 81², λ = 0.02 "
+        "(stranger round 8: 19 %, 11 % and 9 % high with estimates of 6.7, 4.0 and 3.1 %, all of "
+        "it the cost gap, no warning; certificates of ESS 167–248, the 641² solve within 0.3 %)",
+        fine=4.0,
+        cert_dt=0.002,
+        fast=True,
+        tags=("low temperature", "narrow cost", "closed"),
+    ),
+    Member(
+        "pit_drift",
+        pit_drift,
+        _s((-0.5, 0.0), (0.5, 0.1), (-1.0, -0.5)),
+        "a drift ẋ₁ = 1 + u₁ carries the process through a pit of state cost half a cell wide at "
+        "the centre of a cell face on 41², λ = 0.05 (stranger round 8: 10 %, 17 % and 6 % high "
+        "with estimates of 0.44, 2.3 and 1.2 %, no warning; the 8× grid 2–4 % below the "
+        "certificates)",
+        fine=4.0,
+        cert_dt=0.002,
+        fast=True,
+        tags=("narrow cost", "local feature", "closed"),
     ),
 )
 

@@ -8,9 +8,10 @@ of v), the warnings the default solve raised, and its time. The certified value 
 to a vanishing SDE step (2 v*(Δt) − v*(2Δt)) where ``truths.json`` holds both. The summary counts
 the pairs more than 10 % off and, of those, the silent ones (no warning), and the pairs where the
 estimate is at least half the actual error (the contract of docs/accuracy.rst; the actual error
-taken 2 SE smaller, for the truth's own uncertainty). A member with a silent pair is solved again
-with ``gridlbc.solve(problem, tol=0.05, states=its states)``: the calibration target asks that
-every pair more than 10 % off be warned about or brought within ``tol`` by it.
+taken 2 SE smaller, for the truth's own uncertainty); an exact truth (``truths.py`` records one
+for a member with an ``exact`` function) shows "exact" for its ESS. A member with a silent pair is
+solved again with ``gridlbc.solve(problem, tol=0.05, states=its states)``: the calibration target
+asks that every pair more than 10 % off be warned about or brought within ``tol`` by it.
 
     python benchmarks/holdout/run.py [--fast] [--only NAME ...] [--json OUT] [--rst OUT]
 """
@@ -95,7 +96,9 @@ def rows_for(member: Member, truths: dict) -> tuple[list[dict], dict]:
             t = truth["states"][i]
             # the certificate extrapolated to a vanishing SDE step where it was made at two steps
             v, se = t.get("v_extrapolated", t["v"]), t.get("se_extrapolated", t["se"])
-            row["certified"], row["se"], row["ess"] = v, se, t["ess"]
+            exact = truth["proposal"].startswith("exact")
+            row["certified"], row["se"], row["exact"] = v, se, exact
+            row["ess"] = None if exact else t["ess"]  # an exact truth's is ∞
             row["error"] = (row["predicted"] - v) / abs(v)
             if row["estimate"] is not None:
                 # the contract of docs/accuracy.rst: the estimate is at least half the actual
@@ -149,7 +152,7 @@ def rst_table(rows: list[dict]) -> str:
             "(" + ", ".join(f"{c:g}" for c in r["state"]) + ")",
             f"{r['predicted']:.4g}",
             f"{r['certified']:.4g} ± {r['se']:.2g}",
-            f"{r['ess']:.0f}",
+            "exact" if r.get("exact") else f"{r['ess']:.0f}",
             f"{100 * r['error']:+.1f} %",
             "n/a" if r["estimate"] is None else f"{r['estimate']:.2g}",
             "yes" if r["warned"] else "no",
@@ -182,7 +185,11 @@ def main(argv=None) -> int:
             cert = (
                 f"{row['certified']:9.4g}±{row['se']:.2g}" if "certified" in row else "(no truth)"
             )
-            ess = f"{row['ess']:6.0f}" if "ess" in row else "     -"
+            ess = (
+                " exact"
+                if row.get("exact")
+                else (f"{row['ess']:6.0f}" if "ess" in row else "     -")
+            )
             err = f"{100 * row['error']:+6.1f}%" if "error" in row else "      -"
             est = "n/a" if row["estimate"] is None else f"{row['estimate']:.3g}"
             print(

@@ -177,13 +177,13 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
-from corpus import GOAL_IN_CELL, goal_in_cell, stiff_relax  # noqa: E402
+from corpus import GOAL_IN_CELL, Affine, goal_in_cell, stiff_relax  # noqa: E402
 from strangers_round5 import _wrap  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402
 from gridlbc.accuracy import cost_gap  # noqa: E402
-from gridlbc.systems import ControlAffineSystem, LinearSystem, PointMass  # noqa: E402
+from gridlbc.systems import LinearSystem, PointMass  # noqa: E402
 
 OUT = HERE / "strangers_round7_results"
 PI = np.pi
@@ -192,22 +192,6 @@ G, S = r3.G, r3.S
 
 def _bump(d, width):
     return np.exp(-0.5 * (d / width) ** 2)
-
-
-class Affine(ControlAffineSystem):
-    """ẋ = a(x) + B u with a given drift function and a constant input matrix B (d × m)."""
-
-    def __init__(self, drift, B, names=None, angle_axes=()):
-        self._drift, self.B = drift, np.asarray(B, float)
-        self.state_dim, self.control_dim = self.B.shape
-        self.state_names = names or tuple(f"x{i}" for i in range(self.state_dim))
-        self.angle_axes = tuple(angle_axes)
-
-    def drift(self, x):
-        return self._drift(self._states(x))
-
-    def input_matrix(self, x):
-        return np.broadcast_to(self.B, (self._states(x).shape[0], *self.B.shape))
 
 
 # ---- (1) false alarms: accurate solves where γ could be large ----

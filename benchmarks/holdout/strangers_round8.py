@@ -2,7 +2,9 @@
 edge of a cell, a quarter cell off a node, a periodic seam, a drift's path, 4-D), and smooth
 controls that must stay quiet.
 
-Not a corpus member and not run by the tests. Layout as round 7 (``P8``: name → (builder, states,
+Not run by the tests. Five of its problems are corpus members (goal_face_3d, goal_quarter,
+goal_4d, well_face, pit_drift): their builders, the goal cost and its exact series live in
+``corpus.py`` and are imported here. Layout as round 7 (``P8``: name → (builder, states,
 cert_dt, fine, max_time), registered in round 3's ``P`` so that ``strangers_round3.run`` certifies
 with a finer solve's policy at ``cert_dt`` and ``cert_dt / 2``, extrapolated).
 
@@ -18,7 +20,7 @@ Exact truths (``--exact``): every terminal-cost-only problem here has Gaussian p
 (ẋ = a + u, a constant), so v(x, 0) = −λ log E exp(−g(X_T)/λ) with X_T ~ N(x + aT, λT I). Two
 closed forms: (i) a radial goal g = Σ aᵢ(yᵢ − mᵢ)² + D(1 − exp(−|y − c|²/2w²)) (over any subset
 of the axes): exp(D e^{−r²/2w²}/λ) = Σₖ (D/λ)ᵏ/k! e^{−k r²/2w²}, each term a Gaussian integral
-(``log_z_goal``, summed to k ≈ D/λ + 12 √(D/λ) + 30 in log space; it agrees with round 7's
+(``corpus.log_z_goal``, summed to k ≈ D/λ + 12 √(D/λ) + 30 in log space; it agrees with round 7's
 quadrature ``exact_goal_3d`` to 1e-4); (ii) a cost that is a sum of functions of one axis each:
 a product of 1-D trapezoid integrals at a step of at most w/20 (``log_z_1d``; a periodic axis
 with the wrapped kernel, 11 images). The closed walls are ignored (≥ 3 standard deviations
@@ -167,91 +169,34 @@ import warnings
 from pathlib import Path
 
 import numpy as np
-from scipy.special import gammaln
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
 import strangers_round7 as r7  # noqa: E402
-from corpus import goal_in_cell  # noqa: E402
+from corpus import (  # noqa: E402
+    DRIFT,
+    exact_goal,
+    goal_4d,
+    goal_eighth,
+    goal_face_3d,
+    goal_in_cell,
+    goal_quarter,
+    integrator,
+    pit_drift,
+    well_face,
+)
+from corpus import goal_cost as _goal_cost  # noqa: E402
 from strangers_round5 import _wrap  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402
 from gridlbc.accuracy import cost_gap  # noqa: E402
-from gridlbc.systems import LinearSystem  # noqa: E402
 
 OUT = HERE / "strangers_round8_results"
 PI = np.pi
-G, S, Affine, _bump = r3.G, r3.S, r7.Affine, r7._bump
-
-
-def _integrator(d, drift=None):
-    """ẋ = a + u in d dimensions (B = I, R = 1), a a constant vector (default 0)."""
-    if drift is None:
-        return LinearSystem(np.zeros((d, d)), np.eye(d))
-    a = np.asarray(drift, float)
-    return Affine(lambda x: np.broadcast_to(a, x.shape).copy(), np.eye(d))
-
-
-def _goal_cost(D, w, c, a, m=None):
-    """g(y) = Σ aᵢ (yᵢ − mᵢ)² + D (1 − exp(−|y − c|²/2w²)) (the goal over the axes where c is
-    not None)."""
-    a = np.asarray(a, float)
-    m = np.zeros(len(a)) if m is None else np.asarray(m, float)
-    idx = [i for i, ci in enumerate(c) if ci is not None]
-    cc = np.array([c[i] for i in idx], float)
-
-    def g(x):
-        x = np.atleast_2d(x)
-        r2 = np.sum((x[:, idx] - cc) ** 2, axis=1)
-        return np.sum(a * (x - m) ** 2, axis=1) + D * (1 - np.exp(-0.5 * r2 / w**2))
-
-    g.spec = dict(D=D, w=w, c=c, a=a, m=m)
-    return g
-
-
-# ---- exact truths ----
-def log_z_goal(mean, s2, spec, lam):
-    """log E exp(−g(Y)/λ), Y ~ N(mean, s2 I), g = ``_goal_cost``'s (closed form per term of
-    the series of exp(D e^{−r²/2w²}/λ))."""
-    D, w, c, a, m = spec["D"], spec["w"], spec["c"], spec["a"], spec["m"]
-    mu = D / lam
-    K = int(mu + 12 * math.sqrt(mu) + 30)
-    k = np.arange(K, dtype=float)
-    logt = k * math.log(mu) - gammaln(k + 1)
-    p0 = 1.0 / s2
-    for i in range(len(mean)):
-        p1 = 2 * a[i] / lam
-        if c[i] is None:
-            P = p0 + p1
-            resid = p0 * p1 * (mean[i] - m[i]) ** 2 / P
-            logt = logt - 0.5 * math.log(P / p0) - 0.5 * resid
-        else:
-            p2 = k / w**2
-            P = p0 + p1 + p2
-            resid = (
-                p0 * p1 * (mean[i] - m[i]) ** 2
-                + p0 * p2 * (mean[i] - c[i]) ** 2
-                + p1 * p2 * (m[i] - c[i]) ** 2
-            ) / P
-            logt = logt - 0.5 * np.log(P / p0) - 0.5 * resid
-    top = logt.max()
-    return -mu + top + math.log(np.sum(np.exp(logt - top)))
-
-
-def exact_goal(build, drift=None):
-    """v(x, 0) for a ``_goal_cost`` terminal cost, ẋ = drift + u, no state cost."""
-
-    def f(X):
-        p = build()
-        lam, T = p.temperature, p.horizon
-        a = np.zeros(X.shape[1]) if drift is None else np.asarray(drift, float)
-        spec = p.terminal_cost.spec
-        return np.array([-lam * log_z_goal(x + a * T, lam * T, spec, lam) for x in X])
-
-    return f
+G, S, Affine, _bump, _integrator = r3.G, r3.S, r7.Affine, r7._bump, integrator
 
 
 def log_z_1d(g1, mu, s2, lam, step, period=None):
@@ -288,34 +233,11 @@ def exact_separable(parts, lam, T, drift=None, step=None):
 
 
 # ---- narrow goals (terminal cost only, exact truths) ----
-def goal_face_3d():
-    """corpus.goal_in_cell's goal (w = h/2 = 0.05, depth 2, + 0.1|x|², 41³, λ = 0.1, T = 1) at
-    the centre of a cell FACE: c = (0.35, 0.2, −0.4), midway on x, on nodes in y and z (1.12 w
-    from the face's four nodes)."""
-    p = goal_in_cell((0.35, 0.2, -0.4))
-    return p.replace(terminal_cost=_goal_cost(2.0, 0.05, (0.35, 0.2, -0.4), [0.1] * 3))
-
-
 def goal_edge_3d():
     """The same goal at the middle of a cell EDGE: c = (0.35, 0.25, −0.4), midway on x and y, on
     a node in z (1.41 w from the edge's two nodes)."""
     c = (0.35, 0.25, -0.4)
     return goal_in_cell(c).replace(terminal_cost=_goal_cost(2.0, 0.05, c, [0.1] * 3))
-
-
-def goal_eighth():
-    """2-D ẋ = u on [−2, 2]² (201², h = 0.02), a goal w = h/8 = 0.0025, depth 1.5, + 0.1|x|², at
-    c = (0.305, −0.295): a quarter cell off a node on both axes, so every node, edge midpoint and
-    cell centre is 0.35 h = 2.8 w from it (the goal term there 0.98 of its far value). λ = 0.1,
-    T = 1."""
-    c = (0.305, -0.295)
-    return Problem(
-        _integrator(2),
-        G((-2, 2, 201), (-2, 2, 201)),
-        1.0,
-        _goal_cost(1.5, 0.0025, c, [0.1, 0.1]),
-        temperature=0.1,
-    )
 
 
 def goal_eighth_3d():
@@ -325,19 +247,6 @@ def goal_eighth_3d():
     its far value)."""
     c = (0.325, 0.225, -0.425)
     return goal_in_cell(c).replace(terminal_cost=_goal_cost(2.0, 0.0125, c, [0.1] * 3))
-
-
-def goal_4d():
-    """4-D ẋ = u on [−2, 2]⁴ (21⁴, h = 0.2), a goal w = 0.1 = h/2, + 0.1|x|², at the
-    cell centre c = (0.1, −0.3, 0.5, −0.1) (2 w from all 16 of its nodes), depth 3, λ = 0.2, T = 1."""
-    c = (0.1, -0.3, 0.5, -0.1)
-    return Problem(
-        _integrator(4),
-        G(*[(-2, 2, 21)] * 4),
-        1.0,
-        _goal_cost(3.0, 0.1, c, [0.1] * 4),
-        temperature=0.2,
-    )
 
 
 H_SEAM = 2 * PI / 101
@@ -379,9 +288,6 @@ def goal_seam_mid():
 def _seam_exact(theta0):
     gt, gy, w = _seam_parts(theta0)
     return exact_separable([(gt, 2 * PI, w / 40), (gy, None, 0.002)], 0.1, 1.0)
-
-
-DRIFT = (1.0, 0.0)
 
 
 def goal_drift():
@@ -450,28 +356,6 @@ def ridge_goal():
         return g1(x[:, 0]) + g2(x[:, 1])
 
     return Problem(_integrator(2), G((-2, 2, 201), (-2, 2, 201)), 1.0, g, temperature=0.05)
-
-
-# ---- a narrow state-cost well (certificate + grid study) ----
-def well_face():
-    """ẋ = u on [−2, 2]² (81², h = 0.05): q = 2 − 1.5 exp(−|x − c|²/2w²), w = h/2, at the face
-    centre c = (0.025, −0.4) (midway on x₁, a node on x₂; on a node of the 2×, 4×, 8× grids),
-    g = 0.5|x|², λ = 0.02, T = 2. Sitting in the well (its LQ ground cost ≈ 0.98 + 0.5) beats
-    the plain q = 2 by ≈ 0.5 per unit time."""
-    c = np.array([0.025, -0.4])
-
-    def q(x):
-        x = np.atleast_2d(x)
-        return 2 - 1.5 * np.exp(-0.5 * np.sum((x - c) ** 2, 1) / 0.025**2)
-
-    return Problem(
-        _integrator(2),
-        G((-2, 2, 81), (-2, 2, 81)),
-        2.0,
-        Quadratic([0, 0], [0.5, 0.5]),
-        state_cost=q,
-        temperature=0.02,
-    )
 
 
 # ---- quiet controls: smooth or resolved costs, errors should be < 2 % and no warning ----
@@ -554,14 +438,6 @@ def ripple():
     )
 
 
-def goal_quarter():
-    """goal_eighth with a goal twice as wide, w = h/4 = 0.005, at the same quarter-cell offsets
-    (every node, edge midpoint and cell centre 1.41 w from it: the goal term there 0.37 of
-    its depth below the far value)."""
-    c = (0.305, -0.295)
-    return goal_eighth().replace(terminal_cost=_goal_cost(1.5, 0.005, c, [0.1, 0.1]))
-
-
 def pit_eighth():
     """A state-cost pit an eighth of a cell wide at quarter-cell offsets: ẋ = u on [−2, 2]²
     (41², h = 0.1), q = g = 3(1 − exp(−|x − c|²/2w²)) + 0.1|x|², w = h/8, c = (0.325, −0.275),
@@ -576,28 +452,6 @@ def pit_eighth():
 
     return Problem(
         _integrator(2), G((-2, 2, 41), (-2, 2, 41)), 2.0, q, state_cost=q, temperature=0.01
-    )
-
-
-def pit_drift():
-    """A drift carries the process through a narrow state-cost pit: ẋ₁ = 1 + u₁, ẋ₂ = u₂ on
-    [−2, 2]² (41², h = 0.1), q = 3(1 − exp(−|x − c|²/2w²)) + 0.5 x₂², w = h/2, at the face
-    centre c = (0.55, 0) (midway on x₁, a node on x₂; a node of the 2×, 4×, 8× grids),
-    g = 0.5|x|², λ = 0.05, T = 2 (holding still in it costs ½ + its LQ ground cost ≈ 0.9 < 3)."""
-    c = np.array([0.55, 0.0])
-
-    def q(x):
-        x = np.atleast_2d(x)
-        r2 = np.sum((x - c) ** 2, 1)
-        return 3 * (1 - np.exp(-0.5 * r2 / 0.05**2)) + 0.5 * x[:, 1] ** 2
-
-    return Problem(
-        _integrator(2, DRIFT),
-        G((-2, 2, 41), (-2, 2, 41)),
-        2.0,
-        Quadratic([0, 0], [0.5, 0.5]),
-        state_cost=q,
-        temperature=0.05,
     )
 
 

@@ -12,6 +12,13 @@ first-order weak error: ``v_extrapolated`` is the Richardson extrapolation to Δ
 the optimal path measure that left the grid's box (the certificate lives on Rᵈ, the grid solve on
 the box: a large share means the box, not the solver, sets the difference).
 
+A member with an ``exact`` function (narrow terminal goals, where the certificates degenerate)
+gets its exact values instead, in the same layout: ``proposal`` "exact (how)", no certificate,
+the same value at both steps (no step bias), ``dt`` None, and ``ess`` = ``n_samples`` = ∞ (the
+limit of the certificate; ``Infinity`` in the JSON). Its ``se`` is a bound on the rounding of
+the exact computation, 1e-12 |v*| (not 0: ``tests/studies/test_holdout.py`` asks every truth
+for a positive SE).
+
     python benchmarks/holdout/truths.py [--only NAME ...] [--target 0.005] [--pilot 400]
 """
 
@@ -144,6 +151,49 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
     }
 
 
+EXACT_SE = 1e-12
+"""An exact value's SE, relative: a bound on its rounding (its series' truncation is far below)."""
+
+
+def exact_truth(member: Member) -> dict:
+    """The exact optimum at every state of ``member`` (``member.exact``), in :func:`truth`'s
+    layout."""
+    start = time.perf_counter()
+    problem = member.build()
+    values = np.asarray(member.exact(member.states), dtype=float).reshape(-1)
+    how = " ".join((member.exact.__doc__ or "").split("\n\n")[0].split())
+    states = []
+    for x, v in zip(member.states, values):
+        se = EXACT_SE * abs(float(v))
+        states.append(
+            {
+                "x": [float(c) for c in x],
+                "v": float(v),
+                "se": se,
+                "ess": math.inf,
+                "policy_cost": None,
+                "left_box": None,
+                "unexited": None,
+                "v_coarse_dt": float(v),
+                "se_coarse_dt": se,
+                "step_bias": 0.0,
+            }
+        )
+    return {
+        "what": member.what,
+        "problem": repr(problem.system) + f", T = {problem.horizon}, λ = {problem.temperature}",
+        "grid": [a.n for a in problem.grid.axes],
+        "proposal": f"exact ({how})",
+        "n_samples": math.inf,
+        "dt": None,
+        "dt_coarse": None,
+        "seed": None,
+        "warnings": [],
+        "states": states,
+        "seconds": time.perf_counter() - start,
+    }
+
+
 def _extrapolate(state: dict) -> None:
     """Add the Richardson extrapolation of v* to Δt → 0 (first-order weak error) and its SE."""
     state["v_extrapolated"] = 2 * state["v"] - state["v_coarse_dt"]
@@ -165,21 +215,33 @@ def main(argv=None) -> int:
     commit = subprocess.run(
         ["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True, cwd=HERE
     ).stdout.strip()
+    # the options that differ from their defaults, for the record's command
+    options = "".join(
+        f" --{k} {getattr(args, k)}"
+        for k in ("target", "pilot", "min", "max", "seed")
+        if getattr(args, k) != parser.get_default(k)
+    )
     for member in [BY_NAME[n] for n in args.only] if args.only else MEMBERS:
-        record = truth(member, args.pilot, args.target, args.min, args.max, args.seed)
+        if member.exact is not None:
+            record = exact_truth(member)
+        else:
+            record = truth(member, args.pilot, args.target, args.min, args.max, args.seed)
         record["date"] = datetime.datetime.now(datetime.UTC).strftime("%Y-%m-%d %H:%M UTC")
-        record["command"] = "python benchmarks/holdout/truths.py --only " + member.name
+        record["command"] = "python benchmarks/holdout/truths.py --only " + member.name + options
         record["commit"] = commit
         data["members"][member.name] = record
         for other in data["members"].values():
             for st in other["states"]:
                 _extrapolate(st)
         out.write_text(json.dumps(data, indent=1) + "\n")
-        summary = ", ".join(
-            f"{s['v']:.4g}±{s['se']:.2g} (ESS {s['ess']:.0f}, bias {100 * s['step_bias']:+.1f}%, "
-            f"left {s['left_box']:.2f})"
-            for s in record["states"]
-        )
+        if member.exact is not None:
+            summary = ", ".join(f"{s['v']:.6g}" for s in record["states"])
+        else:
+            summary = ", ".join(
+                f"{s['v']:.4g}±{s['se']:.2g} (ESS {s['ess']:.0f}, "
+                f"bias {100 * s['step_bias']:+.1f}%, left {s['left_box']:.2f})"
+                for s in record["states"]
+            )
         print(
             f"{member.name}: n {record['n_samples']}, {record['proposal']}: {summary}; "
             f"{record['seconds']:.0f} s",
