@@ -98,7 +98,7 @@ def rows_for(member: Member, truths: dict) -> tuple[list[dict], dict]:
             v, se = t.get("v_extrapolated", t["v"]), t.get("se_extrapolated", t["se"])
             exact = truth["proposal"].startswith("exact")
             row["certified"], row["se"], row["exact"] = v, se, exact
-            row["ess"] = None if exact else t["ess"]  # an exact truth's is ∞
+            row["ess"] = t["ess"]  # None for an exact truth
             row["error"] = (row["predicted"] - v) / abs(v)
             if row["estimate"] is not None:
                 # the contract of docs/accuracy.rst: the estimate is at least half the actual

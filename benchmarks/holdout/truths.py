@@ -14,10 +14,8 @@ the box: a large share means the box, not the solver, sets the difference).
 
 A member with an ``exact`` function (narrow terminal goals, where the certificates degenerate)
 gets its exact values instead, in the same layout: ``proposal`` "exact (how)", no certificate,
-the same value at both steps (no step bias), ``dt`` None, and ``ess`` = ``n_samples`` = ∞ (the
-limit of the certificate; ``Infinity`` in the JSON). Its ``se`` is a bound on the rounding of
-the exact computation, 1e-12 |v*| (not 0: ``tests/studies/test_holdout.py`` asks every truth
-for a positive SE).
+the same value at both steps (no step bias), ``se`` 0, and ``dt``, ``ess`` and ``n_samples``
+None.
 
     python benchmarks/holdout/truths.py [--only NAME ...] [--target 0.005] [--pilot 400]
 """
@@ -151,10 +149,6 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
     }
 
 
-EXACT_SE = 1e-12
-"""An exact value's SE, relative: a bound on its rounding (its series' truncation is far below)."""
-
-
 def exact_truth(member: Member) -> dict:
     """The exact optimum at every state of ``member`` (``member.exact``), in :func:`truth`'s
     layout."""
@@ -164,18 +158,17 @@ def exact_truth(member: Member) -> dict:
     how = " ".join((member.exact.__doc__ or "").split("\n\n")[0].split())
     states = []
     for x, v in zip(member.states, values):
-        se = EXACT_SE * abs(float(v))
         states.append(
             {
                 "x": [float(c) for c in x],
                 "v": float(v),
-                "se": se,
-                "ess": math.inf,
+                "se": 0.0,
+                "ess": None,
                 "policy_cost": None,
                 "left_box": None,
                 "unexited": None,
                 "v_coarse_dt": float(v),
-                "se_coarse_dt": se,
+                "se_coarse_dt": 0.0,
                 "step_bias": 0.0,
             }
         )
@@ -184,7 +177,7 @@ def exact_truth(member: Member) -> dict:
         "problem": repr(problem.system) + f", T = {problem.horizon}, λ = {problem.temperature}",
         "grid": [a.n for a in problem.grid.axes],
         "proposal": f"exact ({how})",
-        "n_samples": math.inf,
+        "n_samples": None,
         "dt": None,
         "dt_coarse": None,
         "seed": None,
