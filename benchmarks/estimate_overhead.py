@@ -1,6 +1,8 @@
-"""What the error estimate costs: the catalogue's default solves with and without it.
+"""What the error estimate costs: the catalogue's default solves with and without it, and three
+hold-out corpus members in 3-D whose costs are sampled between the nodes (the estimate's S,
+docs/accuracy.rst).
 
-In-process, after a warm-up, the shortest of five alternating solves each way, and their ratio
+In-process, after a warm-up, the shortest of five solves each way, and their ratio
 (docs/accuracy.rst, "Measured").
 
     python benchmarks/estimate_overhead.py
@@ -8,11 +10,16 @@ In-process, after a warm-up, the shortest of five alternating solves each way, a
 
 from __future__ import annotations
 
+import sys
 import time
 import warnings
+from pathlib import Path
 
 import gridlbc
 from gridlbc.studies import problems as P
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "holdout"))
+from corpus import BY_NAME
 
 CASES = {
     "swing-up 256²": lambda: P.swingup_problem(),
@@ -22,6 +29,10 @@ CASES = {
     "rotor 101²": lambda: P.rotor_problem(),
     "point mass h = 0.1": lambda: P.pointmass_problem(0.1),
     "obstacle": lambda: P.obstacle_problem(),
+    "gymnast 31⁴": lambda: P.gymnast_problem(31),
+    "toll strip 61³": BY_NAME["toll_strip"].build,
+    "goal in a cell 41³": BY_NAME["goal_in_cell"].build,
+    "tumbling body 61³": BY_NAME["tumbling_body"].build,
 }
 
 

@@ -60,8 +60,10 @@ FORMAT_VERSION = 2
 EMBEDDED = "embedded."
 """The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
 PAIR = ("embedded_pair0.", "embedded_pair1.")
-EXCESS = "embedded_excess."
 """The prefixes of the arrays of the solves on the pair of :func:`gridlbc.accuracy.phase_pair`."""
+EXCESS = "embedded_excess."
+"""The prefix of the arrays of the embedded solve with the costs' excess between the nodes
+(:class:`gridlbc.accuracy.Response`)."""
 READABLE_VERSIONS = (1, 2)
 """The versions :func:`load` reads."""
 

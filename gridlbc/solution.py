@@ -235,8 +235,10 @@ class Solution(FieldEvaluation):
         from the embedded solve (grid spacing 2h, step 2Δt) with the observed order q where the
         two are close (1 elsewhere), at least the difference between the solves on the pair of
         :func:`gridlbc.accuracy.phase_pair` (which sees features between nodes), at least
-        the typical relative error (:class:`gridlbc.accuracy.EmbeddedEstimate`), and at least
-        the cost that the grid's interpolants of the costs add along the solve's paths
+        the typical relative error (:class:`gridlbc.accuracy.EmbeddedEstimate`), at least what
+        the costs' excess between the nodes changes in the embedded solve (a goal or a well
+        narrower than a cell: :mod:`gridlbc.accuracy.subcell`), and at least the cost that the
+        grid's interpolants of the costs add along the solve's paths
         (:func:`gridlbc.accuracy.cost_gap`, sampled with a fixed seed from 16 paths per state).
 
         Parameters
