@@ -50,7 +50,10 @@ bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum nor
 What S cannot see: a feature much narrower than the lattice's spacing whose centre falls between
 its points, where the nodes and the lattice see the same tail of it (a goal an eighth of a cell
 wide an eighth of a cell from a node with m = 4; a quarter of a cell wide a quarter of a cell off
-with m = 2, on larger grids and in 4-D). It is computed for the problems with a horizon. Its cost: the costs evaluated at
+with m = 2, on larger grids and in 4-D). It errs high where holding still in a narrow well costs
+more, in noise fought, than the well saves (the embedded grid holds a path at a node for free),
+and where a cost steps inside a cell (the cubic overshoots the step by a quarter of the jump,
+which reads as a goal). It is computed for the problems with a horizon. Its cost: the costs evaluated at
 m^d lattice points per node, and where they have an excess, one more solve on the embedded grid.
 """
 
