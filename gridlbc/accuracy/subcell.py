@@ -270,7 +270,8 @@ class _Block:
         rebuilt = refine(nodes, 0, grid.axes[0], m, self.rows)
         for k in range(1, grid.ndim):
             rebuilt = refine(rebuilt, k, grid.axes[k], m)
-        true = np.concatenate([f(self.points[flat]) for flat in flat_chunks(len(self.points))])
+        chunks = flat_chunks(len(self.points))
+        true = np.concatenate([f(self.points[c[0] : c[-1] + 1]) for c in chunks])
         return true.reshape(self.shape), rebuilt
 
     def spread(self, coarse_values: np.ndarray, hats: list) -> np.ndarray:
