@@ -181,7 +181,7 @@ sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
 import strangers_round7 as r7  # noqa: E402
-from corpus import exact_goal, integrator  # noqa: E402
+from corpus import exact_goal, goal_m2_3d, goal_off8, goal_off8_3d, integrator, shallow_long_well  # noqa: E402
 from corpus import goal_cost as _goal_cost  # noqa: E402
 from strangers_round5 import _wrap  # noqa: E402
 from strangers_round8 import exact_separable  # noqa: E402
@@ -354,26 +354,6 @@ def _steep_parts():
 
 
 # ---------------- likely misses -------------------------------------------------------------
-def shallow_long_well():
-    """A well only slightly below its surroundings, worth holding over a long horizon: ẋ = u on
-    [−2, 2]² (41², h = 0.1), q = 0.5 + 0.05|x|² − 0.3 exp(−|x − c|²/2w²), w = h/2, c = (0.35,
-    −0.25) (a cell centre; a node of the 2× and 4× grids), g = 0.1|x|², λ = 0.05, T = 8."""
-    c = np.array([0.35, -0.25])
-
-    def q(x):
-        x = np.atleast_2d(x)
-        return 0.5 + 0.05 * np.sum(x**2, 1) - 0.3 * np.exp(-0.5 * np.sum((x - c) ** 2, 1) / 0.05**2)
-
-    return Problem(
-        integrator(2),
-        G((-2, 2, 41), (-2, 2, 41)),
-        8.0,
-        Quadratic([0.0, 0.0], [0.1, 0.1]),
-        state_cost=q,
-        temperature=0.05,
-    )
-
-
 AGAINST = (-1.0, 0.0)
 
 
@@ -387,43 +367,6 @@ def goal_vs_drift():
         1.0,
         _goal_cost(1.5, 0.01, (0.51, 0.3), [0.2, 0.2], [0.5, 0.0]),
         temperature=0.05,
-    )
-
-
-def goal_off8():
-    """m = 4's blind spot: a goal w = h/8 an eighth of a cell off a node on both axes, 201²
-    (h = 0.02), c = (0.3025, −0.2975), depth 1.5, + 0.1|x|², λ = 0.1, T = 1."""
-    return Problem(
-        integrator(2),
-        G((-2, 2, 201), (-2, 2, 201)),
-        1.0,
-        _goal_cost(1.5, 0.0025, (0.3025, -0.2975), [0.1, 0.1]),
-        temperature=0.1,
-    )
-
-
-def goal_off8_3d():
-    """The same in 3-D, 41³ (h = 0.1): w = h/8, c = (0.3125, −0.1875, 0.0125) (an eighth of a
-    cell off a node on every axis), depth 2, + 0.1|x|², λ = 0.1, T = 1."""
-    return Problem(
-        integrator(3),
-        G(*[(-2, 2, 41)] * 3),
-        1.0,
-        _goal_cost(2.0, 0.0125, (0.3125, -0.1875, 0.0125), [0.1] * 3),
-        temperature=0.1,
-    )
-
-
-def goal_m2_3d():
-    """A grid too large for m = 4 (65³: the h/4 lattice would hold 257³ > 2²⁴ points, so m = 2):
-    ẋ = u on [−1.6, 1.6]³ (h = 0.05), goal w = h/5 a quarter cell off a node on every axis,
-    c = (0.3125, −0.1875, 0.1125), depth 2, + 0.1|x|², λ = 0.1, T = 1."""
-    return Problem(
-        integrator(3),
-        G(*[(-1.6, 1.6, 65)] * 3),
-        1.0,
-        _goal_cost(2.0, 0.01, (0.3125, -0.1875, 0.1125), [0.1] * 3),
-        temperature=0.1,
     )
 
 
