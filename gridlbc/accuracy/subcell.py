@@ -10,8 +10,9 @@ grid cannot see is not sought. This module looks for such features in the costs 
 measures what they change.
 
 **The excess.** On the sampling *lattice*, m points per cell along every axis (spacing h/m;
-m = 4 where that is at most 2²⁴ points, a 2-D grid up to about 1000² or a 3-D one up to 64³, and
-2 otherwise, :func:`samples_per_cell`), each cost f is compared
+the most of 8, 4 and 2 for which the lattice holds at most 2²⁴ points: m = 8 on a 2-D grid up to
+512² and a 3-D one up to 32³, 4 up to about 1000² and 64³, 2 beyond, :func:`samples_per_cell`),
+each cost f is compared
 with its reconstruction R f from the nodes (:func:`refine`, along each axis in turn): nodes keep
 their values, and a point at offset t within a cell takes the cubic through the four nodes
 around it (at t = ½ the rule (−f_{i−1} + 9 f_i + 9 f_{i+1} − f_{i+2})/16), or, where one side's
@@ -50,7 +51,7 @@ bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum nor
 What S cannot see: a feature much narrower than the lattice's spacing whose centre falls between
 its points, where the nodes and the lattice see the same tail of it (a goal an eighth of a cell
 wide an eighth of a cell from a node with m = 4; a quarter of a cell wide a quarter of a cell off
-with m = 2, on larger grids and in 4-D). It errs high where holding still in a narrow well costs
+with m = 2, on larger grids and in 4-D; narrower still with m = 8). It errs high where holding still in a narrow well costs
 more, in noise fought, than the well saves (the embedded grid holds a path at a node for free),
 and where a cost steps inside a cell (the cubic overshoots the step by a quarter of the jump,
 which reads as a goal). It is computed for the problems with a horizon. Its cost: the costs evaluated at
@@ -90,15 +91,19 @@ difference exceeds the other's this many times (a kink on a node, :func:`refine`
 
 
 LATTICE_POINTS = 1 << 24
-"""The sampling lattice has 4 points per cell along each axis where it then holds at most this
-many points, 2 otherwise (:func:`samples_per_cell`)."""
+"""The sampling lattice has as many points per cell along each axis, of 8, 4 and 2, as keep it
+within this many points (:func:`samples_per_cell`)."""
 
 
 def samples_per_cell(grid: Grid) -> int:
-    """m, the lattice points per cell along each axis: 4 (spacing h/4) where the lattice then
-    holds at most :data:`LATTICE_POINTS` points (a 2-D grid up to about 1000², 3-D up to 64³),
-    2 (spacing h/2) otherwise, so that sampling the costs stays a few seconds' work."""
-    return 4 if lattice(grid, 4).size <= LATTICE_POINTS else 2
+    """m, the lattice points per cell along each axis: the most of 8, 4 and 2 for which the
+    lattice holds at most :data:`LATTICE_POINTS` points (m = 8 on a 2-D grid up to 512², 4 up to
+    about 1000² and on a 3-D one up to 64³), and 2 beyond, so that sampling the costs stays a few
+    seconds' work."""
+    for m in (8, 4):
+        if lattice(grid, m).size <= LATTICE_POINTS:
+            return m
+    return 2
 
 
 def lattice(grid: Grid, m: int) -> Grid:
