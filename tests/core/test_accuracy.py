@@ -135,7 +135,7 @@ def test_the_cost_gap_at_the_horizon_is_the_terminal_interpolants_error():
     )
 
 
-def test_the_half_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
+def test_the_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
     """R f on the sampling lattice (gridlbc.accuracy.subcell.refine): the cubic rule is exact for
     cubics inside a closed axis where the curvature is of one sign (x³ + 10x², f'' from 14 to 32),
     the end rule for quadratics, so a quadratic cost with a cross term has no excess at all; on a
