@@ -184,7 +184,7 @@ import strangers_round7 as r7  # noqa: E402
 from corpus import exact_goal, goal_m2_3d, goal_off8, goal_off8_3d, integrator, shallow_long_well  # noqa: E402
 from corpus import goal_cost as _goal_cost  # noqa: E402
 from strangers_round5 import _wrap  # noqa: E402
-from strangers_round8 import exact_separable  # noqa: E402
+from strangers_round8 import _solve, _warned, exact_separable  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402
@@ -601,20 +601,6 @@ EXACT["goal_m2_2d"] = exact_goal(goal_m2_2d)
 STUDY.update(
     {"shallow_well_cold": (2.0, 4.0, 8.0), "pit_off8": (4.0, 8.0), "pit_eighth": (4.0, 8.0)}
 )
-
-
-def _solve(problem):
-    with warnings.catch_warnings(record=True) as w:
-        warnings.simplefilter("always")
-        t0 = time.perf_counter()
-        sol = gridlbc.solve(problem)
-        dt = time.perf_counter() - t0
-    return sol, dt, w
-
-
-def _warned(ws):
-    msgs = [str(x.message) for x in ws if issubclass(x.category, gridlbc.ResolutionWarning)]
-    return "Y" if any("estimated error" in m for m in msgs) else ("s" if msgs else "n")
 
 
 def quick(name):

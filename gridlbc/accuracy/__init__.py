@@ -64,7 +64,6 @@ from .subcell import (
     Response,
     WithExcess,
     excess,
-    lattice,
     responses,
     samples_per_cell,
 )
@@ -123,7 +122,6 @@ __all__ = [
     "fitting_plan",
     "fitting_storage",
     "judged_states",
-    "lattice",
     "observed_order",
     "phase_pair",
     "refined_grid",

@@ -226,13 +226,13 @@ class EmbeddedEstimate:
     def difference(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``: the larger of the embedded
         difference and abs(v_c₁ − v_c₂), the ``pair``'s (:func:`phase_pair`)."""
-        return self._read(solution, x, t)[1]
+        return self._read(solution, x, t)[2]
 
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t``, with q = ``order``
         where the relative difference is at most :data:`ASYMPTOTIC` and 1 elsewhere, and at
         least the pair's difference abs(v_c₁ − v_c₂), undivided."""
-        return self._read(solution, x, t)[2]
+        return self._read(solution, x, t)[3]
 
     def error(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
@@ -256,20 +256,20 @@ class EmbeddedEstimate:
 
     def _error(self, solution: Solution, x, t, samples: int) -> tuple[np.ndarray, np.ndarray]:
         """v_h and :meth:`error` at ``x``."""
-        v, _, local = self._read(solution, x, t)
+        v, embedded, _, local = self._read(solution, x, t)
         floor = self.floor * np.maximum(np.abs(v), solution.temperature)
         gap = np.abs(cost_gap(solution, x, t, samples))
-        grid_terms = np.maximum(np.maximum(local, floor), self.excess_response(x, t))
+        response = 0.0 if self.excess is None else self.excess(x, t, base=embedded)
+        grid_terms = np.maximum(np.maximum(local, floor), response)
         return v, np.fmax(grid_terms, gap)
 
-    def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """v_h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated once."""
-        v = solution.value(x, t)
+    def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, ...]:
+        """v_h, v_2h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated
+        once."""
+        v, embedded = solution.value(x, t), self.solution.value(x, t)
         pair = None if self.pair is None else [side.value(x, t) for side in self.pair]
-        difference, local = _local(
-            v, self.solution.value(x, t), pair, solution.temperature, self.order
-        )
-        return v, difference, local
+        difference, local = _local(v, embedded, pair, solution.temperature, self.order)
+        return v, embedded, difference, local
 
 
 def _local(v, embedded, pair, temperature: float, order: float) -> tuple[np.ndarray, np.ndarray]:

@@ -70,15 +70,20 @@ def phase_pair(grid: Grid) -> tuple[Grid, Grid] | None:
     return Grid(pair[0]), Grid(pair[1])
 
 
-def refined_grid(grid: Grid, axes=None) -> Grid:
-    """The grid with every cell halved (spacing h/2), or only along the given ``axes``: the grid
-    whose embedded grid is ``grid``."""
+def refined_grid(grid: Grid, axes=None, factor: int = 2) -> Grid:
+    """The grid with every cell divided into ``factor`` (spacing h/factor; every factor-th node a
+    node of ``grid``), or only along the given ``axes``. With the default factor 2: the grid whose
+    embedded grid is ``grid``."""
     return Grid(
         [
             a
             if axes is not None and i not in axes
             else Axis(
-                a.lo, a.hi, 2 * a.n if a.periodic else 2 * a.n - 1, periodic=a.periodic, name=a.name
+                a.lo,
+                a.hi,
+                factor * a.n if a.periodic else factor * (a.n - 1) + 1,
+                periodic=a.periodic,
+                name=a.name,
             )
             for i, a in enumerate(grid.axes)
         ]

@@ -71,6 +71,7 @@ from ..backends.numba.lattice import refine_rows
 from ..costs import Constant, Quadratic
 from ..grid import Axis, Grid, flat_chunks
 from ..interpolate import interpolate
+from .grids import refined_grid
 
 if TYPE_CHECKING:
     from ..solution import Solution
@@ -101,18 +102,9 @@ def samples_per_cell(grid: Grid) -> int:
     about 1000² and on a 3-D one up to 64³), and 2 beyond, so that sampling the costs stays a few
     seconds' work."""
     for m in (8, 4):
-        if lattice(grid, m).size <= LATTICE_POINTS:
+        if refined_grid(grid, factor=m).size <= LATTICE_POINTS:
             return m
     return 2
-
-
-def lattice(grid: Grid, m: int) -> Grid:
-    """The sampling lattice of ``grid``: m points per cell along every axis (spacing h/m), every
-    m-th of them a node of ``grid``."""
-    return Grid(
-        Axis(a.lo, a.hi, m * a.n if a.periodic else m * (a.n - 1) + 1, a.periodic, a.name)
-        for a in grid.axes
-    )
 
 
 def _lagrange(m: int, nodes: tuple[int, ...]) -> np.ndarray:
@@ -218,7 +210,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     """
     grid = problem.require_grid("a sub-cell excess")
     m = samples_per_cell(grid) if m is None else m
-    points = lattice(grid, m)
+    points = refined_grid(grid, factor=m)  # the sampling lattice
     hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, points.axes, strict=True)]
     terminals = [problem.replace(terminal_cost=g) for g in terminal_costs]
     # (index in the result or None for the state cost, the cost's values, its time scale τ)
@@ -371,13 +363,15 @@ class Response:
     raised: Solution | None
     bound: float
 
-    def __call__(self, x, t=0.0) -> np.ndarray:
+    def __call__(self, x, t=0.0, base=None) -> np.ndarray:
         """S(x, t) = abs(v_c[g + δg, q + δq] − v_c[g, q]) at states ``x`` (N, d), or ``bound``
-        where the raised solve was not run; 0 where both values are infinite (underflow)."""
+        where the raised solve was not run; 0 where both values are infinite (underflow).
+        ``base``: v_c at ``x``, ``t`` where the caller has it already."""
         if self.raised is None:
             return np.full(len(np.atleast_2d(x)), self.bound)
+        base = self.base.value(x, t) if base is None else base
         with np.errstate(invalid="ignore"):
-            response = np.abs(self.raised.value(x, t) - self.base.value(x, t))
+            response = np.abs(self.raised.value(x, t) - base)
         return np.where(np.isnan(response), 0.0, response)
 
 

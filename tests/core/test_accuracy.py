@@ -142,7 +142,7 @@ def test_the_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
     periodic axis a wrapped quadratic's seam (a kink on a node) takes the smoother side's
     quadratic and has none either."""
     axis, m = g.Axis(-1.0, 2.0, 13), 4
-    x = accuracy.lattice(g.Grid([axis]), m).axes[0].points()
+    x = accuracy.refined_grid(g.Grid([axis]), factor=m).axes[0].points()
     cubic = x**3 + 10 * x**2
     rebuilt = accuracy.subcell.refine(cubic[::m], 0, axis, m)
     np.testing.assert_allclose(rebuilt[m:-m], cubic[m:-m], atol=1e-13)
