@@ -65,8 +65,10 @@ error is a fraction of λ).
 **Where it matters.** Without states from the user, a solve is judged at the states that matter:
 the nodes whose value at t = 0 is finite and at most the median over the grid (the better half
 of the box, where a controlled process spends its time; the far corners of a box, where every
-solve is poor, do not count), and the relative estimate is read there at its 90th percentile.
-With ``states=``, at its largest over them.
+solve is poor, do not count), and the relative estimate is read there at its 90th percentile,
+and S at its largest (a cost narrower than a cell changes v near it only, on a share of the
+states that may be far below a tenth: :func:`largest_response`). With ``states=``, at its largest
+over them.
 """
 
 from __future__ import annotations
@@ -167,7 +169,8 @@ class Assessment:
     ----------
     error : float
         The relative estimate that is compared with the tolerance: its :data:`QUANTILE` over the
-        states that matter, or its maximum over the user's states.
+        states that matter, or its maximum over the user's states; without the user's states at
+        least the largest S over the states that matter (:func:`largest_response`).
     worst_state : ndarray (d,)
         Where the relative estimate is largest.
     worst_error : float
@@ -176,6 +179,9 @@ class Assessment:
         The share of the states whose relative estimate exceeds the tolerance.
     n_states : int
         How many states were read.
+    local : bool
+        Whether ``error`` is the largest S over the states that matter (:func:`largest_response`),
+        above the quantile.
     """
 
     error: float
@@ -183,6 +189,7 @@ class Assessment:
     worst_error: float
     share_above: float
     n_states: int
+    local: bool = False
 
 
 @dataclass(frozen=True)
@@ -483,7 +490,30 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
         return Assessment(np.inf, np.full(solution.grid.ndim, np.nan), np.inf, 1.0, 0)
     worst = int(np.argmax(rel))
     error = statistic(rel, states is not None)
-    return Assessment(error, X[worst], float(rel[worst]), float(np.mean(rel > tol)), len(X))
+    a = Assessment(error, X[worst], float(rel[worst]), float(np.mean(rel > tol)), len(X))
+    if states is None and solution.embedded.excess is not None:
+        largest, where = largest_response(solution)
+        if largest > a.error:
+            a = Assessment(largest, where, max(largest, a.worst_error), a.share_above, len(X), True)
+    return a
+
+
+def largest_response(solution) -> tuple[float, np.ndarray]:
+    """The largest relative S (:meth:`EmbeddedEstimate.excess_response`, relative as
+    :func:`relative_error`) over the :func:`states_that_matter`, and where it is.
+
+    A cost feature narrower than a cell changes the value near it only, on a share of the states
+    that matter that may be far below 1 − :data:`QUANTILE`: S is judged by its largest value. It
+    is a solve's response to the measured excess, with no sampling noise for a quantile to
+    discount."""
+    X = states_that_matter(solution)
+    if len(X) == 0:
+        return 0.0, np.full(solution.grid.ndim, np.nan)
+    rel = relative_error(
+        solution.embedded.excess_response(X), solution.value(X, 0.0), solution.temperature
+    )
+    worst = int(np.argmax(rel))
+    return float(rel[worst]), X[worst]
 
 
 def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
@@ -514,12 +544,21 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         else f"Solve with tol={tol:g} to refine dt and the grid until the estimate meets it, or "
         "give a finer grid or a smaller dt"
     )
+    if a.local:
+        where = (
+            f"near {state}, where a cost narrower than a cell, between the nodes, changes the "
+            f"solve on the grid with every other node by up to {a.error:.0%} of |v| (the costs "
+            "sampled between the nodes against their reconstruction from the nodes)"
+        )
+    else:
+        where = (
+            f"at {a.share_above:.0%} of the states that matter ({QUANTILE:.0%} of them are "
+            f"within {a.error:.1%}; the largest, {a.worst_error:.0%}, is at {state}): measured "
+            "against solves on the grids with every other node"
+        )
     warn_user(
-        f"the estimated error of v exceeds {tol:.0%} of |v| at {a.share_above:.0%} of the states "
-        f"that matter ({QUANTILE:.0%} of them are within {a.error:.1%}; the largest, "
-        f"{a.worst_error:.0%}, is at {state}): measured against solves on the grids with every "
-        f"other node, see solution.error_estimate(x) at your own states.{loose} {change} "
-        "(docs page 'accuracy')",
+        f"the estimated error of v exceeds {tol:.0%} of |v| {where}, see "
+        f"solution.error_estimate(x) at your own states.{loose} {change} (docs page 'accuracy')",
         ResolutionWarning,
     )
 

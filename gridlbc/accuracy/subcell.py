@@ -26,16 +26,25 @@ sampled (:func:`reproduced`).
 **Carried to the embedded grid.** On each node j of the embedded grid (spacing 2h, hat functions
 φ_j) the excess is summed up as a soft minimum at the temperature λ/τ,
 
-    δ_j = −(λ/τ) log( Σ_s φ_j(s) w(s) exp(−τ (f − R f)(s)/λ) / Σ_s φ_j(s) w(s) ),
-    w(s) = exp(−τ (R f(s) − I f_c(s))/λ),
+    δ_j = −(λ/τ) log( Σ_s φ_j(s) exp(−τ (f − I f_c)(s)/λ) / Σ_s φ_j(s) exp(−τ (R f − I f_c)(s)/λ) ),
 
 over the lattice points s, with τ = 1 for the terminal cost g and τ = T, the horizon, for the
 state cost q. For g this is the ratio of the desirability exp(−g/λ) that the hat holds to the one
 its reconstruction holds: a narrow goal counts with its weight, as the value does. For q it is
 what a path that stays by the node for the whole horizon could gain: a narrow well is worth its
-depth to a path that holds still in it, a narrow pit (which a path can step around) little. The
-weights w favour the points where the reconstruction is low against I f_c, the embedded grid's
-multilinear interpolant of the cost at its own nodes, which keeps the exponentials in range.
+depth to a path that holds still in it, a narrow pit (which a path can step around) little.
+I f_c, the embedded grid's multilinear interpolant of the cost at its own nodes, keeps the
+exponentials in range.
+
+**Between the lattice points.** A goal much narrower than the lattice's spacing whose centre is
+as far from a node as from the lattice points around it is seen by all of them alike, by its
+tail. Where the excess has a local minimum below zero on the lattice (the lattice sees more than
+the reconstruction: at most :data:`SEEDS` per block), :func:`descend` looks between the points:
+it cuts the box of the lattice's spacing around the point into 3^d boxes, and the one where
+f − I f_c is lowest again, :data:`DESCENT_LEVELS` times, down to the feature's bottom; then it
+sums both exponentials over a box of that width around the bottom by the same adaptive midpoint
+rule, and the two sums take the point's place. Where the cost is smooth the two sums move
+alike and δ does not.
 
 **The response.** The embedded problem is solved once more with its costs raised by the excess,
 g + δg and q + δq (:class:`WithExcess`; q + δq at least 0), and
@@ -48,26 +57,30 @@ not the solve's paths go near them (:class:`Response`;
 sup|δg| + T sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not run and S is that
 bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum norm).
 
-What S cannot see: a feature much narrower than the lattice's spacing whose centre falls between
-its points, where the nodes and the lattice see the same tail of it (a goal an eighth of a cell
-wide an eighth of a cell from a node with m = 4; a quarter of a cell wide a quarter of a cell off
-with m = 2, on larger grids and in 4-D; narrower still with m = 8). It errs high where holding still in a narrow well costs
-more, in noise fought, than the well saves (the embedded grid holds a path at a node for free),
-and where a cost steps inside a cell (the cubic overshoots the step by a quarter of the jump,
-which reads as a goal). It is computed for the problems with a horizon. Its cost: the costs evaluated at
-m^d lattice points per node, and where they have an excess, one more solve on the embedded grid.
+What S cannot see: a feature that no lattice point sees at all (narrower than the lattice's
+spacing and too shallow in its tails to leave an excess below zero at a point near it). It errs
+high where holding still in a narrow well costs more, in noise fought, than the well saves (the
+embedded grid holds a path at a node for free), and where a cost steps inside a cell (the cubic
+overshoots the step by a quarter of the jump, which reads as a goal). It is computed for the
+problems with a horizon. Its cost: the costs evaluated at m^d lattice points per node and at
+2 · 3^d · :data:`DESCENT_LEVELS` points around each seed, and where they have an excess, one more
+solve on the embedded grid.
 """
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.ndimage import minimum_filter
+from scipy.special import logsumexp
 
-from ..backends.numba.lattice import refine_rows
+from ..backends.numba.lattice import rebuild_points, refine_rows
 from ..costs import Constant, Quadratic
 from ..grid import Axis, Grid, flat_chunks
 from ..interpolate import interpolate
@@ -107,18 +120,6 @@ def samples_per_cell(grid: Grid) -> int:
     return 2
 
 
-def _lagrange(m: int, nodes: tuple[int, ...]) -> np.ndarray:
-    """``(m, len(nodes))``: the Lagrange weights at the offsets o/m, o = 0 … m − 1, of the
-    polynomial through the nodes at positions ``nodes`` (in cells)."""
-    t = np.arange(m)[:, None] / m
-    weights = np.ones((m, len(nodes)))
-    for a, node in enumerate(nodes):
-        for other in nodes:
-            if other != node:
-                weights[:, a] *= (t[:, 0] - other) / (node - other)
-    return weights
-
-
 def refine(values: np.ndarray, axis: int, along_axis: Axis, m: int, rows=None) -> np.ndarray:
     """Nodal ``values`` carried to the lattice of m points per cell along ``axis`` (of the grid
     axis ``along_axis``). Every m-th point is a node; a point at offset t (0 < t < 1, in cells)
@@ -134,17 +135,7 @@ def refine(values: np.ndarray, axis: int, along_axis: Axis, m: int, rows=None) -
     moved = np.moveaxis(values, axis, -1)
     flat = np.ascontiguousarray(moved.reshape(-1, n), dtype=float)
     out = np.empty((flat.shape[0], len(rows)))
-    refine_rows(
-        flat,
-        rows,
-        m,
-        along_axis.periodic,
-        _lagrange(m, (-1, 0, 1, 2)),
-        _lagrange(m, (-1, 0, 1)),
-        _lagrange(m, (0, 1, 2)),
-        KINK,
-        out,
-    )
+    refine_rows(flat, rows, m, along_axis.periodic, KINK, out)
     return np.moveaxis(out.reshape(moved.shape[:-1] + (len(rows),)), -1, axis)
 
 
@@ -229,10 +220,13 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
         for k, (_, values, tau) in enumerate(sampled):
             true, rebuilt = block.values(values, nodal[k], grid, m)
             anchor = block.spread(anchors[k], hats)
-            for side, cost in enumerate((true, rebuilt)):
-                exponent = np.minimum(-tau * (cost - anchor) / scale, EXPONENT_CAP)
+            exponents = [-tau * (cost - anchor) / scale for cost in (true, rebuilt)]
+            measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)
+            seeds, deeper = _deeper(measure, grid, block, true - rebuilt, tau / scale, m)
+            for side, exponent in enumerate(exponents):
+                exponent.reshape(-1)[seeds] = deeper[side]
                 with np.errstate(under="ignore"):
-                    sums[side, k] += block.average(np.exp(exponent), hats)
+                    sums[side, k] += block.average(np.exp(np.minimum(exponent, EXPONENT_CAP)), hats)
     terminal = np.zeros((len(terminal_costs),) + coarse.shape)
     state = None
     for k, (i, _, tau) in enumerate(sampled):
@@ -242,6 +236,98 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
         else:
             terminal[i] = soft
     return Excess(terminal.reshape(len(terminal_costs), -1), state)
+
+
+SEEDS = 1024
+"""At most this many lattice points of each block (:data:`LATTICE_BLOCK`) are looked around
+(:func:`descend`): the lowest local minima of the excess."""
+
+
+DESCENT_LEVELS = 6
+"""Levels of :func:`descend`: its finest boxes are 3⁻⁶ of the lattice's spacing wide."""
+
+
+def rebuild(nodes: np.ndarray, grid: Grid, x) -> np.ndarray:
+    """The reconstruction R f from the nodal values ``nodes`` of ``grid`` at states ``x``
+    (N, d): the rule of :func:`refine` at any offset, along each axis in turn (the lattice's
+    values where ``x`` are its points)."""
+    positions = (np.atleast_2d(np.asarray(x, dtype=float)) - grid.lo) / grid.spacing
+    out = np.empty(len(positions))
+    shape = np.array(grid.shape, dtype=np.int64)
+    flat = np.ascontiguousarray(nodes, dtype=float).reshape(-1)
+    rebuild_points(flat, shape, np.asarray(grid.periodic), positions, KINK, out)
+    return out
+
+
+def descend(measure, grid: Grid, centres: np.ndarray, side: np.ndarray):
+    """Box averages of exp(u) for the exponents u that ``measure`` returns, around each of
+    ``centres`` (S, d), and where the first of them is largest.
+
+    The box B of width ``side`` (per axis) around a centre is cut into 3^d boxes a third as wide
+    (its centre stays a sample), each counted by its centre's value, and the one where the first
+    exponent is largest is cut again, :data:`DESCENT_LEVELS` times: an adaptive midpoint rule
+    that follows a goal or a well narrower than the box down to its bottom, where the points
+    around it see only its tail.
+
+    Parameters
+    ----------
+    measure : callable
+        ``measure(x)`` → (k, N): k exponents at states x (N, d).
+    grid : Grid
+        The box (closed axes clip, periodic ones wrap).
+    centres : ndarray (S, d)
+    side : ndarray (d,)
+
+    Returns
+    -------
+    log_average : ndarray (k, S)
+        log((1/|B|) ∫_B exp(u) dx) for each exponent, by the adaptive midpoint rule.
+    bottoms : ndarray (S, d)
+        The centres of the last boxes cut: where the first exponent is largest, to a width of
+        3⁻ᴸ ``side``.
+    """
+    d = grid.ndim
+    offsets = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=d)))
+    rows = np.arange(len(centres))
+    current, share, terms = measure(centres), 0.0, []
+    for _ in range(DESCENT_LEVELS):
+        side = side / 3.0
+        share -= d * np.log(3.0)
+        x = grid.clamp(centres[:, None, :] + offsets * side).reshape(-1, d)
+        found = measure(x).reshape(len(current), len(centres), len(offsets))
+        best = np.argmax(found[0], axis=1)
+        others = share + found
+        others[:, rows, best] = -np.inf
+        terms.append(others)
+        centres = x.reshape(len(rows), -1, d)[rows, best]
+        current = found[:, rows, best]
+    terms.append(share + current[:, :, None])
+    return logsumexp(np.concatenate(terms, axis=2), axis=2), centres
+
+
+def _exponents(f, nodes, grid: Grid, coarse: Grid, anchor, rate, x) -> np.ndarray:
+    """(2, N): the soft minimum's exponents −rate (f − I f_c) and −rate (R f − I f_c) at states
+    ``x`` (:func:`excess`), for :func:`descend`."""
+    reference = interpolate(coarse, anchor.reshape(-1), x)
+    return -rate * np.stack([f(x) - reference, rebuild(nodes, grid, x) - reference])
+
+
+def _deeper(measure, grid: Grid, block: _Block, gap: np.ndarray, rate: float, m: int):
+    """The block's points that are local minima of the excess ``gap`` where it is below
+    −:data:`NEGLIGIBLE`/``rate`` (at most the :data:`SEEDS` lowest: the flat indices; rounding
+    leaves a quadratic cost's excess ragged, with a local minimum in every cell), and the log
+    box averages there of the exponents ``measure`` returns (:func:`descend`, around the bottom
+    it finds from each, in a box of the lattice's spacing)."""
+    modes = ["nearest"] + ["wrap" if a.periodic else "nearest" for a in grid.axes[1:]]
+    low = (rate * gap < -NEGLIGIBLE) & (gap <= minimum_filter(gap, size=3, mode=modes))
+    seeds = np.flatnonzero(low)
+    if len(seeds) > SEEDS:
+        seeds = seeds[np.argpartition(gap.reshape(-1)[seeds], SEEDS)[:SEEDS]]
+    if len(seeds) == 0:
+        return seeds, np.empty((2, 0))
+    side = grid.spacing / m
+    _, bottoms = descend(measure, grid, block.points[seeds], side)
+    return seeds, descend(measure, grid, bottoms, side)[0]
 
 
 def reproduced(cost) -> bool:

@@ -174,6 +174,36 @@ def test_the_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
         np.testing.assert_allclose(hats.sum(axis=0), 1.0, atol=1e-14)  # a partition of unity
 
 
+def test_the_descent_finds_a_goal_that_the_lattice_points_see_alike(monkeypatch):
+    """A goal a fifth of a cell wide whose centre is a quarter cell off a node on both axes is
+    equidistant from that node and the lattice points around it with two points per cell: all
+    see the same tail of it. The excess is a soft minimum at temperature λ (τ = 1): a goal found
+    to within a factor e of its weight moves it by at most λ. Against the same soft minimum on a
+    lattice of 16 points per cell (which has a point within h/32 of the centre), the excess with
+    the descent must be within λ; without it (no levels) it misses the goal by many λ."""
+    h, lam = 0.1, 0.1
+    centre, width = np.array([0.3 + h / 4, -0.2 + h / 4]), h / 5
+
+    def goal(x):
+        r2 = np.sum((x - centre) ** 2, axis=1)
+        return 2 * (1 - np.exp(-0.5 * r2 / width**2)) + 0.1 * np.sum(x**2, axis=1)
+
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-1, 1, 21)] * 2),
+        1.0,
+        goal,
+        temperature=lam,
+    )
+    coarse = g.Grid([g.Axis(-1, 1, 11)] * 2)
+    dense = accuracy.excess(problem, coarse, [goal], m=16).terminal.min()
+    found = accuracy.excess(problem, coarse, [goal], m=2).terminal.min()
+    assert dense < -5 * lam and abs(found - dense) <= lam
+    monkeypatch.setattr(accuracy.subcell, "DESCENT_LEVELS", 0)
+    blind = accuracy.excess(problem, coarse, [goal], m=2).terminal.min()
+    assert blind - dense > 5 * lam
+
+
 def _narrow_goal():
     """ẋ = u in 2-D (41², h = 0.1), terminal cost only: a goal half a cell wide at the centre of a
     cell, g = 2 (1 − exp(−|x − c|²/2w²)) + 0.1 |x|², w = 0.05, λ = 0.1, T = 1; and its exact value

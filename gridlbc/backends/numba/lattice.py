@@ -1,51 +1,114 @@
-"""The kernel that carries nodal values to the points between the nodes along one axis
-(:func:`gridlbc.accuracy.subcell.refine`, which documents the rule)."""
+"""The kernels that carry nodal values to points between the nodes: along one axis onto the
+sampling lattice, and at any points (:func:`gridlbc.accuracy.subcell.refine` documents the
+rule)."""
 
 from __future__ import annotations
 
 import numpy as np
 
-from .options import jit_parallel, prange
+from .options import jit_inline, jit_parallel, prange
+
+
+@jit_inline
+def _between(before, lo, hi, after, t, first, last, kink):  # pragma: no cover - numba
+    """The value at offset t (0 ≤ t ≤ 1, in cells) from node ``lo`` towards ``hi``: ``lo`` at
+    t = 0, else the cubic through ``before``, ``lo``, ``hi``, ``after`` (at −1, 0, 1, 2), or the
+    quadratic of the smoother side where one side's second difference exceeds the other's
+    ``kink`` times, and the only quadratic there is in the first (``first``) or last (``last``)
+    cell of a closed axis."""
+    if t == 0.0:
+        return lo
+    left = 0.5 * t * (t - 1.0) * before + (1.0 - t * t) * lo + 0.5 * (t + 1.0) * t * hi
+    right = 0.5 * (t - 1.0) * (t - 2.0) * lo - t * (t - 2.0) * hi + 0.5 * t * (t - 1.0) * after
+    if first:
+        return right
+    if last:
+        return left
+    bent_left = np.abs(before - 2.0 * lo + hi)
+    bent_right = np.abs(lo - 2.0 * hi + after)
+    if bent_left > kink * bent_right:
+        return right
+    if bent_right > kink * bent_left:
+        return left
+    return (
+        -t * (t - 1.0) * (t - 2.0) / 6.0 * before
+        + 0.5 * (t + 1.0) * (t - 1.0) * (t - 2.0) * lo
+        - 0.5 * (t + 1.0) * t * (t - 2.0) * hi
+        + (t + 1.0) * t * (t - 1.0) / 6.0 * after
+    )
 
 
 @jit_parallel
-def refine_rows(f, rows, m, periodic, cubic, left, right, kink, out):  # pragma: no cover - numba
-    """``out[k, r]``: the reconstruction at lattice point ``rows[r]`` (m points per cell) of the
-    axis whose nodal values are ``f[k, :]``: the node itself where ``rows[r]`` is a multiple of m,
-    else at offset o = rows[r] mod m the cubic through the four nodes around it (weights
-    ``cubic[o]``), or the quadratic of the smoother side (``left[o]`` through nodes i − 1, i,
-    i + 1, ``right[o]`` through i, i + 1, i + 2) where one side's second difference exceeds the
-    other's ``kink`` times, and the only quadratic there is in the end cells of a closed axis."""
+def refine_rows(f, rows, m, periodic, kink, out):  # pragma: no cover - numba
+    """``out[k, r]``: the reconstruction (:func:`_between`) at lattice point ``rows[r]`` (m
+    points per cell: offset o = rows[r] mod m, t = o/m) of the axis whose nodal values are
+    ``f[k, :]``."""
     n = f.shape[1]
     for k in prange(f.shape[0]):
         for r in range(rows.shape[0]):
             i = rows[r] // m
             o = rows[r] - i * m
-            if o == 0:
-                out[k, r] = f[k, i % n]
-                continue
             first = not periodic and i == 0
-            last = not periodic and i == n - 2
-            lo, hi = f[k, i % n], f[k, (i + 1) % n]
-            before = 0.0 if first else f[k, (i - 1) % n]
-            after = 0.0 if last else f[k, (i + 2) % n]
-            left_q = left[o, 0] * before + left[o, 1] * lo + left[o, 2] * hi
-            right_q = right[o, 0] * lo + right[o, 1] * hi + right[o, 2] * after
-            if first:
-                out[k, r] = right_q
-            elif last:
-                out[k, r] = left_q
+            last = not periodic and i >= n - 2
+            before = f[k, (i - 1) % n] if not first else 0.0
+            after = f[k, (i + 2) % n] if not last else 0.0
+            out[k, r] = _between(
+                before, f[k, i % n], f[k, (i + 1) % n], after, o / m, first, last, kink
+            )
+
+
+@jit_parallel
+def rebuild_points(nodes, shape, periodic, positions, kink, out):  # pragma: no cover - numba
+    """``out[p]``: the reconstruction of the nodal values ``nodes`` (flat, C order, of a grid of
+    ``shape``) at the point whose position in cells along each axis (from the first node) is
+    ``positions[p]``: the rule of :func:`_between` along the first axis for each of the 4^(d−1)
+    rows of the 4^d nodes around the point, then along the second on those values, and so on,
+    as the lattice is reconstructed axis by axis."""
+    d = shape.shape[0]
+    size = 4**d
+    for p in prange(positions.shape[0]):
+        cell = np.empty(d, np.int64)
+        t = np.empty(d)
+        for a in range(d):
+            n = shape[a]
+            i = int(np.floor(positions[p, a]))
+            if periodic[a]:
+                t[a] = positions[p, a] - i
+                i = i % n
             else:
-                bent_left = np.abs(before - 2.0 * lo + hi)
-                bent_right = np.abs(lo - 2.0 * hi + after)
-                if bent_left > kink * bent_right:
-                    out[k, r] = right_q
-                elif bent_right > kink * bent_left:
-                    out[k, r] = left_q
-                else:
-                    out[k, r] = (
-                        cubic[o, 0] * before
-                        + cubic[o, 1] * lo
-                        + cubic[o, 2] * hi
-                        + cubic[o, 3] * after
-                    )
+                i = min(max(i, 0), n - 2)
+                t[a] = min(max(positions[p, a] - i, 0.0), 1.0)
+            cell[a] = i
+        values = np.empty(size)
+        for s in range(size):
+            flat = 0
+            rest = s
+            for a in range(d - 1, -1, -1):
+                digit = rest % 4
+                rest //= 4
+                j = cell[a] - 1 + digit
+                n = shape[a]
+                j = j % n if periodic[a] else min(max(j, 0), n - 1)
+                stride = 1
+                for b in range(a + 1, d):
+                    stride *= shape[b]
+                flat += j * stride
+            values[s] = nodes[flat]
+        count = size
+        for a in range(d):
+            count //= 4
+            n = shape[a]
+            first = not periodic[a] and cell[a] == 0
+            last = not periodic[a] and cell[a] >= n - 2
+            for s in range(count):
+                values[s] = _between(
+                    values[s],
+                    values[count + s],
+                    values[2 * count + s],
+                    values[3 * count + s],
+                    t[a],
+                    first,
+                    last,
+                    kink,
+                )
+        out[p] = values[0]
