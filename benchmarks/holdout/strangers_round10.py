@@ -175,10 +175,15 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
-from corpus import Affine, exact_goal, integrator  # noqa: E402
+from corpus import (  # noqa: E402
+    Affine,
+    exact_goal,
+    exact_separable,
+    integrator,
+)
 from corpus import goal_cost as _goal_cost  # noqa: E402
 from strangers_round5 import _wrap  # noqa: E402
-from strangers_round8 import _solve, _warned, exact_separable  # noqa: E402
+from strangers_round8 import _solve, _warned  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402

@@ -162,7 +162,6 @@ raises only the step's ResolutionWarning (72 cells per step), which the −1 % b
 from __future__ import annotations
 
 import json
-import math
 import sys
 import time
 import warnings
@@ -178,6 +177,7 @@ import strangers_round7 as r7  # noqa: E402
 from corpus import (  # noqa: E402
     DRIFT,
     exact_goal,
+    exact_separable,
     goal_4d,
     goal_eighth,
     goal_face_3d,
@@ -197,39 +197,6 @@ from gridlbc.accuracy import cost_gap  # noqa: E402
 OUT = HERE / "strangers_round8_results"
 PI = np.pi
 G, S, Affine, _bump, _integrator = r3.G, r3.S, r7.Affine, r7._bump, integrator
-
-
-def log_z_1d(g1, mu, s2, lam, step, period=None):
-    """log E exp(−g1(Y)/λ), Y ~ N(mu, s2) (wrapped onto [−π, π) where ``period``), trapezoid."""
-    s = math.sqrt(s2)
-    if period is None:
-        y = np.arange(mu - 12 * s, mu + 12 * s, step)
-        logk = -0.5 * (y - mu) ** 2 / s2
-    else:
-        y = np.arange(-PI, PI, step)
-        imgs = np.arange(-5, 6)[:, None] * period
-        lk = -0.5 * (y[None, :] + imgs - mu) ** 2 / s2
-        top = lk.max(0)
-        logk = top + np.log(np.sum(np.exp(lk - top), 0))
-    e = logk - g1(y) / lam
-    top = e.max()
-    return top + math.log(np.sum(np.exp(e - top)) * step) - 0.5 * math.log(2 * PI * s2)
-
-
-def exact_separable(parts, lam, T, drift=None, step=None):
-    """v(x, 0) for a terminal cost Σᵢ parts[i][0](yᵢ) (parts[i][1]: the axis's period or None)."""
-
-    def f(X):
-        out = []
-        for x in X:
-            lz = 0.0
-            for i, (g1, period, st) in enumerate(parts):
-                mu = x[i] + (0.0 if drift is None else drift[i] * T)
-                lz += log_z_1d(g1, mu, lam * T, lam, st, period)
-            out.append(-lam * lz)
-        return np.array(out)
-
-    return f
 
 
 # ---- narrow goals (terminal cost only, exact truths) ----

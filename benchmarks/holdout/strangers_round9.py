@@ -181,10 +181,18 @@ sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
 import strangers_round7 as r7  # noqa: E402
-from corpus import exact_goal, goal_m2_3d, goal_off8, goal_off8_3d, integrator, shallow_long_well  # noqa: E402
+from corpus import (  # noqa: E402
+    exact_goal,
+    exact_separable,
+    goal_m2_3d,
+    goal_off8,
+    goal_off8_3d,
+    integrator,
+    shallow_long_well,
+)
 from corpus import goal_cost as _goal_cost  # noqa: E402
 from strangers_round5 import _wrap  # noqa: E402
-from strangers_round8 import _solve, _warned, exact_separable  # noqa: E402
+from strangers_round8 import _solve, _warned  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402
@@ -612,7 +620,7 @@ def quick(name):
     lam = problem.temperature
     v, est = sol.value(X), sol.error_estimate(X)
     emb = sol.embedded
-    _, _, local = emb._read(sol, X, 0.0)
+    *_, local = emb._read(sol, X, 0.0)
     scale = np.maximum(np.abs(v), lam)
     base = np.maximum(local, emb.floor * scale)
     s_part = emb.excess_response(X)

@@ -39,12 +39,12 @@ exponentials in range.
 **Between the lattice points.** A goal much narrower than the lattice's spacing whose centre is
 as far from a node as from the lattice points around it is seen by all of them alike, by its
 tail. Where the excess has a local minimum below zero on the lattice (the lattice sees more than
-the reconstruction: at most :data:`SEEDS` per block), :func:`descend` looks between the points:
-it cuts the box of the lattice's spacing around the point into 3^d boxes, and the one where
-f − I f_c is lowest again, :data:`DESCENT_LEVELS` times, down to the feature's bottom; then it
-sums both exponentials over a box of that width around the bottom by the same adaptive midpoint
-rule, and the two sums take the point's place. Where the cost is smooth the two sums move
-alike and δ does not.
+the reconstruction, by more than rounding), :func:`descend` looks between the points: it cuts
+the box of the lattice's spacing around the point into 3^d boxes, and the one where f − I f_c is
+lowest again, :data:`DESCENT_LEVELS` times, down to the feature's bottom; then it sums both
+exponentials over a box of that width around the bottom by the same adaptive midpoint rule, and
+the two sums take the point's place. Where the cost is smooth the two sums move alike and δ does
+not. The descent costs at most as many evaluations of the cost as the lattice (:func:`_deeper`).
 
 **The response.** The embedded problem is solved once more with its costs raised by the excess,
 g + δg and q + δq (:class:`WithExcess`; q + δq at least 0), and
@@ -222,7 +222,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
             anchor = block.spread(anchors[k], hats)
             exponents = [-tau * (cost - anchor) / scale for cost in (true, rebuilt)]
             measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)
-            seeds, deeper = _deeper(measure, grid, block, true - rebuilt, tau / scale, m)
+            seeds, deeper = _deeper(measure, grid, block, true, rebuilt, m)
             for side, exponent in enumerate(exponents):
                 exponent.reshape(-1)[seeds] = deeper[side]
                 with np.errstate(under="ignore"):
@@ -238,13 +238,14 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     return Excess(terminal.reshape(len(terminal_costs), -1), state)
 
 
-SEEDS = 1024
-"""At most this many lattice points of each block (:data:`LATTICE_BLOCK`) are looked around
-(:func:`descend`): the lowest local minima of the excess."""
+ROUNDING = 1e-10
+"""An excess smaller than this share of the cost's largest magnitude on a block is taken for
+rounding (the reconstruction's sums round at about 4^d machine epsilons of it): no seed there."""
 
 
 DESCENT_LEVELS = 6
-"""Levels of :func:`descend`: its finest boxes are 3⁻⁶ of the lattice's spacing wide."""
+"""At most this many levels of :func:`descend`: its finest boxes are 3⁻⁶ of the lattice's
+spacing wide."""
 
 
 def rebuild(nodes: np.ndarray, grid: Grid, x) -> np.ndarray:
@@ -260,19 +261,23 @@ def rebuild(nodes: np.ndarray, grid: Grid, x) -> np.ndarray:
 
 
 def descend(measure, grid: Grid, centres: np.ndarray, side: np.ndarray):
-    """Box averages of exp(u) for the exponents u that ``measure`` returns, around each of
-    ``centres`` (S, d), and where the first of them is largest.
+    """Box averages of exp(u) for the two exponents u that ``measure`` returns (the cost's and its
+    reconstruction's, :func:`excess`), around each of ``centres`` (S, d), and where the first is
+    largest.
 
     The box B of width ``side`` (per axis) around a centre is cut into 3^d boxes a third as wide
     (its centre stays a sample), each counted by its centre's value, and the one where the first
-    exponent is largest is cut again, :data:`DESCENT_LEVELS` times: an adaptive midpoint rule
-    that follows a goal or a well narrower than the box down to its bottom, where the points
-    around it see only its tail.
+    exponent is largest is cut again, up to :data:`DESCENT_LEVELS` times: an adaptive midpoint
+    rule that follows a goal or a well narrower than the box down to its bottom, where the points
+    around it see only its tail. It stops where the box's mean over its 3^d centres and its own
+    centre's value agree as well for one exponent as for the other, to :data:`NEGLIGIBLE` (in
+    log): the cost is as smooth as its reconstruction there, and cutting further would move
+    both sums alike.
 
     Parameters
     ----------
     measure : callable
-        ``measure(x)`` → (k, N): k exponents at states x (N, d).
+        ``measure(x)`` → (2, N): the two exponents at states x (N, d).
     grid : Grid
         The box (closed axes clip, periodic ones wrap).
     centres : ndarray (S, d)
@@ -280,29 +285,44 @@ def descend(measure, grid: Grid, centres: np.ndarray, side: np.ndarray):
 
     Returns
     -------
-    log_average : ndarray (k, S)
+    log_average : ndarray (2, S)
         log((1/|B|) ∫_B exp(u) dx) for each exponent, by the adaptive midpoint rule.
     bottoms : ndarray (S, d)
-        The centres of the last boxes cut: where the first exponent is largest, to a width of
-        3⁻ᴸ ``side``.
+        The centres of the last boxes cut: where the first exponent is largest.
+    cut : ndarray (S,) of int
+        How many times each box was cut.
     """
     d = grid.ndim
     offsets = np.array(list(itertools.product((-1.0, 0.0, 1.0), repeat=d)))
-    rows = np.arange(len(centres))
-    current, share, terms = measure(centres), 0.0, []
+    centres = np.array(centres, dtype=float)
+    current = measure(centres)
+    counted = np.full(current.shape, -np.inf)  # log of the share-weighted sum of the boxes done
+    share = np.zeros(len(centres))  # log of the share of B still being cut
+    active = np.arange(len(centres))
+    cut = np.zeros(len(centres), dtype=np.int64)
     for _ in range(DESCENT_LEVELS):
+        if len(active) == 0:
+            break
         side = side / 3.0
-        share -= d * np.log(3.0)
-        x = grid.clamp(centres[:, None, :] + offsets * side).reshape(-1, d)
-        found = measure(x).reshape(len(current), len(centres), len(offsets))
+        rows = np.arange(len(active))
+        x = grid.clamp(centres[active, None, :] + offsets * side).reshape(-1, d)
+        found = measure(x).reshape(2, len(active), len(offsets))
         best = np.argmax(found[0], axis=1)
-        others = share + found
+        share[active] -= d * np.log(3.0)
+        others = found.copy()
         others[:, rows, best] = -np.inf
-        terms.append(others)
-        centres = x.reshape(len(rows), -1, d)[rows, best]
-        current = found[:, rows, best]
-    terms.append(share + current[:, :, None])
-    return logsumexp(np.concatenate(terms, axis=2), axis=2), centres
+        counted[:, active] = np.logaddexp(
+            counted[:, active], share[active] + logsumexp(others, axis=2)
+        )
+        # the box's mean over its 3^d centres against its own centre's value, for each exponent
+        refined = logsumexp(found, axis=2) - d * np.log(3.0) - current[:, active]
+        moved = np.abs(refined[0] - refined[1]) > NEGLIGIBLE
+        below = found[:, rows, best]
+        centres[active] = x.reshape(len(active), -1, d)[rows, best]
+        current[:, active] = below
+        cut[active] += 1
+        active = active[moved]
+    return np.logaddexp(counted, share + current), centres, cut
 
 
 def _exponents(f, nodes, grid: Grid, coarse: Grid, anchor, rate, x) -> np.ndarray:
@@ -312,22 +332,31 @@ def _exponents(f, nodes, grid: Grid, coarse: Grid, anchor, rate, x) -> np.ndarra
     return -rate * np.stack([f(x) - reference, rebuild(nodes, grid, x) - reference])
 
 
-def _deeper(measure, grid: Grid, block: _Block, gap: np.ndarray, rate: float, m: int):
-    """The block's points that are local minima of the excess ``gap`` where it is below
-    −:data:`NEGLIGIBLE`/``rate`` (at most the :data:`SEEDS` lowest: the flat indices; rounding
-    leaves a quadratic cost's excess ragged, with a local minimum in every cell), and the log
-    box averages there of the exponents ``measure`` returns (:func:`descend`, around the bottom
-    it finds from each, in a box of the lattice's spacing)."""
+def _deeper(measure, grid: Grid, block: _Block, true: np.ndarray, rebuilt: np.ndarray, m: int):
+    """The block's points that are local minima of the excess f − R f (``true`` − ``rebuilt``)
+    where it is below zero by more than rounding (:data:`ROUNDING`; rounding leaves a quadratic
+    cost's excess ragged, with a local minimum in every cell), as flat indices: all of them, or
+    as many as keep the descent's cost (2 · 3^d · :data:`DESCENT_LEVELS` points each) within the
+    block's size, evenly spread over it (a trough along an axis has a minimum at every point
+    along it; each hat wants its own seeds); and the log box averages there of the exponents ``measure`` returns
+    (:func:`descend` in the point's box of the lattice's spacing; where it found a feature
+    there, in a box of that width around the feature's bottom)."""
+    gap = true - rebuilt
+    rounding = ROUNDING * max(float(np.abs(true).max()), float(np.abs(rebuilt).max()))
     modes = ["nearest"] + ["wrap" if a.periodic else "nearest" for a in grid.axes[1:]]
-    low = (rate * gap < -NEGLIGIBLE) & (gap <= minimum_filter(gap, size=3, mode=modes))
+    low = (gap < -rounding) & (gap <= minimum_filter(gap, size=3, mode=modes))
     seeds = np.flatnonzero(low)
-    if len(seeds) > SEEDS:
-        seeds = seeds[np.argpartition(gap.reshape(-1)[seeds], SEEDS)[:SEEDS]]
+    most = max(1, gap.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
+    if len(seeds) > most:  # spread over the block: each hat wants its own
+        seeds = seeds[np.linspace(0, len(seeds) - 1, most).astype(np.int64)]
     if len(seeds) == 0:
         return seeds, np.empty((2, 0))
     side = grid.spacing / m
-    _, bottoms = descend(measure, grid, block.points[seeds], side)
-    return seeds, descend(measure, grid, bottoms, side)[0]
+    found, bottoms, cut = descend(measure, grid, block.points[seeds], side)
+    deep = cut > 1  # a feature between the points: summed again around its bottom
+    if deep.any():
+        found[:, deep] = descend(measure, grid, bottoms[deep], side)[0]
+    return seeds, found
 
 
 def reproduced(cost) -> bool:
