@@ -222,7 +222,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
             anchor = block.spread(anchors[k], hats)
             exponents = [-tau * (cost - anchor) / scale for cost in (true, rebuilt)]
             measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)
-            seeds, deeper = _deeper(measure, grid, block, true, rebuilt, m)
+            seeds, deeper = _deeper(measure, grid, coarse, block, true, rebuilt, m)
             for side, exponent in enumerate(exponents):
                 exponent.reshape(-1)[seeds] = deeper[side]
                 with np.errstate(under="ignore"):
@@ -332,23 +332,40 @@ def _exponents(f, nodes, grid: Grid, coarse: Grid, anchor, rate, x) -> np.ndarra
     return -rate * np.stack([f(x) - reference, rebuild(nodes, grid, x) - reference])
 
 
-def _deeper(measure, grid: Grid, block: _Block, true: np.ndarray, rebuilt: np.ndarray, m: int):
+def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: int):
     """The block's points that are local minima of the excess f − R f (``true`` − ``rebuilt``)
     where it is below zero by more than rounding (:data:`ROUNDING`; rounding leaves a quadratic
-    cost's excess ragged, with a local minimum in every cell), as flat indices: all of them, or
-    as many as keep the descent's cost (2 · 3^d · :data:`DESCENT_LEVELS` points each) within the
-    block's size, evenly spread over it (a trough along an axis has a minimum at every point
-    along it; each hat wants its own seeds); and the log box averages there of the exponents ``measure`` returns
-    (:func:`descend` in the point's box of the lattice's spacing; where it found a feature
-    there, in a box of that width around the feature's bottom)."""
+    cost's excess ragged, with a local minimum in every cell), as flat indices; and the log box
+    averages there of the exponents ``measure`` returns (:func:`descend` in the point's box of
+    the lattice's spacing; where it found a feature there, in a box of that width around the
+    feature's bottom).
+
+    The descent costs at most 2 · 3^d · :data:`DESCENT_LEVELS` evaluations per point, and it
+    looks around as many points as keep that within the block's size (a trough along an axis
+    has a minimum at every point along it): first the lowest in each cell of ``coarse`` (each
+    hat wants its own), the lowest of them where they are more; then the others, evenly spread
+    over the block."""
     gap = true - rebuilt
     rounding = ROUNDING * max(float(np.abs(true).max()), float(np.abs(rebuilt).max()))
     modes = ["nearest"] + ["wrap" if a.periodic else "nearest" for a in grid.axes[1:]]
     low = (gap < -rounding) & (gap <= minimum_filter(gap, size=3, mode=modes))
     seeds = np.flatnonzero(low)
     most = max(1, gap.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
-    if len(seeds) > most:  # spread over the block: each hat wants its own
-        seeds = seeds[np.linspace(0, len(seeds) - 1, most).astype(np.int64)]
+    if len(seeds) > most:
+        depth = gap.reshape(-1)[seeds]
+        cell = np.ravel_multi_index(
+            tuple(
+                np.minimum(np.floor((c - a.lo) / a.spacing).astype(np.int64), a.n - 1)
+                for c, a in zip(block.points[seeds].T, coarse.axes, strict=True)
+            ),
+            coarse.shape,
+        )
+        order = np.lexsort((depth, cell))
+        first = order[np.unique(cell[order], return_index=True)[1]]
+        first = first[np.argsort(depth[first])][:most]
+        rest = np.setdiff1d(np.arange(len(seeds)), first)
+        spread = rest[np.linspace(0, len(rest) - 1, most - len(first)).astype(np.int64)]
+        seeds = seeds[np.concatenate([first, spread])]
     if len(seeds) == 0:
         return seeds, np.empty((2, 0))
     side = grid.spacing / m
