@@ -58,7 +58,8 @@ sup|δg| + T sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not r
 bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum norm).
 
 What S cannot see: a feature that no lattice point sees at all (narrower than the lattice's
-spacing and too shallow in its tails to leave an excess below zero at a point near it). It errs
+spacing and too shallow in its tails to leave an excess below zero at a point near it). In 4-D
+the embedded grid's response carries only a quarter to a half of a narrow goal's effect. It errs
 high where holding still in a narrow well costs more, in noise fought, than the well saves (the
 embedded grid holds a path at a node for free), and where a cost steps inside a cell (the cubic
 overshoots the step by a quarter of the jump, which reads as a goal). It is computed for the
