@@ -153,3 +153,26 @@ def _judge(problem, name, truths):
     assert np.all(solution.error_estimate(states) >= error / 2)
     assert any(issubclass(w.category, g.ResolutionWarning) for w in caught)
     return error / np.abs(truth)
+
+
+def test_a_local_response_warns_where_the_percentile_does_not():
+    """goal_4d (a 4-D goal half a cell wide, 26 % and 34 % high near it): the estimate's 90th
+    percentile over the states that matter is below the 5 % tolerance, since the goal changes v
+    on a small share of them; S, judged at its largest (accuracy.estimate.largest_response),
+    exceeds it near the goal, and the warning says where."""
+    import warnings
+
+    import gridlbc as g
+    from gridlbc.accuracy import estimate
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        solution = g.solve(BY_NAME["goal_4d"].build())
+    X = estimate.judged_states(solution)
+    relative = solution.embedded.relative(solution, X, samples=estimate.ASSESSED_PATHS)
+    percentile = estimate.statistic(relative, False)
+    largest, where = estimate.largest_response(solution)
+    assert percentile < estimate.DEFAULT_TOLERANCE < largest
+    assert np.linalg.norm(where - np.array([0.1, -0.3, 0.5, -0.1])) < 0.5  # near the goal
+    messages = [str(w.message) for w in caught if issubclass(w.category, g.ResolutionWarning)]
+    assert any("near" in m and "narrower than a cell" in m for m in messages)
