@@ -73,7 +73,7 @@ over them.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -494,7 +494,9 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     if states is None and solution.embedded.excess is not None:
         largest, where = largest_response(solution)
         if largest > a.error:
-            a = Assessment(largest, where, max(largest, a.worst_error), a.share_above, len(X), True)
+            a = replace(a, error=largest, local=True)
+        if largest > a.worst_error:
+            a = replace(a, worst_state=where, worst_error=largest)
     return a
 
 

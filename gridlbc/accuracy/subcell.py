@@ -241,7 +241,8 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
 
 ROUNDING = 1e-10
 """An excess smaller than this share of the cost's largest magnitude on a block is taken for
-rounding (the reconstruction's sums round at about 4^d machine epsilons of it): no seed there."""
+rounding (the reconstruction's sums round at about 4^d machine epsilons of it, of the nodal
+values, which the lattice holds): no seed there."""
 
 
 DESCENT_LEVELS = 6
@@ -347,10 +348,9 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
     hat wants its own), the lowest of them where they are more; then the others, evenly spread
     over the block."""
     gap = true - rebuilt
-    rounding = ROUNDING * max(float(np.abs(true).max()), float(np.abs(rebuilt).max()))
+    rounding = ROUNDING * float(np.abs(true).max())
     modes = ["nearest"] + ["wrap" if a.periodic else "nearest" for a in grid.axes[1:]]
-    low = (gap < -rounding) & (gap <= minimum_filter(gap, size=3, mode=modes))
-    seeds = np.flatnonzero(low)
+    seeds = np.flatnonzero((gap <= minimum_filter(gap, size=3, mode=modes)) & (gap < -rounding))
     most = max(1, gap.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
     if len(seeds) > most:
         depth = gap.reshape(-1)[seeds]
