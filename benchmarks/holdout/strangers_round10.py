@@ -19,73 +19,8 @@ of functions of one axis with ẋ = u decouples, v = Σᵢ vᵢ(xᵢ), each vᵢ
 (0.0005 on [−1.5, 1.5] for the thin trough), dt = T/2000 (for a 1-D twin of the cold trough,
 halving h and dt moved the values by < 1e-5; the thin trough's was not checked).
 
-Results (library of commit 8034591, unchanged on this branch; run 2026-12-05, one thread).
-error = (v − v*)/max(|v*|, λ); est = ê/max(|v|, λ); S = ``solution.embedded.excess_response``
-/max(|v|, λ); max: the largest of ê's terms at that state (emb: the embedded/pair term with its
-floor; S; γ from 16 paths); w: "Y" the estimate's ResolutionWarning, "n" none; t the default
-solve in s; m: S's lattice points per cell::
-
-    problem         state                                  v       v* truth     error      est        S max  w   t/s m
-    goal4d_mid      [0.05, -0.35, 0.25, -0.15]        1.5564   1.3960 exact   +11.49%    2.56%    2.56%   S  n   4.1 2
-    goal4d_mid      [0.3, -0.2, 0.1, 0.0]             1.5497   1.4417 exact    +7.50%    2.16%    2.16%   S  n   4.1 2
-    goal4d_mid      [-1.0, 0.5, 0.5, -0.5]            1.6848   1.6822 exact    +0.15%    0.65%    0.04% emb  n   4.1 2
-    goal4d_thin     [0.05, -0.35, 0.25, -0.15]        1.5565   1.5068 exact    +3.30%    0.46%    0.00% emb  n   2.5 2
-    goal4d_thin     [0.3, -0.2, 0.1, 0.0]             1.5498   1.5221 exact    +1.82%    0.46%    0.00% emb  n   2.5 2
-    goal4d_thin     [-1.0, 0.5, 0.5, -0.5]            1.6848   1.6823 exact    +0.15%    0.65%    0.00% emb  n   2.5 2
-    goal4d_torus    [0.344, -0.442, 0.25, -0.15]      1.5720   1.4142 exact   +11.16%    2.48%    2.48%   S  n   5.6 2
-    goal4d_torus    [0.1, -0.2, 0.1, 0.0]             1.5431   1.4604 exact    +5.67%    1.61%    1.61%   S  n   5.6 2
-    goal4d_torus    [-1.0, 1.0, 0.5, -0.5]            1.7470   1.7448 exact    +0.13%    0.44%    0.00% emb  n   5.6 2
-    troughs4d_torus [3.093, -0.442, 0.25, -0.15]      2.6237   1.6674 exact   +57.35%   31.28%   31.28%   S  Y  18.5 2
-    troughs4d_torus [3.0, -0.2, 0.1, 0.0]             2.6103   1.7164 exact   +52.08%   29.64%   29.64%   S  Y  18.5 2
-    troughs4d_torus [-2.0, 1.0, 0.5, -0.5]            2.6385   2.2013 exact   +19.86%   10.83%   10.83%   S  Y  18.5 2
-    comb_2d         [0.0, 0.0]                        1.0173   0.6341 exact   +60.42%   16.72%   16.72%   S  Y   2.1 8
-    comb_2d         [0.35, -0.3]                      1.0350   0.6518 exact   +58.78%   21.55%   21.55%   S  Y   2.1 8
-    comb_2d         [-1.2, 0.5]                       1.1581   0.7750 exact   +49.43%    4.21%    0.05%   γ  Y   2.1 8
-    comb_torus      [0.0, 0.0]                        1.0081   0.6242 exact   +61.50%    0.20%    0.08% emb  Y   1.7 8
-    comb_torus      [3.1, -0.3]                       1.0156   0.6317 exact   +60.77%    1.70%    0.08% emb  Y   1.7 8
-    comb_torus      [-1.2, 0.5]                       1.0289   0.6450 exact   +59.51%    1.14%    0.08%   γ  Y   1.7 8
-    goal_swarm      [0.0, 0.0]                       -0.0002  -0.0739 exact   +73.73%   19.33%   19.33%   S  Y   2.2 8
-    goal_swarm      [0.5, -0.5]                      -0.0001  -0.0699 exact   +69.73%   20.39%   20.39%   S  Y   2.2 8
-    goal_swarm      [1.5, 0.0]                       -0.0000  -0.0058 exact    +5.75%    6.07%    1.72% emb  Y   2.2 8
-    goal_swarm_few  [0.0, 0.0]                       -0.0000  -0.0167 exact   +16.71%   36.20%   16.39% emb  Y   2.3 8
-    goal_swarm_few  [0.2, -0.2]                      -0.0000  -0.0142 exact   +14.16%   19.43%   13.83% emb  Y   2.3 8
-    goal_swarm_few  [0.7, 0.0]                       -0.0000  -0.0049 exact    +4.93%    4.74%    4.74%   S  Y   2.3 8
-    comb3_2d        [0.0, 0.0]                        1.0176   0.6837 exact   +48.84%   19.22%   19.22%   S  Y   1.6 8
-    comb3_2d        [0.17, -0.3]                      1.0276   0.7028 exact   +46.22%   20.18%   20.18%   S  Y   1.6 8
-    comb3_2d        [-1.2, 0.5]                       1.1590   1.1432 exact    +1.39%    0.13%    0.13%   S  Y   1.6 8
-    comb_torus_mid  [0.0, 0.0]                        1.0091   0.6242 exact   +61.66%   25.67%    0.04% emb  Y   1.7 8
-    comb_torus_mid  [3.1, -0.3]                       1.0166   0.6317 exact   +60.94%   25.67%    5.92% emb  Y   1.7 8
-    comb_torus_mid  [-1.2, 0.5]                       1.0300   0.6450 exact   +59.68%   39.18%   22.28% emb  Y   1.7 8
-    goal_drift_mid  [0.8, -0.3]                       1.5332   1.4647 exact    +4.68%    3.70%    3.70%   S  n   2.2 8
-    goal_drift_mid  [0.301, -0.299]                   1.5290   1.5050 exact    +1.59%    1.26%    1.26%   S  n   2.2 8
-    goal_drift_mid  [0.0, 0.0]                        1.5391   1.5364 exact    +0.17%    0.14%    0.14%   S  n   2.2 8
-    goal_cold_mid   [0.301, -0.299]                   0.3323   0.2927 exact   +13.54%   10.30%   10.30%   S  Y   1.0 8
-    goal_cold_mid   [0.35, -0.3]                      0.3370   0.2943 exact   +14.48%   11.01%   11.01%   S  Y   1.0 8
-    goal_cold_mid   [0.0, 0.0]                        0.3067   0.3063 exact    +0.12%    0.10%    0.10%   S  Y   1.0 8
-    goal_hot        [0.805, -0.395]                  20.2618  20.2152 exact    +0.23%    0.17%    0.17%   S  n   0.4 8
-    goal_hot        [0.0, 0.0]                       20.1894  20.1592 exact    +0.15%    0.11%    0.11%   S  n   0.4 8
-    goal_hot        [-1.0, 1.0]                      20.3720  20.3686 exact    +0.02%    0.01%    0.01%   S  n   0.4 8
-    goal_wall       [0.0, 0.0]                        1.0186   0.7364 exact   +38.33%   21.81%   21.81%   S  Y   1.8 8
-    goal_wall       [0.1, 0.3]                        1.0258   0.7486 exact   +37.04%   22.19%   22.19%   S  Y   1.8 8
-    goal_wall       [0.6, -0.5]                       1.0393   0.9109 exact   +14.10%   10.26%   10.26%   S  Y   1.8 8
-    goal_wall_edge  [0.0, 0.0]                        1.0185   0.7366 exact   +38.26%   23.97%   23.97%   S  Y   1.7 8
-    goal_wall_edge  [0.1, 0.3]                        1.0257   0.7488 exact   +36.98%   23.20%   23.20%   S  Y   1.7 8
-    goal_wall_edge  [0.6, -0.5]                       1.0393   0.9111 exact   +14.07%    9.94%    9.94%   S  Y   1.7 8
-    q_trough_cold   [0.0, 0.0]                        2.5843   1.4973   1-D   +72.60%   80.65%   80.65%   S  Y   0.1 8
-    q_trough_cold   [0.356, -0.244]                   2.5452   1.1549   1-D  +120.38%   88.33%   88.33%   S  Y   0.1 8
-    q_trough_cold   [-1.0, 0.5]                       2.8013   2.4313   1-D   +15.22%   40.71%   40.71%   S  Y   0.1 8
-    q_trough_thin   [0.0, 0.0]                        2.6107   2.6081   1-D    +0.10%   39.74%   39.74%   S  Y   0.1 8
-    q_trough_thin   [0.306, -0.2]                     2.6288   2.5890   1-D    +1.54%   43.73%   43.73%   S  Y   0.1 8
-    q_trough_thin   [-1.0, 0.5]                       2.8014   2.8015   1-D    -0.00%   14.63%   14.63%   S  Y   0.1 8
-    softkink_cold   [0.301, 0.0]                      0.0556   0.0555 exact    +0.19%   37.05%    5.19% emb  Y   1.1 8
-    softkink_cold   [0.2, 0.1]                        0.0690   0.0689 exact    +0.02%   29.60%    4.15% emb  Y   1.1 8
-    softkink_cold   [-0.3, 0.3]                       0.4427   0.4431 exact    -0.09%    3.90%    0.58% emb  Y   1.1 8
-    ridge_sub       [0.301, 0.0]                      0.0943   0.0942 exact    +0.09%    5.08%    5.08%   S  Y   1.7 8
-    ridge_sub       [0.2, 0.1]                        0.0837   0.0837 exact    +0.07%    4.29%    4.29%   S  Y   1.7 8
-    ridge_sub       [-0.5, 0.3]                       0.1544   0.1544 exact    -0.00%    0.21%    0.21%   S  Y   1.7 8
-    ripples3        [0.0, 0.0]                        0.0585   0.0570 exact    +1.45%    5.49%    4.43%   γ  Y   1.9 8
-    ripples3        [0.31, -0.17]                     0.0898   0.0883 exact    +1.50%    4.43%    4.43%   S  Y   1.9 8
-    ripples3        [-1.0, 0.5]                       0.3710   0.3695 exact    +0.39%    1.25%    1.19%   γ  Y   1.9 8
+First results (library of commit 8034591, the first version of the descent; run 2026-12-05, one
+thread; that commit's version of this file has the full table).
 
 60 pairs: estimate < half an error above 2 % at 17 [('goal4d_mid', 11.5, 2.6), ('goal4d_mid',
 7.5, 2.2), ('goal4d_thin', 3.3, 0.5), ('goal4d_torus', 11.2, 2.5), ('goal4d_torus', 5.7, 1.6),
@@ -167,7 +102,10 @@ one thread): the troughs are seen (``comb_torus`` 34–35 %, ``comb_torus_mid`` 
 The 4-D goals stay silent: δ is right and the 4-D embedded grid's response carries a quarter of
 it (a response solved on the 21⁴ grid itself read 0.068 against an error of 0.16 on
 ``goal4d_mid``: the grid, not δ, falls short). ``goal4d_mid`` and ``comb_torus`` joined the
-corpus. The false alarms stand::
+corpus. The false alarms stand. error = (v − v*)/max(|v*|, λ); est = ê/max(|v|, λ); S =
+``solution.embedded.excess_response``/max(|v|, λ); max: the largest of ê's terms at that state (emb: the embedded/pair term with its
+floor; S; γ from 16 paths); w: "Y" the estimate's ResolutionWarning, "n" none; t the default
+solve in s; m: S's lattice points per cell::
 
     problem         state                                  v       v* truth     error      est        S max  w   t/s m
     goal4d_mid      [0.05, -0.35, 0.25, -0.15]        1.5564   1.3960 exact   +11.49%    2.56%    2.56%   S  n   5.9 2
@@ -238,7 +176,6 @@ from __future__ import annotations
 
 import json
 import sys
-import time
 import warnings
 from pathlib import Path
 
@@ -248,6 +185,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import strangers_round3 as r3  # noqa: E402
+import strangers_round9 as r9  # noqa: E402
 from corpus import (  # noqa: E402
     Affine,
     exact_goal,
@@ -256,12 +194,9 @@ from corpus import (  # noqa: E402
 )
 from corpus import goal_cost as _goal_cost  # noqa: E402
 from strangers_round5 import _wrap  # noqa: E402
-from strangers_round8 import _solve, _warned  # noqa: E402
 
 import gridlbc  # noqa: E402
 from gridlbc import Problem, Quadratic  # noqa: E402
-from gridlbc.accuracy import cost_gap  # noqa: E402
-from gridlbc.accuracy.subcell import samples_per_cell  # noqa: E402
 
 OUT = HERE / "strangers_round10_results"
 PI = np.pi
@@ -793,54 +728,13 @@ TRUTH_TAG = {"q_trough_cold": "1-D", "q_trough_thin": "1-D"}
 
 
 def quick(name):
-    """The default solve: v, ê, its parts (embedded/pair with floor, S, γ from 16 paths), the
-    warnings, the time, m; writes OUT/NAME_solve.json."""
-    build, X = P10[name][:2]
-    problem = build()
-    sol, dt, w = _solve(problem)
-    lam = problem.temperature
-    v, est = sol.value(X), sol.error_estimate(X)
-    emb = sol.embedded
-    *_, local = emb._read(sol, X, 0.0)
-    scale = np.maximum(np.abs(v), lam)
-    base = np.maximum(local, emb.floor * scale)
-    s_part = emb.excess_response(X)
-    gam = np.abs(cost_gap(sol, X))
-    m = samples_per_cell(problem.grid)
-    out = dict(
-        name=name,
-        X=X.tolist(),
-        v=v.tolist(),
-        est=est.tolist(),
-        base=base.tolist(),
-        S=s_part.tolist(),
-        gamma=gam.tolist(),
-        time=dt,
-        m=m,
-        warned=_warned(w),
-        warnings=[f"{x.category.__name__}: {str(x.message)[:300]}" for x in w],
-    )
-    for i in range(len(X)):
-        print(
-            f"{name:16s} {np.round(X[i], 4).tolist()!s:32s} v={v[i]:8.4f} est={100 * est[i] / scale[i]:6.2f}% "
-            f"[emb {100 * base[i] / scale[i]:.2f} S {100 * s_part[i] / scale[i]:.2f} "
-            f"γ {100 * gam[i] / scale[i]:.2f}] t={dt:.1f}s m={m}"
-        )
-    print("  warnings:", out["warnings"], flush=True)
-    (OUT / f"{name}_solve.json").write_text(json.dumps(out, indent=1))
-    return out
+    """Round 9's default solve and its parts (``strangers_round9.quick``) for round 10's ``name``."""
+    return r9.quick(name, problems=P10, out_dir=OUT)
 
 
 def exact(name):
-    build, X = P10[name][:2]
-    lam = build().temperature
-    t0 = time.perf_counter()
-    vstar = EXACT[name](X)
-    d = json.loads((OUT / f"{name}_solve.json").read_text())
-    err = (np.array(d["v"]) - vstar) / np.maximum(np.abs(vstar), lam)
-    print(f"  {name} truth ({time.perf_counter() - t0:.1f} s): {np.round(vstar, 4).tolist()}")
-    print("  error:", np.round(100 * err, 2).tolist(), "%", flush=True)
-    (OUT / f"{name}_exact.json").write_text(json.dumps(dict(vstar=vstar.tolist())))
+    """Round 9's truth and error (``strangers_round9.exact``) for round 10's ``name``."""
+    return r9.exact(name, problems=P10, truths=EXACT, out_dir=OUT)
 
 
 def table():

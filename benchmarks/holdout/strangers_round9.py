@@ -611,10 +611,12 @@ STUDY.update(
 )
 
 
-def quick(name):
+def quick(name, problems=None, out_dir=None):
     """The default solve: v, ê, its parts (embedded/pair with floor, S, γ from 16 paths), the
-    warnings, the time, m; writes OUT/NAME_solve.json."""
-    build, X = P9[name][:2]
+    warnings, the time, m; writes OUT/NAME_solve.json (``problems``, ``out_dir``: another round's
+    registry and results folder, default this round's)."""
+    out_dir = OUT if out_dir is None else out_dir
+    build, X = (P9 if problems is None else problems)[name][:2]
     problem = build()
     sol, dt, w = _solve(problem)
     lam = problem.temperature
@@ -647,20 +649,23 @@ def quick(name):
             f"γ {100 * gam[i] / scale[i]:.2f}] t={dt:.1f}s m={m}"
         )
     print("  warnings:", out["warnings"], flush=True)
-    (OUT / f"{name}_solve.json").write_text(json.dumps(out, indent=1))
+    (out_dir / f"{name}_solve.json").write_text(json.dumps(out, indent=1))
     return out
 
 
-def exact(name):
-    build, X = P9[name][:2]
+def exact(name, problems=None, truths=None, out_dir=None):
+    """The truth at the states of ``name`` and the default solve's error against it (another
+    round's ``problems``, ``truths`` and results folder ``out_dir``, default this round's)."""
+    out_dir = OUT if out_dir is None else out_dir
+    build, X = (P9 if problems is None else problems)[name][:2]
     lam = build().temperature
     t0 = time.perf_counter()
-    vstar = EXACT[name](X)
-    d = json.loads((OUT / f"{name}_solve.json").read_text())
+    vstar = (EXACT if truths is None else truths)[name](X)
+    d = json.loads((out_dir / f"{name}_solve.json").read_text())
     err = (np.array(d["v"]) - vstar) / np.maximum(np.abs(vstar), lam)
     print(f"  {name} exact ({time.perf_counter() - t0:.1f} s): {np.round(vstar, 4).tolist()}")
     print("  error:", np.round(100 * err, 2).tolist(), "%", flush=True)
-    (OUT / f"{name}_exact.json").write_text(json.dumps(dict(vstar=vstar.tolist())))
+    (out_dir / f"{name}_exact.json").write_text(json.dumps(dict(vstar=vstar.tolist())))
 
 
 def grid_study(name, factors=(2.0, 4.0)):
