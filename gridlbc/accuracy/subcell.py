@@ -41,10 +41,12 @@ as far from a node as from the lattice points around it is seen by all of them a
 tail. Where the excess has a local minimum below zero on the lattice (the lattice sees more than
 the reconstruction, by more than rounding), :func:`descend` looks between the points: it cuts
 the box of the lattice's spacing around the point into 3^d boxes, and the one where f − I f_c is
-lowest again, :data:`DESCENT_LEVELS` times, down to the feature's bottom; then it sums both
-exponentials over a box of that width around the bottom by the same adaptive midpoint rule, and
-the two sums take the point's place. Where the cost is smooth the two sums move alike and δ does
-not. The descent costs at most as many evaluations of the cost as the lattice (:func:`_deeper`).
+lowest again, up to :data:`DESCENT_LEVELS` times, down to the feature's bottom (while the boxes'
+means and centres disagree more for the cost than for its reconstruction); where it found one, it
+sums both exponentials again over a box of that width around the bottom by the same adaptive
+midpoint rule, and the two sums take the point's place. Where the cost is smooth the two sums
+move alike and δ does not. The descent costs at most as many evaluations of the cost as the
+lattice (:func:`_deeper`).
 
 **The response.** The embedded problem is solved once more with its costs raised by the excess,
 g + δg and q + δq (:class:`WithExcess`; q + δq at least 0), and
@@ -64,8 +66,8 @@ high where holding still in a narrow well costs more, in noise fought, than the 
 embedded grid holds a path at a node for free), and where a cost steps inside a cell (the cubic
 overshoots the step by a quarter of the jump, which reads as a goal). It is computed for the
 problems with a horizon. Its cost: the costs evaluated at m^d lattice points per node and at
-2 · 3^d · :data:`DESCENT_LEVELS` points around each seed, and where they have an excess, one more
-solve on the embedded grid.
+most 2 · 3^d · :data:`DESCENT_LEVELS` points around each seed, and where they have an excess, one
+more solve on the embedded grid.
 """
 
 from __future__ import annotations
