@@ -290,7 +290,7 @@ def descend(measure, grid: Grid, centres: np.ndarray, side: np.ndarray):
     Returns
     -------
     log_average : ndarray (2, S)
-        log((1/|B|) ∫_B exp(u) dx) for each exponent, by the adaptive midpoint rule.
+        The log of the mean of exp(u) over B, for each exponent, by the adaptive midpoint rule.
     bottoms : ndarray (S, d)
         The centres of the last boxes cut: where the first exponent is largest.
     cut : ndarray (S,) of int
