@@ -187,9 +187,14 @@ sys.path.insert(0, str(HERE))
 import strangers_round3 as r3  # noqa: E402
 import strangers_round9 as r9  # noqa: E402
 from corpus import (  # noqa: E402
+    BY_NAME,
+    COMB_SPACING,
+    COMB_WIDTH,
     Affine,
+    comb_torus,
     exact_goal,
     exact_separable,
+    goal4d_mid,
     integrator,
 )
 from corpus import goal_cost as _goal_cost  # noqa: E402
@@ -228,20 +233,7 @@ def _torus(d, periodic):
 
 
 # ---------------- 4-D: goals between the lattice points (m = 2, lattice spacing h/2) ----------
-C4 = (0.05, -0.35, 0.25, -0.15)  # a lattice cell's centre: h/4 off a node on every axis
-
-
-def goal4d_mid():
-    """4-D ẋ = u on [−2, 2]⁴ (21⁴, h = 0.2, m = 2), a goal w = 0.035 at the centre of a lattice
-    cell, c = (0.05, −0.35, 0.25, −0.15) (0.1 = 2.9 w from its 16 lattice points, nodes among
-    them), depth 1.5, + 0.1|x|², λ = 0.1, T = 1."""
-    return Problem(
-        integrator(4),
-        G(*[(-2, 2, 21)] * 4),
-        1.0,
-        _goal_cost(1.5, 0.035, C4, [0.1] * 4),
-        temperature=0.1,
-    )
+C4 = (0.05, -0.35, 0.25, -0.15)  # goal4d_mid's (a corpus member): a lattice cell's centre
 
 
 def goal4d_thin():
@@ -320,29 +312,7 @@ def comb_2d():
     )
 
 
-ST = 2 * PI / 256 / 8  # the torus lattice's spacing (256 nodes, m = 8)
-CTOR = PI - ST / 2 - (2 * PI / 32) * np.arange(32)  # 32 troughs, the first across the seam
-CTW = ST / 2 / 3.1
-
-
-def _comb_torus_parts():
-    def comb(t):
-        return 1.0 - sum(np.exp(-0.5 * (_wrap(t - c) / CTW) ** 2) for c in CTOR)
-
-    return [comb, lambda y: 0.1 * y**2]
-
-
-def comb_torus():
-    """comb_2d on a periodic axis: θ ∈ [−π, π) periodic (256 nodes), y ∈ [−2, 2] (101), ẋ = u,
-    g = 1 − Σₖ exp(−wrap(θ − cₖ)²/2w²) + 0.1 y², 32 troughs at lattice cell centres (one across
-    the seam), w = 0.000495, λ = 0.1, T = 1."""
-    return Problem(
-        _torus(2, (0,)),
-        G((-PI, PI, 256, True), (-2, 2, 101)),
-        1.0,
-        _sep(_comb_torus_parts()),
-        temperature=0.1,
-    )
+ST, CTW = COMB_SPACING, COMB_WIDTH  # comb_torus's (the corpus member's) lattice spacing and w
 
 
 SWARM_D, SWARM_W, SWARM_LAM = 0.7, 0.0004, 0.1
@@ -685,9 +655,7 @@ EXACT = {
         [(p, 2 * PI if i < 2 else None, 0.0005) for i, p in enumerate(_troughs4_parts())], 0.1, 1.0
     ),
     "comb_2d": exact_separable([(p, None, 0.00005) for p in _comb_parts()], 0.1, 1.0),
-    "comb_torus": exact_separable(
-        [(_comb_torus_parts()[0], 2 * PI, 0.00005), (_comb_torus_parts()[1], None, 0.001)], 0.1, 1.0
-    ),
+    "comb_torus": BY_NAME["comb_torus"].exact,
     "goal_swarm": exact_swarm,
     "goal_swarm_few": lambda X: exact_swarm(X, SWARM_FEW),
     "comb3_2d": exact_separable(

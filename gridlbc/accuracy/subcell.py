@@ -146,17 +146,38 @@ def hat_weights(coarse: Axis, points: np.ndarray) -> sp.csr_matrix:
     """The sparse matrix ``(coarse nodes, points)`` of the coarse axis's hat functions
     φ_j(s) = max(0, 1 − abs(s − x_j)/H) at ``points`` in its box (two per point: the nodes of
     the cell it lies in; nearest image on a periodic axis)."""
-    n, H = coarse.n, coarse.spacing
-    position = (np.asarray(points, dtype=float) - coarse.lo) / H
-    cell = np.floor(position).astype(np.int64)
-    if not coarse.periodic:
-        cell = np.clip(cell, 0, n - 2)
-    t = position - cell
-    columns = np.arange(len(position))
+    n = coarse.n
+    cell, t = _cells(coarse, points)
+    columns = np.arange(len(cell))
     rows = np.concatenate([cell % n, (cell + 1) % n])
     weights = np.concatenate([1.0 - t, t])
-    shape = (n, len(position))
+    shape = (n, len(cell))
     return sp.csr_matrix((weights, (rows, np.concatenate([columns, columns]))), shape=shape)
+
+
+def _cells(coarse: Axis, points) -> tuple[np.ndarray, np.ndarray]:
+    """The cell of the coarse axis each of ``points`` lies in (its first node's index; the last
+    cell of a closed axis for its last node) and the offset t in it, in cells."""
+    position = (np.asarray(points, dtype=float) - coarse.lo) / coarse.spacing
+    cell = np.floor(position).astype(np.int64)
+    if not coarse.periodic:
+        cell = np.clip(cell, 0, coarse.n - 2)
+    return cell, position - cell
+
+
+def multilinear(coarse: Grid, values: np.ndarray, x) -> np.ndarray:
+    """Σ_j φ_j(x) c_j, the multilinear interpolant of the nodal ``values`` c of ``coarse`` at
+    states ``x`` (N, d): the hat functions of :func:`hat_weights`, at scattered states (the
+    library's :func:`~gridlbc.interpolate.interpolate` is barycentric on simplices)."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    values = np.asarray(values, dtype=float).reshape(coarse.shape)
+    cells, offsets = zip(*(_cells(a, x[:, k]) for k, a in enumerate(coarse.axes)), strict=True)
+    out = np.zeros(len(x))
+    for corner in itertools.product((0, 1), repeat=coarse.ndim):
+        index = tuple((c + b) % a.n for c, b, a in zip(cells, corner, coarse.axes, strict=True))
+        weight = np.prod([t if b else 1.0 - t for t, b in zip(offsets, corner, strict=True)], 0)
+        out += weight * values[index]
+    return out
 
 
 def along(matrix: sp.csr_matrix, values: np.ndarray, axis: int) -> np.ndarray:
@@ -332,7 +353,7 @@ def descend(measure, grid: Grid, centres: np.ndarray, side: np.ndarray):
 def _exponents(f, nodes, grid: Grid, coarse: Grid, anchor, rate, x) -> np.ndarray:
     """(2, N): the soft minimum's exponents −rate (f − I f_c) and −rate (R f − I f_c) at states
     ``x`` (:func:`excess`), for :func:`descend`."""
-    reference = interpolate(coarse, anchor.reshape(-1), x)
+    reference = multilinear(coarse, anchor, x)
     return -rate * np.stack([f(x) - reference, rebuild(nodes, grid, x) - reference])
 
 

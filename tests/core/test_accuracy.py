@@ -172,6 +172,36 @@ def test_the_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
     for coarse in (g.Axis(-1.0, 2.0, 7), g.Axis(-np.pi, np.pi, 32, periodic=True)):
         hats = accuracy.subcell.hat_weights(coarse, np.linspace(coarse.lo, coarse.hi, 97))
         np.testing.assert_allclose(hats.sum(axis=0), 1.0, atol=1e-14)  # a partition of unity
+    # the same hats at scattered states (the descent's anchor) reproduce an affine function
+    coarse = g.Grid([g.Axis(-1.0, 2.0, 7), g.Axis(0.0, 1.0, 5)])
+    X = np.random.default_rng(0).uniform([-1.0, 0.0], [2.0, 1.0], size=(200, 2))
+
+    def affine(x):
+        return 1.0 + 2.0 * x[:, 0] - 3.0 * x[:, 1]
+
+    anchor = accuracy.subcell.multilinear(coarse, coarse.node_values(affine), X)
+    np.testing.assert_allclose(anchor, affine(X), atol=1e-13)
+
+
+def _goal(centre, width):
+    """g = 2 (1 − exp(−|x − c|²/2w²)) + 0.1 |x|²: a goal of depth 2 and width w at c."""
+
+    def cost(x):
+        r2 = np.sum((x - centre) ** 2, axis=1)
+        return 2 * (1 - np.exp(-0.5 * r2 / width**2)) + 0.1 * np.sum(x**2, axis=1)
+
+    return cost
+
+
+def _integrator(axis, terminal_cost, temperature):
+    """ẋ = u in 2-D on ``axis`` × ``axis``, T = 1, terminal cost only."""
+    return g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([axis] * 2),
+        1.0,
+        terminal_cost,
+        temperature=temperature,
+    )
 
 
 def test_the_descent_finds_a_goal_that_the_lattice_points_see_alike(monkeypatch):
@@ -182,19 +212,8 @@ def test_the_descent_finds_a_goal_that_the_lattice_points_see_alike(monkeypatch)
     lattice of 16 points per cell (which has a point within h/32 of the centre), the excess with
     the descent must be within λ; without it (no levels) it misses the goal by many λ."""
     h, lam = 0.1, 0.1
-    centre, width = np.array([0.3 + h / 4, -0.2 + h / 4]), h / 5
-
-    def goal(x):
-        r2 = np.sum((x - centre) ** 2, axis=1)
-        return 2 * (1 - np.exp(-0.5 * r2 / width**2)) + 0.1 * np.sum(x**2, axis=1)
-
-    problem = g.Problem(
-        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
-        g.Grid([g.Axis(-1, 1, 21)] * 2),
-        1.0,
-        goal,
-        temperature=lam,
-    )
+    goal = _goal(np.array([0.3 + h / 4, -0.2 + h / 4]), h / 5)
+    problem = _integrator(g.Axis(-1, 1, 21), goal, lam)
     coarse = g.Grid([g.Axis(-1, 1, 11)] * 2)
     dense = accuracy.excess(problem, coarse, [goal], m=16).terminal.min()
     found = accuracy.excess(problem, coarse, [goal], m=2).terminal.min()
@@ -209,19 +228,9 @@ def _narrow_goal():
     cell, g = 2 (1 − exp(−|x − c|²/2w²)) + 0.1 |x|², w = 0.05, λ = 0.1, T = 1; and its exact value
     v(x) = −λ log E exp(−g(x + √(λT) N)/λ), N standard normal (passive dynamics X_T = x + √λ W_T),
     by a product rule with step 0.01 on ±6 (the integrand is smooth on that scale)."""
-    centre, width, lam = np.array([0.05, -0.15]), 0.05, 0.1
-
-    def cost(x):
-        r2 = np.sum((x - centre) ** 2, axis=1)
-        return 2 * (1 - np.exp(-0.5 * r2 / width**2)) + 0.1 * np.sum(x**2, axis=1)
-
-    problem = g.Problem(
-        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
-        g.Grid([g.Axis(-2, 2, 41)] * 2),
-        1.0,
-        cost,
-        temperature=lam,
-    )
+    lam = 0.1
+    cost = _goal(np.array([0.05, -0.15]), 0.05)
+    problem = _integrator(g.Axis(-2, 2, 41), cost, lam)
     u = np.linspace(-6, 6, 1201)
     U = np.stack(np.meshgrid(u, u, indexing="ij"), -1).reshape(-1, 2)
     weight = np.exp(-0.5 * np.sum(U**2, axis=1)) * (u[1] - u[0]) ** 2 / (2 * np.pi)
