@@ -25,9 +25,11 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
 - ``embedded_pair0.*``, ``embedded_pair1.*``: the solves on the pair of grids of
   :func:`gridlbc.accuracy.phase_pair`, their metadata as ``metadata["embedded"]["pair"]`` (a
   list of two; ``"embedded"`` in place of the first where it is the embedded solve itself).
-- ``embedded_excess.*``: the embedded solve with the costs raised by their sub-cell excess
-  (:class:`gridlbc.accuracy.Response`), its metadata as ``metadata["embedded"]["excess"]``
-  with the excess's ``bound`` (no arrays where it was not solved).
+- ``embedded_excess.*``, ``embedded_excess_base.*``: the solves on the embedded grid with the
+  costs raised by their sub-cell excess and without (:class:`gridlbc.accuracy.Response`), their
+  metadata as ``metadata["embedded"]["excess"]`` (``"raised"``, ``"base"``) with the excess's
+  ``bound`` (no arrays where they were not solved; a file without ``"base"`` was written when
+  the embedded solve was the response's base, and loads so).
 
 Version 1 files (before solutions knew their representation: it was
 ``diagnostics["interpolation"]``, ``"linear"``, ``"fitted"`` or ``"log"``, and the operator was
@@ -61,9 +63,9 @@ EMBEDDED = "embedded."
 """The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
 PAIR = ("embedded_pair0.", "embedded_pair1.")
 """The prefixes of the arrays of the solves on the pair of :func:`gridlbc.accuracy.phase_pair`."""
-EXCESS = "embedded_excess."
-"""The prefix of the arrays of the embedded solve with the costs' excess between the nodes
-(:class:`gridlbc.accuracy.Response`)."""
+EXCESS = ("embedded_excess.", "embedded_excess_base.")
+"""The prefixes of the arrays of the solves on the embedded grid with the costs' excess between
+the nodes and without (:class:`gridlbc.accuracy.Response`)."""
 READABLE_VERSIONS = (1, 2)
 """The versions :func:`load` reads."""
 
@@ -256,12 +258,12 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
             meta["embedded"]["pair"] = records
         response = estimate.excess
         if response is not None:
-            raised: dict = {}
-            meta["embedded"]["excess"] = {
-                "bound": response.bound,
-                "raised": None if response.raised is None else _record(response.raised, raised),
-            }
-            arrays.update({EXCESS + k: v for k, v in raised.items()})
+            meta["embedded"]["excess"] = {"bound": response.bound}
+            for prefix, key in zip(EXCESS, ("raised", "base"), strict=True):
+                held = {}
+                side = getattr(response, key)
+                meta["embedded"]["excess"][key] = None if side is None else _record(side, held)
+                arrays.update({prefix + k: v for k, v in held.items()})
     if annotations is not None:
         meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
@@ -364,10 +366,16 @@ def load(path) -> Solution:
             pair = (first, second)
         response = None
         if "excess" in record:
-            raised = record["excess"]["raised"]
-            if raised is not None:
-                raised = _solution(raised, _prefixed(contents, EXCESS), version, path)
-            response = Response(embedded, raised, float(record["excess"]["bound"]))
+            excess = record["excess"]
+            raised, base = (
+                None
+                if excess.get(key) is None
+                else _solution(excess[key], _prefixed(contents, prefix), version, path)
+                for prefix, key in zip(EXCESS, ("raised", "base"), strict=True)
+            )
+            if "base" not in excess:  # written when the embedded solve was the base
+                base = embedded
+            response = Response(base, raised, float(excess["bound"]))
         estimate = EmbeddedEstimate(
             embedded,
             np.nan if observed is None else float(observed),

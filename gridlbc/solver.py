@@ -251,13 +251,13 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
-    def solve_on(grid: Grid, factor: int, on: Problem = problem, costs=terminal_costs):
+    def solve_on(grid: Grid, factor: int, on: Problem = problem, costs=terminal_costs, using=s):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             return solve_many(
                 on.replace(grid=grid),
                 costs,
-                s,
+                using,
                 dt=min(factor * dt, horizon),
                 progress=False,
                 error_estimate=False,
@@ -277,11 +277,13 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
         pairs = [levels[0] if coarse == embedded else solve_on(coarse, 2) for coarse in pair]
     excess = None
     if levels:
+        coarse = levels[0][0].grid
+        plain = dataclasses.replace(s, fitting=None)  # why: subcell.responses
         excess = responses(
             problem,
             terminal_costs,
-            levels[0],
-            lambda on, costs: solve_on(levels[0][0].grid, 2, on, costs),
+            coarse,
+            lambda on, costs: solve_on(coarse, 2, on, costs, plain),
         )
     attach_estimates(solutions, levels, pairs, excess)
 

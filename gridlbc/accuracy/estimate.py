@@ -263,10 +263,10 @@ class EmbeddedEstimate:
 
     def _error(self, solution: Solution, x, t, samples: int) -> tuple[np.ndarray, np.ndarray]:
         """v_h and :meth:`error` at ``x``."""
-        v, embedded, _, local = self._read(solution, x, t)
+        v, _, _, local = self._read(solution, x, t)
         floor = self.floor * np.maximum(np.abs(v), solution.temperature)
         gap = np.abs(cost_gap(solution, x, t, samples))
-        response = 0.0 if self.excess is None else self.excess(x, t, base=embedded)
+        response = 0.0 if self.excess is None else self.excess(x, t)
         grid_terms = np.maximum(np.maximum(local, floor), response)
         return v, np.fmax(grid_terms, gap)
 

@@ -55,19 +55,21 @@ g + δg and q + δq (:class:`WithExcess`; q + δq at least 0), and
 
 is what the costs between the nodes change, seen at the embedded grid's resolution whether or
 not the solve's paths go near them (:class:`Response`;
-:meth:`gridlbc.accuracy.EmbeddedEstimate.error` reads it beside its other terms). Where
+:meth:`gridlbc.accuracy.EmbeddedEstimate.error` reads it beside its other terms). Both solves
+are made without exponential fitting: a fitted scheme interpolates z relative to its reference
+in every step, which spreads a dip that the reference does not have by about a cell per step,
+so its response to one is a fraction of the true one (:func:`responses`). Where
 sup|δg| + T sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not run and S is that
 bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum norm).
 
 What S cannot see: a feature that no lattice point sees at all (narrower than the lattice's
-spacing and too shallow in its tails to leave an excess below zero at a point near it). In 4-D
-the embedded grid's response carries only a quarter to a half of a narrow goal's effect. It errs
+spacing and too shallow in its tails to leave an excess below zero at a point near it). It errs
 high where holding still in a narrow well costs more, in noise fought, than the well saves (the
 embedded grid holds a path at a node for free), and where a cost steps inside a cell (the cubic
 overshoots the step by a quarter of the jump, which reads as a goal). It is computed for the
 problems with a horizon. Its cost: the costs evaluated at m^d lattice points per node and at
-most 2 · 3^d · :data:`DESCENT_LEVELS` points around each seed, and where they have an excess, one
-more solve on the embedded grid.
+most 2 · 3^d · :data:`DESCENT_LEVELS` points around each seed, and where they have an excess, two
+more solves on the embedded grid.
 """
 
 from __future__ import annotations
@@ -505,57 +507,61 @@ class Response:
 
     Attributes
     ----------
-    base : Solution
-        The coarse solve, v_c[g, q].
+    base : Solution or None
+        The coarse solve, v_c[g, q], by the plain scheme; None where it was not needed.
     raised : Solution or None
         The same with the costs raised by their excess, v_c[g + δg, q + δq]; None where
-        ``bound`` is negligible (:data:`NEGLIGIBLE`) and it was not solved.
+        ``bound`` is negligible (:data:`NEGLIGIBLE`) and neither was solved.
     bound : float
         sup|δg| + T sup|δq| over the coarse nodes: S never exceeds it (v is 1-Lipschitz in the
         costs, in the supremum norm, and so is a monotone scheme's).
     """
 
-    base: Solution
+    base: Solution | None
     raised: Solution | None
     bound: float
 
-    def __call__(self, x, t=0.0, base=None) -> np.ndarray:
+    def __call__(self, x, t=0.0) -> np.ndarray:
         """S(x, t) = abs(v_c[g + δg, q + δq] − v_c[g, q]) at states ``x`` (N, d), or ``bound``
-        where the raised solve was not run; 0 where both values are infinite (underflow).
-        ``base``: v_c at ``x``, ``t`` where the caller has it already."""
-        if self.raised is None:
+        where the raised solve was not run; 0 where both values are infinite (underflow)."""
+        if self.raised is None or self.base is None:
             return np.full(len(np.atleast_2d(x)), self.bound)
-        base = self.base.value(x, t) if base is None else base
         with np.errstate(invalid="ignore"):
-            response = np.abs(self.raised.value(x, t) - base)
+            response = np.abs(self.raised.value(x, t) - self.base.value(x, t))
         return np.where(np.isnan(response), 0.0, response)
 
 
-def responses(problem, terminal_costs, base: list, solve) -> list[Response]:
-    """The :class:`Response` of each of ``base`` (the coarse solves of ``problem`` with each of
-    ``terminal_costs``) to the costs' sub-cell excess.
+def responses(problem, terminal_costs, coarse: Grid, solve) -> list[Response]:
+    """The :class:`Response` of the coarse solves of ``problem`` with each of ``terminal_costs``
+    to the costs' sub-cell excess.
+
+    Both solves, v_c[g, q] and v_c[g + δg, q + δq], are made by ``solve`` (the solver passes
+    its scheme without exponential fitting): a fitted scheme interpolates z relative to its
+    reference φ in every step, which spreads a feature that φ does not have, such as the
+    raised costs' narrow dip, by about a cell's width per step (and a reference fitted to the
+    raised cost itself takes its dip geometrically between the nodes): its response to a dip
+    is a fraction of the true one, the smaller the more axes and steps (docs page
+    :doc:`accuracy`, "Costs between the nodes", has the measurements).
 
     Parameters
     ----------
     problem : Problem
         The problem on its own grid, whose lattice is sampled.
     terminal_costs : sequence of callable
-    base : list of Solution
-        The coarse solves, one per terminal cost, all on one grid.
+    coarse : Grid
+        The grid of the coarse solves.
     solve : callable
-        ``solve(problem, costs)`` → list of Solution: the coarse solve of the raised problem, as
-        ``base`` was solved.
+        ``solve(problem, costs)`` → list of Solution, one per cost: the coarse solve.
 
     Returns
     -------
     list of Response
     """
-    coarse = base[0].grid
     found = excess(problem, coarse, terminal_costs)
     raise_state = 0.0 if found.state is None else float(np.abs(found.state).max())
     bounds = [float(np.abs(dg).max()) + problem.horizon * raise_state for dg in found.terminal]
     if max(bounds) <= NEGLIGIBLE * problem.temperature:
-        return [Response(b, None, bound) for b, bound in zip(base, bounds, strict=True)]
+        return [Response(None, None, bound) for bound in bounds]
     changes: dict = {}
     if found.state is not None:
         changes["state_cost"] = WithExcess(problem.state_cost, coarse, found.state, 0.0)
@@ -563,5 +569,6 @@ def responses(problem, terminal_costs, base: list, solve) -> list[Response]:
         WithExcess(problem.replace(terminal_cost=g).terminal_cost, coarse, dg)
         for g, dg in zip(terminal_costs, found.terminal, strict=True)
     ]
+    base = solve(problem, list(terminal_costs))
     raised = solve(problem.replace(**changes), costs)
     return [Response(b, r, bound) for b, r, bound in zip(base, raised, bounds, strict=True)]

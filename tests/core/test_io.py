@@ -49,6 +49,28 @@ def test_round_trip_is_exact(tmp_path, pendulum_solution, rng):
 
 
 @EXACTNESS_ONLY
+def test_round_trip_keeps_the_response_to_the_costs_between_the_nodes(tmp_path, rng):
+    """A goal narrower than a cell between the nodes: the estimate reads the response of the
+    plain-scheme solves on the embedded grid with and without the costs' excess
+    (gridlbc.accuracy.subcell.responses); both come back, and so does the estimate, exactly."""
+    centre = np.array([0.1, -0.1])  # a cell's centre on the grid below (h = 0.2)
+
+    def goal(x):
+        return 1.5 * (1 - np.exp(-0.5 * np.sum((x - centre) ** 2, axis=1) / 0.03**2))
+
+    grid = Grid([Axis(-2.0, 2.0, 21), Axis(-2.0, 2.0, 21)])
+    problem = Problem(PointMass(), grid, 1.0, goal, temperature=0.2)
+    sol = gridlbc.solve(problem, dt=0.05)
+    response = sol.embedded.excess
+    assert response.raised is not None and response.base is not sol.embedded.solution
+    back = gridlbc.load(gridlbc.save(sol, tmp_path / "goal"))
+    np.testing.assert_array_equal(back.embedded.excess.base.slices, response.base.slices)
+    np.testing.assert_array_equal(back.embedded.excess.raised.slices, response.raised.slices)
+    x = rng.uniform(-2, 2, (50, 2))
+    np.testing.assert_array_equal(back.error_estimate(x), sol.error_estimate(x))
+
+
+@EXACTNESS_ONLY
 def test_float32_linear_system_round_trip(tmp_path):
     grid = Grid([Axis(-2, 2, 9), Axis(-3, 3, 9)])
     problem = Problem(PointMass(2.0), grid, 0.5, Quadratic([1.0, 0.0], [1.0, 1.0]))
