@@ -282,8 +282,8 @@ embedded solves and its comparison solves all cost a fixed amount per node and s
 def predicted_seconds(seconds: float, work: float, planned: float, exponent: float) -> float:
     """The seconds a round of ``planned`` work should take after one of ``work`` took
     ``seconds``: ``seconds · (planned / work)^exponent`` (work: nodes × steps for a time march,
-    :data:`MARCH_WORK_EXPONENT`; nodes for a first-exit solve,
-    :data:`gridlbc.stationary.STATIONARY_WORK_EXPONENT`)."""
+    :data:`MARCH_WORK_EXPONENT`; nodes for a first-exit solve, the exponent of
+    :func:`gridlbc.stationary.stationary_work_exponent`)."""
     return float(seconds * (planned / work) ** exponent)
 
 
