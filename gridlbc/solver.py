@@ -105,9 +105,17 @@ def planned_memory(problem: Problem, settings: SolverSettings) -> dict[str, int]
     solving."""
     if problem.exit is not None and not settings.scheme.supports_exit:
         settings = _exit_settings(settings, explicit=False)
-    bound = settings.scheme.step_bound(problem)
-    _, steps = time_grid(problem, settings, courant_rates(problem), bound.limit)
+    _, steps = planned_step(problem, settings)
     return memory_estimate(problem, settings, len(kept_steps(steps, settings.store_every)))
+
+
+def planned_step(problem: Problem, settings: SolverSettings) -> tuple[float, int]:
+    """The step Δt and the number of steps n that :func:`solve` of ``problem`` with ``settings``
+    would take (:func:`time_grid`), without solving."""
+    if problem.exit is not None and not settings.scheme.supports_exit:
+        settings = _exit_settings(settings, explicit=False)
+    bound = settings.scheme.step_bound(problem)
+    return time_grid(problem, settings, courant_rates(problem), bound.limit)
 
 
 def _terminal_data(problem: Problem, terminal_costs, log: bool = False):
@@ -345,6 +353,7 @@ def solve(
     tol: float | None = None,
     states=None,
     max_nodes: int | None = None,
+    max_seconds: float | None = None,
     **options,
 ) -> Solution:
     """Solve the linear Bellman PDE of ``problem`` backward from T to 0.
@@ -370,6 +379,13 @@ def solve(
         the median, :func:`gridlbc.accuracy.states_that_matter`).
     max_nodes : int, optional
         With ``tol``: refine the grid no further than this many nodes.
+    max_seconds : float, optional
+        With ``tol``: a wall-clock budget in seconds. Each round's time is predicted from the
+        last one's before it starts, and a round that would take the total past the budget is
+        not started: the last solution is returned with a :class:`gridlbc.ResolutionWarning`
+        giving the estimate reached and the next round's predicted time
+        (``solution.refinement[-1].predicted_seconds``). Default None: no budget (see
+        :func:`gridlbc.accuracy.solve_to_tolerance` for why).
     **options
         Any :class:`SolverSettings` field, e.g. ``method="implicit"``, ``store_every=5``,
         ``progress=True``; for a problem without a horizon (first exit, ``horizon=None``, or
@@ -390,9 +406,10 @@ def solve(
                 "time-march settings: give its options by name (rates=, linear_solver=)"
             )
         if tol is not None:
-            return solve_first_exit_to_tolerance(problem, tol, states, max_nodes, **options)
-        if states is not None or max_nodes is not None:
-            raise TypeError("states= and max_nodes= apply with tol=: give tol or drop them")
+            return solve_first_exit_to_tolerance(
+                problem, tol, states, max_nodes, max_seconds=max_seconds, **options
+            )
+        _check_tolerance_options(states, max_nodes, max_seconds)
         return solve_stationary(problem, **options)
     if isinstance(dt, (SolverSettings, str)):
         if settings is not None:
@@ -408,7 +425,16 @@ def solve(
             )
         options["dt"] = dt
     if tol is not None:
-        return solve_to_tolerance(problem, tol, states, settings, max_nodes, **options)
-    if states is not None or max_nodes is not None:
-        raise TypeError("states= and max_nodes= apply with tol=: give tol or drop them")
+        return solve_to_tolerance(
+            problem, tol, states, settings, max_nodes, max_seconds=max_seconds, **options
+        )
+    _check_tolerance_options(states, max_nodes, max_seconds)
     return solve_many(problem, [problem.terminal_cost], settings, **options)[0]
+
+
+def _check_tolerance_options(states, max_nodes, max_seconds) -> None:
+    """Refuse the options of a solve to a tolerance given without ``tol``."""
+    if states is not None or max_nodes is not None or max_seconds is not None:
+        raise TypeError(
+            "states=, max_nodes= and max_seconds= apply with tol=: give tol or drop them"
+        )

@@ -56,11 +56,14 @@ from .accuracy import (
     assess,
     attach_estimates,
     axes_to_refine,
+    check_budget,
     check_scalar,
     check_tolerance,
     embedded_grid,
     finish,
+    over_budget,
     phase_pair,
+    predicted_seconds,
     refined_grid,
     scalar_estimate,
 )
@@ -634,18 +637,48 @@ def _package(problem, label, z, top, start, setup, iterations, digest) -> Statio
     )
 
 
+def stationary_work_exponent(method: str, ndim: int) -> float:
+    """The power of the nodes ratio by which :func:`solve_first_exit_to_tolerance` scales a
+    round's time to predict the next one's (:func:`gridlbc.accuracy.predicted_seconds`), for the
+    linear solver ``method`` (resolved, :func:`_method`) of the planned grid.
+
+    Sparse LU with a fill-reducing ordering costs N^1.5 in two dimensions (nested dissection)
+    and N^2 in three; measured (the first-exit solve of a ball's exit, one thread): 2-D from 161²
+    to 321² and 641², exponents 1.26 and 1.37 (1.09 and 1.31 with the embedded solves), 3-D
+    21³ → 33³, 2.03. BiCGSTAB's iterations grow as 1/h, N^(1/d): the work as N^(1 + 1/d), and
+    more where the vectors leave the caches; measured in 3-D, 41³ → 81³ (83 → 166 iterations),
+    1.65. Hence 1.5 for LU in one or two dimensions (N in 1-D, banded: conservative), 2 beyond,
+    and 1.7 for the Krylov methods: at or above what was measured, so that a budget is not
+    overrun by an underestimate. On small grids, where fixed costs dominate, the prediction is
+    high (the two bays of ``tests/core/test_first_exit.py`` from 41²: the 161×81 round predicted
+    at 0.53 s took 0.15 s): a budget stops early there, where rounds take a fraction of a
+    second."""
+    if method == "direct":
+        return 1.5 if ndim <= 2 else 2.0
+    return 1.7
+
+
 def solve_first_exit_to_tolerance(
     problem: Problem,
     tol: float,
     states=None,
     max_nodes: int | None = None,
     max_refinements: int = 6,
+    max_seconds: float | None = None,
     **options,
 ) -> StationarySolution:
     """Solve a first-exit problem on finer and finer grids (h → h/2 along the axes that limit
     it, :func:`gridlbc.accuracy.axes_to_refine`) until its embedded error estimate meets ``tol`` (:func:`gridlbc.accuracy.assess`), or ``max_nodes``,
-    the memory or ``max_refinements`` stops it (then a :class:`gridlbc.ResolutionWarning` says
-    which). :func:`gridlbc.solve` calls this for ``solve(problem, tol=...)``.
+    the memory, ``max_refinements`` or the time budget ``max_seconds`` stops it (then a
+    :class:`gridlbc.ResolutionWarning` says which). :func:`gridlbc.solve` calls this for
+    ``solve(problem, tol=...)``.
+
+    Before each refinement its round's time (the solve, its embedded solves and the solves with
+    one axis coarsened that steer the next) is predicted from the last round's: its wall time
+    times the ratio of the nodes to the power :func:`stationary_work_exponent` (measured for
+    the linear solvers); a round that would take the total past ``max_seconds`` is not started
+    (:attr:`gridlbc.accuracy.Refinement.predicted_seconds`), nor steered where the time left
+    would not hold even a round on the same grid.
 
     Parameters
     ----------
@@ -659,6 +692,9 @@ def solve_first_exit_to_tolerance(
         Refine no further than this many nodes.
     max_refinements : int
         At most this many refinements.
+    max_seconds : float, optional
+        A wall-clock budget in seconds (default None: none), as for
+        :func:`gridlbc.accuracy.solve_to_tolerance`.
     **options
         :class:`StationarySettings` fields.
 
@@ -671,6 +707,8 @@ def solve_first_exit_to_tolerance(
     if problem.average_cost:
         raise ValueError("tol= applies to first-exit problems, not to the average cost")
     check_tolerance(tol, options)
+    check_budget(max_seconds)
+    clock = time.perf_counter()
     s = stationary_settings(options)
     history: list[Refinement] = []
     limit = ""
@@ -686,14 +724,27 @@ def solve_first_exit_to_tolerance(
                 f"the grid {solution.grid.shape} is too coarse to embed a grid with every other "
                 "node (each axis needs at least 5 nodes): give a finer grid"
             )
-        history.append(
-            Refinement(solution.grid.shape, 0.0, a.error, np.nan, time.perf_counter() - started)
-        )
+        solved = time.perf_counter() - started
+        history.append(Refinement(solution.grid.shape, 0.0, a.error, np.nan, solved))
         if a.error <= tol or len(history) > max_refinements:
             break
+        here = f"grid {'×'.join(map(str, solution.grid.shape))} or finer"
+        limit = over_budget(max_seconds, time.perf_counter() - clock, here, solved, least=True)
+        if limit:  # not even a round on this grid fits in the time left: no need to steer
+            history[-1] = dataclasses.replace(history[-1], predicted_seconds=solved)
+            break
         axes, shares = axes_to_refine(solution, partial(_solve_quietly, problem, s), states)
-        history[-1] = dataclasses.replace(history[-1], axis_errors=tuple(shares.tolist()))
         finer = refined_grid(solution.grid, axes)
+        seconds = time.perf_counter() - started
+        method = _method(s, finer.ndim, finer.size)
+        exponent = stationary_work_exponent(method, finer.ndim)
+        predicted = predicted_seconds(seconds, solution.grid.size, finer.size, exponent)
+        history[-1] = dataclasses.replace(
+            history[-1],
+            axis_errors=tuple(shares.tolist()),
+            wall_time=seconds,
+            predicted_seconds=predicted,
+        )
         available = available_memory()
         if max_nodes is not None and finer.size > max_nodes:
             limit = f"the grid {finer.shape} would exceed max_nodes = {max_nodes}"
@@ -701,11 +752,16 @@ def solve_first_exit_to_tolerance(
             limit = f"memory: the grid {finer.shape} would need about " + (
                 f"{BYTES_PER_NODE * finer.size / 2**30:.1f} GiB of {available / 2**30:.1f} GiB"
             )
+        if not limit:
+            plan = f"grid {'×'.join(map(str, finer.shape))}"
+            limit = over_budget(max_seconds, time.perf_counter() - clock, plan, predicted)
         if limit:
             break
         problem = problem.replace(grid=finer)
     where = "×".join(map(str, solution.grid.shape))
     advice = "raise max_refinements or max_nodes"
+    if limit.startswith("the time budget"):
+        advice = "raise max_seconds or loosen tol"
     finish(solution, tol, history, where, limit, max_refinements, advice)
     return solution
 

@@ -24,6 +24,8 @@ change.
 from __future__ import annotations
 
 import dataclasses
+import math
+import numbers
 import time
 import warnings
 from dataclasses import dataclass
@@ -163,7 +165,9 @@ class Refinement:
     time_error : float
         The part of it from the time step (a solve at 2Δt on the same grid), NaN if not measured.
     wall_time : float
-        Seconds for this solve and its estimates.
+        Seconds for this round: its solve, its estimates and, where another round followed,
+        the comparison solves that chose it (the shares): what :attr:`predicted_seconds`
+        predicts for a round.
     dtype : str
         How its slices were stored: ``"float64"`` or ``"float32"``.
     store_every : int
@@ -183,6 +187,12 @@ class Refinement:
         Where the embedded levels did not converge and the user gave few states: the relative
         error at those states measured against certified optima (:func:`certified_error`); NaN
         where it was not measured or the certificates could not say.
+    predicted_seconds : float
+        The predicted :attr:`wall_time` of the round planned after this one, from this round's
+        (:func:`predicted_seconds`), whether or not the budget ``max_seconds`` let it run; NaN
+        where none was planned. Where the budget stopped the solve before the next round was
+        planned (not even a round like this one fitted in the time left), the least it would
+        take: this round's solve and estimates.
     """
 
     shape: tuple[int, ...]
@@ -196,6 +206,7 @@ class Refinement:
     factors: tuple[float, ...] = ()
     reason: str = ""
     certified_error: float = np.nan
+    predicted_seconds: float = np.nan
 
     def met(self, tol: float) -> bool:
         """Whether this round proved ``tol``: by its estimate or at certified states."""
@@ -262,6 +273,50 @@ def fitting_plan(problem, settings, factors, max_nodes: int | None = None):
     return problem.replace(grid=best[0]), best[1], limit
 
 
+MARCH_WORK_EXPONENT = 1.0
+"""The power of the work ratio (nodes × steps) by which :func:`solve_to_tolerance` scales a
+round's time to predict the next one's (:func:`predicted_seconds`): a time-marched solve, its
+embedded solves and its comparison solves all cost a fixed amount per node and step."""
+
+
+def predicted_seconds(seconds: float, work: float, planned: float, exponent: float) -> float:
+    """The seconds a round of ``planned`` work should take after one of ``work`` took
+    ``seconds``: ``seconds · (planned / work)^exponent`` (work: nodes × steps for a time march,
+    :data:`MARCH_WORK_EXPONENT`; nodes for a first-exit solve, the exponent of
+    :func:`gridlbc.stationary.stationary_work_exponent`)."""
+    return float(seconds * (planned / work) ** exponent)
+
+
+def check_budget(max_seconds) -> None:
+    """A clear error unless ``max_seconds`` is None or a positive finite number of seconds."""
+    if max_seconds is None:
+        return
+    if (
+        isinstance(max_seconds, bool)
+        or not isinstance(max_seconds, numbers.Real)
+        or not (math.isfinite(max_seconds) and float(max_seconds) > 0)
+    ):
+        raise ValueError(
+            "max_seconds must be a positive finite number of seconds (or None: no budget), "
+            f"e.g. 300; got {max_seconds!r}"
+        )
+
+
+def over_budget(
+    max_seconds: float | None, spent: float, plan: str, seconds: float, least: bool = False
+) -> str:
+    """The message saying that the time budget stops a solve to a tolerance: ``spent`` seconds
+    so far, and the next round (``plan``) would take ``seconds`` (``least``: at least that),
+    past ``max_seconds``; "" where it fits (or there is no budget)."""
+    if max_seconds is None or spent + seconds <= max_seconds:
+        return ""
+    about = "at least about" if least else "about"
+    return (
+        f"the time budget stopped it: {spent:.3g} s spent, and the next round, {plan}, would "
+        f"take {about} {seconds:.3g} s: beyond max_seconds = {max_seconds:g}"
+    )
+
+
 def solve_to_tolerance(
     problem,
     tol: float,
@@ -269,6 +324,7 @@ def solve_to_tolerance(
     settings=None,
     max_nodes: int | None = None,
     max_refinements: int = 8,
+    max_seconds: float | None = None,
     **options,
 ):
     """Solve ``problem`` again and again until the embedded estimate meets ``tol``.
@@ -299,6 +355,18 @@ def solve_to_tolerance(
     k-th, :func:`fitting_storage`); if not even a slightly finer grid fits, Δt is halved
     instead and the limit is reported.
 
+    Before each round after the first, its time is predicted from the last round's: that
+    round's wall time (its solve, estimates and the comparison solves that steered it) times
+    the ratio of the work, nodes × steps (steps = T/Δt), of the planned round to the last
+    one's (:func:`predicted_seconds`; the march, the embedded solves and the comparison solves
+    all cost a fixed amount per node and step). With ``max_seconds``, a round whose predicted
+    time would take the total past it is not started: the solve stops with the last solution
+    and a :class:`gridlbc.ResolutionWarning` giving the estimate reached and the predicted time
+    of the next round. A round is not steered either (no comparison solves) where the time left
+    would not hold even a round on the same grid and step. The prediction is in
+    :attr:`Refinement.predicted_seconds` and, with ``progress=True``, printed. The first round
+    always runs: nothing has been measured to predict it from.
+
     Parameters
     ----------
     problem : Problem
@@ -313,6 +381,14 @@ def solve_to_tolerance(
         Refine the grid no further than this many nodes (default: what the memory allows).
     max_refinements : int
         At most this many rounds after the first.
+    max_seconds : float, optional
+        A wall-clock budget in seconds for the whole solve: no round starts whose predicted time
+        would exceed what is left of it. Default None: no budget. The tolerance is what was
+        asked for, and a default budget would make the grid reached, and so the answer, depend
+        on the machine's speed and load; ``max_refinements`` and the memory already bound the
+        work, and ``progress=True`` prints each round's prediction before it starts, so a long
+        solve is announced rather than cut short. Give one where the time matters more than
+        ``tol``.
     **options
         Settings fields, as for :func:`gridlbc.solve`.
 
@@ -323,9 +399,11 @@ def solve_to_tolerance(
         round). A :class:`gridlbc.ResolutionWarning` says what stopped it if ``tol`` was not met.
     """
     from ..settings import resolve_settings
-    from ..solver import solve_many
+    from ..solver import planned_step, solve_many
 
     check_tolerance(tol, options)
+    check_budget(max_seconds)
+    clock = time.perf_counter()
     base = resolve_settings(settings, options)
     dt = base.dt
     history: list[Refinement] = []
@@ -335,7 +413,24 @@ def solve_to_tolerance(
     # its shares were measured over) until a round's estimate comes within 2× of what the model
     # predicted for it; each such round doubles the reach, a miss resets it.
     reach, predicted = 2.0, np.nan
+    measured = None  # (seconds, nodes × steps) of the last round run: what predicts the next
     while True:
+        if measured is not None:
+            planned_dt, n = planned_step(problem, dataclasses.replace(base, dt=dt))
+            seconds = predicted_seconds(*measured, problem.grid.size * n, MARCH_WORK_EXPONENT)
+            history[-1] = dataclasses.replace(history[-1], predicted_seconds=seconds)
+            plan = f"grid {'×'.join(map(str, problem.grid.shape))} with dt {planned_dt:.4g}"
+            spent = time.perf_counter() - clock
+            if base.progress:
+                print(
+                    f"tol: the next round, {plan}, should take about {seconds:.3g} s "
+                    f"({spent:.3g} s spent)",
+                    flush=True,
+                )
+            stop = over_budget(max_seconds, spent, plan, seconds)
+            if stop:
+                limit = stop
+                break
         started = time.perf_counter()
         try:
             with warnings.catch_warnings():
@@ -357,12 +452,19 @@ def solve_to_tolerance(
                 f"the grid {problem.grid.shape} is too coarse to embed a grid with every other "
                 "node (each axis needs at least 5 nodes): give a finer grid"
             )
+        solved = time.perf_counter() - started  # the least a round on a grid as fine takes
         held = predicted / 2 <= a.error <= 2 * predicted
         reach, predicted = (2 * reach if held else 2.0), np.nan
         time_error = certified = np.nan
         if a.error > tol and certifiable(solution, states):
             certified = certified_error(solution, judged_states(solution, states), tol)
         done = a.error <= tol or certified <= tol or len(history) >= max_refinements
+        least = np.nan  # where the time left would not hold even a round like this one
+        if not done and max_seconds is not None:
+            here = f"grid {'×'.join(map(str, problem.grid.shape))} or finer"
+            stop = over_budget(max_seconds, time.perf_counter() - clock, here, solved, least=True)
+            if stop:
+                done, limit, least = True, stop, solved
         if not done:
             steps = solution.diagnostics.steps
             half = _march_quietly(problem, base, 2 * solution.diagnostics.dt, steps, problem.grid)
@@ -378,6 +480,7 @@ def solve_to_tolerance(
                 base.dtype,
                 base.store_every,
                 certified_error=certified,
+                predicted_seconds=least,
             )
         )
         if base.progress:
@@ -433,6 +536,9 @@ def solve_to_tolerance(
         )
         if finer is not None and next_dt is not None:
             next_dt = min(next_dt, base.scheme.step_bound(finer).limit)
+        seconds = time.perf_counter() - started
+        history[-1] = dataclasses.replace(history[-1], wall_time=seconds)
+        measured = (seconds, problem.grid.size * steps)
         if finer is None:  # not even a slightly finer grid fits: the step is all that is left
             limit = capped
             dt = step / 2 if next_dt is None or next_dt >= step else next_dt
@@ -441,8 +547,10 @@ def solve_to_tolerance(
         base = dataclasses.replace(storage, dt=base.dt)
         coarser = (problem, step)
         problem, dt = finer, next_dt
-    where = f"{'×'.join(map(str, problem.grid.shape))} with dt {solution.diagnostics.dt:.4g}"
+    where = f"{'×'.join(map(str, solution.grid.shape))} with dt {solution.diagnostics.dt:.4g}"
     advice = "raise max_refinements or max_nodes, store float32 or use mmap_dir"
+    if limit.startswith("the time budget"):
+        advice = "raise max_seconds or loosen tol"
     finish(solution, tol, history, where, limit, max_refinements, advice)
     return solution
 

@@ -499,3 +499,18 @@ def test_rollouts_of_a_task_without_a_horizon_need_an_explicit_step():
     for run in (g.simulate, g.certify):
         with pytest.raises(ValueError, match="give dt"):
             run(problem, zero, [0.0], n_samples=10, max_time=30.0)
+
+
+def test_a_time_budget_stops_the_first_exit_refinement_and_says_so():
+    x = np.array([[0.0, 0.0]])
+    with pytest.warns(g.ResolutionWarning, match=r"time budget.*max_seconds = 0\.001"):
+        solution = g.solve(two_bays_problem(21), tol=1e-4, states=x, max_seconds=1e-3)
+    assert len(solution.refinement) == 1 and solution.refinement[0].predicted_seconds > 0
+    # with room for the second round, its prediction is the first's time × (nodes ratio)^p
+    with pytest.warns(g.ResolutionWarning, match="max_nodes"):
+        solution = g.solve(
+            two_bays_problem(21), tol=1e-4, states=x, max_seconds=600, max_nodes=2000
+        )
+    first = solution.refinement[0]
+    ratio = (41 * 41 / 21**2) ** g.stationary.stationary_work_exponent("direct", 2)
+    assert first.predicted_seconds == pytest.approx(first.wall_time * ratio)
