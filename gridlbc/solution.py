@@ -257,8 +257,10 @@ class Solution(FieldEvaluation):
         if self.embedded is None:
             raise ValueError(
                 "this solution carries no error estimate: it was solved with "
-                "error_estimate=False or on a grid too coarse to embed (fewer than 5 nodes on "
-                "an axis); solve again with the default settings"
+                "error_estimate=False, on a grid too coarse to embed (fewer than 5 nodes on "
+                "an axis), or its problem cannot be posed on the grid with every other node (an "
+                "exit set that holds none of its nodes: the solve warned); solve again with the "
+                "default settings on a finer grid"
             )
         return self.embedded.error(self, x, t)
 

@@ -27,8 +27,7 @@ import numpy as np
 
 from .accuracy import (
     attach_estimates,
-    embedded_grid,
-    phase_pair,
+    embedded_solves,
     responses,
     solve_to_tolerance,
 )
@@ -272,17 +271,7 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             )
 
     fine = problem.require_grid("an embedded solve")
-    embedded = grid = embedded_grid(fine)
-    levels = []
-    for factor in (2, 4):
-        if grid is None:
-            break
-        levels.append(solve_on(grid, factor))
-        grid = embedded_grid(grid)
-    pair = phase_pair(fine) if levels else None
-    pairs = None
-    if pair is not None:  # the pair's first grid is the embedded one where every C is odd
-        pairs = [levels[0] if coarse == embedded else solve_on(coarse, 2) for coarse in pair]
+    levels, pairs, reason = embedded_solves(fine, solve_on)
     excess = None
     if levels:
         coarse = levels[0][0].grid
@@ -293,7 +282,7 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             coarse,
             lambda on, costs: solve_on(coarse, 2, on, costs, plain),
         )
-    attach_estimates(solutions, levels, pairs, excess)
+    attach_estimates(solutions, levels, pairs, excess, reason)
 
 
 def _solutions(

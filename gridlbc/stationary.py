@@ -59,10 +59,9 @@ from .accuracy import (
     check_budget,
     check_scalar,
     check_tolerance,
-    embedded_grid,
+    embedded_solves,
     finish,
     over_budget,
-    phase_pair,
     predicted_seconds,
     refined_grid,
     scalar_estimate,
@@ -837,8 +836,8 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
     """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
     and exit cost on the grids with every other node (2h and 4h); and warn where an estimate
     exceeds the default tolerance."""
-    levels, pairs = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
-    attach_estimates(solutions, levels, pairs)
+    levels, pairs, reason = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
+    attach_estimates(solutions, levels, pairs, reason=reason)
 
 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
@@ -847,8 +846,8 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
     level, as on this one) and of its average cost c (``average_cost_error``,
     :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h and 4h); warn where
     either exceeds the default tolerance."""
-    levels, pairs = _levels(problem, lambda p: [solve_average_cost(p, s)])
-    attach_estimates([solution], levels, pairs)
+    levels, pairs, reason = _levels(problem, lambda p: [solve_average_cost(p, s)])
+    attach_estimates([solution], levels, pairs, reason=reason)
     if levels:
         estimate = scalar_estimate(
             [solution.average_cost] + [level[0].average_cost for level in levels],
@@ -858,31 +857,15 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
         check_scalar(estimate, "the average cost c")
 
 
-def _levels(problem: Problem, solve) -> tuple[list, list | None]:
-    """``solve(problem on the grid)`` on the grids with every other node (2h) and the one below
-    it (4h), and on the pair of :func:`~gridlbc.accuracy.phase_pair`, their own warnings
-    silenced; fewer levels where a grid is too coarse to embed or the problem is not resolved
-    that coarsely (an exit set the coarse grid misses), and no pair then."""
+def _levels(problem: Problem, solve) -> tuple[list, list | None, str]:
+    """``solve(problem on the grid)`` on the grids of :func:`~gridlbc.accuracy.embedded_solves`
+    (2h, 4h and the pair), their own warnings silenced; fewer levels where a grid is too coarse
+    to embed or the problem is not posed that coarsely (an exit set the coarse grid misses: the
+    reason is returned, and the estimate warns of it)."""
 
-    def solve_on(grid: Grid):
+    def solve_on(grid: Grid, factor: int):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
-            try:
-                return solve(problem.replace(grid=grid))
-            except ValueError:  # the exit set or the costs are not resolved that coarsely
-                return None
+            return solve(problem.replace(grid=grid))
 
-    fine = problem.require_grid("an embedded solve")
-    levels: list = []
-    embedded = grid = embedded_grid(fine)
-    while grid is not None and len(levels) < 2:
-        level = solve_on(grid)
-        if level is None:
-            break
-        levels.append(level)
-        grid = embedded_grid(grid)
-    pair = phase_pair(fine) if levels else None
-    if pair is None:
-        return levels, None
-    pairs = [levels[0] if coarse == embedded else solve_on(coarse) for coarse in pair]
-    return levels, None if any(side is None for side in pairs) else pairs
+    return embedded_solves(problem.require_grid("an embedded solve"), solve_on)

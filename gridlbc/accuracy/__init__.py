@@ -53,6 +53,7 @@ from .estimate import (
 from .grids import (
     cells,
     embedded_grid,
+    embedded_solves,
     phase_pair,
     refined_grid,
     scaled_grid,
@@ -123,6 +124,7 @@ __all__ = [
     "cost_gap",
     "embedded_estimate",
     "embedded_grid",
+    "embedded_solves",
     "excess",
     "finish",
     "fitting_plan",

@@ -426,13 +426,22 @@ def scalar_estimate(levels, pair=None) -> ScalarEstimate:
     return ScalarEstimate(error, observed, tuple(c))
 
 
-def attach_estimates(solutions, levels: list, pairs=None, excess=None) -> None:
+def attach_estimates(solutions, levels: list, pairs=None, excess=None, reason: str = "") -> None:
     """Give each of ``solutions`` its :class:`EmbeddedEstimate` from the solves ``levels[0][r]``
     (2h), if present ``levels[1][r]`` (4h), ``pairs[0][r]``, ``pairs[1][r]``
     (:func:`phase_pair`) and ``excess[r]`` (what the costs' sub-cell excess changes,
     :class:`~gridlbc.accuracy.subcell.Response`), and warn (:func:`check_accuracy`) where one exceeds the
-    default tolerance; nothing without levels (a grid too coarse to embed)."""
+    default tolerance. Without levels there is no estimate: a :class:`gridlbc.ResolutionWarning`
+    says so where there is a ``reason`` (the problem cannot be posed on the embedded grid: the
+    grid resolves it too barely for an estimate); none for a grid too coarse to embed."""
     if not levels:
+        if reason:
+            warn_user(
+                f"no error estimate for this solve: {reason}. A problem the grid with every other "
+                "node cannot hold is resolved by a few nodes of this one, and its values may be "
+                "far off; refine the grid until that coarser grid holds it (docs page 'accuracy')",
+                ResolutionWarning,
+            )
         return
     for r, solution in enumerate(solutions):
         coarser = levels[1][r] if len(levels) > 1 else None

@@ -70,6 +70,46 @@ def phase_pair(grid: Grid) -> tuple[Grid, Grid] | None:
     return Grid(pair[0]), Grid(pair[1])
 
 
+def embedded_solves(fine: Grid, solve) -> tuple[list, list | None, str]:
+    """The solves an estimate reads: ``solve(grid, factor)`` on the embedded grid (spacing 2h,
+    ``factor`` 2: the step is doubled with the spacing), on the one below it (4h, ``factor`` 4),
+    and on the pair of :func:`phase_pair` (``factor`` 2; the embedded solve itself where the
+    pair's first grid is the embedded one).
+
+    A solve that raises ValueError (the problem cannot be posed that coarsely: an exit set that
+    holds no node of the coarser grid) ends the levels there, and the pair is not solved.
+
+    Returns
+    -------
+    levels : list
+        The solves at 2h and 4h, as far as the grids and the problem allow (empty: no estimate).
+    pair : list of two, or None
+        The pair's solves; None where the grid is too coarse for it or a level is missing.
+    reason : str
+        Why there is no level although the grid could be embedded ("" otherwise).
+    """
+    levels: list = []
+    reason = ""
+    embedded = grid = embedded_grid(fine)
+    for factor in (2, 4):
+        if grid is None:
+            break
+        try:
+            levels.append(solve(grid, factor))
+        except ValueError as error:
+            if not levels:
+                reason = f"the problem cannot be posed on the grid with every other node: {error}"
+            break
+        grid = embedded_grid(grid)
+    pair = phase_pair(fine) if len(levels) else None
+    if pair is None:
+        return levels, None, reason
+    try:
+        return levels, [levels[0] if c == embedded else solve(c, 2) for c in pair], reason
+    except ValueError:
+        return levels, None, reason
+
+
 def refined_grid(grid: Grid, axes=None, factor: int = 2) -> Grid:
     """The grid with every cell divided into ``factor`` (spacing h/factor; every factor-th node a
     node of ``grid``), or only along the given ``axes``. With the default factor 2: the grid whose

@@ -514,3 +514,26 @@ def test_a_time_budget_stops_the_first_exit_refinement_and_says_so():
     first = solution.refinement[0]
     ratio = (41 * 41 / 21**2) ** g.stationary.stationary_work_exponent("direct", 2)
     assert first.predicted_seconds == pytest.approx(first.wall_time * ratio)
+
+
+@pytest.mark.parametrize("horizon", [None, 1.0])
+def test_an_exit_set_the_embedded_grid_misses_is_not_silent(horizon):
+    """A ball exit smaller than a cell around one node of a 41² grid holds no node of the grid
+    with every other node, so the estimate cannot be made there (stranger round 11: such a
+    solve was 26 % off without a word). The solve must still succeed, with and without a
+    horizon, carry no estimate, and say so with a ResolutionWarning that names the cause."""
+    grid = g.Grid([g.Axis(-2.0, 2.0, 41), g.Axis(-2.0, 2.0, 41)])  # h = 0.1, node (0.1, 0.1)
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        grid,
+        horizon,
+        None if horizon is None else (lambda x: np.zeros(len(x))),
+        state_cost=lambda x: np.full(len(x), 0.5),
+        temperature=0.3,
+        exit=Ball([0.1, 0.1], 0.07),
+    )
+    with pytest.warns(g.ResolutionWarning, match="no error estimate.*exit set"):
+        solution = g.solve(problem)
+    assert solution.embedded is None
+    with pytest.raises(ValueError, match="cannot be posed on the grid with every other node"):
+        solution.error_estimate([[0.0, 0.0]])
