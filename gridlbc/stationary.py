@@ -64,6 +64,7 @@ from .accuracy import (
     over_budget,
     predicted_seconds,
     refined_grid,
+    responses,
     scalar_estimate,
 )
 from .errors import GridlbcWarning, ResolutionWarning, warn_user
@@ -834,10 +835,21 @@ def _embed(problem: Problem, s: StationarySettings, solution: StationarySolution
 
 def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) -> None:
     """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
-    and exit cost on the grids with every other node (2h and 4h); and warn where an estimate
-    exceeds the default tolerance."""
+    and exit cost on the grids with every other node (2h and 4h) and the pair, and the embedded
+    solve's response to the exit costs' sub-cell excess (:func:`gridlbc.accuracy.responses`);
+    and warn where an estimate exceeds the default tolerance, or where none could be made."""
     levels, pairs, reason = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
-    attach_estimates(solutions, levels, pairs, reason=reason)
+    excess = None
+    if levels:
+        coarse = levels[0][0].grid
+
+        def solve_coarse(on: Problem, costs) -> list:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", GridlbcWarning)
+                return solve_first_exit_many(on.replace(grid=coarse), costs, s)
+
+        excess = responses(problem, exit_costs, coarse, solve_coarse)
+    attach_estimates(solutions, levels, pairs, excess, reason)
 
 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:

@@ -969,7 +969,7 @@ def table():
     n = len(tally)
     judged = [t for t in tally if not math.isnan(t[1])]
     covered = sum(1 for a, e, *_ in judged if e >= a / 2)
-    none = [(nm, round(100 * a, 2)) for a, e, _, nm, _ in tally if math.isnan(e)]
+    none = [(nm, round(100 * a, 2), "Y" if w else "n") for a, e, w, nm, _ in tally if math.isnan(e)]
     under = [
         (nm, round(100 * a, 2), round(100 * e, 2))
         for a, e, _, nm, _ in judged
@@ -982,7 +982,7 @@ def table():
     false = [nm for nm, (w, errs) in solves.items() if w and max(errs) < 0.02]
     shaky = [(nm, round(100 * u, 2)) for *_, nm, u in tally if u > 0.02]
     print(
-        f"{n} pairs ({len(judged)} with an estimate; none, and no warning, at {len(none)} {none}); "
+        f"{n} pairs ({len(judged)} with an estimate; none at {len(none)} (warned Y/n) {none}); "
         f"estimate ≥ ½ the error at {covered}/{len(judged)}; estimate < ½ an error above 2 % at "
         f"{len(under)} {under}; > 10 % off silently at {len(silent)} {silent}; false alarms "
         f"(warned, every pair < 2 %): {len(false)} {false}; truths uncertain beyond 2 %: {shaky}"

@@ -66,8 +66,9 @@ What S cannot see: a feature that no lattice point sees at all (narrower than th
 spacing and too shallow in its tails to leave an excess below zero at a point near it). It errs
 high where holding still in a narrow well costs more, in noise fought, than the well saves (the
 embedded grid holds a path at a node for free), and where a cost steps inside a cell (the cubic
-overshoots the step by a quarter of the jump, which reads as a goal). It is computed for the
-problems with a horizon. Its cost: the costs evaluated at m^d lattice points per node and at
+overshoots the step by a quarter of the jump, which reads as a goal). For a first-exit task
+without a horizon it is computed for the exit cost g_E (τ = 1: a narrow cheap spot on the exit
+set is a goal), not for the state cost, which has no horizon to give its τ. Its cost: the costs evaluated at m^d lattice points per node and at
 most 2 · 3^d · :data:`DESCENT_LEVELS` points around each seed, and where they have an excess, two
 more solves on the embedded grid.
 """
@@ -206,9 +207,17 @@ class Excess:
     state: np.ndarray | None
 
 
+def _ending(problem) -> str:
+    """The name of the cost a path pays where it ends: ``"exit_cost"`` for a task without a
+    horizon (first exit), ``"terminal_cost"`` otherwise."""
+    return "exit_cost" if problem.stationary else "terminal_cost"
+
+
 def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Excess:
     """The sub-cell excess of ``problem``'s state cost and of each of ``terminal_costs``, as a soft
-    minimum over the hat functions of ``coarse`` (module docstring).
+    minimum over the hat functions of ``coarse`` (module docstring). For a first-exit problem
+    without a horizon the costs are exit costs g_E (τ = 1, as for g) and the state cost is not
+    sampled (there is no horizon to give its τ).
 
     Parameters
     ----------
@@ -217,7 +226,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     coarse : Grid
         The grid on whose nodes the excess is wanted (the same box).
     terminal_costs : sequence of callable
-        The terminal costs g_i.
+        The terminal costs g_i (exit costs for a problem without a horizon).
     m : int, optional
         Lattice points per cell along each axis (default :func:`samples_per_cell`).
 
@@ -229,14 +238,15 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     m = samples_per_cell(grid) if m is None else m
     points = refined_grid(grid, factor=m)  # the sampling lattice
     hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, points.axes, strict=True)]
-    terminals = [problem.replace(terminal_cost=g) for g in terminal_costs]
+    ending = _ending(problem)
+    ends = [problem.replace(**{ending: g}) for g in terminal_costs]
     # (index in the result or None for the state cost, the cost's values, its time scale τ)
     sampled: list[tuple[int | None, Callable, float]] = [
-        (i, p.terminal_values, 1.0)
-        for i, p in enumerate(terminals)
-        if not reproduced(p.terminal_cost)
+        (i, p.exit_values if problem.stationary else p.terminal_values, 1.0)
+        for i, p in enumerate(ends)
+        if not reproduced(getattr(p, ending))
     ]
-    if not reproduced(problem.state_cost):
+    if not (problem.stationary or reproduced(problem.state_cost)):
         sampled.append((None, problem.state_cost_values, problem.require_horizon("an excess")))
     nodal = [grid.reshape(grid.node_values(values)) for _, values, _ in sampled]
     anchors = [coarse.reshape(coarse.node_values(values)) for _, values, _ in sampled]
@@ -559,14 +569,16 @@ def responses(problem, terminal_costs, coarse: Grid, solve) -> list[Response]:
     """
     found = excess(problem, coarse, terminal_costs)
     raise_state = 0.0 if found.state is None else float(np.abs(found.state).max())
-    bounds = [float(np.abs(dg).max()) + problem.horizon * raise_state for dg in found.terminal]
+    held = 0.0 if found.state is None else problem.horizon * raise_state
+    bounds = [float(np.abs(dg).max()) + held for dg in found.terminal]
     if max(bounds) <= NEGLIGIBLE * problem.temperature:
         return [Response(None, None, bound) for bound in bounds]
     changes: dict = {}
     if found.state is not None:
         changes["state_cost"] = WithExcess(problem.state_cost, coarse, found.state, 0.0)
+    ending = _ending(problem)
     costs = [
-        WithExcess(problem.replace(terminal_cost=g).terminal_cost, coarse, dg)
+        WithExcess(getattr(problem.replace(**{ending: g}), ending), coarse, dg)
         for g, dg in zip(terminal_costs, found.terminal, strict=True)
     ]
     base = solve(problem, list(terminal_costs))
