@@ -25,6 +25,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+import strangers_round11 as r11
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -951,6 +952,20 @@ def _s(*rows) -> np.ndarray:
     return np.array(rows, dtype=float)
 
 
+def _notch_exit_exact(X):
+    """cosine series (strangers_round11.exact_halfplane_g): z = Σ c_m cos(mπ(x₁+2)/4)
+    cosh(κ_m(x₀+2))/cosh(κ_m(a+2)), κ_m² = 2Rq/λ² + (mπ/4)², z = e^{−g(x₁)/λ} on x₀ = a, the
+    coefficients by the trapezoid rule on 400 001 points"""
+    return r11.exact_halfplane_g(r11.notch_g)(X)
+
+
+def _tiny_ball_exact(X):
+    """Bessel series (strangers_round11.ball_exact): z = K₀(κr)/K₀(κρ) about the ball, κ² =
+    2Rq/λ², the box's walls over 50 decay lengths 1/κ away"""
+    value, _ = r11.P11["tiny_ball_cold"][2](X)
+    return value
+
+
 MEMBERS: tuple[Member, ...] = (
     Member(
         "vortex",
@@ -1360,6 +1375,28 @@ MEMBERS: tuple[Member, ...] = (
         cert_dt=0.002,
         fast=True,
         tags=("narrow cost", "closed"),
+    ),
+    Member(
+        "notch_exit",
+        r11.notch_halfplane,
+        _s((-0.5, 0.0), (0.0, 0.3), (0.3, 0.0)),
+        "first exit through a half-plane whose exit cost has a cheap notch a twelfth of a cell "
+        "wide, 0.024 from the nodes of every grid the estimate reads (stranger round 11: 13–47 % "
+        "high with estimates of 2 % and silent, before S took the exit costs' excess)",
+        fast=True,
+        tags=("first exit", "narrow cost", "closed"),
+        exact=_notch_exit_exact,
+    ),
+    Member(
+        "tiny_ball_cold",
+        r11.tiny_ball_cold,
+        _s((0.6, 0.1), (-0.2, -0.3), (0.1, 0.35)),
+        "first exit into a ball of 0.7 cells' radius around a node, none of whose nodes the grid "
+        "with every other node holds, λ = 0.05 (stranger round 11: 6–26 % low, no estimate and "
+        "no warning; now no estimate and a warning that says why)",
+        fast=True,
+        tags=("first exit", "narrow goal", "closed"),
+        exact=_tiny_ball_exact,
     ),
 )
 

@@ -62,8 +62,8 @@ def predict(member: Member) -> dict:
             solution = gridlbc.solve(problem)
             seconds = time.perf_counter() - start
             values = np.asarray(solution.value(member.states, 0.0), dtype=float).reshape(-1)
-            estimate = None
-            if hasattr(solution, "error_estimate"):
+            estimate = None  # none where the solve could not make one (it warns why)
+            if solution.embedded is not None:
                 estimate = np.asarray(
                     solution.error_estimate(member.states, 0.0), dtype=float
                 ).reshape(-1)
@@ -213,6 +213,10 @@ def main(argv=None) -> int:
     by_name = {m.name: m for m in members}
     for name in dict.fromkeys(r["member"] for r in silent):
         print(f"  {tolerance_check(by_name[name], truths)}")
+    unestimated = [r for r in judged if r["estimate"] is None]
+    if unestimated:
+        warned = sum(r["warned"] for r in unestimated)
+        print(f"{len(unestimated)} pairs without an estimate, {warned} of them warned")
     estimated = [r for r in judged if "covered" in r]
     if estimated:
         covered = sum(r["covered"] for r in estimated)
