@@ -460,6 +460,7 @@ class SamplePaths:
     left_box: np.ndarray
     exit_times: np.ndarray | None = None  # τ, NaN where not exited; None without an exit set
     log_likelihoods: np.ndarray | None = None  # log dQ_j/dP per scored policy j, (n, J)
+    integral: np.ndarray | None = None  # Σ r(x_k, t_k) Δt up to τ for an ``integrand`` r
 
 
 def euler_maruyama(
@@ -473,6 +474,7 @@ def euler_maruyama(
     boundary: str | None = None,
     horizon: float | None = None,
     scored=(),
+    integrand=None,
 ) -> SamplePaths:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
 
@@ -513,6 +515,11 @@ def euler_maruyama(
         Policies whose log-likelihood ratios to the passive chain are accumulated
         (:attr:`SamplePaths.log_likelihoods`, one column each; a policy that *is* ``policy``
         reuses its controls). Requires ``noise``.
+    integrand : callable, optional
+        ``r(x, t)`` → ``(N,)`` for the running samples' states ``(N, d)``, summed per sample as
+        the state cost is (rectangle rule, up to τ) into :attr:`SamplePaths.integral`; called
+        each step right after ``policy``, at the same states. Its values are not checked (they
+        may be negative or NaN).
 
     Returns
     -------
@@ -536,6 +543,7 @@ def euler_maruyama(
     eps = np.zeros((n, m))
     scored = tuple(scored)
     log_likelihoods = np.zeros((n, len(scored))) if scored else None
+    integral = None if integrand is None else np.zeros(n)
     for k in range(n_steps):
         t = k * step
         if noise:
@@ -549,6 +557,8 @@ def euler_maruyama(
             drift = np.ascontiguousarray(system.drift(x_a), dtype=float)
             B = np.ascontiguousarray(system.input_matrix(x_a), dtype=float)
             running_a, ito_a = running[alive], ito[alive]
+            if integral is not None:
+                integral[alive] += np.asarray(integrand(x_a, t), dtype=float) * step
             if problem.state_cost is not None:
                 running_a += problem.state_cost_values(x_a, t) * step
             x_new = np.empty_like(x_a)
@@ -586,7 +596,9 @@ def euler_maruyama(
     times = np.arange(n_steps + 1) * step
     times[-1] = T
     exit_times = None if exits is None else exits.times
-    return SamplePaths(times, start, running, x, end_cost, ito, left, exit_times, log_likelihoods)
+    return SamplePaths(
+        times, start, running, x, end_cost, ito, left, exit_times, log_likelihoods, integral
+    )
 
 
 class _Exits:

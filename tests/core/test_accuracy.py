@@ -135,6 +135,39 @@ def test_the_cost_gap_at_the_horizon_is_the_terminal_interpolants_error():
     )
 
 
+def test_the_cost_gap_of_a_task_that_ends_stops_at_the_exit_and_charges_the_exit_cost_gap():
+    """First exit (no horizon): the paths stop on entering E and add (I_h g_E − g_E) where they
+    exit; with affine q and g_E both interpolants are exact and γ is zero. With g_E = 4 x₁² on
+    the half-plane x₀ ≥ 0.5 (a node line) a path that starts in E at the midpoint of an edge
+    pays I_h g_E − g_E = 4 (h/2)² and never moves; an average-cost problem has no γ."""
+
+    def affine(x):
+        return 2.0 + x[:, 0] + 0.5 * x[:, 1]
+
+    grid = g.Grid([g.Axis(-1.0, 1.0, 21), g.Axis(-1.0, 1.0, 21)])
+    h = grid.spacing[1]
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        grid,
+        None,
+        state_cost=affine,
+        temperature=0.5,
+        exit=g.regions.Box([0.5, -np.inf], [np.inf, np.inf]),
+        exit_cost=affine,
+    )
+    solution = _quiet_solve(problem)
+    assert accuracy.paths.sampled(problem)
+    gap, unexited = accuracy.exit_gap(solution, [[-0.5, 0.3], [0.0, -0.2]], samples=4)
+    np.testing.assert_allclose(gap, 0.0, atol=1e-12)
+    assert unexited == 0 and 0 < accuracy.path_step(solution) < 1.0
+    curved = _quiet_solve(problem.replace(exit_cost=lambda x: 4.0 * x[:, 1] ** 2))
+    np.testing.assert_allclose(
+        accuracy.cost_gap(curved, [[0.6, 0.2 + h / 2], [0.6, 0.2]]), [h**2, 0.0], atol=1e-12
+    )
+    average = problem.replace(horizon="average", exit=None, exit_cost=None)
+    assert not accuracy.paths.sampled(average)
+
+
 def test_the_lattice_reconstruction_is_exact_for_quadratics_and_across_a_seam():
     """R f on the sampling lattice (gridlbc.accuracy.subcell.refine): the cubic rule is exact for
     cubics inside a closed axis where the curvature is of one sign (x³ + 10x², f'' from 14 to 32),
