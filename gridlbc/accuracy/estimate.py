@@ -565,7 +565,7 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         where = (
             f"at {a.share_above:.0%} of the states that matter ({QUANTILE:.0%} of them are "
             f"within {a.error:.1%}; the largest, {a.worst_error:.0%}, is at {state}): measured "
-            "against solves on the grids with every other node"
+            "against solves on the grids with every other node and along the solve's own paths"
         )
     warn_user(
         f"the estimated error of v exceeds {tol:.0%} of |v| {where}, see "

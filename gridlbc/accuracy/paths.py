@@ -48,7 +48,7 @@ problem without a horizon has no solve step; the paths take :func:`path_step`, a
 along any axis per step (a finite-horizon solve's step moves the passive drift by up to one
 cell, implicit, or six or seven, splitting: these paths are no coarser), and run in chunks of
 :data:`CHUNK` steps until every path has exited, or twice the steps by which nine in ten had
-(:data:`SETTLED`), or :data:`EXIT_STEPS` steps or :data:`PATH_WORK` path-steps are spent. A path
+(:data:`SETTLED`), or :data:`EXIT_STEPS` steps or :data:`EXIT_WORK` path-steps are spent. A path
 still running at that cap adds the part it has accrued: γ is then truncated (a lower bound of
 its size where I_h q − q has one sign along the paths); :func:`exit_gap` counts such paths.
 Where the grid charges less than the costs (a toll the nodes miss), the solve's policy does not
@@ -84,14 +84,24 @@ EXIT_STEPS = 16_384
 """At most this many steps per path for a problem without a horizon (first exit): a path still
 running then is truncated (:func:`exit_gap`)."""
 
+EXIT_WORK = 1 << 18
+"""At most about this many path-steps per call for a first-exit problem without a horizon (but
+at least one :data:`CHUNK` per path): its paths run until they exit, which on a fine grid with
+a noiseless axis takes thousands of steps of a cell each; a path stopped by this budget adds the
+part it has accrued (:func:`exit_gap`)."""
+
 CHUNK = 128
 """The steps between two looks at which paths of a first-exit problem have exited (the run ends
-when all have, or :data:`PATH_WORK` or :data:`EXIT_STEPS` is spent)."""
+when all have, or :data:`EXIT_WORK` or :data:`EXIT_STEPS` is spent)."""
 
 SETTLED = 0.9
 """Once this share of a first-exit problem's paths (without a horizon) has exited, at step k,
 the rest run to step 2k at most: exit times have an exponential tail, so about one in a hundred
 is then still running, and the steps that follow would be spent on ever fewer paths."""
+
+ROUNDING = 1e-12
+"""A gap between a cost and its interpolant below this share of the cost's magnitude (at least 1)
+is rounding (:func:`interpolated_exactly`)."""
 
 STEP_STATES = 1024
 """At most this many nodes off the exit set give the paths' step of a first-exit problem
@@ -187,6 +197,8 @@ def exit_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
     problem, grid = solution.problem, solution.problem.grid
     x = np.atleast_2d(np.asarray(x, dtype=float))
     n_states = x.shape[0]
+    if problem.stationary and interpolated_exactly(solution):
+        return np.zeros(n_states), 0
     if problem.stationary:
         dt = path_step(solution)
         steps = EXIT_STEPS
@@ -200,7 +212,7 @@ def exit_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
         steps = max(1, int(np.ceil(remaining / solution.diagnostics.dt - 1e-9)))
         dt = remaining / steps
     samples = int(np.clip(PATH_WORK // (n_states * steps), min(4, samples), samples))
-    budget = max(PATH_WORK, n_states * samples * CHUNK)
+    budget = max(EXIT_WORK, n_states * samples * CHUNK)
     q_nodes = nodal(solution, "state_cost") if problem.state_cost is not None else None
     starts = np.repeat(x, samples, axis=0)
     n = starts.shape[0]
@@ -252,6 +264,37 @@ def exit_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
             steps = min(steps, 2 * done)
     gap[undefined] = np.nan
     return gap.reshape(n_states, samples).mean(axis=1), len(running)
+
+
+def interpolated_exactly(solution) -> bool:
+    """Whether the grid's interpolants of the state cost and the exit cost equal the costs, to
+    rounding, at the centre of every cell: then γ of a first-exit problem is zero without a path
+    (a constant or affine cost, the common "minimum time" q = 1). A cost that is not affine in a
+    cell differs from its interpolant at the cell's centre (a toll or a notch narrower than a
+    cell anywhere between the nodes has a tail there far above rounding). Kept with the
+    solution."""
+    if "interpolated_exactly" in solution._cache:
+        return solution._cache["interpolated_exactly"]
+    problem, grid = solution.problem, solution.problem.grid
+    axes = [a.lo + a.spacing * (np.arange(a.n if a.periodic else a.n - 1) + 0.5) for a in grid.axes]
+    centres = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, grid.ndim)
+    exact = True
+    for cost, values in (
+        ("state_cost", problem.state_cost_values),
+        ("exit_cost", problem.exit_values),
+    ):
+        if getattr(problem, cost) is None:
+            continue
+        for block in np.array_split(centres, max(1, len(centres) // 65_536)):
+            truth = values(block)
+            gap = interpolate(grid, nodal(solution, cost), block) - truth
+            if np.max(np.abs(gap)) > ROUNDING * max(1.0, float(np.max(np.abs(truth)))):
+                exact = False
+                break
+        if not exact:
+            break
+    solution._cache["interpolated_exactly"] = exact
+    return exact
 
 
 def path_step(solution) -> float:

@@ -68,9 +68,9 @@ high where holding still in a narrow well costs more, in noise fought, than the 
 embedded grid holds a path at a node for free), and where a cost steps inside a cell (the cubic
 overshoots the step by a quarter of the jump, which reads as a goal). For a first-exit task
 without a horizon it is computed for the exit cost g_E (τ = 1: a narrow cheap spot on the exit
-set is a goal), not for the state cost, which has no horizon to give its τ. Its cost: the costs evaluated at m^d lattice points per node and at
-most 2 · 3^d · :data:`DESCENT_LEVELS` points around each seed, and where they have an excess, two
-more solves on the embedded grid.
+set is a goal), not for the state cost, which has no horizon to give its τ. Its cost: the costs
+evaluated at m^d lattice points per node and at most 2 · 3^d · :data:`DESCENT_LEVELS` points
+around each seed, and where they have an excess, two more solves on the embedded grid.
 """
 
 from __future__ import annotations
