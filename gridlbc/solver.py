@@ -252,10 +252,11 @@ def _exit_settings(s: SolverSettings, explicit: bool) -> SolverSettings:
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
     """Attach to each solution its embedded solve (the same problem on the grid with every other
     node, step 2Δt), the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step
-    2Δt), the observed order from a third solve at 4h, 4Δt, and the embedded solve's response to
-    the costs' sub-cell excess (:mod:`gridlbc.accuracy.subcell`), and warn where the estimate
-    exceeds the default tolerance. The embedded solves' own warnings are not the user's: they are
-    silenced."""
+    2Δt), the observed order from a third solve at 4h, 4Δt, and the response of the embedded grid's
+    plain-scheme solves to the costs' sub-cell excess (:func:`gridlbc.accuracy.responses`), and
+    warn where the estimate exceeds the default tolerance, or where none could be made
+    (:func:`gridlbc.accuracy.embedded_solves`). The embedded solves' own warnings are not the
+    user's: they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
     def solve_on(grid: Grid, factor: int, on: Problem = problem, costs=terminal_costs, using=s):
