@@ -205,9 +205,7 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
                 "no end costs to vary"
             )
         return solve_stationary_many(problem, terminal_costs, **options)
-    s = resolve_settings(settings, options)
-    if problem.exit is not None and not s.scheme.supports_exit:
-        s = _exit_settings(s, explicit="method" in options or settings not in (None, "default"))
+    s = settings_for(problem, settings, options)
     scheme = s.scheme
     grid = problem.require_grid("solve")
     if problem.exit is not None:
@@ -233,6 +231,16 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     if s.error_estimate:
         _embed(problem, terminal_costs, s, plan.dt, solutions)
     return solutions
+
+
+def settings_for(problem: Problem, settings, options: dict) -> SolverSettings:
+    """``settings`` with ``options`` (:func:`~gridlbc.settings.resolve_settings`), for
+    ``problem``: with an exit set and a horizon, a scheme that implements the exit
+    (:func:`_exit_settings`; the method asked for by name or by settings must)."""
+    s = resolve_settings(settings, options)
+    if problem.exit is not None and not s.scheme.supports_exit:
+        s = _exit_settings(s, explicit="method" in options or settings not in (None, "default"))
+    return s
 
 
 def _exit_settings(s: SolverSettings, explicit: bool) -> SolverSettings:

@@ -66,6 +66,7 @@ from .accuracy import (
     refined_grid,
     responses,
     scalar_estimate,
+    unestimated,
 )
 from .errors import GridlbcWarning, ResolutionWarning, warn_user
 from .grid import Grid
@@ -720,10 +721,7 @@ def solve_first_exit_to_tolerance(
             _embed(problem, s, solution)
         a = assess(solution, tol, states)
         if a is None:
-            raise ValueError(
-                f"the grid {solution.grid.shape} is too coarse to embed a grid with every other "
-                "node (each axis needs at least 5 nodes): give a finer grid"
-            )
+            raise unestimated(solution.grid)
         solved = time.perf_counter() - started
         history.append(Refinement(solution.grid.shape, 0.0, a.error, np.nan, solved))
         if a.error <= tol or len(history) > max_refinements:

@@ -83,6 +83,7 @@ from .tolerance import (
     refinement_factors,
     shares_add_up,
     solve_to_tolerance,
+    unestimated,
     unsteerable,
 )
 
@@ -150,5 +151,6 @@ __all__ = [
     "states_that_matter",
     "statistic",
     "terminal_gap",
+    "unestimated",
     "unsteerable",
 ]

@@ -398,13 +398,12 @@ def solve_to_tolerance(
         The last solution, with :attr:`~gridlbc.Solution.refinement` (one :class:`Refinement` per
         round). A :class:`gridlbc.ResolutionWarning` says what stopped it if ``tol`` was not met.
     """
-    from ..settings import resolve_settings
-    from ..solver import planned_step, solve_many
+    from ..solver import planned_step, settings_for, solve_many
 
     check_tolerance(tol, options)
     check_budget(max_seconds)
     clock = time.perf_counter()
-    base = resolve_settings(settings, options)
+    base = settings_for(problem, settings, options)
     dt = base.dt
     history: list[Refinement] = []
     limit = ""
@@ -448,10 +447,7 @@ def solve_to_tolerance(
             continue
         a = assess(solution, tol, states)
         if a is None:
-            raise ValueError(
-                f"the grid {problem.grid.shape} is too coarse to embed a grid with every other "
-                "node (each axis needs at least 5 nodes): give a finer grid"
-            )
+            raise unestimated(problem.grid)
         solved = time.perf_counter() - started  # the least a round on a grid as fine takes
         held = predicted / 2 <= a.error <= 2 * predicted
         reach, predicted = (2 * reach if held else 2.0), np.nan
@@ -615,6 +611,22 @@ def fitting_storage(problem, settings):
                 f"memory: the grid {problem.grid.shape} would need about {need / 2**30:.1f} GiB "
                 f"of {available / 2**30:.1f} GiB available even storing few slices"
             )
+
+
+def unestimated(grid: Grid) -> ValueError:
+    """The error of a solve to a tolerance whose solve on ``grid`` carries no estimate to judge:
+    a grid too coarse to embed, or a problem that cannot be posed on the grid with every other
+    node (an exit set that holds none of its nodes)."""
+    if embedded_grid(grid) is None:
+        return ValueError(
+            f"the grid {grid.shape} is too coarse to embed a grid with every other node (each "
+            "axis needs at least 5 nodes): give a finer grid"
+        )
+    return ValueError(
+        f"the problem cannot be posed on the grid with every other node of {grid.shape} (an "
+        "exit set that holds none of its nodes), so no estimate can meet tol: give a grid fine "
+        "enough that the coarser one holds the exit set"
+    )
 
 
 def check_tolerance(tol, options: dict) -> None:

@@ -572,3 +572,26 @@ def test_a_toll_strip_every_coarser_grid_misses_is_seen_by_the_cost_gap_of_first
     off = error > 0.1 * np.maximum(np.abs(truth), 0.2)
     assert off.sum() >= 3
     assert np.all(solution.error_estimate(X)[off] >= 0.5 * error[off])
+
+
+def test_a_task_with_a_horizon_and_an_exit_set_solves_to_a_tolerance():
+    """solve(tol=) of a problem with an exit set and a horizon takes the scheme the default
+    solve takes for it (the implicit one: splitting does not implement an exit set); it failed
+    on the splitting scheme's refusal before. Where the exit set is too small for the grid with
+    every other node, no estimate can meet tol and the error says why."""
+    grid = g.Grid([g.Axis(-2.0, 2.0, 41), g.Axis(-2.0, 2.0, 41)])
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        grid,
+        1.0,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: np.full(len(x), 0.5),
+        temperature=0.3,
+        exit=Ball([0.0, 0.0], 0.5),
+    )
+    solution = g.solve(problem, tol=0.2, states=[[1.0, 0.5]])
+    assert solution.diagnostics.method == "implicit"
+    assert solution.refinement[-1].met(0.2)
+    tiny = problem.replace(exit=Ball([0.1, 0.1], 0.07))  # a node of 41², none of 21²
+    with pytest.raises(ValueError, match="cannot be posed on the grid with every other node"):
+        g.solve(tiny, tol=0.2, states=[[1.0, 0.5]])
