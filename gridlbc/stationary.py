@@ -52,6 +52,7 @@ import scipy.sparse.csgraph as csgraph
 import scipy.sparse.linalg as spla
 
 from .accuracy import (
+    UNPOSED,
     Refinement,
     assess,
     attach_estimates,
@@ -59,6 +60,7 @@ from .accuracy import (
     check_budget,
     check_scalar,
     check_tolerance,
+    embedded_grid,
     embedded_solves,
     finish,
     over_budget,
@@ -720,18 +722,22 @@ def solve_first_exit_to_tolerance(
             solution = solve_first_exit(problem, s)
             _embed(problem, s, solution)
         a = assess(solution, tol, states)
-        if a is None:
+        if a is None and embedded_grid(solution.grid) is None:
             raise unestimated(solution.grid)
+        error = UNPOSED if a is None else a.error  # None: refine until the coarser grid poses it
         solved = time.perf_counter() - started
-        history.append(Refinement(solution.grid.shape, 0.0, a.error, np.nan, solved))
-        if a.error <= tol or len(history) > max_refinements:
+        history.append(Refinement(solution.grid.shape, 0.0, error, np.nan, solved))
+        if error <= tol or len(history) > max_refinements:
             break
         here = f"grid {'×'.join(map(str, solution.grid.shape))} or finer"
         limit = over_budget(max_seconds, time.perf_counter() - clock, here, solved, least=True)
         if limit:  # not even a round on this grid fits in the time left: no need to steer
             history[-1] = dataclasses.replace(history[-1], predicted_seconds=solved)
             break
-        axes, shares = axes_to_refine(solution, partial(_solve_quietly, problem, s), states)
+        if a is None:  # the grid with every other node cannot pose the problem: every axis
+            axes, shares = list(range(solution.grid.ndim)), np.full(solution.grid.ndim, np.nan)
+        else:
+            axes, shares = axes_to_refine(solution, partial(_solve_quietly, problem, s), states)
         finer = refined_grid(solution.grid, axes)
         seconds = time.perf_counter() - started
         method = _method(s, finer.ndim, finer.size)

@@ -70,6 +70,7 @@ from .subcell import (
 )
 from .tolerance import (
     MARCH_WORK_EXPONENT,
+    UNPOSED,
     Refinement,
     axes_to_refine,
     axis_shares,
@@ -102,6 +103,7 @@ __all__ = [
     "PATH_WORK",
     "QUANTILE",
     "SAMPLE",
+    "UNPOSED",
     "Assessment",
     "EmbeddedEstimate",
     "Excess",

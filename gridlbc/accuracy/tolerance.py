@@ -273,6 +273,12 @@ def fitting_plan(problem, settings, factors, max_nodes: int | None = None):
     return problem.replace(grid=best[0]), best[1], limit
 
 
+UNPOSED = np.inf
+"""The error a round of a solve to a tolerance records where the grid with every other node
+cannot pose the problem (an exit set that holds none of its nodes): no estimate, so every axis
+is refined by 2 (and the step), until that coarser grid holds the set."""
+
+
 MARCH_WORK_EXPONENT = 1.0
 """The power of the work ratio (nodes × steps) by which :func:`solve_to_tolerance` scales a
 round's time to predict the next one's (:func:`predicted_seconds`): a time-marched solve, its
@@ -446,15 +452,16 @@ def solve_to_tolerance(
             coarser = None
             continue
         a = assess(solution, tol, states)
-        if a is None:
+        if a is None and embedded_grid(problem.grid) is None:
             raise unestimated(problem.grid)
+        error = UNPOSED if a is None else a.error  # None: refine until the coarser grid poses it
         solved = time.perf_counter() - started  # the least a round on a grid as fine takes
-        held = predicted / 2 <= a.error <= 2 * predicted
+        held = predicted / 2 <= error <= 2 * predicted
         reach, predicted = (2 * reach if held else 2.0), np.nan
         time_error = certified = np.nan
-        if a.error > tol and certifiable(solution, states):
+        if error > tol and certifiable(solution, states):
             certified = certified_error(solution, judged_states(solution, states), tol)
-        done = a.error <= tol or certified <= tol or len(history) >= max_refinements
+        done = error <= tol or certified <= tol or len(history) >= max_refinements
         least = np.nan  # where the time left would not hold even a round like this one
         if not done and max_seconds is not None:
             here = f"grid {'×'.join(map(str, problem.grid.shape))} or finer"
@@ -470,7 +477,7 @@ def solve_to_tolerance(
             Refinement(
                 problem.grid.shape,
                 solution.diagnostics.dt,
-                a.error,
+                error,
                 time_error,
                 time.perf_counter() - started,
                 base.dtype,
@@ -484,23 +491,27 @@ def solve_to_tolerance(
             proved = "" if np.isnan(certified) else f", certified at the states {certified:.2%}"
             print(
                 f"tol: grid {'×'.join(map(str, problem.grid.shape))}, dt {solution.diagnostics.dt:.4g}"
-                f" ({base.dtype}{stored}): estimated error {a.error:.2%}{proved}",
+                f" ({base.dtype}{stored}): estimated error {error:.2%}{proved}",
                 flush=True,
             )
         if done:
             break
         step, steps = solution.diagnostics.dt, solution.diagnostics.steps
         solve_on = partial(_march_quietly, problem, base, step, steps)
-        shares, whole = axis_shares(solution, solve_on, states)
         embedded = solution.embedded
-        assert embedded is not None  # assess read it
-        reason = unsteerable(embedded, a.error, shares, whole, time_error)
+        if embedded is None:  # the grid with every other node cannot pose the problem
+            shares = np.full(problem.grid.ndim, np.nan)
+            reason = "no estimate: the grid with every other node cannot pose the problem"
+        else:
+            shares, whole = axis_shares(solution, solve_on, states)
+            reason = unsteerable(embedded, error, shares, whole, time_error)
         if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
             factors = np.full(problem.grid.ndim + 1, 2.0)
         else:
+            assert embedded is not None  # unsteerable says why where it is missing
             components = np.append(shares, time_error)
             orders = np.append(np.full(problem.grid.ndim, embedded.order), 1.0)
-            scale = a.error / np.nansum(components)  # the components add up to the estimate
+            scale = error / np.nansum(components)  # the components add up to the estimate
             factors = np.minimum(refinement_factors(scale * components, orders, tol), reach)
             if not embedded.converging:
                 # levels not converging at first order: the shares, measured between h and 2h,
@@ -614,18 +625,12 @@ def fitting_storage(problem, settings):
 
 
 def unestimated(grid: Grid) -> ValueError:
-    """The error of a solve to a tolerance whose solve on ``grid`` carries no estimate to judge:
-    a grid too coarse to embed, or a problem that cannot be posed on the grid with every other
-    node (an exit set that holds none of its nodes)."""
-    if embedded_grid(grid) is None:
-        return ValueError(
-            f"the grid {grid.shape} is too coarse to embed a grid with every other node (each "
-            "axis needs at least 5 nodes): give a finer grid"
-        )
+    """The error of a solve to a tolerance on a ``grid`` too coarse to embed: no estimate to judge
+    (where only the problem cannot be posed on the grid with every other node, the solve refines
+    instead: :data:`UNPOSED`)."""
     return ValueError(
-        f"the problem cannot be posed on the grid with every other node of {grid.shape} (an "
-        "exit set that holds none of its nodes), so no estimate can meet tol: give a grid fine "
-        "enough that the coarser one holds the exit set"
+        f"the grid {grid.shape} is too coarse to embed a grid with every other node (each axis "
+        "needs at least 5 nodes): give a finer grid"
     )
 
 

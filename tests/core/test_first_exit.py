@@ -578,7 +578,8 @@ def test_a_task_with_a_horizon_and_an_exit_set_solves_to_a_tolerance():
     """solve(tol=) of a problem with an exit set and a horizon takes the scheme the default
     solve takes for it (the implicit one: splitting does not implement an exit set); it failed
     on the splitting scheme's refusal before. Where the exit set is too small for the grid with
-    every other node, no estimate can meet tol and the error says why."""
+    every other node (no estimate), it refines every axis until that grid holds the set, with
+    and without a horizon."""
     grid = g.Grid([g.Axis(-2.0, 2.0, 41), g.Axis(-2.0, 2.0, 41)])
     problem = g.Problem(
         g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
@@ -593,5 +594,8 @@ def test_a_task_with_a_horizon_and_an_exit_set_solves_to_a_tolerance():
     assert solution.diagnostics.method == "implicit"
     assert solution.refinement[-1].met(0.2)
     tiny = problem.replace(exit=Ball([0.1, 0.1], 0.07))  # a node of 41², none of 21²
-    with pytest.raises(ValueError, match="cannot be posed on the grid with every other node"):
-        g.solve(tiny, tol=0.2, states=[[1.0, 0.5]])
+    for task in (tiny, tiny.replace(horizon=None, terminal_cost=None)):
+        solution = g.solve(task, tol=0.2, states=[[1.0, 0.5]])
+        first, last = solution.refinement[0], solution.refinement[-1]
+        assert first.error == g.accuracy.UNPOSED and solution.grid.shape == (81, 81)
+        assert last.met(0.2) and solution.embedded is not None
