@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import strangers_round11 as r11
+import strangers_round12 as r12
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -966,6 +967,15 @@ def _toll_blind_exact(X):
     return value
 
 
+def _notch_horizon_exact(X):
+    """cosine modes along the exit line with their time-dependent parts in x₀
+    (strangers_round12.exact_notch_horizon): z = Σ_m f_m cos(k_m(x₁+2)) Z_m(x₀) + e^{−g/λ} Y(x₀),
+    each part a steady cosh profile less its decaying eigenmodes, checked against 161² and 321²
+    grids with a wide notch"""
+    value, _ = r12.P12["hz_notch_exit"][2](X)
+    return value
+
+
 def _tiny_ball_exact(X):
     """Bessel series (strangers_round11.ball_exact): z = K₀(κr)/K₀(κρ) about the ball, κ² =
     2Rq/λ², the box's walls over 50 decay lengths 1/κ away"""
@@ -1405,6 +1415,17 @@ MEMBERS: tuple[Member, ...] = (
         fast=True,
         tags=("first exit", "narrow cost", "closed"),
         exact=_toll_blind_exact,
+    ),
+    Member(
+        "notch_exit_horizon",
+        r12.hz_notch_exit,
+        _s((-0.5, 0.0), (0.0, 0.3), (0.3, 0.0)),
+        "notch_exit's exit-cost notch on a task with a horizon, T = 0.6, g = 1.5 (stranger round "
+        "12: 13 % and 47 % high with estimates of 6.5 % and 8.7 %, before S took the exit cost of "
+        "a task with a horizon)",
+        fast=True,
+        tags=("first exit", "narrow cost", "closed"),
+        exact=_notch_horizon_exact,
     ),
     Member(
         "tiny_ball_cold",

@@ -372,7 +372,10 @@ class ScalarEstimate:
     and without the division where abs(c_2h − c_h) exceeds :data:`ASYMPTOTIC` · abs(c_h), as for
     the values (:func:`richardson`). The second term is the difference that the coarser pair
     predicts between the finer: it keeps ê from vanishing where c_h and c_2h agree by chance
-    (two error terms of opposite sign crossing), as the floor does for the values.
+    (two error terms of opposite sign crossing), as the floor does for the values. ê is also at
+    least abs(c_c₁ − c_c₂), the difference on the pair of :func:`phase_pair`, undivided as for
+    the values: it is how far a coarse solve moves with where its nodes fall, not a multiple of
+    this grid's error.
 
     Attributes
     ----------
@@ -399,8 +402,8 @@ class ScalarEstimate:
 
 def scalar_estimate(levels, pair=None) -> ScalarEstimate:
     """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
-    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and on :func:`phase_pair` (the larger
-    of abs(c_2h − c_h) and abs(c_c₁ − c_c₂) is read).
+    ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and on :func:`phase_pair` (whose
+    difference abs(c_c₁ − c_c₂) the estimate is at least).
 
     Parameters
     ----------
@@ -414,8 +417,7 @@ def scalar_estimate(levels, pair=None) -> ScalarEstimate:
     ScalarEstimate
     """
     c = [float(level) for level in levels]
-    fine = abs(c[1] - c[0])
-    difference = fine if pair is None else max(fine, abs(float(pair[0]) - float(pair[1])))
+    fine = difference = abs(c[1] - c[0])
     observed, order = np.nan, 1.0
     if len(c) > 2:
         observed = observed_order(fine, abs(c[2] - c[1]))
@@ -423,6 +425,8 @@ def scalar_estimate(levels, pair=None) -> ScalarEstimate:
         difference = max(difference, abs(c[2] - c[1]) / 2.0**order)
     relative = difference / abs(c[0]) if c[0] != 0 else np.inf
     error = float(richardson(difference, relative, order))
+    if pair is not None:  # how far a coarse solve moves with where its nodes fall: undivided
+        error = max(error, abs(float(pair[0]) - float(pair[1])))
     return ScalarEstimate(error, observed, tuple(c))
 
 

@@ -197,14 +197,18 @@ class Excess:
     Attributes
     ----------
     terminal : ndarray (K, Nc)
-        δg_j for each terminal cost.
+        δg_j for each terminal cost (each exit cost of a task without a horizon).
     state : ndarray (Nc,) or None
         δq_j (None without a state cost, or for one the reconstruction reproduces:
         :func:`reproduced`).
+    exit : ndarray (Nc,) or None
+        δg_E,j for the exit cost of a task with a horizon and an exit set (None otherwise, or
+        where it is reproduced).
     """
 
     terminal: np.ndarray
     state: np.ndarray | None
+    exit: np.ndarray | None = None
 
 
 def _ending(problem) -> str:
@@ -217,7 +221,8 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     """The sub-cell excess of ``problem``'s state cost and of each of ``terminal_costs``, as a soft
     minimum over the hat functions of ``coarse`` (module docstring). For a first-exit problem
     without a horizon the costs are exit costs g_E (τ = 1, as for g) and the state cost is not
-    sampled (there is no horizon to give its τ).
+    sampled (there is no horizon to give its τ); with a horizon and an exit set, the exit cost
+    is sampled beside g and q (τ = 1).
 
     Parameters
     ----------
@@ -240,14 +245,16 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, points.axes, strict=True)]
     ending = _ending(problem)
     ends = [problem.replace(**{ending: g}) for g in terminal_costs]
-    # (index in the result or None for the state cost, the cost's values, its time scale τ)
-    sampled: list[tuple[int | None, Callable, float]] = [
+    # (the index of a terminal cost, "state" or "exit"; the cost's values; its time scale τ)
+    sampled: list[tuple[int | str, Callable, float]] = [
         (i, p.exit_values if problem.stationary else p.terminal_values, 1.0)
         for i, p in enumerate(ends)
         if not reproduced(getattr(p, ending))
     ]
     if not (problem.stationary or reproduced(problem.state_cost)):
-        sampled.append((None, problem.state_cost_values, problem.require_horizon("an excess")))
+        sampled.append(("state", problem.state_cost_values, problem.require_horizon("an excess")))
+    if not problem.stationary and problem.exit is not None and not reproduced(problem.exit_cost):
+        sampled.append(("exit", problem.exit_values, 1.0))
     nodal = [grid.reshape(grid.node_values(values)) for _, values, _ in sampled]
     anchors = [coarse.reshape(coarse.node_values(values)) for _, values, _ in sampled]
     scale = problem.temperature
@@ -264,14 +271,16 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
                 with np.errstate(under="ignore"):
                     sums[side, k] += block.average(np.exp(np.minimum(exponent, EXPONENT_CAP)), hats)
     terminal = np.zeros((len(terminal_costs),) + coarse.shape)
-    state = None
+    others: dict[str, np.ndarray] = {}
     for k, (i, _, tau) in enumerate(sampled):
         soft = -scale / tau * _log_ratio(*sums[:, k])
-        if i is None:
-            state = soft.reshape(-1)
+        if isinstance(i, str):
+            others[i] = soft.reshape(-1)
         else:
             terminal[i] = soft
-    return Excess(terminal.reshape(len(terminal_costs), -1), state)
+    return Excess(
+        terminal.reshape(len(terminal_costs), -1), others.get("state"), others.get("exit")
+    )
 
 
 ROUNDING = 1e-10
@@ -523,8 +532,9 @@ class Response:
         The same with the costs raised by their excess, v_c[g + δg, q + δq]; None where
         ``bound`` is negligible (:data:`NEGLIGIBLE`) and neither was solved.
     bound : float
-        sup|δg| + T sup|δq| over the coarse nodes: S never exceeds it (v is 1-Lipschitz in the
-        costs, in the supremum norm, and so is a monotone scheme's).
+        sup|δg| + T sup|δq| (+ sup|δg_E| with an exit set and a horizon) over the coarse nodes:
+        S never exceeds it (v is 1-Lipschitz in the costs, in the supremum norm, and so is a
+        monotone scheme's).
     """
 
     base: Solution | None
@@ -568,14 +578,17 @@ def responses(problem, terminal_costs, coarse: Grid, solve) -> list[Response]:
     list of Response
     """
     found = excess(problem, coarse, terminal_costs)
-    raise_state = 0.0 if found.state is None else float(np.abs(found.state).max())
-    held = 0.0 if found.state is None else problem.horizon * raise_state
+    held = 0.0 if found.state is None else problem.horizon * float(np.abs(found.state).max())
+    if found.exit is not None:
+        held += float(np.abs(found.exit).max())
     bounds = [float(np.abs(dg).max()) + held for dg in found.terminal]
     if max(bounds) <= NEGLIGIBLE * problem.temperature:
         return [Response(None, None, bound) for bound in bounds]
     changes: dict = {}
     if found.state is not None:
         changes["state_cost"] = WithExcess(problem.state_cost, coarse, found.state, 0.0)
+    if found.exit is not None:
+        changes["exit_cost"] = WithExcess(problem.exit_cost, coarse, found.exit)
     ending = _ending(problem)
     costs = [
         WithExcess(getattr(problem.replace(**{ending: g}), ending), coarse, dg)

@@ -133,14 +133,17 @@ def test_a_4d_goal_is_felt_by_the_response_of_the_plain_scheme(truths):
     _covered_where_off(truths, "goal4d_mid", share=0.05, least=2)
 
 
-def test_a_notch_in_the_exit_cost_is_felt_by_the_first_exit_estimate(truths):
+@pytest.mark.parametrize("name", ["notch_exit", "notch_exit_horizon"])
+def test_a_notch_in_the_exit_cost_is_felt_by_the_first_exit_estimate(truths, name):
     """notch_exit (first exit through a half-plane whose exit cost has a cheap notch a twelfth
     of a cell wide, 0.024 from the nodes of every grid the estimate reads) was silently 13–47 %
     high with estimates of 2 %: every level and the pair miss the notch alike. S, the embedded
     solve's response to the exit cost's excess between the nodes, sees it: the default solve
     must warn, and the estimate must be at least half the error against the exact values at
-    every state (the corpus calibration target)."""
-    _covered_where_off(truths, "notch_exit", share=0.1, least=3)
+    every state more than 10 % off (the corpus calibration target); with a horizon too, where
+    the exit cost is sampled beside g and q (stranger round 12: 13 % and 47 % high with
+    estimates of 6.5 % and 8.7 % before)."""
+    _covered_where_off(truths, name, share=0.1, least=2)
 
 
 def _covered_where_off(truths, name, share, least):
