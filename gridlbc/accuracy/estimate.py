@@ -79,7 +79,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
-from .paths import PATH_SAMPLES, cost_gap
+from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
 
 if TYPE_CHECKING:
@@ -569,10 +569,14 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         where = (
             f"at {a.share_above:.0%} of the states that matter ({QUANTILE:.0%} of them are "
             f"within {a.error:.1%}; the largest, {a.worst_error:.0%}, is at {state}): measured "
-            "against solves on the grids with every other node and along the solve's own paths"
+            "against solves on the grids with every other node"
+            + (" and along the solve's own paths" if sampled(solution.problem) else "")
         )
+    value, symbol = "v", "v"
+    if getattr(solution, "average_cost", None) is not None:
+        value, symbol = "the relative value h (the average cost c has its own estimate)", "h"
     warn_user(
-        f"the estimated error of v exceeds {tol:.0%} of |v| {where}, see "
+        f"the estimated error of {value} exceeds {tol:.0%} of |{symbol}| {where}, see "
         f"solution.error_estimate(x) at your own states.{loose} {change} (docs page 'accuracy')",
         ResolutionWarning,
     )

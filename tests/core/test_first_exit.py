@@ -158,7 +158,7 @@ def test_average_cost_of_the_point_mass_matches_the_riccati_equation():
         temperature=0.5,
     )
     # h itself is coarser than c here (upwind position axis): its estimate warns
-    with pytest.warns(g.ResolutionWarning, match="error of v"):
+    with pytest.warns(g.ResolutionWarning, match="error of the relative value h"):
         solution = g.solve(problem)
     assert solution.average_cost == pytest.approx(0.5 * P[1, 1], rel=1e-3)
     assert solution.average_cost_error >= 0.5 * abs(solution.average_cost - 0.5 * P[1, 1])
@@ -464,7 +464,7 @@ def test_average_cost_error_estimate_covers_the_error(n):
 
 
 def _quietly(problem):
-    with pytest.warns(g.ResolutionWarning, match="error of v"):  # h's estimate, not c's
+    with pytest.warns(g.ResolutionWarning, match="error of the relative value h"):  # not c
         return g.solve(problem)
 
 
