@@ -53,8 +53,9 @@ still running at that cap adds the part it has accrued: γ is then truncated (a 
 its size where I_h q − q has one sign along the paths); :func:`exit_gap` counts such paths.
 Where the grid charges less than the costs (a toll the nodes miss), the solve's policy does not
 avoid the toll and crosses it more slowly than the optimal one, and γ overstates the error (two-
-to fivefold for stranger round 11's ``toll_blind``). Not sampled for average cost (no end, no
-horizon).
+to fivefold for stranger round 11's ``toll_blind``). Without a horizon, where the costs equal
+their interpolants at every cell's centre (constant or affine costs: :func:`interpolated_exactly`)
+γ is zero and no path is run. Not sampled for average cost (no end, no horizon).
 """
 
 from __future__ import annotations
