@@ -773,12 +773,10 @@ def solve_first_exit_to_tolerance(
 def _solve_quietly(problem: Problem, s: StationarySettings, grid: Grid):
     """The first-exit solve of ``problem`` on ``grid`` without its warnings, or None where the
     exit set or the costs are not resolved on that grid."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", GridlbcWarning)
-        try:
-            return solve_first_exit(problem.replace(grid=grid), s)
-        except ValueError:
-            return None
+    try:
+        return _quietly(solve_first_exit, problem.replace(grid=grid), s)
+    except ValueError:
+        return None
 
 
 def solve_stationary_many(problem: Problem, exit_costs, **options) -> list:
@@ -847,12 +845,12 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
     if levels:
         coarse = levels[0][0].grid
 
-        def solve_coarse(on: Problem, costs) -> list:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", GridlbcWarning)
-                return solve_first_exit_many(on.replace(grid=coarse), costs, s)
-
-        excess = responses(problem, exit_costs, coarse, solve_coarse)
+        excess = responses(
+            problem,
+            exit_costs,
+            coarse,
+            lambda on, costs: _quietly(solve_first_exit_many, on.replace(grid=coarse), costs, s),
+        )
     attach_estimates(solutions, levels, pairs, excess, reason)
 
 
@@ -880,8 +878,14 @@ def _levels(problem: Problem, solve) -> tuple[list, list | None, str]:
     reason is returned, and the estimate warns of it)."""
 
     def solve_on(grid: Grid, factor: int):
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", GridlbcWarning)
-            return solve(problem.replace(grid=grid))
+        return _quietly(solve, problem.replace(grid=grid))
 
     return embedded_solves(problem.require_grid("an embedded solve"), solve_on)
+
+
+def _quietly(solve, *args):
+    """``solve(*args)`` with its gridlbc warnings silenced: the warnings of a solve that checks
+    another (an embedded or comparison solve) are not the user's."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", GridlbcWarning)
+        return solve(*args)

@@ -158,7 +158,7 @@ warning comes from its largest estimate, at (1.167, 0, 0.5) next to the ball: 35
 pair's, on 12- and 14-node grids that place a ball of radius 0.45 = 2.7 h crudely) against
 −0.64 % (certified); ``pointmass_union``: 54 and 121 % (pair) against −5.2 and −4.0 %.
 
-**After γ for first exit** (branch ``gamma``, 2026-12-05: :func:`gridlbc.accuracy.exit_gap`, the
+**After γ for first exit** (branch ``gamma``, 2026-12-05: :func:`gridlbc.accuracy.path_gap`, the
 paths stopped at τ, step :func:`~gridlbc.accuracy.path_step`). ``toll_blind`` is warned, est 50.6,
 77.0, 192.7 % against −14.1, −24.8, −35.7 % (3.6, 3.1, 5.4× the error: the solve's policy does not
 see the toll and crosses it slowly); every other problem's estimate and warning unchanged

@@ -58,7 +58,7 @@ from .grids import (
     refined_grid,
     scaled_grid,
 )
-from .paths import PATH_SAMPLES, PATH_WORK, cost_gap, exit_gap, path_step, terminal_gap
+from .paths import PATH_SAMPLES, PATH_WORK, cost_gap, path_gap, path_step, terminal_gap
 from .subcell import (
     NEGLIGIBLE,
     Excess,
@@ -129,13 +129,13 @@ __all__ = [
     "embedded_grid",
     "embedded_solves",
     "excess",
-    "exit_gap",
     "finish",
     "fitting_plan",
     "fitting_storage",
     "judged_states",
     "observed_order",
     "over_budget",
+    "path_gap",
     "path_step",
     "phase_pair",
     "predicted_seconds",

@@ -33,7 +33,7 @@ smooth, steep cost, the chain's lattice represents it better than I_h does and �
 error (by O(h²)). It is zero for a solution read back by :func:`gridlbc.load` whose costs were not
 quadratics: those are stored as their nodal values, which the grid represents exactly.
 
-**Tasks that end** (an exit set E, with or without a horizon: :func:`exit_gap`). The paths stop
+**Tasks that end** (an exit set E, with or without a horizon: :func:`path_gap`). The paths stop
 at τ, on entering E (:func:`gridlbc.simulate.euler_maruyama`, whose Brownian-bridge check also
 stops a path that crossed into E between two steps, at the nearest point of E's boundary), or at
 min(τ, T), and
@@ -50,7 +50,7 @@ cell, implicit, or six or seven, splitting: these paths are no coarser), and run
 :data:`CHUNK` steps until every path has exited, or twice the steps by which nine in ten had
 (:data:`SETTLED`), or :data:`EXIT_STEPS` steps or :data:`EXIT_WORK` path-steps are spent. A path
 still running at that cap adds the part it has accrued: γ is then truncated (a lower bound of
-its size where I_h q − q has one sign along the paths); :func:`exit_gap` counts such paths.
+its size where I_h q − q has one sign along the paths); :func:`path_gap` counts such paths.
 Where the grid charges less than the costs (a toll the nodes miss), the solve's policy does not
 avoid the toll and crosses it more slowly than the optimal one, and γ overstates the error (two-
 to fivefold for stranger round 11's ``toll_blind``). Without a horizon, where the costs equal
@@ -83,13 +83,13 @@ SEED = 20090801
 
 EXIT_STEPS = 16_384
 """At most this many steps per path for a problem without a horizon (first exit): a path still
-running then is truncated (:func:`exit_gap`)."""
+running then is truncated (:func:`path_gap`)."""
 
 EXIT_WORK = 1 << 18
 """At most about this many path-steps per call for a first-exit problem without a horizon (but
 at least one :data:`CHUNK` per path): its paths run until they exit, which on a fine grid with
 a noiseless axis takes thousands of steps of a cell each; a path stopped by this budget adds the
-part it has accrued (:func:`exit_gap`)."""
+part it has accrued (:func:`path_gap`)."""
 
 CHUNK = 128
 """The steps between two looks at which paths of a first-exit problem have exited (the run ends
@@ -127,11 +127,11 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.nda
     Parameters
     ----------
     solution : Solution
-        A grid solution of a problem with a horizon.
+        A grid solution (a horizon, an exit set or both: :func:`sampled`).
     x : ndarray (N, d)
         Start states.
     t : float
-        Start time in [0, T].
+        Start time in [0, T] (0 without a horizon).
     samples : int
         Paths per state.
 
@@ -144,46 +144,16 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.nda
     n_states = x.shape[0]
     if not sampled(problem) or n_states == 0:
         return np.zeros(n_states)
-    if problem.exit is not None:
-        return exit_gap(solution, x, t, samples)[0]
-    grid, remaining = problem.grid, problem.horizon - t
-    if remaining <= 0.0:  # v(x, T) = I_h g(x)
-        return terminal_gap(solution, x)
-    steps = max(1, int(np.ceil(remaining / solution.diagnostics.dt - 1e-9)))
-    samples = int(np.clip(PATH_WORK // (n_states * steps), min(4, samples), samples))
-    dt = remaining / steps
-    q_nodes = nodal(solution, "state_cost") if problem.state_cost is not None else None
-    starts = np.repeat(x, samples, axis=0)
-    gap = np.zeros(starts.shape[0])
-    undefined = np.zeros(starts.shape[0], dtype=bool)
-
-    def policy(y: np.ndarray, s: float) -> np.ndarray:
-        """The solve's policy at the paths' states y at time t + s, where the running part of γ
-        is taken too (rectangle rule)."""
-        if q_nodes is not None:
-            gap[:] += (interpolate(grid, q_nodes, y) - problem.state_cost_values(y)) * dt
-        with np.errstate(invalid="ignore"), warnings.catch_warnings():
-            warnings.simplefilter("ignore")  # an underflowed policy was the solve's to warn of
-            u = np.asarray(solution.policy(y, t + s), dtype=float)
-        bad = ~np.all(np.isfinite(u), axis=1)
-        undefined[bad] = True
-        u[bad] = 0.0
-        return u
-
-    rng = np.random.default_rng(SEED)
-    end = euler_maruyama(problem, policy, starts, steps, rng, horizon=remaining).final_states
-    gap += terminal_gap(solution, end)
-    gap[undefined] = np.nan
-    return gap.reshape(n_states, samples).mean(axis=1)
+    return path_gap(solution, x, t, samples)[0]
 
 
-def exit_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
-    """γ(x, t) for a problem with an exit set E (:func:`cost_gap`), and how many of its paths
-    had not exited when they were stopped (the cap: the module docstring).
+def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
+    """γ(x, t) (:func:`cost_gap`), and how many of its paths had not exited when they were
+    stopped (the cap of a task without a horizon: the module docstring).
 
-    The paths stop at τ, on entering E (:func:`gridlbc.simulate.euler_maruyama`, with its
-    Brownian-bridge crossing check), or at T where there is a horizon, and run at the solve's
-    step Δt there, at :func:`path_step` without one. A path that exits at x_τ adds
+    The paths stop at τ, on entering an exit set E (:func:`gridlbc.simulate.euler_maruyama`,
+    with its Brownian-bridge crossing check), or at T where there is a horizon, and run at the
+    solve's step Δt there, at :func:`path_step` without one. A path that exits at x_τ adds
     (I_h g_E − g_E)(x_τ), one still running at T adds (I_h g − g)(x_T), one still running
     at the cap of a problem without a horizon adds nothing more (its γ is the part accrued).
 
@@ -206,9 +176,10 @@ def exit_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
     else:
         remaining = problem.horizon - t
         if remaining <= 0.0:  # v(x, T) = I_h g(x) off E, I_h g_E(x) on it
-            inside = problem.exit_mask(x)
             gap = terminal_gap(solution, x)
-            gap[inside] = exit_cost_gap(solution, x[inside])
+            if problem.exit is not None:
+                inside = problem.exit_mask(x)
+                gap[inside] = exit_cost_gap(solution, x[inside])
             return gap, 0
         steps = max(1, int(np.ceil(remaining / solution.diagnostics.dt - 1e-9)))
         dt = remaining / steps
@@ -253,7 +224,8 @@ def exit_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
         integral = cast(np.ndarray, paths.integral)
         gap[running] += np.where(np.isnan(integral), 0.0, integral)
         undefined[running] |= np.isnan(integral)
-        exited = ~np.isnan(cast(np.ndarray, paths.exit_times))
+        times = paths.exit_times  # None without an exit set: no path exits
+        exited = np.zeros(len(running), dtype=bool) if times is None else ~np.isnan(times)
         ends = exit_points(problem, paths.final_states[exited])
         gap[running[exited]] += exit_cost_gap(solution, ends)
         if not problem.stationary:  # still running at T: (I_h g − g)(x_T)

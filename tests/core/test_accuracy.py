@@ -157,7 +157,7 @@ def test_the_cost_gap_of_a_task_that_ends_stops_at_the_exit_and_charges_the_exit
     )
     solution = _quiet_solve(problem)
     assert accuracy.paths.sampled(problem)
-    gap, unexited = accuracy.exit_gap(solution, [[-0.5, 0.3], [0.0, -0.2]], samples=4)
+    gap, unexited = accuracy.path_gap(solution, [[-0.5, 0.3], [0.0, -0.2]], samples=4)
     np.testing.assert_allclose(gap, 0.0, atol=1e-12)
     assert unexited == 0 and 0 < accuracy.path_step(solution) < 1.0
     curved = _quiet_solve(problem.replace(exit_cost=lambda x: 4.0 * x[:, 1] ** 2))
