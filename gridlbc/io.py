@@ -290,6 +290,8 @@ def _record(solution: Solution, arrays: dict) -> dict:
     if isinstance(solution, StationarySolution) and solution.average_cost is not None:
         meta["average_cost"] = solution.average_cost
         meta["average_cost_error"] = solution.average_cost_error
+        if solution.stationary_distribution is not None:
+            arrays["stationary_distribution"] = solution.stationary_distribution
     if reference is not None:
         meta["reference_sha256"] = _digest(reference.log_slices, reference.log_scales)
     return meta
@@ -441,6 +443,7 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
             *fields,
             average_cost=meta.get("average_cost"),
             average_cost_error=meta.get("average_cost_error"),
+            stationary_distribution=contents.get("stationary_distribution"),
         )
     return Solution(*fields)
 

@@ -349,13 +349,19 @@ class StationarySolution(Solution):
         The optimal cost per unit time c of an average-cost problem (its value is then the
         relative value h, min 0); None for first exit.
     average_cost_error : float or None
-        The embedded estimate of c's error, abs(c_2h − c) / (2^q − 1) with the order q observed
-        from c on the grids h, 2h and 4h (:func:`gridlbc.accuracy.scalar_estimate`); None for
-        first exit, without the estimate, or when loaded from a file.
+        The estimate of c's error (:class:`gridlbc.accuracy.ScalarEstimate`: from c on the
+        grids h, 2h and 4h and the pair, and the state cost between the nodes under the
+        stationary law); None for first exit or without the estimate.
+    stationary_distribution : ndarray (N,) or None
+        For average cost: the long-run share of time π_i that the solve's optimally controlled
+        chain spends at each node (Σ π = 1; π ∝ e ⊙ ẽ, the right and left principal
+        eigenvectors, :func:`gridlbc.stationary.stationary_distribution`), found with the error
+        estimate (which samples the state cost under it); None otherwise.
     """
 
     average_cost: float | None = None
     average_cost_error: float | None = None
+    stationary_distribution: np.ndarray | None = None
 
     def stencil(self, x, t=0.0, gradient: bool = True) -> Stencil:
         """The simplices of states ``x`` ``(N, d)`` (``t`` is ignored)."""

@@ -68,6 +68,7 @@ from .accuracy import (
     refined_grid,
     responses,
     scalar_estimate,
+    stationary_gap,
     unestimated,
 )
 from .errors import GridlbcWarning, ResolutionWarning, warn_user
@@ -481,7 +482,9 @@ def _defect_correction(Z, solver, second_order, decay, E, z_exits, z_boundary, s
     return Z, False, total
 
 
-def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySolution:
+def solve_average_cost(
+    problem: Problem, s: StationarySettings, distribution: bool = False
+) -> StationarySolution:
     """The average-cost solution of ``problem``: c and the relative value (module docstring).
 
     Parameters
@@ -489,12 +492,17 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
     problem : Problem
         With ``horizon="average"``.
     s : StationarySettings
+    distribution : bool
+        Also find the stationary distribution of the solve's controlled chain
+        (:func:`stationary_distribution`; the left eigenvector, see
+        :func:`principal_eigenpair`).
 
     Returns
     -------
     StationarySolution
-        With ``average_cost`` c; its value is the relative value h (min 0); ``diagnostics``
-        ``iterations`` holds the Krylov iterations of each shift of the iterative eigen-solve.
+        With ``average_cost`` c (and ``stationary_distribution`` if asked for); its value is the
+        relative value h (min 0); ``diagnostics`` ``iterations`` holds the Krylov iterations of
+        each shift of the iterative eigen-solve.
     """
     start = time.perf_counter()
     grid = problem.require_grid("solve")
@@ -503,7 +511,7 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
     q = problem.state_cost_values()
     M = (generator_matrix(problem, s.rates) - sp.diags(q / lam)).tocsr()
     setup = time.perf_counter() - start
-    mu, e, iterations = principal_eigenpair(M, s, grid.ndim)
+    mu, e, iterations, e_left = principal_eigenpair(M, s, grid.ndim, left=distribution)
     if e.min() < -1e-8 * e.max():
         warn_user(
             "the principal eigenvector has negative entries beyond rounding: the chain may not "
@@ -514,7 +522,21 @@ def solve_average_cost(problem: Problem, s: StationarySettings) -> StationarySol
     label = f"stationary-{s.rates}"
     solution = _package(problem, label, e, 0.0, start, setup, iterations, _digest(q, M.data))
     object.__setattr__(solution, "average_cost", -lam * mu)
+    if e_left is not None:
+        object.__setattr__(solution, "stationary_distribution", stationary_distribution(e, e_left))
     return solution
+
+
+def stationary_distribution(e: np.ndarray, e_left: np.ndarray) -> np.ndarray:
+    """π_i = e_i ẽ_i / Σ_j e_j ẽ_j: the long-run share of time that the solve's controlled chain
+    spends at node i.
+
+    The optimal controlled chain jumps from i to j at the rate M_ij e_j / e_i (M = L − diag(q/λ),
+    e its principal right eigenvector, Todorov 2009), so its generator is
+    G = diag(e)⁻¹ (M − μI) diag(e), and πG = 0 exactly when π diag(e)⁻¹ is a left eigenvector
+    of M for μ: π ∝ ẽ ⊙ e. Entries below zero by rounding are set to zero."""
+    pi = np.clip(e * e_left, 0.0, None)
+    return pi / pi.sum()
 
 
 def eigen_residual(M: sp.spmatrix, mu: float, e: np.ndarray) -> float:
@@ -523,7 +545,7 @@ def eigen_residual(M: sp.spmatrix, mu: float, e: np.ndarray) -> float:
     return float(np.linalg.norm(M @ e - mu * e) / (norm * np.linalg.norm(e)))
 
 
-def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
+def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left: bool = False):
     """The eigenvalue μ of largest real part of M = L − diag(q/λ) and its eigenvector e > 0 (max
     entry 1), and the Krylov iterations per shift (empty for the direct solve).
 
@@ -560,19 +582,62 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int):
 
     Both stop when the eigen-residual ‖(M − ρI)e‖₂ ≤ ``residual`` · ‖M‖_∞ ‖e‖₂
     (:func:`eigen_residual`); the iterative one after :data:`MAX_SHIFTS` shifts at most.
+
+    With ``left``, also the left eigenvector ẽ > 0 (Mᵀẽ = μẽ, max entry 1), for the chain's
+    stationary distribution (:func:`stationary_distribution`): by the same shift-and-invert
+    Arnoldi on Mᵀ with the transposed solves of the same LU factors, or by the same inverse
+    iteration on Mᵀ (which doubles the iterative eigen-solve's work).
+
+    Returns
+    -------
+    mu : float
+    e : ndarray (N,)
+    iterations : tuple of int
+        Krylov iterations per shift (both iterations' with ``left``; empty for the direct solve).
+    e_left : ndarray (N,) or None
+        ẽ with ``left``, None otherwise.
     """
     n = M.shape[0]
     upper = float((M @ np.ones(n)).max())
-    norm = float(abs(M).sum(axis=1).max())
     sigma = upper + 1e-3 * max(float(np.abs(M.diagonal()).max()), 1e-300)
     method = _method(s, ndim, n)
     if method == "direct":
-        start = np.ones(n)  # ARPACK's default start is random: the same solve, the same digits
-        values, vectors = spla.eigs(
-            M.tocsc(), k=1, sigma=sigma, which="LM", tol=s.residual, v0=start
-        )
-        e = vectors[:, 0].real
-        return float(values[0].real), e / e[np.argmax(np.abs(e))], ()
+        factors = spla.splu((M - sigma * sp.identity(n, format="csc")).tocsc())
+        mu, e = _arnoldi(M, sigma, factors.solve, s.residual)
+        if not left:
+            return mu, e, (), None
+        _, e_left = _arnoldi(M.T, sigma, partial(factors.solve, trans="T"), s.residual)
+        return mu, e, (), e_left
+    mu, e, counts = _noda(M, sigma, s, method)
+    if not left:
+        return mu, e, counts, None
+    _, e_left, more = _noda(M.T.tocsr(), sigma, s, method)
+    return mu, e, counts + more, e_left
+
+
+def _arnoldi(M: sp.spmatrix, sigma: float, inverse, residual: float) -> tuple[float, np.ndarray]:
+    """The eigenpair of M nearest ``sigma`` by ARPACK's shift-and-invert Arnoldi, ``inverse``
+    applying (M − σI)⁻¹, started from 1 (ARPACK's default start is random: the same solve, the
+    same digits); the eigenvector scaled to max entry 1."""
+    n = M.shape[0]
+    values, vectors = spla.eigs(
+        M,
+        k=1,
+        sigma=sigma,
+        which="LM",
+        tol=residual,
+        v0=np.ones(n),
+        OPinv=spla.LinearOperator((n, n), matvec=inverse, dtype=float),
+    )
+    e = vectors[:, 0].real
+    return float(values[0].real), e / e[np.argmax(np.abs(e))]
+
+
+def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
+    """Noda's inverse iteration for the principal eigenpair of M from the shift ``sigma`` above
+    it (:func:`principal_eigenpair`): μ, e (max entry 1) and the Krylov iterations per shift."""
+    n = M.shape[0]
+    norm = float(abs(M).sum(axis=1).max())
     e, counts = np.ones(n), []
     rho = float(e @ (M @ e)) / n
     above, fixed = sigma, False
@@ -824,7 +889,7 @@ def solve_stationary(problem: Problem, **options) -> StationarySolution:
         if s.error_estimate:
             _embed(problem, s, solution)
         return solution
-    solution = solve_average_cost(problem, s)
+    solution = solve_average_cost(problem, s, distribution=s.error_estimate)
     if s.error_estimate:
         _embed_average(problem, s, solution)
     return solution
@@ -866,6 +931,7 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
         estimate = scalar_estimate(
             [solution.average_cost] + [level[0].average_cost for level in levels],
             None if pairs is None else [side[0].average_cost for side in pairs],
+            stationary_gap(solution),
         )
         object.__setattr__(solution, "average_cost_error", estimate.error)
         check_scalar(estimate, "the average cost c")

@@ -58,7 +58,16 @@ from .grids import (
     refined_grid,
     scaled_grid,
 )
-from .paths import PATH_SAMPLES, PATH_WORK, cost_gap, path_gap, path_step, terminal_gap
+from .paths import (
+    PATH_SAMPLES,
+    PATH_WORK,
+    STATIONARY_SAMPLES,
+    cost_gap,
+    path_gap,
+    path_step,
+    stationary_gap,
+    terminal_gap,
+)
 from .subcell import (
     NEGLIGIBLE,
     Excess,
@@ -103,6 +112,7 @@ __all__ = [
     "PATH_WORK",
     "QUANTILE",
     "SAMPLE",
+    "STATIONARY_SAMPLES",
     "UNPOSED",
     "Assessment",
     "EmbeddedEstimate",
@@ -151,6 +161,7 @@ __all__ = [
     "shares_add_up",
     "solve_to_tolerance",
     "states_that_matter",
+    "stationary_gap",
     "statistic",
     "terminal_gap",
     "unestimated",

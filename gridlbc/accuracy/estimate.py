@@ -375,7 +375,10 @@ class ScalarEstimate:
     (two error terms of opposite sign crossing), as the floor does for the values. ê is also at
     least abs(c_c₁ − c_c₂), the difference on the pair of :func:`phase_pair`, undivided as for
     the values: it is how far a coarse solve moves with where its nodes fall, not a multiple of
-    this grid's error.
+    this grid's error. And it is at least abs(γ_c), for an average cost the cost per unit time
+    that the grid's interpolant of q adds under the solve's stationary law
+    (:func:`gridlbc.accuracy.paths.stationary_gap`), which the levels miss alike where a feature
+    of q is narrower than a cell.
 
     Attributes
     ----------
@@ -385,11 +388,14 @@ class ScalarEstimate:
         p before clipping (NaN without a third level).
     levels : tuple of float
         The number on the grids h, 2h (and 4h).
+    gap : float
+        γ_c (0 where not sampled).
     """
 
     error: float
     observed_order: float
     levels: tuple[float, ...]
+    gap: float = 0.0
 
     @property
     def relative(self) -> float:
@@ -400,10 +406,10 @@ class ScalarEstimate:
         return 0.0 if self.error == 0 else np.inf
 
 
-def scalar_estimate(levels, pair=None) -> ScalarEstimate:
+def scalar_estimate(levels, pair=None, gap: float = 0.0) -> ScalarEstimate:
     """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
     ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and on :func:`phase_pair` (whose
-    difference abs(c_c₁ − c_c₂) the estimate is at least).
+    difference abs(c_c₁ − c_c₂) the estimate is at least), and at least abs(``gap``).
 
     Parameters
     ----------
@@ -411,6 +417,9 @@ def scalar_estimate(levels, pair=None) -> ScalarEstimate:
         c_h, c_2h and optionally c_4h.
     pair : tuple of two float, or None
         The number on the grids of :func:`phase_pair`.
+    gap : float
+        γ_c, what the grid's interpolants add to the number along the solve's own law
+        (:func:`gridlbc.accuracy.paths.stationary_gap`).
 
     Returns
     -------
@@ -427,7 +436,7 @@ def scalar_estimate(levels, pair=None) -> ScalarEstimate:
     error = float(richardson(difference, relative, order))
     if pair is not None:  # how far a coarse solve moves with where its nodes fall: undivided
         error = max(error, abs(float(pair[0]) - float(pair[1])))
-    return ScalarEstimate(error, observed, tuple(c))
+    return ScalarEstimate(max(error, abs(float(gap))), observed, tuple(c), float(gap))
 
 
 def attach_estimates(solutions, levels: list, pairs=None, excess=None, reason: str = "") -> None:
@@ -604,10 +613,17 @@ def check_scalar(estimate: ScalarEstimate, name: str, tol: float = DEFAULT_TOLER
         if estimate.observed_order < 1.0
         else ""
     )
+    gap = (
+        f"; the state cost between the nodes, sampled under the solve's stationary law, differs "
+        f"from the grid's interpolant by {estimate.gap:.3g} per unit time (a feature of q "
+        "narrower than a cell)"
+        if abs(estimate.gap) >= estimate.error
+        else ""
+    )
     warn_user(
         f"the estimated error of {name} = {estimate.levels[0]:.6g} is {estimate.error:.3g}, "
         f"{estimate.relative:.1%} of it (above {tol:.0%}): measured against the same solve on the "
-        f"grids with every other node ({levels} on h, 2h, 4h).{loose} Give a finer grid (docs "
-        "page 'accuracy')",
+        f"grids with every other node ({levels} on h, 2h, 4h){gap}.{loose} Give a finer grid "
+        "(docs page 'accuracy')",
         ResolutionWarning,
     )

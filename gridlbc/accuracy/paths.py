@@ -55,7 +55,26 @@ Where the grid charges less than the costs (a toll the nodes miss), the solve's 
 avoid the toll and crosses it more slowly than the optimal one, and γ overstates the error (two-
 to fivefold for stranger round 11's ``toll_blind``). Without a horizon, where the costs equal
 their interpolants at every cell's centre (constant or affine costs: :func:`interpolated_exactly`)
-γ is zero and no path is run. Not sampled for average cost (no end, no horizon).
+γ is zero and no path is run.
+
+**Average cost** (no end, no horizon: :func:`stationary_gap`). The cost per unit time that the
+grid leaves out is an expectation under the solve's long-run law instead of along paths that
+end. The solve's chain spends the share p_i of its time at node i
+(:func:`gridlbc.stationary.stationary_distribution`) and is charged q(x_i) there; its continuous
+counterpart spreads that share over the node's hat function, ρ_h = Σ_i p_i φ_i / ∫φ_i, and is
+charged q where it is. For the policy π_h that is optimal on the grid, c[q] ≤ c_{π_h}[q], the
+control's cost is the same in both, so
+
+    c_h − c[q] ≥ γ_c = Σ_i p_i ( q(x_i) − ⟨q⟩_{φ_i} ) = E[ q(x_I) − q(X) ],
+
+the mean over :data:`STATIONARY_SAMPLES` draws of a node I by p and a state X from its hat
+(along each axis an offset h (U₁ − U₂) with U₁, U₂ uniform, folded back into the box at a
+closed edge): no path and no mixing time. A toll narrower than a cell between the nodes gives a
+γ_c below zero, what the solve's policy, which does not see it, pays for it per unit time: it
+bounds c's error where the grid charges too little. A narrow well is sought by the optimal
+policy and not by the solve's, and γ_c (above zero, the well's weight under the solve's smooth
+law) understates what it changes. For a smooth q, γ_c is −(h²/12) Σ_k E[∂²q/∂x_k²], of the
+order of the scheme's own error.
 """
 
 from __future__ import annotations
@@ -107,6 +126,11 @@ is rounding (:func:`interpolated_exactly`)."""
 STEP_STATES = 1024
 """At most this many nodes off the exit set give the paths' step of a first-exit problem
 without a horizon (:func:`path_step`)."""
+
+
+STATIONARY_SAMPLES = 1 << 16
+"""States drawn from the stationary law of an average-cost solve for γ_c
+(:func:`stationary_gap`)."""
 
 
 def sampled(problem) -> bool:
@@ -237,6 +261,41 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
             steps = min(steps, 2 * done)
     gap[undefined] = np.nan
     return gap.reshape(n_states, samples).mean(axis=1), len(running)
+
+
+def stationary_gap(solution, samples: int = STATIONARY_SAMPLES) -> float:
+    """γ_c = E[q(x_I) − q(X)], the cost per unit time that the grid leaves out of an average-cost
+    solve's state cost under its stationary law (module docstring); 0 where the solution has no
+    ``stationary_distribution`` or q equals its interpolant at every cell's centre
+    (:func:`interpolated_exactly`: constant or affine). A fixed seed: the same solve gives the
+    same number.
+
+    Parameters
+    ----------
+    solution : StationarySolution
+        An average-cost solution with its ``stationary_distribution``.
+    samples : int
+        Nodes I drawn from the stationary distribution, and one state X from each one's hat.
+
+    Returns
+    -------
+    float
+        γ_c (below zero where the grid charges less than q along the way).
+    """
+    share = getattr(solution, "stationary_distribution", None)
+    problem, grid = solution.problem, solution.problem.grid
+    if share is None or problem.state_cost is None or interpolated_exactly(solution):
+        return 0.0
+    rng = np.random.default_rng(SEED)
+    nodes = rng.choice(len(share), size=samples, p=share)
+    offsets = (rng.random((samples, grid.ndim)) - rng.random((samples, grid.ndim))) * grid.spacing
+    x = grid.node_coordinates(nodes) + offsets
+    lo, hi = grid.lo, grid.hi
+    closed = ~grid.periodic
+    x[:, closed] = np.where(x[:, closed] < lo[closed], 2 * lo[closed] - x[:, closed], x[:, closed])
+    x[:, closed] = np.where(x[:, closed] > hi[closed], 2 * hi[closed] - x[:, closed], x[:, closed])
+    gap = nodal(solution, "state_cost")[nodes] - problem.state_cost_values(grid.wrap(x))
+    return float(np.mean(gap))
 
 
 def interpolated_exactly(solution) -> bool:
