@@ -922,19 +922,32 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
     """Attach to an average-cost solution the embedded estimates of its relative value h
     (:func:`gridlbc.accuracy.attach_estimates`: h normalised to min 0 at the nodes on every
-    level, as on this one) and of its average cost c (``average_cost_error``,
-    :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h and 4h); warn where
-    either exceeds the default tolerance."""
+    level, as on this one, and S, the response of the embedded solve to the state cost's excess
+    between the nodes, :func:`gridlbc.accuracy.responses`) and of its average cost c
+    (``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h
+    and 4h, γ_c and S_c); warn where either exceeds the default tolerance."""
     levels, pairs, reason = _levels(problem, lambda p: [solve_average_cost(p, s)])
-    attach_estimates([solution], levels, pairs, reason=reason)
-    if levels:
-        estimate = scalar_estimate(
-            [solution.average_cost] + [level[0].average_cost for level in levels],
-            None if pairs is None else [side[0].average_cost for side in pairs],
-            stationary_gap(solution),
-        )
-        object.__setattr__(solution, "average_cost_error", estimate.error)
-        check_scalar(estimate, "the average cost c")
+    if not levels:
+        attach_estimates([solution], levels, pairs, reason=reason)
+        return
+    coarse = levels[0][0].grid
+    (moved,) = responses(
+        problem,
+        [],
+        coarse,
+        lambda on, _: [_quietly(solve_average_cost, on.replace(grid=coarse), s)],
+    )
+    attach_estimates([solution], levels, pairs, [moved], reason=reason)
+    estimate = scalar_estimate(
+        [solution.average_cost] + [level[0].average_cost for level in levels],
+        None if pairs is None else [side[0].average_cost for side in pairs],
+        stationary_gap(solution),
+        0.0
+        if moved.raised is None or moved.base is None
+        else abs(moved.raised.average_cost - moved.base.average_cost),
+    )
+    object.__setattr__(solution, "average_cost_error", estimate.error)
+    check_scalar(estimate, "the average cost c")
 
 
 def _levels(problem: Problem, solve) -> tuple[list, list | None, str]:

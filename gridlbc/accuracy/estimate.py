@@ -376,9 +376,11 @@ class ScalarEstimate:
     least abs(c_c₁ − c_c₂), the difference on the pair of :func:`phase_pair`, undivided as for
     the values: it is how far a coarse solve moves with where its nodes fall, not a multiple of
     this grid's error. And it is at least abs(γ_c), for an average cost the cost per unit time
-    that the grid's interpolant of q adds under the solve's stationary law
-    (:func:`gridlbc.accuracy.paths.stationary_gap`), which the levels miss alike where a feature
-    of q is narrower than a cell.
+    that the grid leaves out of q under the solve's stationary law
+    (:func:`gridlbc.accuracy.paths.stationary_gap`), and at least S_c = abs(c_2h[q + δq] −
+    c_2h[q]), what the state cost's excess between the nodes changes in the embedded solve
+    (:mod:`gridlbc.accuracy.subcell`): the levels miss a feature of q narrower than a cell
+    alike, γ_c sees one the solve's law crosses and S_c one a path would seek.
 
     Attributes
     ----------
@@ -390,12 +392,15 @@ class ScalarEstimate:
         The number on the grids h, 2h (and 4h).
     gap : float
         γ_c (0 where not sampled).
+    response : float
+        S_c (0 where not measured).
     """
 
     error: float
     observed_order: float
     levels: tuple[float, ...]
     gap: float = 0.0
+    response: float = 0.0
 
     @property
     def relative(self) -> float:
@@ -406,10 +411,11 @@ class ScalarEstimate:
         return 0.0 if self.error == 0 else np.inf
 
 
-def scalar_estimate(levels, pair=None, gap: float = 0.0) -> ScalarEstimate:
+def scalar_estimate(levels, pair=None, gap: float = 0.0, response: float = 0.0) -> ScalarEstimate:
     """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
     ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and on :func:`phase_pair` (whose
-    difference abs(c_c₁ − c_c₂) the estimate is at least), and at least abs(``gap``).
+    difference abs(c_c₁ − c_c₂) the estimate is at least), and at least abs(``gap``) and
+    ``response``.
 
     Parameters
     ----------
@@ -418,8 +424,10 @@ def scalar_estimate(levels, pair=None, gap: float = 0.0) -> ScalarEstimate:
     pair : tuple of two float, or None
         The number on the grids of :func:`phase_pair`.
     gap : float
-        γ_c, what the grid's interpolants add to the number along the solve's own law
+        γ_c, what the grid leaves out of the number along the solve's own law
         (:func:`gridlbc.accuracy.paths.stationary_gap`).
+    response : float
+        S_c, what the costs' excess between the nodes changes in the number on the embedded grid.
 
     Returns
     -------
@@ -436,7 +444,8 @@ def scalar_estimate(levels, pair=None, gap: float = 0.0) -> ScalarEstimate:
     error = float(richardson(difference, relative, order))
     if pair is not None:  # how far a coarse solve moves with where its nodes fall: undivided
         error = max(error, abs(float(pair[0]) - float(pair[1])))
-    return ScalarEstimate(max(error, abs(float(gap))), observed, tuple(c), float(gap))
+    error = max(error, abs(float(gap)), float(response))
+    return ScalarEstimate(error, observed, tuple(c), float(gap), float(response))
 
 
 def attach_estimates(solutions, levels: list, pairs=None, excess=None, reason: str = "") -> None:
@@ -613,13 +622,18 @@ def check_scalar(estimate: ScalarEstimate, name: str, tol: float = DEFAULT_TOLER
         if estimate.observed_order < 1.0
         else ""
     )
-    gap = (
-        f"; the state cost between the nodes, sampled under the solve's stationary law, differs "
-        f"from the grid's interpolant by {estimate.gap:.3g} per unit time (a feature of q "
-        "narrower than a cell)"
-        if abs(estimate.gap) >= estimate.error
-        else ""
-    )
+    gap = ""
+    if abs(estimate.gap) >= estimate.error:
+        gap = (
+            "; the state cost between the nodes, sampled under the solve's stationary law, "
+            f"differs from what the grid charges by {estimate.gap:.3g} per unit time (a feature "
+            "of q narrower than a cell)"
+        )
+    elif estimate.response >= estimate.error:
+        gap = (
+            "; the state cost's excess between the nodes (a well narrower than a cell) moves c "
+            f"on the grid with every other node by {estimate.response:.3g}"
+        )
     warn_user(
         f"the estimated error of {name} = {estimate.levels[0]:.6g} is {estimate.error:.3g}, "
         f"{estimate.relative:.1%} of it (above {tol:.0%}): measured against the same solve on the "

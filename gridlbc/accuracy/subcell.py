@@ -28,11 +28,16 @@ sampled (:func:`reproduced`).
 
     δ_j = −(λ/τ) log( Σ_s φ_j(s) exp(−τ (f − I f_c)(s)/λ) / Σ_s φ_j(s) exp(−τ (R f − I f_c)(s)/λ) ),
 
-over the lattice points s, with τ = 1 for the terminal cost g and τ = T, the horizon, for the
-state cost q. For g this is the ratio of the desirability exp(−g/λ) that the hat holds to the one
-its reconstruction holds: a narrow goal counts with its weight, as the value does. For q it is
-what a path that stays by the node for the whole horizon could gain: a narrow well is worth its
-depth to a path that holds still in it, a narrow pit (which a path can step around) little.
+over the lattice points s, with τ = 1 for the terminal cost g (and an exit cost g_E) and, for
+the state cost q, τ = T, the horizon, or without one (first exit, average cost) the time in
+which the noise moves a path across a cell of the embedded grid (:func:`hold_time`). For g this
+is the ratio of the desirability exp(−g/λ) that the hat holds to the one its reconstruction
+holds: a narrow goal counts with its weight, as the value does. For q it is what a path that
+stays by the node for the time τ could gain: a narrow well is worth its depth to a path that
+holds still in it, a narrow pit (which a path can step around) little. Held longer than the
+noise's time across a cell, a path pays to stay in the well, and the soft minimum at that τ
+charges at most what staying costs (:func:`hold_time`): a task that never ends is priced by it,
+not by a hold of infinite length, which would make any well worth its whole depth.
 I f_c, the embedded grid's multilinear interpolant of the cost at its own nodes, keeps the
 exponentials in range.
 
@@ -59,16 +64,18 @@ not the solve's paths go near them (:class:`Response`;
 are made without exponential fitting: a fitted scheme interpolates z relative to its reference
 in every step, which spreads a dip that the reference does not have by about a cell per step,
 so its response to one is a fraction of the true one (:func:`responses`). Where
-sup|δg| + T sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not run and S is that
-bound, which it never exceeds (v is 1-Lipschitz in the costs in the supremum norm).
+sup|δg| + τ sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not run and S is that
+bound, which with a horizon it never exceeds (v is 1-Lipschitz in the costs in the supremum
+norm). For the average cost the response is read for the relative value h and for c
+(:func:`gridlbc.accuracy.scalar_estimate`).
 
 What S cannot see: a feature that no lattice point sees at all (narrower than the lattice's
 spacing and too shallow in its tails to leave an excess below zero at a point near it). It errs
 high where holding still in a narrow well costs more, in noise fought, than the well saves (the
 embedded grid holds a path at a node for free), and where a cost steps inside a cell (the cubic
 overshoots the step by a quarter of the jump, which reads as a goal). For a first-exit task
-without a horizon it is computed for the exit cost g_E (τ = 1: a narrow cheap spot on the exit
-set is a goal), not for the state cost, which has no horizon to give its τ. Its cost: the costs
+without a horizon a path gains nothing by holding (q ≥ 0: the task must still end), and τ is
+about the time it spends in a hat it passes through (less where the drift carries it). Its cost: the costs
 evaluated at m^d lattice points per node and at most 2 · 3^d · :data:`DESCENT_LEVELS` points
 around each seed, and where they have an excess, two more solves on the embedded grid.
 """
@@ -204,11 +211,14 @@ class Excess:
     exit : ndarray (Nc,) or None
         δg_E,j for the exit cost of a task with a horizon and an exit set (None otherwise, or
         where it is reproduced).
+    hold : float
+        τ of the state cost (:func:`hold_time`; 0 where ``state`` is None).
     """
 
     terminal: np.ndarray
     state: np.ndarray | None
     exit: np.ndarray | None = None
+    hold: float = 0.0
 
 
 def _ending(problem) -> str:
@@ -217,12 +227,38 @@ def _ending(problem) -> str:
     return "exit_cost" if problem.stationary else "terminal_cost"
 
 
+HOLD_STATES = 4096
+"""At most this many nodes of the coarse grid (evenly spaced) give :func:`hold_time`."""
+
+
+def hold_time(problem, coarse: Grid) -> float | None:
+    """τ of the state cost's soft minimum (module docstring): the horizon T where the task has
+    one; without one (first exit, average cost) the time in which the noise moves a path across
+    a cell of ``coarse`` along its slowest noisy axis where it is slowest,
+
+        τ = 1 / min_j min_{k: Σ_kk > 0} Σ_kk(x_j) / H_k²,
+
+    over (up to :data:`HOLD_STATES`) nodes x_j of ``coarse`` (spacing H, Σ = λ B R⁻¹ Bᵀ). Held
+    longer than that, a path pays to stay in a well: in one dimension, to keep a path within a
+    width w = 2ρH of the hat (a share ρ of it) costs λ Σ π² / (2 w²) per unit time, and the
+    soft minimum at λ/τ charges λ log(1/ρ) / τ = λ Σ log(1/ρ) / H², never more (log(1/ρ) ≤
+    π²/(8ρ²)): the excess δq is at least as deep as what holding in the well can gain. None
+    where no node has noise."""
+    if not problem.stationary:
+        return problem.require_horizon("an excess")
+    step = max(1, coarse.size // HOLD_STATES)
+    x = coarse.node_coordinates(np.arange(0, coarse.size, step))
+    rates = problem.noise_diagonal(x) / np.asarray(coarse.spacing, dtype=float) ** 2
+    noisy = rates[rates > 0]
+    return 1.0 / float(noisy.min()) if noisy.size else None
+
+
 def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Excess:
     """The sub-cell excess of ``problem``'s state cost and of each of ``terminal_costs``, as a soft
-    minimum over the hat functions of ``coarse`` (module docstring). For a first-exit problem
-    without a horizon the costs are exit costs g_E (τ = 1, as for g) and the state cost is not
-    sampled (there is no horizon to give its τ); with a horizon and an exit set, the exit cost
-    is sampled beside g and q (τ = 1).
+    minimum over the hat functions of ``coarse`` (module docstring). For a problem without a
+    horizon the costs are exit costs g_E (τ = 1, as for g; none for the average cost) and the
+    state cost's τ is :func:`hold_time`; with a horizon and an exit set, the exit cost is
+    sampled beside g and q (τ = 1).
 
     Parameters
     ----------
@@ -251,8 +287,9 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
         for i, p in enumerate(ends)
         if not reproduced(getattr(p, ending))
     ]
-    if not (problem.stationary or reproduced(problem.state_cost)):
-        sampled.append(("state", problem.state_cost_values, problem.require_horizon("an excess")))
+    hold = None if reproduced(problem.state_cost) else hold_time(problem, coarse)
+    if hold is not None:
+        sampled.append(("state", problem.state_cost_values, hold))
     if not problem.stationary and problem.exit is not None and not reproduced(problem.exit_cost):
         sampled.append(("exit", problem.exit_values, 1.0))
     nodal = [grid.reshape(grid.node_values(values)) for _, values, _ in sampled]
@@ -278,8 +315,12 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
             others[i] = soft.reshape(-1)
         else:
             terminal[i] = soft
+    state = others.get("state")
     return Excess(
-        terminal.reshape(len(terminal_costs), -1), others.get("state"), others.get("exit")
+        terminal.reshape(len(terminal_costs), coarse.size),
+        state,
+        others.get("exit"),
+        0.0 if state is None or hold is None else hold,
     )
 
 
@@ -532,9 +573,10 @@ class Response:
         The same with the costs raised by their excess, v_c[g + δg, q + δq]; None where
         ``bound`` is negligible (:data:`NEGLIGIBLE`) and neither was solved.
     bound : float
-        sup|δg| + T sup|δq| (+ sup|δg_E| with an exit set and a horizon) over the coarse nodes:
-        S never exceeds it (v is 1-Lipschitz in the costs, in the supremum norm, and so is a
-        monotone scheme's).
+        sup|δg| + τ sup|δq| (+ sup|δg_E| with an exit set and a horizon) over the coarse nodes,
+        τ = :func:`hold_time`. With a horizon (τ = T) S never exceeds it (v is 1-Lipschitz in
+        the costs, in the supremum norm, and so is a monotone scheme's); without one it only
+        says whether the excess is negligible (a first-exit path may stay longer than τ).
     """
 
     base: Solution | None
@@ -578,10 +620,10 @@ def responses(problem, terminal_costs, coarse: Grid, solve) -> list[Response]:
     list of Response
     """
     found = excess(problem, coarse, terminal_costs)
-    held = 0.0 if found.state is None else problem.horizon * float(np.abs(found.state).max())
+    held = 0.0 if found.state is None else found.hold * float(np.abs(found.state).max())
     if found.exit is not None:
         held += float(np.abs(found.exit).max())
-    bounds = [float(np.abs(dg).max()) + held for dg in found.terminal]
+    bounds = [float(np.abs(dg).max()) + held for dg in found.terminal] or [held]
     if max(bounds) <= NEGLIGIBLE * problem.temperature:
         return [Response(None, None, bound) for bound in bounds]
     changes: dict = {}
