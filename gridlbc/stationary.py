@@ -45,6 +45,7 @@ import time
 import warnings
 from dataclasses import dataclass
 from functools import partial
+from typing import cast
 
 import numpy as np
 import scipy.sparse as sp
@@ -938,16 +939,24 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
         lambda on, _: [_quietly(solve_average_cost, on.replace(grid=coarse), s)],
     )
     attach_estimates([solution], levels, pairs, [moved], reason=reason)
+    response = 0.0  # S_c: what the excess moves c by on the embedded grid
+    if moved.raised is not None and moved.base is not None:
+        response = abs(_average_cost(moved.raised) - _average_cost(moved.base))
     estimate = scalar_estimate(
         [solution.average_cost] + [level[0].average_cost for level in levels],
         None if pairs is None else [side[0].average_cost for side in pairs],
         stationary_gap(solution),
-        0.0
-        if moved.raised is None or moved.base is None
-        else abs(moved.raised.average_cost - moved.base.average_cost),
+        response,
     )
     object.__setattr__(solution, "average_cost_error", estimate.error)
     check_scalar(estimate, "the average cost c")
+
+
+def _average_cost(solution) -> float:
+    """c of an average-cost solve (:func:`solve_average_cost` sets it)."""
+    c = cast(StationarySolution, solution).average_cost
+    assert c is not None
+    return c
 
 
 def _levels(problem: Problem, solve) -> tuple[list, list | None, str]:
