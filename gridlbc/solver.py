@@ -27,6 +27,7 @@ import numpy as np
 
 from .accuracy import (
     attach_estimates,
+    check_flow,
     embedded_solves,
     responses,
     solve_to_tolerance,
@@ -263,8 +264,9 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     2Δt), the observed order from a third solve at 4h, 4Δt, and the response of the embedded grid's
     plain-scheme solves to the costs' sub-cell excess (:func:`gridlbc.accuracy.responses`), and
     warn where the estimate exceeds the default tolerance, or where none could be made
-    (:func:`gridlbc.accuracy.embedded_solves`). The embedded solves' own warnings are not the
-    user's: they are silenced."""
+    (:func:`gridlbc.accuracy.embedded_solves`), and where the drift changes between the nodes
+    faster than the grid follows (:func:`gridlbc.accuracy.check_flow`). The embedded solves' own
+    warnings are not the user's: they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
     def solve_on(grid: Grid, factor: int, on: Problem = problem, costs=terminal_costs, using=s):
@@ -292,6 +294,7 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             lambda on, costs: solve_on(coarse, 2, on, costs, plain),
         )
     attach_estimates(solutions, levels, pairs, excess, reason)
+    check_flow(solutions[0])  # the drift is the problem's: one look for all its solutions
 
 
 def _solutions(

@@ -8,6 +8,8 @@
   paths;
 - :mod:`gridlbc.accuracy.subcell`: the costs' excess between the nodes and what it changes in a
   coarse solve;
+- :mod:`gridlbc.accuracy.flow`: a drift that changes between the nodes where neither the grid nor
+  the coarser solves follow it;
 - :mod:`gridlbc.accuracy.certified`: the error measured by certificates where the estimate
   cannot decide;
 - :mod:`gridlbc.accuracy.tolerance`: solves to a tolerance (``gridlbc.solve(problem, tol=...)``).
@@ -50,6 +52,7 @@ from .estimate import (
     states_that_matter,
     statistic,
 )
+from .flow import FLOW_CELLS, FLOW_SAMPLES, check_flow, flow_excess
 from .grids import (
     cells,
     embedded_grid,
@@ -106,6 +109,8 @@ __all__ = [
     "CERTIFICATE_STEPS",
     "CERTIFIED_STATES",
     "DEFAULT_TOLERANCE",
+    "FLOW_CELLS",
+    "FLOW_SAMPLES",
     "MARCH_WORK_EXPONENT",
     "NEGLIGIBLE",
     "PATH_SAMPLES",
@@ -131,6 +136,7 @@ __all__ = [
     "certified_error",
     "check_accuracy",
     "check_budget",
+    "check_flow",
     "check_scalar",
     "check_tolerance",
     "clipped_order",
@@ -142,6 +148,7 @@ __all__ = [
     "finish",
     "fitting_plan",
     "fitting_storage",
+    "flow_excess",
     "judged_states",
     "observed_order",
     "over_budget",

@@ -558,3 +558,56 @@ def test_max_seconds_must_be_a_positive_number_of_seconds(budget):
         g.solve(lq_point_mass(21), tol=0.02, max_seconds=budget)
     with pytest.raises(TypeError, match="max_seconds= apply with tol"):
         g.solve(lq_point_mass(21), max_seconds=60.0)
+
+
+class _Gust(g.systems.ControlAffineSystem):
+    """ẋ = −F e^{−(x−c)²/2w²} + u on a line: a headwind of width ``w`` centred at ``c``."""
+
+    state_dim, control_dim = 1, 1
+
+    def __init__(self, width, centre=-0.175, strength=8.0):
+        self.width, self.centre, self.strength = width, centre, strength
+
+    def parameters(self):
+        return {"width": self.width, "centre": self.centre, "strength": self.strength}
+
+    def drift(self, x):
+        x = self._states(x)
+        return -self.strength * np.exp(-0.5 * ((x - self.centre) / self.width) ** 2)
+
+    def input_matrix(self, x):
+        return np.ones((len(self._states(x)), 1, 1))
+
+
+def _gust_problem(width):
+    """Against a headwind to a goal at 0.5 (g = 2 (x − 0.5)², q = ½, T = 1.5, λ = 0.2), on 81
+    nodes of [−2, 2] (h = 0.05)."""
+    return g.Problem(
+        _Gust(width),
+        g.Grid([g.Axis(-2.0, 2.0, 81)]),
+        1.5,
+        lambda x: 2.0 * (x[:, 0] - 0.5) ** 2,
+        state_cost=lambda x: np.full(len(x), 0.5),
+        temperature=0.2,
+    )
+
+
+def test_a_gust_narrower_than_a_cell_between_the_nodes_warns():
+    # A gust 0.4 cells wide midway between two nodes (stranger round 13's hz_headwind, in 1-D):
+    # the default step (0.15) carries a path 13 cells beyond the drift's interpolant, and the
+    # coarser solves step over the gust alike, so the estimate reads almost nothing. The drift's
+    # interpolation error does not shrink from 2h to h (order < 1): the solve warns of it, and a
+    # step that moves a path less than a cell through the gust (Δt = 0.0025) moves v by more than
+    # 10 %. A gust three cells wide is resolved (order 2): no such warning.
+    with pytest.warns(g.ResolutionWarning, match="drift changes between the nodes") as record:
+        narrow = g.solve(_gust_problem(0.02))
+    cells, order, where = accuracy.flow_excess(narrow)
+    assert cells > 10 and order < 1 and abs(where[0] + 0.175) < 0.1
+    fine = g.solve(_gust_problem(0.02), dt=0.0025, error_estimate=False)
+    x = np.array([[-1.0], [-0.3]])
+    assert np.all(np.abs(fine.value(x) - narrow.value(x)) > 0.1 * np.abs(fine.value(x)))
+    assert any("estimate does not see it" in str(w.message) for w in record)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        g.solve(_gust_problem(0.15))
+    assert not any("drift changes between the nodes" in str(w.message) for w in caught)
