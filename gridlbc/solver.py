@@ -376,8 +376,8 @@ def solve(
         horizon the grid alone is refined
         (:func:`gridlbc.stationary.solve_first_exit_to_tolerance`).
     states : array_like (N, d), optional
-        With ``tol``: the states where it must hold (default: the nodes whose value is at most
-        the median, :func:`gridlbc.accuracy.states_that_matter`).
+        With ``tol``: the states where it must hold (default: the states that matter,
+        :func:`gridlbc.accuracy.states_that_matter`).
     max_nodes : int, optional
         With ``tol``: refine the grid no further than this many nodes.
     max_seconds : float, optional
