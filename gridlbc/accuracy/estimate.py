@@ -172,10 +172,9 @@ def states_that_matter(solution, limit: int = SAMPLE) -> np.ndarray:
       anywhere, typically far from where it ends, where v is largest (a pendulum hanging at rest
       when E is near the top; the states upstream of a headwind in a finite horizon). The better
       half would judge only the states next to the end, and a defect that raises v (a fast local
-      flow against the paths) moves the very states it spoils out of the better half: stranger
-      round 13's ``hz_gust``, 35 % and 44 % low upstream of a gust with estimates of 19 % and
-      22 % there, was judged at the better half only and did not warn. The nodes in E do not
-      count: their value is the exit cost, given, not solved for.
+      flow against the paths) moves the very states it spoils out of the better half (stranger
+      round 13's ``hz_gust``, docs page :doc:`accuracy`). The nodes in E do not count: their
+      value is the exit cost, given, not solved for.
 
     A finite horizon without an exit set is also judged at the :func:`better_half`
     (:func:`assess`), where its paths end up.
@@ -208,10 +207,9 @@ def calibration_states(solution, limit: int = SAMPLE) -> np.ndarray:
     levels. A finite horizon's paths end up in the better half from wherever they start, so the
     errors they carry are read there; the states far up the value, judged for the warning
     (:func:`states_that_matter`), hold the errors of their own region (a gust, a wall) and
-    often levels that do not converge at all (``hz_gust``: observed order −0.8 over every
-    node, 1.9 over the better half), which, taken into the floor and the order, would raise the
-    estimate everywhere (to 7 % at a state 0.8 % off). The estimate at any state is therefore
-    the same as when the better half alone was judged: only where it is judged changed."""
+    often levels that do not converge at all, which, taken into the floor and the order, would
+    raise the estimate everywhere. The estimate at any state is therefore the same as when the
+    better half alone was judged: only where it is judged changed."""
     if solution.problem.exit is None:
         return better_half(solution, limit)
     return _evenly(solution, _finite_off_exit(solution), limit)
