@@ -53,24 +53,7 @@ SAVED = Path("/tmp/matter_sets.json")
 TOL = DEFAULT_TOLERANCE
 ORIGINAL = E.states_that_matter
 
-
-def _kind(problem) -> str:
-    if problem.average_cost:
-        return "avg"
-    if problem.exit is not None:
-        return "exit" if problem.stationary else "exit+T"
-    return "stat" if problem.stationary else "T"
-
-
-def _finer(grid, f):
-    from gridlbc import Axis, Grid
-
-    return Grid(
-        [
-            Axis(a.lo, a.hi, a.n * f if a.periodic else (a.n - 1) * f + 1, a.periodic)
-            for a in grid.axes
-        ]
-    )
+from warning_rules import _finer, _kind  # noqa: E402  (the same helpers as the earlier analysis)
 
 
 def problems(results: Path):

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import strangers_round11 as r11
 import strangers_round12 as r12
+import strangers_round13 as r13
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -983,6 +984,28 @@ def _tiny_ball_exact(X):
     return value
 
 
+def _gust_exact(X):
+    """1-D Crank–Nicolson solve (strangers_round13.cn_1d): v depends on x₀ alone; 40 001 nodes
+    and T/8000, within 0.001 % of 20 001 nodes and T/4000"""
+    value, _ = r13.P13["hz_gust"][2](X)
+    return value
+
+
+def _headwind_exact(X):
+    """1-D Crank–Nicolson solve (strangers_round13.cn_1d), as for ``gust_upstream``, with the
+    narrow gust resolved by 800 nodes across its width"""
+    value, _ = r13.P13["hz_headwind"][2](X)
+    return value
+
+
+def _well_torus_exact(X):
+    """separable eigenvalue problems (strangers_round12.eig_truth): h(x) = Σ_i h_i(x_i), each
+    the relative value of a 1-D periodic Schrödinger operator −(λ²/2) d²/dx² + q_i on 80 000
+    points, within 1e-7 of 40 000"""
+    value, _ = r13.P13["avg_well_3d"][2](X)
+    return value[1:]
+
+
 MEMBERS: tuple[Member, ...] = (
     Member(
         "vortex",
@@ -1437,6 +1460,39 @@ MEMBERS: tuple[Member, ...] = (
         fast=True,
         tags=("first exit", "narrow goal", "closed"),
         exact=_tiny_ball_exact,
+    ),
+    Member(
+        "gust_upstream",
+        r13.hz_gust,
+        _s((-1.0, 0.0), (-0.3, 0.5), (0.3, -1.0)),
+        "a fast local headwind three cells wide against the paths to a goal, T = 1.5, λ = 0.2 "
+        "(stranger round 13: 35 % and 44 % low upstream of the gust with estimates of about half "
+        "that, silent: judged at the better half of the value only, which the gust's states "
+        "leave)",
+        fast=True,
+        tags=("fast flow", "closed"),
+        exact=_gust_exact,
+    ),
+    Member(
+        "gust_between_nodes",
+        r13.hz_headwind,
+        _s((-1.0, 0.0), (-0.3, 0.5), (0.0, -1.0)),
+        "a headwind 8 strong and 0.4 cells wide midway between two nodes, T = 1.5, λ = 0.2 "
+        "(stranger round 13: 13–36 % low with estimates below 0.1 %, silent: every coarser solve "
+        "steps over the gust alike; now the drift check warns)",
+        fast=True,
+        tags=("fast flow", "closed"),
+        exact=_headwind_exact,
+    ),
+    Member(
+        "well_torus_average",
+        r13.avg_well_3d,
+        _s((0.0, 0.0, 0.0), (0.5, 1.0, -1.0), (-1.5, -0.5, 1.0)),
+        "the average cost on a 24³ torus with a well 0.15 cells wide between the nodes, the "
+        "relative value h at three states (stranger round 13: h 13–14 % low with an estimate of "
+        "2.7 %, silent, before S sampled the state cost of a task without a horizon)",
+        tags=("average cost", "narrow cost", "periodic"),
+        exact=_well_torus_exact,
     ),
 )
 
