@@ -138,8 +138,8 @@ the digits shown)::
     72 pairs; > 10 % off silently at 9 [('hz_short_kink', 14.0), ('hz_steep_mid', 30.3), ('hz_steep_mid', 16.5), ('hz_short_steep', 83.3), ('hz_short_steep', 51.1), ('hz_short_steep_user', 83.3), ('hz_short_steep_user', 51.1), ('combo_weights', 29.1), ('combo_weights', 24.6)]; estimate < ½ an error above 2 % at 2 [('hz_short_step', 89.34, 34.95), ('hz_short_step_off', 89.34, 34.95)]; false alarms (warned, every pair < 2 %): 0 []; truths uncertain beyond 2 %: []
     average cost c alone (its own estimate and check, whatever h's says): 0 solves; c > 10 % off with c's estimate ≤ 5 % at 0 []; c's estimate < ½ an error above 2 % at 0 []
 
-Coverage: the estimate is at least half the error at 66 of 72 pairs; of the six others three
-are ``vdp_hot`` inside the truth's SE, the other three are the steps of ``hz_short_step`` and
+Coverage: the estimate is at least half the error at 67 of 72 pairs; of the five others three
+are ``vdp_hot`` inside the truth's SE, the other two are the steps of ``hz_short_step`` and
 ``hz_short_step_off`` (warned).
 
 Mechanisms (measured with ``--levels``, ``--tol`` and the judged set; Δt default):
@@ -154,7 +154,7 @@ Mechanisms (measured with ``--levels``, ``--tol`` and the judged set; Δt defaul
   quadratic, which the reconstruction R reproduces, whether it is the library's Quadratic or a
   user's lambda. No term with a max-rule exists for a steep-but-smooth g. ``solve(tol=0.03,
   states=X)`` fixes it (845 × 599, 6.2 s: +1.3 %, +1.0 % with estimates 1.9 %, 1.0 %).
-  ``hz_steep_mid`` (T = 0.02, ten times longer) is the same: silent +33 % and +16.5 % with
+  ``hz_steep_mid`` (T = 0.02, ten times longer) is the same: silent +30 % and +16.5 % with
   estimates 57 % and 91 % (γ 49–51 %, S 0).
 - ``hz_short_kink`` (silent, +14.0 % with an estimate 7.9 %, 0.57×): the kinks of g midway
   between nodes, T = 0.004 (ten steps of 0.0004, a third of the noise's time h²/λ across a
