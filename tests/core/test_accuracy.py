@@ -615,3 +615,30 @@ def test_a_gust_narrower_than_a_cell_between_the_nodes_warns():
         warnings.simplefilter("always")
         g.solve(_gust_problem(0.15))
     assert not any("drift changes between the nodes" in str(w.message) for w in caught)
+
+
+def test_a_large_error_on_a_few_states_is_warned_where_the_paths_confirm_it():
+    # A steep quadratic goal at a horizon far shorter than a cell's crossing (stranger round 14):
+    # ẋ = u, g = 50 |x − c|², λ = 0.05, T = 0.002, on 81² (h = 0.05), where the desirability is
+    # half a cell wide. Exact (Riccati, R = 1): v = Σ_k 50 (x_k − c_k)² / (1 + 100 T)
+    # + (λ/2) log(1 + 100 T). At the goal the solve is 83 % high (relative to max(|v|, λ)) on
+    # under a hundredth of the nodes, so the 90th percentile stays under 5 %; there the coarser
+    # solves and γ (the terminal cost's gap to its interpolant at the paths' ends) both exceed
+    # the tolerance, and the solve warns, naming the place.
+    c = np.array([0.31, -0.27])
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2, 2, 81)] * 2),
+        0.002,
+        g.costs.Quadratic(list(c), [50.0, 50.0]),
+        temperature=0.05,
+    )
+    with pytest.warns(g.ResolutionWarning, match="both put it") as record:
+        solution = g.solve(problem)
+    assert len(record) == 1
+    x = np.array([c, [0.335, -0.245]])
+    exact = (50 * (x - c) ** 2 / 1.2).sum(axis=1) + 0.05 * np.log(1.2)
+    scale = np.maximum(np.abs(exact), 0.05)
+    error = np.abs(solution.value(x) - exact)
+    assert np.all(error > 0.1 * scale)
+    assert np.all(solution.error_estimate(x) >= 0.5 * error)
