@@ -46,6 +46,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from .accuracy.estimate import check_combination
 from .errors import UnderflowWarning
 from .problem import Problem, state_evaluation
 from .representation import Fields, warn_underflow
@@ -449,7 +450,10 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
         schemes, or trajectory components — a :class:`Combination`, as accurate as its
         components (``exact`` False, and ``reason`` says why). Both have ``value``,
         ``log_desirability``, ``desirability``, ``policy`` (u = Σ α_i u_i) and
-        ``blend_weights`` α_i = w_i z_i / Σ_j w_j z_j.
+        ``blend_weights`` α_i = w_i z_i / Σ_j w_j z_j. Where the grid components carry error
+        estimates, combine warns (:class:`gridlbc.ResolutionWarning`) when the estimate they
+        carry to the combination exceeds the default tolerance relative to its value
+        (:func:`gridlbc.accuracy.estimate.check_combination`).
     """
     components = tuple(components)
     if not components:
@@ -461,9 +465,13 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
         solutions, operators = check_components(components)
         w = check_weights(weights, len(solutions))
         problem = composite_problem(solutions, w)
-        if not operators:
-            return CombinedSolution(solutions, w, problem)
-        return Combination(solutions, w, problem, f"{'; '.join(operators)}: {EXACT_HINT}")
+        combined: CombinedSolution | Combination = (
+            Combination(solutions, w, problem, f"{'; '.join(operators)}: {EXACT_HINT}")
+            if operators
+            else CombinedSolution(solutions, w, problem)
+        )
+        check_combination(combined)
+        return combined
     components = _check_general_components(components)
     w = check_weights(weights, len(components))
     kinds = sorted({type(c).__name__ for c in components})

@@ -78,6 +78,7 @@ its largest over them.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
@@ -734,6 +735,45 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     warn_user(
         f"the estimated error of {value} exceeds {tol:.0%} of |{symbol}| {where}, see "
         f"solution.error_estimate(x) at your own states.{loose} {change} (docs page 'accuracy')",
+        ResolutionWarning,
+    )
+
+
+def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
+    """Warn (:class:`gridlbc.ResolutionWarning`) when the estimate that a combination of grid
+    solutions carries, Σ_i abs(α_i) ê_i (:func:`gridlbc.combine.combined_error`), exceeds
+    ``tol`` relative to the combination's value at the :data:`QUANTILE` of the
+    :data:`ASSESSED` states that matter of its first component, with each ê_i its grid terms
+    (:meth:`EmbeddedEstimate.grid_terms`: no paths, so a combination stays a matter of
+    interpolations).
+
+    Why: weights far from one move the combination's value far from its components' (a weight
+    10³ lowers it by λ log 10³ where that component leads), while their absolute errors carry
+    over: a component 4 % off can leave a combination 30 % off, relative to its own smaller
+    value, and each component's solve judged only itself. Nothing is checked where a component
+    carries no estimate."""
+    components = combined.components
+    if not all(getattr(c, "embedded", None) is not None for c in components):
+        return
+    X = judged_states(components[0])
+    if len(X) == 0:
+        return
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # an underflowed blend was combine's to warn of
+        alpha = np.asarray(combined.blend_weights(X), dtype=float).reshape(len(X), -1)
+        value = combined.value(X)
+    grid = np.stack([c.embedded.grid_terms(c, X) for c in components], axis=1)
+    rel = relative_error(np.sum(np.abs(alpha) * grid, axis=1), value, combined.problem.temperature)
+    rel = rel[np.isfinite(rel)]
+    if len(rel) == 0 or (error := statistic(rel, False)) <= tol:
+        return
+    warn_user(
+        f"the estimated error of the combination's v exceeds {tol:.0%} of |v| at "
+        f"{np.mean(rel > tol):.0%} of the states that matter ({QUANTILE:.0%} of them are within "
+        f"{error:.1%}): its components' estimates carried by the blend weights, Σ|α_i| ê_i, "
+        "against a value that weights far from one move far from the components' own. See "
+        "combined.error_estimate(x) at your own states; solve the components on a finer grid, "
+        "or with tol= (docs page 'accuracy')",
         ResolutionWarning,
     )
 
