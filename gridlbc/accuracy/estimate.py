@@ -613,7 +613,9 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
 
 CONFIRMED = 64
 """At most this many of the states that matter, those with the largest grid terms above the
-tolerance, are checked along the solve's own paths by :func:`confirmed_locally`."""
+tolerance, are checked along the solve's own paths by :func:`confirmed_locally`, each from
+:data:`~gridlbc.accuracy.paths.PATH_SAMPLES` paths (as many paths in all as the quantile's
+states take: the largest of a few noisy means would otherwise read high)."""
 
 
 def confirmed_locally(solution, tol: float) -> tuple[float, np.ndarray]:
@@ -643,7 +645,7 @@ def confirmed_locally(solution, tol: float) -> tuple[float, np.ndarray]:
     if len(above) == 0:
         return none
     top = above[np.argsort(grid[above])[::-1][:CONFIRMED]]
-    gap = np.abs(cost_gap(solution, X[top], 0.0, ASSESSED_PATHS))
+    gap = np.abs(cost_gap(solution, X[top], 0.0, PATH_SAMPLES))
     both = np.fmin(grid[top], relative_error(gap, v[top], solution.temperature))
     worst = int(np.argmax(both))
     return float(both[worst]), X[top[worst]]
