@@ -72,8 +72,9 @@ typically far from where it ends, where v is largest. The relative estimate is r
 90th percentile, and S at its largest (a cost narrower than a cell changes v near it only, on a
 share of the states that may be far below a tenth: :func:`largest_response`). A finite horizon
 without an exit set is also judged, as before, at the better half, where its paths end up: a
-defect there is a share of the better half twice as large as of the box. With ``states=``, at
-its largest over them.
+defect there is a share of the better half twice as large as of the box. A large estimate on
+too few states for the percentile warns where the grid terms and γ both exceed the tolerance
+there (:func:`confirmed_locally`). With ``states=``, at its largest over them.
 """
 
 from __future__ import annotations
