@@ -916,6 +916,7 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
             exit_costs,
             coarse,
             lambda on, costs: _quietly(solve_first_exit_many, on.replace(grid=coarse), costs, s),
+            levels[0],  # the same solve: its base
         )
     attach_estimates(solutions, levels, pairs, excess, reason)
 
@@ -937,6 +938,7 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
         [],
         coarse,
         lambda on, _: [_quietly(solve_average_cost, on.replace(grid=coarse), s)],
+        levels[0],  # the same solve: its base
     )
     attach_estimates([solution], levels, pairs, [moved], reason=reason)
     response = 0.0  # S_c: what the excess moves c by on the embedded grid

@@ -1086,23 +1086,10 @@ COMBOS = {n: globals()[n] for n in ("combo_weights", "combo_cancel", "combo_canc
 
 
 def main(argv):
-    r12.P12, r12.OUT = P14, OUT  # round 12's runner and table on this round's problems
-    OUT.mkdir(exist_ok=True)
-    if "--table" in argv:
-        r12.table()
-        return
-    for name in [a for a in argv if not a.startswith("--")]:
-        if "--levels" in argv:
-            r12.levels(name)
-        elif "--finer" in argv:
-            r12.finer(name)
-        elif "--tol" in argv:
-            r13.P13, r13.OUT = P14, OUT  # round 13's solve(tol=0.03, states=X) against the truth
-            r13.tol_run(name)
-        else:
-            if "--truth" not in argv:
-                combo_quick(name) if name.startswith("combo") else r12.quick(name)
-            r12.truth(name)
+    # round 13's command line (round 12's runner and table, round 13's --tol) on this round's
+    # problems and combinations
+    r13.P13, r13.OUT, r13.combo_quick = P14, OUT, combo_quick
+    r13.main(argv)
 
 
 if __name__ == "__main__":

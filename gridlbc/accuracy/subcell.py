@@ -593,7 +593,7 @@ class Response:
         return np.where(np.isnan(response), 0.0, response)
 
 
-def responses(problem, terminal_costs, coarse: Grid, solve) -> list[Response]:
+def responses(problem, terminal_costs, coarse: Grid, solve, base=None) -> list[Response]:
     """The :class:`Response` of the coarse solves of ``problem`` with each of ``terminal_costs``
     to the costs' sub-cell excess.
 
@@ -614,6 +614,9 @@ def responses(problem, terminal_costs, coarse: Grid, solve) -> list[Response]:
         The grid of the coarse solves.
     solve : callable
         ``solve(problem, costs)`` → list of Solution, one per cost: the coarse solve.
+    base : list of Solution, optional
+        v_c[g, q] for each cost where the caller has it already (a stationary solve's embedded
+        level, made by the same ``solve``); solved here otherwise.
 
     Returns
     -------
@@ -636,6 +639,6 @@ def responses(problem, terminal_costs, coarse: Grid, solve) -> list[Response]:
         WithExcess(getattr(problem.replace(**{ending: g}), ending), coarse, dg)
         for g, dg in zip(terminal_costs, found.terminal, strict=True)
     ]
-    base = solve(problem, list(terminal_costs))
+    base = solve(problem, list(terminal_costs)) if base is None else list(base)
     raised = solve(problem.replace(**changes), costs)
     return [Response(b, r, bound) for b, r, bound in zip(base, raised, bounds, strict=True)]
