@@ -343,8 +343,8 @@ class StationarySolution(Solution):
     embedded : gridlbc.accuracy.EmbeddedEstimate or None
         The solves on the embedded grids (:meth:`error_estimate`).
     refinement : tuple of gridlbc.accuracy.Refinement
-        With ``solve(tol=...)`` of a first-exit problem: the solves that led to this one
-        (:func:`gridlbc.stationary.solve_first_exit_to_tolerance`); empty otherwise.
+        With ``solve(tol=...)`` of a first-exit or average-cost problem: the solves that led to this one
+        (:func:`gridlbc.stationary.solve_stationary_to_tolerance`); empty otherwise.
     average_cost : float or None
         The optimal cost per unit time c of an average-cost problem (its value is then the
         relative value h, min 0); None for first exit.

@@ -42,9 +42,9 @@ from .settings import SolverSettings, is_own_reference, resolve_settings
 from .solution import OperatorSignature, Solution, SolveDiagnostics
 from .stationary import (
     exit_nodes,
-    solve_first_exit_to_tolerance,
     solve_stationary,
     solve_stationary_many,
+    solve_stationary_to_tolerance,
 )
 from .storage import check_memory, memory_estimate
 
@@ -372,9 +372,9 @@ def solve(
         A relative tolerance on v: solve again, halving Δt or refining the grid, until the
         embedded error estimate meets it (:func:`gridlbc.accuracy.solve_to_tolerance`; the path
         taken is in ``solution.refinement``). Default: one solve, which warns when its estimate
-        exceeds :data:`gridlbc.accuracy.DEFAULT_TOLERANCE`. For a first-exit problem without a
-        horizon the grid alone is refined
-        (:func:`gridlbc.stationary.solve_first_exit_to_tolerance`).
+        exceeds :data:`gridlbc.accuracy.DEFAULT_TOLERANCE`. For a problem without a horizon
+        (first exit, average cost: there on the relative value h and on c) the grid alone is
+        refined (:func:`gridlbc.stationary.solve_stationary_to_tolerance`).
     states : array_like (N, d), optional
         With ``tol``: the states where it must hold (default: the states that matter,
         :func:`gridlbc.accuracy.states_that_matter`).
@@ -407,7 +407,7 @@ def solve(
                 "time-march settings: give its options by name (rates=, linear_solver=)"
             )
         if tol is not None:
-            return solve_first_exit_to_tolerance(
+            return solve_stationary_to_tolerance(
                 problem, tol, states, max_nodes, max_seconds=max_seconds, **options
             )
         _check_tolerance_options(states, max_nodes, max_seconds)

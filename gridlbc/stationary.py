@@ -105,7 +105,7 @@ reports (beyond them, while :data:`BYTES_PER_NODE` per unknown fits in half of i
 BYTES_PER_NODE = 2500
 """Peak memory of a first-exit solve by sparse LU per grid node (2.2 kB measured on 401² and
 801² grids, 1.9 kB on 1608×1601), for the choice of ``"auto"`` and for
-:func:`solve_first_exit_to_tolerance`'s check before refining."""
+:func:`solve_stationary_to_tolerance`'s check before refining."""
 
 MAX_ITERATIONS = 5_000
 """Iterations of BiCGSTAB (restarts of GMRES: a tenth) before it counts as not converged."""
@@ -707,7 +707,7 @@ def _package(problem, label, z, top, start, setup, iterations, digest) -> Statio
 
 
 def stationary_work_exponent(method: str, ndim: int) -> float:
-    """The power of the nodes ratio by which :func:`solve_first_exit_to_tolerance` scales a
+    """The power of the nodes ratio by which :func:`solve_stationary_to_tolerance` scales a
     round's time to predict the next one's (:func:`gridlbc.accuracy.predicted_seconds`), for the
     linear solver ``method`` (resolved, :func:`_method`) of the planned grid.
 
@@ -727,7 +727,7 @@ def stationary_work_exponent(method: str, ndim: int) -> float:
     return 1.7
 
 
-def solve_first_exit_to_tolerance(
+def solve_stationary_to_tolerance(
     problem: Problem,
     tol: float,
     states=None,
@@ -736,11 +736,19 @@ def solve_first_exit_to_tolerance(
     max_seconds: float | None = None,
     **options,
 ) -> StationarySolution:
-    """Solve a first-exit problem on finer and finer grids (h → h/2 along the axes that limit
-    it, :func:`gridlbc.accuracy.axes_to_refine`) until its embedded error estimate meets ``tol`` (:func:`gridlbc.accuracy.assess`), or ``max_nodes``,
-    the memory, ``max_refinements`` or the time budget ``max_seconds`` stops it (then a
+    """Solve a first-exit or an average-cost problem on finer and finer grids (h → h/2 along the
+    axes that limit it) until its embedded error estimate meets ``tol``, or ``max_nodes``, the
+    memory, ``max_refinements`` or the time budget ``max_seconds`` stops it (then a
     :class:`gridlbc.ResolutionWarning` says which). :func:`gridlbc.solve` calls this for
     ``solve(problem, tol=...)``.
+
+    A round's error is the relative estimate of v at ``states`` (:func:`gridlbc.accuracy.assess`);
+    for the average cost, the larger of that of the relative value h and c's own,
+    ê_c / c (``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate`): c is what an
+    average-cost solve is asked for first, and h's estimate does not bound it. The axes refined
+    are those whose share of the larger error is at least half the largest share: h's shares by
+    :func:`gridlbc.accuracy.axes_to_refine`, c's by :func:`_shares_of_c`, from the same solves
+    with one axis coarsened.
 
     Before each refinement its round's time (the solve, its embedded solves and the solves with
     one axis coarsened that steer the next) is predicted from the last round's: its wall time
@@ -752,11 +760,12 @@ def solve_first_exit_to_tolerance(
     Parameters
     ----------
     problem : Problem
-        A first-exit problem without a horizon; its grid is the first one tried.
+        A problem without a horizon (first exit) or with ``horizon="average"``; its grid is the
+        first one tried.
     tol : float
-        The relative tolerance on v, in (0, 1).
+        The relative tolerance on v (on h and c for the average cost), in (0, 1).
     states : array_like (N, d), optional
-        Where it must hold (default: the states that matter).
+        Where v (h) must meet it (default: the states that matter).
     max_nodes : int, optional
         Refine no further than this many nodes.
     max_refinements : int
@@ -773,8 +782,6 @@ def solve_first_exit_to_tolerance(
         The last solve, with :attr:`~gridlbc.Solution.refinement` (one
         :class:`~gridlbc.accuracy.Refinement` per grid, ``dt`` 0).
     """
-    if problem.average_cost:
-        raise ValueError("tol= applies to first-exit problems, not to the average cost")
     check_tolerance(tol, options)
     check_budget(max_seconds)
     clock = time.perf_counter()
@@ -785,15 +792,15 @@ def solve_first_exit_to_tolerance(
         started = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", ResolutionWarning)
-            solution = solve_first_exit(problem, s)
-            _embed(problem, s, solution)
+            solution = _solved(problem, s)
         a = assess(solution, tol, states)
         if a is None and embedded_grid(solution.grid) is None:
             raise unestimated(solution.grid)
         error = UNPOSED if a is None else a.error  # None: refine until the coarser grid poses it
+        c_error = _relative_error_of_c(solution)
         solved = time.perf_counter() - started
-        history.append(Refinement(solution.grid.shape, 0.0, error, np.nan, solved))
-        if error <= tol or len(history) > max_refinements:
+        history.append(Refinement(solution.grid.shape, 0.0, max(error, c_error), np.nan, solved))
+        if history[-1].error <= tol or len(history) > max_refinements:
             break
         here = f"grid {'×'.join(map(str, solution.grid.shape))} or finer"
         limit = over_budget(max_seconds, time.perf_counter() - clock, here, solved, least=True)
@@ -803,7 +810,12 @@ def solve_first_exit_to_tolerance(
         if a is None:  # the grid with every other node cannot pose the problem: every axis
             axes, shares = list(range(solution.grid.ndim)), np.full(solution.grid.ndim, np.nan)
         else:
-            axes, shares = axes_to_refine(solution, partial(_solve_quietly, problem, s), states)
+            coarsened: dict[tuple[int, ...], StationarySolution | None] = {}
+            axes, shares = axes_to_refine(
+                solution, partial(_solve_quietly, problem, s, kept=coarsened), states
+            )
+            if c_error > error:
+                axes, shares = _shares_of_c(solution, coarsened)
         finer = refined_grid(solution.grid, axes)
         seconds = time.perf_counter() - started
         method = _method(s, finer.ndim, finer.size)
@@ -836,13 +848,45 @@ def solve_first_exit_to_tolerance(
     return solution
 
 
-def _solve_quietly(problem: Problem, s: StationarySettings, grid: Grid):
-    """The first-exit solve of ``problem`` on ``grid`` without its warnings, or None where the
-    exit set or the costs are not resolved on that grid."""
+def _relative_error_of_c(solution: StationarySolution) -> float:
+    """ê_c / c of an average-cost solve (0 for first exit; 0 where both are 0)."""
+    if solution.average_cost_error is None:
+        return 0.0
+    c = abs(_average_cost(solution))
+    if c > 0:
+        return solution.average_cost_error / c
+    return 0.0 if solution.average_cost_error == 0 else np.inf
+
+
+def _shares_of_c(solution: StationarySolution, coarsened: dict) -> tuple[list[int], np.ndarray]:
+    """Each axis's share of c's error, abs(c_i − c) / c with c_i from the solve with that axis
+    alone coarsened (``coarsened``, by grid shape; NaN where there is none), and the axes whose
+    share is at least half the largest (every axis where none is known)."""
+    c = _average_cost(solution)
+    shares = np.full(solution.grid.ndim, np.nan)
+    for i in range(solution.grid.ndim):
+        grid = embedded_grid(solution.grid, axes=(i,))
+        other = None if grid is None else coarsened.get(grid.shape)
+        if other is not None and c != 0:
+            shares[i] = abs(_average_cost(other) - c) / abs(c)
+    if not np.any(np.isfinite(shares)):
+        return list(range(solution.grid.ndim)), shares
+    top = np.nanmax(shares)
+    return [i for i in range(solution.grid.ndim) if not shares[i] < 0.5 * top], shares
+
+
+def _solve_quietly(problem: Problem, s: StationarySettings, grid: Grid, kept=None):
+    """The stationary solve of ``problem`` on ``grid`` without its estimate and warnings, or None
+    where the exit set or the costs are not resolved on that grid; also kept in ``kept`` (a
+    dict, by the grid's shape) where given."""
+    solve = solve_average_cost if problem.average_cost else solve_first_exit
     try:
-        return _quietly(solve_first_exit, problem.replace(grid=grid), s)
+        solution = _quietly(solve, problem.replace(grid=grid), s)
     except ValueError:
-        return None
+        solution = None
+    if kept is not None:
+        kept[grid.shape] = solution
+    return solution
 
 
 def solve_stationary_many(problem: Problem, exit_costs, **options) -> list:
@@ -884,7 +928,12 @@ def solve_stationary(problem: Problem, **options) -> StationarySolution:
     -------
     StationarySolution
     """
-    s = stationary_settings(options)
+    return _solved(problem, stationary_settings(options))
+
+
+def _solved(problem: Problem, s: StationarySettings) -> StationarySolution:
+    """:func:`solve_stationary` with its settings: the solve, and its estimate unless
+    ``s.error_estimate`` is False."""
     if not problem.average_cost:
         solution = solve_first_exit(problem, s)
         if s.error_estimate:

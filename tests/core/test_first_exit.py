@@ -546,6 +546,40 @@ def test_average_cost_estimate_sees_a_feature_between_the_nodes(q0, lam, off, sa
     assert any("relative value h" in m for m in messages), messages
 
 
+def test_average_cost_to_a_tolerance_meets_it_for_c_and_h():
+    # From 21 nodes (estimate 52 %) the grid is halved until c's relative estimate and h's
+    # at the states both meet 0.5 %; then c against Riccati and h = x² (up to h's own
+    # normalisation, min 0 at the nodes: x = 0 is a node) are within it.
+    x = np.array([[0.5], [1.0], [2.0]])
+    solution = g.solve(quadratic_average(21), tol=0.005, states=x)
+    errors = [r.error for r in solution.refinement]
+    assert len(errors) >= 3 and errors[-1] <= 0.005 < errors[0]
+    exact = LAM / R * np.sqrt(Q * R / 2)
+    assert abs(solution.average_cost - exact) <= 0.005 * exact
+    h, truth = solution.value(x), np.sqrt(Q * R / 2) * x[:, 0] ** 2
+    assert np.all(np.abs(h - truth) <= 0.005 * np.maximum(truth, LAM))
+
+
+def test_average_cost_to_a_tolerance_refines_the_axis_that_limits_c():
+    # The narrow well of the test above on an 80² torus: c is 3.7 % high, h's error is spread
+    # over the box. Where c's estimate is the larger, the solves with one axis coarsened steer
+    # by c's own shares: the well's axis alone is refined at the end, and c is then within tol
+    # of the two 1-D eigenvalues.
+    problem = g.Problem(
+        LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2, 2, 80, periodic=True)] * 2),
+        "average",
+        state_cost=lambda x: _well(x[:, 0]) + _ripple(x[:, 1]),
+        temperature=0.05,
+    )
+    solution = g.solve(problem, tol=0.02)
+    shapes = [r.shape for r in solution.refinement]
+    assert shapes[-1][0] == 2 * shapes[-2][0] and shapes[-1][1] == shapes[-2][1], shapes
+    exact = _ground_state(_well, 0.05) + _ground_state(_ripple, 0.05)
+    assert abs(solution.average_cost - exact) <= 0.02 * exact
+    assert solution.refinement[-1].error <= 0.02
+
+
 def _quietly(problem):
     with pytest.warns(g.ResolutionWarning, match="error of the relative value h"):  # not c
         return g.solve(problem)
