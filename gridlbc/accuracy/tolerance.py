@@ -16,7 +16,9 @@ where the levels do not converge at first order, the largest shares by 2. Where 
 converge, the estimate cannot prove a tolerance it meets (it is far above the error on 4-D
 grids of a few dozen nodes per axis): at a few states given by the user, certificates measure
 the error itself (:func:`certified_error`) and end the solve when they prove ``tol``. The path
-is in :attr:`gridlbc.Solution.refinement`. A default solve whose estimate exceeds
+is in :attr:`gridlbc.Solution.refinement`. A round is met only where the step's own share
+(a solve at 2Δt) meets ``tol`` too, and where the drift does not change between the nodes faster
+than the grid follows (:mod:`gridlbc.accuracy.flow`). A default solve whose estimate exceeds
 :data:`DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the estimate and what to
 change.
 """
@@ -46,6 +48,7 @@ from .estimate import (
     relative_error,
     statistic,
 )
+from .flow import FLOW_CELLS, check_flow, flow_excess
 from .grids import (
     embedded_grid,
     scaled_grid,
@@ -209,8 +212,21 @@ class Refinement:
     predicted_seconds: float = np.nan
 
     def met(self, tol: float) -> bool:
-        """Whether this round proved ``tol``: by its estimate or at certified states."""
-        return bool(self.error <= tol or self.certified_error <= tol)
+        """Whether this round proved ``tol``: by its estimate (and the step's share where it was
+        measured) or at certified states."""
+        return bool(
+            (self.error <= tol and not self.time_error > tol) or self.certified_error <= tol
+        )
+
+
+def _step_share(solution, problem, settings, states) -> float:
+    """The step's share of the error of ``solution``: ê_t = abs(v_{h,2Δt} − v_{h,Δt}) relative to
+    v (:func:`statistic` at the judged states), from one more solve on the same grid at twice
+    the step (the error of a first-order step, or more)."""
+    dt, steps = solution.diagnostics.dt, solution.diagnostics.steps
+    half = _march_quietly(problem, settings, 2 * dt, steps, problem.grid)
+    rel = relative_difference(solution, half, judged_states(solution, states))
+    return statistic(rel, states is not None)
 
 
 def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:
@@ -350,6 +366,18 @@ def solve_to_tolerance(
     - outside it, every axis by 2 with the scheme's default step for the finer grid (or half
       the current step once one has been set).
 
+    A round whose estimate meets ``tol`` is confirmed by the step's own share ê_t (the solve
+    at 2Δt on the same grid): the embedded solve doubles the step and coarsens the grid at
+    once, and where the two errors it changes cancel (a drift that changes faster along a path
+    than the step follows, whose error the coarser grid happens to offset) it reads far less
+    than either. Where ê_t exceeds ``tol`` the step alone is refined, by ê_t / tol (at most the
+    reach). And a round is not met where the drift changes between the nodes faster than the
+    grid follows (:func:`~gridlbc.accuracy.flow_excess`: F ≥ :data:`FLOW_CELLS` cells a step and
+    an observed order below 1): the coarser solves step over such a gust alike, and the step is
+    refined until F is below :data:`FLOW_CELLS` (F ∝ Δt/h: by F/:data:`FLOW_CELLS` times the
+    largest axis factor); if the solve ends with it unresolved, it warns as the default solve
+    does (:func:`~gridlbc.accuracy.check_flow`).
+
     Where the levels do not converge (the estimate is then rough in either direction) and the
     user gave at most :data:`CERTIFIED_STATES` states, a round whose estimate misses ``tol`` is
     also judged by certificates at those states (:func:`certified_error`), and ends the solve if
@@ -419,6 +447,7 @@ def solve_to_tolerance(
     # predicted for it; each such round doubles the reach, a miss resets it.
     reach, predicted = 2.0, np.nan
     measured = None  # (seconds, nodes × steps) of the last round run: what predicts the next
+    flow = 0.0  # F of the last round where the grid does not follow the drift (flow_excess)
     while True:
         if measured is not None:
             planned_dt, n = planned_step(problem, dataclasses.replace(base, dt=dt))
@@ -461,18 +490,20 @@ def solve_to_tolerance(
         time_error = certified = np.nan
         if error > tol and certifiable(solution, states):
             certified = certified_error(solution, judged_states(solution, states), tol)
-        done = error <= tol or certified <= tol or len(history) >= max_refinements
+        cells, flow_order, _ = flow_excess(solution)
+        flow = cells if cells >= FLOW_CELLS and not flow_order >= 1.0 else 0.0
+        if error <= tol and not flow:  # confirmed by the step's own share
+            time_error = _step_share(solution, problem, base, states)
+        met = (error <= tol and not flow and time_error <= tol) or certified <= tol
+        done = met or len(history) >= max_refinements
         least = np.nan  # where the time left would not hold even a round like this one
         if not done and max_seconds is not None:
             here = f"grid {'×'.join(map(str, problem.grid.shape))} or finer"
             stop = over_budget(max_seconds, time.perf_counter() - clock, here, solved, least=True)
             if stop:
                 done, limit, least = True, stop, solved
-        if not done:
-            steps = solution.diagnostics.steps
-            half = _march_quietly(problem, base, 2 * solution.diagnostics.dt, steps, problem.grid)
-            rel = relative_difference(solution, half, judged_states(solution, states))
-            time_error = statistic(rel, states is not None)
+        if not done and error > tol:
+            time_error = _step_share(solution, problem, base, states)
         history.append(
             Refinement(
                 problem.grid.shape,
@@ -499,31 +530,43 @@ def solve_to_tolerance(
         step, steps = solution.diagnostics.dt, solution.diagnostics.steps
         solve_on = partial(_march_quietly, problem, base, step, steps)
         embedded = solution.embedded
-        if embedded is None:  # the grid with every other node cannot pose the problem
-            shares = np.full(problem.grid.ndim, np.nan)
-            reason = "no estimate: the grid with every other node cannot pose the problem"
-        else:
-            shares, whole = axis_shares(solution, solve_on, states)
-            reason = unsteerable(embedded, error, shares, whole, time_error)
-        if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
-            factors = np.full(problem.grid.ndim + 1, 2.0)
-        else:
-            assert embedded is not None  # unsteerable says why where it is missing
-            components = np.append(shares, time_error)
-            orders = np.append(np.full(problem.grid.ndim, embedded.order), 1.0)
-            scale = error / np.nansum(components)  # the components add up to the estimate
-            factors = np.minimum(refinement_factors(scale * components, orders, tol), reach)
-            if not embedded.converging:
-                # levels not converging at first order: the shares, measured between h and 2h,
-                # say which parts limit the error but not how far beyond h/2 the model holds:
-                # refine by 2 those at least half the largest (the others alone gain little)
-                top = np.nanmax(components)
-                factors = np.where(components >= 0.5 * top, np.minimum(factors, 2.0), 1.0)
-                reason = (
-                    f"observed order {embedded.observed_order:.2f} < 1: the largest shares by 2"
-                )
+        shares = np.full(problem.grid.ndim, np.nan)
+        factors = np.ones(problem.grid.ndim + 1)  # met but for the step or the flow: the step
+        reason = ""
+        if error <= tol and time_error > tol:  # the estimate met tol, the step's share did not
+            factors[-1] = min(time_error / tol, reach)
+            reason = f"the step's own share {time_error:.2%} (the estimate {error:.2%})"
+        elif error > tol:
+            if embedded is None:
+                reason = "no estimate: the grid with every other node cannot pose the problem"
             else:
-                predicted = float(np.nansum(scale * components * factors**-orders))
+                shares, whole = axis_shares(solution, solve_on, states)
+                reason = unsteerable(embedded, error, shares, whole, time_error)
+            if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
+                factors[:] = 2.0
+            else:
+                assert embedded is not None  # unsteerable says why where it is missing
+                components = np.append(shares, time_error)
+                orders = np.append(np.full(problem.grid.ndim, embedded.order), 1.0)
+                scale = error / np.nansum(components)  # the components add up to the estimate
+                factors = np.minimum(refinement_factors(scale * components, orders, tol), reach)
+                if not embedded.converging:
+                    # levels not converging at first order: the shares, measured between h and
+                    # 2h, say which parts limit the error but not how far beyond h/2 the model
+                    # holds: refine by 2 those at least half the largest (the others alone
+                    # gain little)
+                    top = np.nanmax(components)
+                    factors = np.where(components >= 0.5 * top, np.minimum(factors, 2.0), 1.0)
+                    reason = (
+                        f"observed order {embedded.observed_order:.2f} < 1: the largest shares by 2"
+                    )
+                else:
+                    predicted = float(np.nansum(scale * components * factors**-orders))
+        if flow:  # F = max |a − I a| Δt / h, ∝ Δt and at most ∝ 1/h on the grid refined
+            factors[-1] = max(factors[-1], flow / FLOW_CELLS * factors[:-1].max())
+            reason = "; ".join(
+                filter(None, [reason, f"the drift between the nodes: {flow:.2g} cells a step"])
+            )
         history[-1] = dataclasses.replace(
             history[-1],
             axis_errors=tuple(shares.tolist()),
@@ -534,7 +577,7 @@ def solve_to_tolerance(
             plan = "refine by " + ", ".join(f"{f:.2f}" for f in factors)
             plan += f" ({reason})" if reason else ""
             print(f"tol: shares {np.round(shares, 4)}, step {time_error:.4f}: {plan}", flush=True)
-        if np.all(factors == 2.0):
+        if np.all(factors == 2.0) and not flow:
             next_dt = None if dt is None else step / 2
         else:
             next_dt = step / factors[-1]
@@ -559,6 +602,8 @@ def solve_to_tolerance(
     if limit.startswith("the time budget"):
         advice = "raise max_seconds or loosen tol"
     finish(solution, tol, history, where, limit, max_refinements, advice)
+    if flow:
+        check_flow(solution)
     return solution
 
 
@@ -659,8 +704,13 @@ def finish(
             if np.isnan(last.certified_error)
             else f" (certified at your states: {last.certified_error:.1%})"
         )
+        step = (
+            f" (the step's own share, from a solve at twice the step: {last.time_error:.1%})"
+            if last.error <= tol < last.time_error
+            else ""
+        )
         warn_user(
-            f"solve(tol={tol:g}) reached an estimated error of {last.error:.1%}{certified} on "
-            f"{where}, not {tol:.1%}: {why}; {advice}",
+            f"solve(tol={tol:g}) reached an estimated error of {last.error:.1%}{step}{certified} "
+            f"on {where}, not {tol:.1%}: {why}; {advice}",
             ResolutionWarning,
         )

@@ -620,6 +620,41 @@ def test_a_gust_narrower_than_a_cell_between_the_nodes_warns():
     assert not any("drift changes between the nodes" in str(w.message) for w in caught)
 
 
+HEADWIND_STATES = np.array([[-1.0], [-0.3]])
+HEADWIND_TRUTH = np.array([2.15499, 1.75435])
+"""v of the 0.02-wide gust at HEADWIND_STATES: stranger round 13's Crank–Nicolson solve of
+hz_headwind (40 001 nodes, T/8000; within 0.001 % of 20 001 nodes and T/4000)."""
+
+
+def test_tol_refines_the_step_through_a_gust_and_confirms_it_by_the_steps_share():
+    # solve(tol=) on the narrow gust: the first round's estimate meets tol (0.08 %), but the drift
+    # check reads F = 13 cells a step, so the step alone is refined by F / ½ (F ∝ Δt). Then the
+    # estimate reads 32 % and the grid is refined; on 161 nodes at that step the estimate meets
+    # tol again (0.8 %: the 81-node embedded solve at 2Δt is as far off the other way), but the
+    # step's own share, from a solve at 2Δt on 161 nodes, reads 13 %: not met, and with no
+    # refinement left the solve says so, naming the step's share.
+    with pytest.warns(g.ResolutionWarning, match="the step's own share") as record:
+        solution = g.solve(_gust_problem(0.02), tol=0.03, states=HEADWIND_STATES, max_refinements=2)
+    first, second, third = solution.refinement
+    assert first.error <= 0.03 and "drift between the nodes" in first.reason
+    cells = float(first.reason.split(": ")[1].split(" cells")[0])
+    assert second.dt == pytest.approx(first.dt * 0.5 / cells, rel=0.05)
+    assert second.error > 0.03 and third.shape == (161,)
+    assert third.error <= 0.03 < third.time_error
+    assert len(record) == 1
+
+
+@pytest.mark.slow
+def test_tol_through_a_gust_ends_within_tol_of_the_truth():
+    # The same solve with its default refinements: met on 345 nodes at Δt = 0.0006 (the step's
+    # share 1.9 %), v then 0.7 % and 1.4 % from the Crank–Nicolson truth (13–36 % before the
+    # drift check and the step's share steered it).
+    solution = g.solve(_gust_problem(0.02), tol=0.03, states=HEADWIND_STATES)
+    assert solution.refinement[-1].met(0.03)
+    error = np.abs(solution.value(HEADWIND_STATES) - HEADWIND_TRUTH) / HEADWIND_TRUTH
+    assert np.all(error <= 0.03), error
+
+
 def test_a_large_error_on_a_few_states_is_warned_where_the_paths_confirm_it():
     # A steep quadratic goal at a horizon far shorter than a cell's crossing (stranger round 14):
     # ẋ = u, g = 50 |x − c|², λ = 0.05, T = 0.002, on 81² (h = 0.05), where the desirability is
