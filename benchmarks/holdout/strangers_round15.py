@@ -145,10 +145,14 @@ here):
   not reach the residual 1e-12 in 50 shifts (18 Krylov iterations)``): the solve itself (25⁴,
   BiCGSTAB, 15 s) succeeds (c 0.7841, −2.7 %); the failure is the estimate's 4h level, 7⁴ =
   2401 nodes. In more than two dimensions ``linear_solver="auto"`` is BiCGSTAB whatever the
-  size, and on that 7⁴ grid (cells 1.33 and 1.67 wide) BiCGSTAB stalls; the average cost's eigen-iteration has no GMRES fallback (first exit does), and the
-  exception from an embedded level propagates out of ``gridlbc.solve``. The same 4h problem
-  with ``linear_solver="direct"`` takes 0.07 s and with ``"gmres"`` 0.37 s (c 0.17106 both);
-  the whole default solve with ``linear_solver="gmres"`` did not finish in 500 s. The levels
+  size (``stationary._method``), so the eigenpair is Noda's inverse iteration with BiCGSTAB
+  inner solves (GMRES where BiCGSTAB stalls), not ARPACK on an LU; on the 7⁴ grid (cells 1.33
+  and 1.67 wide) it stops after its 50 shifts with 18 Krylov iterations in all, so at least 32
+  shifts took no iteration (their inner solves, at the loose backward tolerance it sets,
+  accepted the warm start e/(σ − ρ)) and e did not move; the RuntimeError from that embedded
+  level propagates out of ``gridlbc.solve``. The same 4h problem with ``linear_solver=
+  "direct"`` (ARPACK) takes 0.07 s and with ``"gmres"`` (Noda with GMRES) 0.37 s (c 0.17106
+  both); the whole default solve with ``linear_solver="gmres"`` did not finish in 500 s. The levels
   (2h 13⁴: c 0.5413, h 2.079 at (1, −1, 0.5, 0.5); pair 12⁴/14⁴: 0.857/0.821) differ from the
   solve by 31 % in c and 36 % in h there, so had the 4h level returned the estimate would have
   read far above the errors (−2.7 % in c, +16.7 % in h) and warned.
@@ -169,11 +173,15 @@ here):
   under), warned. The rest of ``avg_mass_cold``'s h error at (1, −1) (−9.5 %, est 7.1 %, 0.74×)
   is resolution: h/2 0.7098, h/4 0.7284 against 0.7547.
 - False alarm ``fe_two_doors`` (every error ≤ 0.26 %, S 38 % at (−0.9, 0)): the sub-cell excess
-  S samples the exit cost g_E between the nodes of the cells next to the exit set, and the
-  user's g_E (``np.where(x₀ ≤ −1, 1.2, 0)``: 1.2 on the dear door, 0 on the free one) steps
-  from 1.2 to 0 between the door's node −1 and the interior node −0.95, where no path pays it
-  (off E). ``fe_two_doors_mid`` is the same problem with g_E's step moved off E to 0.275 (the
-  same values on both doors): S is 0 everywhere, the estimate 0.38–0.68 %, no warning.
+  of the exit cost (``accuracy.subcell.excess``) is sampled on the lattice of the whole box,
+  and the excess at a coarse node is the soft minimum of g_E over that node's hat, one coarse
+  cell each way: at the dear door's nodes (x₀ = −1) the hat reaches off E, where the user's g_E
+  (``np.where(x₀ ≤ −1, 1.2, 0)``: 1.2 on the dear door, 0 on the free one) is 0 and no path pays
+  it, so the coarse solve with the excess makes the dear door's nodes nearly free (a soft
+  minimum of 1.2 and 0 at λ = 0.2) and v near them falls by up to 40 %.
+  ``fe_two_doors_mid`` is the same problem with g_E's step moved off E to 0.275 (the same
+  values on both doors; its hats there hold no node of E): S is 0 everywhere, the estimate
+  0.38–0.68 %, no warning.
 - False alarm ``hz_two_doors`` (errors ≤ 0.22 %; warned): S as in ``fe_two_doors`` (S samples
   g_E with a horizon too: 0.491 at (−0.9, 0); with the step moved to 0.275 it is 0), and, with
   it moved, the warning stays from round 12's ``hz_smooth`` mechanism: with a horizon the exit
@@ -188,8 +196,8 @@ here):
   states falls from 12.8/9.8/1.1 % to 1.1/1.2/0.02 %. (ii) the step between the doors' own
   costs (0.6 and 0) at the corner (1.5, 1.5), which every cell touching the corner straddles:
   the warning ("near [1.45, 1.45]") stays with both off-E completions tried (the corner nodes
-  given 0.6 or 0). The corner's discontinuity
-  is in the boundary data at one point and the solve resolves it (errors above).
+  given 0.6 or 0). The corner's discontinuity is in the boundary data at one point and the
+  solve resolves it (errors above).
 - Near misses, warned and covered: ``mass_pair_aniso`` (+7.0 %, estimates 31–34 %: the 100×
   dearer input leaves its velocity nearly noiseless, transport on a 25⁴ grid), ``mass_pair_4d``
   (+4.7 %, 22 %), ``barrier_cold`` (−5.8 % with 15.4 % at λ = 0.01 crossing the band).
@@ -996,7 +1004,7 @@ def quick(name):
     try:
         return _quick12(name)
     except RuntimeError as ex:
-        build, X, *_ = P15[name]
+        build, X, *_ = (P15 | EXTRA15)[name]
         p = build()
         print(f"{name}: the default solve raised RuntimeError: {ex}", flush=True)
         t0 = time.perf_counter()
