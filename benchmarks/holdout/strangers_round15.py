@@ -200,7 +200,13 @@ here):
   solve resolves it (errors above).
 - Near misses, warned and covered: ``mass_pair_aniso`` (+7.0 %, estimates 31–34 %: the 100×
   dearer input leaves its velocity nearly noiseless, transport on a 25⁴ grid), ``mass_pair_4d``
-  (+4.7 %, 22 %), ``barrier_cold`` (−5.8 % with 15.4 % at λ = 0.01 crossing the band).
+  (+4.7 %, 22 %), ``barrier_cold`` (−5.8 % with 15.4 % at λ = 0.01 crossing the band): all of
+  it is the default step Δt = 0.2 (T/10), which steps over the crossing: v(−1, 0) on h, 2h, 4h,
+  pair 2.075, 2.067, 2.194, 2.127 / 2.118, and h/2, h/4 at their defaults (Δt 0.167, 0.143)
+  2.100, 2.102; the 121² grid at Δt = 0.05, 0.01, 0.002 gives 2.199, 2.205, 2.205 and 241² at
+  Δt = 0.002 2.2043 (truth 2.2041: the library's own converged solve is a second check of the
+  CN truth, 1.9648 against 1.9653 at (−0.2, −1)). The levels' steps 2Δt, 4Δt let the embedded
+  difference see it (unlike round 13's ``hz_headwind``).
 - Quiet and right: ``quad_drift_4d`` (user's nonlinear 4-D drift, ≤ 0.26 %), ``lq_filter_3d``,
   the headwind at λ = 0.1, the shear torus (≤ 0.21 %), ``avg_spin_3d``, ``plateau_hot`` (λ = 3,
   exact to 1e-4), ``wall_press_cold`` (λ = 0.01 pressing on two walls, 1e-5).
