@@ -11,6 +11,7 @@ from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_b
 from .costs import Quadratic
 from .errors import (
     CertificateWarning,
+    ConvergenceError,
     GridlbcWarning,
     ProjectionWarning,
     ResolutionWarning,
@@ -37,6 +38,7 @@ __all__ = [
     "CertificateWarning",
     "Combination",
     "CombinedSolution",
+    "ConvergenceError",
     "Grid",
     "GridlbcWarning",
     "NaiveBlend",

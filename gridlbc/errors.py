@@ -36,6 +36,11 @@ class TrajectoryWarning(GridlbcWarning, RuntimeWarning):
     """An expansion was built around a trajectory whose optimisation did not converge."""
 
 
+class ConvergenceError(RuntimeError):
+    """An iterative linear solve or eigen-solve did not reach its residual; the message says what
+    to change (a direct solver, a larger residual, a smaller step)."""
+
+
 def warn_user(message: str, category: type[Warning]) -> None:
     """``warnings.warn(message, category)`` attributed to the first frame outside the gridlbc
     package: the user's own call, however deep inside the library the result was judged (what

@@ -72,7 +72,7 @@ from .accuracy import (
     stationary_gap,
     unestimated,
 )
-from .errors import GridlbcWarning, ResolutionWarning, warn_user
+from .errors import ConvergenceError, GridlbcWarning, ResolutionWarning, warn_user
 from .grid import Grid
 from .problem import Problem
 from .schemes.generator import RATES, Generator, exit_generator, generator_matrix
@@ -305,7 +305,7 @@ def _iterative(
         z, more = _krylov(A, b, residual, "gmres", guess)
         iterations += more
     if z is None:
-        raise RuntimeError(
+        raise ConvergenceError(
             f"the Krylov solve did not reach the relative residual {residual:g} in "
             f"{iterations} iterations: give linear_solver='direct' if its factorisation fits "
             "in memory"
@@ -573,7 +573,9 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
       is an M-matrix, solved as the first-exit system is (rows scaled, BiCGSTAB, ILU-GMRES where
       it stalls), from the guess y₀ = e_k / (σ_k − ρ_k), to the backward error
       η_k = max(``residual``, min(10⁻², r_k / 10)), r_k the eigen-residual of e_k below: it stops
-      at ‖A y − b‖ ≤ η_k ‖A‖_∞ ‖y₀‖ (at most 0.1 ‖b‖). e_{k+1} is then an exact step of a
+      at ‖A y − b‖ ≤ η_k ‖A‖_∞ ‖y₀‖ (at most 0.1 ‖b‖, and at most a tenth of the guess's own
+      residual: near the eigenvector the guess nearly solves the system, and a solve that
+      accepted it would leave e and σ where they were). e_{k+1} is then an exact step of a
       matrix within η_k of the scaled σ_k I − M, so the eigen-residual falls to about η_k per
       shift, while the nearly singular last systems (‖y‖ ≈ ‖e‖ / (σ_k − μ), far above ‖b‖) are
       not solved to a residual relative to ‖b‖ that they need not and often cannot reach.
@@ -651,10 +653,15 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
         # the backward error max(residual, min(10⁻², r_k/10)) as a residual relative to b:
         # ‖A y − b‖ ≤ η ‖A‖ ‖y‖ with ‖y‖ ≈ ‖e‖ / (σ − ρ)
         backward = max(s.residual, min(1e-2, 0.1 * error))
-        growth = 1.0
+        target = 0.1
         if guess is not None:
-            growth = float(abs(A).sum(axis=1).max() * np.linalg.norm(guess) / np.linalg.norm(b))
-        y, iterations = _iterative(A, b, s, method, guess, min(0.1, backward * max(growth, 1.0)))
+            scale = float(np.linalg.norm(b))
+            growth = float(abs(A).sum(axis=1).max() * np.linalg.norm(guess) / scale)
+            # near the eigenvector the guess itself nearly solves the system: ask for a tenth of
+            # its residual at most, or the shift does no work and σ never moves
+            start = float(np.linalg.norm(A @ guess - b)) / scale
+            target = min(0.1, backward * max(growth, 1.0), 0.1 * start)
+        y, iterations = _iterative(A, b, s, method, guess, max(target, 1e-15))
         counts.append(iterations)
         if e @ y < 0:  # σ fell below μ: back to the last shift above it, and keep it
             sigma, fixed = above, True
@@ -670,7 +677,7 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
             resolved = e >= np.sqrt(s.residual)
             quotient = float(np.max(Me[resolved] / e[resolved]))
             sigma = min(sigma, max(quotient, rho + s.residual * norm))
-    raise RuntimeError(
+    raise ConvergenceError(
         f"the average cost's eigen-solve did not reach the residual {s.residual:g} in "
         f"{MAX_SHIFTS} shifts ({sum(counts)} Krylov iterations): give linear_solver='direct' "
         "if its factorisation fits in memory, or a larger residual="
@@ -877,12 +884,12 @@ def _shares_of_c(solution: StationarySolution, coarsened: dict) -> tuple[list[in
 
 def _solve_quietly(problem: Problem, s: StationarySettings, grid: Grid, kept=None):
     """The stationary solve of ``problem`` on ``grid`` without its estimate and warnings, or None
-    where the exit set or the costs are not resolved on that grid; also kept in ``kept`` (a
-    dict, by the grid's shape) where given."""
+    where the exit set or the costs are not resolved on that grid or its solve did not converge;
+    also kept in ``kept`` (a dict, by the grid's shape) where given."""
     solve = solve_average_cost if problem.average_cost else solve_first_exit
     try:
         solution = _quietly(solve, problem.replace(grid=grid), s)
-    except ValueError:
+    except (ValueError, ConvergenceError):
         solution = None
     if kept is not None:
         kept[grid.shape] = solution

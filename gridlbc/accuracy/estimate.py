@@ -533,9 +533,7 @@ def attach_estimates(solutions, levels: list, pairs=None, excess=None, reason: s
     if not levels:
         if reason:
             warn_user(
-                f"no error estimate for this solve: {reason}. A problem the grid with every other "
-                "node cannot hold is resolved by a few nodes of this one, and its values may be "
-                "far off; refine the grid until that coarser grid holds it (docs page 'accuracy')",
+                f"no error estimate for this solve: {reason} (docs page 'accuracy')",
                 ResolutionWarning,
             )
         return

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..errors import ConvergenceError
 from ..grid import Axis, Grid
 
 
@@ -77,7 +78,9 @@ def embedded_solves(fine: Grid, solve) -> tuple[list, list | None, str]:
     pair's first grid is the embedded one).
 
     A solve that raises ValueError (the problem cannot be posed that coarsely: an exit set that
-    holds no node of the coarser grid) ends the levels there, and the pair is not solved.
+    holds no node of the coarser grid) or :class:`gridlbc.ConvergenceError` (its iterative
+    solve did not converge that coarsely) ends the levels there, and the pair is not solved:
+    an estimate's coarse solve never fails the solve it checks.
 
     Returns
     -------
@@ -98,7 +101,19 @@ def embedded_solves(fine: Grid, solve) -> tuple[list, list | None, str]:
             levels.append(solve(grid, factor))
         except ValueError as error:
             if not levels:
-                reason = f"the problem cannot be posed on the grid with every other node: {error}"
+                reason = (
+                    f"the problem cannot be posed on the grid with every other node: {error}. A "
+                    "problem the grid with every other node cannot hold is resolved by a few "
+                    "nodes of this one, and its values may be far off; refine the grid until "
+                    "that coarser grid holds it"
+                )
+            break
+        except ConvergenceError as error:
+            if not levels:
+                reason = (
+                    f"the solve on the grid with every other node did not converge ({error}); "
+                    "certify the values you need (gridlbc.certify)"
+                )
             break
         grid = embedded_grid(grid)
     pair = phase_pair(fine) if len(levels) else None
@@ -106,7 +121,7 @@ def embedded_solves(fine: Grid, solve) -> tuple[list, list | None, str]:
         return levels, None, reason
     try:
         return levels, [levels[0] if c == embedded else solve(c, 2) for c in pair], reason
-    except ValueError:
+    except (ValueError, ConvergenceError):
         return levels, None, reason
 
 

@@ -29,6 +29,7 @@ import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
 from ..backends.numba.implicit import gauss_seidel_kernel
+from ..errors import ConvergenceError
 from ..problem import Problem
 from .generator import generator_matrix
 from .march import march_linear
@@ -132,7 +133,7 @@ class ImplicitStep:
             *self._off, self._inv_diag, b, out, self.tol, self.max_iterations
         )
         if sweeps < 0:
-            raise RuntimeError(
+            raise ConvergenceError(
                 f"Gauss–Seidel did not converge in {self.max_iterations} sweeps (contraction "
                 f"{self.contraction:.3f}): use a smaller dt"
             )
@@ -164,7 +165,9 @@ class ImplicitStep:
                 maxiter=10_000,
             )
             if info != 0:
-                raise RuntimeError(f"BiCGSTAB did not converge in the implicit step (info={info})")
+                raise ConvergenceError(
+                    f"BiCGSTAB did not converge in the implicit step (info={info})"
+                )
             self.iterations.append(count[0])
             out[r] = sol
         return out.max(axis=1)

@@ -620,6 +620,25 @@ def test_a_gust_narrower_than_a_cell_between_the_nodes_warns():
     assert not any("drift changes between the nodes" in str(w.message) for w in caught)
 
 
+def test_a_coarse_solve_that_does_not_converge_ends_the_levels_without_failing_the_solve():
+    # The estimate's coarse solves are its own: one whose iterative solve does not converge ends
+    # the levels there (4h: the estimate keeps 2h) or, at 2h, leaves no estimate and says why.
+    fine = g.Grid([g.Axis(0.0, 1.0, 33)] * 2)
+
+    def failing_at(spacing_factor):
+        def solve(grid, factor):
+            if factor == spacing_factor:
+                raise g.ConvergenceError("did not converge")
+            return grid.shape
+
+        return solve
+
+    levels, pair, reason = accuracy.embedded_solves(fine, failing_at(4))
+    assert levels == [(17, 17)] and reason == ""
+    levels, pair, reason = accuracy.embedded_solves(fine, failing_at(2))
+    assert levels == [] and pair is None and "did not converge" in reason
+
+
 HEADWIND_STATES = np.array([[-1.0], [-0.3]])
 HEADWIND_TRUTH = np.array([2.15499, 1.75435])
 """v of the 0.02-wide gust at HEADWIND_STATES: stranger round 13's Crank–Nicolson solve of

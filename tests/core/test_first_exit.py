@@ -428,6 +428,29 @@ def test_average_cost_in_3d_converges_to_riccati_at_second_order():
     assert errors[1] < 0.01 * exact
 
 
+def test_noda_iteration_does_not_stall_where_its_guess_nearly_solves_the_shifted_system():
+    # Two point masses, 7⁴ (stranger round 15's avg_pair_4d, whose estimate's 4h level this is):
+    # near the eigenvector the guess e/(σ − ρ) met the inner solves' loose tolerance, so the
+    # shifts did no work and the solve raised after 50 of them. Each inner solve now asks for a
+    # tenth of the guess's residual: it converges and equals the direct solve (as in the test
+    # below, the eigen-residual 1e-12 gives μ to about 1e-10).
+    A = np.zeros((4, 4))
+    A[0, 1] = A[2, 3] = 1.0
+    B = np.zeros((4, 2))
+    B[1, 0] = B[3, 1] = 1.0
+    problem = g.Problem(
+        LinearSystem(A, B),
+        g.Grid([g.Axis(-4, 4, 7), g.Axis(-5, 5, 7)] * 2),
+        "average",
+        state_cost=g.costs.Quadratic([0.0] * 4, [1.0, 0.1, 0.5, 0.1]),
+        temperature=0.5,
+    )
+    iterative = g.solve(problem, linear_solver="bicgstab", error_estimate=False)
+    direct = g.solve(problem, linear_solver="direct", error_estimate=False)
+    assert len(iterative.diagnostics.iterations) < 50
+    assert iterative.average_cost == pytest.approx(direct.average_cost, rel=1e-9)
+
+
 @pytest.mark.parametrize("linear_solver", ["bicgstab", "gmres"])
 def test_iterative_eigen_solve_equals_the_direct_one(linear_solver):
     # A 2-D coupled chain, 41²: both stop at an eigen-residual ‖(M − μI)e‖ ≤ 1e-12 ‖M‖∞‖e‖
