@@ -519,13 +519,71 @@ def solve_average_cost(
             "be irreducible (parts of the box it never leaves); the relative value is unreliable",
             ResolutionWarning,
         )
-    e = np.clip(e / e.max(), 0.0, None)
+    e = accurate_tail(M, mu, np.clip(e / e.max(), 0.0, None), s, grid.ndim)
     label = f"stationary-{s.rates}"
     solution = _package(problem, label, e, 0.0, start, setup, iterations, _digest(q, M.data))
     object.__setattr__(solution, "average_cost", -lam * mu)
     if e_left is not None:
         object.__setattr__(solution, "stationary_distribution", stationary_distribution(e, e_left))
     return solution
+
+
+TAIL = 1e-6
+"""Entries of the principal eigenvector below this share of its largest are solved for again,
+from the others (:func:`accurate_tail`): h more than λ log(1/TAIL) ≈ 14 λ above its minimum."""
+
+
+def accurate_tail(
+    M: sp.csr_matrix, mu: float, e: np.ndarray, s: StationarySettings, ndim: int
+) -> np.ndarray:
+    """The principal eigenvector ``e`` (max entry 1) with its small entries solved for again.
+
+    An eigen-solve's vector is accurate relative to its largest entry (ARPACK's and Noda's
+    residuals are norms), so an entry far below it is rounding, and h = −λ log e there would
+    stop near λ log(1/ε) ≈ 36 λ above its minimum whatever the truth, on every grid alike (the
+    estimate cannot see it). Over the nodes T where e < :data:`TAIL` (H the others, held),
+    (M − μI) e = 0 gives
+
+        (μI − M)_TT e_T = M_TH e_H,
+
+    a non-singular M-matrix (for an irreducible M the principal eigenvalue of its restriction to
+    T is below μ) with a non-negative right-hand side, solved as the first-exit system is
+    (:func:`_solve_linear`): by sparse LU each entry keeps its own relative accuracy, as z does
+    in a first-exit solve; an iterative solve resolves entries down to its residual relative to
+    the largest of T, so it is repeated on the entries below :data:`TAIL` of that, and so on,
+    down to the smallest normal number (BiCGSTAB falling back on ILU-GMRES as under
+    ``"auto"``; where neither converges the solve warns, and those entries stay rounding)."""
+    e = e.copy()
+    threshold = TAIL
+    while threshold > np.finfo(float).tiny:
+        tail = e < threshold
+        if not tail.any() or tail.all():
+            break
+        shifted = (mu * sp.identity(len(e), format="csr") - M)[tail]
+        # M_TH e_H (the off-diagonal part of −(μI − M)), in units of the threshold: e_T scaled
+        # to its largest entry, about 1, keeps the Krylov iterates out of the subnormal range
+        b = -(shifted[:, ~tail] @ e[~tail]) / threshold
+        # BiCGSTAB with ILU-GMRES to fall back on (or LU where "auto" picks it)
+        robust = (
+            s if s.linear_solver != "bicgstab" else dataclasses.replace(s, linear_solver="auto")
+        )
+        try:
+            solved, _ = _solve_linear(shifted[:, tail].tocsr(), b[:, None], robust, ndim)
+        except ConvergenceError as error:
+            warn_user(
+                "the relative value h more than "
+                f"{-np.log(threshold):.0f} λ above its minimum could not be solved again from "
+                f"the eigenvector's larger entries ({error}): there it is rounding, near "
+                "λ log(1/ε) ≈ 36 λ whatever the truth; give linear_solver='direct' if its "
+                "factorisation fits in memory",
+                ResolutionWarning,
+            )
+            break
+        e[tail] = np.clip(solved[:, 0], 0.0, None) * threshold
+        if _method(robust, ndim, int(tail.sum())) == "direct":
+            break
+        threshold *= TAIL
+    return e
 
 
 def stationary_distribution(e: np.ndarray, e_left: np.ndarray) -> np.ndarray:

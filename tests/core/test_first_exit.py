@@ -428,6 +428,23 @@ def test_average_cost_in_3d_converges_to_riccati_at_second_order():
     assert errors[1] < 0.01 * exact
 
 
+def test_relative_value_far_above_its_minimum_is_solved_not_rounded():
+    # The LQ problem at λ = 0.05: h = x² reaches 180 λ at x = 3, where e = exp(−h/λ) is 1e-78 of
+    # its largest entry. The eigen-solve's vector is accurate relative to its largest entry only,
+    # so h stopped near λ log(1/ε) ≈ 1.8 (2.07 at x = 2, 3 and 3.9 on 321 nodes, or +inf:
+    # every grid alike, unseen by the estimate; stranger round 15's avg_mass_cold). Solved again
+    # on the nodes where e < 1e-6 from the others, h follows x² there at the grid's first-order
+    # accuracy (the rates are upwind at this Péclet number), within 1.5× its own estimate.
+    problem = quadratic_average(321).replace(temperature=0.05)
+    with pytest.warns(g.ResolutionWarning, match="relative value h"):
+        solution = g.solve(problem)
+    x = np.array([[2.0], [3.0], [3.9]])
+    h = solution.value(x) - solution.value(np.array([[0.0]]))
+    truth = np.sqrt(Q * R / 2) * x[:, 0] ** 2
+    assert np.all(np.isfinite(h)) and h[1] > 5.0
+    assert np.all(np.abs(h - truth) <= 1.5 * solution.error_estimate(x)), (h, truth)
+
+
 def test_noda_iteration_does_not_stall_where_its_guess_nearly_solves_the_shifted_system():
     # Two point masses, 7⁴ (stranger round 15's avg_pair_4d, whose estimate's 4h level this is):
     # near the eigenvector the guess e/(σ − ρ) met the inner solves' loose tolerance, so the
