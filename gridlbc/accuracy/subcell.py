@@ -39,7 +39,9 @@ noise's time across a cell, a path pays to stay in the well, and the soft minimu
 charges at most what staying costs (:func:`hold_time`): a task that never ends is priced by it,
 not by a hold of infinite length, which would make any well worth its whole depth.
 I f_c, the embedded grid's multilinear interpolant of the cost at its own nodes, keeps the
-exponentials in range.
+exponentials in range. An exit cost is paid on the exit set E only: the sums run over the
+lattice points in E (a hat with none has no excess), so a user's g_E off E (``np.where`` of a
+door's cost, 0 elsewhere, which no path pays) is no feature.
 
 **Between the lattice points.** A goal much narrower than the lattice's spacing whose centre is
 as far from a node as from the lattice points around it is seen by all of them alike, by its
@@ -281,35 +283,42 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     hats = [hat_weights(c, a.points()) for c, a in zip(coarse.axes, points.axes, strict=True)]
     ending = _ending(problem)
     ends = [problem.replace(**{ending: g}) for g in terminal_costs]
-    # (the index of a terminal cost, "state" or "exit"; the cost's values; its time scale τ)
-    sampled: list[tuple[int | str, Callable, float]] = [
-        (i, p.exit_values if problem.stationary else p.terminal_values, 1.0)
+    # (the index of a terminal cost, "state" or "exit"; the cost's values; its time scale τ;
+    # whether it is paid on the exit set only)
+    sampled: list[tuple[int | str, Callable, float, bool]] = [
+        (i, p.exit_values if problem.stationary else p.terminal_values, 1.0, problem.stationary)
         for i, p in enumerate(ends)
         if not reproduced(getattr(p, ending))
     ]
     hold = None if reproduced(problem.state_cost) else hold_time(problem, coarse)
     if hold is not None:
-        sampled.append(("state", problem.state_cost_values, hold))
+        sampled.append(("state", problem.state_cost_values, hold, False))
     if not problem.stationary and problem.exit is not None and not reproduced(problem.exit_cost):
-        sampled.append(("exit", problem.exit_values, 1.0))
-    nodal = [grid.reshape(grid.node_values(values)) for _, values, _ in sampled]
-    anchors = [coarse.reshape(coarse.node_values(values)) for _, values, _ in sampled]
+        sampled.append(("exit", problem.exit_values, 1.0, True))
+    nodal = [grid.reshape(grid.node_values(values)) for _, values, _, _ in sampled]
+    anchors = [coarse.reshape(coarse.node_values(values)) for _, values, _, _ in sampled]
     scale = problem.temperature
     sums = np.zeros((2, len(sampled)) + coarse.shape)
     for block in _blocks(points) if sampled else ():
-        for k, (_, values, tau) in enumerate(sampled):
+        for k, (_, values, tau, on_exit) in enumerate(sampled):
             true, rebuilt = block.values(values, nodal[k], grid, m)
+            outside = None
+            if on_exit:  # paid on E only: no seeds off E, and no share in either sum
+                outside = ~problem.exit_mask(block.points).reshape(block.shape)
+                true = np.where(outside, rebuilt, true)
             anchor = block.spread(anchors[k], hats)
             exponents = [-tau * (cost - anchor) / scale for cost in (true, rebuilt)]
             measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)
             seeds, deeper = _deeper(measure, grid, coarse, block, true, rebuilt, m)
             for side, exponent in enumerate(exponents):
                 exponent.reshape(-1)[seeds] = deeper[side]
+                if outside is not None:
+                    exponent[outside] = -np.inf
                 with np.errstate(under="ignore"):
                     sums[side, k] += block.average(np.exp(np.minimum(exponent, EXPONENT_CAP)), hats)
     terminal = np.zeros((len(terminal_costs),) + coarse.shape)
     others: dict[str, np.ndarray] = {}
-    for k, (i, _, tau) in enumerate(sampled):
+    for k, (i, _, tau, _) in enumerate(sampled):
         soft = -scale / tau * _log_ratio(*sums[:, k])
         if isinstance(i, str):
             others[i] = soft.reshape(-1)

@@ -222,7 +222,12 @@ def _assemble(
                 step[:, k] = sign * h
                 theta = _crossing(problem, x[nodes], step)
                 arms[sign][nodes] = theta * h
-                points.append(problem.wrap(x[nodes] + theta[:, None] * step))
+                # θ = 1: the set starts at the neighbour itself, whose exact coordinates are
+                # where its exit cost is read (start + step can round to just outside E)
+                crossed = problem.wrap(x[nodes] + theta[:, None] * step)
+                at_node = theta == 1.0
+                crossed[at_node] = x[targets[sign][nodes[at_node]]]
+                points.append(crossed)
         up, down = jump_rates(drift[:, k], diffusion[:, k], h, rates)
         fitted = cut[1] | cut[-1]  # unequal arms: Shortley–Weller with upwind drift
         if fitted.any():

@@ -620,6 +620,39 @@ def test_average_cost_to_a_tolerance_refines_the_axis_of_a_narrow_well():
     assert solution.refinement[-1].error <= 0.02
 
 
+def test_an_exit_cost_is_sampled_on_the_exit_set_only():
+    # Two doors, x₀ ≤ −1 costing 1.2 and x₀ ≥ 1.5 free, with g_E written as a user would:
+    # np.where(x₀ ≤ −1, 1.2, 0), which is 0 off E, where no path pays it. Its excess between the
+    # nodes was summed over coarse hats that reach off the dear door: the raised coarse solve
+    # made that door nearly free, read 38 % at (−0.9, 0), and warned, with the solve 0.02 % off
+    # (stranger round 15's fe_two_doors). And on the grid with every other node the crossing of
+    # node −0.9's arm with the door, at the node −1 itself, was read at start + step, which
+    # rounds to −0.9999999999999999: outside the user's x₀ ≤ −1, a free door (v 0.099 there
+    # against 1.299). Summed over E only, and read at the node where the arm ends on it, the
+    # solve does not warn and its estimate is below 1 % and at least half the error against the
+    # closed form (v depends on x₀ alone: z = A e^{kx₀} + B e^{−kx₀}, k = √(2Rq)/λ,
+    # z = e^{−g_E/λ} at −1 and 1.5).
+    q, lam = 0.5, 0.2
+    problem = g.Problem(
+        LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2, 2, 81)] * 2),
+        None,
+        state_cost=lambda x: np.full(len(x), q),
+        temperature=lam,
+        exit=Box([-np.inf, -np.inf], [-1.0, np.inf]) | Box([1.5, -np.inf], [np.inf, np.inf]),
+        exit_cost=lambda x: np.where(x[:, 0] <= -1.0, 1.2, 0.0),
+    )
+    solution = g.solve(problem)
+    k = np.sqrt(2 * q) / lam
+    ends = np.array([[np.exp(-k), np.exp(k)], [np.exp(1.5 * k), np.exp(-1.5 * k)]])
+    A, B = np.linalg.solve(ends, [np.exp(-1.2 / lam), 1.0])
+    x = np.array([[-0.9, 0.0], [0.2, -1.0], [1.3, 0.5]])
+    exact = -lam * np.log(A * np.exp(k * x[:, 0]) + B * np.exp(-k * x[:, 0]))
+    error = np.abs(solution.value(x) - exact)
+    estimate = solution.error_estimate(x)
+    assert np.all(estimate < 0.01 * exact) and np.all(estimate >= 0.5 * error)
+
+
 def test_shares_of_c_pick_the_axes_that_move_c():
     # c's share of axis i is abs(c_i − c)/c from the solve with axis i alone coarsened; the axes
     # whose share is at least half the largest are refined, every axis where none is known.
