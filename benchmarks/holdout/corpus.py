@@ -28,6 +28,7 @@ import numpy as np
 import strangers_round11 as r11
 import strangers_round12 as r12
 import strangers_round13 as r13
+import strangers_round15 as r15
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1006,6 +1007,34 @@ def _well_torus_exact(X):
     return value[1:]
 
 
+def _two_doors_exact(X):
+    """closed form (strangers_round15.two_doors_exact): v depends on x₀ alone, z = A e^{kx₀} +
+    B e^{−kx₀} between the doors with k = √(2Rq)/λ, checked against a Dirichlet Crank–Nicolson
+    run to T = 30 (1e-7)"""
+    value, _ = r15.P15["fe_two_doors"][2](X)
+    return value
+
+
+def _three_doors_exact(X):
+    """5-point finite differences of (λ/2R)Δz = (q/λ)z between the doors
+    (strangers_round15.fd_three_doors) at h = 0.01 and 0.005, which agree to 5e-5"""
+    value, _ = r15.P15["fe_three_doors"][2](X)
+    return value
+
+
+def _relative_value_exact(name):
+    def exact(X):
+        value, _ = r15.P15[name][2](X)
+        return value[1:]
+
+    exact.__doc__ = (
+        "the algebraic Riccati equation (strangers_round15.are_truth): h = ½ xᵀPx, min 0 at "
+        "the origin (a node), P from scipy's solve_continuous_are, c = (λ/2) tr(S P), equal to "
+        "the closed-loop Lyapunov cost to 1e-15"
+    )
+    return exact
+
+
 MEMBERS: tuple[Member, ...] = (
     Member(
         "vortex",
@@ -1493,6 +1522,45 @@ MEMBERS: tuple[Member, ...] = (
         "2.7 %, silent, before S sampled the state cost of a task without a horizon)",
         tags=("average cost", "narrow cost", "periodic"),
         exact=_well_torus_exact,
+    ),
+    Member(
+        "relative_value_cold",
+        r15.avg_mass_cold,
+        _s((0.5, 0.5), (1.0, -1.0), (-2.0, 2.5)),
+        "the point mass's average cost at λ = 0.05 on a closed 121² box: h at (−2, 2.5) is 73 λ "
+        "above its minimum, where the eigenvector is 1e-32 of its largest entry (stranger round "
+        "15: h stopped near λ log(1/ε) ≈ 36 λ on every grid alike, 48 % low with an estimate of "
+        "7 %, before its small entries were solved again from the others)",
+        tags=("average cost", "cold", "closed"),
+        exact=_relative_value_exact("avg_mass_cold"),
+    ),
+    Member(
+        "pair_average_4d",
+        r15.avg_pair_4d,
+        _s((0.5, 0.5, 0.0, 0.0), (1.0, -1.0, 0.5, 0.5), (-2.0, 2.0, 1.5, -1.0)),
+        "two uncoupled point masses' average cost in 4-D (25⁴): the default solve raised from its "
+        "estimate's 7⁴ level, where Noda's iteration stalled (stranger round 15)",
+        tags=("average cost", "4-D", "closed"),
+        exact=_relative_value_exact("avg_pair_4d"),
+    ),
+    Member(
+        "two_doors",
+        r15.fe_two_doors,
+        r15.P15["fe_two_doors"][1],
+        "first exit through two doors of different costs, g_E written as np.where(x₀ ≤ −1, 1.2, "
+        "0), which is 0 off E (stranger round 15: a false alarm of 38 % from the excess summed "
+        "off E, and a free door on the 41² level from a crossing rounded to just outside E)",
+        tags=("first exit", "step"),
+        exact=_two_doors_exact,
+    ),
+    Member(
+        "three_doors",
+        r15.fe_three_doors,
+        r15.P15["fe_three_doors"][1],
+        "first exit through three doors whose costs step at a corner inside E (stranger round "
+        "15: a false alarm from the corner's step, which no path pays between the nodes)",
+        tags=("first exit", "step", "corner"),
+        exact=_three_doors_exact,
     ),
 )
 
