@@ -138,6 +138,13 @@ answer: ``avg_pair_4d``'s default solve raises (below). Under-read: ``avg_mass_c
 (−2, 2.5), −48 % with 7 %: warned) and ``avg_pair_4d`` (no estimate). False alarms: three, all
 first exit with doors of different exit costs. No c is off by more than 3 %.
 
+Rerun 2026-12-05 after the fixes (the doors, the tasks that end and the average costs rerun;
+the finite horizons without an exit set are unchanged): none silent, none under half; false
+alarms ``hz_two_doors`` and ``fe_three_doors`` (left, docs/benchmarks.rst, "Round 15");
+``fe_two_doors`` quiet (estimates 0.38–0.68 % at errors of 0.02–0.26 %); ``avg_pair_4d`` solves
+(c −2.7 % estimated 31 %, h +16.6 % and +5.1 % at 36 % and 19 %); ``avg_mass_cold``'s h at
+(−2, 2.5) −20.2 % estimated 23.3 % (the eigenvector's small entries solved again).
+
 Mechanisms (measured; scripts inline in the session, numbers reproducible with the builders
 here):
 
