@@ -32,7 +32,7 @@ def public_objects():
             obj = getattr(module, name)
             if inspect.ismodule(obj) or not callable(obj):
                 continue
-            if inspect.isclass(obj) and issubclass(obj, Warning):
+            if inspect.isclass(obj) and issubclass(obj, Exception):  # warnings and errors
                 continue
             yield f"{module.__name__}.{name}", obj
 
