@@ -93,7 +93,7 @@ import scipy.sparse as sp
 from scipy.ndimage import minimum_filter
 from scipy.special import logsumexp
 
-from ..backends.numba.lattice import rebuild_points, refine_rows
+from ..backends.numba.lattice import multilinear_points, rebuild_points, refine_rows
 from ..costs import Constant, Quadratic
 from ..grid import Axis, Grid, flat_chunks
 from ..interpolate import interpolate
@@ -179,14 +179,11 @@ def multilinear(coarse: Grid, values: np.ndarray, x) -> np.ndarray:
     """Σ_j φ_j(x) c_j, the multilinear interpolant of the nodal ``values`` c of ``coarse`` at
     states ``x`` (N, d): the hat functions of :func:`hat_weights`, at scattered states (the
     library's :func:`~gridlbc.interpolate.interpolate` is barycentric on simplices)."""
-    x = np.atleast_2d(np.asarray(x, dtype=float))
-    values = np.asarray(values, dtype=float).reshape(coarse.shape)
-    cells, offsets = zip(*(_cells(a, x[:, k]) for k, a in enumerate(coarse.axes)), strict=True)
-    out = np.zeros(len(x))
-    for corner in itertools.product((0, 1), repeat=coarse.ndim):
-        index = tuple((c + b) % a.n for c, b, a in zip(cells, corner, coarse.axes, strict=True))
-        weight = np.prod([t if b else 1.0 - t for t, b in zip(offsets, corner, strict=True)], 0)
-        out += weight * values[index]
+    positions = (np.atleast_2d(np.asarray(x, dtype=float)) - coarse.lo) / coarse.spacing
+    out = np.empty(len(positions))
+    shape = np.array(coarse.shape, dtype=np.int64)
+    flat = np.ascontiguousarray(values, dtype=float).reshape(-1)
+    multilinear_points(flat, shape, np.asarray(coarse.periodic), positions, out)
     return out
 
 
@@ -300,13 +297,16 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
         for k, (_, values, tau) in enumerate(sampled):
             true, rebuilt = block.values(values, nodal[k], grid, m)
             anchor = block.spread(anchors[k], hats)
-            exponents = [-tau * (cost - anchor) / scale for cost in (true, rebuilt)]
             measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)
             seeds, deeper = _deeper(measure, grid, coarse, block, true, rebuilt, m)
-            for side, exponent in enumerate(exponents):
+            for side, exponent in enumerate((true, rebuilt)):  # −τ (f − I f_c)/λ, in place
+                np.subtract(exponent, anchor, out=exponent)
+                np.multiply(exponent, -tau, out=exponent)
+                np.divide(exponent, scale, out=exponent)
                 exponent.reshape(-1)[seeds] = deeper[side]
+                np.minimum(exponent, EXPONENT_CAP, out=exponent)
                 with np.errstate(under="ignore"):
-                    sums[side, k] += block.average(np.exp(np.minimum(exponent, EXPONENT_CAP)), hats)
+                    sums[side, k] += block.average(np.exp(exponent, out=exponent), hats)
     terminal = np.zeros((len(terminal_costs),) + coarse.shape)
     others: dict[str, np.ndarray] = {}
     for k, (i, _, tau) in enumerate(sampled):
@@ -433,7 +433,7 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
     hat wants its own), the lowest of them where they are more; then the others, evenly spread
     over the block."""
     gap = true - rebuilt
-    rounding = ROUNDING * float(np.abs(true).max())
+    rounding = ROUNDING * max(float(true.max()), -float(true.min()))  # max abs(f), no copy
     modes = ["nearest"] + ["wrap" if a.periodic else "nearest" for a in grid.axes[1:]]
     seeds = np.flatnonzero((gap <= minimum_filter(gap, size=3, mode=modes)) & (gap < -rounding))
     most = max(1, gap.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
@@ -485,8 +485,9 @@ class _Block:
         rebuilt = refine(nodes, 0, grid.axes[0], m, self.rows)
         for k in range(1, grid.ndim):
             rebuilt = refine(rebuilt, k, grid.axes[k], m)
-        chunks = flat_chunks(len(self.points))
-        true = np.concatenate([f(self.points[c[0] : c[-1] + 1]) for c in chunks])
+        true = np.empty(len(self.points))
+        for chunk in flat_chunks(len(self.points)):
+            true[chunk[0] : chunk[-1] + 1] = f(self.points[chunk[0] : chunk[-1] + 1])
         return true.reshape(self.shape), rebuilt
 
     def spread(self, coarse_values: np.ndarray, hats: list) -> np.ndarray:
@@ -505,14 +506,21 @@ class _Block:
 
 
 def _blocks(points: Grid):
-    """The lattice ``points`` in :class:`_Block` s of about :data:`LATTICE_BLOCK` points."""
+    """The lattice ``points`` in :class:`_Block` s of about :data:`LATTICE_BLOCK` points, their
+    coordinates written into one buffer that every block reuses (a block's ``points`` hold until
+    the next block is drawn)."""
     axes = [a.points() for a in points.axes]
-    step = max(1, LATTICE_BLOCK // int(np.prod(points.shape[1:])))
+    d, rest = points.ndim, int(np.prod(points.shape[1:]))
+    step = max(1, LATTICE_BLOCK // rest)
+    buffer = np.empty((min(step, points.shape[0]) * rest, d))
     for start in range(0, points.shape[0], step):
         rows = np.arange(start, min(start + step, points.shape[0]))
-        mesh = np.meshgrid(axes[0][rows], *axes[1:], indexing="ij")
-        coordinates = np.stack([c.reshape(-1) for c in mesh], axis=1)
-        yield _Block(rows, coordinates, (len(rows),) + points.shape[1:])
+        shape = (len(rows),) + points.shape[1:]
+        coordinates = buffer[: len(rows) * rest]
+        lattice = coordinates.reshape(shape + (d,))
+        for k, values in enumerate([axes[0][rows]] + axes[1:]):
+            lattice[..., k] = values.reshape([-1 if j == k else 1 for j in range(d)])
+        yield _Block(rows, coordinates, shape)
 
 
 def _log_ratio(true: np.ndarray, rebuilt: np.ndarray) -> np.ndarray:

@@ -66,49 +66,89 @@ def rebuild_points(nodes, shape, periodic, positions, kink, out):  # pragma: no 
     as the lattice is reconstructed axis by axis."""
     d = shape.shape[0]
     size = 4**d
-    for p in prange(positions.shape[0]):
+    strides = np.ones(d, np.int64)
+    for a in range(d - 2, -1, -1):
+        strides[a] = strides[a + 1] * shape[a + 1]
+    n_points = positions.shape[0]
+    n_blocks = min(n_points, 256)
+    for b in prange(n_blocks):
         cell = np.empty(d, np.int64)
         t = np.empty(d)
-        for a in range(d):
-            n = shape[a]
-            i = int(np.floor(positions[p, a]))
-            if periodic[a]:
-                t[a] = positions[p, a] - i
-                i = i % n
-            else:
-                i = min(max(i, 0), n - 2)
-                t[a] = min(max(positions[p, a] - i, 0.0), 1.0)
-            cell[a] = i
         values = np.empty(size)
-        for s in range(size):
-            flat = 0
-            rest = s
-            for a in range(d - 1, -1, -1):
-                digit = rest % 4
-                rest //= 4
-                j = cell[a] - 1 + digit
+        for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
+            for a in range(d):
                 n = shape[a]
-                j = j % n if periodic[a] else min(max(j, 0), n - 1)
-                stride = 1
-                for b in range(a + 1, d):
-                    stride *= shape[b]
-                flat += j * stride
-            values[s] = nodes[flat]
-        count = size
-        for a in range(d):
-            count //= 4
-            n = shape[a]
-            first = not periodic[a] and cell[a] == 0
-            last = not periodic[a] and cell[a] >= n - 2
-            for s in range(count):
-                values[s] = _between(
-                    values[s],
-                    values[count + s],
-                    values[2 * count + s],
-                    values[3 * count + s],
-                    t[a],
-                    first,
-                    last,
-                    kink,
-                )
-        out[p] = values[0]
+                i = int(np.floor(positions[p, a]))
+                if periodic[a]:
+                    t[a] = positions[p, a] - i
+                    i = i % n
+                else:
+                    i = min(max(i, 0), n - 2)
+                    t[a] = min(max(positions[p, a] - i, 0.0), 1.0)
+                cell[a] = i
+            for s in range(size):
+                flat = 0
+                rest = s
+                for a in range(d - 1, -1, -1):
+                    digit = rest % 4
+                    rest //= 4
+                    j = cell[a] - 1 + digit
+                    n = shape[a]
+                    j = j % n if periodic[a] else min(max(j, 0), n - 1)
+                    flat += j * strides[a]
+                values[s] = nodes[flat]
+            count = size
+            for a in range(d):
+                count //= 4
+                n = shape[a]
+                first = not periodic[a] and cell[a] == 0
+                last = not periodic[a] and cell[a] >= n - 2
+                for s in range(count):
+                    values[s] = _between(
+                        values[s],
+                        values[count + s],
+                        values[2 * count + s],
+                        values[3 * count + s],
+                        t[a],
+                        first,
+                        last,
+                        kink,
+                    )
+            out[p] = values[0]
+
+
+@jit_parallel
+def multilinear_points(values, shape, periodic, positions, out):  # pragma: no cover - numba
+    """``out[p]``: Σ_j φ_j c_j, the multilinear interpolant of the nodal ``values`` c (flat, C
+    order, of a grid of ``shape``) at the point whose position in cells along each axis (from
+    the first node) is ``positions[p]``: the cell's first node i = ⌊position⌋ (within 0 … n − 2
+    on a closed axis, the nodes i and i + 1 taken modulo n on a periodic one), t = position − i,
+    and the 2^d corners added in the order of ``itertools.product((0, 1), repeat=d)``, each
+    weighted by the product of t or 1 − t over the axes in turn."""
+    d = shape.shape[0]
+    strides = np.ones(d, np.int64)
+    for a in range(d - 2, -1, -1):
+        strides[a] = strides[a + 1] * shape[a + 1]
+    n_points = positions.shape[0]
+    n_blocks = min(n_points, 256)
+    for b in prange(n_blocks):
+        cell = np.empty(d, np.int64)
+        t = np.empty(d)
+        for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
+            for a in range(d):
+                i = int(np.floor(positions[p, a]))
+                if not periodic[a]:
+                    i = min(max(i, 0), shape[a] - 2)
+                cell[a] = i
+                t[a] = positions[p, a] - i
+            total = 0.0
+            for corner in range(1 << d):
+                weight = 1.0
+                flat = 0
+                for a in range(d):
+                    up = (corner >> (d - 1 - a)) & 1
+                    w = t[a] if up else 1.0 - t[a]
+                    weight = w if a == 0 else weight * w
+                    flat += ((cell[a] + up) % shape[a]) * strides[a]
+                total += weight * values[flat]
+            out[p] = total
