@@ -90,10 +90,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.ndimage import minimum_filter
 from scipy.special import logsumexp
 
-from ..backends.numba.lattice import multilinear_points, rebuild_points, refine_rows
+from ..backends.numba.lattice import (
+    lattice_points,
+    local_minima,
+    multilinear_points,
+    rebuild_points,
+    refine_rows,
+)
 from ..costs import Constant, Quadratic
 from ..grid import Axis, Grid, flat_chunks
 from ..interpolate import interpolate
@@ -432,17 +437,19 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
     has a minimum at every point along it): first the lowest in each cell of ``coarse`` (each
     hat wants its own), the lowest of them where they are more; then the others, evenly spread
     over the block."""
-    gap = true - rebuilt
     rounding = ROUNDING * max(float(true.max()), -float(true.min()))  # max abs(f), no copy
-    modes = ["nearest"] + ["wrap" if a.periodic else "nearest" for a in grid.axes[1:]]
-    seeds = np.flatnonzero((gap <= minimum_filter(gap, size=3, mode=modes)) & (gap < -rounding))
-    most = max(1, gap.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
+    true, rebuilt = true.reshape(-1), rebuilt.reshape(-1)
+    minima = np.empty(true.size, dtype=bool)
+    wrap = np.array([False] + [a.periodic for a in grid.axes[1:]])  # the block's rows clip
+    local_minima(true, rebuilt, np.array(block.shape, dtype=np.int64), wrap, rounding, minima)
+    seeds = np.flatnonzero(minima)
+    most = max(1, true.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
     if len(seeds) > most:
-        depth = gap.reshape(-1)[seeds]
+        depth = true[seeds] - rebuilt[seeds]
         cell = np.ravel_multi_index(
             tuple(
                 np.minimum(np.floor((c - a.lo) / a.spacing).astype(np.int64), a.n - 1)
-                for c, a in zip(block.points[seeds].T, coarse.axes, strict=True)
+                for c, a in zip(block.points(seeds).T, coarse.axes, strict=True)
             ),
             coarse.shape,
         )
@@ -455,7 +462,7 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
     if len(seeds) == 0:
         return seeds, np.empty((2, 0))
     side = grid.spacing / m
-    found, bottoms, cut = descend(measure, grid, block.points[seeds], side)
+    found, bottoms, cut = descend(measure, grid, block.points(seeds), side)
     deep = cut > 1  # a feature between the points: summed again around its bottom
     if deep.any():
         found[:, deep] = descend(measure, grid, bottoms[deep], side)[0]
@@ -473,21 +480,36 @@ def reproduced(cost) -> bool:
 
 @dataclass(frozen=True)
 class _Block:
-    """Whole rows ``rows`` (along the first axis) of the sampling lattice, and their ``points``."""
+    """Whole rows ``rows`` (along the first axis) of the sampling lattice, of ``shape``, and the
+    coordinates along each axis of its points (``axes``; the first axis's at ``rows``)."""
 
     rows: np.ndarray
-    points: np.ndarray
+    axes: list[np.ndarray]
     shape: tuple[int, ...]
 
+    def points(self, flat: np.ndarray) -> np.ndarray:
+        """The block's points (N, d) at the flat indices ``flat`` (C order)."""
+        starts = np.cumsum([0] + [len(a) for a in self.axes[:-1]])
+        out = np.empty((len(flat), len(self.axes)))
+        lattice_points(
+            np.asarray(flat, dtype=np.int64),
+            np.array(self.shape, dtype=np.int64),
+            np.concatenate(self.axes),
+            starts.astype(np.int64),
+            out,
+        )
+        return out
+
     def values(self, f, nodes: np.ndarray, grid: Grid, m: int) -> tuple[np.ndarray, np.ndarray]:
-        """f at the block's points, and its reconstruction from its values at the ``nodes`` of
-        ``grid`` (:func:`refine` along each axis, m points per cell)."""
+        """f at the block's points (their coordinates formed a chunk at a time,
+        :func:`~gridlbc.grid.flat_chunks`), and its reconstruction from its values at the
+        ``nodes`` of ``grid`` (:func:`refine` along each axis, m points per cell)."""
         rebuilt = refine(nodes, 0, grid.axes[0], m, self.rows)
         for k in range(1, grid.ndim):
             rebuilt = refine(rebuilt, k, grid.axes[k], m)
-        true = np.empty(len(self.points))
-        for chunk in flat_chunks(len(self.points)):
-            true[chunk[0] : chunk[-1] + 1] = f(self.points[chunk[0] : chunk[-1] + 1])
+        true = np.empty(int(np.prod(self.shape)))
+        for chunk in flat_chunks(len(true)):
+            true[chunk[0] : chunk[-1] + 1] = f(self.points(chunk))
         return true.reshape(self.shape), rebuilt
 
     def spread(self, coarse_values: np.ndarray, hats: list) -> np.ndarray:
@@ -506,21 +528,12 @@ class _Block:
 
 
 def _blocks(points: Grid):
-    """The lattice ``points`` in :class:`_Block` s of about :data:`LATTICE_BLOCK` points, their
-    coordinates written into one buffer that every block reuses (a block's ``points`` hold until
-    the next block is drawn)."""
+    """The lattice ``points`` in :class:`_Block` s of about :data:`LATTICE_BLOCK` points."""
     axes = [a.points() for a in points.axes]
-    d, rest = points.ndim, int(np.prod(points.shape[1:]))
-    step = max(1, LATTICE_BLOCK // rest)
-    buffer = np.empty((min(step, points.shape[0]) * rest, d))
+    step = max(1, LATTICE_BLOCK // int(np.prod(points.shape[1:])))
     for start in range(0, points.shape[0], step):
         rows = np.arange(start, min(start + step, points.shape[0]))
-        shape = (len(rows),) + points.shape[1:]
-        coordinates = buffer[: len(rows) * rest]
-        lattice = coordinates.reshape(shape + (d,))
-        for k, values in enumerate([axes[0][rows]] + axes[1:]):
-            lattice[..., k] = values.reshape([-1 if j == k else 1 for j in range(d)])
-        yield _Block(rows, coordinates, shape)
+        yield _Block(rows, [axes[0][rows]] + axes[1:], (len(rows),) + points.shape[1:])
 
 
 def _log_ratio(true: np.ndarray, rebuilt: np.ndarray) -> np.ndarray:

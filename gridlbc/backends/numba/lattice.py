@@ -6,20 +6,44 @@ from __future__ import annotations
 
 import numpy as np
 
-from .options import jit_inline, jit_parallel, prange
+from .options import jit, jit_inline, jit_parallel, prange
 
 
 @jit_inline
-def _between(before, lo, hi, after, t, first, last, kink):  # pragma: no cover - numba
-    """The value at offset t (0 ≤ t ≤ 1, in cells) from node ``lo`` towards ``hi``: ``lo`` at
-    t = 0, else the cubic through ``before``, ``lo``, ``hi``, ``after`` (at −1, 0, 1, 2), or the
-    quadratic of the smoother side where one side's second difference exceeds the other's
-    ``kink`` times, and the only quadratic there is in the first (``first``) or last (``last``)
-    cell of a closed axis."""
-    if t == 0.0:
+def _weights(t, w):  # pragma: no cover - numba
+    """The coefficients of :func:`_between` at offset t, into ``w`` (10,): the left quadratic's
+    on ``before``, ``lo``, ``hi`` (0–2), the right one's on ``lo``, ``hi``, ``after`` (3–5; the
+    one on ``hi`` subtracted) and the cubic's on all four (6–9; the one on ``hi`` subtracted),
+    each product formed as the rule writes it."""
+    w[0] = 0.5 * t * (t - 1.0)
+    w[1] = 1.0 - t * t
+    w[2] = 0.5 * (t + 1.0) * t
+    w[3] = 0.5 * (t - 1.0) * (t - 2.0)
+    w[4] = t * (t - 2.0)
+    w[5] = 0.5 * t * (t - 1.0)
+    w[6] = -t * (t - 1.0) * (t - 2.0) / 6.0
+    w[7] = 0.5 * (t + 1.0) * (t - 1.0) * (t - 2.0)
+    w[8] = 0.5 * (t + 1.0) * t * (t - 2.0)
+    w[9] = (t + 1.0) * t * (t - 1.0) / 6.0
+
+
+@jit_inline
+def _between(before, lo, hi, after, node, w, first, last, kink):  # pragma: no cover - numba
+    """The value at offset t (0 ≤ t ≤ 1, in cells) from node ``lo`` towards ``hi``, from the
+    coefficients ``w`` of :func:`_weights` at t: ``lo`` at t = 0 (``node``), else the cubic
+    through ``before``, ``lo``, ``hi``, ``after`` (at −1, 0, 1, 2),
+
+        −t (t − 1)(t − 2)/6 f₋₁ + (t + 1)(t − 1)(t − 2)/2 f₀ − (t + 1) t (t − 2)/2 f₁
+        + (t + 1) t (t − 1)/6 f₂,
+
+    or the quadratic of the smoother side (t (t − 1)/2 f₋₁ + (1 − t²) f₀ + (t + 1) t/2 f₁ on
+    the left, (t − 1)(t − 2)/2 f₀ − t (t − 2) f₁ + t (t − 1)/2 f₂ on the right) where one side's
+    second difference exceeds the other's ``kink`` times, and the only quadratic there is in the
+    first (``first``) or last (``last``) cell of a closed axis."""
+    if node:
         return lo
-    left = 0.5 * t * (t - 1.0) * before + (1.0 - t * t) * lo + 0.5 * (t + 1.0) * t * hi
-    right = 0.5 * (t - 1.0) * (t - 2.0) * lo - t * (t - 2.0) * hi + 0.5 * t * (t - 1.0) * after
+    left = w[0] * before + w[1] * lo + w[2] * hi
+    right = w[3] * lo - w[4] * hi + w[5] * after
     if first:
         return right
     if last:
@@ -30,31 +54,93 @@ def _between(before, lo, hi, after, t, first, last, kink):  # pragma: no cover -
         return right
     if bent_right > kink * bent_left:
         return left
-    return (
-        -t * (t - 1.0) * (t - 2.0) / 6.0 * before
-        + 0.5 * (t + 1.0) * (t - 1.0) * (t - 2.0) * lo
-        - 0.5 * (t + 1.0) * t * (t - 2.0) * hi
-        + (t + 1.0) * t * (t - 1.0) / 6.0 * after
-    )
+    return w[6] * before + w[7] * lo - w[8] * hi + w[9] * after
 
 
 @jit_parallel
 def refine_rows(f, rows, m, periodic, kink, out):  # pragma: no cover - numba
     """``out[k, r]``: the reconstruction (:func:`_between`) at lattice point ``rows[r]`` (m
     points per cell: offset o = rows[r] mod m, t = o/m) of the axis whose nodal values are
-    ``f[k, :]``."""
+    ``f[k, :]``. The nodes and coefficients of each point are found once for every k."""
     n = f.shape[1]
+    count = rows.shape[0]
+    around = np.empty((count, 4), np.int64)  # the nodes i − 1 … i + 2 (wrapped)
+    ends = np.empty((count, 3), np.bool_)  # t = 0, first cell, last cell
+    w = np.empty((count, 10))
+    for r in range(count):
+        i = rows[r] // m
+        o = rows[r] - i * m
+        for j in range(4):
+            around[r, j] = (i - 1 + j) % n
+        ends[r, 0] = o / m == 0.0
+        ends[r, 1] = not periodic and i == 0
+        ends[r, 2] = not periodic and i >= n - 2
+        _weights(o / m, w[r])
     for k in prange(f.shape[0]):
-        for r in range(rows.shape[0]):
-            i = rows[r] // m
-            o = rows[r] - i * m
-            first = not periodic and i == 0
-            last = not periodic and i >= n - 2
-            before = f[k, (i - 1) % n] if not first else 0.0
-            after = f[k, (i + 2) % n] if not last else 0.0
+        for r in range(count):
+            first, last = ends[r, 1], ends[r, 2]
             out[k, r] = _between(
-                before, f[k, i % n], f[k, (i + 1) % n], after, o / m, first, last, kink
+                f[k, around[r, 0]] if not first else 0.0,
+                f[k, around[r, 1]],
+                f[k, around[r, 2]],
+                f[k, around[r, 3]] if not last else 0.0,
+                ends[r, 0],
+                w[r],
+                first,
+                last,
+                kink,
             )
+
+
+@jit
+def lattice_points(flat, shape, values, starts, out):  # pragma: no cover - numba
+    """``out[p, a]``: the coordinate along axis a of the lattice point whose flat index (C
+    order, a lattice of ``shape``) is ``flat[p]``, ``values[starts[a] + j_a]`` for its index j_a
+    along a (``values`` holds each axis's coordinates in turn)."""
+    d = shape.shape[0]
+    for p in range(flat.shape[0]):
+        rest = flat[p]
+        for a in range(d - 1, -1, -1):
+            j = rest % shape[a]
+            rest //= shape[a]
+            out[p, a] = values[starts[a] + j]
+
+
+@jit_parallel
+def local_minima(true, rebuilt, shape, wrap, rounding, out):  # pragma: no cover - numba
+    """``out[p]``: whether the excess e = ``true`` − ``rebuilt`` (flat, C order, of a lattice of
+    ``shape``) is below −``rounding`` at point p and at most e at each of its 3^d neighbours
+    (indices clipped to the lattice along an axis, wrapped where ``wrap``): a minimum filter's
+    local minima, with their neighbours read only where the excess is that low."""
+    d = shape.shape[0]
+    size = true.shape[0]
+    strides = np.ones(d, np.int64)
+    for a in range(d - 2, -1, -1):
+        strides[a] = strides[a + 1] * shape[a + 1]
+    n_blocks = min(size, 256)
+    for b in prange(n_blocks):
+        index = np.empty(d, np.int64)
+        for p in range(b * size // n_blocks, (b + 1) * size // n_blocks):
+            gap = true[p] - rebuilt[p]
+            lowest = gap < -rounding
+            if lowest:
+                rest = p
+                for a in range(d - 1, -1, -1):
+                    index[a] = rest % shape[a]
+                    rest //= shape[a]
+                for s in range(3**d):
+                    q = 0
+                    code = s
+                    for a in range(d - 1, -1, -1):
+                        j = index[a] + code % 3 - 1
+                        code //= 3
+                        n = shape[a]
+                        j = j % n if wrap[a] else min(max(j, 0), n - 1)
+                        q += j * strides[a]
+                    if true[q] - rebuilt[q] < gap:
+                        lowest = False
+                        break
+            out[p] = lowest
 
 
 @jit_parallel
@@ -75,6 +161,7 @@ def rebuild_points(nodes, shape, periodic, positions, kink, out):  # pragma: no 
         cell = np.empty(d, np.int64)
         t = np.empty(d)
         values = np.empty(size)
+        w = np.empty(10)
         for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
             for a in range(d):
                 n = shape[a]
@@ -103,13 +190,15 @@ def rebuild_points(nodes, shape, periodic, positions, kink, out):  # pragma: no 
                 n = shape[a]
                 first = not periodic[a] and cell[a] == 0
                 last = not periodic[a] and cell[a] >= n - 2
+                _weights(t[a], w)
                 for s in range(count):
                     values[s] = _between(
                         values[s],
                         values[count + s],
                         values[2 * count + s],
                         values[3 * count + s],
-                        t[a],
+                        t[a] == 0.0,
+                        w,
                         first,
                         last,
                         kink,
