@@ -98,12 +98,22 @@ def lattice_points(flat, shape, values, starts, out):  # pragma: no cover - numb
     order, a lattice of ``shape``) is ``flat[p]``, ``values[starts[a] + j_a]`` for its index j_a
     along a (``values`` holds each axis's coordinates in turn)."""
     d = shape.shape[0]
+    index = np.zeros(d, np.int64)
     for p in range(flat.shape[0]):
-        rest = flat[p]
-        for a in range(d - 1, -1, -1):
-            j = rest % shape[a]
-            rest //= shape[a]
-            out[p, a] = values[starts[a] + j]
+        if p > 0 and flat[p] == flat[p - 1] + 1:  # the next point: count on along the axes
+            a = d - 1
+            index[a] += 1
+            while a > 0 and index[a] == shape[a]:
+                index[a] = 0
+                a -= 1
+                index[a] += 1
+        else:
+            rest = flat[p]
+            for a in range(d - 1, -1, -1):
+                index[a] = rest % shape[a]
+                rest //= shape[a]
+        for a in range(d):
+            out[p, a] = values[starts[a] + index[a]]
 
 
 @jit_parallel
@@ -162,6 +172,7 @@ def rebuild_points(nodes, shape, periodic, positions, kink, out):  # pragma: no 
         t = np.empty(d)
         values = np.empty(size)
         w = np.empty(10)
+        offset = np.empty((d, 4), np.int64)  # the flat offsets of the nodes i − 1 … i + 2
         for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
             for a in range(d):
                 n = shape[a]
@@ -173,16 +184,16 @@ def rebuild_points(nodes, shape, periodic, positions, kink, out):  # pragma: no 
                     i = min(max(i, 0), n - 2)
                     t[a] = min(max(positions[p, a] - i, 0.0), 1.0)
                 cell[a] = i
+                for digit in range(4):
+                    j = i - 1 + digit
+                    j = j % n if periodic[a] else min(max(j, 0), n - 1)
+                    offset[a, digit] = j * strides[a]
             for s in range(size):
                 flat = 0
                 rest = s
                 for a in range(d - 1, -1, -1):
-                    digit = rest % 4
+                    flat += offset[a, rest % 4]
                     rest //= 4
-                    j = cell[a] - 1 + digit
-                    n = shape[a]
-                    j = j % n if periodic[a] else min(max(j, 0), n - 1)
-                    flat += j * strides[a]
                 values[s] = nodes[flat]
             count = size
             for a in range(d):
