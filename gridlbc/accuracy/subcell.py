@@ -100,7 +100,7 @@ from ..backends.numba.lattice import (
     refine_rows,
 )
 from ..costs import Constant, Quadratic
-from ..grid import Axis, Grid, flat_chunks
+from ..grid import NODE_CHUNK, Axis, Grid
 from ..interpolate import interpolate
 from .grids import refined_grid
 
@@ -489,27 +489,23 @@ class _Block:
 
     def points(self, flat: np.ndarray) -> np.ndarray:
         """The block's points (N, d) at the flat indices ``flat`` (C order)."""
-        starts = np.cumsum([0] + [len(a) for a in self.axes[:-1]])
-        out = np.empty((len(flat), len(self.axes)))
-        lattice_points(
-            np.asarray(flat, dtype=np.int64),
-            np.array(self.shape, dtype=np.int64),
-            np.concatenate(self.axes),
-            starts.astype(np.int64),
-            out,
-        )
-        return out
+        index = np.unravel_index(flat, self.shape)
+        return np.stack([axis[j] for axis, j in zip(self.axes, index, strict=True)], axis=1)
 
     def values(self, f, nodes: np.ndarray, grid: Grid, m: int) -> tuple[np.ndarray, np.ndarray]:
-        """f at the block's points (their coordinates formed a chunk at a time,
-        :func:`~gridlbc.grid.flat_chunks`), and its reconstruction from its values at the
-        ``nodes`` of ``grid`` (:func:`refine` along each axis, m points per cell)."""
+        """f at the block's points (their coordinates formed :data:`~gridlbc.grid.NODE_CHUNK`
+        at a time), and its reconstruction from its values at the ``nodes`` of ``grid``
+        (:func:`refine` along each axis, m points per cell)."""
         rebuilt = refine(nodes, 0, grid.axes[0], m, self.rows)
         for k in range(1, grid.ndim):
             rebuilt = refine(rebuilt, k, grid.axes[k], m)
         true = np.empty(int(np.prod(self.shape)))
-        for chunk in flat_chunks(len(true)):
-            true[chunk[0] : chunk[-1] + 1] = f(self.points(chunk))
+        shape = np.array(self.shape, dtype=np.int64)
+        values, starts = np.concatenate(self.axes), np.cumsum([0] + [len(a) for a in self.axes])
+        for first in range(0, len(true), NODE_CHUNK):
+            points = np.empty((min(NODE_CHUNK, len(true) - first), len(self.axes)))
+            lattice_points(first, shape, values, starts[:-1], points)
+            true[first : first + len(points)] = f(points)
         return true.reshape(self.shape), rebuilt
 
     def spread(self, coarse_values: np.ndarray, hats: list) -> np.ndarray:

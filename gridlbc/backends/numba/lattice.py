@@ -93,25 +93,25 @@ def refine_rows(f, rows, m, periodic, kink, out):  # pragma: no cover - numba
 
 
 @jit
-def lattice_points(flat, shape, values, starts, out):  # pragma: no cover - numba
+def lattice_points(first, shape, values, starts, out):  # pragma: no cover - numba
     """``out[p, a]``: the coordinate along axis a of the lattice point whose flat index (C
-    order, a lattice of ``shape``) is ``flat[p]``, ``values[starts[a] + j_a]`` for its index j_a
-    along a (``values`` holds each axis's coordinates in turn)."""
+    order, a lattice of ``shape``) is ``first + p``, ``values[starts[a] + j_a]`` for its index
+    j_a along a (``values`` holds each axis's coordinates in turn), counting on along the axes
+    from point to point."""
     d = shape.shape[0]
-    index = np.zeros(d, np.int64)
-    for p in range(flat.shape[0]):
-        if p > 0 and flat[p] == flat[p - 1] + 1:  # the next point: count on along the axes
+    index = np.empty(d, np.int64)
+    rest = first
+    for a in range(d - 1, -1, -1):
+        index[a] = rest % shape[a]
+        rest //= shape[a]
+    for p in range(out.shape[0]):
+        if p > 0:
             a = d - 1
             index[a] += 1
             while a > 0 and index[a] == shape[a]:
                 index[a] = 0
                 a -= 1
                 index[a] += 1
-        else:
-            rest = flat[p]
-            for a in range(d - 1, -1, -1):
-                index[a] = rest % shape[a]
-                rest //= shape[a]
         for a in range(d):
             out[p, a] = values[starts[a] + index[a]]
 
