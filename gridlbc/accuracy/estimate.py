@@ -800,8 +800,8 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
         return
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # an underflowed blend was combine's to warn of
-        alpha = np.asarray(combined.blend_weights(X), dtype=float).reshape(len(X), -1)
-        value = combined.value(X)
+        alpha, value = combined.blend_and_value(X)  # one evaluation of the components
+        alpha = np.asarray(alpha, dtype=float).reshape(len(X), -1)
     grid = np.stack([c.embedded.grid_terms(c, X) for c in components], axis=1)
     rel = relative_error(np.sum(np.abs(alpha) * grid, axis=1), value, combined.problem.temperature)
     rel = rel[np.isfinite(rel)]
