@@ -129,24 +129,26 @@ def local_minima(true, rebuilt, shape, wrap, rounding, out):  # pragma: no cover
         strides[a] = strides[a + 1] * shape[a + 1]
     n_blocks = min(size, 256)
     for b in prange(n_blocks):
-        index = np.empty(d, np.int64)
+        offset = np.empty((d, 3), np.int64)  # the flat offsets of the indices j − 1, j, j + 1
         for p in range(b * size // n_blocks, (b + 1) * size // n_blocks):
             gap = true[p] - rebuilt[p]
             lowest = gap < -rounding
             if lowest:
                 rest = p
                 for a in range(d - 1, -1, -1):
-                    index[a] = rest % shape[a]
-                    rest //= shape[a]
+                    n = shape[a]
+                    index = rest % n
+                    rest //= n
+                    for step in range(3):
+                        j = index + step - 1
+                        j = j % n if wrap[a] else min(max(j, 0), n - 1)
+                        offset[a, step] = j * strides[a]
                 for s in range(3**d):
                     q = 0
                     code = s
                     for a in range(d - 1, -1, -1):
-                        j = index[a] + code % 3 - 1
+                        q += offset[a, code % 3]
                         code //= 3
-                        n = shape[a]
-                        j = j % n if wrap[a] else min(max(j, 0), n - 1)
-                        q += j * strides[a]
                     if true[q] - rebuilt[q] < gap:
                         lowest = False
                         break
