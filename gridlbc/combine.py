@@ -281,6 +281,13 @@ class CombinedSolution(FieldEvaluation):
         _, z, _ = self._component_fields(x, t, gradient=False)
         return _normalised(z)
 
+    def blend_and_value(self, x, t=0.0) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`blend_weights` and :meth:`value` at states ``x`` (N, d) from one evaluation of
+        the components' fields."""
+        L, z, _ = self._component_fields(x, t, gradient=False)
+        value = -self.temperature * Fields(None, L, z.sum(axis=0)).log_desirability()
+        return _normalised(z), value
+
     @state_evaluation
     def error_estimate(self, x, t=0.0) -> np.ndarray:
         """``Σ_i abs(α_i) ê_i``: the components' error estimates carried to the combination
@@ -340,10 +347,7 @@ class Combination:
         """log Σ w_i z_i(x, t), shape ``(N,)`` (a scalar for one state ``(d,)``) (−inf, with an
         UnderflowWarning, where it is not positive)."""
         top, _, total = self._scaled(x, t)
-        bad = ~(total > 0)
-        warn_underflow(bad)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, total)) + top)
+        return _log_total(top, total)
 
     @state_evaluation
     def desirability(self, x, t=0.0) -> np.ndarray:
@@ -362,6 +366,12 @@ class Combination:
         """α_i(x, t), shape ``(N, n)`` (``(n,)`` for one state) (NaN, with an UnderflowWarning,
         where Σ w_j z_j ≤ 0)."""
         return _normalised(self._scaled(x, t)[1])
+
+    def blend_and_value(self, x, t=0.0) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`blend_weights` and :meth:`value` at states ``x`` (N, d) from one evaluation of
+        the components."""
+        top, terms, total = self._scaled(x, t)
+        return _normalised(terms), -self.temperature * _log_total(top, total)
 
     @state_evaluation
     def error_estimate(self, x, t=0.0) -> np.ndarray:
@@ -384,6 +394,15 @@ class Combination:
             ui[active] = np.asarray(c.policy(np.atleast_2d(x)[active], t), dtype=float)
             u = u + alpha[:, i, None] * ui
         return u
+
+
+def _log_total(top: np.ndarray, total: np.ndarray) -> np.ndarray:
+    """log Σ w_i z_i = log(total) + top (:meth:`Combination._scaled`); −inf, with an
+    UnderflowWarning, where the total is not positive."""
+    bad = ~(total > 0)
+    warn_underflow(bad)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, total)) + top)
 
 
 def _log_desirability(component, x, t) -> np.ndarray:

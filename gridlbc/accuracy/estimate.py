@@ -81,6 +81,7 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import dataclass, replace
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -332,11 +333,15 @@ class EmbeddedEstimate:
         interpolation)."""
         return self._grid_terms(solution, x, t)[1]
 
-    def _grid_terms(self, solution: Solution, x, t) -> tuple[np.ndarray, np.ndarray]:
-        """v_h and :meth:`grid_terms` at ``x``."""
-        v, _, _, local = self._read(solution, x, t)
+    def _grid_terms(
+        self, solution: Solution, x, t, v=None, response=None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """v_h and :meth:`grid_terms` at ``x`` (``v`` = v_h and ``response`` = S there where the
+        caller has read them)."""
+        v, _, _, local = self._read(solution, x, t, v)
         floor = self.floor * np.maximum(np.abs(v), solution.temperature)
-        response = 0.0 if self.excess is None else self.excess(x, t)
+        if response is None:
+            response = 0.0 if self.excess is None else self.excess(x, t)
         return v, np.maximum(np.maximum(local, floor), response)
 
     def _error(self, solution: Solution, x, t, samples: int) -> tuple[np.ndarray, np.ndarray]:
@@ -344,10 +349,11 @@ class EmbeddedEstimate:
         v, grid_terms = self._grid_terms(solution, x, t)
         return v, np.fmax(grid_terms, np.abs(cost_gap(solution, x, t, samples)))
 
-    def _read(self, solution: Solution, x, t) -> tuple[np.ndarray, ...]:
+    def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:
         """v_h, v_2h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated
-        once."""
-        v, embedded = solution.value(x, t), self.solution.value(x, t)
+        once (v_h not at all where given as ``v``)."""
+        v = solution.value(x, t) if v is None else v
+        embedded = self.solution.value(x, t)
         pair = None if self.pair is None else [side.value(x, t) for side in self.pair]
         difference, local = _local(v, embedded, pair, solution.temperature, self.order)
         return v, embedded, difference, local
@@ -596,18 +602,43 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
             a = replace(half, half=True)
         if half.worst_error > a.worst_error:
             a = replace(a, worst_state=half.worst_state, worst_error=half.worst_error)
+    matter = _Matter(solution)  # what S's maximum and the confirmation both read
     if states is None and solution.embedded.excess is not None:
-        largest, where = largest_response(solution)
+        largest, where = largest_response(solution, matter)
         if largest > a.error:
             a = replace(a, error=largest, local=True)
         if largest > a.worst_error:
             a = replace(a, worst_state=where, worst_error=largest)
     if states is None and a.error <= tol:
-        both, where = confirmed_locally(solution, tol)
+        both, where = confirmed_locally(solution, tol, matter)
         if both > a.error:
             a = replace(a, error=both, worst_state=where, worst_error=max(both, a.worst_error))
             a = replace(a, confirmed=True)
     return a
+
+
+class _Matter:
+    """The :func:`states_that_matter` of a solution, and v and S there, each read once when
+    first asked for (:func:`assess` gives them to :func:`largest_response` and to
+    :func:`confirmed_locally`)."""
+
+    def __init__(self, solution):
+        self.solution = solution
+
+    @cached_property
+    def states(self) -> np.ndarray:
+        """:func:`states_that_matter`."""
+        return states_that_matter(self.solution)
+
+    @cached_property
+    def value(self) -> np.ndarray:
+        """v at :attr:`states`, t = 0."""
+        return self.solution.value(self.states, 0.0)
+
+    @cached_property
+    def response(self) -> np.ndarray:
+        """S at :attr:`states`, t = 0 (:meth:`EmbeddedEstimate.excess_response`)."""
+        return self.solution.embedded.excess_response(self.states)
 
 
 CONFIRMED = 64
@@ -617,7 +648,9 @@ tolerance, are checked along the solve's own paths by :func:`confirmed_locally`,
 states take: the largest of a few noisy means would otherwise read high)."""
 
 
-def confirmed_locally(solution, tol: float) -> tuple[float, np.ndarray]:
+def confirmed_locally(
+    solution, tol: float, matter: _Matter | None = None
+) -> tuple[float, np.ndarray]:
     """The largest relative error that two independent parts of the estimate both give at one
     of the states that matter, and where: min(grid terms, abs(γ)) relative to max(abs(v), λ),
     over the :data:`CONFIRMED` states whose grid terms (the embedded and pair differences, the
@@ -630,16 +663,20 @@ def confirmed_locally(solution, tol: float) -> tuple[float, np.ndarray]:
     the coarser solves over-read a well's bottom or a box's edge; γ, sampled along the solve's
     own paths from the same states, measures something else (the costs the grid leaves out
     along the way and at the end), so where both exceed the tolerance the error is taken as
-    real."""
+    real. ``matter``: the states that matter and what is read there, where the caller has them
+    (:func:`assess`)."""
     problem = solution.problem
     none = (0.0, np.full(solution.grid.ndim, np.nan))
     if not sampled(problem):
         return none
-    X = states_that_matter(solution)
+    matter = _Matter(solution) if matter is None else matter
+    X = matter.states
     if len(X) == 0:
         return none
-    v = solution.value(X, 0.0)
-    grid = relative_error(solution.embedded.grid_terms(solution, X), v, solution.temperature)
+    v = matter.value
+    response = None if solution.embedded.excess is None else matter.response
+    terms = solution.embedded._grid_terms(solution, X, 0.0, v, response)[1]
+    grid = relative_error(terms, v, solution.temperature)
     above = np.flatnonzero(grid > tol)
     if len(above) == 0:
         return none
@@ -660,20 +697,20 @@ def _read_at(solution, X: np.ndarray, tol: float, given: bool) -> Assessment:
     return Assessment(error, X[worst], float(rel[worst]), float(np.mean(rel > tol)), len(X))
 
 
-def largest_response(solution) -> tuple[float, np.ndarray]:
+def largest_response(solution, matter: _Matter | None = None) -> tuple[float, np.ndarray]:
     """The largest relative S (:meth:`EmbeddedEstimate.excess_response`, relative as
     :func:`relative_error`) over the :func:`states_that_matter`, and where it is.
 
     A cost feature narrower than a cell changes the value near it only, on a share of the states
     that matter that may be far below 1 − :data:`QUANTILE`: S is judged by its largest value. It
     is a solve's response to the measured excess, with no sampling noise for a quantile to
-    discount."""
-    X = states_that_matter(solution)
+    discount. ``matter``: the states that matter and what is read there, where the caller has
+    them (:func:`assess`)."""
+    matter = _Matter(solution) if matter is None else matter
+    X = matter.states
     if len(X) == 0:
         return 0.0, np.full(solution.grid.ndim, np.nan)
-    rel = relative_error(
-        solution.embedded.excess_response(X), solution.value(X, 0.0), solution.temperature
-    )
+    rel = relative_error(matter.response, matter.value, solution.temperature)
     worst = int(np.argmax(rel))
     return float(rel[worst]), X[worst]
 
@@ -761,8 +798,8 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
         return
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # an underflowed blend was combine's to warn of
-        alpha = np.asarray(combined.blend_weights(X), dtype=float).reshape(len(X), -1)
-        value = combined.value(X)
+        alpha, value = combined.blend_and_value(X)  # one evaluation of the components
+        alpha = np.asarray(alpha, dtype=float).reshape(len(X), -1)
     grid = np.stack([c.embedded.grid_terms(c, X) for c in components], axis=1)
     rel = relative_error(np.sum(np.abs(alpha) * grid, axis=1), value, combined.problem.temperature)
     rel = rel[np.isfinite(rel)]

@@ -92,12 +92,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.ndimage import minimum_filter
 from scipy.special import logsumexp
 
-from ..backends.numba.lattice import rebuild_points, refine_rows
+from ..backends.numba.lattice import (
+    lattice_points,
+    local_minima,
+    multilinear_points,
+    rebuild_points,
+    refine_rows,
+)
 from ..costs import Constant, Quadratic
-from ..grid import Axis, Grid, flat_chunks
+from ..grid import NODE_CHUNK, Axis, Grid
 from ..interpolate import interpolate
 from .grids import refined_grid
 
@@ -181,14 +186,11 @@ def multilinear(coarse: Grid, values: np.ndarray, x) -> np.ndarray:
     """Σ_j φ_j(x) c_j, the multilinear interpolant of the nodal ``values`` c of ``coarse`` at
     states ``x`` (N, d): the hat functions of :func:`hat_weights`, at scattered states (the
     library's :func:`~gridlbc.interpolate.interpolate` is barycentric on simplices)."""
-    x = np.atleast_2d(np.asarray(x, dtype=float))
-    values = np.asarray(values, dtype=float).reshape(coarse.shape)
-    cells, offsets = zip(*(_cells(a, x[:, k]) for k, a in enumerate(coarse.axes)), strict=True)
-    out = np.zeros(len(x))
-    for corner in itertools.product((0, 1), repeat=coarse.ndim):
-        index = tuple((c + b) % a.n for c, b, a in zip(cells, corner, coarse.axes, strict=True))
-        weight = np.prod([t if b else 1.0 - t for t, b in zip(offsets, corner, strict=True)], 0)
-        out += weight * values[index]
+    positions = (np.atleast_2d(np.asarray(x, dtype=float)) - coarse.lo) / coarse.spacing
+    out = np.empty(len(positions))
+    shape = np.array(coarse.shape, dtype=np.int64)
+    flat = np.ascontiguousarray(values, dtype=float).reshape(-1)
+    multilinear_points(flat, shape, np.asarray(coarse.periodic), positions, out)
     return out
 
 
@@ -304,18 +306,21 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
             true, rebuilt = block.values(values, nodal[k], grid, m)
             outside = None
             if on_exit:  # paid on E only: no seeds off E, and no share in either sum
-                outside = ~problem.exit_mask(block.points).reshape(block.shape)
+                outside = ~block.evaluate(problem.exit_mask, bool)
                 true = np.where(outside, rebuilt, true)
             anchor = block.spread(anchors[k], hats)
-            exponents = [-tau * (cost - anchor) / scale for cost in (true, rebuilt)]
             measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)
             seeds, deeper = _deeper(measure, grid, coarse, block, true, rebuilt, m)
-            for side, exponent in enumerate(exponents):
+            for side, exponent in enumerate((true, rebuilt)):  # −τ (f − I f_c)/λ, in place
+                np.subtract(exponent, anchor, out=exponent)
+                np.multiply(exponent, -tau, out=exponent)
+                np.divide(exponent, scale, out=exponent)
                 exponent.reshape(-1)[seeds] = deeper[side]
+                np.minimum(exponent, EXPONENT_CAP, out=exponent)
                 if outside is not None:
                     exponent[outside] = -np.inf
                 with np.errstate(under="ignore"):
-                    sums[side, k] += block.average(np.exp(np.minimum(exponent, EXPONENT_CAP)), hats)
+                    sums[side, k] += block.average(np.exp(exponent, out=exponent), hats)
     terminal = np.zeros((len(terminal_costs),) + coarse.shape)
     others: dict[str, np.ndarray] = {}
     for k, (i, _, tau, _) in enumerate(sampled):
@@ -441,17 +446,19 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
     has a minimum at every point along it): first the lowest in each cell of ``coarse`` (each
     hat wants its own), the lowest of them where they are more; then the others, evenly spread
     over the block."""
-    gap = true - rebuilt
-    rounding = ROUNDING * float(np.abs(true).max())
-    modes = ["nearest"] + ["wrap" if a.periodic else "nearest" for a in grid.axes[1:]]
-    seeds = np.flatnonzero((gap <= minimum_filter(gap, size=3, mode=modes)) & (gap < -rounding))
-    most = max(1, gap.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
+    rounding = ROUNDING * max(float(true.max()), -float(true.min()))  # max abs(f), no copy
+    true, rebuilt = true.reshape(-1), rebuilt.reshape(-1)
+    minima = np.empty(true.size, dtype=bool)
+    wrap = np.array([False] + [a.periodic for a in grid.axes[1:]])  # the block's rows clip
+    local_minima(true, rebuilt, np.array(block.shape, dtype=np.int64), wrap, rounding, minima)
+    seeds = np.flatnonzero(minima)
+    most = max(1, true.size // (2 * max(DESCENT_LEVELS, 1) * 3**grid.ndim))
     if len(seeds) > most:
-        depth = gap.reshape(-1)[seeds]
+        depth = true[seeds] - rebuilt[seeds]
         cell = np.ravel_multi_index(
             tuple(
                 np.minimum(np.floor((c - a.lo) / a.spacing).astype(np.int64), a.n - 1)
-                for c, a in zip(block.points[seeds].T, coarse.axes, strict=True)
+                for c, a in zip(block.points(seeds).T, coarse.axes, strict=True)
             ),
             coarse.shape,
         )
@@ -464,7 +471,7 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
     if len(seeds) == 0:
         return seeds, np.empty((2, 0))
     side = grid.spacing / m
-    found, bottoms, cut = descend(measure, grid, block.points[seeds], side)
+    found, bottoms, cut = descend(measure, grid, block.points(seeds), side)
     deep = cut > 1  # a feature between the points: summed again around its bottom
     if deep.any():
         found[:, deep] = descend(measure, grid, bottoms[deep], side)[0]
@@ -482,21 +489,37 @@ def reproduced(cost) -> bool:
 
 @dataclass(frozen=True)
 class _Block:
-    """Whole rows ``rows`` (along the first axis) of the sampling lattice, and their ``points``."""
+    """Whole rows ``rows`` (along the first axis) of the sampling lattice, of ``shape``, and the
+    coordinates along each axis of its points (``axes``; the first axis's at ``rows``)."""
 
     rows: np.ndarray
-    points: np.ndarray
+    axes: list[np.ndarray]
     shape: tuple[int, ...]
 
+    def points(self, flat: np.ndarray) -> np.ndarray:
+        """The block's points (N, d) at the flat indices ``flat`` (C order)."""
+        index = np.unravel_index(flat, self.shape)
+        return np.stack([axis[j] for axis, j in zip(self.axes, index, strict=True)], axis=1)
+
     def values(self, f, nodes: np.ndarray, grid: Grid, m: int) -> tuple[np.ndarray, np.ndarray]:
-        """f at the block's points, and its reconstruction from its values at the ``nodes`` of
-        ``grid`` (:func:`refine` along each axis, m points per cell)."""
+        """f at the block's points (:meth:`evaluate`), and its reconstruction from its values at
+        the ``nodes`` of ``grid`` (:func:`refine` along each axis, m points per cell)."""
         rebuilt = refine(nodes, 0, grid.axes[0], m, self.rows)
         for k in range(1, grid.ndim):
             rebuilt = refine(rebuilt, k, grid.axes[k], m)
-        chunks = flat_chunks(len(self.points))
-        true = np.concatenate([f(self.points[c[0] : c[-1] + 1]) for c in chunks])
-        return true.reshape(self.shape), rebuilt
+        return self.evaluate(f), rebuilt
+
+    def evaluate(self, f, dtype=float) -> np.ndarray:
+        """``f(points)`` at the block's points, of the block's shape, their coordinates formed
+        :data:`~gridlbc.grid.NODE_CHUNK` at a time."""
+        out = np.empty(int(np.prod(self.shape)), dtype=dtype)
+        shape = np.array(self.shape, dtype=np.int64)
+        values, starts = np.concatenate(self.axes), np.cumsum([0] + [len(a) for a in self.axes])
+        for first in range(0, len(out), NODE_CHUNK):
+            points = np.empty((min(NODE_CHUNK, len(out) - first), len(self.axes)))
+            lattice_points(first, shape, values, starts[:-1], points)
+            out[first : first + len(points)] = f(points)
+        return out.reshape(self.shape)
 
     def spread(self, coarse_values: np.ndarray, hats: list) -> np.ndarray:
         """The multilinear interpolant Σ_j φ_j(s) c_j of coarse nodal values at the block's
@@ -519,9 +542,7 @@ def _blocks(points: Grid):
     step = max(1, LATTICE_BLOCK // int(np.prod(points.shape[1:])))
     for start in range(0, points.shape[0], step):
         rows = np.arange(start, min(start + step, points.shape[0]))
-        mesh = np.meshgrid(axes[0][rows], *axes[1:], indexing="ij")
-        coordinates = np.stack([c.reshape(-1) for c in mesh], axis=1)
-        yield _Block(rows, coordinates, (len(rows),) + points.shape[1:])
+        yield _Block(rows, [axes[0][rows]] + axes[1:], (len(rows),) + points.shape[1:])
 
 
 def _log_ratio(true: np.ndarray, rebuilt: np.ndarray) -> np.ndarray:

@@ -37,15 +37,19 @@ def cell(x, lo, spacing, n, periodic):
 
 
 @jit_inline
-def _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights):
-    """The Kuhn simplex and weights of state ``x[p]`` into ``idx[p]``, ``weights[p]``."""
+def _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order):
+    """The Kuhn simplex and weights of state ``x[p]`` into ``idx[p]``, ``weights[p]`` (``frac``,
+    ``order``: scratch of length d)."""
     d = x.shape[1]
-    frac = np.empty(d)
     base = 0
     for k in range(d):
         i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
         base += i * strides[k]
-    order = np.argsort(-frac, kind="mergesort")
+        j = k  # insertion into the decreasing order, ties in axis order (a stable sort)
+        while j > 0 and frac[order[j - 1]] < frac[k]:
+            order[j] = order[j - 1]
+            j -= 1
+        order[j] = k
     # Walk from the base corner, one axis at a time in decreasing fractional order.
     idx[p, 0] = base
     weights[p, 0] = 1.0 - frac[order[0]]
@@ -65,16 +69,24 @@ def _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights):
 
 @jit_parallel
 def kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
-    """:func:`_kuhn_point` for every state, on the threads."""
-    for p in prange(x.shape[0]):
-        _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights)
+    """:func:`_kuhn_point` for every state, on the threads (scratch allocated once per block of
+    states)."""
+    n_points, d = x.shape
+    n_blocks = min(n_points, 256)
+    for b in prange(n_blocks):
+        frac = np.empty(d)
+        order = np.empty(d, np.int64)
+        for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
+            _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order)
 
 
 @jit
 def kuhn_kernel_serial(x, lo, spacing, shape, strides, periodic, idx, weights):
     """:func:`_kuhn_point` for every state, in this thread (few states: :data:`SERIAL_BELOW`)."""
+    frac = np.empty(x.shape[1])
+    order = np.empty(x.shape[1], np.int64)
     for p in range(x.shape[0]):
-        _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights)
+        _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order)
 
 
 @jit_inline
