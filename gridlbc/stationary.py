@@ -411,6 +411,9 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     setup = time.perf_counter() - start
     solver = _linear_solver(A[:, interior], s, grid.ndim)
     Z, iterations = solver(np.stack(rhs, axis=1))
+    if generator.second_order is None and _method(s, grid.ndim, len(interior)) != "direct":
+        for r in range(Z.shape[1]):  # the Krylov solve resolves z relative to its largest only
+            Z[:, r] = accurate_tail(A[:, interior].tocsr(), rhs[r], Z[:, r], s, grid.ndim)
     digest = _digest(E, q, L.data, to_boundary.data, generator.boundary_points)
     label = f"stationary-{s.rates}"
     if generator.second_order is not None:
@@ -519,7 +522,8 @@ def solve_average_cost(
             "be irreducible (parts of the box it never leaves); the relative value is unreliable",
             ResolutionWarning,
         )
-    e = accurate_tail(M, mu, np.clip(e / e.max(), 0.0, None), s, grid.ndim)
+    shifted = (mu * sp.identity(len(e), format="csr") - M).tocsr()
+    e = accurate_tail(shifted, np.zeros(len(e)), e / e.max(), s, grid.ndim)
     label = f"stationary-{s.rates}"
     solution = _package(problem, label, e, 0.0, start, setup, iterations, _digest(q, M.data))
     object.__setattr__(solution, "average_cost", -lam * mu)
@@ -529,61 +533,63 @@ def solve_average_cost(
 
 
 TAIL = 1e-6
-"""Entries of the principal eigenvector below this share of its largest are solved for again,
-from the others (:func:`accurate_tail`): h more than λ log(1/TAIL) ≈ 14 λ above its minimum."""
+"""Entries of an iterative first-exit solve's z, and of the principal eigenvector, below this
+share of their largest are solved for again from the others (:func:`accurate_tail`): v more
+than λ log(1/TAIL) ≈ 14 λ above its least value."""
 
 
 def accurate_tail(
-    M: sp.csr_matrix, mu: float, e: np.ndarray, s: StationarySettings, ndim: int
+    A: sp.csr_matrix, b: np.ndarray, x: np.ndarray, s: StationarySettings, ndim: int
 ) -> np.ndarray:
-    """The principal eigenvector ``e`` (max entry 1) with its small entries solved for again.
+    """A non-negative solution ``x`` of A x = b with its small entries solved for again: the
+    desirability of a first-exit solve (A = (diag(q/λ) − L)_II, b ≥ 0) or the principal
+    eigenvector of an average-cost one (A = μI − M, b = 0).
 
-    An eigen-solve's vector is accurate relative to its largest entry (ARPACK's and Noda's
-    residuals are norms), so an entry far below it is rounding, and h = −λ log e there would
-    stop near λ log(1/ε) ≈ 36 λ above its minimum whatever the truth, on every grid alike (the
-    estimate cannot see it). Over the nodes T where e < :data:`TAIL` (H the others, held),
-    (M − μI) e = 0 gives
+    An iterative solve's residual, and an eigen-solve's, are norms, so x is accurate relative
+    to its largest entry only: an entry far below it is rounding, and v = −λ log x there would
+    stop near λ log(1/ε) ≈ 36 λ (λ log(1/residual) for a Krylov solve, or +inf where the
+    rounding dips below zero) above its least value whatever the truth, on every grid alike (the
+    estimate cannot see it). Over the nodes T where x < :data:`TAIL` of its largest (H the
+    others, held), the rows T of A x = b give
 
-        (μI − M)_TT e_T = M_TH e_H,
+        A_TT x_T = b_T − A_TH x_H,
 
-    a non-singular M-matrix (for an irreducible M the principal eigenvalue of its restriction to
-    T is below μ) with a non-negative right-hand side, solved as the first-exit system is
-    (:func:`_solve_linear`): by sparse LU each entry keeps its own relative accuracy, as z does
-    in a first-exit solve; an iterative solve resolves entries down to its residual relative to
-    the largest of T, so it is repeated on the entries below :data:`TAIL` of that, and so on,
-    down to the smallest normal number (BiCGSTAB falling back on ILU-GMRES as under
-    ``"auto"``; where neither converges the solve warns, and those entries stay rounding)."""
-    e = e.copy()
-    threshold = TAIL
+    a non-singular M-matrix (for the eigenvector: the principal eigenvalue of M's restriction
+    to T is below μ, M being irreducible) with a non-negative right-hand side (A's off-diagonal
+    entries are not positive), solved as the first-exit system is (:func:`_solve_linear`): by
+    sparse LU each entry keeps its own relative accuracy, as z does in a direct first-exit
+    solve; an iterative solve resolves entries down to its residual relative to the largest of
+    T, so it is repeated on the entries below :data:`TAIL` of that, and so on, down to the
+    smallest normal number. Each pass solves in units of its threshold (x_T about 1 at most),
+    which keeps the Krylov iterates out of the subnormal range (BiCGSTAB falling back on
+    ILU-GMRES as under ``"auto"``; where neither converges the solve warns, and those entries
+    stay rounding)."""
+    x = np.clip(x, 0.0, None)
+    threshold = TAIL * float(x.max())
+    # BiCGSTAB with ILU-GMRES to fall back on (or LU where "auto" picks it)
+    robust = s if s.linear_solver != "bicgstab" else dataclasses.replace(s, linear_solver="auto")
     while threshold > np.finfo(float).tiny:
-        tail = e < threshold
+        tail = x < threshold
         if not tail.any() or tail.all():
             break
-        shifted = (mu * sp.identity(len(e), format="csr") - M)[tail]
-        # M_TH e_H (the off-diagonal part of −(μI − M)), in units of the threshold: e_T scaled
-        # to its largest entry, about 1, keeps the Krylov iterates out of the subnormal range
-        b = -(shifted[:, ~tail] @ e[~tail]) / threshold
-        # BiCGSTAB with ILU-GMRES to fall back on (or LU where "auto" picks it)
-        robust = (
-            s if s.linear_solver != "bicgstab" else dataclasses.replace(s, linear_solver="auto")
-        )
+        rows = A[tail]
+        rhs = (b[tail] - rows[:, ~tail] @ x[~tail]) / threshold
         try:
-            solved, _ = _solve_linear(shifted[:, tail].tocsr(), b[:, None], robust, ndim)
+            solved, _ = _solve_linear(rows[:, tail].tocsr(), rhs[:, None], robust, ndim)
         except ConvergenceError as error:
             warn_user(
-                "the relative value h more than "
-                f"{-np.log(threshold):.0f} λ above its minimum could not be solved again from "
-                f"the eigenvector's larger entries ({error}): there it is rounding, near "
-                "λ log(1/ε) ≈ 36 λ whatever the truth; give linear_solver='direct' if its "
+                f"the values more than {-np.log(threshold / x.max()):.0f} λ above their least "
+                f"could not be solved again from the larger entries of z ({error}): there "
+                "they are rounding, whatever the truth; give linear_solver='direct' if its "
                 "factorisation fits in memory",
                 ResolutionWarning,
             )
             break
-        e[tail] = np.clip(solved[:, 0], 0.0, None) * threshold
+        x[tail] = np.clip(solved[:, 0], 0.0, None) * threshold
         if _method(robust, ndim, int(tail.sum())) == "direct":
             break
         threshold *= TAIL
-    return e
+    return x
 
 
 def stationary_distribution(e: np.ndarray, e_left: np.ndarray) -> np.ndarray:

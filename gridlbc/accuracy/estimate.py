@@ -365,11 +365,12 @@ def _local(v, embedded, pair, temperature: float, order: float) -> tuple[np.ndar
     embedded difference is divided by 2^q − 1: the pair's is not a difference between the
     spacings h and 2h but how much a solve at 2h moves with where its nodes fall, an error the
     grid shares, not a multiple of it."""
-    difference = np.abs(embedded - v)
-    local = richardson(difference, relative_error(difference, v, temperature), order)
-    if pair is not None:
-        moved = np.abs(pair[0] - pair[1])
-        difference, local = np.maximum(difference, moved), np.maximum(local, moved)
+    with np.errstate(invalid="ignore"):  # inf − inf where v and a level underflowed: NaN there
+        difference = np.abs(embedded - v)
+        local = richardson(difference, relative_error(difference, v, temperature), order)
+        if pair is not None:
+            moved = np.abs(pair[0] - pair[1])
+            difference, local = np.maximum(difference, moved), np.maximum(local, moved)
     return difference, local
 
 

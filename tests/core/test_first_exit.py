@@ -445,6 +445,29 @@ def test_relative_value_far_above_its_minimum_is_solved_not_rounded():
     assert np.all(np.abs(h - truth) <= 1.5 * solution.error_estimate(x)), (h, truth)
 
 
+def test_an_iterative_first_exit_solve_resolves_z_far_below_its_largest_entry():
+    # A ball exit in a 3-D box at λ = 0.05 (BiCGSTAB, the default from 3-D): v reaches about 80 λ
+    # in the far corner, where z is 1e-35 of its largest entry, far below the Krylov residual
+    # relative to it: z there was rounding, clipped to 0 (v = +inf, an underflow warning) or
+    # stuck near λ log(1/residual). Solved again on the small entries, v equals the direct
+    # solve's (each entry of a sparse LU solve of this M-matrix keeps its relative accuracy) to
+    # the residual's size.
+    problem = g.Problem(
+        LinearSystem(np.zeros((3, 3)), np.eye(3)),
+        g.Grid([g.Axis(-2, 2, 21)] * 3),
+        None,
+        state_cost=lambda x: np.ones(len(x)),
+        temperature=0.05,
+        exit=Ball([0.0, 0.0, 0.0], 0.3),
+        exit_cost=lambda x: np.zeros(len(x)),
+    )
+    x = np.array([[1.0, 0.0, 0.0], [1.6, 1.6, 0.0], [2.0, 2.0, 2.0]])
+    iterative = g.solve(problem, linear_solver="bicgstab", error_estimate=False)
+    direct = g.solve(problem, linear_solver="direct", error_estimate=False)
+    assert direct.value(x)[-1] / 0.05 > 70
+    np.testing.assert_allclose(iterative.value(x), direct.value(x), rtol=1e-6)
+
+
 def test_noda_iteration_does_not_stall_where_its_guess_nearly_solves_the_shifted_system():
     # Two point masses, 7⁴ (stranger round 15's avg_pair_4d, whose estimate's 4h level this is):
     # near the eigenvector the guess e/(σ − ρ) met the inner solves' loose tolerance, so the
