@@ -94,8 +94,9 @@ LINEAR_SOLVERS = ("auto", "direct", "bicgstab", "gmres")
   (``benchmarks/stationary_solvers.py`` measures the choice, docs page :doc:`first_exit`).
 
 The residual bounds the iterative solves' error in z relative to its largest value, so
-v = −λ log z is accurate where z is not far below that (its error grows as λ · error / z): far
-from the exit set, where v exceeds its minimum by many λ, the direct solve is the accurate one.
+v = −λ log z would be rounding where z is far below it (far from the exit set, where v exceeds
+its minimum by many λ): the entries below :data:`TAIL` of the largest are solved again from the
+others (:func:`accurate_tail`), without defect correction.
 """
 
 DIRECT_LIMIT = 1_000_000
