@@ -410,11 +410,12 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
         z_boundary.append(z_points)
         rhs.append(-A[:, np.flatnonzero(E)] @ z_exit + to_boundary[interior] @ z_points)
     setup = time.perf_counter() - start
-    solver = _linear_solver(A[:, interior], s, grid.ndim)
+    A_II = A[:, interior].tocsr()
+    solver = _linear_solver(A_II, s, grid.ndim)
     Z, iterations = solver(np.stack(rhs, axis=1))
     if generator.second_order is None and _method(s, grid.ndim, len(interior)) != "direct":
         for r in range(Z.shape[1]):  # the Krylov solve resolves z relative to its largest only
-            Z[:, r] = accurate_tail(A[:, interior].tocsr(), rhs[r], Z[:, r], s, grid.ndim)
+            Z[:, r] = accurate_tail(A_II, rhs[r], Z[:, r], s, grid.ndim)
     digest = _digest(E, q, L.data, to_boundary.data, generator.boundary_points)
     label = f"stationary-{s.rates}"
     if generator.second_order is not None:
