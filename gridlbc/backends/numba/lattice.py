@@ -10,6 +10,16 @@ from .options import jit, jit_inline, jit_parallel, prange
 
 
 @jit_inline
+def _c_strides(shape):  # pragma: no cover - numba
+    """The flat index's step for each axis of an array of ``shape`` in C order."""
+    d = shape.shape[0]
+    strides = np.ones(d, np.int64)
+    for a in range(d - 2, -1, -1):
+        strides[a] = strides[a + 1] * shape[a + 1]
+    return strides
+
+
+@jit_inline
 def _weights(t, w):  # pragma: no cover - numba
     """The coefficients of :func:`_between` at offset t, into ``w`` (10,): the left quadratic's
     on ``before``, ``lo``, ``hi`` (0–2), the right one's on ``lo``, ``hi``, ``after`` (3–5; the
@@ -124,9 +134,7 @@ def local_minima(true, rebuilt, shape, wrap, rounding, out):  # pragma: no cover
     local minima, with their neighbours read only where the excess is that low."""
     d = shape.shape[0]
     size = true.shape[0]
-    strides = np.ones(d, np.int64)
-    for a in range(d - 2, -1, -1):
-        strides[a] = strides[a + 1] * shape[a + 1]
+    strides = _c_strides(shape)
     n_blocks = min(size, 256)
     for b in prange(n_blocks):
         offset = np.empty((d, 3), np.int64)  # the flat offsets of the indices j − 1, j, j + 1
@@ -164,9 +172,7 @@ def rebuild_points(nodes, shape, periodic, positions, kink, out):  # pragma: no 
     as the lattice is reconstructed axis by axis."""
     d = shape.shape[0]
     size = 4**d
-    strides = np.ones(d, np.int64)
-    for a in range(d - 2, -1, -1):
-        strides[a] = strides[a + 1] * shape[a + 1]
+    strides = _c_strides(shape)
     n_points = positions.shape[0]
     n_blocks = min(n_points, 256)
     for b in prange(n_blocks):
@@ -228,9 +234,7 @@ def multilinear_points(values, shape, periodic, positions, out):  # pragma: no c
     and the 2^d corners added in the order of ``itertools.product((0, 1), repeat=d)``, each
     weighted by the product of t or 1 − t over the axes in turn."""
     d = shape.shape[0]
-    strides = np.ones(d, np.int64)
-    for a in range(d - 2, -1, -1):
-        strides[a] = strides[a + 1] * shape[a + 1]
+    strides = _c_strides(shape)
     n_points = positions.shape[0]
     n_blocks = min(n_points, 256)
     for b in prange(n_blocks):
