@@ -64,11 +64,13 @@ from .accuracy import (
     embedded_grid,
     embedded_solves,
     finish,
+    limiting_axes,
     over_budget,
     predicted_seconds,
     refined_grid,
     responses,
     scalar_estimate,
+    scalar_relative,
     stationary_gap,
     unestimated,
 )
@@ -925,10 +927,7 @@ def _relative_error_of_c(solution: StationarySolution) -> float:
     """ê_c / c of an average-cost solve (0 for first exit; 0 where both are 0)."""
     if solution.average_cost_error is None:
         return 0.0
-    c = abs(_average_cost(solution))
-    if c > 0:
-        return solution.average_cost_error / c
-    return 0.0 if solution.average_cost_error == 0 else np.inf
+    return scalar_relative(solution.average_cost_error, _average_cost(solution))
 
 
 def _shares_of_c(solution: StationarySolution, coarsened: dict) -> tuple[list[int], np.ndarray]:
@@ -942,10 +941,7 @@ def _shares_of_c(solution: StationarySolution, coarsened: dict) -> tuple[list[in
         other = None if grid is None else coarsened.get(grid.shape)
         if other is not None and c != 0:
             shares[i] = abs(_average_cost(other) - c) / abs(c)
-    if not np.any(np.isfinite(shares)):
-        return list(range(solution.grid.ndim)), shares
-    top = np.nanmax(shares)
-    return [i for i in range(solution.grid.ndim) if not shares[i] < 0.5 * top], shares
+    return limiting_axes(shares), shares
 
 
 def _solve_quietly(problem: Problem, s: StationarySettings, grid: Grid, kept=None):

@@ -327,11 +327,12 @@ class EmbeddedEstimate:
         v, error = self._error(solution, x, t, samples)
         return relative_error(error, v, solution.temperature)
 
-    def grid_terms(self, solution: Solution, x, t=0.0) -> np.ndarray:
+    def grid_terms(self, solution: Solution, x, t=0.0, v=None, response=None) -> np.ndarray:
         """The estimate at ``x`` without γ: the local term, at least ``floor`` relative to
         ``max(abs(v), λ)``, and at least S (no sampling: every state at the cost of an
-        interpolation)."""
-        return self._grid_terms(solution, x, t)[1]
+        interpolation). ``v`` (v_h) and ``response`` (S) at ``x``: where the caller has read
+        them."""
+        return self._grid_terms(solution, x, t, v, response)[1]
 
     def _grid_terms(
         self, solution: Solution, x, t, v=None, response=None
@@ -485,11 +486,15 @@ class ScalarEstimate:
 
     @property
     def relative(self) -> float:
-        """ê / abs(c_h) (+inf where c_h is zero and ê is not)."""
-        fine = abs(self.levels[0])
-        if fine > 0:
-            return self.error / fine
-        return 0.0 if self.error == 0 else np.inf
+        """ê / abs(c_h) (:func:`scalar_relative`)."""
+        return scalar_relative(self.error, self.levels[0])
+
+
+def scalar_relative(error: float, value: float) -> float:
+    """``error / abs(value)``: 0 where both are zero, +inf where only the value is."""
+    if value != 0:
+        return float(error / abs(value))
+    return 0.0 if error == 0 else np.inf
 
 
 def scalar_estimate(levels, pair=None, gap: float = 0.0, response: float = 0.0) -> ScalarEstimate:
@@ -676,7 +681,7 @@ def confirmed_locally(
         return none
     v = matter.value
     response = None if solution.embedded.excess is None else matter.response
-    terms = solution.embedded._grid_terms(solution, X, 0.0, v, response)[1]
+    terms = solution.embedded.grid_terms(solution, X, 0.0, v, response)
     grid = relative_error(terms, v, solution.temperature)
     above = np.flatnonzero(grid > tol)
     if len(above) == 0:

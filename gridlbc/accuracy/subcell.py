@@ -301,12 +301,13 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     anchors = [coarse.reshape(coarse.node_values(values)) for _, values, _, _ in sampled]
     scale = problem.temperature
     sums = np.zeros((2, len(sampled)) + coarse.shape)
+    paid_on_exit = any(on_exit for *_, on_exit in sampled)
     for block in _blocks(points) if sampled else ():
+        off_exit = ~block.evaluate(problem.exit_mask, bool) if paid_on_exit else None
         for k, (_, values, tau, on_exit) in enumerate(sampled):
             true, rebuilt = block.values(values, nodal[k], grid, m)
-            outside = None
-            if on_exit:  # paid on E only: no seeds off E, and no share in either sum
-                outside = ~block.evaluate(problem.exit_mask, bool)
+            outside = off_exit if on_exit else None
+            if outside is not None:  # paid on E only: no seeds off E, and no share in either sum
                 true = np.where(outside, rebuilt, true)
             anchor = block.spread(anchors[k], hats)
             measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)

@@ -106,9 +106,18 @@ def axes_to_refine(
     """
     shares, whole = axis_shares(solution, solve_on, states)
     if not shares_add_up(shares, whole, time_share):
-        return list(range(solution.grid.ndim)), shares
+        return list(range(len(shares))), shares
+    return limiting_axes(shares), shares
+
+
+def limiting_axes(shares) -> list[int]:
+    """The axes whose share of an error is at least half the largest share (NaN: unknown, not
+    chosen); every axis where none is known."""
+    shares = np.asarray(shares, dtype=float)
+    if not np.any(np.isfinite(shares)):
+        return list(range(len(shares)))
     top = np.nanmax(shares)
-    return [i for i in range(solution.grid.ndim) if not shares[i] < 0.5 * top], shares
+    return [i for i in range(len(shares)) if not shares[i] < 0.5 * top]
 
 
 def refinement_factors(errors, orders, tol: float) -> np.ndarray:
