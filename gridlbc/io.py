@@ -53,6 +53,7 @@ from .costs import Quadratic
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
+from .regions import GridRegion
 from .representation import REPRESENTATIONS, LinearZ, LogZ, RelativeZ
 from .solution import OperatorSignature, Solution, SolveDiagnostics, StationarySolution
 
@@ -81,24 +82,6 @@ class GridCost:
 
     def __call__(self, x) -> np.ndarray:
         return interpolate(self.grid, self.values, x)
-
-
-class GridRegion:
-    """An exit set known at the grid nodes (a saved first-exit problem's): a state lies in it where
-    the barycentric interpolation of the nodes' membership is at least ½, so every node keeps
-    its own."""
-
-    def __init__(self, grid: Grid, mask, description: str = "a saved exit set"):
-        mask = np.asarray(mask, dtype=bool)
-        if mask.shape != (grid.size,):
-            raise ValueError(f"GridRegion mask must have shape ({grid.size},), got {mask.shape}")
-        self.grid, self.mask, self.description = grid, mask, description
-
-    def __call__(self, x) -> np.ndarray:
-        return interpolate(self.grid, self.mask.astype(float), x) >= 0.5
-
-    def __repr__(self) -> str:
-        return self.description
 
 
 def _digest(*arrays) -> str:

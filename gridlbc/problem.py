@@ -354,10 +354,14 @@ class Problem:
             )
         return evaluate_cost(self.terminal_cost, x, "terminal_cost")
 
-    def state_cost_values(self, x=None, t=None) -> np.ndarray:
+    def state_cost_values(self, x=None, t=None, signed: bool = False) -> np.ndarray:
         """q at states (default: the grid nodes) and time ``t``, checked finite and non-negative.
 
         ``t`` is needed only by a time-dependent state cost (:class:`gridlbc.costs.Tracking`).
+        ``signed``: not checked for sign: the samples between the nodes of the error estimate
+        (:mod:`gridlbc.accuracy`) and of rollouts and certificates (:mod:`gridlbc.simulate`),
+        where a cost the solve accepted at every node may dip below zero; the solve is posed on
+        the nodes, and a path pays the cost as it is.
         """
         x = self.require_grid("state_cost_values()").nodes() if x is None else self.check_states(x)
         if self.state_cost is None:
@@ -372,7 +376,7 @@ class Problem:
             q = evaluate_cost(lambda y: cost(y, t), x, "state_cost")
         else:
             q = evaluate_cost(cost, x, "state_cost")
-        if np.any(q < 0):
+        if not signed and np.any(q < 0):
             raise ValueError(
                 f"state_cost must be non-negative (min {q.min():.3g}): add a constant to it; "
                 "a constant shifts v by constant·T and leaves the policy unchanged"

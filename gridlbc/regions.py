@@ -22,6 +22,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .costs import wrap_difference
+from .grid import Grid
+from .interpolate import interpolate
 
 
 def _vector(name: str, value: ArrayLike, allow_inf: bool = False) -> np.ndarray:
@@ -173,6 +175,25 @@ class Union(RegionBase):
 
     def __repr__(self) -> str:
         return " | ".join(repr(p) for p in self.parts)
+
+
+class GridRegion:
+    """An exit set known at the grid nodes (a saved first-exit problem's, :func:`gridlbc.load`;
+    the paths of :func:`gridlbc.accuracy.truncation_gap`): a state lies in it where
+    the barycentric interpolation of the nodes' membership is at least ½, so every node keeps
+    its own."""
+
+    def __init__(self, grid: Grid, mask, description: str = "a saved exit set"):
+        mask = np.asarray(mask, dtype=bool)
+        if mask.shape != (grid.size,):
+            raise ValueError(f"GridRegion mask must have shape ({grid.size},), got {mask.shape}")
+        self.grid, self.mask, self.description = grid, mask, description
+
+    def __call__(self, x) -> np.ndarray:
+        return interpolate(self.grid, self.mask.astype(float), x) >= 0.5
+
+    def __repr__(self) -> str:
+        return self.description
 
 
 def _towards(x: np.ndarray, nearest: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

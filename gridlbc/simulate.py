@@ -559,8 +559,8 @@ def euler_maruyama(
             running_a, ito_a = running[alive], ito[alive]
             if integral is not None:
                 integral[alive] += np.asarray(integrand(x_a, t), dtype=float) * step
-            if problem.state_cost is not None:
-                running_a += problem.state_cost_values(x_a, t) * step
+            if problem.state_cost is not None:  # as it is between the nodes (signed)
+                running_a += problem.state_cost_values(x_a, t, signed=True) * step
             x_new = np.empty_like(x_a)
             eps_a = np.ascontiguousarray(eps[alive])
             em_kernel(x_a, drift, B, u_a, eps_a, root, R, step, x_new, running_a, ito_a)

@@ -239,7 +239,9 @@ class Solution(FieldEvaluation):
         the costs' excess between the nodes changes in the embedded solve (a goal or a well
         narrower than a cell: :mod:`gridlbc.accuracy.subcell`), and at least the cost that the
         grid's interpolants of the costs add along the solve's paths
-        (:func:`gridlbc.accuracy.cost_gap`, sampled with a fixed seed from 16 paths per state).
+        (:func:`gridlbc.accuracy.cost_gap`, sampled with a fixed seed from 16 paths per state);
+        for a stationary solve also at least the generator's truncation error carried along the
+        paths (:func:`gridlbc.accuracy.truncation_gap`: z falling faster than a cell carries).
 
         Parameters
         ----------

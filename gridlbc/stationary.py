@@ -57,6 +57,7 @@ from .accuracy import (
     Refinement,
     assess,
     attach_estimates,
+    average_truncation,
     axes_to_refine,
     check_budget,
     check_scalar,
@@ -74,7 +75,13 @@ from .accuracy import (
     stationary_gap,
     unestimated,
 )
-from .errors import ConvergenceError, GridlbcWarning, ResolutionWarning, warn_user
+from .errors import (
+    ConvergenceError,
+    GridlbcWarning,
+    ResolutionWarning,
+    UnderflowWarning,
+    warn_user,
+)
 from .grid import Grid
 from .problem import Problem
 from .schemes.generator import RATES, Generator, exit_generator, generator_matrix
@@ -770,6 +777,15 @@ def _package(problem, label, z, top, start, setup, iterations, digest) -> Statio
         courant=0.0,
         iterations=tuple(iterations),
     )
+    if diagnostics.underflow_nodes:
+        warn_user(
+            f"the desirability underflowed at {diagnostics.underflow_nodes} of {Z.size} nodes "
+            "(v more than about 745 λ above its least value, beyond what a double holds of "
+            "z = e^(−v/λ)): v reads +inf there and the policy is undefined. Raise the "
+            "temperature relative to the costs, or shrink the box to the states you need (docs "
+            "page 'limitations')",
+            UnderflowWarning,
+        )
     operator = OperatorSignature(label, 0.0, digest)
     return StationarySolution(
         problem,
@@ -1067,6 +1083,7 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
         None if pairs is None else [side[0].average_cost for side in pairs],
         stationary_gap(solution),
         response,
+        average_truncation(solution),
     )
     object.__setattr__(solution, "average_cost_error", estimate.error)
     check_scalar(estimate, "the average cost c")

@@ -29,6 +29,7 @@ import strangers_round11 as r11
 import strangers_round12 as r12
 import strangers_round13 as r13
 import strangers_round15 as r15
+import strangers_round16 as r16
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1015,6 +1016,13 @@ def _two_doors_exact(X):
     return value
 
 
+def _cold_flow_exact(X):
+    """v depends on x₀ alone: second-order finite differences of the 1-D stationary equation in
+    log-safe form (strangers_round13.bvp_1d) on 400 001 and 800 001 nodes"""
+    value, _ = r16.P16["fe_frozen_flow"][2](X)
+    return value
+
+
 def _three_doors_exact(X):
     """5-point finite differences of (λ/2R)Δz = (q/λ)z between the doors
     (strangers_round15.fd_three_doors) at h = 0.01 and 0.005, which agree to 5e-5"""
@@ -1022,9 +1030,9 @@ def _three_doors_exact(X):
     return value
 
 
-def _relative_value_exact(name):
+def _relative_value_exact(table, name):
     def exact(X):
-        value, _ = r15.P15[name][2](X)
+        value, _ = table[name][2](X)
         return value[1:]
 
     exact.__doc__ = (
@@ -1532,7 +1540,7 @@ MEMBERS: tuple[Member, ...] = (
         "15: h stopped near λ log(1/ε) ≈ 36 λ on every grid alike, 48 % low with an estimate of "
         "7 %, before its small entries were solved again from the others)",
         tags=("average cost", "cold", "closed"),
-        exact=_relative_value_exact("avg_mass_cold"),
+        exact=_relative_value_exact(r15.P15, "avg_mass_cold"),
     ),
     Member(
         "pair_average_4d",
@@ -1541,7 +1549,7 @@ MEMBERS: tuple[Member, ...] = (
         "two uncoupled point masses' average cost in 4-D (25⁴): the default solve raised from its "
         "estimate's 7⁴ level, where Noda's iteration stalled (stranger round 15)",
         tags=("average cost", "4-D", "closed"),
-        exact=_relative_value_exact("avg_pair_4d"),
+        exact=_relative_value_exact(r15.P15, "avg_pair_4d"),
     ),
     Member(
         "two_doors",
@@ -1561,6 +1569,28 @@ MEMBERS: tuple[Member, ...] = (
         "15: a false alarm from the corner's step, which no path pays between the nodes)",
         tags=("first exit", "step", "corner"),
         exact=_three_doors_exact,
+    ),
+    Member(
+        "cold_flow_exit",
+        r16.fe_frozen_flow,
+        r16.P16["fe_frozen_flow"][1],
+        "first exit through a user's flow at λ = 0.005 on 81²: z falls by e^{12} per cell where "
+        "the chain's second differences carry e^{5} (stranger round 16: 43–61 % low, estimates a "
+        "quarter to a third of the error, warned as rough, before the truncation error was "
+        "carried along the paths)",
+        tags=("first exit", "cold", "user system"),
+        exact=_cold_flow_exact,
+    ),
+    Member(
+        "cold_ou_average",
+        r16.avg_ou_frozen,
+        r16.P16["avg_ou_frozen"][1],
+        "the average cost of a coupled Ornstein–Uhlenbeck pull at λ = 0.005 on 161², the "
+        "relative value h at four states (stranger round 16: 7–42 % low, the estimate 0.37 of "
+        "the error at the farthest state, before the truncation error was carried along the "
+        "paths to h's minimum)",
+        tags=("average cost", "cold", "closed"),
+        exact=_relative_value_exact(r16.P16, "avg_ou_frozen"),
     ),
 )
 

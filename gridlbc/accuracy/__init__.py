@@ -103,6 +103,7 @@ from .tolerance import (
     unestimated,
     unsteerable,
 )
+from .truncation import average_truncation, truncation_gap, truncation_rate
 
 __all__ = [
     "ASSESSED",
@@ -132,6 +133,7 @@ __all__ = [
     "WithExcess",
     "assess",
     "attach_estimates",
+    "average_truncation",
     "axes_to_refine",
     "axis_shares",
     "better_half",
@@ -179,6 +181,8 @@ __all__ = [
     "stationary_gap",
     "statistic",
     "terminal_gap",
+    "truncation_gap",
+    "truncation_rate",
     "unestimated",
     "unsteerable",
 ]

@@ -47,6 +47,11 @@ from the nodes, exact for quadratics) changes in the embedded solve
 (:mod:`gridlbc.accuracy.subcell`): it sees a goal or a well narrower than a cell that the
 solve's paths never approach, which γ cannot.
 
+For a stationary solve (first exit, average cost) it is also at least the generator's
+truncation error on the solved v carried along the paths (:mod:`gridlbc.accuracy.truncation`):
+where z falls by many times e per cell every coarser grid is further off still, and their
+differences say little.
+
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
 the value's curvature. It cannot see an error that all the solves share and the paths do not
@@ -89,6 +94,7 @@ import numpy as np
 from ..errors import ResolutionWarning, warn_user
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
+from .truncation import truncation_gap
 
 if TYPE_CHECKING:
     from ..solution import Solution
@@ -348,7 +354,9 @@ class EmbeddedEstimate:
     def _error(self, solution: Solution, x, t, samples: int) -> tuple[np.ndarray, np.ndarray]:
         """v_h and :meth:`error` at ``x``."""
         v, grid_terms = self._grid_terms(solution, x, t)
-        return v, np.fmax(grid_terms, np.abs(cost_gap(solution, x, t, samples)))
+        terms = np.fmax(grid_terms, np.abs(cost_gap(solution, x, t, samples)))
+        truncation = truncation_gap(solution, x, samples, below=terms, v=v)
+        return v, np.fmax(terms, np.abs(truncation))
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:
         """v_h, v_2h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated
@@ -462,7 +470,10 @@ class ScalarEstimate:
     (:func:`gridlbc.accuracy.paths.stationary_gap`), and at least S_c = abs(c_2h[q + δq] −
     c_2h[q]), what the state cost's excess between the nodes changes in the embedded solve
     (:mod:`gridlbc.accuracy.subcell`): the levels miss a feature of q narrower than a cell
-    alike, γ_c sees one the solve's law crosses and S_c one a path would seek.
+    alike, γ_c sees one the solve's law crosses and S_c one a path would seek. And it is at
+    least abs(E_π[λτ]), what the generator's truncation error leaves out of c under the same
+    law (:mod:`gridlbc.accuracy.truncation`): where h/λ changes by several units per cell the
+    levels are all far from their asymptotic range.
 
     Attributes
     ----------
@@ -476,6 +487,8 @@ class ScalarEstimate:
         γ_c (0 where not sampled).
     response : float
         S_c (0 where not measured).
+    truncation : float
+        E_π[λτ] (0 where not measured).
     """
 
     error: float
@@ -483,6 +496,7 @@ class ScalarEstimate:
     levels: tuple[float, ...]
     gap: float = 0.0
     response: float = 0.0
+    truncation: float = 0.0
 
     @property
     def relative(self) -> float:
@@ -497,11 +511,13 @@ def scalar_relative(error: float, value: float) -> float:
     return 0.0 if error == 0 else np.inf
 
 
-def scalar_estimate(levels, pair=None, gap: float = 0.0, response: float = 0.0) -> ScalarEstimate:
+def scalar_estimate(
+    levels, pair=None, gap: float = 0.0, response: float = 0.0, truncation: float = 0.0
+) -> ScalarEstimate:
     """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
     ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and on :func:`phase_pair` (whose
-    difference abs(c_c₁ − c_c₂) the estimate is at least), and at least abs(``gap``) and
-    ``response``.
+    difference abs(c_c₁ − c_c₂) the estimate is at least), and at least abs(``gap``),
+    ``response`` and abs(``truncation``).
 
     Parameters
     ----------
@@ -514,6 +530,9 @@ def scalar_estimate(levels, pair=None, gap: float = 0.0, response: float = 0.0) 
         (:func:`gridlbc.accuracy.paths.stationary_gap`).
     response : float
         S_c, what the costs' excess between the nodes changes in the number on the embedded grid.
+    truncation : float
+        E_π[λτ], what the generator's truncation error leaves out of the number
+        (:func:`gridlbc.accuracy.truncation.average_truncation`).
 
     Returns
     -------
@@ -530,8 +549,8 @@ def scalar_estimate(levels, pair=None, gap: float = 0.0, response: float = 0.0) 
     error = float(richardson(difference, relative, order))
     if pair is not None:  # how far a coarse solve moves with where its nodes fall: undivided
         error = max(error, abs(float(pair[0]) - float(pair[1])))
-    error = max(error, abs(float(gap)), float(response))
-    return ScalarEstimate(error, observed, tuple(c), float(gap), float(response))
+    error = max(error, abs(float(gap)), float(response), abs(float(truncation)))
+    return ScalarEstimate(error, observed, tuple(c), float(gap), float(response), float(truncation))
 
 
 def attach_estimates(solutions, levels: list, pairs=None, excess=None, reason: str = "") -> None:
@@ -855,6 +874,12 @@ def check_scalar(estimate: ScalarEstimate, name: str, tol: float = DEFAULT_TOLER
         gap = (
             "; the state cost's excess between the nodes (a well narrower than a cell) moves c "
             f"on the grid with every other node by {estimate.response:.3g}"
+        )
+    elif abs(estimate.truncation) >= estimate.error:
+        gap = (
+            "; the grid's truncation error on the solved relative value (which changes by "
+            f"several λ between the nodes) leaves out {estimate.truncation:.3g} per unit time "
+            "under the solve's stationary law"
         )
     warn_user(
         f"the estimated error of {name} = {estimate.levels[0]:.6g} is {estimate.error:.3g}, "

@@ -80,6 +80,7 @@ order of the scheme's own error.
 from __future__ import annotations
 
 import warnings
+from functools import partial
 from typing import cast
 
 import numpy as np
@@ -171,9 +172,14 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.nda
     return path_gap(solution, x, t, samples)[0]
 
 
-def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
+def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=None):
     """γ(x, t) (:func:`cost_gap`), and how many of its paths had not exited when they were
     stopped (the cap of a task without a horizon: the module docstring).
+
+    ``along``: ``(problem, policy, rate)``, the problem whose dynamics and exit set the paths
+    follow, a policy ``u(y)`` ``(n, m)`` and a running cost ``r(y)`` ``(n,)`` that replace the
+    solution's problem, the solve's policy and I_h q − q; the paths then add no exit or
+    terminal gap (:func:`gridlbc.accuracy.truncation.truncation_gap` integrates λτ so).
 
     The paths stop at τ, on entering an exit set E (:func:`gridlbc.simulate.euler_maruyama`,
     with its Brownian-bridge crossing check), or at T where there is a horizon, and run at the
@@ -189,13 +195,14 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
         Paths of a problem without a horizon that had not exited at the cap (0 with a
         horizon).
     """
-    problem, grid = solution.problem, solution.problem.grid
+    problem = solution.problem if along is None else along[0]
+    grid = problem.grid
     x = np.atleast_2d(np.asarray(x, dtype=float))
     n_states = x.shape[0]
-    if problem.stationary and interpolated_exactly(solution):
+    if along is None and problem.stationary and interpolated_exactly(solution):
         return np.zeros(n_states), 0
     if problem.stationary:
-        dt = path_step(solution)
+        dt = path_step(solution, None if along is None else along[1])
         steps = EXIT_STEPS
     else:
         remaining = problem.horizon - t
@@ -221,7 +228,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
         nonlocal last_bad
         with np.errstate(invalid="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore")  # an underflowed policy was the solve's to warn of
-            u = np.asarray(solution.policy(y, t + s), dtype=float)
+            u = np.asarray(solution.policy(y, t + s) if along is None else along[1](y), dtype=float)
         last_bad = ~np.all(np.isfinite(u), axis=1)
         u[last_bad] = 0.0
         return u
@@ -229,8 +236,10 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
     def rate(y: np.ndarray, s: float) -> np.ndarray:
         """I_h q − q at the same states (rectangle rule); NaN marks an underflowed policy."""
         r = np.zeros(y.shape[0])
-        if q_nodes is not None:
-            r = interpolate(grid, q_nodes, y) - problem.state_cost_values(y)
+        if along is not None:
+            r = along[2](y)
+        elif q_nodes is not None:
+            r = interpolate(grid, q_nodes, y) - problem.state_cost_values(y, signed=True)
         r[last_bad] = np.nan
         return r
 
@@ -250,10 +259,12 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES):
         undefined[running] |= np.isnan(integral)
         times = paths.exit_times  # None without an exit set: no path exits
         exited = np.zeros(len(running), dtype=bool) if times is None else ~np.isnan(times)
-        ends = exit_points(problem, paths.final_states[exited])
-        gap[running[exited]] += exit_cost_gap(solution, ends)
+        if along is None:
+            ends = exit_points(problem, paths.final_states[exited])
+            gap[running[exited]] += exit_cost_gap(solution, ends)
         if not problem.stationary:  # still running at T: (I_h g − g)(x_T)
-            gap[running[~exited]] += terminal_gap(solution, paths.final_states[~exited])
+            if along is None:
+                gap[running[~exited]] += terminal_gap(solution, paths.final_states[~exited])
             running = running[:0]
             break
         running, position = running[~exited], paths.final_states[~exited]
@@ -294,7 +305,8 @@ def stationary_gap(solution, samples: int = STATIONARY_SAMPLES) -> float:
     closed = ~grid.periodic
     x[:, closed] = np.where(x[:, closed] < lo[closed], 2 * lo[closed] - x[:, closed], x[:, closed])
     x[:, closed] = np.where(x[:, closed] > hi[closed], 2 * hi[closed] - x[:, closed], x[:, closed])
-    gap = nodal(solution, "state_cost")[nodes] - problem.state_cost_values(grid.wrap(x))
+    q = problem.state_cost_values(grid.wrap(x), signed=True)
+    gap = nodal(solution, "state_cost")[nodes] - q
     return float(np.mean(gap))
 
 
@@ -312,7 +324,7 @@ def interpolated_exactly(solution) -> bool:
     centres = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, grid.ndim)
     exact = True
     for cost, values in (
-        ("state_cost", problem.state_cost_values),
+        ("state_cost", partial(problem.state_cost_values, signed=True)),
         ("exit_cost", problem.exit_values),
     ):
         if getattr(problem, cost) is None:
@@ -329,17 +341,18 @@ def interpolated_exactly(solution) -> bool:
     return exact
 
 
-def path_step(solution) -> float:
+def path_step(solution, policy=None) -> float:
     """The paths' step for a first-exit problem without a horizon, which has no solve step Δt:
     the time in which a path moves about a cell along any axis,
 
         Δt = 1 / max_x max_k ( abs(a + B u)_k / h_k + Σ_kk / h_k² ),
 
-    by the drift under the solve's policy u or by the noise Σ = λ B R⁻¹ Bᵀ (a standard deviation
-    of h_k in Δt), the largest over up to :data:`STEP_STATES` nodes off the exit set (where the
-    policy is defined): as the finite-horizon γ's step, what the grid resolves of the paths. Kept
-    with the solution."""
-    if "path_step" in solution._cache:
+    by the drift under the solve's policy u (or ``policy(x)``, where given) or by the noise
+    Σ = λ B R⁻¹ Bᵀ (a standard deviation of h_k in Δt), the largest over up to
+    :data:`STEP_STATES` nodes off the exit set (where the policy is defined): as the
+    finite-horizon γ's step, what the grid resolves of the paths. Kept with the solution (for
+    the solve's policy)."""
+    if policy is None and "path_step" in solution._cache:
         return solution._cache["path_step"]
     problem, grid = solution.problem, solution.problem.grid
     keep = np.flatnonzero(~problem.exit_mask() & np.isfinite(solution.value_nodes(0)))
@@ -348,7 +361,7 @@ def path_step(solution) -> float:
     X = grid.node_coordinates(keep)
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        u = np.asarray(solution.policy(X), dtype=float)
+        u = np.asarray(solution.policy(X) if policy is None else policy(X), dtype=float)
     usable = np.all(np.isfinite(u), axis=1)
     X, u = X[usable], u[usable]
     h = grid.spacing
@@ -359,7 +372,8 @@ def path_step(solution) -> float:
         noise = np.einsum("nkk->nk", problem.noise_covariance(X))
         rate = float(np.max(speed / h + noise / h**2))
     dt = 1.0 / rate if np.isfinite(rate) and rate > 0 else float(np.min(h))
-    solution._cache["path_step"] = dt
+    if policy is None:
+        solution._cache["path_step"] = dt
     return dt
 
 

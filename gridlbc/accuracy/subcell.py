@@ -294,7 +294,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     ]
     hold = None if reproduced(problem.state_cost) else hold_time(problem, coarse)
     if hold is not None:
-        sampled.append(("state", problem.state_cost_values, hold, False))
+        sampled.append(("state", partial(problem.state_cost_values, signed=True), hold, False))
     if not problem.stationary and problem.exit is not None and not reproduced(problem.exit_cost):
         sampled.append(("exit", problem.exit_values, 1.0, True))
     nodal = [grid.reshape(grid.node_values(values)) for _, values, _, _ in sampled]

@@ -829,3 +829,71 @@ def test_a_task_with_a_horizon_and_an_exit_set_solves_to_a_tolerance():
         first, last = solution.refinement[0], solution.refinement[-1]
         assert first.error == g.accuracy.UNPOSED and solution.grid.shape == (81, 81)
         assert last.met(0.2) and solution.embedded is not None
+
+
+def test_a_cold_first_exit_is_estimated_by_the_generators_truncation_error():
+    # λ = 0.01 on 41² (h = 0.1): z = e^{−v/λ} falls by e^{14} per cell towards the disk, the
+    # chain's second differences carry about e^{5} (arccosh(1 + (κh)²/2)), and v is about half
+    # the exact one, K0(κr)/K0(κρ) in free space (the box's walls are e^{−κ·0.4} away). The
+    # embedded levels are all that far off (their estimate read 0.2–0.4 of the error); the
+    # truncation term, first order in τ and so above the error (1.6× here), must cover it: at
+    # least half the error at every state (the calibration contract of docs/accuracy.rst).
+    from scipy.special import k0e
+
+    lam, rho = 0.01, 0.3
+    kappa = np.sqrt(2.0) / lam
+    problem = g.Problem(
+        LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2, 2, 41)] * 2),
+        None,
+        state_cost=lambda x: np.ones(len(x)),
+        temperature=lam,
+        exit=Ball([0.0, 0.0], rho),
+        exit_cost=0.0,
+    )
+    X = np.array([[1.0, 0.0], [-1.2, 0.9], [0.4, -1.3]])
+    r = np.linalg.norm(X, axis=1)
+    exact = kappa * lam * (r - rho) - lam * np.log(k0e(kappa * r) / k0e(kappa * rho))
+    with pytest.warns(g.ResolutionWarning, match="estimated error"):
+        solution = g.solve(problem)
+    error = np.abs(solution.value(X) - exact)
+    assert np.all(error > 0.4 * exact)  # the grid cannot carry this fall of z
+    assert np.all(solution.error_estimate(X) >= 0.5 * error)
+
+
+def test_a_cold_average_cost_is_estimated_by_the_generators_truncation_error():
+    # ẋ = −x + u, q = x², λ = 0.005 on 81 nodes of [−2, 2]: h = ½ P x², P = √3 − 1, and
+    # c = (λ/2) P (the ARE, SPEC §9). h/λ rises by 3–11 per cell where the states lie: the
+    # solve's h is 20–40 % low, and its estimate (the truncation error carried along the paths
+    # to h's minimum) must be at least half the error there.
+    lam = 0.005
+    P = np.sqrt(3.0) - 1.0
+    problem = g.Problem(
+        LinearSystem([[-1.0]], [[1.0]]),
+        g.Grid([g.Axis(-2, 2, 81)]),
+        "average",
+        state_cost=g.costs.Quadratic([0.0], [1.0]),
+        temperature=lam,
+    )
+    X = np.array([[0.6], [1.0], [1.5]])
+    with pytest.warns(g.ResolutionWarning):
+        solution = g.solve(problem)
+    error = np.abs(solution.value(X) - 0.5 * P * X[:, 0] ** 2)
+    assert np.all(error > 0.1 * 0.5 * P * X[:, 0] ** 2)
+    assert np.all(solution.error_estimate(X) >= 0.5 * error)
+    assert solution.average_cost_error >= 0.5 * abs(solution.average_cost - 0.5 * lam * P)
+
+
+def test_a_state_cost_below_zero_between_the_nodes_does_not_fail_the_estimate():
+    # q ≥ 0 at every node (0 at x = −1), −0.00096 between them next to it: the solve is posed on
+    # the nodes and succeeds; the estimate samples q between the nodes and must not raise
+    # the solve's own check of q's sign (stranger round 16).
+    problem = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-2, 2, 101)]),
+        "average",
+        state_cost=lambda x: (x[:, 0] ** 2 - 1) ** 2 + 0.125 * (x[:, 0] + 1),
+        temperature=0.15,
+    )
+    solution = g.solve(problem)
+    assert np.isfinite(solution.average_cost_error)

@@ -1,0 +1,218 @@
+"""The generator's truncation error on the solved value: what a stationary solve leaves out where
+its desirability falls faster than a cell resolves (docs page :doc:`accuracy`, "Where z falls
+faster than a cell").
+
+A stationary solve (first exit, average cost: :mod:`gridlbc.stationary`) solves L_h z = (q − c)/λ z
+with the chain's generator L_h (:mod:`gridlbc.schemes.generator`; c = 0 for first exit). Its z
+solves the continuous equation L z = (q − c)/λ z exactly only for the state cost q − λτ,
+
+    τ = (L_h z − L z) / z,
+
+the generator's truncation error on the solution, L = aᵀ∇ + tr(D ∇²) the continuous generator. In
+terms of v = −λ log z, along each axis k at a node with neighbours v₊ and v₋ (Δ± = v± − v, the
+chain's rates r± ≥ 0 to them, drift a_k and diffusion D_k = ½ λ (BR⁻¹Bᵀ)_kk)::
+
+    (L_h z / z)_k = r₊ (e^{−Δ₊/λ} − 1) + r₋ (e^{−Δ₋/λ} − 1),
+    (L z / z)_k   = −a_k v′/λ + D_k ((v′/λ)² − v″/λ),
+
+with v′ = (v₊ − v₋)/2h and v″ = (v₊ − 2v + v₋)/h² of the solved v. Where v changes little over a
+cell (by much less than λ) the two agree to O(h²); where z falls by a factor e^s per cell with
+s ≫ 1 (a temperature small against the cell: the discrete z of a pure diffusion then falls by
+arccosh(1 + (κh)²/2) per cell where the true one falls by κh), the first is the chain's and the
+second the PDE's, and τ is the cost the grid leaves out. In one dimension, for z = e^{−κx}
+solved on nodes with s = Δ/λ per cell, τ = (D/h²)(4 sinh²(s/2) − s²).
+
+The solved v is the optimal value for the cost q − λτ, whose optimal policy is
+u = −R⁻¹Bᵀ∇v_h, and the optimal value is a minimum over policies of expectations linear in the
+cost, so along that policy
+
+    v − v_h ≤ E[ ∫₀^τ λ τ(X_s) ds ],
+
+which :func:`truncation_gap` samples for a first-exit solve with the paths of
+:func:`gridlbc.accuracy.path_gap`, with ∇v_h from the nodes' central differences of v (exact
+for a z that falls geometrically from node to node; the solve's own policy, λR⁻¹Bᵀ∇z/z from
+interpolated z, is not: it moves too fast where z falls by much more than e per cell). For an
+average-cost solve c − c_h ≈ E_π[λτ] under its stationary law π (:func:`average_truncation`),
+and the relative value's error is the same integral of λτ − E_π[λτ] until the paths reach h's
+minimum. The term sees the error of a problem whose temperature is small against the cell,
+which the embedded solves, all far from their asymptotic range, underestimate. It is first
+order in τ: where λτ is of the size of the costs it overstates the error (the policy optimal
+for q − λτ is slower than the true one), on the safe side.
+
+Only the nodes whose neighbours along every axis are free (not in the exit set, inside the box)
+and finite are read: the chain's arms to an exit set's boundary are shorter than a cell, and a
+closed edge reflects; τ is zero there.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..grid import flat_chunks
+from ..interpolate import interpolate
+from ..regions import GridRegion
+from ..schemes.generator import jump_rates
+from .paths import nodal, path_gap
+
+
+def truncation_rate(solution) -> np.ndarray:
+    """λτ at every node (module docstring): the cost per unit time that the generator's
+    truncation error leaves out of a stationary solve, from its solved v; zero at nodes next to
+    the exit set, a closed edge or an underflowed value. Kept with the solution.
+
+    Parameters
+    ----------
+    solution : StationarySolution
+        A first-exit or average-cost solution of :mod:`gridlbc.stationary`.
+
+    Returns
+    -------
+    ndarray (N,)
+    """
+    if "truncation_rate" in solution._cache:
+        return solution._cache["truncation_rate"]
+    problem = solution.problem
+    grid, lam = problem.require_grid("the truncation error"), problem.temperature
+    rates = solution.operator.method.removeprefix("stationary-")
+    v = solution.value_nodes(0)
+    free = np.isfinite(v)
+    if problem.exit is not None:
+        free &= ~problem.exit_mask()
+    out = np.zeros(grid.size)
+    shape = np.array(grid.shape)
+    for flat in flat_chunks(grid.size):
+        x = grid.node_coordinates(flat)
+        drift = np.asarray(problem.system.drift(x), dtype=float)
+        diffusion = 0.5 * problem.noise_diagonal(x)
+        index = np.stack(np.unravel_index(flat, grid.shape), axis=1)
+        read = free[flat].copy()
+        total = np.zeros(flat.size)
+        for k, ax in enumerate(grid.axes):
+            neighbours = []
+            for sign in (1, -1):
+                i = index.copy()
+                i[:, k] += sign
+                if ax.periodic:
+                    i[:, k] %= ax.n
+                else:
+                    read &= (i[:, k] >= 0) & (i[:, k] < ax.n)
+                    i[:, k] = np.clip(i[:, k], 0, shape[k] - 1)
+                j = np.ravel_multi_index(tuple(i.T), grid.shape)
+                read &= free[j]
+                neighbours.append(v[j])
+            up, down = jump_rates(drift[:, k], diffusion[:, k], ax.spacing, rates)
+            centre = v[flat]
+            with np.errstate(over="ignore", invalid="ignore"):
+                chain = up * np.expm1(-(neighbours[0] - centre) / lam) + down * np.expm1(
+                    -(neighbours[1] - centre) / lam
+                )
+                slope = (neighbours[0] - neighbours[1]) / (2 * ax.spacing * lam)
+                curvature = (neighbours[0] - 2 * centre + neighbours[1]) / (ax.spacing**2 * lam)
+                total += chain - (-drift[:, k] * slope + diffusion[:, k] * (slope**2 - curvature))
+        out[flat] = np.where(read & np.isfinite(total), lam * total, 0.0)
+    solution._cache["truncation_rate"] = out
+    return out
+
+
+def truncation_gap(solution, x, samples: int, below=None, v=None) -> np.ndarray:
+    """E[∫₀^τ λτ(X_s) ds] from states ``x`` (N, d) along paths driven by u = −R⁻¹Bᵀ∇v_h (module
+    docstring), ``samples`` per state, until they exit; for an average-cost solve's relative
+    value h (min 0 at the node x_m), E[∫₀^τ (λτ − E_π[λτ])(X_s) ds] until the paths reach
+    x_m's cell, the first-order change of h(x) − h(x_m) with the cost. Zero for a solve with a
+    horizon or where λτ vanishes at every node.
+
+    The paths are run only from the states where the term could exceed ``below`` (N,) (the rest
+    of an estimate, or 0): for a first-exit solve where abs(λτ) ≤ ε q at every free node, the
+    paths' costs give E ∫ q ds ≤ v_h − min g_E + E ∫ λτ ds, so the term is at most
+    ε/(1 − ε) (v_h − min g_E), and a state where that is at most ``below`` reads 0. ``v``: v_h
+    at ``x`` where the caller has read it.
+
+    Returns
+    -------
+    ndarray (N,)
+        At least v − v_h to first order in τ (positive where the solve underestimates v).
+    """
+    problem = solution.problem
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    out = np.zeros(len(x))
+    if not problem.stationary:
+        return out
+    rate = truncation_rate(solution)
+    if not np.any(rate):
+        return out
+    if problem.average_cost:  # h(x) − h(x_m): until the paths reach x_m, less c's share
+        h = solution.value_nodes(0)
+        ends = np.zeros(len(rate), dtype=bool)
+        ends[np.argmin(np.where(np.isfinite(h), h, np.inf))] = True
+        rate = rate - average_truncation(solution)
+    else:
+        ends = problem.exit_mask()
+    reached = np.ones(len(x), dtype=bool)
+    if below is not None and not problem.average_cost:
+        reached = ~(_bound(solution, rate, x, v) <= below)
+        if not reached.any():
+            return out
+    grid = problem.require_grid("the truncation error")
+    fields = np.vstack([*value_gradient(solution), rate])  # ∂v/∂x_k and λτ: one stencil a step
+    R_inverse = np.linalg.inv(problem.R)
+    read: dict = {}
+
+    def at(y: np.ndarray) -> np.ndarray:
+        """The fields at the paths' states (the policy and the rate read the same y a step)."""
+        if read.get("y") is not y:
+            read["y"], read["fields"] = y, interpolate(grid, fields, y)
+        return read["fields"]
+
+    def policy(y: np.ndarray) -> np.ndarray:
+        gradient = at(y)[:-1].T
+        return -np.einsum("mk,ndk,nd->nm", R_inverse, problem.input_matrix(y), gradient)
+
+    # the paths' end as the nodes hold it, as a saved solution's exit set (GridRegion): the same
+    # paths before and after gridlbc.save
+    nodal_exit = problem.replace(horizon=None, exit=GridRegion(grid, ends, repr(problem.exit)))
+    along = (nodal_exit, policy, lambda y: at(y)[-1])
+    out[reached] = path_gap(solution, x[reached], 0.0, samples, along=along)[0]
+    return out
+
+
+def _bound(solution, rate: np.ndarray, x: np.ndarray, v) -> np.ndarray:
+    """ε/(1 − ε) (v_h − min g_E) at ``x`` with ε = max abs(λτ)/q over the nodes where λτ ≠ 0
+    (:func:`truncation_gap`); inf where ε ≥ 1 or q ≤ 0 at such a node."""
+    problem = solution.problem
+    felt = rate != 0
+    if problem.state_cost is None:
+        return np.full(len(x), np.inf)
+    q = nodal(solution, "state_cost")[felt]
+    epsilon = float(np.max(np.abs(rate[felt]) / q)) if np.all(q > 0) else np.inf
+    if not epsilon < 1:
+        return np.full(len(x), np.inf)
+    v = solution.value(x) if v is None else v
+    lowest = min(float(np.min(nodal(solution, "exit_cost")[problem.exit_mask()])), 0.0)
+    return epsilon / (1 - epsilon) * (v - lowest)
+
+
+def value_gradient(solution) -> list[np.ndarray]:
+    """∂v/∂x_k at every node, per axis: central differences of the solved v (one-sided at a
+    closed edge, wrapped on a periodic axis), 0 where v is not finite. Kept with the solution."""
+    if "value_gradient" in solution._cache:
+        return solution._cache["value_gradient"]
+    grid = solution.problem.grid
+    v = solution.value_nodes(0).reshape(grid.shape)
+    out = []
+    for k, ax in enumerate(grid.axes):
+        with np.errstate(invalid="ignore"):
+            if ax.periodic:
+                d = (np.roll(v, -1, axis=k) - np.roll(v, 1, axis=k)) / (2 * ax.spacing)
+            else:
+                d = np.gradient(v, ax.spacing, axis=k)
+        out.append(np.where(np.isfinite(d), d, 0.0).ravel())
+    solution._cache["value_gradient"] = out
+    return out
+
+
+def average_truncation(solution) -> float:
+    """E_π[λτ], what the truncation error leaves out of an average-cost solve's c under its
+    stationary law π (first order in τ: c − c_h ≈ E_π[λτ], the derivative of c in the state cost
+    being π); 0 without a ``stationary_distribution``."""
+    share = getattr(solution, "stationary_distribution", None)
+    return 0.0 if share is None else float(share @ truncation_rate(solution))
