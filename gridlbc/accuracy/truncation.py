@@ -34,7 +34,7 @@ for a z that falls geometrically from node to node; the solve's own policy, λR�
 interpolated z, is not: it moves too fast where z falls by much more than e per cell). For an
 average-cost solve c − c_h ≈ E_π[λτ] under its stationary law π (:func:`average_truncation`),
 and the relative value's error is the same integral of λτ − E_π[λτ] until the paths reach h's
-minimum. The term sees the error of a problem whose temperature is small against the cell,
+minimum (the nodes within λ of it). The term sees the error of a problem whose temperature is small against the cell,
 which the embedded solves, all far from their asymptotic range, underestimate. It is first
 order in τ: where λτ is of the size of the costs it overstates the error (the policy optimal
 for q − λτ is slower than the true one), on the safe side.
@@ -117,9 +117,11 @@ def truncation_rate(solution) -> np.ndarray:
 def truncation_gap(solution, x, samples: int, below=None, v=None) -> np.ndarray:
     """E[∫₀^τ λτ(X_s) ds] from states ``x`` (N, d) along paths driven by u = −R⁻¹Bᵀ∇v_h (module
     docstring), ``samples`` per state, until they exit; for an average-cost solve's relative
-    value h (min 0 at the node x_m), E[∫₀^τ (λτ − E_π[λτ])(X_s) ds] until the paths reach
-    x_m's cell, the first-order change of h(x) − h(x_m) with the cost. Zero for a solve with a
-    horizon or where λτ vanishes at every node.
+    value h (min 0 at a node x_m), E[∫₀^τ (λτ − E_π[λτ])(X_s) ds] until the paths reach the
+    nodes where h ≤ λ (where e^{−h/λ} is within a factor e of its largest: around x_m, where
+    the stationary law sits), the first-order change of h(x) − h(x_m) with the cost to within
+    its change over that set. Zero for a solve with a horizon or where λτ vanishes at every
+    node.
 
     The paths are run only from the states where the term could exceed ``below`` (N,) (the rest
     of an estimate, or 0): for a first-exit solve where abs(λτ) ≤ ε q at every free node, the
@@ -140,10 +142,8 @@ def truncation_gap(solution, x, samples: int, below=None, v=None) -> np.ndarray:
     rate = truncation_rate(solution)
     if not np.any(rate):
         return out
-    if problem.average_cost:  # h(x) − h(x_m): until the paths reach x_m, less c's share
-        h = solution.value_nodes(0)
-        ends = np.zeros(len(rate), dtype=bool)
-        ends[np.argmin(np.where(np.isfinite(h), h, np.inf))] = True
+    if problem.average_cost:  # h(x) − h(x_m): until the paths reach h ≤ λ, less c's share
+        ends = solution.value_nodes(0) <= problem.temperature
         rate = rate - average_truncation(solution)
     else:
         ends = problem.exit_mask()
