@@ -220,6 +220,14 @@ Corpus candidates (cheap, exact truths): ``fe_frozen_flow`` (0.5 s, the estimate
 |v − v*| at λ = 0.005; the 1e3 variant a tenth), ``avg_ou_frozen`` (1 s, ARE truth),
 ``fe_thin_ring`` (0.1 s, false alarm from the phase pair's sampling of a thin exit set),
 ``avg_coarse_axis`` (0.1 s, c's estimate from a 4-node level).
+
+Rerun (2026-12-06, after the generator's truncation error was carried along the paths,
+``gridlbc.accuracy.truncation``): the stationary members again, the time-marched ones
+unchanged. None silent, none under half (relative or absolute): the eight cold pairs read
+1.04–2.14 times their error in absolute terms (``fe_frozen_flow`` 1.18–1.37,
+``fe_frozen_flow_1e3`` 1.89–2.14, ``avg_ou_frozen``'s h 1.04–3.04); the four false alarms and
+c's two left as they were. The state cost below zero between the nodes no longer fails the
+estimate, and ``fe_frozen_flow_1e3``'s solve warns that z underflowed at 2268 of 6561 nodes.
 """
 
 from __future__ import annotations
