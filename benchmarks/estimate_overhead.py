@@ -1,6 +1,7 @@
-"""What the error estimate costs: the catalogue's default solves with and without it, and three
+"""What the error estimate costs: the catalogue's default solves with and without it, three
 hold-out corpus members in 3-D whose costs are sampled between the nodes (the estimate's S,
-docs/accuracy.rst).
+docs/accuracy.rst), and three stationary members (first exit, average cost) whose estimate
+carries the generator's truncation error along paths.
 
 In-process, after a warm-up, the shortest of five solves each way, and their ratio
 (docs/accuracy.rst, "Measured").
@@ -33,6 +34,9 @@ CASES = {
     "toll strip 61³": BY_NAME["toll_strip"].build,
     "goal in a cell 41³": BY_NAME["goal_in_cell"].build,
     "tumbling body 61³": BY_NAME["tumbling_body"].build,
+    "dock (first exit) 201²": BY_NAME["dock"].build,
+    "cold flow exit 81²": BY_NAME["cold_flow_exit"].build,
+    "cold OU average 161²": BY_NAME["cold_ou_average"].build,
 }
 
 
