@@ -897,3 +897,22 @@ def test_a_state_cost_below_zero_between_the_nodes_does_not_fail_the_estimate():
     )
     solution = g.solve(problem)
     assert np.isfinite(solution.average_cost_error)
+
+
+def test_a_stationary_solve_whose_desirability_underflows_says_so():
+    # λ = 0.001 on 401 nodes: the chain's z falls by about e^{5.3} a cell (arccosh(1 + (κh)²/2),
+    # κh = 14), e^{−2000} at the far end, far below the smallest double: the nodes read +inf,
+    # and the solve itself warns (not only a later query)
+    problem = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-2, 2, 401)]),
+        None,
+        state_cost=lambda x: np.ones(len(x)),
+        temperature=0.001,
+        exit=Box([1.9], [np.inf]),
+        exit_cost=0.0,
+    )
+    with pytest.warns(g.GridlbcWarning) as record:
+        solution = g.solve(problem, error_estimate=False)
+    assert solution.diagnostics.underflow_nodes > 0
+    assert any(issubclass(w.category, g.UnderflowWarning) for w in record)
