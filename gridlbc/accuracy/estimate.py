@@ -355,7 +355,7 @@ class EmbeddedEstimate:
         """v_h and :meth:`error` at ``x``."""
         v, grid_terms = self._grid_terms(solution, x, t)
         terms = np.fmax(grid_terms, np.abs(cost_gap(solution, x, t, samples)))
-        truncation = truncation_gap(solution, x, samples, below=terms, v=v)
+        truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
         return v, np.fmax(terms, np.abs(truncation))
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:

@@ -176,10 +176,11 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
     """γ(x, t) (:func:`cost_gap`), and how many of its paths had not exited when they were
     stopped (the cap of a task without a horizon: the module docstring).
 
-    ``along``: ``(problem, policy, rate)``, the problem whose dynamics and exit set the paths
-    follow, a policy ``u(y)`` ``(n, m)`` and a running cost ``r(y)`` ``(n,)`` that replace the
-    solution's problem, the solve's policy and I_h q − q; the paths then add no exit or
-    terminal gap (:func:`gridlbc.accuracy.truncation.truncation_gap` integrates λτ so).
+    ``along``: ``(problem, policy, rate)``, the problem whose dynamics, exit set and horizon
+    the paths follow, a policy ``u(y, t)`` ``(n, m)`` and a running cost ``r(y, t)`` ``(n,)``
+    that replace the solution's problem, the solve's policy and I_h q − q; the paths then add
+    no exit or terminal gap (:func:`gridlbc.accuracy.truncation.truncation_gap` integrates λτ
+    so).
 
     The paths stop at τ, on entering an exit set E (:func:`gridlbc.simulate.euler_maruyama`,
     with its Brownian-bridge crossing check), or at T where there is a horizon, and run at the
@@ -202,7 +203,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
     if along is None and problem.stationary and interpolated_exactly(solution):
         return np.zeros(n_states), 0
     if problem.stationary:
-        dt = path_step(solution, None if along is None else along[1])
+        dt = path_step(solution, None if along is None else lambda y: along[1](y, t))
         steps = EXIT_STEPS
     else:
         remaining = problem.horizon - t
@@ -228,7 +229,9 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
         nonlocal last_bad
         with np.errstate(invalid="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore")  # an underflowed policy was the solve's to warn of
-            u = np.asarray(solution.policy(y, t + s) if along is None else along[1](y), dtype=float)
+            u = np.asarray(
+                solution.policy(y, t + s) if along is None else along[1](y, t + s), dtype=float
+            )
         last_bad = ~np.all(np.isfinite(u), axis=1)
         u[last_bad] = 0.0
         return u
@@ -237,7 +240,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
         """I_h q − q at the same states (rectangle rule); NaN marks an underflowed policy."""
         r = np.zeros(y.shape[0])
         if along is not None:
-            r = along[2](y)
+            r = along[2](y, t + s)
         elif q_nodes is not None:
             r = interpolate(grid, q_nodes, y) - problem.state_cost_values(y, signed=True)
         r[last_bad] = np.nan

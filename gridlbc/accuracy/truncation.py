@@ -3,8 +3,10 @@ its desirability falls faster than a cell resolves (docs page :doc:`accuracy`, "
 faster than a cell").
 
 A stationary solve (first exit, average cost: :mod:`gridlbc.stationary`) solves L_h z = (q − c)/λ z
-with the chain's generator L_h (:mod:`gridlbc.schemes.generator`; c = 0 for first exit). Its z
-solves the continuous equation L z = (q − c)/λ z exactly only for the state cost q − λτ,
+with the chain's generator L_h (:mod:`gridlbc.schemes.generator`; c = 0 for first exit), and
+the implicit time march steps with the same chain (:mod:`gridlbc.schemes.implicit`, upwind
+rates). Its z solves the continuous equation L z = (q − c)/λ z exactly only for the state cost
+q − λτ,
 
     τ = (L_h z − L z) / z,
 
@@ -54,27 +56,50 @@ from ..regions import GridRegion
 from ..schemes.generator import jump_rates
 from .paths import nodal, path_gap
 
+SLICES = 8
+"""At most this many stored slices of a time-marched solve give its λτ (evenly spaced in time;
+between them the nearest is read): a full pass over the nodes each."""
 
-def truncation_rate(solution) -> np.ndarray:
+
+def generator_rates(solution) -> str | None:
+    """The jump rates of the generator a solution's operator steps with (:data:`gridlbc.schemes
+    .generator.RATES`): a stationary solve's own, ``"upwind"`` for the implicit time march;
+    None for an operator that is no chain's generator (the splitting scheme)."""
+    method = solution.operator.method
+    if method.startswith("stationary-"):
+        return method.removeprefix("stationary-")
+    return "upwind" if method == "implicit" else None
+
+
+def truncation_rate(solution, j: int = 0) -> np.ndarray:
     """λτ at every node (module docstring): the cost per unit time that the generator's
-    truncation error leaves out of a stationary solve, from its solved v; zero at nodes next to
-    the exit set, a closed edge or an underflowed value. Kept with the solution.
+    truncation error leaves out of a solve, from its solved v at stored slice ``j``; zero at
+    nodes next to the exit set, a closed edge or an underflowed value. Kept with the solution.
 
     Parameters
     ----------
-    solution : StationarySolution
-        A first-exit or average-cost solution of :mod:`gridlbc.stationary`.
+    solution : Solution
+        A stationary solution of :mod:`gridlbc.stationary` or a time-marched one of the
+        implicit scheme (:func:`generator_rates` not None).
+    j : int
+        The stored slice (time ``solution.times[j]``).
 
     Returns
     -------
     ndarray (N,)
     """
-    if "truncation_rate" in solution._cache:
-        return solution._cache["truncation_rate"]
+    kept = solution._cache.setdefault("truncation_rate", {})
+    if j in kept:
+        return kept[j]
     problem = solution.problem
     grid, lam = problem.require_grid("the truncation error"), problem.temperature
-    rates = solution.operator.method.removeprefix("stationary-")
-    v = solution.value_nodes(0)
+    rates = generator_rates(solution)
+    if rates is None:
+        raise ValueError(
+            f"the truncation error is the generator's; the {solution.operator.method} operator "
+            "is not a chain's generator"
+        )
+    v = solution.value_nodes(j)
     free = np.isfinite(v)
     if problem.exit is not None:
         free &= ~problem.exit_mask()
@@ -97,9 +122,9 @@ def truncation_rate(solution) -> np.ndarray:
                 else:
                     read &= (i[:, k] >= 0) & (i[:, k] < ax.n)
                     i[:, k] = np.clip(i[:, k], 0, shape[k] - 1)
-                j = np.ravel_multi_index(tuple(i.T), grid.shape)
-                read &= free[j]
-                neighbours.append(v[j])
+                at = np.ravel_multi_index(tuple(i.T), grid.shape)
+                read &= free[at]
+                neighbours.append(v[at])
             up, down = jump_rates(drift[:, k], diffusion[:, k], ax.spacing, rates)
             centre = v[flat]
             with np.errstate(over="ignore", invalid="ignore"):
@@ -110,18 +135,20 @@ def truncation_rate(solution) -> np.ndarray:
                 curvature = (neighbours[0] - 2 * centre + neighbours[1]) / (ax.spacing**2 * lam)
                 total += chain - (-drift[:, k] * slope + diffusion[:, k] * (slope**2 - curvature))
         out[flat] = np.where(read & np.isfinite(total), lam * total, 0.0)
-    solution._cache["truncation_rate"] = out
+    kept[j] = out
     return out
 
 
-def truncation_gap(solution, x, samples: int, below=None, v=None) -> np.ndarray:
-    """E[∫₀^τ λτ(X_s) ds] from states ``x`` (N, d) along paths driven by u = −R⁻¹Bᵀ∇v_h (module
-    docstring), ``samples`` per state, until they exit; for an average-cost solve's relative
-    value h (min 0 at a node x_m), E[∫₀^τ (λτ − E_π[λτ])(X_s) ds] until the paths reach the
-    nodes where h ≤ λ (where e^{−h/λ} is within a factor e of its largest: around x_m, where
-    the stationary law sits), the first-order change of h(x) − h(x_m) with the cost to within
-    its change over that set. Zero for a solve with a horizon or where λτ vanishes at every
-    node.
+def truncation_gap(solution, x, samples: int, t: float = 0.0, below=None, v=None) -> np.ndarray:
+    """E[∫ λτ(X_s, s) ds] from states ``x`` (N, d) at time ``t`` along paths driven by
+    u = −R⁻¹Bᵀ∇v_h (module docstring), ``samples`` per state, until they exit or reach the
+    horizon; for an average-cost solve's relative value h (min 0 at a node x_m),
+    E[∫₀^τ (λτ − E_π[λτ])(X_s) ds] until the paths reach the nodes where h ≤ λ (where e^{−h/λ}
+    is within a factor e of its largest: around x_m, where the stationary law sits), the
+    first-order change of h(x) − h(x_m) with the cost to within its change over that set. A
+    time-marched solve of the implicit scheme reads λτ and ∇v_h at the nearest of up to
+    :data:`SLICES` of its stored slices. Zero for an operator that is not a chain's generator
+    (:func:`generator_rates`) or where λτ vanishes at every node.
 
     The paths are run only from the states where the term could exceed ``below`` (N,) (the rest
     of an estimate, or 0): for a first-exit solve where abs(λτ) ≤ ε q at every free node, the
@@ -137,42 +164,58 @@ def truncation_gap(solution, x, samples: int, below=None, v=None) -> np.ndarray:
     problem = solution.problem
     x = np.atleast_2d(np.asarray(x, dtype=float))
     out = np.zeros(len(x))
-    if not problem.stationary:
+    if generator_rates(solution) is None:
         return out
-    rate = truncation_rate(solution)
-    if not np.any(rate):
+    slices = _slices(solution)
+    rates = [truncation_rate(solution, j) for j in slices]
+    if not any(np.any(rate) for rate in rates):
         return out
+    ends = problem.exit_mask() if problem.exit is not None else None
     if problem.average_cost:  # h(x) − h(x_m): until the paths reach h ≤ λ, less c's share
         ends = solution.value_nodes(0) <= problem.temperature
-        rate = rate - average_truncation(solution)
-    else:
-        ends = problem.exit_mask()
+        rates = [rates[0] - average_truncation(solution)]
     reached = np.ones(len(x), dtype=bool)
-    if below is not None and not problem.average_cost:
-        reached = ~(_bound(solution, rate, x, v) <= below)
+    if below is not None and problem.stationary and not problem.average_cost:
+        reached = ~(_bound(solution, rates[0], x, v) <= below)
         if not reached.any():
             return out
     grid = problem.require_grid("the truncation error")
-    fields = np.vstack([*value_gradient(solution), rate])  # ∂v/∂x_k and λτ: one stencil a step
+    times = solution.times[slices]
+    fields = [  # ∂v/∂x_k and λτ at each slice read: one stencil a step
+        np.vstack([*value_gradient(solution, j), rate]) for j, rate in zip(slices, rates)
+    ]
     R_inverse = np.linalg.inv(problem.R)
     read: dict = {}
 
-    def at(y: np.ndarray) -> np.ndarray:
-        """The fields at the paths' states (the policy and the rate read the same y a step)."""
-        if read.get("y") is not y:
-            read["y"], read["fields"] = y, interpolate(grid, fields, y)
+    def at(y: np.ndarray, s: float) -> np.ndarray:
+        """The fields at the paths' states at time s from the nearest slice read (the policy
+        and the rate read the same y a step)."""
+        i = int(np.argmin(np.abs(times - s)))
+        if read.get("y") is not y or read.get("i") != i:
+            read["y"], read["i"], read["fields"] = y, i, interpolate(grid, fields[i], y)
         return read["fields"]
 
-    def policy(y: np.ndarray) -> np.ndarray:
-        gradient = at(y)[:-1].T
+    def policy(y: np.ndarray, s: float) -> np.ndarray:
+        gradient = at(y, s)[:-1].T
         return -np.einsum("mk,ndk,nd->nm", R_inverse, problem.input_matrix(y), gradient)
 
     # the paths' end as the nodes hold it, as a saved solution's exit set (GridRegion): the same
     # paths before and after gridlbc.save
-    nodal_exit = problem.replace(horizon=None, exit=GridRegion(grid, ends, repr(problem.exit)))
-    along = (nodal_exit, policy, lambda y: at(y)[-1])
-    out[reached] = path_gap(solution, x[reached], 0.0, samples, along=along)[0]
+    paths = problem
+    if ends is not None:
+        horizon = None if problem.stationary else problem.horizon  # the average cost: none
+        paths = problem.replace(horizon=horizon, exit=GridRegion(grid, ends, repr(problem.exit)))
+    along = (paths, policy, lambda y, s: at(y, s)[-1])
+    out[reached] = path_gap(solution, x[reached], t, samples, along=along)[0]
     return out
+
+
+def _slices(solution) -> np.ndarray:
+    """The stored slices whose λτ a time-marched solve's paths read: up to :data:`SLICES`,
+    evenly spaced in time, the first and the last among them (the one slice of a stationary
+    solve)."""
+    count = len(solution.times)
+    return np.unique(np.linspace(0, count - 1, min(SLICES, count)).round().astype(int))
 
 
 def _bound(solution, rate: np.ndarray, x: np.ndarray, v) -> np.ndarray:
@@ -191,13 +234,15 @@ def _bound(solution, rate: np.ndarray, x: np.ndarray, v) -> np.ndarray:
     return epsilon / (1 - epsilon) * (v - lowest)
 
 
-def value_gradient(solution) -> list[np.ndarray]:
-    """∂v/∂x_k at every node, per axis: central differences of the solved v (one-sided at a
-    closed edge, wrapped on a periodic axis), 0 where v is not finite. Kept with the solution."""
-    if "value_gradient" in solution._cache:
-        return solution._cache["value_gradient"]
+def value_gradient(solution, j: int = 0) -> list[np.ndarray]:
+    """∂v/∂x_k at every node of stored slice ``j``, per axis: central differences of the solved
+    v (one-sided at a closed edge, wrapped on a periodic axis), 0 where v is not finite. Kept
+    with the solution."""
+    kept = solution._cache.setdefault("value_gradient", {})
+    if j in kept:
+        return kept[j]
     grid = solution.problem.grid
-    v = solution.value_nodes(0).reshape(grid.shape)
+    v = solution.value_nodes(j).reshape(grid.shape)
     out = []
     for k, ax in enumerate(grid.axes):
         with np.errstate(invalid="ignore"):
@@ -206,7 +251,7 @@ def value_gradient(solution) -> list[np.ndarray]:
             else:
                 d = np.gradient(v, ax.spacing, axis=k)
         out.append(np.where(np.isfinite(d), d, 0.0).ravel())
-    solution._cache["value_gradient"] = out
+    kept[j] = out
     return out
 
 
