@@ -421,8 +421,9 @@ class Problem:
                 f"the noise covariance λ B R⁻¹ Bᵀ is not diagonal in the grid coordinates "
                 f"(entry ({i}, {j}) is nonzero): the grid solvers need each control to drive its "
                 "own state axis. Change coordinates so that it does, as the Acrobot does by using "
-                "canonical momenta p = M(θ)θ̇ instead of joint velocities, or use a diagonal R with "
-                "B having one nonzero per column in distinct rows."
+                "canonical momenta p = M(θ)θ̇ instead of joint velocities, or choose B and R so "
+                "that B R⁻¹ Bᵀ is diagonal (for instance a diagonal R with each control driving "
+                "its own state axis)."
             )
         return diag
 

@@ -240,6 +240,13 @@ def settings_for(problem: Problem, settings, options: dict) -> SolverSettings:
     (:func:`_exit_settings`; the method asked for by name or by settings must)."""
     s = resolve_settings(settings, options)
     if problem.exit is not None and not s.scheme.supports_exit:
+        if options.get("fitting", "auto") not in ("auto", None):
+            raise ValueError(
+                f"fitting={options['fitting']!r} does not apply to a task with an exit set and a "
+                "horizon: its scheme, the implicit time march, has no fitted form. Where it "
+                "warns that v/λ rises faster than its tails allow, refine that axis or raise the "
+                "temperature, or solve the stationary first-exit problem (horizon=None)"
+            )
         s = _exit_settings(s, explicit="method" in options or settings not in (None, "default"))
     return s
 

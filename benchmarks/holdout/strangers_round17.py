@@ -220,6 +220,12 @@ Mechanisms (measured; reproducible with the builders here):
   5.1–5.3 %): honest estimates, a factor 1.2–3.8 above the error, just over 5 %.
 
 Results in ``strangers_round17_results/`` (gitignored).
+
+Rerun (2026-12-06, library of the same day after the truncation term reached the implicit time
+march): ``fe_ball_horizon_3d_cold`` reads 1.18–1.33 times its error (0.43–0.81 before), and
+``fe_ball_horizon_3d`` 1.51–2.91. The three silent kink pairs of ``hz_tiny_T_b`` and
+``hz_tiny_T_c`` are left open (``solve(tol=)`` fixes them); ``solve(problem,
+fitting='terminal')`` on an exit set with a horizon now raises a clear ValueError.
 """
 
 from __future__ import annotations

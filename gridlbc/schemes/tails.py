@@ -53,8 +53,14 @@ def check_resolution(
             f"the plain scheme cannot resolve this problem's desirability: at {100 * share:.0f} % "
             f"of the nodes v/λ rises from node to node faster than its diffusion's tails allow "
             f"(up to {worst[0]:.3g} per cell along {worst[2]}, where the tails cap it at "
-            f"{worst[1]:.3g}), so v is underestimated there, increasingly as λ falls. Solve with "
-            "fitting='terminal' (exact tails), or refine that axis, or raise the temperature.",
+            f"{worst[1]:.3g}), so v is underestimated there, increasingly as λ falls. "
+            + (
+                "Refine that axis, or raise the temperature (a task with an exit set and a "
+                "horizon has no fitted scheme)."
+                if problem.exit is not None
+                else "Solve with fitting='terminal' (exact tails), or refine that axis, or raise "
+                "the temperature."
+            ),
             ResolutionWarning,
         )
     return share

@@ -922,3 +922,19 @@ def test_a_stationary_solve_whose_desirability_underflows_says_so():
         solution = g.solve(problem, error_estimate=False)
     assert solution.diagnostics.underflow_nodes > 0
     assert any(issubclass(w.category, g.UnderflowWarning) for w in record)
+
+
+def test_a_fitting_asked_for_a_task_with_an_exit_set_and_a_horizon_is_refused():
+    # the implicit time march (the one scheme with an exit set and a horizon) has no fitted
+    # form: a fitting= asked for must not be dropped silently (stranger round 17)
+    problem = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-2, 2, 41)]),
+        1.0,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: np.ones(len(x)),
+        exit=Box([1.5], [np.inf]),
+        exit_cost=0.0,
+    )
+    with pytest.raises(ValueError, match="no fitted form"):
+        g.solve(problem, fitting="terminal")
