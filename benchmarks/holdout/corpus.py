@@ -30,6 +30,7 @@ import strangers_round12 as r12
 import strangers_round13 as r13
 import strangers_round15 as r15
 import strangers_round16 as r16
+import strangers_round17 as r17
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1023,6 +1024,13 @@ def _cold_flow_exact(X):
     return value
 
 
+def _kink_tiny_horizon_exact(X):
+    """Gaussian kernel integrals of e^{−g/λ}, a product of 1-D trapezoid sums on x ± 14σ with
+    20 001 and 40 001 points (strangers_round17.tiny_truth); the walls are 50σ away"""
+    value, _ = r17.P17["hz_tiny_T_c"][2](X)
+    return value
+
+
 def _three_doors_exact(X):
     """5-point finite differences of (λ/2R)Δz = (q/λ)z between the doors
     (strangers_round15.fd_three_doors) at h = 0.01 and 0.005, which agree to 5e-5"""
@@ -1591,6 +1599,17 @@ MEMBERS: tuple[Member, ...] = (
         "paths to h's minimum)",
         tags=("average cost", "cold", "closed"),
         exact=_relative_value_exact(r16.P16, "avg_ou_frozen"),
+    ),
+    Member(
+        "kink_tiny_horizon",
+        r17.hz_tiny_T_c,
+        r17.P17["hz_tiny_T_c"][1],
+        "a terminal cost with kinks between the nodes under a horizon of 0.002, in which the "
+        "noise moves half a cell (stranger round 17: 11–13 % high at the kinks' crossing, silent; "
+        "open: the estimate there is about half the error, and the kinks are too few states for "
+        "the quantile; solve(tol=) brings them within 2 %)",
+        tags=("short horizon", "kink", "narrow cost"),
+        exact=_kink_tiny_horizon_exact,
     ),
 )
 
