@@ -240,21 +240,23 @@ def settings_for(problem: Problem, settings, options: dict) -> SolverSettings:
     (:func:`_exit_settings`; the method asked for by name or by settings must)."""
     s = resolve_settings(settings, options)
     if problem.exit is not None and not s.scheme.supports_exit:
-        if options.get("fitting", "auto") not in ("auto", None):
-            raise ValueError(
-                f"fitting={options['fitting']!r} does not apply to a task with an exit set and a "
-                "horizon: its scheme, the implicit time march, has no fitted form. Where it "
-                "warns that v/λ rises faster than its tails allow, refine that axis or raise the "
-                "temperature, or solve the stationary first-exit problem (horizon=None)"
-            )
-        s = _exit_settings(s, explicit="method" in options or settings not in (None, "default"))
+        explicit = "method" in options or settings not in (None, "default")
+        s = _exit_settings(s, explicit, options.get("fitting", "auto"))
     return s
 
 
-def _exit_settings(s: SolverSettings, explicit: bool) -> SolverSettings:
+def _exit_settings(s: SolverSettings, explicit: bool, fitting="auto") -> SolverSettings:
     """The settings for a problem with an exit set and a horizon: a scheme that implements the
     exit (:attr:`~gridlbc.schemes.protocol.Scheme.supports_exit`), the implicit one unless
-    another was asked for by name, which is then an error."""
+    another was asked for by name, which is then an error, as is a ``fitting`` asked for (the
+    implicit scheme has no fitted form)."""
+    if fitting not in ("auto", None):
+        raise ValueError(
+            f"fitting={fitting!r} does not apply to a task with an exit set and a horizon: its "
+            "scheme, the implicit time march, has no fitted form. Where it warns that v/λ rises "
+            "faster than its tails allow, refine that axis or raise the temperature, or solve "
+            "the stationary first-exit problem (horizon=None)"
+        )
     if explicit:
         able = [name for name, scheme in METHODS.items() if scheme.supports_exit]
         raise ValueError(

@@ -775,15 +775,24 @@ def combo_quick(name):
     """combine() of the trough problem's two first-exit solves (exit costs gA, gB), saved as a
     default solve would be (warned: either component's solve warned)."""
     _b, X, *_ = P13[name]
+    costs = [lambda x: gA(x[:, 0]), lambda x: gB(x[:, 0])]
+    save_combination(name, X, lambda: gridlbc.solve_many(fe_trough(), costs))
+
+
+def save_combination(name, X, components, weights=None, out=None, warned=None):
+    """combine() of the solutions ``components()`` returns (with ``weights``), read at ``X``
+    with its error estimate and its components', saved under ``out`` (default: this round's
+    results) as a default solve would be; ``warned`` (default round 12's) judges the warnings
+    the solves and the combination raised. Rounds 16 and 17 save theirs by it."""
     t0 = time.perf_counter()
     with warnings.catch_warnings(record=True) as w:
         warnings.simplefilter("always")
-        sols = gridlbc.solve_many(fe_trough(), [lambda x: gA(x[:, 0]), lambda x: gB(x[:, 0])])
-        both = gridlbc.combine(sols)
+        sols = components()
+        both = gridlbc.combine(sols, weights=weights)
         v, est = both.value(X), both.error_estimate(X)
     dt = time.perf_counter() - t0
     comp = [(s.value(X).tolist(), s.error_estimate(X).tolist()) for s in sols]
-    out = dict(
+    result = dict(
         name=name,
         X=X.tolist(),
         time=dt,
@@ -791,12 +800,12 @@ def combo_quick(name):
         v=np.atleast_1d(v).tolist(),
         est=np.atleast_1d(est).tolist(),
         components=comp,
-        warned=r12._warned(w),
+        warned=(warned or r12._warned)(w),
         warnings=[f"{x.category.__name__}: {str(x.message)[:300]}" for x in w],
     )
     print(f"{name}: v {np.round(v, 4).tolist()} est {np.round(est, 4).tolist()} t={dt:.1f}s")
-    print("  components", comp, "warnings", out["warnings"], flush=True)
-    (OUT / f"{name}_solve.json").write_text(json.dumps(out, indent=1))
+    print("  components", comp, "warnings", result["warnings"], flush=True)
+    ((out or OUT) / f"{name}_solve.json").write_text(json.dumps(result, indent=1))
 
 
 def tol_run(name, tol=0.03):

@@ -235,8 +235,6 @@ from __future__ import annotations
 import json
 import math
 import sys
-import time
-import warnings
 
 import numpy as np
 import scipy.sparse as sp
@@ -921,28 +919,10 @@ def mix_quick(name):
     """combine() of the components' default solves, saved as a default solve would be (warned:
     any GridlbcWarning from the solves or the combination)."""
     _b, X, *_ = P16[name]
-    t0 = time.perf_counter()
-    with warnings.catch_warnings(record=True) as w:
-        warnings.simplefilter("always")
-        sols = [gridlbc.solve(p) for p in mix_far_goals_components()]
-        both = gridlbc.combine(sols, weights=list(W_MIX))
-        v, est = both.value(X), both.error_estimate(X)
-    dt = time.perf_counter() - t0
-    comp = [(s.value(X).tolist(), s.error_estimate(X).tolist()) for s in sols]
-    out = dict(
-        name=name,
-        X=X.tolist(),
-        time=dt,
-        kind="exit",
-        v=np.atleast_1d(v).tolist(),
-        est=np.atleast_1d(est).tolist(),
-        components=comp,
-        warned=_warned(w),
-        warnings=[f"{x.category.__name__}: {str(x.message)[:300]}" for x in w],
+    components = mix_far_goals_components
+    r13.save_combination(
+        name, X, lambda: [gridlbc.solve(p) for p in components()], list(W_MIX), OUT, _warned
     )
-    print(f"{name}: v {np.round(v, 4).tolist()} est {np.round(est, 4).tolist()} t={dt:.1f}s")
-    print("  components", comp, "warnings", out["warnings"], flush=True)
-    (OUT / f"{name}_solve.json").write_text(json.dumps(out, indent=1))
 
 
 # ---------------- 17. the average cost, two wells, cold -----------------------------------------

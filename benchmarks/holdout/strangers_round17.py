@@ -230,11 +230,8 @@ fitting='terminal')`` on an exit set with a horizon now raises a clear ValueErro
 
 from __future__ import annotations
 
-import json
 import math
 import sys
-import time
-import warnings
 
 import numpy as np
 import scipy.sparse as sp
@@ -630,30 +627,13 @@ def mix_exit_many():
 
 
 def mix_quick(name):
+    """combine() of ``solve_many``'s two exit costs with weights, saved as a default solve would
+    be (warned: any GridlbcWarning)."""
     _b, X, *_ = P17[name]
-    p = mix_exit_many()
-    t0 = time.perf_counter()
-    with warnings.catch_warnings(record=True) as w:
-        warnings.simplefilter("always")
-        sols = gridlbc.solve_many(p, [lambda x: gE_a(x[:, 1]), lambda x: gE_b(x[:, 1])])
-        both = gridlbc.combine(sols, weights=list(W_MX))
-        v, est = both.value(X), both.error_estimate(X)
-    dt = time.perf_counter() - t0
-    comp = [(s.value(X).tolist(), s.error_estimate(X).tolist()) for s in sols]
-    out = dict(
-        name=name,
-        X=X.tolist(),
-        time=dt,
-        kind="exit",
-        v=np.atleast_1d(v).tolist(),
-        est=np.atleast_1d(est).tolist(),
-        components=comp,
-        warned=r16._warned(w),
-        warnings=[f"{x.category.__name__}: {str(x.message)[:300]}" for x in w],
+    costs = [lambda x: gE_a(x[:, 1]), lambda x: gE_b(x[:, 1])]
+    r13.save_combination(
+        name, X, lambda: gridlbc.solve_many(mix_exit_many(), costs), list(W_MX), OUT, r16._warned
     )
-    print(f"{name}: v {np.round(v, 4).tolist()} est {np.round(est, 4).tolist()} t={dt:.1f}s")
-    print("  components", comp, "warnings", out["warnings"], flush=True)
-    (OUT / f"{name}_solve.json").write_text(json.dumps(out, indent=1))
 
 
 def mix_exit_truth(X):

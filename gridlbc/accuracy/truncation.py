@@ -50,7 +50,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..grid import flat_chunks
 from ..interpolate import interpolate
 from ..regions import GridRegion
 from ..schemes.generator import jump_rates
@@ -103,38 +102,27 @@ def truncation_rate(solution, j: int = 0) -> np.ndarray:
     free = np.isfinite(v)
     if problem.exit is not None:
         free &= ~problem.exit_mask()
-    out = np.zeros(grid.size)
-    shape = np.array(grid.shape)
-    for flat in flat_chunks(grid.size):
-        x = grid.node_coordinates(flat)
-        drift = np.asarray(problem.system.drift(x), dtype=float)
-        diffusion = 0.5 * problem.noise_diagonal(x)
-        index = np.stack(np.unravel_index(flat, grid.shape), axis=1)
-        read = free[flat].copy()
-        total = np.zeros(flat.size)
-        for k, ax in enumerate(grid.axes):
-            neighbours = []
-            for sign in (1, -1):
-                i = index.copy()
-                i[:, k] += sign
-                if ax.periodic:
-                    i[:, k] %= ax.n
-                else:
-                    read &= (i[:, k] >= 0) & (i[:, k] < ax.n)
-                    i[:, k] = np.clip(i[:, k], 0, shape[k] - 1)
-                at = np.ravel_multi_index(tuple(i.T), grid.shape)
-                read &= free[at]
-                neighbours.append(v[at])
-            up, down = jump_rates(drift[:, k], diffusion[:, k], ax.spacing, rates)
-            centre = v[flat]
-            with np.errstate(over="ignore", invalid="ignore"):
-                chain = up * np.expm1(-(neighbours[0] - centre) / lam) + down * np.expm1(
-                    -(neighbours[1] - centre) / lam
-                )
-                slope = (neighbours[0] - neighbours[1]) / (2 * ax.spacing * lam)
-                curvature = (neighbours[0] - 2 * centre + neighbours[1]) / (ax.spacing**2 * lam)
-                total += chain - (-drift[:, k] * slope + diffusion[:, k] * (slope**2 - curvature))
-        out[flat] = np.where(read & np.isfinite(total), lam * total, 0.0)
+    x = grid.nodes()
+    drift = np.asarray(problem.system.drift(x), dtype=float)
+    diffusion = 0.5 * problem.noise_diagonal(x)
+    V, free = grid.reshape(v), grid.reshape(free)
+    read, total = free.copy(), np.zeros(grid.shape)
+    for k, ax in enumerate(grid.axes):
+        after, before = np.roll(V, -1, axis=k), np.roll(V, 1, axis=k)
+        read &= np.roll(free, -1, axis=k) & np.roll(free, 1, axis=k)
+        if not ax.periodic:  # a closed edge reflects: no neighbour beyond it
+            read[(slice(None),) * k + (0,)] = False
+            read[(slice(None),) * k + (-1,)] = False
+        up, down = (
+            grid.reshape(r) for r in jump_rates(drift[:, k], diffusion[:, k], ax.spacing, rates)
+        )
+        slope = grid.reshape(value_gradient(solution, j)[k]) / lam
+        a, D = grid.reshape(drift[:, k]), grid.reshape(diffusion[:, k])
+        with np.errstate(over="ignore", invalid="ignore"):
+            chain = up * np.expm1(-(after - V) / lam) + down * np.expm1(-(before - V) / lam)
+            curvature = (after - 2 * V + before) / (ax.spacing**2 * lam)
+            total += chain - (-a * slope + D * (slope**2 - curvature))
+    out = np.where(read & np.isfinite(total), lam * total, 0.0).ravel()
     kept[j] = out
     return out
 
