@@ -1605,9 +1605,9 @@ MEMBERS: tuple[Member, ...] = (
         r17.hz_tiny_T_c,
         r17.P17["hz_tiny_T_c"][1],
         "a terminal cost with kinks between the nodes under a horizon of 0.002, in which the "
-        "noise moves half a cell (stranger round 17: 11–13 % high at the kinks' crossing, silent; "
-        "open: the estimate there is about half the error, and the kinks are too few states for "
-        "the quantile; solve(tol=) brings them within 2 %)",
+        "noise moves half a cell (stranger round 17: 11–13 % high at the kinks' crossing, too few "
+        "states for the quantile; silent until the warning's confirmation read the cells' "
+        "centres, 2026-12-06; solve(tol=) brings them within 2 %)",
         tags=("short horizon", "kink", "narrow cost"),
         exact=_kink_tiny_horizon_exact,
     ),

@@ -79,7 +79,8 @@ share of the states that may be far below a tenth: :func:`largest_response`). A 
 without an exit set is also judged, as before, at the better half, where its paths end up: a
 defect there is a share of the better half twice as large as of the box. A large estimate on
 too few states for the percentile warns where the grid terms and γ both exceed the tolerance
-there (:func:`confirmed_locally`). With ``states=``, at its largest over them.
+there or at the centre of a cell around there, where an interpolated value is furthest from the
+nodes (:func:`confirmed_locally`). With ``states=``, at its largest over them.
 """
 
 from __future__ import annotations
@@ -161,11 +162,16 @@ def better_half(solution, limit: int = SAMPLE) -> np.ndarray:
     """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``
     (at most ``limit`` of them, evenly spaced): where a controlled process without an exit set
     spends its time, and where a finite-horizon task's paths end up."""
+    return _evenly(solution, _better_half_mask(solution), limit)
+
+
+def _better_half_mask(solution) -> np.ndarray:
+    """The flat mask of the nodes whose value at t = 0 is finite and at most the median."""
     v = solution.value_nodes(0)
     chosen = np.isfinite(v)
     if chosen.any():
         chosen &= v <= np.median(v[chosen])
-    return _evenly(solution, chosen, limit)
+    return chosen
 
 
 def states_that_matter(solution, limit: int = SAMPLE) -> np.ndarray:
@@ -200,10 +206,15 @@ def states_that_matter(solution, limit: int = SAMPLE) -> np.ndarray:
     ndarray (M, d)
         The states at which a solve is judged when the user gives none.
     """
+    return _evenly(solution, matter_mask(solution), limit)
+
+
+def matter_mask(solution) -> np.ndarray:
+    """The flat mask of the nodes among which :func:`states_that_matter` are chosen."""
     problem = solution.problem
     if problem.exit is None and problem.stationary:
-        return better_half(solution, limit)
-    return _evenly(solution, _finite_off_exit(solution), limit)
+        return _better_half_mask(solution)
+    return _finite_off_exit(solution)
 
 
 def calibration_states(solution, limit: int = SAMPLE) -> np.ndarray:
@@ -656,6 +667,12 @@ class _Matter:
         return states_that_matter(self.solution)
 
     @cached_property
+    def mask(self) -> np.ndarray:
+        """The flat mask of the nodes among which :attr:`states` are chosen
+        (:func:`states_that_matter`)."""
+        return matter_mask(self.solution)
+
+    @cached_property
     def value(self) -> np.ndarray:
         """v at :attr:`states`, t = 0."""
         return self.solution.value(self.states, 0.0)
@@ -667,20 +684,23 @@ class _Matter:
 
 
 CONFIRMED = 64
-"""At most this many of the states that matter, those with the largest grid terms above the
-tolerance, are checked along the solve's own paths by :func:`confirmed_locally`, each from
-:data:`~gridlbc.accuracy.paths.PATH_SAMPLES` paths (as many paths in all as the quantile's
-states take: the largest of a few noisy means would otherwise read high)."""
+"""At most this many states, those with the largest grid terms above the tolerance among the
+states that matter and the centres of the cells around them, are checked along the solve's own
+paths by :func:`confirmed_locally`, each from :data:`~gridlbc.accuracy.paths.PATH_SAMPLES` paths
+(as many paths in all as the quantile's states take: the largest of a few noisy means would
+otherwise read high)."""
 
 
 def confirmed_locally(
     solution, tol: float, matter: _Matter | None = None
 ) -> tuple[float, np.ndarray]:
     """The largest relative error that two independent parts of the estimate both give at one
-    of the states that matter, and where: min(grid terms, abs(γ)) relative to max(abs(v), λ),
-    over the :data:`CONFIRMED` states whose grid terms (the embedded and pair differences, the
-    floor and S, :meth:`EmbeddedEstimate.grid_terms`, read at every state that matter) are the
-    largest above ``tol``; 0 where none is above it or γ is not sampled.
+    of the states that matter or between them, and where: min(grid terms, abs(γ)) relative to
+    max(abs(v), λ), over the :data:`CONFIRMED` candidates whose grid terms (the embedded and
+    pair differences, the floor and S, :meth:`EmbeddedEstimate.grid_terms`) are the largest
+    above ``tol``; 0 where none is above it or γ is not sampled. The candidates are the
+    :data:`CONFIRMED` states that matter with the largest grid terms and the centres of the cells
+    around them that lie among the states that matter (:func:`cell_centres`).
 
     Why: the quantile lets a tenth of the states through, and an error confined to a small
     region (a steep goal at a short horizon, a kink between the nodes) stays under it however
@@ -688,7 +708,10 @@ def confirmed_locally(
     the coarser solves over-read a well's bottom or a box's edge; γ, sampled along the solve's
     own paths from the same states, measures something else (the costs the grid leaves out
     along the way and at the end), so where both exceed the tolerance the error is taken as
-    real. ``matter``: the states that matter and what is read there, where the caller has them
+    real. The states that matter are nodes, where a value is solved for; a value read between
+    them is also interpolated, and where v bends within a cell (a kink of g between the nodes
+    under a short horizon) its error is largest at the cell's centre, where no node sees it.
+    ``matter``: the states that matter and what is read there, where the caller has them
     (:func:`assess`)."""
     problem = solution.problem
     none = (0.0, np.full(solution.grid.ndim, np.nan))
@@ -699,9 +722,20 @@ def confirmed_locally(
     if len(X) == 0:
         return none
     v = matter.value
-    response = None if solution.embedded.excess is None else matter.response
-    terms = solution.embedded.grid_terms(solution, X, 0.0, v, response)
-    grid = relative_error(terms, v, solution.temperature)
+    estimate = solution.embedded
+    response = None if estimate.excess is None else matter.response
+    grid = relative_error(
+        estimate.grid_terms(solution, X, 0.0, v, response), v, solution.temperature
+    )
+    top = np.argsort(grid)[::-1][:CONFIRMED]
+    centres = cell_centres(solution, X[top], matter.mask)
+    v_centres = solution.value(centres, 0.0)
+    grid_centres = relative_error(
+        estimate.grid_terms(solution, centres, 0.0, v_centres), v_centres, solution.temperature
+    )
+    X = np.concatenate([X[top], centres])
+    v = np.concatenate([v[top], v_centres])
+    grid = np.concatenate([grid[top], grid_centres])
     above = np.flatnonzero(grid > tol)
     if len(above) == 0:
         return none
@@ -710,6 +744,26 @@ def confirmed_locally(
     both = np.fmin(grid[top], relative_error(gap, v[top], solution.temperature))
     worst = int(np.argmax(both))
     return float(both[worst]), X[top[worst]]
+
+
+def cell_centres(solution, nodes: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """The centres of the cells that have one of ``nodes`` (N, d) as a corner and whose every
+    corner is in ``mask`` (a flat boolean array over the grid's nodes), ``(M, d)``, each once:
+    on a closed axis the cells inside the box, on a periodic one also those across its seam."""
+    grid = solution.grid
+    if len(nodes) == 0:
+        return np.empty((0, grid.ndim))
+    n = np.array(grid.shape)
+    periodic = grid.periodic
+    index = np.rint((nodes - grid.lo) / grid.spacing).astype(np.int64)
+    shifts = np.array(np.meshgrid(*([[-1, 0]] * grid.ndim), indexing="ij")).reshape(grid.ndim, -1).T
+    lower = (index[:, None, :] + shifts[None]).reshape(-1, grid.ndim)
+    lower = np.where(periodic, lower % n, lower)
+    inside = np.all(periodic | ((lower >= 0) & (lower <= n - 2)), axis=1)
+    lower = np.unique(lower[inside], axis=0)
+    corners = (lower[:, None, :] + shifts[None] + 1) % n  # lower + {0, 1}^d, wrapped
+    held = np.all(mask[corners @ grid.strides], axis=1)
+    return grid.lo + (lower[held] + 0.5) * grid.spacing
 
 
 def _read_at(solution, X: np.ndarray, tol: float, given: bool) -> Assessment:
