@@ -37,56 +37,56 @@ def cell(x, lo, spacing, n, periodic):
 
 
 @jit_inline
-def _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order):
-    """The Kuhn simplex and weights of state ``x[p]`` into ``idx[p]``, ``weights[p]`` (``frac``,
-    ``order``: scratch of length d)."""
+def _kuhn_points(start, stop, x, lo, spacing, shape, strides, periodic, idx, weights):
+    """The Kuhn simplex and weights of the states ``x[start:stop]`` into ``idx``, ``weights``
+    (its scratch allocated here, once: a loop whose scratch is passed in from its caller runs
+    several times slower)."""
     d = x.shape[1]
-    base = 0
-    for k in range(d):
-        i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
-        base += i * strides[k]
-        j = k  # insertion into the decreasing order, ties in axis order (a stable sort)
-        while j > 0 and frac[order[j - 1]] < frac[k]:
-            order[j] = order[j - 1]
-            j -= 1
-        order[j] = k
-    # Walk from the base corner, one axis at a time in decreasing fractional order.
-    idx[p, 0] = base
-    weights[p, 0] = 1.0 - frac[order[0]]
-    node = base
-    for j in range(d):
-        k = order[j]
-        n = shape[k]
-        coord = (node // strides[k]) % n
-        if coord == n - 1:  # only reachable on a periodic axis
-            node -= (n - 1) * strides[k]
-        else:
-            node += strides[k]
-        idx[p, j + 1] = node
-        nxt = frac[order[j + 1]] if j + 1 < d else 0.0
-        weights[p, j + 1] = frac[k] - nxt
+    frac = np.empty(d)
+    order = np.empty(d, np.int64)
+    first = np.empty(d, np.int64)  # the base corner's coordinates
+    for p in range(start, stop):
+        base = 0
+        for k in range(d):
+            i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
+            first[k] = i
+            base += i * strides[k]
+            j = k  # insertion into the decreasing order, ties in axis order (a stable sort)
+            while j > 0 and frac[order[j - 1]] < frac[k]:
+                order[j] = order[j - 1]
+                j -= 1
+            order[j] = k
+        # Walk from the base corner, one axis at a time in decreasing fractional order (each
+        # axis once: the walk is at the base corner's coordinate along an axis when it steps).
+        idx[p, 0] = base
+        weights[p, 0] = 1.0 - frac[order[0]]
+        node = base
+        for j in range(d):
+            k = order[j]
+            n = shape[k]
+            if first[k] == n - 1:  # only reachable on a periodic axis
+                node -= (n - 1) * strides[k]
+            else:
+                node += strides[k]
+            idx[p, j + 1] = node
+            nxt = frac[order[j + 1]] if j + 1 < d else 0.0
+            weights[p, j + 1] = frac[k] - nxt
 
 
 @jit_parallel
 def kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
-    """:func:`_kuhn_point` for every state, on the threads (scratch allocated once per block of
-    states)."""
-    n_points, d = x.shape
+    """:func:`_kuhn_points` for every state, on the threads, in blocks."""
+    n_points = x.shape[0]
     n_blocks = min(n_points, 256)
     for b in prange(n_blocks):
-        frac = np.empty(d)
-        order = np.empty(d, np.int64)
-        for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
-            _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order)
+        start, stop = b * n_points // n_blocks, (b + 1) * n_points // n_blocks
+        _kuhn_points(start, stop, x, lo, spacing, shape, strides, periodic, idx, weights)
 
 
 @jit
 def kuhn_kernel_serial(x, lo, spacing, shape, strides, periodic, idx, weights):
-    """:func:`_kuhn_point` for every state, in this thread (few states: :data:`SERIAL_BELOW`)."""
-    frac = np.empty(x.shape[1])
-    order = np.empty(x.shape[1], np.int64)
-    for p in range(x.shape[0]):
-        _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order)
+    """:func:`_kuhn_points` for every state, in this thread (few states: :data:`SERIAL_BELOW`)."""
+    _kuhn_points(0, x.shape[0], x, lo, spacing, shape, strides, periodic, idx, weights)
 
 
 @jit_inline
