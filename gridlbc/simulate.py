@@ -67,8 +67,9 @@ def em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost, ito):
     ito += uᵀ R dε (the Girsanov term of :func:`gridlbc.certify`), for every sample."""
     n, d = x.shape
     m = u.shape[1]
+    kick = np.empty(m)  # dε = √(λ dt) C ε, of each sample in turn
     for s in range(n):  # serial: a few flops per sample, threads would cost more
-        kick = np.zeros(m)  # dε = √(λ dt) C ε
+        kick[:] = 0.0
         for i in range(m):
             for j in range(m):
                 kick[i] += noise[i, j] * eps[s, j]
