@@ -188,9 +188,10 @@ class GridRegion:
         if mask.shape != (grid.size,):
             raise ValueError(f"GridRegion mask must have shape ({grid.size},), got {mask.shape}")
         self.grid, self.mask, self.description = grid, mask, description
+        self._membership = mask.astype(float)  # what is interpolated, made once
 
     def __call__(self, x) -> np.ndarray:
-        return interpolate(self.grid, self.mask.astype(float), x) >= 0.5
+        return interpolate(self.grid, self._membership, x) >= 0.5
 
     def __repr__(self) -> str:
         return self.description

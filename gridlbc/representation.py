@@ -104,11 +104,19 @@ class Stencil:
         B = self.input_matrix
         assert B is not None, "build the stencil with gradient=True"
         g = np.zeros((self.nodes.shape[0], B.shape[-1]))
-        for k in np.flatnonzero(np.any(B != 0, axis=(0, 1, 3))):
+        for k in _driven_axes(B):
             d = node_gradient(self.grid, pair, self.nodes.ravel(), int(k), log_divisor=log_divisor)
             d = np.einsum("s,snv->nv", time_weights, d.reshape((len(pair), *self.nodes.shape)))
             g += np.einsum("nv,nvm,nv->nm", self.weights, B[:, :, k, :], d)
         return g
+
+
+def _driven_axes(B: np.ndarray) -> np.ndarray:
+    """The axes k that B ``(N, d+1, d, m)`` drives somewhere (B[..., k, :] not all zero); a B
+    broadcast over the states and vertices (a constant one) is read at one vertex."""
+    if B.strides[0] == 0 and B.strides[1] == 0:
+        B = B[:1, :1]
+    return np.flatnonzero(np.any(B != 0, axis=(0, 1, 3)))
 
 
 @dataclass(frozen=True, eq=False)

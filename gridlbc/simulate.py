@@ -67,8 +67,9 @@ def em_kernel(x, drift, B, u, eps, noise, R, dt, x_out, cost, ito):
     ito += uᵀ R dε (the Girsanov term of :func:`gridlbc.certify`), for every sample."""
     n, d = x.shape
     m = u.shape[1]
+    kick = np.empty(m)  # dε = √(λ dt) C ε, of each sample in turn
     for s in range(n):  # serial: a few flops per sample, threads would cost more
-        kick = np.zeros(m)  # dε = √(λ dt) C ε
+        kick[:] = 0.0
         for i in range(m):
             for j in range(m):
                 kick[i] += noise[i, j] * eps[s, j]
@@ -475,6 +476,7 @@ def euler_maruyama(
     horizon: float | None = None,
     scored=(),
     integrand=None,
+    costs: bool = True,
 ) -> SamplePaths:
     """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
 
@@ -520,6 +522,10 @@ def euler_maruyama(
         the state cost is (rectangle rule, up to τ) into :attr:`SamplePaths.integral`; called
         each step right after ``policy``, at the same states. Its values are not checked (they
         may be negative or NaN).
+    costs : bool
+        Whether to charge the problem's state, terminal and exit costs (False: ``running_cost``
+        holds the control cost alone and ``terminal_cost`` zeros; the paths, their exit times
+        and ``integral`` are the same).
 
     Returns
     -------
@@ -539,7 +545,7 @@ def euler_maruyama(
     x = np.array(problem.wrap(x), dtype=float)  # a copy: the loop updates it in place
     start = x.copy()
     end_cost = np.zeros(n)
-    exits = _Exits(problem, x, end_cost) if problem.exit is not None else None
+    exits = _Exits(problem, x, end_cost if costs else None) if problem.exit is not None else None
     eps = np.zeros((n, m))
     scored = tuple(scored)
     log_likelihoods = np.zeros((n, len(scored))) if scored else None
@@ -559,7 +565,7 @@ def euler_maruyama(
             running_a, ito_a = running[alive], ito[alive]
             if integral is not None:
                 integral[alive] += np.asarray(integrand(x_a, t), dtype=float) * step
-            if problem.state_cost is not None:  # as it is between the nodes (signed)
+            if costs and problem.state_cost is not None:  # as it is between the nodes (signed)
                 running_a += problem.state_cost_values(x_a, t, signed=True) * step
             x_new = np.empty_like(x_a)
             eps_a = np.ascontiguousarray(eps[alive])
@@ -589,7 +595,7 @@ def euler_maruyama(
         if on_step is not None:
             on_step(k, x, u)
     running_at_end = slice(None) if exits is None else exits.alive
-    if not problem.stationary:  # the samples still running at T pay g(x_T)
+    if costs and not problem.stationary:  # the samples still running at T pay g(x_T)
         end_cost[running_at_end] = evaluate_cost(
             problem.require_terminal_cost("simulate"), x[running_at_end], "terminal_cost"
         )
@@ -603,9 +609,10 @@ def euler_maruyama(
 
 class _Exits:
     """Which samples have reached the exit set, when, and the exit cost they paid (into
-    ``end_cost``); the bridge crossing where the region knows its geometry (module docstring)."""
+    ``end_cost``; not charged where it is None); the bridge crossing where the region knows its
+    geometry (module docstring)."""
 
-    def __init__(self, problem: Problem, x: np.ndarray, end_cost: np.ndarray):
+    def __init__(self, problem: Problem, x: np.ndarray, end_cost: np.ndarray | None):
         self.problem, self.end_cost = problem, end_cost
         geometric = has_geometry(problem.exit)
         self.region = cast(RegionBase, problem.exit) if geometric else None
@@ -640,6 +647,7 @@ class _Exits:
     def _stop(self, running, entered, where, t: float) -> None:
         ids = running[entered]
         if len(ids):
-            self.end_cost[ids] = self.problem.exit_values(where[entered])
+            if self.end_cost is not None:
+                self.end_cost[ids] = self.problem.exit_values(where[entered])
             self.times[ids] = t
             self.alive[ids] = False

@@ -94,10 +94,12 @@ def flow_excess(solution, samples: int = FLOW_SAMPLES) -> tuple[float, float, np
 
 
 def _interpolant(problem, grid, x: np.ndarray) -> np.ndarray:
-    """(I a)(x): the drift at the vertices of each state's simplex on ``grid``, weighted."""
+    """(I a)(x): the drift at the vertices of each state's simplex on ``grid``, weighted (the
+    drift evaluated once at each vertex that the simplices share)."""
     idx, weights = barycentric(grid, x)
-    corners = np.asarray(problem.system.drift(grid.node_coordinates(idx.ravel())), dtype=float)
-    return np.einsum("nv,nvk->nk", weights, corners.reshape(idx.shape + (grid.ndim,)))
+    vertices, which = np.unique(idx, return_inverse=True)
+    drift = np.asarray(problem.system.drift(grid.node_coordinates(vertices)), dtype=float)
+    return np.einsum("nv,nvk->nk", weights, drift[which.reshape(idx.shape)])
 
 
 def check_flow(solution) -> None:

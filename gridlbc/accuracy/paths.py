@@ -197,7 +197,6 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
         horizon).
     """
     problem = solution.problem if along is None else along[0]
-    grid = problem.grid
     x = np.atleast_2d(np.asarray(x, dtype=float))
     n_states = x.shape[0]
     if along is None and problem.stationary and interpolated_exactly(solution):
@@ -223,15 +222,19 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
     gap = np.zeros(n)
     undefined = np.zeros(n, dtype=bool)
     last_bad = np.zeros(0, dtype=bool)
+    last = None  # the solve's stencil at the states its policy last read: the rate reads them
 
     def policy(y: np.ndarray, s: float) -> np.ndarray:
         """The solve's policy at the running paths' states y (an underflowed one: 0, marked)."""
-        nonlocal last_bad
+        nonlocal last_bad, last
         with np.errstate(invalid="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore")  # an underflowed policy was the solve's to warn of
-            u = np.asarray(
-                solution.policy(y, t + s) if along is None else along[1](y, t + s), dtype=float
-            )
+            if along is None:  # solution.policy, its stencil kept for the rate
+                last = solution.stencil(y, t + s)
+                fields = solution.representation.fields(last, solution.slices, solution.log_scales)
+                u = fields.policy(solution.temperature, problem.R_inv)
+            else:
+                u = np.asarray(along[1](y, t + s), dtype=float)
         last_bad = ~np.all(np.isfinite(u), axis=1)
         u[last_bad] = 0.0
         return u
@@ -242,7 +245,9 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
         if along is not None:
             r = along[2](y, t + s)
         elif q_nodes is not None:
-            r = interpolate(grid, q_nodes, y) - problem.state_cost_values(y, signed=True)
+            assert last is not None  # the policy's, at the same states y
+            interpolated = (q_nodes[last.nodes] * last.weights).sum(axis=-1)
+            r = interpolated - problem.state_cost_values(y, signed=True)
         r[last_bad] = np.nan
         return r
 
@@ -253,7 +258,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
     while len(running) and done < steps and budget > 0:
         chunk = min(CHUNK, steps - done) if problem.stationary else steps
         paths = euler_maruyama(
-            problem, policy, position, chunk, rng, horizon=chunk * dt, integrand=rate
+            problem, policy, position, chunk, rng, horizon=chunk * dt, integrand=rate, costs=False
         )
         budget -= len(running) * chunk
         done += chunk

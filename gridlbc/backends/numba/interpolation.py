@@ -37,56 +37,56 @@ def cell(x, lo, spacing, n, periodic):
 
 
 @jit_inline
-def _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order):
-    """The Kuhn simplex and weights of state ``x[p]`` into ``idx[p]``, ``weights[p]`` (``frac``,
-    ``order``: scratch of length d)."""
+def _kuhn_points(start, stop, x, lo, spacing, shape, strides, periodic, idx, weights):
+    """The Kuhn simplex and weights of the states ``x[start:stop]`` into ``idx``, ``weights``
+    (its scratch allocated here, once: a loop whose scratch is passed in from its caller runs
+    several times slower)."""
     d = x.shape[1]
-    base = 0
-    for k in range(d):
-        i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
-        base += i * strides[k]
-        j = k  # insertion into the decreasing order, ties in axis order (a stable sort)
-        while j > 0 and frac[order[j - 1]] < frac[k]:
-            order[j] = order[j - 1]
-            j -= 1
-        order[j] = k
-    # Walk from the base corner, one axis at a time in decreasing fractional order.
-    idx[p, 0] = base
-    weights[p, 0] = 1.0 - frac[order[0]]
-    node = base
-    for j in range(d):
-        k = order[j]
-        n = shape[k]
-        coord = (node // strides[k]) % n
-        if coord == n - 1:  # only reachable on a periodic axis
-            node -= (n - 1) * strides[k]
-        else:
-            node += strides[k]
-        idx[p, j + 1] = node
-        nxt = frac[order[j + 1]] if j + 1 < d else 0.0
-        weights[p, j + 1] = frac[k] - nxt
+    frac = np.empty(d)
+    order = np.empty(d, np.int64)
+    first = np.empty(d, np.int64)  # the base corner's coordinates
+    for p in range(start, stop):
+        base = 0
+        for k in range(d):
+            i, frac[k] = cell(x[p, k], lo[k], spacing[k], shape[k], periodic[k])
+            first[k] = i
+            base += i * strides[k]
+            j = k  # insertion into the decreasing order, ties in axis order (a stable sort)
+            while j > 0 and frac[order[j - 1]] < frac[k]:
+                order[j] = order[j - 1]
+                j -= 1
+            order[j] = k
+        # Walk from the base corner, one axis at a time in decreasing fractional order (each
+        # axis once: the walk is at the base corner's coordinate along an axis when it steps).
+        idx[p, 0] = base
+        weights[p, 0] = 1.0 - frac[order[0]]
+        node = base
+        for j in range(d):
+            k = order[j]
+            n = shape[k]
+            if first[k] == n - 1:  # only reachable on a periodic axis
+                node -= (n - 1) * strides[k]
+            else:
+                node += strides[k]
+            idx[p, j + 1] = node
+            nxt = frac[order[j + 1]] if j + 1 < d else 0.0
+            weights[p, j + 1] = frac[k] - nxt
 
 
 @jit_parallel
 def kuhn_kernel(x, lo, spacing, shape, strides, periodic, idx, weights):
-    """:func:`_kuhn_point` for every state, on the threads (scratch allocated once per block of
-    states)."""
-    n_points, d = x.shape
+    """:func:`_kuhn_points` for every state, on the threads, in blocks."""
+    n_points = x.shape[0]
     n_blocks = min(n_points, 256)
     for b in prange(n_blocks):
-        frac = np.empty(d)
-        order = np.empty(d, np.int64)
-        for p in range(b * n_points // n_blocks, (b + 1) * n_points // n_blocks):
-            _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order)
+        start, stop = b * n_points // n_blocks, (b + 1) * n_points // n_blocks
+        _kuhn_points(start, stop, x, lo, spacing, shape, strides, periodic, idx, weights)
 
 
 @jit
 def kuhn_kernel_serial(x, lo, spacing, shape, strides, periodic, idx, weights):
-    """:func:`_kuhn_point` for every state, in this thread (few states: :data:`SERIAL_BELOW`)."""
-    frac = np.empty(x.shape[1])
-    order = np.empty(x.shape[1], np.int64)
-    for p in range(x.shape[0]):
-        _kuhn_point(p, x, lo, spacing, shape, strides, periodic, idx, weights, frac, order)
+    """:func:`_kuhn_points` for every state, in this thread (few states: :data:`SERIAL_BELOW`)."""
+    _kuhn_points(0, x.shape[0], x, lo, spacing, shape, strides, periodic, idx, weights)
 
 
 @jit_inline
@@ -97,38 +97,48 @@ def _ratio(z, log_divisor, r, node):
 
 
 @jit_inline
-def _central_gradient_node(p, z, log_divisor, nodes, k, shape, strides, spacing, periodic, out):
-    """∂y/∂x_k at the flat node ``nodes[p]`` into ``out[:, p]`` (:func:`central_gradient_kernel`)."""
+def _central_gradients(
+    start, stop, z, log_divisor, nodes, k, shape, strides, spacing, periodic, out
+):
+    """∂y/∂x_k at the flat nodes ``nodes[start:stop]`` into ``out[:, start:stop]``
+    (:func:`central_gradient_kernel`; the loop in one function: a loop that calls a helper per
+    node runs several times slower)."""
     n = shape[k]
     s = strides[k]
     h = spacing[k]
-    node = nodes[p]
-    i = (node // s) % n
-    if periodic:
-        up = node + s if i < n - 1 else node - (n - 1) * s
-        down = node - s if i > 0 else node + (n - 1) * s
-        scale = 0.5 / h
-    elif i == 0:
-        up, down, scale = node + s, node, 1.0 / h
-    elif i == n - 1:
-        up, down, scale = node, node - s, 1.0 / h
-    else:
-        up, down, scale = node + s, node - s, 0.5 / h
-    for r in range(z.shape[0]):
-        if log_divisor.shape[1] == 0:
-            out[r, p] = (z[r, up] - z[r, down]) * scale
+    for p in range(start, stop):
+        node = nodes[p]
+        i = (node // s) % n
+        if periodic:
+            up = node + s if i < n - 1 else node - (n - 1) * s
+            down = node - s if i > 0 else node + (n - 1) * s
+            scale = 0.5 / h
+        elif i == 0:
+            up, down, scale = node + s, node, 1.0 / h
+        elif i == n - 1:
+            up, down, scale = node, node - s, 1.0 / h
         else:
-            out[r, p] = (_ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)) * scale
+            up, down, scale = node + s, node - s, 0.5 / h
+        for r in range(z.shape[0]):
+            if log_divisor.shape[1] == 0:
+                out[r, p] = (z[r, up] - z[r, down]) * scale
+            else:
+                out[r, p] = (
+                    _ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)
+                ) * scale
 
 
 @jit_parallel
 def central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out):
     """∂y/∂x_axis at the given flat nodes for y = z (in z's precision), or y = z / e^{log_divisor}
     when ``log_divisor`` has columns (:func:`_ratio`): central differences, one-sided at closed
-    ends; on the threads."""
-    for p in prange(nodes.shape[0]):
-        _central_gradient_node(
-            p, z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+    ends; on the threads, in blocks."""
+    n_nodes = nodes.shape[0]
+    n_blocks = min(n_nodes, 256)
+    for b in prange(n_blocks):
+        start, stop = b * n_nodes // n_blocks, (b + 1) * n_nodes // n_blocks
+        _central_gradients(
+            start, stop, z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
         )
 
 
@@ -137,7 +147,6 @@ def central_gradient_kernel_serial(
     z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
 ):
     """:func:`central_gradient_kernel` in this thread (few nodes: :data:`SERIAL_BELOW`)."""
-    for p in range(nodes.shape[0]):
-        _central_gradient_node(
-            p, z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
-        )
+    _central_gradients(
+        0, nodes.shape[0], z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+    )
