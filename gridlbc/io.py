@@ -50,6 +50,8 @@ import numpy as np
 
 from .accuracy import EmbeddedEstimate, Response
 from .costs import Quadratic
+from .errors import GridlbcWarning, warn_user
+from .fingerprint import UnidentifiableError, state_record
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
@@ -202,9 +204,21 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
     -------
     Path
         The path written.
+
+    The system is recorded by its class's import path and its ``parameters()``; where those
+    cannot rebuild it (a user's class whose constructor takes arguments and that has no
+    ``parameters()`` returning them) the file is written and a :class:`gridlbc.GridlbcWarning`
+    says that :func:`load` will need the system passed to it.
     """
     if not isinstance(solution, Solution):
         raise TypeError(f"save expects a gridlbc.Solution, got {type(solution).__name__}")
+    _warn_unrebuildable(solution.problem.system)
+    return write(solution, path, annotations)
+
+
+def write(solution: Solution, path, annotations: dict | None = None) -> Path:
+    """:func:`save` without its check that :func:`load` can rebuild the system alone (for a
+    caller that loads with ``system=``, as :func:`gridlbc.sweep` does)."""
     from . import __version__
 
     path = Path(path)
@@ -269,6 +283,7 @@ def _record(solution: Solution, arrays: dict) -> dict:
         "representation": solution.representation.name,
         "operator": asdict(solution.operator),
         "sha256": _digest(solution.times, solution.slices, solution.log_scales),
+        "system_state_sha256": state_digest(solution.problem.system),
     }
     if isinstance(solution, StationarySolution) and solution.average_cost is not None:
         meta["average_cost"] = solution.average_cost
@@ -280,16 +295,88 @@ def _record(solution: Solution, arrays: dict) -> dict:
     return meta
 
 
-def _system_from_record(record):
+def _warn_unrebuildable(system) -> None:
+    """Warn when ``type(system)(**system.parameters())``, what :func:`load` calls, fails or builds
+    a system of other state (:func:`state_digest`): load will then need the system
+    (:func:`save`). A state that cannot be read trusts its ``parameters()``."""
+    cls, parameters = type(system), system.parameters()
+    call = f"{cls.__qualname__}(**{parameters!r})"
+    try:
+        rebuilt = cls(**parameters)
+    except Exception as exc:  # the user's constructor refuses the record: say so, not raise
+        reason = f"{call} raises {type(exc).__name__}: {exc}"
+    else:
+        if state_digest(rebuilt) == state_digest(system):
+            return
+        reason = f"{call} builds a system whose attributes differ from this one's"
+    warn_user(
+        f"the saved file records the system as {call}, which cannot rebuild it ({reason}): load "
+        f"it with gridlbc.load(path, system=...) giving the system, or give {cls.__qualname__} a "
+        "parameters() method that returns its constructor arguments (docs page 'tutorial')",
+        GridlbcWarning,
+    )
+
+
+def state_digest(system) -> str | None:
+    """The SHA-256 of a system's full state (:func:`gridlbc.fingerprint.state_record`, arrays by
+    their bytes), which :func:`save` records and :func:`load` compares with the system it
+    rebuilds; None where the state cannot be read."""
+    arrays: dict = {}
+    try:
+        record = state_record(system, arrays, "system")
+    except UnidentifiableError:
+        return None
+    h = hashlib.sha256(json.dumps(record, sort_keys=True, default=str).encode())
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}:{a.dtype}:{a.shape}".encode() + a.tobytes())
+    return h.hexdigest()
+
+
+def _check_system(meta: dict, system) -> None:
+    """Warn where the loaded solution's system is not in the state it was saved in (its digest,
+    when the file has one: files from before it have none)."""
+    saved = meta.get("system_state_sha256")
+    if saved is None or state_digest(system) in (None, saved):
+        return
+    warn_user(
+        f"the system of this file, as loaded ({system!r}), differs from the one the solution was "
+        "solved with (the digest of its attributes): the values are the file's, but its policy "
+        "paths, certificates and error estimate read the system. Pass the system it was solved "
+        "with, gridlbc.load(path, system=...), or give its class a parameters() method that "
+        "returns its constructor arguments",
+        GridlbcWarning,
+    )
+
+
+def _system_from_record(record, system=None):
+    """The system of a saved solution: rebuilt from its class and ``parameters()``, or ``system``
+    where the caller gives it (its class must be the recorded one)."""
     module_name, _, qualname = record["class"].rpartition(".")
+    if system is not None:
+        given = f"{type(system).__module__}.{type(system).__qualname__}"
+        if given != record["class"]:
+            raise ValueError(
+                f"load(system=...) got a {given}, but the file was saved with a "
+                f"{record['class']}: give a system of the class it was solved with"
+            )
+        return system
     try:
         cls = getattr(importlib.import_module(module_name), qualname)
     except (ImportError, AttributeError):
         raise ValueError(
             f"the saved solution's system {record['class']} cannot be imported: import the module "
-            "that defines it (it must be importable by that name) before loading"
+            "that defines it (it must be importable by that name) before loading, or pass it: "
+            "gridlbc.load(path, system=...)"
         ) from None
-    return cls(**record["parameters"])
+    try:
+        return cls(**record["parameters"])
+    except TypeError as exc:
+        raise ValueError(
+            f"the saved solution's system {qualname}(**{record['parameters']!r}) cannot be "
+            f"rebuilt ({exc}): pass it, gridlbc.load(path, system=...), or give {qualname} a "
+            "parameters() method that returns its constructor arguments (docs page 'tutorial')"
+        ) from None
 
 
 def _read(path, arrays: bool) -> tuple[dict, dict]:
@@ -315,13 +402,22 @@ def read_metadata(path) -> dict:
     return _read(path, arrays=False)[0]
 
 
-def load(path) -> Solution:
+def load(path, system=None) -> Solution:
     """Read a Solution written by :func:`save`; the arrays come back bit for bit.
 
     Parameters
     ----------
     path : str or Path
         A file written by :func:`save`.
+    system : ControlAffineSystem, optional
+        The solution's system, where the file's record (its class and ``parameters()``) cannot
+        rebuild it (a user's class without ``parameters()``, or one not importable here); it
+        must be of the recorded class, and is taken as the one the solution was solved with.
+
+    Where the system rebuilt (or given) is not in the state the solution was solved with (the
+    digest of its attributes that :func:`save` records), a :class:`gridlbc.GridlbcWarning` says
+    so: the values are the file's, but the policy's paths, certificates and the error estimate
+    read the system.
 
     Returns
     -------
@@ -335,17 +431,18 @@ def load(path) -> Solution:
             f"{', '.join(map(str, READABLE_VERSIONS))}: load it with gridlbc "
             f"{meta.get('library_version')}"
         )
-    solution = _solution(meta, contents, version, path)
+    solution = _solution(meta, contents, version, path, system)
+    _check_system(meta, solution.problem.system)
     if "embedded" in meta:
         record = meta["embedded"]
         observed = record["observed_order"]
-        embedded = _solution(record, _prefixed(contents, EMBEDDED), version, path)
+        embedded = _solution(record, _prefixed(contents, EMBEDDED), version, path, system)
         pair = None
         if "pair" in record:
             first, second = (
                 embedded
                 if side == "embedded"
-                else _solution(side, _prefixed(contents, prefix), version, path)
+                else _solution(side, _prefixed(contents, prefix), version, path, system)
                 for prefix, side in zip(PAIR, record["pair"], strict=True)
             )
             pair = (first, second)
@@ -355,7 +452,7 @@ def load(path) -> Solution:
             raised, base = (
                 None
                 if excess.get(key) is None
-                else _solution(excess[key], _prefixed(contents, prefix), version, path)
+                else _solution(excess[key], _prefixed(contents, prefix), version, path, system)
                 for prefix, key in zip(EXCESS, ("raised", "base"), strict=True)
             )
             if "base" not in excess:  # written when the embedded solve was the base
@@ -373,7 +470,7 @@ def load(path) -> Solution:
     return solution
 
 
-def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
+def _solution(meta: dict, contents: dict, version: int, path, system=None) -> Solution:
     """One solution from its metadata and arrays (:func:`_record`), checked against its digests."""
     times, slices, scales = contents["times"], contents["slices"], contents["log_scales"]
     if _digest(times, slices, scales) != meta["sha256"]:
@@ -397,7 +494,7 @@ def _solution(meta: dict, contents: dict, version: int, path) -> Solution:
     if "exit" in meta:
         exit_set = GridRegion(grid, contents["exit_mask"], meta["exit"])
     problem = Problem(
-        _system_from_record(meta["system"]),
+        _system_from_record(meta["system"], system),
         grid,
         meta["horizon"],
         _cost_from_record(meta["terminal_cost"], "terminal", grid, contents),

@@ -37,7 +37,7 @@ import numpy as np
 
 from .errors import warn_user
 from .fingerprint import UnidentifiableError, state_record
-from .io import FORMAT_VERSION, cost_record, load, problem_record, read_metadata, save
+from .io import FORMAT_VERSION, cost_record, load, problem_record, read_metadata, write
 from .problem import Problem
 from .progress import ProgressBar
 from .settings import SolverSettings, resolve_settings
@@ -184,12 +184,14 @@ def member_key(problem: Problem, settings: SolverSettings) -> str:
     return h.hexdigest()
 
 
-def _finished(path: Path, key: str):
-    """The Solution stored at ``path`` if it is complete and was written for ``key``, else None."""
+def _finished(path: Path, key: str, problem: Problem):
+    """The Solution stored at ``path`` if it is complete and was written for ``key``, else None.
+    The key covers the system's full state, so the member's own ``problem.system`` is the saved
+    one (a user's class need not be rebuildable from its ``parameters()``)."""
     try:
         if read_metadata(path).get("annotations", {}).get("sweep_key") != key:
             return None
-        return load(path)  # verifies the arrays against their checksum
+        return load(path, system=problem.system)  # verifies the arrays against their checksum
     except (FileNotFoundError, ValueError, KeyError, TypeError):
         return None
 
@@ -198,7 +200,7 @@ def _save_atomic(solution, path: Path, key: str) -> None:
     """Save under a temporary name, then rename: a killed worker never leaves a partial file."""
     partial = path.with_name(f"{path.stem}.{os.getpid()}.partial.npz")
     try:
-        save(solution, partial, annotations={"sweep_key": key})
+        write(solution, partial, annotations={"sweep_key": key})
         os.replace(partial, path)
     finally:
         partial.unlink(missing_ok=True)
@@ -217,7 +219,7 @@ def _run_member(
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         try:
-            solution = _finished(file, key)
+            solution = _finished(file, key, problem)
             reused = solution is not None
             if not reused:
                 solution = solve(problem, settings=settings)

@@ -31,6 +31,7 @@ import strangers_round13 as r13
 import strangers_round15 as r15
 import strangers_round16 as r16
 import strangers_round17 as r17
+import strangers_round18 as r18
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1031,6 +1032,14 @@ def _kink_tiny_horizon_exact(X):
     return value
 
 
+def _sliding_switch_exact(X):
+    """1-D monotone backward-Euler solves of the switching axis (strangers_round18.be_1d, upwind
+    drift, 20 001 and 40 001 nodes, Richardson in the step; 3e-4 from a solve with twice the nodes
+    and four times the steps) plus the free axis's Crank–Nicolson"""
+    value, _ = r18.P18["sliding_frozen"][2](X)
+    return value
+
+
 def _three_doors_exact(X):
     """5-point finite differences of (λ/2R)Δz = (q/λ)z between the doors
     (strangers_round15.fd_three_doors) at h = 0.01 and 0.005, which agree to 5e-5"""
@@ -1610,6 +1619,17 @@ MEMBERS: tuple[Member, ...] = (
         "centres, 2026-12-06; solve(tol=) brings them within 2 %)",
         tags=("short horizon", "kink", "narrow cost"),
         exact=_kink_tiny_horizon_exact,
+    ),
+    Member(
+        "sliding_switch",
+        r18.sliding_frozen,
+        r18.P18["sliding_frozen"][1],
+        "a pull to a line that switches over a fifth of a cell (a sliding mode, ẋ₀ = −2 tanh((x₀ − "
+        "0.37)/0.01) + u₀) at λ = 0.005 under the default step, which carries a path 6.7 cells "
+        "(stranger round 18: 7–16 % low and silent: the midpoint foot lands beyond the line, "
+        "every coarser solve alike; warned since the feet are checked by two half steps)",
+        tags=("fast dynamics", "local feature", "cold", "closed"),
+        exact=_sliding_switch_exact,
     ),
 )
 

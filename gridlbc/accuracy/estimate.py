@@ -50,7 +50,10 @@ solve's paths never approach, which γ cannot.
 For a stationary solve (first exit, average cost) it is also at least the generator's
 truncation error on the solved v carried along the paths (:mod:`gridlbc.accuracy.truncation`):
 where z falls by many times e per cell every coarser grid is further off still, and their
-differences say little.
+differences say little. For a solve of the splitting scheme with a horizon it is also at least
+what landing each step's foot by two half steps instead of one midpoint step changes in v,
+carried along the paths (:mod:`gridlbc.accuracy.tracing`): a drift that switches within a step's
+travel sends the midpoint foot across the switch on every grid alike.
 
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
@@ -95,6 +98,7 @@ import numpy as np
 from ..errors import ResolutionWarning, warn_user
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
+from .tracing import tracing_gap
 from .truncation import truncation_gap
 
 if TYPE_CHECKING:
@@ -367,7 +371,8 @@ class EmbeddedEstimate:
         v, grid_terms = self._grid_terms(solution, x, t)
         terms = np.fmax(grid_terms, np.abs(cost_gap(solution, x, t, samples)))
         truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
-        return v, np.fmax(terms, np.abs(truncation))
+        tracing = tracing_gap(solution, x, samples, t)
+        return v, np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:
         """v_h, v_2h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated

@@ -758,3 +758,42 @@ def test_cell_centres_are_those_of_the_cells_around_the_nodes_held_by_the_mask()
     mask[grid.strides @ [1, 3]] = False  # the node (0.25, 0.75): both cells across the seam
     got = accuracy.estimate.cell_centres(solution, np.array([[0.25, 0.0]]), mask)
     assert sorted(map(tuple, got)) == [(0.125, 0.125), (0.375, 0.125)]
+
+
+class _SlidingPull(g.systems.ControlAffineSystem):
+    """ẋ₀ = −2 tanh((x₀ − 0.37)/0.01) + u₀, ẋ₁ = u₁: a pull to the line x₀ = 0.37 that switches
+    over a fifth of a cell (a sliding mode)."""
+
+    state_dim, control_dim = 2, 2
+
+    def drift(self, x):
+        x = self._states(x)
+        return np.stack([-2.0 * np.tanh((x[:, 0] - 0.37) / 0.01), np.zeros(len(x))], axis=1)
+
+    def input_matrix(self, x):
+        return np.broadcast_to(np.eye(2), (len(self._states(x)), 2, 2))
+
+
+def test_a_drift_that_switches_within_a_step_is_estimated_and_warned():
+    # Stranger round 18's sliding_frozen: q = 0.5 + (x₀ − 0.8)² + 0.5 x₁², g = 0, λ = 0.005,
+    # T = 2, 81² on [−2, 2]². The default step (0.167, from the drift's speed) carries a path
+    # 6.7 cells, and the midpoint foot of a node beside the line lands as far beyond it
+    # (0.4 → 0.73): the solve is 15 % low, and every coarser solve alike. The same grid at
+    # Δt = T/192 is the reference here: 0.3 % from the round's exact 1-D values (1.4097 and
+    # 1.4934) and 0.2 % from Δt = T/384, against errors of 15 %.
+    problem = g.Problem(
+        _SlidingPull(),
+        g.Grid([g.Axis(-2, 2, 81)] * 2),
+        2.0,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: 0.5 + (x[:, 0] - 0.8) ** 2 + 0.5 * x[:, 1] ** 2,
+        temperature=0.005,
+    )
+    with pytest.warns(g.ResolutionWarning, match="smaller dt") as record:
+        solution = g.solve(problem)
+    assert len(record) == 1
+    x = np.array([[0.0, 0.0], [0.37, 0.5]])
+    reference = g.solve(problem, dt=2.0 / 192, error_estimate=False).value(x)
+    error = np.abs(solution.value(x) - reference)
+    assert np.all(error > 0.1 * reference)
+    assert np.all(solution.error_estimate(x) >= 0.5 * error)

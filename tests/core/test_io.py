@@ -166,3 +166,63 @@ def test_reads_version_1_files(tmp_path, fitting, legacy, kind):
     x = np.array([[0.3, -1.0], [2.0, 0.5]])
     np.testing.assert_array_equal(back.value(x, 0.2), solution.value(x, 0.2))
     np.testing.assert_array_equal(back.policy(x, 0.2), solution.policy(x, 0.2))
+
+
+class _Turning(gridlbc.systems.ControlAffineSystem):
+    """A user's system whose constructor takes an argument and that has no parameters()."""
+
+    state_dim, control_dim = 2, 2
+
+    def __init__(self, rate):
+        self.rate = rate
+
+    def drift(self, x):
+        x = self._states(x)
+        return self.rate * np.stack([-x[:, 1], x[:, 0]], axis=1)
+
+    def input_matrix(self, x):
+        return np.broadcast_to(np.eye(2), (len(self._states(x)), 2, 2))
+
+
+def test_a_system_that_its_record_cannot_rebuild_is_loaded_with_system(tmp_path):
+    # Stranger round 18: save recorded _Turning(**{}) without a word, and load raised a
+    # TypeError from the user's constructor. Now save warns, load says what to do, and
+    # load(path, system=...) reads the file back bit for bit, estimate included.
+    problem = Problem(
+        _Turning(1.5),
+        Grid([Axis(-2, 2, 21)] * 2),
+        1.0,
+        Quadratic([1.0, 0.0], [2.0, 2.0]),
+    )
+    solution = gridlbc.solve(problem)
+    with pytest.warns(gridlbc.GridlbcWarning, match=r"load\(path, system=\.\.\.\)"):
+        path = gridlbc.save(solution, tmp_path / "turning")
+    with pytest.raises(ValueError, match=r"_Turning\(\*\*\{\}\) cannot be rebuilt .*system="):
+        gridlbc.load(path)
+    with pytest.raises(ValueError, match=r"saved with a .*_Turning: give a system of the class"):
+        gridlbc.load(path, system=gridlbc.systems.PointMass())
+    back = gridlbc.load(path, system=problem.system)
+    x = np.array([[0.3, -0.7], [1.1, 0.4]])
+    np.testing.assert_array_equal(back.slices, solution.slices)
+    np.testing.assert_array_equal(back.value(x), solution.value(x))
+    np.testing.assert_array_equal(back.error_estimate(x), solution.error_estimate(x))
+
+
+class _TurningByDefault(_Turning):
+    def __init__(self, rate=1.0):
+        self.rate = rate
+
+
+def test_a_system_rebuilt_in_another_state_is_warned_at_save_and_at_load(tmp_path):
+    # A constructor whose arguments have defaults rebuilds *a* system from an empty record, not
+    # this one (rate 1.0 for 1.5): its paths and estimate would read another flow.
+    problem = Problem(
+        _TurningByDefault(1.5), Grid([Axis(-2, 2, 21)] * 2), 1.0, Quadratic([1.0, 0.0], [2.0, 2.0])
+    )
+    solution = gridlbc.solve(problem)
+    with pytest.warns(gridlbc.GridlbcWarning, match="attributes differ from this one's"):
+        path = gridlbc.save(solution, tmp_path / "turning")
+    with pytest.warns(gridlbc.GridlbcWarning, match=r"differs from the one .* system=\.\.\."):
+        gridlbc.load(path)
+    back = gridlbc.load(path, system=_TurningByDefault(1.5))  # the same state: no warning
+    np.testing.assert_array_equal(back.value([0.3, -0.7]), solution.value([0.3, -0.7]))

@@ -170,6 +170,12 @@ def test_sweep_keeps_each_user_systems_result(tmp_path, client):
         assert member.error is None, member.error
         np.testing.assert_array_equal(member.values, gridlbc.solve(problem).value([0.0, 1.0], 0.0))
     assert members[0].values[0] != members[1].values[0]
+    # run again: each member's file is reused (read back with the member's own system, which
+    # Spin's parameters() alone cannot rebuild), with the same values
+    again = gridlbc.sweep(problems, tmp_path, states=[0.0, 1.0], client=client, progress=False)
+    assert [m.reused for m in again] == [True, True]
+    for first, second in zip(members, again):
+        np.testing.assert_array_equal(first.values, second.values)
     with pytest.raises(TypeError, match=r"problems\[1\]: gridlbc.sweep cannot tell"):
         gridlbc.sweep([spin(1.0), spin(1.0, lock=True)], tmp_path, client=client)
 
