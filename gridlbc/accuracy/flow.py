@@ -115,7 +115,7 @@ def check_flow(solution) -> None:
         f"in one step it carries a path {cells:.2g} cells beyond what its interpolant from the "
         "nodes says, and its interpolant on the grid with every other node is no worse (a gust "
         "or jet narrower than a cell). The coarser solves step over it alike, so the error "
-        "estimate does not see it, and v can be far off. Give a grid that resolves the flow, "
+        "estimate sees at most part of it, and v can be far off. Give a grid that resolves the flow, "
         "or a dt that moves a path less than half a cell through it, and compare (docs page "
         "'accuracy')",
         ResolutionWarning,
