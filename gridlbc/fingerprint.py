@@ -14,12 +14,14 @@ argument that changes what it computes), and record it there.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
+import json
 import types
 from typing import Any
 
 import numpy as np
 
-__all__ = ["UnidentifiableError", "state_record"]
+__all__ = ["UnidentifiableError", "digest", "state_record"]
 
 _MAX_DEPTH = 40
 
@@ -30,6 +32,24 @@ class UnidentifiableError(TypeError):
 
 def _qualified(obj) -> str:
     return f"{getattr(obj, '__module__', '?')}.{getattr(obj, '__qualname__', repr(obj))}"
+
+
+def digest(record, arrays: dict) -> str:
+    """The SHA-256 (hex) of a JSON-ready ``record`` (keys sorted; numpy numbers and arrays in it
+    as lists) and of the ``arrays`` it refers to, each by name, dtype, shape and bytes: equal
+    for equal records and arrays."""
+    h = hashlib.sha256(json.dumps(record, sort_keys=True, default=_json_default).encode())
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        h.update(f"{name}:{a.dtype}:{a.shape}".encode())
+        h.update(a.tobytes())
+    return h.hexdigest()
+
+
+def _json_default(obj):
+    if isinstance(obj, np.generic | np.ndarray):
+        return obj.tolist()
+    raise TypeError(f"{type(obj).__name__} is not JSON-serialisable")
 
 
 def state_record(obj, arrays: dict, where: str = "object") -> Any:

@@ -51,7 +51,7 @@ import numpy as np
 from .accuracy import EmbeddedEstimate, Response
 from .costs import Quadratic
 from .errors import GridlbcWarning, warn_user
-from .fingerprint import UnidentifiableError, state_record
+from .fingerprint import UnidentifiableError, digest, state_record
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
@@ -323,14 +323,9 @@ def state_digest(system) -> str | None:
     rebuilds; None where the state cannot be read."""
     arrays: dict = {}
     try:
-        record = state_record(system, arrays, "system")
+        return digest(state_record(system, arrays, "system"), arrays)
     except UnidentifiableError:
         return None
-    h = hashlib.sha256(json.dumps(record, sort_keys=True, default=str).encode())
-    for name in sorted(arrays):
-        a = np.ascontiguousarray(arrays[name])
-        h.update(f"{name}:{a.dtype}:{a.shape}".encode() + a.tobytes())
-    return h.hexdigest()
 
 
 def _check_system(meta: dict, system) -> None:

@@ -26,7 +26,6 @@ from __future__ import annotations
 import contextlib
 import dataclasses
 import hashlib
-import json
 import os
 import sys
 import warnings
@@ -36,7 +35,7 @@ from pathlib import Path
 import numpy as np
 
 from .errors import warn_user
-from .fingerprint import UnidentifiableError, state_record
+from .fingerprint import UnidentifiableError, digest, state_record
 from .io import FORMAT_VERSION, cost_record, load, problem_record, read_metadata, write
 from .problem import Problem
 from .progress import ProgressBar
@@ -94,12 +93,6 @@ class _Outcome:
     error: str | None
     reused: bool
     warnings: tuple[tuple[type, str], ...]
-
-
-def _json_default(obj):
-    if isinstance(obj, np.generic | np.ndarray):
-        return obj.tolist()
-    raise TypeError(f"{type(obj).__name__} is not JSON-serialisable")
 
 
 def settings_record(problem: Problem, settings: SolverSettings, arrays: dict) -> dict:
@@ -176,12 +169,7 @@ def member_key(problem: Problem, settings: SolverSettings) -> str:
         "identity": identity_record(problem, arrays),
         "settings": settings_record(problem, settings, arrays),
     }
-    h = hashlib.sha256(json.dumps(description, sort_keys=True, default=_json_default).encode())
-    for name in sorted(arrays):
-        a = np.ascontiguousarray(arrays[name])
-        h.update(f"{name}:{a.dtype}:{a.shape}".encode())
-        h.update(a.tobytes())
-    return h.hexdigest()
+    return digest(description, arrays)
 
 
 def _finished(path: Path, key: str, problem: Problem):

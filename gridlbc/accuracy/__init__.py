@@ -10,6 +10,10 @@
   coarse solve;
 - :mod:`gridlbc.accuracy.flow`: a drift that changes between the nodes where neither the grid nor
   the coarser solves follow it;
+- :mod:`gridlbc.accuracy.tracing`: a drift that switches within a step, seen by tracing each
+  step's foot by two half steps;
+- :mod:`gridlbc.accuracy.truncation`: the generator's truncation error on a stationary solve's
+  value, where z falls faster than a cell;
 - :mod:`gridlbc.accuracy.certified`: the error measured by certificates where the estimate
   cannot decide;
 - :mod:`gridlbc.accuracy.tolerance`: solves to a tolerance (``gridlbc.solve(problem, tol=...)``).
@@ -103,6 +107,7 @@ from .tolerance import (
     unestimated,
     unsteerable,
 )
+from .tracing import tracing_gap, tracing_rate
 from .truncation import average_truncation, truncation_gap, truncation_rate
 
 __all__ = [
@@ -181,6 +186,8 @@ __all__ = [
     "stationary_gap",
     "statistic",
     "terminal_gap",
+    "tracing_gap",
+    "tracing_rate",
     "truncation_gap",
     "truncation_rate",
     "unestimated",
