@@ -518,8 +518,9 @@ def euler_maruyama(
         (:attr:`SamplePaths.log_likelihoods`, one column each; a policy that *is* ``policy``
         reuses its controls). Requires ``noise``.
     integrand : callable, optional
-        ``r(x, t)`` → ``(N,)`` for the running samples' states ``(N, d)``, summed per sample as
-        the state cost is (rectangle rule, up to τ) into :attr:`SamplePaths.integral`; called
+        ``r(x, t)`` → ``(N,)`` (or ``(N, k)``: k rates, one integral each) for the running
+        samples' states ``(N, d)``, summed per sample as the state cost is (rectangle rule, up
+        to τ) into :attr:`SamplePaths.integral`; called
         each step right after ``policy``, at the same states. Its values are not checked (they
         may be negative or NaN).
     costs : bool
@@ -549,7 +550,7 @@ def euler_maruyama(
     eps = np.zeros((n, m))
     scored = tuple(scored)
     log_likelihoods = np.zeros((n, len(scored))) if scored else None
-    integral = None if integrand is None else np.zeros(n)
+    integral: np.ndarray | None = None if integrand is None else np.zeros(n)
     for k in range(n_steps):
         t = k * step
         if noise:
@@ -564,7 +565,10 @@ def euler_maruyama(
             B = np.ascontiguousarray(system.input_matrix(x_a), dtype=float)
             running_a, ito_a = running[alive], ito[alive]
             if integral is not None:
-                integral[alive] += np.asarray(integrand(x_a, t), dtype=float) * step
+                r = np.asarray(integrand(x_a, t), dtype=float) * step
+                if r.ndim == 2 and integral.ndim == 1:  # several rates: one integral each
+                    integral = np.zeros((n, r.shape[1]))
+                integral[alive] += r
             if costs and problem.state_cost is not None:  # as it is between the nodes (signed)
                 running_a += problem.state_cost_values(x_a, t, signed=True) * step
             x_new = np.empty_like(x_a)

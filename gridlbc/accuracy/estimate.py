@@ -98,7 +98,7 @@ import numpy as np
 from ..errors import ResolutionWarning, warn_user
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
-from .tracing import tracing_gap
+from .tracing import gaps
 from .truncation import truncation_gap
 
 if TYPE_CHECKING:
@@ -369,9 +369,9 @@ class EmbeddedEstimate:
     def _error(self, solution: Solution, x, t, samples: int) -> tuple[np.ndarray, np.ndarray]:
         """v_h and :meth:`error` at ``x``."""
         v, grid_terms = self._grid_terms(solution, x, t)
-        terms = np.fmax(grid_terms, np.abs(cost_gap(solution, x, t, samples)))
+        gap, tracing = gaps(solution, x, samples, t)  # γ and the traced feet, on the same paths
+        terms = np.fmax(grid_terms, np.abs(gap))
         truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
-        tracing = tracing_gap(solution, x, samples, t)
         return v, np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:

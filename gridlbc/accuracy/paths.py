@@ -142,7 +142,7 @@ def sampled(problem) -> bool:
     return not problem.stationary or problem.exit is not None
 
 
-def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
+def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, also=None) -> np.ndarray:
     """γ(x, t), the expected cost the grid's interpolants add along the solve's paths (module
     docstring), at states ``x`` (N, d): the mean over ``samples`` paths per state (fewer where
     :data:`PATH_WORK` asks) driven by ``solution.policy`` from time ``t`` to T. Zero where
@@ -159,20 +159,22 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES) -> np.nda
         Start time in [0, T] (0 without a horizon).
     samples : int
         Paths per state.
+    also : callable, optional
+        A second rate ``r(y, t)`` ``(n,)`` integrated along the same paths (:func:`path_gap`).
 
     Returns
     -------
-    ndarray (N,)
+    ndarray (N,), or (N, 2) with ``also``: γ, and the integral of ``also`` in the second column
     """
     problem = solution.problem
     x = np.atleast_2d(np.asarray(x, dtype=float))
     n_states = x.shape[0]
     if not sampled(problem) or n_states == 0:
-        return np.zeros(n_states)
-    return path_gap(solution, x, t, samples)[0]
+        return np.zeros(n_states if also is None else (n_states, 2))
+    return path_gap(solution, x, t, samples, also=also)[0]
 
 
-def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=None):
+def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=None, also=None):
     """γ(x, t) (:func:`cost_gap`), and how many of its paths had not exited when they were
     stopped (the cap of a task without a horizon: the module docstring).
 
@@ -180,7 +182,9 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
     the paths follow, a policy ``u(y, t)`` ``(n, m)`` and a running cost ``r(y, t)`` ``(n,)``
     that replace the solution's problem, the solve's policy and I_h q − q; the paths then add
     no exit or terminal gap (:func:`gridlbc.accuracy.truncation.truncation_gap` integrates λτ
-    so).
+    so). ``also``: a second rate ``r(y, t)`` ``(n,)`` integrated along the same paths (the same
+    draws: :func:`gridlbc.accuracy.tracing.tracing_gap` shares γ's paths so), returned as the
+    second column of ``gap``.
 
     The paths stop at τ, on entering an exit set E (:func:`gridlbc.simulate.euler_maruyama`,
     with its Brownian-bridge crossing check), or at T where there is a horizon, and run at the
@@ -190,8 +194,9 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
 
     Returns
     -------
-    gap : ndarray (N,)
-        γ at each state (NaN where a path met an underflowed policy).
+    gap : ndarray (N,), or (N, 2) with ``also``
+        γ at each state (NaN where a path met an underflowed policy), and the integral of
+        ``also`` in the second column.
     unexited : int
         Paths of a problem without a horizon that had not exited at the cap (0 with a
         horizon).
@@ -199,8 +204,9 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
     problem = solution.problem if along is None else along[0]
     x = np.atleast_2d(np.asarray(x, dtype=float))
     n_states = x.shape[0]
+    columns = 1 if also is None else 2
     if along is None and problem.stationary and interpolated_exactly(solution):
-        return np.zeros(n_states), 0
+        return _columns(np.zeros(n_states), columns), 0
     if problem.stationary:
         dt = path_step(solution, None if along is None else lambda y: along[1](y, t))
         steps = EXIT_STEPS
@@ -211,7 +217,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
             if problem.exit is not None:
                 inside = problem.exit_mask(x)
                 gap[inside] = exit_cost_gap(solution, x[inside])
-            return gap, 0
+            return _columns(gap, columns), 0
         steps = max(1, int(np.ceil(remaining / solution.diagnostics.dt - 1e-9)))
         dt = remaining / steps
     samples = int(np.clip(PATH_WORK // (n_states * steps), min(4, samples), samples))
@@ -219,7 +225,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
     q_nodes = nodal(solution, "state_cost") if problem.state_cost is not None else None
     starts = np.repeat(x, samples, axis=0)
     n = starts.shape[0]
-    gap = np.zeros(n)
+    gap = np.zeros((n, columns))
     undefined = np.zeros(n, dtype=bool)
     last_bad = np.zeros(0, dtype=bool)
     last = None  # the solve's stencil at the states its policy last read: the rate reads them
@@ -249,7 +255,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
             interpolated = (q_nodes[last.nodes] * last.weights).sum(axis=-1)
             r = interpolated - problem.state_cost_values(y, signed=True)
         r[last_bad] = np.nan
-        return r
+        return r if also is None else np.column_stack([r, also(y, t + s)])
 
     rng = np.random.default_rng(SEED)
     running = np.arange(n)  # the paths not yet exited, by index
@@ -262,24 +268,30 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
         )
         budget -= len(running) * chunk
         done += chunk
-        integral = cast(np.ndarray, paths.integral)
+        integral = cast(np.ndarray, paths.integral).reshape(len(running), columns)
         gap[running] += np.where(np.isnan(integral), 0.0, integral)
-        undefined[running] |= np.isnan(integral)
+        undefined[running] |= np.isnan(integral[:, 0])
         times = paths.exit_times  # None without an exit set: no path exits
         exited = np.zeros(len(running), dtype=bool) if times is None else ~np.isnan(times)
         if along is None:
             ends = exit_points(problem, paths.final_states[exited])
-            gap[running[exited]] += exit_cost_gap(solution, ends)
+            gap[running[exited], 0] += exit_cost_gap(solution, ends)
         if not problem.stationary:  # still running at T: (I_h g − g)(x_T)
             if along is None:
-                gap[running[~exited]] += terminal_gap(solution, paths.final_states[~exited])
+                gap[running[~exited], 0] += terminal_gap(solution, paths.final_states[~exited])
             running = running[:0]
             break
         running, position = running[~exited], paths.final_states[~exited]
         if len(running) <= (1.0 - SETTLED) * n:  # the tail: twice the time 9 in 10 took
             steps = min(steps, 2 * done)
-    gap[undefined] = np.nan
-    return gap.reshape(n_states, samples).mean(axis=1), len(running)
+    gap[undefined, 0] = np.nan
+    mean = gap.reshape(n_states, samples, columns).mean(axis=1)
+    return (mean[:, 0] if also is None else mean), len(running)
+
+
+def _columns(gap: np.ndarray, columns: int) -> np.ndarray:
+    """``gap`` (N,), with a second column of zeros where :func:`path_gap` integrates ``also``."""
+    return gap if columns == 1 else np.column_stack([gap, np.zeros(len(gap))])
 
 
 def stationary_gap(solution, samples: int = STATIONARY_SAMPLES) -> float:

@@ -22,8 +22,9 @@ v(X, t + Δt), so per unit time the solve's value exceeds the better-traced one 
 
     ρ(x, t) = ( v_h(X(x), t + Δt) − v_h(X₂(x), t + Δt) ) / Δt,
 
-and :func:`tracing_gap` carries ρ along the solve's own paths (:func:`gridlbc.accuracy.path_gap`,
-at the solve's step) from t to T: E[∫ ρ ds], a first-order estimate of how much the feet move v.
+and :func:`tracing_gap` carries ρ along the solve's own paths (:func:`gridlbc.accuracy.path_gap`
+at the solve's step, the paths γ is sampled on: :func:`gaps`) from t to T, E[∫ ρ ds], a
+first-order estimate of how much the feet move v.
 Where the flow is smooth on the scale of a step, X and X₂ differ by O(Δt³) per step and the term
 is below the scheme's other errors; for a linear drift a = A x with A³ = 0 (a point mass, a
 chain of integrators) the two feet agree exactly and no path is run (:func:`traced`).
@@ -38,7 +39,7 @@ import warnings
 import numpy as np
 
 from ..schemes.splitting.feet import foot
-from .paths import path_gap
+from .paths import cost_gap
 
 
 def traced(solution) -> bool:
@@ -78,13 +79,15 @@ def tracing_gap(solution, x, samples: int, t: float = 0.0) -> np.ndarray:
         The first-order change of v that tracing the drift by two half steps makes (positive
         where the solve's one midpoint step overestimates v).
     """
+    return gaps(solution, x, samples, t)[1]
+
+
+def gaps(solution, x, samples: int, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """γ (:func:`gridlbc.accuracy.cost_gap`) and :func:`tracing_gap` at states ``x`` (N, d), from
+    the same paths (the same draws, the solve's policy and step): each is what it would be
+    alone, and the paths are run once."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     if not traced(solution) or len(x) == 0:
-        return np.zeros(len(x))
-    problem = solution.problem
-
-    def policy(y: np.ndarray, s: float) -> np.ndarray:
-        return solution.policy(y, s)
-
-    along = (problem, policy, lambda y, s: tracing_rate(solution, y, s))
-    return path_gap(solution, x, t, samples, along=along)[0]
+        return cost_gap(solution, x, t, samples), np.zeros(len(x))
+    both = cost_gap(solution, x, t, samples, also=lambda y, s: tracing_rate(solution, y, s))
+    return both[:, 0], both[:, 1]
