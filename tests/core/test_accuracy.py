@@ -7,6 +7,7 @@ the estimate is judged against the true error, not against another solve.
 import dataclasses
 import inspect
 import warnings
+from functools import partial
 
 import numpy as np
 import pytest
@@ -798,3 +799,28 @@ def test_a_drift_that_switches_within_a_step_is_estimated_and_warned():
     error = np.abs(solution.value(x) - reference)
     assert np.all(error > 0.1 * reference)
     assert np.all(solution.error_estimate(x) >= 0.5 * error)
+
+
+def test_the_traced_feet_ride_on_the_paths_of_the_cost_gap():
+    # gaps() integrates γ's rate and ρ on one run of paths: each is what it is alone (the same
+    # draws, the solve's policy and step), to the last bit.
+    problem = g.Problem(
+        _SlidingPull(),
+        g.Grid([g.Axis(-2, 2, 41)] * 2),
+        1.0,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: 0.5 + (x[:, 0] - 0.8) ** 2 + 0.5 * x[:, 1] ** 2,
+        temperature=0.05,
+    )
+    solution = _quiet_solve(problem)
+    x = np.array([[0.0, 0.0], [0.4, 0.5], [-1.2, 0.3]])
+    gap, traced = accuracy.tracing.gaps(solution, x, 4)
+    alone = accuracy.path_gap(
+        solution,
+        x,
+        samples=4,
+        along=(problem, solution.policy, partial(accuracy.tracing_rate, solution)),
+    )[0]
+    np.testing.assert_array_equal(gap, accuracy.cost_gap(solution, x, samples=4))
+    np.testing.assert_array_equal(traced, alone)
+    assert np.all(traced != 0)
