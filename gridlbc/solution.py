@@ -241,7 +241,10 @@ class Solution(FieldEvaluation):
         grid's interpolants of the costs add along the solve's paths
         (:func:`gridlbc.accuracy.cost_gap`, sampled with a fixed seed from 16 paths per state);
         for a stationary solve also at least the generator's truncation error carried along the
-        paths (:func:`gridlbc.accuracy.truncation_gap`: z falling faster than a cell carries).
+        paths (:func:`gridlbc.accuracy.truncation_gap`: z falling faster than a cell carries);
+        for a splitting solve with a horizon also at least what tracing each step's foot by two
+        half steps changes along the paths (:func:`gridlbc.accuracy.tracing_gap`: a drift that
+        switches within a step).
 
         Parameters
         ----------
@@ -316,7 +319,11 @@ class Solution(FieldEvaluation):
     def fields(self, x, t, gradient: bool = True) -> Fields:
         """The representation's interpolated :class:`~gridlbc.representation.Fields` at states
         ``x`` ``(N, d)``, time ``t`` (the gradients, for the policy, only when ``gradient``)."""
-        stencil = self.stencil(x, t, gradient)
+        return self.fields_at(self.stencil(x, t, gradient))
+
+    def fields_at(self, stencil: Stencil) -> Fields:
+        """The :meth:`fields` of a stencil already built (:meth:`stencil`), for a caller that
+        reads it again (the estimate's paths read the state cost on the policy's stencil)."""
         return self.representation.fields(stencil, self.slices, self.log_scales)
 
 

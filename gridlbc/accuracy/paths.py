@@ -237,8 +237,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
             warnings.simplefilter("ignore")  # an underflowed policy was the solve's to warn of
             if along is None:  # solution.policy, its stencil kept for the rate
                 last = solution.stencil(y, t + s)
-                fields = solution.representation.fields(last, solution.slices, solution.log_scales)
-                u = fields.policy(solution.temperature, problem.R_inv)
+                u = solution.fields_at(last).policy(solution.temperature, problem.R_inv)
             else:
                 u = np.asarray(along[1](y, t + s), dtype=float)
         last_bad = ~np.all(np.isfinite(u), axis=1)
