@@ -41,9 +41,9 @@ FEET_BATCH = 1 << 20
 """Nodes per call of the compiled foot encoding (bounds the setup memory)."""
 
 
-def foot(problem: Problem, x: np.ndarray, dt: float) -> np.ndarray:
+def foot(problem: Problem, x: np.ndarray, dt) -> np.ndarray:
     """The second-order (midpoint) foot X(x) = x + Δt a(x + ½Δt a(x)) of the states x after a
-    time dt, wrapped and clamped."""
+    time dt (a float, or one per state as an array ``(N, 1)``), wrapped and clamped."""
     grid, system = problem.require_grid("the characteristic feet"), problem.system
     midpoint = grid.clamp(x + 0.5 * dt * np.asarray(system.drift(x), dtype=float))
     return grid.clamp(x + dt * np.asarray(system.drift(midpoint), dtype=float))
