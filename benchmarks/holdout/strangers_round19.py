@@ -305,6 +305,16 @@ Mechanisms (measured; reproducible with the builders here):
 - ``tlate_kink`` (0.5, 0.2) read at t = 0.97 (√(λ(T − t)) = 0.04 < h): +23 % with 9.1 %, warned:
   the value near T is the nodal interpolant of the kink, which S and γ see only partly.
 
+Not tabled (scratch probes, same builders and truths): the doors and the cold jump with a
+horizon as well (``fe_line(...).replace(horizon=3.0, terminal_cost=const(3.0))``, implicit
+scheme): all warned, estimates 2.5–84 %. A 4-D LQ with a rotation at 6 rad/s (21⁴, Δt = 0.15,
+ten steps) read at t = 0, 5.5 Δt, 9.5 Δt and Δt/2 against Riccati: 11–74 % off, estimates
+104–218 %, warned. Wall pushes (ẋ₀ = F + u₀ on 31²/41², F = 4–15, λ = 0.02–0.2, T = 2 and 8, the
+cost's minimum 1–10 cells from the wall): always low by 0.6–4.1 %, ê/err 0.3–1.0, never warned.
+``pend_fast`` on other grids (truth unchanged): (1, −3) is −7.1 % on 64 × 51 (estimate 67 %,
+warned), −6.2 % on 96 × 75 (16 %), −0.8 % on 100 × 81, −0.5 % on 160 × 121; at λ = 0.01 (1, −3)
+and (−1, 3) are −5.9 % and −6.2 % with 1.0 % (ESS 3 and 25: the 4× grid, 3.945, agrees).
+
 API notes: ``solve(problem, states=X)`` without tol raises ``TypeError: states=, max_nodes= and
 max_seconds= apply with tol=: give tol or drop them`` (clear); ``error_estimate(x, t)`` outside
 [0, T] raises a clear ValueError; at t = T it returns the floor (0.23 % of |g|), not 0;
