@@ -14,6 +14,9 @@
   step's foot by two half steps;
 - :mod:`gridlbc.accuracy.truncation`: the generator's truncation error on a stationary solve's
   value, where z falls faster than a cell;
+- :mod:`gridlbc.accuracy.bellman`: a local certificate, the solved value against what the SDE
+  makes of it a little later, which confirms the warning where an error is confined to a few
+  states;
 - :mod:`gridlbc.accuracy.certified`: the error measured by certificates where the estimate
   cannot decide;
 - :mod:`gridlbc.accuracy.tolerance`: solves to a tolerance (``gridlbc.solve(problem, tol=...)``).
@@ -22,6 +25,7 @@ Each module's docstring has its equations; the names imported here are the packa
 ones.
 """
 
+from .bellman import LOCAL_SAMPLES, bellman_gap
 from .certified import (
     CERTIFICATE_LEVEL,
     CERTIFICATE_SAMPLES,
@@ -121,6 +125,7 @@ __all__ = [
     "DEFAULT_TOLERANCE",
     "FLOW_CELLS",
     "FLOW_SAMPLES",
+    "LOCAL_SAMPLES",
     "MARCH_WORK_EXPONENT",
     "NEGLIGIBLE",
     "PATH_SAMPLES",
@@ -141,6 +146,7 @@ __all__ = [
     "average_truncation",
     "axes_to_refine",
     "axis_shares",
+    "bellman_gap",
     "better_half",
     "calibration_states",
     "cells",

@@ -703,6 +703,61 @@ def test_a_large_error_on_a_few_states_is_warned_where_the_paths_confirm_it():
     assert np.all(solution.error_estimate(x) >= 0.5 * error)
 
 
+class _Outbreak(g.systems.ControlAffineSystem):
+    """ẋ₀ = u, ẋ₁ = r x₁ (1 − x₁): a share x₁ that grows logistically, neither driven nor noisy
+    (x₁ = 0 is invariant), beside an axis that the control and the noise move."""
+
+    state_dim, control_dim = 2, 1
+
+    def __init__(self, rate=2.0):
+        self.rate = rate
+
+    def parameters(self):
+        return {"rate": self.rate}
+
+    def drift(self, x):
+        x = self._states(x)
+        return np.stack([np.zeros(len(x)), self.rate * x[:, 1] * (1 - x[:, 1])], axis=1)
+
+    def input_matrix(self, x):
+        B = np.zeros((len(self._states(x)), 2, 1))
+        B[:, 0, 0] = 1.0
+        return B
+
+
+def test_a_value_steeper_than_a_cell_at_an_invariant_edge_is_warned_by_the_local_certificate():
+    # Stranger round 19b's early epidemic, in closed form: the share x₁ grows logistically at
+    # rate r = 2 from x₁(0), with state cost q = x₁ and no terminal cost, T = 5 (λ = 0.1; the
+    # control and the noise move x₀ only, which costs nothing). v = ∫₀ᵀ x₁ dt
+    # = log(1 + x₁(0)(e^{rT} − 1)) / r: it climbs from 0 at the invariant edge x₁ = 0 to 2.7 at
+    # the first node (h = 0.01), like log x₁ in between, where the grid interpolates a line: 82 %
+    # low at x₁ = 0.001. The costs are affine (γ ≡ 0) and the row of cells is 1 % of the
+    # states, so before the local certificate the solve said nothing. Over 8 steps the paths
+    # from there reach the next cells, where v_h is right, and v_h(x) − v_ℓ(x) is the error:
+    # deterministic here (x₁ has no noise and x₀ no cost), so its standard error is 0.
+    rate, horizon = 2.0, 5.0
+    problem = g.Problem(
+        _Outbreak(rate),
+        g.Grid([g.Axis(-1.0, 1.0, 21), g.Axis(0.0, 1.0, 101)]),
+        horizon,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: x[:, 1],
+        temperature=0.1,
+    )
+    with pytest.warns(g.ResolutionWarning, match="a little later") as record:
+        solution = g.solve(problem)
+    assert len(record) == 1
+    x = np.array([[0.0, 0.001], [0.3, 0.004], [0.0, 0.5]])
+    exact = np.log1p(x[:, 1] * np.expm1(rate * horizon)) / rate
+    error = solution.value(x) - exact
+    assert np.all(error[:2] < -0.4 * exact[:2]) and abs(error[2]) < 0.01 * exact[2]
+    gap, se = accuracy.bellman_gap(solution, x)
+    # the paths leave the first cells within the 8 steps (Δt ≈ 0.19, x₁ grows e^{2·1.5}-fold):
+    # the local certificate sees most of the error there, and nothing where v_h is right
+    assert np.all(np.abs(gap[:2] - error[:2]) < 0.3 * np.abs(error[:2]))
+    assert abs(gap[2]) < 0.01 * exact[2] and np.all(se < 1e-9)
+
+
 def test_a_kink_between_the_nodes_is_warned_where_the_cell_centres_confirm_it():
     # Kinks of g between the nodes under a horizon in which the noise moves half a cell
     # (stranger round 17's hz_tiny_T_c, corpus kink_tiny_horizon): ẋ = u on 81² (h = 0.05),

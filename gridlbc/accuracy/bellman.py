@@ -1,0 +1,109 @@
+"""The solved value against its own values a little later, along the SDE: a local certificate
+(docs page :doc:`accuracy`, "Where the coarser solves do not converge").
+
+The optimal desirability obeys the Feynman–Kac identity over any stretch of time: for a stopping
+time σ ≤ T (the first of τ, a short time τ_ℓ and the horizon),
+
+    z(x, t) = E_0[ exp(−∫_t^σ q ds / λ) z(X_σ, σ) ]
+
+under the passive dynamics (paper §3.1), so v = −λ log z is, at every state, what the SDE makes
+of v a little later. :func:`bellman_gap` measures how far the solve's v_h is from that:
+
+    v_ℓ(x) = −λ log E_u[ exp(−S/λ) ],   S = ∫_t^σ (q + ½uᵀRu) ds + ∫_t^σ uᵀR dε + v_h(X_σ, σ),
+
+sampled as :func:`gridlbc.certify` samples v* (importance sampling with the Girsanov weights,
+exact for any proposal; the solve's own policy proposes), with v_h(X_σ, σ) replaced by the exit
+cost g_E where a path exits and by the terminal cost g at the horizon. Where v_h is the optimal
+value, v_ℓ = v_h up to the sampling error and the Euler–Maruyama chain's weak error. Where v_h is
+wrong at x but right where the paths go within τ_ℓ, v_h(x) − v_ℓ(x) is that error.
+
+The paths run over τ_ℓ = :data:`SPAN` of the solve's steps (of :func:`gridlbc.accuracy.path_step`
+without a horizon), at a quarter of that step: long enough to leave the cells next to a feature
+the grid does not resolve (a value that changes by many λ within one cell of an invariant edge,
+where the grid interpolates across the change), short enough that the errors the solve carries
+along its characteristics are mostly shared by x and by where its paths go (those are the
+embedded solves' to measure). It is therefore a check of the solve's *local* consistency: an
+error that v_h makes alike at x and a stretch downstream is not seen.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..certify import _optimal_value
+from ..simulate import euler_maruyama
+from .paths import SEED, path_step
+
+SPAN = 8
+"""τ_ℓ, in the solve's steps (module docstring)."""
+
+SUBSTEPS = 4
+"""Path steps per solve step: the chain's weak error is then a quarter of one at the solve's
+step."""
+
+LOCAL_SAMPLES = 32
+"""Paths per state of :func:`bellman_gap`."""
+
+
+def bellman_gap(solution, x, samples: int = LOCAL_SAMPLES) -> tuple[np.ndarray, np.ndarray]:
+    """v_h(x, 0) − v_ℓ(x) at states ``x`` (N, d), and the standard error of v_ℓ (the delta
+    method, :func:`gridlbc.certify`), from ``samples`` paths per state (module docstring); NaN
+    where v_h or the policy is not finite.
+
+    Parameters
+    ----------
+    solution : Solution
+        A grid solution of a task with a horizon, an exit set or both (not average cost).
+    x : ndarray (N, d)
+        States, at t = 0.
+    samples : int
+        Paths per state.
+
+    Returns
+    -------
+    gap : ndarray (N,)
+    se : ndarray (N,)
+    """
+    problem = solution.problem
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    n_states = len(x)
+    if n_states == 0:
+        return np.zeros(0), np.zeros(0)
+    if problem.stationary:
+        span = SPAN * path_step(solution)
+    else:
+        span = min(problem.horizon, SPAN * solution.diagnostics.dt)
+    steps = SPAN * SUBSTEPS
+    starts = np.repeat(x, samples, axis=0)
+
+    def policy(y: np.ndarray, s: float) -> np.ndarray:
+        """The solve's policy; 0 where it underflowed (the sample's weight is then NaN)."""
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # an underflowed policy was the solve's to warn of
+            u = np.asarray(solution.policy(y, s), dtype=float)
+        return np.where(np.isfinite(u), u, 0.0)
+
+    rng = np.random.default_rng(SEED)
+    paths = euler_maruyama(problem, policy, starts, steps, rng, horizon=span)
+    end = paths.terminal_cost.copy()  # g_E where exited, g(X_T) where the horizon ended them
+    running = np.ones(len(starts), dtype=bool)
+    if paths.exit_times is not None:
+        running = np.isnan(paths.exit_times)
+    if problem.stationary or span < problem.horizon:  # still running at τ_ℓ: v_h there
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            end[running] = solution.value(
+                paths.final_states[running], 0.0 if problem.stationary else span
+            )
+    log_weights = -(paths.running_cost + paths.ito + end) / problem.temperature
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        v = solution.value(x, 0.0)
+    gap, se = np.full(n_states, np.nan), np.full(n_states, np.nan)
+    for i, a in enumerate(log_weights.reshape(n_states, samples)):
+        if np.all(np.isfinite(a)) and np.isfinite(v[i]):
+            local, se[i], _ = _optimal_value(a, problem.temperature)
+            gap[i] = v[i] - local
+    return gap, se
