@@ -1040,6 +1040,31 @@ def _sliding_switch_exact(X):
     return value
 
 
+def logistic_edge(rate: float = 2.0, horizon: float = 5.0) -> Problem:
+    """A share x₁ that grows logistically, ẋ₁ = r x₁ (1 − x₁), neither driven nor noisy, beside
+    an axis the control and the noise move (ẋ₀ = u), q = x₁, g = 0, λ = 0.1, T = ``horizon``,
+    on 21 × 101 nodes of [−1, 1] × [0, 1]: stranger round 19b's early epidemic in closed form."""
+
+    def drift(x):
+        return np.stack([np.zeros(len(x)), rate * x[:, 1] * (1 - x[:, 1])], axis=1)
+
+    return Problem(
+        Affine(drift, [[1.0], [0.0]]),
+        _grid((-1, 1, 21), (0, 1, 101)),
+        horizon,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: x[:, 1],
+        temperature=0.1,
+    )
+
+
+def _logistic_edge_exact(X, rate: float = 2.0, horizon: float = 5.0):
+    """closed form: x₁(t) = x₁e^{rt}/(1 − x₁ + x₁e^{rt}) is deterministic and costs nothing to
+    leave alone, so v = ∫₀ᵀ x₁ dt = log(1 + x₁(e^{rT} − 1))/r"""
+    X = np.atleast_2d(np.asarray(X, float))
+    return np.log1p(X[:, 1] * np.expm1(rate * horizon)) / rate
+
+
 def _three_doors_exact(X):
     """5-point finite differences of (λ/2R)Δz = (q/λ)z between the doors
     (strangers_round15.fd_three_doors) at h = 0.01 and 0.005, which agree to 5e-5"""
@@ -1630,6 +1655,18 @@ MEMBERS: tuple[Member, ...] = (
         "every coarser solve alike; warned since the feet are checked by two half steps)",
         tags=("fast dynamics", "local feature", "cold", "closed"),
         exact=_sliding_switch_exact,
+    ),
+    Member(
+        "logistic_edge",
+        logistic_edge,
+        _s((0.0, 0.001), (0.3, 0.004), (-0.5, 0.02), (0.0, 0.5)),
+        "a share that grows logistically from an invariant edge, neither driven nor noisy, with "
+        "an affine cost (stranger round 19b's early epidemic in closed form: v climbs like "
+        "log x₁ from 0 at the edge to 2.7 at the first node, and the grid interpolates a line "
+        "there: 82 % low on 1 % of the states, where γ ≡ 0, silent; warned since the local "
+        "certificate confirms the warning)",
+        tags=("local feature", "slow dynamics", "user system", "closed"),
+        exact=_logistic_edge_exact,
     ),
 )
 

@@ -1,5 +1,5 @@
 """The solved value against its own values a little later, along the SDE: a local certificate
-(docs page :doc:`accuracy`, "Where the coarser solves do not converge").
+(docs page :doc:`accuracy`, "A value steeper than a cell where the costs are smooth").
 
 The optimal desirability obeys the Feynman–Kac identity over any stretch of time: for a stopping
 time σ ≤ T (the first of τ, a short time τ_ℓ and the horizon),
@@ -13,9 +13,11 @@ of v a little later. :func:`bellman_gap` measures how far the solve's v_h is fro
 
 sampled as :func:`gridlbc.certify` samples v* (importance sampling with the Girsanov weights,
 exact for any proposal; the solve's own policy proposes), with v_h(X_σ, σ) replaced by the exit
-cost g_E where a path exits and by the terminal cost g at the horizon. Where v_h is the optimal
-value, v_ℓ = v_h up to the sampling error and the Euler–Maruyama chain's weak error. Where v_h is
-wrong at x but right where the paths go within τ_ℓ, v_h(x) − v_ℓ(x) is that error.
+cost g_E where a path exits and by the terminal cost g at the horizon, and read at the paths'
+ends exactly where v_h is a quadratic (:func:`quadratic_read`: the plain interpolant of a convex
+v is high between the nodes). Where v_h is the optimal value, v_ℓ = v_h up to the sampling error
+and the Euler–Maruyama chain's weak error. Where v_h is wrong at x but right where the paths go
+within τ_ℓ, v_h(x) − v_ℓ(x) is that error.
 
 The paths run over τ_ℓ = :data:`SPAN` of the solve's steps (of :func:`gridlbc.accuracy.path_step`
 without a horizon), at a quarter of that step: long enough to leave the cells next to a feature
@@ -33,6 +35,7 @@ import warnings
 import numpy as np
 
 from ..certify import _optimal_value
+from ..interpolate import barycentric
 from ..simulate import euler_maruyama
 from .paths import SEED, path_step
 
@@ -92,11 +95,9 @@ def bellman_gap(solution, x, samples: int = LOCAL_SAMPLES) -> tuple[np.ndarray, 
     if paths.exit_times is not None:
         running = np.isnan(paths.exit_times)
     if problem.stationary or span < problem.horizon:  # still running at τ_ℓ: v_h there
-        with np.errstate(invalid="ignore"), warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            end[running] = solution.value(
-                paths.final_states[running], 0.0 if problem.stationary else span
-            )
+        end[running] = quadratic_read(
+            solution, paths.final_states[running], 0.0 if problem.stationary else span
+        )
     log_weights = -(paths.running_cost + paths.ito + end) / problem.temperature
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -107,3 +108,55 @@ def bellman_gap(solution, x, samples: int = LOCAL_SAMPLES) -> tuple[np.ndarray, 
             local, se[i], _ = _optimal_value(a, problem.temperature)
             gap[i] = v[i] - local
     return gap, se
+
+
+def quadratic_read(solution, x: np.ndarray, t: float) -> np.ndarray:
+    """v_h at states ``x`` (n, d), time ``t``, read exactly where v_h is a quadratic: the
+    barycentric interpolant less its error for a quadratic with the Hessian H of v_h's nodal
+    values (central differences at the node nearest each state, the next node inward at a
+    closed edge),
+
+        v(x) ≈ Σ_i w_i v_h(x_i) − ½ Σ_i w_i (x_i − x)ᵀ H (x_i − x),
+
+    x_i and w_i the vertices and weights of x's simplex (:func:`gridlbc.interpolate.barycentric`).
+    The paths of :func:`bellman_gap` end between the nodes, where the plain interpolant of a
+    convex v is high by up to h²∂²v/8: read so, a well's bottom would make the local
+    certificate read an error the solve does not have."""
+    grid = solution.grid
+    d, h = grid.ndim, grid.spacing
+    with np.errstate(invalid="ignore"), warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # an underflowed value is the solve's to warn of
+        value = solution.value(x, t)
+        n = np.array(grid.shape)
+        index = np.rint((grid.wrap(x) - grid.lo) / h).astype(np.int64)
+        inward = np.clip(index, 1, n - 2)
+        index = np.where(grid.periodic, index % n, inward)
+        centre = grid.lo + index * h
+        offsets = [np.zeros(d)]
+        for k in range(d):
+            for sign in (1.0, -1.0):
+                offsets.append(sign * h * np.eye(d)[k])
+        for k in range(d):
+            for m in range(k + 1, d):
+                for a, b in ((1, 1), (1, -1), (-1, 1), (-1, -1)):
+                    offsets.append(a * h[k] * np.eye(d)[k] + b * h[m] * np.eye(d)[m])
+        points = (centre[:, None, :] + np.array(offsets)[None]).reshape(-1, d)
+        around = solution.value(grid.wrap(points), t).reshape(len(x), len(offsets))
+    hessian = np.empty((len(x), d, d))
+    for k in range(d):
+        hessian[:, k, k] = (around[:, 1 + 2 * k] - 2 * around[:, 0] + around[:, 2 + 2 * k]) / h[
+            k
+        ] ** 2
+    j = 1 + 2 * d
+    for k in range(d):
+        for m in range(k + 1, d):
+            pp, pm, mp, mm = (around[:, j + i] for i in range(4))
+            hessian[:, k, m] = hessian[:, m, k] = (pp - pm - mp + mm) / (4 * h[k] * h[m])
+            j += 4
+    idx, weights = barycentric(grid, x)
+    vertices = grid.node_coordinates(idx.ravel()).reshape(len(x), d + 1, d)
+    gaps = vertices - grid.wrap(x)[:, None, :]
+    period = grid.hi - grid.lo
+    gaps = np.where(grid.periodic, (gaps + 0.5 * period) % period - 0.5 * period, gaps)
+    error = 0.5 * np.einsum("ni,nik,nkl,nil->n", weights, gaps, hessian, gaps)
+    return value - error

@@ -758,6 +758,36 @@ def test_a_value_steeper_than_a_cell_at_an_invariant_edge_is_warned_by_the_local
     assert abs(gap[2]) < 0.01 * exact[2] and np.all(se < 1e-9)
 
 
+def test_the_local_certificate_reads_its_paths_ends_exactly_for_a_quadratic():
+    # The paths end between the nodes, where the barycentric interpolant of a convex v is high
+    # by up to h²∂²v/8; less its error for a quadratic with the nodal Hessian, the read is exact
+    # for any quadratic (to rounding), also with mixed terms and across a periodic axis.
+    grid = g.Grid([g.Axis(-1, 1, 21), g.Axis(-np.pi, np.pi, 16, periodic=True), g.Axis(0, 2, 11)])
+    H = np.array([[2.0, 0.5, 0.1], [0.5, 1.0, -0.3], [0.1, -0.3, 3.0]])
+    c = np.array([0.2, 0.0, 1.1])
+
+    def v(x):
+        y = x - c
+        return 0.5 * np.einsum("ni,ij,nj->n", y, H, y) + y[:, 0]
+
+    nodes = grid.node_values(v)
+
+    class _Nodal:  # what quadratic_read asks of a solution: its grid and interpolated values
+        def __init__(self):
+            self.grid = grid
+
+        def value(self, x, t):
+            return g.interpolate.interpolate(grid, nodes, x)
+
+    rng = np.random.default_rng(0)
+    x = np.column_stack(
+        [rng.uniform(-1, 1, 200), rng.uniform(-1.5, 1.5, 200), rng.uniform(0, 2, 200)]
+    )
+    plain = _Nodal().value(x, 0.0)
+    assert np.max(np.abs(plain - v(x))) > 0.01
+    np.testing.assert_allclose(accuracy.bellman.quadratic_read(_Nodal(), x, 0.0), v(x), atol=1e-12)
+
+
 def test_a_kink_between_the_nodes_is_warned_where_the_cell_centres_confirm_it():
     # Kinks of g between the nodes under a horizon in which the noise moves half a cell
     # (stranger round 17's hz_tiny_T_c, corpus kink_tiny_horizon): ẋ = u on 81² (h = 0.05),
