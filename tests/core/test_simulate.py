@@ -105,7 +105,9 @@ def test_grid_policy_cost_matches_riccati():
     x0 = np.array([1.0, -0.5])
     exact = lq_solution(problem)
     v_exact = float(exact.value(x0, 0.0))
-    sol = g.solve(problem)
+    # the policy's cost against the optimum, not the value's error (5.9 % near (0.33, −0.6),
+    # which the default solve warns of): no estimate
+    sol = g.solve(problem, error_estimate=False)
     discretisation = abs(float(sol.value(x0, 0.0)) - v_exact)
     grid_run = g.simulate(problem, sol.policy, x0, n_samples=4000, seed=11)
     assert abs(grid_run.mean_cost - v_exact) < 3 * grid_run.standard_error + discretisation
