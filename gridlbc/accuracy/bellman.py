@@ -144,9 +144,8 @@ def quadratic_read(solution, x: np.ndarray, t: float) -> np.ndarray:
         around = solution.value(grid.wrap(points), t).reshape(len(x), len(offsets))
     hessian = np.empty((len(x), d, d))
     for k in range(d):
-        hessian[:, k, k] = (around[:, 1 + 2 * k] - 2 * around[:, 0] + around[:, 2 + 2 * k]) / h[
-            k
-        ] ** 2
+        second = around[:, 1 + 2 * k] - 2 * around[:, 0] + around[:, 2 + 2 * k]
+        hessian[:, k, k] = second / h[k] ** 2
     j = 1 + 2 * d
     for k in range(d):
         for m in range(k + 1, d):
