@@ -20,7 +20,7 @@ and the Euler–Maruyama chain's weak error. Where v_h is wrong at x but right w
 within τ_ℓ, v_h(x) − v_ℓ(x) is that error.
 
 The paths run over τ_ℓ = :data:`SPAN` of the solve's steps (of :func:`gridlbc.accuracy.path_step`
-without a horizon), at an eighth and a sixteenth of that step, extrapolated to a vanishing step
+without a horizon), at a quarter and an eighth of that step, extrapolated to a vanishing step
 (:func:`bellman_gap`): long enough to leave the cells next to a feature
 the grid does not resolve (a value that changes by many λ within one cell of an invariant edge,
 where the grid interpolates across the change), short enough that the errors the solve carries
@@ -43,7 +43,7 @@ from .paths import SEED, path_step
 SPAN = 8
 """τ_ℓ, in the solve's steps (module docstring)."""
 
-SUBSTEPS = 8
+SUBSTEPS = 4
 """Path steps per solve step of the coarser of the two chains that :func:`bellman_gap`
 extrapolates from (the finer takes twice as many)."""
 
