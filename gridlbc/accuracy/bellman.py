@@ -84,7 +84,9 @@ def bellman_gap(solution, x, samples: int = LOCAL_SAMPLES) -> tuple[np.ndarray, 
     return v - (2 * fine - coarse), np.hypot(2 * fine_se, coarse_se)
 
 
-def _local_value(solution, x: np.ndarray, samples: int, substeps: int):
+def _local_value(
+    solution, x: np.ndarray, samples: int, substeps: int
+) -> tuple[np.ndarray, np.ndarray]:
     """v_ℓ at states ``x`` (N, d) and its standard error, from ``samples`` paths per state at
     ``substeps`` steps per solve step (module docstring); NaN where a weight is not finite."""
     problem = solution.problem

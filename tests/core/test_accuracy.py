@@ -861,6 +861,18 @@ class _SlidingPull(g.systems.ControlAffineSystem):
         return np.broadcast_to(np.eye(2), (len(self._states(x)), 2, 2))
 
 
+def _sliding_problem(nodes, horizon, temperature):
+    """The sliding pull on ``nodes``² of [−2, 2]², q = 0.5 + (x₀ − 0.8)² + 0.5 x₁², g = 0."""
+    return g.Problem(
+        _SlidingPull(),
+        g.Grid([g.Axis(-2, 2, nodes)] * 2),
+        horizon,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: 0.5 + (x[:, 0] - 0.8) ** 2 + 0.5 * x[:, 1] ** 2,
+        temperature=temperature,
+    )
+
+
 def test_a_drift_that_switches_within_a_step_is_estimated_and_warned():
     # Stranger round 18's sliding_frozen: q = 0.5 + (x₀ − 0.8)² + 0.5 x₁², g = 0, λ = 0.005,
     # T = 2, 81² on [−2, 2]². The default step (0.167, from the drift's speed) carries a path
@@ -868,14 +880,7 @@ def test_a_drift_that_switches_within_a_step_is_estimated_and_warned():
     # (0.4 → 0.73): the solve is 15 % low, and every coarser solve alike. The same grid at
     # Δt = T/192 is the reference here: 0.3 % from the round's exact 1-D values (1.4097 and
     # 1.4934) and 0.2 % from Δt = T/384, against errors of 15 %.
-    problem = g.Problem(
-        _SlidingPull(),
-        g.Grid([g.Axis(-2, 2, 81)] * 2),
-        2.0,
-        lambda x: np.zeros(len(x)),
-        state_cost=lambda x: 0.5 + (x[:, 0] - 0.8) ** 2 + 0.5 * x[:, 1] ** 2,
-        temperature=0.005,
-    )
+    problem = _sliding_problem(81, 2.0, 0.005)
     with pytest.warns(g.ResolutionWarning, match="smaller dt") as record:
         solution = g.solve(problem)
     assert len(record) == 1
@@ -889,14 +894,7 @@ def test_a_drift_that_switches_within_a_step_is_estimated_and_warned():
 def test_the_traced_feet_ride_on_the_paths_of_the_cost_gap():
     # gaps() integrates γ's rate and ρ on one run of paths: each is what it is alone (the same
     # draws, the solve's policy and step), to the last bit.
-    problem = g.Problem(
-        _SlidingPull(),
-        g.Grid([g.Axis(-2, 2, 41)] * 2),
-        1.0,
-        lambda x: np.zeros(len(x)),
-        state_cost=lambda x: 0.5 + (x[:, 0] - 0.8) ** 2 + 0.5 * x[:, 1] ** 2,
-        temperature=0.05,
-    )
+    problem = _sliding_problem(41, 1.0, 0.05)
     solution = _quiet_solve(problem)
     x = np.array([[0.0, 0.0], [0.4, 0.5], [-1.2, 0.3]])
     gap, traced = accuracy.tracing.gaps(solution, x, 4)
