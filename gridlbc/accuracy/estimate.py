@@ -80,7 +80,8 @@ typically far from where it ends, where v is largest. The relative estimate is r
 90th percentile, and S at its largest (a cost narrower than a cell changes v near it only, on a
 share of the states that may be far below a tenth: :func:`largest_response`). A finite horizon
 without an exit set is also judged, as before, at the better half, where its paths end up: a
-defect there is a share of the better half twice as large as of the box. A large estimate on
+defect there is a share of the better half twice as large as of the box (the states read that
+lie in it, so that the paths are sampled once). A large estimate on
 too few states for the percentile warns where the grid terms and γ both exceed the tolerance
 there or at the centre of a cell around there, where an interpolated value is furthest from the
 nodes (:func:`confirmed_locally`). With ``states=``, at its largest over them.
@@ -147,12 +148,18 @@ def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) 
 
 def _evenly(solution, chosen: np.ndarray, limit: int) -> np.ndarray:
     """The nodes of the mask ``chosen``, at most ``limit`` of them evenly spaced, ``(M, d)``."""
-    keep = np.flatnonzero(chosen)
+    keep = _evenly_index(chosen, limit)
     if len(keep) == 0:
         return np.empty((0, solution.grid.ndim))
+    return solution.grid.node_coordinates(keep)
+
+
+def _evenly_index(chosen: np.ndarray, limit: int) -> np.ndarray:
+    """The flat indices of :func:`_evenly`'s nodes."""
+    keep = np.flatnonzero(chosen)
     if len(keep) > limit:
         keep = keep[np.linspace(0, len(keep) - 1, limit).astype(np.int64)]
-    return solution.grid.node_coordinates(keep)
+    return keep
 
 
 def _finite_off_exit(solution) -> np.ndarray:
@@ -635,11 +642,15 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     """
     if solution.embedded is None:
         return None
-    a = _read_at(solution, judged_states(solution, states), tol, states is not None)
+    X = judged_states(solution, states)
+    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS)
+    a = _read_at(X, rel, tol, states is not None)
     problem = solution.problem
     if states is None and problem.exit is None and not problem.stationary:
-        # also the better half, where a finite horizon's paths end up (states_that_matter)
-        half = _read_at(solution, better_half(solution, ASSESSED), tol, False)
+        # also the better half, where a finite horizon's paths end up (states_that_matter):
+        # the states read above that lie in it, an evenly spaced sample of it
+        held = _better_half_mask(solution)[_evenly_index(matter_mask(solution), ASSESSED)]
+        half = _read_at(X[held], rel[held], tol, False)
         if half.error > a.error:
             a = replace(half, half=True)
         if half.worst_error > a.worst_error:
@@ -780,11 +791,11 @@ def cell_centres(solution, nodes: np.ndarray, mask: np.ndarray) -> np.ndarray:
     return grid.lo + (lower[held] + 0.5) * grid.spacing
 
 
-def _read_at(solution, X: np.ndarray, tol: float, given: bool) -> Assessment:
-    """The relative estimate read at the states ``X`` (:func:`statistic`), without S's maximum."""
-    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS)
+def _read_at(X: np.ndarray, rel: np.ndarray, tol: float, given: bool) -> Assessment:
+    """The :class:`Assessment` of the relative estimate ``rel`` read at the states ``X``
+    (:func:`statistic`), without S's maximum."""
     if len(rel) == 0:
-        return Assessment(np.inf, np.full(solution.grid.ndim, np.nan), np.inf, 1.0, 0)
+        return Assessment(np.inf, np.full(X.shape[1], np.nan), np.inf, 1.0, 0)
     worst = int(np.argmax(rel))
     error = statistic(rel, given)
     return Assessment(error, X[worst], float(rel[worst]), float(np.mean(rel > tol)), len(X))
