@@ -100,7 +100,7 @@ def measure(problem, states=None, truth=None) -> dict:
     loc = relative_error(local, v, lam)
     srel = relative_error(S, v, lam)
     J = judged_states(sol)
-    full = emb.relative(sol, J, samples=ASSESSED_PATHS)
+    full = emb.relative(sol, J, samples=ASSESSED_PATHS, local=False)
     vj, _, _, lj = emb._read(sol, J, 0.0)
     sj = np.maximum(np.abs(vj), lam)
     detj = relative_error(

@@ -244,7 +244,10 @@ class Solution(FieldEvaluation):
         paths (:func:`gridlbc.accuracy.truncation_gap`: z falling faster than a cell carries);
         for a splitting solve with a horizon also at least what tracing each step's foot by two
         half steps changes along the paths (:func:`gridlbc.accuracy.tracing_gap`: a drift that
-        switches within a step).
+        switches within a step); and, for a task with a horizon or an exit set, at least the
+        local certificate's abs(v_h − v_ℓ) less two of its standard errors, v_ℓ what the SDE
+        makes of the solve's own values 8 steps later (:func:`gridlbc.accuracy.bellman_gap`: a
+        value steeper than a cell where the costs are smooth).
 
         Parameters
         ----------

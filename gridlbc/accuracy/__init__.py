@@ -25,7 +25,7 @@ Each module's docstring has its equations; the names imported here are the packa
 ones.
 """
 
-from .bellman import LOCAL_SAMPLES, bellman_gap
+from .bellman import BELLMAN_SE, LOCAL_SAMPLES, LOCAL_WORK, bellman_gap, local_error
 from .certified import (
     CERTIFICATE_LEVEL,
     CERTIFICATE_SAMPLES,
@@ -118,6 +118,7 @@ __all__ = [
     "ASSESSED",
     "ASSESSED_PATHS",
     "ASYMPTOTIC",
+    "BELLMAN_SE",
     "CERTIFICATE_LEVEL",
     "CERTIFICATE_SAMPLES",
     "CERTIFICATE_STEPS",
@@ -126,6 +127,7 @@ __all__ = [
     "FLOW_CELLS",
     "FLOW_SAMPLES",
     "LOCAL_SAMPLES",
+    "LOCAL_WORK",
     "MARCH_WORK_EXPONENT",
     "NEGLIGIBLE",
     "PATH_SAMPLES",
@@ -170,6 +172,7 @@ __all__ = [
     "flow_excess",
     "judged_states",
     "limiting_axes",
+    "local_error",
     "observed_order",
     "over_budget",
     "path_gap",

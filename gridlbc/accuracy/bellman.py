@@ -48,23 +48,37 @@ SUBSTEPS = 4
 extrapolates from (the finer takes twice as many)."""
 
 LOCAL_SAMPLES = 32
-"""Paths per state of :func:`bellman_gap`."""
+"""Paths per state of :func:`bellman_gap` (fewer where :data:`LOCAL_WORK` asks)."""
+
+LOCAL_WORK = 1 << 22
+"""At most this many path-steps per call of :func:`bellman_gap` (but at least 8 paths per
+state): a map of the estimate over many states is checked more thinly, and its noise, which
+:func:`local_error` discounts, is larger."""
+
+BELLMAN_SE = 2.0
+"""The local certificate's difference from the solve counts beyond this many of its standard
+errors (:func:`local_error`)."""
 
 
-def bellman_gap(solution, x, samples: int = LOCAL_SAMPLES) -> tuple[np.ndarray, np.ndarray]:
-    """v_h(x, 0) − v_ℓ(x) at states ``x`` (N, d), and its standard error (the delta method,
-    :func:`gridlbc.certify`), from ``samples`` paths per state (module docstring); NaN where
-    v_h or the policy is not finite. v_ℓ is extrapolated in the chain's step δ,
-    2 v_ℓ(δ/2) − v_ℓ(δ) with δ = Δt/:data:`SUBSTEPS`, which removes the Euler–Maruyama chain's
-    first-order weak error (a solve's step may be long against its dynamics: a spring of
-    rate 2 solved at Δt = 0.2 read a 17 % error at δ = Δt/4 where the solve is within 1.3 %).
+def bellman_gap(
+    solution, x, t: float = 0.0, samples: int = LOCAL_SAMPLES
+) -> tuple[np.ndarray, np.ndarray]:
+    """v_h(x, t) − v_ℓ(x, t) at states ``x`` (N, d), time ``t``, and its standard error (the
+    delta method, :func:`gridlbc.certify`), from ``samples`` paths per state (fewer where
+    :data:`LOCAL_WORK` asks; module docstring); NaN where v_h or the policy is not finite. v_ℓ
+    is extrapolated in the chain's step δ, 2 v_ℓ(δ/2) − v_ℓ(δ) with δ = Δt/:data:`SUBSTEPS`,
+    which removes the Euler–Maruyama chain's first-order weak error (a solve's step may be long
+    against its dynamics: a spring of rate 2 solved at Δt = 0.2 read a 17 % error at δ = Δt/4
+    where the solve is within 1.3 %).
 
     Parameters
     ----------
     solution : Solution
         A grid solution of a task with a horizon, an exit set or both (not average cost).
     x : ndarray (N, d)
-        States, at t = 0.
+        States.
+    t : float
+        Time in [0, T] (0 without a horizon); zeros at T, where v_h is the terminal cost.
     samples : int
         Paths per state.
 
@@ -74,33 +88,47 @@ def bellman_gap(solution, x, samples: int = LOCAL_SAMPLES) -> tuple[np.ndarray, 
     se : ndarray (N,)
     """
     x = np.atleast_2d(np.asarray(x, dtype=float))
-    if len(x) == 0:
-        return np.zeros(0), np.zeros(0)
+    problem = solution.problem
+    t = 0.0 if problem.stationary else float(t)
+    if len(x) == 0 or (not problem.stationary and t >= problem.horizon):
+        return np.zeros(len(x)), np.zeros(len(x))
+    steps = SPAN * 3 * SUBSTEPS  # both chains' steps per path
+    samples = int(np.clip(LOCAL_WORK // (len(x) * steps), min(8, samples), samples))
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")  # an underflowed value is the solve's to warn of
-        v = solution.value(x, 0.0)
-    coarse, coarse_se = _local_value(solution, x, samples, SUBSTEPS)
-    fine, fine_se = _local_value(solution, x, samples, 2 * SUBSTEPS)
+        v = solution.value(x, t)
+    coarse, coarse_se = _local_value(solution, x, t, samples, SUBSTEPS)
+    fine, fine_se = _local_value(solution, x, t, samples, 2 * SUBSTEPS)
     return v - (2 * fine - coarse), np.hypot(2 * fine_se, coarse_se)
 
 
+def local_error(solution, x, t: float = 0.0, samples: int = LOCAL_SAMPLES) -> np.ndarray:
+    """abs(:func:`bellman_gap`) less :data:`BELLMAN_SE` of its standard errors, at least 0, at
+    states ``x`` (N, d), time ``t``: what the local certificate says of the solve's error beyond
+    its sampling noise; NaN where it could not be read."""
+    gap, se = bellman_gap(solution, x, t, samples)
+    return np.fmax(np.abs(gap) - BELLMAN_SE * se, 0.0)
+
+
 def _local_value(
-    solution, x: np.ndarray, samples: int, substeps: int
+    solution, x: np.ndarray, t: float, samples: int, substeps: int
 ) -> tuple[np.ndarray, np.ndarray]:
-    """v_ℓ at states ``x`` (N, d) and its standard error, from ``samples`` paths per state at
-    ``substeps`` steps per solve step (module docstring); NaN where a weight is not finite."""
+    """v_ℓ at states ``x`` (N, d), time ``t``, and its standard error, from ``samples`` paths
+    per state at ``substeps`` steps per solve step (module docstring); NaN where a weight is not
+    finite."""
     problem = solution.problem
     if problem.stationary:
-        span = SPAN * path_step(solution)
+        span = remaining = SPAN * path_step(solution)
     else:
-        span = min(problem.horizon, SPAN * solution.diagnostics.dt)
+        remaining = problem.horizon - t
+        span = min(remaining, SPAN * solution.diagnostics.dt)
     starts = np.repeat(x, samples, axis=0)
 
     def policy(y: np.ndarray, s: float) -> np.ndarray:
         """The solve's policy; 0 where it underflowed (the sample's weight is then NaN)."""
         with np.errstate(invalid="ignore"), warnings.catch_warnings():
             warnings.simplefilter("ignore")  # an underflowed policy was the solve's to warn of
-            u = np.asarray(solution.policy(y, s), dtype=float)
+            u = np.asarray(solution.policy(y, t + s), dtype=float)
         return np.where(np.isfinite(u), u, 0.0)
 
     rng = np.random.default_rng(SEED)
@@ -109,9 +137,9 @@ def _local_value(
     running = np.ones(len(starts), dtype=bool)
     if paths.exit_times is not None:
         running = np.isnan(paths.exit_times)
-    if problem.stationary or span < problem.horizon:  # still running at τ_ℓ: v_h there
+    if problem.stationary or span < remaining:  # still running at τ_ℓ: v_h there
         end[running] = quadratic_read(
-            solution, paths.final_states[running], 0.0 if problem.stationary else span
+            solution, paths.final_states[running], 0.0 if problem.stationary else t + span
         )
     log_weights = -(paths.running_cost + paths.ito + end) / problem.temperature
     local, se = np.full(len(x), np.nan), np.full(len(x), np.nan)

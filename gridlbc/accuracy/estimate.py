@@ -55,6 +55,12 @@ what landing each step's foot by two half steps instead of one midpoint step cha
 carried along the paths (:mod:`gridlbc.accuracy.tracing`): a drift that switches within a step's
 travel sends the midpoint foot across the switch on every grid alike.
 
+At the states a user asks about (:meth:`EmbeddedEstimate.error`, not at the states a default solve
+is judged at, where it would cost several times γ's paths) it is also at least the local
+certificate's abs(v_h − v_ℓ) less two of its standard errors (:mod:`gridlbc.accuracy.bellman`):
+v_h against what the SDE makes of it a few steps later, which sees a value steeper than a cell
+where the costs are smooth (an invariant edge), which no coarser grid and no cost gap sees.
+
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
 the value's curvature. It cannot see an error that all the solves share and the paths do not
@@ -97,7 +103,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
-from .bellman import bellman_gap
+from .bellman import local_error
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
 from .tracing import gaps
@@ -338,9 +344,11 @@ class EmbeddedEstimate:
 
     def error(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
-        relative to ``max(abs(v), λ)``, at least the :meth:`excess_response` S, and at least
+        relative to ``max(abs(v), λ)``, at least the :meth:`excess_response` S, at least
         abs(γ), the cost that the grid's interpolants add along the solve's paths
-        (:func:`~gridlbc.accuracy.paths.cost_gap`, from ``samples`` paths per state)."""
+        (:func:`~gridlbc.accuracy.paths.cost_gap`, from ``samples`` paths per state), the
+        truncation and tracing terms where they apply (module docstring), and at least the
+        local certificate beyond its noise (:func:`~gridlbc.accuracy.bellman.local_error`)."""
         return self._error(solution, x, t, samples)[1]
 
     def excess_response(self, x, t=0.0) -> np.ndarray:
@@ -351,9 +359,12 @@ class EmbeddedEstimate:
             return np.zeros(len(np.atleast_2d(x)))
         return self.excess(x, t)
 
-    def relative(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
-        """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`)."""
-        v, error = self._error(solution, x, t, samples)
+    def relative(
+        self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES, local: bool = True
+    ) -> np.ndarray:
+        """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`); without the
+        local certificate where ``local`` is False."""
+        v, error = self._error(solution, x, t, samples, local)
         return relative_error(error, v, solution.temperature)
 
     def grid_terms(self, solution: Solution, x, t=0.0, v=None, response=None) -> np.ndarray:
@@ -374,13 +385,19 @@ class EmbeddedEstimate:
             response = 0.0 if self.excess is None else self.excess(x, t)
         return v, np.maximum(np.maximum(local, floor), response)
 
-    def _error(self, solution: Solution, x, t, samples: int) -> tuple[np.ndarray, np.ndarray]:
-        """v_h and :meth:`error` at ``x``."""
+    def _error(
+        self, solution: Solution, x, t, samples: int, local: bool = True
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """v_h and :meth:`error` at ``x`` (without the local certificate where ``local`` is
+        False: the states a default solve is judged at, :func:`assess`)."""
         v, grid_terms = self._grid_terms(solution, x, t)
         gap, tracing = gaps(solution, x, samples, t)  # γ and the traced feet, on the same paths
         terms = np.fmax(grid_terms, np.abs(gap))
         truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
-        return v, np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
+        error = np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
+        if local and sampled(solution.problem):
+            error = np.fmax(error, local_error(solution, x, t))
+        return v, error
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:
         """v_h, v_2h, :meth:`difference` and :meth:`local` at ``x``, each solve evaluated
@@ -643,7 +660,9 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     if solution.embedded is None:
         return None
     X = judged_states(solution, states)
-    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS)
+    # the local certificate at the user's states; at the states that matter only where
+    # confirmed_locally checks a candidate (its paths cost more than γ's)
+    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS, local=states is not None)
     a = _read_at(X, rel, tol, states is not None)
     problem = solution.problem
     if states is None and problem.exit is None and not problem.stationary:
@@ -698,11 +717,6 @@ class _Matter:
     def response(self) -> np.ndarray:
         """S at :attr:`states`, t = 0 (:meth:`EmbeddedEstimate.excess_response`)."""
         return self.solution.embedded.excess_response(self.states)
-
-
-BELLMAN_SE = 2.0
-"""The local certificate's difference from the solve counts in :func:`confirmed_locally` beyond
-this many of its standard errors."""
 
 
 CONFIRMED = 64
@@ -763,9 +777,9 @@ def confirmed_locally(
         return none
     top = above[np.argsort(grid[above])[::-1][:CONFIRMED]]
     gap = np.abs(cost_gap(solution, X[top], 0.0, PATH_SAMPLES))
-    local, se = bellman_gap(solution, X[top])
-    local = np.fmax(np.abs(local) - BELLMAN_SE * se, 0.0)  # NaN where it could not be read
-    paths = relative_error(np.fmax(gap, local), v[top], solution.temperature)
+    paths = relative_error(
+        np.fmax(gap, local_error(solution, X[top])), v[top], solution.temperature
+    )
     both = np.fmin(grid[top], paths)
     worst = int(np.argmax(both))
     return float(both[worst]), X[top[worst]]

@@ -756,6 +756,14 @@ def test_a_value_steeper_than_a_cell_at_an_invariant_edge_is_warned_by_the_local
     # the local certificate sees most of the error there, and nothing where v_h is right
     assert np.all(np.abs(gap[:2] - error[:2]) < 0.3 * np.abs(error[:2]))
     assert abs(gap[2]) < 0.01 * exact[2] and np.all(se < 1e-9)
+    # ... and so the estimate at those states covers the error, at t = 0 and halfway, where the
+    # remaining task is the same one over T − t (the certificate's paths start at t)
+    assert np.all(solution.error_estimate(x[:2]) >= 0.5 * np.abs(error[:2]))
+    later = horizon / 2
+    exact_later = np.log1p(x[:2, 1] * np.expm1(rate * (horizon - later))) / rate
+    error_later = np.abs(solution.value(x[:2], later) - exact_later)
+    assert np.all(error_later > 0.2 * exact_later)
+    assert np.all(solution.error_estimate(x[:2], later) >= 0.5 * error_later)
 
 
 def test_the_local_certificate_reads_its_paths_ends_exactly_for_a_quadratic():
