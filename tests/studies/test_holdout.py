@@ -188,9 +188,7 @@ def test_a_local_response_warns_where_the_percentile_does_not():
         warnings.simplefilter("always")
         solution = g.solve(BY_NAME["goal4d_mid"].build())
     X = estimate.judged_states(solution)
-    relative = solution.embedded.relative(
-        solution, X, samples=estimate.ASSESSED_PATHS, local=False
-    )
+    relative = solution.embedded.relative(solution, X, samples=estimate.ASSESSED_PATHS, local=False)
     percentile = estimate.statistic(relative, False)
     largest, where = estimate.largest_response(solution)
     assert percentile < estimate.DEFAULT_TOLERANCE < largest
