@@ -58,8 +58,9 @@ travel sends the midpoint foot across the switch on every grid alike.
 At the states a user asks about (:meth:`EmbeddedEstimate.error`, not at the states a default solve
 is judged at, where it would cost several times γ's paths) it is also at least the local
 certificate's abs(v_h − v_ℓ) less two of its standard errors (:mod:`gridlbc.accuracy.bellman`):
-v_h against what the SDE makes of it a few steps later, which sees a value steeper than a cell
-where the costs are smooth (an invariant edge), which no coarser grid and no cost gap sees.
+v_h against what the SDE makes of it a few steps later. It sees a value steeper than a cell
+where the costs are smooth (next to an invariant edge), which the coarser grids interpolate
+alike and the cost gap does not see.
 
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
