@@ -61,7 +61,7 @@ errors (:func:`local_error`)."""
 
 
 def bellman_gap(
-    solution, x, t: float = 0.0, samples: int = LOCAL_SAMPLES
+    solution, x, t: float = 0.0, samples: int = LOCAL_SAMPLES, whole: bool = False
 ) -> tuple[np.ndarray, np.ndarray]:
     """v_h(x, t) − v_ℓ(x, t) at states ``x`` (N, d), time ``t``, and its standard error (the
     delta method, :func:`gridlbc.certify`), from ``samples`` paths per state (fewer where
@@ -81,6 +81,9 @@ def bellman_gap(
         Time in [0, T] (0 without a horizon); zeros at T, where v_h is the terminal cost.
     samples : int
         Paths per state.
+    whole : bool
+        Whether the paths run to the horizon (the remaining task certified whole) rather than
+        over :data:`SPAN` of the solve's steps; ignored without a horizon.
 
     Returns
     -------
@@ -92,36 +95,60 @@ def bellman_gap(
     t = 0.0 if problem.stationary else float(t)
     if len(x) == 0 or (not problem.stationary and t >= problem.horizon):
         return np.zeros(len(x)), np.zeros(len(x))
-    steps = SPAN * 3 * SUBSTEPS  # both chains' steps per path
-    samples = int(np.clip(LOCAL_WORK // (len(x) * steps), min(8, samples), samples))
+    span, steps = _span(solution, t, whole)
+    work = 3 * SUBSTEPS * steps  # both chains' steps per path
+    samples = int(np.clip(LOCAL_WORK // (len(x) * work), min(8, samples), samples))
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")  # an underflowed value is the solve's to warn of
         v = solution.value(x, t)
-    coarse, coarse_se = _local_value(solution, x, t, samples, SUBSTEPS)
-    fine, fine_se = _local_value(solution, x, t, samples, 2 * SUBSTEPS)
+    coarse, coarse_se = _local_value(solution, x, t, samples, span, steps * SUBSTEPS)
+    fine, fine_se = _local_value(solution, x, t, samples, span, steps * 2 * SUBSTEPS)
     return v - (2 * fine - coarse), np.hypot(2 * fine_se, coarse_se)
 
 
-def local_error(solution, x, t: float = 0.0, samples: int = LOCAL_SAMPLES) -> np.ndarray:
+def local_error(
+    solution, x, t: float = 0.0, samples: int = LOCAL_SAMPLES, whole: bool = False
+) -> np.ndarray:
     """abs(:func:`bellman_gap`) less :data:`BELLMAN_SE` of its standard errors, at least 0, at
     states ``x`` (N, d), time ``t``: what the local certificate says of the solve's error beyond
-    its sampling noise; NaN where it could not be read."""
+    its sampling noise; NaN where it could not be read. With ``whole``, also the certificate of
+    the whole remaining task (the paths run to the horizon) where that is longer than
+    :data:`SPAN` of the solve's steps and its paths fit :data:`LOCAL_WORK` at ``samples`` per
+    state, and the larger of the two."""
     gap, se = bellman_gap(solution, x, t, samples)
-    return np.fmax(np.abs(gap) - BELLMAN_SE * se, 0.0)
+    out = np.fmax(np.abs(gap) - BELLMAN_SE * se, 0.0)
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    problem = solution.problem
+    if not whole or problem.stationary or len(x) == 0 or t >= problem.horizon:
+        return out
+    steps = _span(solution, t, True)[1]
+    if steps > SPAN and len(x) * samples * 3 * SUBSTEPS * steps <= LOCAL_WORK:
+        gap, se = bellman_gap(solution, x, t, samples, whole=True)
+        out = np.fmax(out, np.fmax(np.abs(gap) - BELLMAN_SE * se, 0.0))
+    return out
+
+
+def _span(solution, t: float, whole: bool) -> tuple[float, int]:
+    """τ_ℓ from time ``t`` and the solve steps it spans: :data:`SPAN` of them, or the time to
+    the horizon where that is shorter or ``whole`` asks for it (at least :data:`SPAN` steps
+    still: a shorter stretch is taken in as many chain steps); without a horizon :data:`SPAN`
+    steps of :func:`~gridlbc.accuracy.paths.path_step`."""
+    problem = solution.problem
+    if problem.stationary:
+        return SPAN * path_step(solution), SPAN
+    dt, remaining = solution.diagnostics.dt, problem.horizon - t
+    if whole or remaining <= SPAN * dt:
+        return remaining, max(SPAN, int(np.ceil(remaining / dt - 1e-9)))
+    return SPAN * dt, SPAN
 
 
 def _local_value(
-    solution, x: np.ndarray, t: float, samples: int, substeps: int
+    solution, x: np.ndarray, t: float, samples: int, span: float, steps: int
 ) -> tuple[np.ndarray, np.ndarray]:
     """v_ℓ at states ``x`` (N, d), time ``t``, and its standard error, from ``samples`` paths
-    per state at ``substeps`` steps per solve step (module docstring); NaN where a weight is not
-    finite."""
+    per state over ``span`` in ``steps`` chain steps (module docstring); NaN where a weight is
+    not finite."""
     problem = solution.problem
-    if problem.stationary:
-        span = remaining = SPAN * path_step(solution)
-    else:
-        remaining = problem.horizon - t
-        span = min(remaining, SPAN * solution.diagnostics.dt)
     starts = np.repeat(x, samples, axis=0)
 
     def policy(y: np.ndarray, s: float) -> np.ndarray:
@@ -132,12 +159,12 @@ def _local_value(
         return np.where(np.isfinite(u), u, 0.0)
 
     rng = np.random.default_rng(SEED)
-    paths = euler_maruyama(problem, policy, starts, SPAN * substeps, rng, horizon=span)
+    paths = euler_maruyama(problem, policy, starts, steps, rng, horizon=span)
     end = paths.terminal_cost.copy()  # g_E where exited, g(X_T) where the horizon ended them
     running = np.ones(len(starts), dtype=bool)
     if paths.exit_times is not None:
         running = np.isnan(paths.exit_times)
-    if problem.stationary or span < remaining:  # still running at τ_ℓ: v_h there
+    if problem.stationary or span < problem.horizon - t:  # still running at τ_ℓ: v_h there
         end[running] = quadratic_read(
             solution, paths.final_states[running], 0.0 if problem.stationary else t + span
         )

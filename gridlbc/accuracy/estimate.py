@@ -397,7 +397,7 @@ class EmbeddedEstimate:
         truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
         error = np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
         if local and sampled(solution.problem):
-            error = np.fmax(error, local_error(solution, x, t))
+            error = np.fmax(error, local_error(solution, x, t, whole=True))
         return v, error
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:

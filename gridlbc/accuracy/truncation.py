@@ -154,7 +154,7 @@ def truncation_gap(solution, x, samples: int, t: float = 0.0, below=None, v=None
     out = np.zeros(len(x))
     if generator_rates(solution) is None:
         return out
-    slices = _slices(solution)
+    slices = _slices(solution, t)
     rates = [truncation_rate(solution, j) for j in slices]
     if not any(np.any(rate) for rate in rates):
         return out
@@ -198,12 +198,15 @@ def truncation_gap(solution, x, samples: int, t: float = 0.0, below=None, v=None
     return out
 
 
-def _slices(solution) -> np.ndarray:
-    """The stored slices whose λτ a time-marched solve's paths read: up to :data:`SLICES`,
-    evenly spaced in time, the first and the last among them (the one slice of a stationary
-    solve)."""
-    count = len(solution.times)
-    return np.unique(np.linspace(0, count - 1, min(SLICES, count)).round().astype(int))
+def _slices(solution, t: float = 0.0) -> np.ndarray:
+    """The stored slices whose λτ a time-marched solve's paths from time ``t`` read: up to
+    :data:`SLICES`, evenly spaced in time over [t, T], the last before t and the last among them
+    (the one slice of a stationary solve). The paths see λτ only from t on, and near the
+    horizon it changes fastest (an exit set's desirability against the terminal cost's)."""
+    times = np.asarray(solution.times, dtype=float)
+    first = max(int(np.searchsorted(times, t, side="right")) - 1, 0)
+    count = len(times) - first
+    return first + np.unique(np.linspace(0, count - 1, min(SLICES, count)).round().astype(int))
 
 
 def _bound(solution, rate: np.ndarray, x: np.ndarray, v) -> np.ndarray:
