@@ -32,6 +32,7 @@ import strangers_round15 as r15
 import strangers_round16 as r16
 import strangers_round17 as r17
 import strangers_round18 as r18
+import strangers_round20 as r20
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -476,6 +477,13 @@ class Member:
         States (k, d) → the exact v*(x, 0) (closed form or quadrature), for problems whose
         certificates degenerate; ``truths.py`` records it instead of a certificate. Its
         docstring's first paragraph says how it is computed.
+    time : float
+        The time at which the states are read (0: the task from its start). For t > 0 the truth
+        is the remaining task's, the same problem over the horizon T − t (its costs and
+        dynamics do not depend on time), and ``run.py`` reads v(x, t) and its estimate there.
+    proposals : callable or None
+        The problem certified → {name: policy}: proposals for the certificate beside the finer
+        and the default solves' policies (``truths.py`` keeps the one with the largest ESS).
     """
 
     name: str
@@ -489,6 +497,15 @@ class Member:
     tags: tuple[str, ...] = field(default=())
     max_time: float | None = None
     exact: Callable[[np.ndarray], np.ndarray] | None = None
+    time: float = 0.0
+    proposals: Callable[[Problem], dict] | None = None
+
+    def certified_problem(self) -> Problem:
+        """The problem whose value at t = 0 is the truth at ``time``: the remaining task."""
+        problem = self.build()
+        if self.time:
+            problem = problem.replace(horizon=problem.horizon - self.time)
+        return problem
 
 
 def refine(problem: Problem, factor: float) -> Problem:
@@ -1667,6 +1684,45 @@ MEMBERS: tuple[Member, ...] = (
         "certificate confirms the warning)",
         tags=("local feature", "slow dynamics", "user system", "closed"),
         exact=_logistic_edge_exact,
+    ),
+    Member(
+        "exit_late",
+        r20.exit_warm,
+        r20.X_EXL,
+        "a point mass that may leave through |x₁| ≥ 1.8 at no cost or pay 2x₁² + v² at T = 2, "
+        "read at t = 1.8 (stranger round 20's exit_warm_late, λ = 0.5): the exit lies across an "
+        "axis without noise, and next to it the solve is 47 % low at (1.6, 0), every grid of "
+        "51²–401² low alike; silent (the warning judges t = 0), and its estimate 6 % of the "
+        "error until the truncation term read slices over [t, T] and the estimate certified "
+        "the remaining task whole",
+        cert_dt=0.002,
+        tags=("first exit", "local feature", "noiseless axis", "closed"),
+        time=1.8,
+        proposals=lambda problem: {"the LQ policy without the exit": r20.exit_lq_policy(problem)},
+    ),
+    Member(
+        "exit_late_cold",
+        r20.exit_hz,
+        _s((0.0, 0.0), (1.0, 0.5), (-1.5, 0.0), (1.7, -1.0)),
+        "exit_late at λ = 0.2, read at t = 1.8 (stranger round 20's exit_hz_late): 53 % low at "
+        "(−1.5, 0), warned (the plain scheme cannot resolve the desirability), its estimate a "
+        "fifth of the error until the estimate certified the remaining task whole",
+        cert_dt=0.002,
+        tags=("first exit", "local feature", "noiseless axis", "cold", "closed"),
+        time=1.8,
+        proposals=lambda problem: {"the LQ policy without the exit": r20.exit_lq_policy(problem)},
+    ),
+    Member(
+        "cart_exit_late",
+        r20.cart_exit,
+        r20.X_CEX,
+        "a user's cart on a corrugated track, ẍ = −2 sin 2x − 0.2ẋ + u, that may leave through "
+        "x ≥ 2.5 at no cost, read at t = 4.7 of T = 5 (stranger round 20): 62 % low at (2.2, 0), "
+        "warned, its estimate a sixth of the error",
+        cert_dt=0.002,
+        tags=("first exit", "local feature", "noiseless axis", "user system", "closed"),
+        time=4.7,
+        proposals=lambda problem: {"a finer solve without the exit": r20.noexit_policy(problem)},
     ),
 )
 

@@ -61,11 +61,12 @@ def predict(member: Member) -> dict:
             start = time.perf_counter()
             solution = gridlbc.solve(problem)
             seconds = time.perf_counter() - start
-            values = np.asarray(solution.value(member.states, 0.0), dtype=float).reshape(-1)
+            t = member.time
+            values = np.asarray(solution.value(member.states, t), dtype=float).reshape(-1)
             estimate = None  # none where the solve could not make one (it warns why)
             if solution.embedded is not None:
                 estimate = np.asarray(
-                    solution.error_estimate(member.states, 0.0), dtype=float
+                    solution.error_estimate(member.states, t), dtype=float
                 ).reshape(-1)
     return {
         "values": values,
@@ -86,6 +87,7 @@ def rows_for(member: Member, truths: dict) -> tuple[list[dict], dict]:
         row = {
             "member": member.name,
             "state": [float(c) for c in x],
+            "time": member.time,
             "predicted": float(p["values"][i]),
             "estimate": None if p["estimates"] is None else float(p["estimates"][i]),
             "warned": bool(p["warnings"]),
@@ -117,7 +119,7 @@ def tolerance_check(member: Member, truths: dict) -> str:
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", gridlbc.GridlbcWarning)
         solution = gridlbc.solve(member.build(), tol=TOL, states=member.states)
-    values = np.asarray(solution.value(member.states, 0.0), dtype=float).reshape(-1)
+    values = np.asarray(solution.value(member.states, member.time), dtype=float).reshape(-1)
     truth = [t.get("v_extrapolated", t["v"]) for t in truths[member.name]["states"]]
     errors = ", ".join(f"{100 * (v - t) / abs(t):+.1f}%" for v, t in zip(values, truth))
     last = solution.refinement[-1]
@@ -149,7 +151,10 @@ def rst_table(rows: list[dict]) -> str:
             continue
         cells = [
             r["member"].replace("_", " "),
-            "(" + ", ".join(f"{c:g}" for c in r["state"]) + ")",
+            "("
+            + ", ".join(f"{c:g}" for c in r["state"])
+            + ")"
+            + (f" at t = {r['time']:g}" if r.get("time") else ""),
             f"{r['predicted']:.4g}",
             f"{r['certified']:.4g} ± {r['se']:.2g}",
             "exact" if r.get("exact") else f"{r['ess']:.0f}",

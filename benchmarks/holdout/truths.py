@@ -87,7 +87,7 @@ def _certify(problem, policy, states, n, dt, seed, max_time=None):
 def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, seed: int) -> dict:
     """The certified optimum at every state of ``member``, with how it was obtained."""
     start = time.perf_counter()
-    problem = member.build()
+    problem = member.certified_problem()
     fine_problem = refine(problem, member.fine)
     fine = gridlbc.solve(fine_problem)
     default = gridlbc.solve(problem)
@@ -102,6 +102,8 @@ def truth(member: Member, pilot: int, target: float, n_min: int, n_max: int, see
         proposals["a locally optimal trajectory's LQR tracker from each state"] = [
             expand(problem, optimize(problem, x, restarts=16, seed=0)).policy for x in member.states
         ]
+    if member.proposals is not None:
+        proposals.update(member.proposals(problem))
     dt = member.cert_dt
     pilots = {}
     for name, policy in proposals.items():
@@ -153,7 +155,7 @@ def exact_truth(member: Member) -> dict:
     """The exact optimum at every state of ``member`` (``member.exact``), in :func:`truth`'s
     layout."""
     start = time.perf_counter()
-    problem = member.build()
+    problem = member.certified_problem()
     values = np.asarray(member.exact(member.states), dtype=float).reshape(-1)
     how = " ".join((member.exact.__doc__ or "").split("\n\n")[0].split())
     states = []
