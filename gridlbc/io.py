@@ -13,7 +13,9 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   checked on load;
 - ``terminal_nodes``, ``state_cost_nodes``: a cost that is not a :class:`gridlbc.Quadratic` (an
   arbitrary callable) is stored by its values at the nodes and comes back as a
-  :class:`GridCost`, which interpolates them (exact at the nodes);
+  :class:`GridCost`, which interpolates them (exact at the nodes; the error estimate's terms that
+  sample paths, γ and the certificates of :mod:`gridlbc.accuracy.bellman`, then read the
+  interpolated costs, and an exit set as its nodes hold it);
 - ``reference_log_slices`` (S, N), ``reference_log_scales`` (S,): for a solution fitted to a
   shared reference (:class:`gridlbc.representation.RelativeZ`), log φ at the stored times, which
   its evaluation needs, with its own digest ``reference_sha256`` in the metadata;

@@ -256,6 +256,10 @@ class Solution(FieldEvaluation):
         t : float
             Time in [0, T].
 
+        The sampled terms draw their paths from a fixed seed per call: the same states give the
+        same estimate, and a state asked for with others differs from it asked for alone by the
+        sampling noise.
+
         Returns
         -------
         ndarray (N,)

@@ -60,7 +60,10 @@ is judged at, where it would cost several times γ's paths) it is also at least 
 certificate's abs(v_h − v_ℓ) less two of its standard errors (:mod:`gridlbc.accuracy.bellman`):
 v_h against what the SDE makes of it a few steps later. It sees a value steeper than a cell
 where the costs are smooth (next to an invariant edge), which the coarser grids interpolate
-alike and the cost gap does not see.
+alike and the cost gap does not see. Beside it, where its paths are affordable, the certificate
+of the whole remaining task (the paths run to the horizon, where v_h is g, exact): an error that
+x shares with every state its paths reach before T (an exit across an axis without noise, late
+in a task) is seen only so.
 
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
@@ -91,7 +94,10 @@ defect there is a share of the better half twice as large as of the box (the sta
 lie in it, so that the paths are sampled once). A large estimate on
 too few states for the percentile warns where the grid terms and γ both exceed the tolerance
 there or at the centre of a cell around there, where an interpolated value is furthest from the
-nodes (:func:`confirmed_locally`). With ``states=``, at its largest over them.
+nodes (:func:`confirmed_locally`). A solve with a horizon is also confirmed so at
+:func:`late_time`, 8 steps before T, where the local certificate certifies the remaining task
+whole: the warning judges v(x, 0), and a controller is also used late in its task. With
+``states=``, at its largest over them.
 """
 
 from __future__ import annotations
@@ -104,7 +110,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
-from .bellman import local_error
+from .bellman import SPAN, local_error
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
 from .tracing import gaps
@@ -282,6 +288,9 @@ class Assessment:
     confirmed : bool
         Whether ``error`` is the largest estimate that the coarser solves and the solve's own
         paths both give at a few states (:func:`confirmed_locally`), above the quantile.
+    time : float
+        The time at which ``error`` was read: 0, or :func:`late_time` where the check late in
+        the task found the larger error.
     """
 
     error: float
@@ -292,6 +301,7 @@ class Assessment:
     local: bool = False
     half: bool = False
     confirmed: bool = False
+    time: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -687,16 +697,33 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
         if both > a.error:
             a = replace(a, error=both, worst_state=where, worst_error=max(both, a.worst_error))
             a = replace(a, confirmed=True)
+    late = late_time(solution)
+    if states is None and a.error <= tol and late > 0.0:
+        both, where = confirmed_locally(solution, tol, _Matter(solution, late))
+        if both > a.error:
+            a = replace(a, error=both, worst_state=where, worst_error=max(both, a.worst_error))
+            a = replace(a, confirmed=True, time=late)
     return a
 
 
+def late_time(solution) -> float:
+    """T − :data:`~gridlbc.accuracy.bellman.SPAN` Δt, the time from which the local certificate
+    of :func:`confirmed_locally` runs to the horizon, where a default solve with a horizon is
+    also checked (:func:`assess`); 0 without a horizon or where the horizon is closer than that
+    (the check at t = 0 is then the same)."""
+    problem = solution.problem
+    if problem.stationary:
+        return 0.0
+    return max(0.0, problem.horizon - SPAN * solution.diagnostics.dt)
+
+
 class _Matter:
-    """The :func:`states_that_matter` of a solution, and v and S there, each read once when
-    first asked for (:func:`assess` gives them to :func:`largest_response` and to
+    """The :func:`states_that_matter` of a solution, and v and S there at time ``t``, each read
+    once when first asked for (:func:`assess` gives them to :func:`largest_response` and to
     :func:`confirmed_locally`)."""
 
-    def __init__(self, solution):
-        self.solution = solution
+    def __init__(self, solution, t: float = 0.0):
+        self.solution, self.t = solution, t
 
     @cached_property
     def states(self) -> np.ndarray:
@@ -711,13 +738,13 @@ class _Matter:
 
     @cached_property
     def value(self) -> np.ndarray:
-        """v at :attr:`states`, t = 0."""
-        return self.solution.value(self.states, 0.0)
+        """v at :attr:`states`, time t."""
+        return self.solution.value(self.states, self.t)
 
     @cached_property
     def response(self) -> np.ndarray:
-        """S at :attr:`states`, t = 0 (:meth:`EmbeddedEstimate.excess_response`)."""
-        return self.solution.embedded.excess_response(self.states)
+        """S at :attr:`states`, time t (:meth:`EmbeddedEstimate.excess_response`)."""
+        return self.solution.embedded.excess_response(self.states, self.t)
 
 
 CONFIRMED = 64
@@ -758,17 +785,15 @@ def confirmed_locally(
     X = matter.states
     if len(X) == 0:
         return none
-    v = matter.value
+    v, t = matter.value, matter.t
     estimate = solution.embedded
     response = None if estimate.excess is None else matter.response
-    grid = relative_error(
-        estimate.grid_terms(solution, X, 0.0, v, response), v, solution.temperature
-    )
+    grid = relative_error(estimate.grid_terms(solution, X, t, v, response), v, solution.temperature)
     top = np.argsort(grid)[::-1][:CONFIRMED]
     centres = cell_centres(solution, X[top], matter.mask)
-    v_centres = solution.value(centres, 0.0)
+    v_centres = solution.value(centres, t)
     grid_centres = relative_error(
-        estimate.grid_terms(solution, centres, 0.0, v_centres), v_centres, solution.temperature
+        estimate.grid_terms(solution, centres, t, v_centres), v_centres, solution.temperature
     )
     X = np.concatenate([X[top], centres])
     v = np.concatenate([v[top], v_centres])
@@ -777,10 +802,9 @@ def confirmed_locally(
     if len(above) == 0:
         return none
     top = above[np.argsort(grid[above])[::-1][:CONFIRMED]]
-    gap = np.abs(cost_gap(solution, X[top], 0.0, PATH_SAMPLES))
-    paths = relative_error(
-        np.fmax(gap, local_error(solution, X[top])), v[top], solution.temperature
-    )
+    gap = np.abs(cost_gap(solution, X[top], t, PATH_SAMPLES))
+    local = local_error(solution, X[top], t)
+    paths = relative_error(np.fmax(gap, local), v[top], solution.temperature)
     both = np.fmin(grid[top], paths)
     worst = int(np.argmax(both))
     return float(both[worst]), X[top[worst]]
@@ -863,8 +887,9 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         "give a finer grid or a smaller dt"
     )
     if a.confirmed:
+        when = f" at t = {a.time:.3g}" if a.time else ""
         where = (
-            f"near {state}: there the solves on the grids with every other node and a check "
+            f"near {state}{when}: there the solves on the grids with every other node and a check "
             "along the solve's own paths (the costs its grid leaves out, or its value against "
             f"what the SDE makes of it a little later) both put it at {a.error:.0%} of |v|, on a "
             "share of the states that matter too small for the percentile the warning "

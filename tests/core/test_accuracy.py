@@ -285,7 +285,9 @@ def test_a_goal_between_the_nodes_is_estimated_and_warned(tmp_path):
     """The grid sees the goal as a shallow dip and is 0.7–0.9 (in units of v, 60–130 %) high. The
     embedded solve's response to the costs' excess between the nodes (S) is what sees it: the
     estimate is at least half the error at every state, and without S it is not. The response
-    comes back with a saved solution."""
+    comes back with a saved solution (its goal does not: a callable cost is saved by its node
+    values, so the terms that sample the costs between the nodes, γ and the certificates, read
+    the grid's goal after a load), and so the estimate still covers the error."""
     problem, exact = _narrow_goal()
     X = np.array([[0.0, 0.0], [0.5, 0.5], [-1.0, 0.3]])
     with pytest.warns(g.ResolutionWarning, match="the estimated error of v exceeds"):
@@ -298,7 +300,10 @@ def test_a_goal_between_the_nodes_is_estimated_and_warned(tmp_path):
     assert np.any(blind.error(solution, X) < error / 2)
     assert solution.embedded.excess.raised is not None
     back = g.load(g.save(solution, tmp_path / "goal"))
-    np.testing.assert_array_equal(back.error_estimate(X), estimate)
+    np.testing.assert_array_equal(
+        back.embedded.excess_response(X), solution.embedded.excess_response(X)
+    )
+    assert np.all(back.error_estimate(X) >= error / 2)
 
 
 def test_a_negligible_excess_is_bounded_not_solved():

@@ -62,6 +62,12 @@ def test_one_state_gives_the_first_row_and_arrays_keep_their_rows(evaluated):
             assert many.shape[0] == len(X), (name, method, many.shape)
             assert np.shape(one) == many.shape[1:], (name, method, np.shape(one))
             np.testing.assert_array_equal(one, evaluate(X[:1], 0.1)[0], err_msg=f"{name}.{method}")
+            if method == "error_estimate":
+                # its sampled terms draw one stream per call, which the batch divides among its
+                # states: a state's paths, and so its estimate, differ between batches by their
+                # sampling noise (Solution.error_estimate)
+                np.testing.assert_allclose(one, many[0], rtol=0.25)
+                continue
             # the same numbers as in a batch, to rounding (a batch shares one log-scale)
             np.testing.assert_allclose(one, many[0], rtol=1e-13, atol=1e-13)
 
