@@ -109,6 +109,23 @@ read at t > 0. ê ≥ ½|v − v*| at 222 / 231 pairs (96.1 %). Nothing refused.
   (0.225, −0.375, 0.075); tabled states ≤ 1.2 %), comb_pend (warns of (−0.06, −6.4); ≤ 1 %),
   pend_steep_mid / pend_steep_late (≤ 1.7 %), si_exit_late (≤ 2.3 %, plain-scheme warning).
 - Truths flagged shaky: catch_0 at (1, −1) (ESS 70; the solve is −40 % with ê 136 %, warned).
+
+AFTER (the same day, the library that answered this round; ``--solve`` of every entry, the truths
+unchanged): ê ≥ ½|v − v*| at 229 / 231 pairs, none silent. The estimate at the user's states
+now certifies the whole remaining task beside the 8-step local certificate (paths to the
+horizon, g exact at their end; gridlbc.accuracy.bellman.local_error), the truncation term reads
+its slices over [t, T], and a solve with a horizon is also confirmed 8 steps before T
+(gridlbc.accuracy.estimate.late_time): exit_warm_late (1.6, 0) ê/err 0.06 → 2.1 and warned
+(12.5 % near (−1.76, 3.84) at t = 1.92), exit_warm201_late and exit_hot_late warned,
+exit201_late (1.6, 0) 0.18 → 1.3, exit_hz_late (−1.5, 0) 0.19 → 1.4. Left: cart_exit_late
+(2.2, 0) −62 %, ê/err 0.34 (warned; the whole task's certificate there, from a policy that
+steers to the exit, is noisy: −1.90 ± 0.22, −1.47 ± 0.23, −1.04 ± 0.23 from 32, 8 and 128
+paths against −1.23), exit_hz_late (0, 0) −2.5 % read at 1.1 %. False alarms 14: the 11 above,
+rtiny_pend (its late confirmation names (−1.0, −9.8) at t = 1.41, a box edge: 2.6 % low against
+a 3× grid at Δt/8, read above 5 %), and pend_mid / pend_late, whose warning is true at the state
+it names ((−0.35, 1.04) at t = 3.29: 0.303 against 0.243 from a 3× grid at Δt/8) while the
+tabled states are within 1 %. Three of the exit members joined the corpus (``exit_late``,
+``exit_late_cold``, ``cart_exit_late``, read at t > 0: corpus.Member.time).
 """
 
 from __future__ import annotations

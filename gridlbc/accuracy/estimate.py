@@ -759,8 +759,9 @@ def confirmed_locally(
     solution, tol: float, matter: _Matter | None = None
 ) -> tuple[float, np.ndarray]:
     """The largest relative error that two independent parts of the estimate both give at one
-    of the states that matter or between them, and where: min(grid terms, abs(γ)) relative to
-    max(abs(v), λ), over the :data:`CONFIRMED` candidates whose grid terms (the embedded and
+    of the states that matter or between them, at the time of ``matter`` (0 by default), and
+    where: min(grid terms, max(abs(γ), :func:`~gridlbc.accuracy.bellman.local_error`)) relative
+    to max(abs(v), λ), over the :data:`CONFIRMED` candidates whose grid terms (the embedded and
     pair differences, the floor and S, :meth:`EmbeddedEstimate.grid_terms`) are the largest
     above ``tol``; 0 where none is above it or γ is not sampled. The candidates are the
     :data:`CONFIRMED` states that matter with the largest grid terms and the centres of the cells
