@@ -20,13 +20,17 @@ and the Euler–Maruyama chain's weak error. Where v_h is wrong at x but right w
 within τ_ℓ, v_h(x) − v_ℓ(x) is that error.
 
 The paths run over τ_ℓ = :data:`SPAN` of the solve's steps (of :func:`gridlbc.accuracy.path_step`
-without a horizon), at a quarter and an eighth of that step, extrapolated to a vanishing step
+without a horizon), at a quarter and an eighth of that step, the coarser chain driven by the
+finer one's Brownian motion (:class:`_Paired`), extrapolated to a vanishing step
 (:func:`bellman_gap`): long enough to leave the cells next to a feature
 the grid does not resolve (a value that changes by many λ within one cell of an invariant edge,
 where the grid interpolates across the change), short enough that the errors the solve carries
 along its characteristics are mostly shared by x and by where its paths go (those are the
 embedded solves' to measure). It is therefore a check of the solve's *local* consistency: an
-error that v_h makes alike at x and a stretch downstream is not seen.
+error that v_h makes alike at x and a stretch downstream is not seen. Run on to the horizon
+(``whole``), where v_h is g, exact, the same paths certify the whole remaining task
+(:func:`local_error`): nothing of the solve is read at their end, and an error shared all the
+way to T is seen, at the price of weights whose spread grows with the span.
 """
 
 from __future__ import annotations
@@ -35,7 +39,6 @@ import warnings
 
 import numpy as np
 
-from ..certify import _optimal_value
 from ..interpolate import barycentric
 from ..simulate import euler_maruyama
 from .paths import SEED, path_step
@@ -49,6 +52,12 @@ extrapolates from (the finer takes twice as many)."""
 
 LOCAL_SAMPLES = 32
 """Paths per state of :func:`bellman_gap` (fewer where :data:`LOCAL_WORK` asks)."""
+
+WHOLE_SAMPLES = 512
+"""Paths per state of the whole remaining task's certificate (:func:`local_error`), fewer where
+:data:`LOCAL_WORK` asks: its paths run to the horizon under a proposal that may steer where the
+solve is wrong, and their weights are heavy-tailed (32 paths read −6.5 and −1.4 where the error
+is −2.5)."""
 
 LOCAL_WORK = 1 << 22
 """At most this many path-steps per call of :func:`bellman_gap` (but at least 8 paths per
@@ -101,9 +110,10 @@ def bellman_gap(
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
         warnings.simplefilter("ignore")  # an underflowed value is the solve's to warn of
         v = solution.value(x, t)
-    coarse, coarse_se = _local_value(solution, x, t, samples, span, steps * SUBSTEPS)
-    fine, fine_se = _local_value(solution, x, t, samples, span, steps * 2 * SUBSTEPS)
-    return v - (2 * fine - coarse), np.hypot(2 * fine_se, coarse_se)
+    coarse = _log_weights(solution, x, t, samples, span, steps * SUBSTEPS, paired=True)
+    fine = _log_weights(solution, x, t, samples, span, steps * 2 * SUBSTEPS)
+    local, se = _extrapolated(fine, coarse, solution.temperature)
+    return v - local, se
 
 
 def local_error(
@@ -113,8 +123,9 @@ def local_error(
     states ``x`` (N, d), time ``t``: what the local certificate says of the solve's error beyond
     its sampling noise; NaN where it could not be read. With ``whole``, also the certificate of
     the whole remaining task (the paths run to the horizon) where that is longer than
-    :data:`SPAN` of the solve's steps and its paths fit :data:`LOCAL_WORK` at ``samples`` per
-    state, and the larger of the two."""
+    :data:`SPAN` of the solve's steps, from as many paths per state as :data:`LOCAL_WORK`
+    affords up to :data:`WHOLE_SAMPLES` (none where it affords fewer than ``samples``), and the
+    larger of the two."""
     gap, se = bellman_gap(solution, x, t, samples)
     out = np.fmax(np.abs(gap) - BELLMAN_SE * se, 0.0)
     x = np.atleast_2d(np.asarray(x, dtype=float))
@@ -122,8 +133,9 @@ def local_error(
     if not whole or problem.stationary or len(x) == 0 or t >= problem.horizon:
         return out
     steps = _span(solution, t, True)[1]
-    if steps > SPAN and len(x) * samples * 3 * SUBSTEPS * steps <= LOCAL_WORK:
-        gap, se = bellman_gap(solution, x, t, samples, whole=True)
+    affordable = min(WHOLE_SAMPLES, LOCAL_WORK // (len(x) * 3 * SUBSTEPS * steps))
+    if steps > SPAN and affordable >= samples:
+        gap, se = bellman_gap(solution, x, t, affordable, whole=True)
         out = np.fmax(out, np.fmax(np.abs(gap) - BELLMAN_SE * se, 0.0))
     return out
 
@@ -142,12 +154,13 @@ def _span(solution, t: float, whole: bool) -> tuple[float, int]:
     return SPAN * dt, SPAN
 
 
-def _local_value(
-    solution, x: np.ndarray, t: float, samples: int, span: float, steps: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """v_ℓ at states ``x`` (N, d), time ``t``, and its standard error, from ``samples`` paths
-    per state over ``span`` in ``steps`` chain steps (module docstring); NaN where a weight is
-    not finite."""
+def _log_weights(
+    solution, x: np.ndarray, t: float, samples: int, span: float, steps: int, paired: bool = False
+) -> np.ndarray:
+    """−S/λ of ``samples`` paths per state from states ``x`` (N, d) at time ``t`` over ``span`` in
+    ``steps`` chain steps (module docstring), ``(N, samples)``; NaN where a weight is not finite.
+    ``paired``: the paths follow the Brownian motion of the chain with twice as many steps and
+    the same seed (:class:`_Paired`), so that the two chains' difference is mostly the step's."""
     problem = solution.problem
     starts = np.repeat(x, samples, axis=0)
 
@@ -159,7 +172,9 @@ def _local_value(
         return np.where(np.isfinite(u), u, 0.0)
 
     rng = np.random.default_rng(SEED)
-    paths = euler_maruyama(problem, policy, starts, steps, rng, horizon=span)
+    paths = euler_maruyama(
+        problem, policy, starts, steps, _Paired(rng) if paired else rng, horizon=span
+    )
     end = paths.terminal_cost.copy()  # g_E where exited, g(X_T) where the horizon ended them
     running = np.ones(len(starts), dtype=bool)
     if paths.exit_times is not None:
@@ -169,11 +184,45 @@ def _local_value(
             solution, paths.final_states[running], 0.0 if problem.stationary else t + span
         )
     log_weights = -(paths.running_cost + paths.ito + end) / problem.temperature
-    local, se = np.full(len(x), np.nan), np.full(len(x), np.nan)
-    for i, a in enumerate(log_weights.reshape(len(x), samples)):
-        if np.all(np.isfinite(a)):
-            local[i], se[i], _ = _optimal_value(a, problem.temperature)
-    return local, se
+    return np.where(np.isfinite(log_weights), log_weights, np.nan).reshape(len(x), samples)
+
+
+class _Paired:
+    """A generator whose normal draws are the normalised sums of consecutive pairs of another's:
+    a chain of step 2δ driven by it follows the Brownian motion of a chain of step δ driven by
+    the same seed (its increments are the sums of two of the other's). An exit set with a
+    geometry also draws uniforms for its crossing check, after which the pairs no longer match:
+    the two chains are then independent, and their difference noisier, not biased."""
+
+    def __init__(self, rng: np.random.Generator):
+        self.rng = rng
+
+    def standard_normal(self, shape) -> np.ndarray:
+        """(z₁ + z₂)/√2 from two draws of ``shape``."""
+        return (self.rng.standard_normal(shape) + self.rng.standard_normal(shape)) / np.sqrt(2.0)
+
+    def random(self, size) -> np.ndarray:
+        """Uniforms, drawn as they are asked for."""
+        return self.rng.random(size)
+
+
+def _extrapolated(
+    fine: np.ndarray, coarse: np.ndarray, lam: float
+) -> tuple[np.ndarray, np.ndarray]:
+    """2 v_ℓ(δ/2) − v_ℓ(δ) per state from the log weights of the two chains' paths (N, n), paired
+    path by path, and its standard error by the delta method: with r = w/w̄ − 1 for each chain,
+    the estimate moves by −λ (2 r_fine − r_coarse) per path, whose spread over √n is the SE
+    (the pairing makes the two chains' noise largely cancel). NaN where a weight is not
+    finite."""
+    value, se = np.full(len(fine), np.nan), np.full(len(fine), np.nan)
+    for i, (a, b) in enumerate(zip(fine, coarse, strict=True)):
+        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+            continue
+        w, u = np.exp(a - a.max()), np.exp(b - b.max())
+        value[i] = -lam * (2 * (a.max() + np.log(w.mean())) - (b.max() + np.log(u.mean())))
+        spread = 2 * (w / w.mean() - 1) - (u / u.mean() - 1)
+        se[i] = lam * spread.std(ddof=1) / np.sqrt(len(a)) if len(a) > 1 else np.nan
+    return value, se
 
 
 def quadratic_read(solution, x: np.ndarray, t: float) -> np.ndarray:

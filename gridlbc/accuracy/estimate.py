@@ -360,7 +360,7 @@ class EmbeddedEstimate:
         (:func:`~gridlbc.accuracy.paths.cost_gap`, from ``samples`` paths per state), the
         truncation and tracing terms where they apply (module docstring), and at least the
         local certificate beyond its noise (:func:`~gridlbc.accuracy.bellman.local_error`)."""
-        return self._error(solution, x, t, samples)[1]
+        return self._error(solution, x, t, samples, whole=True)[1]
 
     def excess_response(self, x, t=0.0) -> np.ndarray:
         """S = abs(v_2h[g + δg, q + δq] − v_2h[g, q]) at states ``x`` (N, d), time ``t``: what
@@ -373,8 +373,9 @@ class EmbeddedEstimate:
     def relative(
         self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES, local: bool = True
     ) -> np.ndarray:
-        """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`); without the
-        local certificate where ``local`` is False."""
+        """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`), with the
+        local certificate over :data:`~gridlbc.accuracy.bellman.SPAN` steps only (what
+        ``solve(tol=, states=)`` reads each round), and without it where ``local`` is False."""
         v, error = self._error(solution, x, t, samples, local)
         return relative_error(error, v, solution.temperature)
 
@@ -397,17 +398,18 @@ class EmbeddedEstimate:
         return v, np.maximum(np.maximum(local, floor), response)
 
     def _error(
-        self, solution: Solution, x, t, samples: int, local: bool = True
+        self, solution: Solution, x, t, samples: int, local: bool = True, whole: bool = False
     ) -> tuple[np.ndarray, np.ndarray]:
-        """v_h and :meth:`error` at ``x`` (without the local certificate where ``local`` is
-        False: the states a default solve is judged at, :func:`assess`)."""
+        """v_h and :meth:`error` at ``x``: without the local certificate where ``local`` is
+        False (the states a default solve is judged at, :func:`assess`), with the whole
+        remaining task's certificate beside it where ``whole`` is True (the user's states)."""
         v, grid_terms = self._grid_terms(solution, x, t)
         gap, tracing = gaps(solution, x, samples, t)  # γ and the traced feet, on the same paths
         terms = np.fmax(grid_terms, np.abs(gap))
         truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
         error = np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
         if local and sampled(solution.problem):
-            error = np.fmax(error, local_error(solution, x, t, whole=True))
+            error = np.fmax(error, local_error(solution, x, t, whole=whole))
         return v, error
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:
