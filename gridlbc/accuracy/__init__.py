@@ -25,7 +25,15 @@ Each module's docstring has its equations; the names imported here are the packa
 ones.
 """
 
-from .bellman import BELLMAN_SE, LOCAL_SAMPLES, LOCAL_WORK, bellman_gap, local_error
+from .bellman import (
+    BELLMAN_SE,
+    LOCAL_SAMPLES,
+    LOCAL_WORK,
+    WHOLE_SAMPLES,
+    bellman_gap,
+    largest_discount,
+    local_error,
+)
 from .certified import (
     CERTIFICATE_LEVEL,
     CERTIFICATE_SAMPLES,
@@ -136,6 +144,7 @@ __all__ = [
     "SAMPLE",
     "STATIONARY_SAMPLES",
     "UNPOSED",
+    "WHOLE_SAMPLES",
     "Assessment",
     "EmbeddedEstimate",
     "Excess",
@@ -171,6 +180,7 @@ __all__ = [
     "fitting_storage",
     "flow_excess",
     "judged_states",
+    "largest_discount",
     "limiting_axes",
     "local_error",
     "observed_order",

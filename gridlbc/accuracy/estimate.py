@@ -110,7 +110,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
-from .bellman import SPAN, local_error
+from .bellman import SPAN, largest_discount, local_error
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
 from .tracing import gaps
@@ -806,7 +806,7 @@ def confirmed_locally(
         return none
     top = above[np.argsort(grid[above])[::-1][:CONFIRMED]]
     gap = np.abs(cost_gap(solution, X[top], t, PATH_SAMPLES))
-    local = local_error(solution, X[top], t)
+    local = local_error(solution, X[top], t, discount=largest_discount(len(top)))
     paths = relative_error(np.fmax(gap, local), v[top], solution.temperature)
     both = np.fmin(grid[top], paths)
     worst = int(np.argmax(both))
