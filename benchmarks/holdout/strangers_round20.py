@@ -124,7 +124,14 @@ paths against −1.23), exit_hz_late (0, 0) −2.5 % read at 1.1 %. False alarms
 rtiny_pend (its late confirmation names (−1.0, −9.8) at t = 1.41, a box edge: 2.6 % low against
 a 3× grid at Δt/8, read above 5 %), and pend_mid / pend_late, whose warning is true at the state
 it names ((−0.35, 1.04) at t = 3.29: 0.303 against 0.243 from a 3× grid at Δt/8) while the
-tabled states are within 1 %. Three of the exit members joined the corpus (``exit_late``,
+tabled states are within 1 %.
+
+AFTER, second run (the certificates' two chains paired, the whole task's from up to 512 paths,
+the confirmation's discount for its largest candidate): ê ≥ ½|v − v*| at 231 / 231 pairs, none
+silent, no under-read (cart_exit_late (2.2, 0): ê/err 0.83). Warned with every tabled state
+within 3 %: 16 entries, of them pend_mars and pend_short new, both true at the state and time
+they name (−5.1 % at (1.29, −2.92), t = 2.55; +10.9 % at (0.09, −0.5), t = 0.43; against 4×
+grids at Δt/8), like pend_mid and pend_late. Three of the exit members joined the corpus (``exit_late``,
 ``exit_late_cold``, ``cart_exit_late``, read at t > 0: corpus.Member.time).
 """
 
