@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -24,10 +26,25 @@ import numpy as np
 from ..certify import certify
 from ..combine import combine
 from ..costs import Quadratic
+from ..errors import GridlbcWarning
 from ..interactive import PageReport, write_page
 from ..solver import solve, solve_many
 from .problems import SWINGUP_START, swingup_problem
 from .verify import SWINGUP_ROLLOUT_DT
+
+
+@contextmanager
+def _noted(say):
+    """Print the library's warnings raised in the block as part of the demo's story (the
+    solve's own words up to where it points at the docs), not as Python's tracebacks."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", GridlbcWarning)
+        yield
+    for w in caught:
+        if issubclass(w.category, GridlbcWarning):
+            say(f"   the solve warns ({w.category.__name__}): {str(w.message).split(', see ')[0]}")
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
 
 
 def plot_fields(solution, path: Path, title: str, t: float = 0.0):
@@ -82,13 +99,14 @@ def run_demo(
     labels = {None: "plain ", "terminal": "fitted"}
     solutions, predictions = {}, {}
     for fitting, label in labels.items():
-        sol = solutions[fitting] = solve(problem, progress=progress, fitting=fitting)
-        predictions[fitting] = float(sol.value(SWINGUP_START, 0.0))
-        d = sol.diagnostics
-        say(
-            f"   {label} {d.method}: {d.steps} steps of dt = {d.dt:.4f} in {d.wall_time:.2f} s; "
-            f"predicted v(x0) = {predictions[fitting]:.3f}"
-        )
+        with _noted(say):  # its warnings after its line
+            sol = solutions[fitting] = solve(problem, progress=progress, fitting=fitting)
+            predictions[fitting] = float(sol.value(SWINGUP_START, 0.0))
+            d = sol.diagnostics
+            say(
+                f"   {label} {d.method}: {d.steps} steps of dt = {d.dt:.4f} in "
+                f"{d.wall_time:.2f} s; predicted v(x0) = {predictions[fitting]:.3f}"
+            )
     say("2. the certified optimum v*(x0) with each policy as proposal, and the policy's cost J:")
     for fitting, sol in solutions.items():
         started = time.perf_counter()
@@ -123,22 +141,25 @@ def run_demo(
     d = sol.diagnostics
 
     goals = [Quadratic([-0.6, 0.0], [10.0, 0.5]), Quadratic([0.6, 0.0], [10.0, 0.5])]
-    combined = combine(solve_many(problem, goals, fitting="terminal"))  # fitted to Σ_i h_i
-    # the composite terminal cost g = −λ log Σ exp(−g_i/λ), fitted to the same reference
-    direct = solve(combined.problem, fitting=combined.problem.terminal_cost)
-    rng = np.random.default_rng(seed)
-    X = np.column_stack([rng.uniform(-np.pi, np.pi, 2000), rng.uniform(-8, 8, 2000)])
-    errs = {}
-    for name in ("value", "policy"):
-        a = getattr(combined, name)(X, 0.0)
-        b = getattr(direct, name)(X, 0.0)
-        errs[name] = float(np.max(np.abs(a - b) / np.maximum(np.abs(b), 1.0)))
-    say(
-        f"3. coordination of two goals (θ = ±0.6): combine vs direct composite solve, max "
-        f"relative difference off-grid: value {errs['value']:.1e}, policy {errs['policy']:.1e}"
-    )
-    alpha = combined.blend_weights(np.array([[1.5, 0.0], [-1.5, 0.0]]), 0.0)
-    say(f"   blend weights α at θ = +1.5: {alpha[0].round(3)}, at θ = −1.5: {alpha[1].round(3)}")
+    with _noted(say):  # the solves' warnings after the section's lines
+        combined = combine(solve_many(problem, goals, fitting="terminal"))  # fitted to Σ_i h_i
+        # the composite terminal cost g = −λ log Σ exp(−g_i/λ), fitted to the same reference
+        direct = solve(combined.problem, fitting=combined.problem.terminal_cost)
+        rng = np.random.default_rng(seed)
+        X = np.column_stack([rng.uniform(-np.pi, np.pi, 2000), rng.uniform(-8, 8, 2000)])
+        errs = {}
+        for name in ("value", "policy"):
+            a = getattr(combined, name)(X, 0.0)
+            b = getattr(direct, name)(X, 0.0)
+            errs[name] = float(np.max(np.abs(a - b) / np.maximum(np.abs(b), 1.0)))
+        say(
+            f"3. coordination of two goals (θ = ±0.6): combine vs direct composite solve, max "
+            f"relative difference off-grid: value {errs['value']:.1e}, policy {errs['policy']:.1e}"
+        )
+        alpha = combined.blend_weights(np.array([[1.5, 0.0], [-1.5, 0.0]]), 0.0)
+        say(
+            f"   blend weights α at θ = +1.5: {alpha[0].round(3)}, at θ = −1.5: {alpha[1].round(3)}"
+        )
     results.update(superposition_value=errs["value"], superposition_policy=errs["policy"])
 
     plot_fields(
