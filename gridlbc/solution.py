@@ -247,7 +247,9 @@ class Solution(FieldEvaluation):
         switches within a step); and, for a task with a horizon or an exit set, at least the
         local certificate's abs(v_h − v_ℓ) less two of its standard errors, v_ℓ what the SDE
         makes of the solve's own values 8 steps later (:func:`gridlbc.accuracy.bellman_gap`: a
-        value steeper than a cell where the costs are smooth).
+        value steeper than a cell where the costs are smooth), and the same for the whole
+        remaining task where its paths are affordable (:func:`gridlbc.accuracy.local_error`:
+        an error shared all the way to the horizon, next to an exit late in a task).
 
         Parameters
         ----------

@@ -74,7 +74,7 @@ def bellman_gap(
     solution, x, t: float = 0.0, samples: int = LOCAL_SAMPLES, whole: bool = False
 ) -> tuple[np.ndarray, np.ndarray]:
     """v_h(x, t) − v_ℓ(x, t) at states ``x`` (N, d), time ``t``, and its standard error (the
-    delta method, :func:`gridlbc.certify`), from ``samples`` paths per state (fewer where
+    delta method over the two chains' paired paths, :func:`_extrapolated`), from ``samples`` paths per state (fewer where
     :data:`LOCAL_WORK` asks; module docstring); NaN where v_h or the policy is not finite. v_ℓ
     is extrapolated in the chain's step δ, 2 v_ℓ(δ/2) − v_ℓ(δ) with δ = Δt/:data:`SUBSTEPS`,
     which removes the Euler–Maruyama chain's first-order weak error (a solve's step may be long
@@ -150,7 +150,7 @@ def local_error(
 def largest_discount(count: int) -> float:
     """The standard errors by which the largest of ``count`` certificates is discounted: the
     level z that the largest of ``count`` independent standard normals exceeds with the
-    probability that one exceeds :data:`BELLMAN_SE` (about 2.3 %), z = Φ⁻¹(1 − p/count) (3.5 for
+    probability that one exceeds :data:`BELLMAN_SE` (about 2.3 %), z = Φ⁻¹(1 − p/count) (3.6 for
     128). Read at many states, a difference of two standard errors is found somewhere by
     chance; the warning's confirmation reads the largest over its candidates."""
     tail = float(norm.sf(BELLMAN_SE))
