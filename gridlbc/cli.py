@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import sys
+import warnings
 from pathlib import Path
 
 
@@ -737,11 +738,19 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    try:
-        return int(args.func(args) or 0)
-    except (ValueError, TypeError, FileNotFoundError, MemoryError) as exc:
-        print(f"gridlbc {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+    with warnings.catch_warnings():
+        warnings.formatwarning = _warning_line
+        try:
+            return int(args.func(args) or 0)
+        except (ValueError, TypeError, FileNotFoundError, MemoryError) as exc:
+            print(f"gridlbc {args.command}: error: {exc}", file=sys.stderr)
+            return 2
+
+
+def _warning_line(message, category, filename, lineno, line=None) -> str:
+    """A warning as the command line tells it: its kind and its words, without the file and
+    line of the code that raised it (the library's own, not the user's)."""
+    return f"{category.__name__}: {message}\n"
 
 
 if __name__ == "__main__":
