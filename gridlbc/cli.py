@@ -738,13 +738,15 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv=None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
-    with warnings.catch_warnings():
-        warnings.formatwarning = _warning_line
-        try:
-            return int(args.func(args) or 0)
-        except (ValueError, TypeError, FileNotFoundError, MemoryError) as exc:
-            print(f"gridlbc {args.command}: error: {exc}", file=sys.stderr)
-            return 2
+    told = warnings.formatwarning
+    warnings.formatwarning = _warning_line
+    try:
+        return int(args.func(args) or 0)
+    except (ValueError, TypeError, FileNotFoundError, MemoryError) as exc:
+        print(f"gridlbc {args.command}: error: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        warnings.formatwarning = told
 
 
 def _warning_line(message, category, filename, lineno, line=None) -> str:
