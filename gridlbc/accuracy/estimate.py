@@ -161,7 +161,11 @@ def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) 
 
 def _evenly(solution, chosen: np.ndarray, limit: int) -> np.ndarray:
     """The nodes of the mask ``chosen``, at most ``limit`` of them evenly spaced, ``(M, d)``."""
-    keep = _evenly_index(chosen, limit)
+    return _nodes(solution, _evenly_index(chosen, limit))
+
+
+def _nodes(solution, keep: np.ndarray) -> np.ndarray:
+    """The coordinates of the nodes of flat indices ``keep``, ``(M, d)`` (also for none)."""
     if len(keep) == 0:
         return np.empty((0, solution.grid.ndim))
     return solution.grid.node_coordinates(keep)
@@ -634,8 +638,14 @@ def attach_estimates(solutions, levels: list, pairs=None, excess=None, reason: s
 def judged_states(solution, states=None) -> np.ndarray:
     """``states`` as ``(N, d)``, or :data:`ASSESSED` of :func:`states_that_matter` when None."""
     if states is None:
-        return states_that_matter(solution, ASSESSED)
+        return _nodes(solution, _judged_nodes(solution))
     return np.atleast_2d(np.asarray(states, dtype=float))
+
+
+def _judged_nodes(solution) -> np.ndarray:
+    """The flat indices of the nodes :func:`judged_states` reads without states: the
+    :data:`ASSESSED` of :func:`states_that_matter`."""
+    return _evenly_index(matter_mask(solution), ASSESSED)
 
 
 def relative_difference(solution, other, X: np.ndarray) -> np.ndarray:
@@ -672,16 +682,22 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     """
     if solution.embedded is None:
         return None
-    X = judged_states(solution, states)
+    given = states is not None
+    keep = None
+    if given:
+        X = judged_states(solution, states)
+    else:
+        keep = _judged_nodes(solution)
+        X = _nodes(solution, keep)
     # the local certificate at the user's states; at the states that matter only where
     # confirmed_locally checks a candidate (its paths cost more than γ's)
-    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS, local=states is not None)
-    a = _read_at(X, rel, tol, states is not None)
+    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS, local=given)
+    a = _read_at(X, rel, tol, given)
     problem = solution.problem
-    if states is None and problem.exit is None and not problem.stationary:
+    if keep is not None and problem.exit is None and not problem.stationary:
         # also the better half, where a finite horizon's paths end up (states_that_matter):
         # the states read above that lie in it, an evenly spaced sample of it
-        held = _better_half_mask(solution)[_evenly_index(matter_mask(solution), ASSESSED)]
+        held = _better_half_mask(solution)[keep]
         half = _read_at(X[held], rel[held], tol, False)
         if half.error > a.error:
             a = replace(half, half=True)
@@ -694,17 +710,15 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
             a = replace(a, error=largest, local=True)
         if largest > a.worst_error:
             a = replace(a, worst_state=where, worst_error=largest)
-    if states is None and a.error <= tol:
-        both, where = confirmed_locally(solution, tol, matter)
-        if both > a.error:
-            a = replace(a, error=both, worst_state=where, worst_error=max(both, a.worst_error))
-            a = replace(a, confirmed=True)
     late = late_time(solution)
-    if states is None and a.error <= tol and late > 0.0:
-        both, where = confirmed_locally(solution, tol, _Matter(solution, late))
+    for reading in (matter, matter.at(late)) if late > 0.0 else (matter,):
+        if given or a.error > tol:
+            break
+        both, where = confirmed_locally(solution, tol, reading)
         if both > a.error:
-            a = replace(a, error=both, worst_state=where, worst_error=max(both, a.worst_error))
-            a = replace(a, confirmed=True, time=late)
+            worst = max(both, a.worst_error)
+            a = replace(a, error=both, worst_state=where, worst_error=worst, confirmed=True)
+            a = replace(a, time=reading.t)
     return a
 
 
@@ -726,6 +740,12 @@ class _Matter:
 
     def __init__(self, solution, t: float = 0.0):
         self.solution, self.t = solution, t
+
+    def at(self, t: float) -> _Matter:
+        """The same states (chosen at t = 0) read at time ``t``: their nodes and mask shared."""
+        other = _Matter(self.solution, t)
+        other.__dict__.update(states=self.states, mask=self.mask)  # the cached properties
+        return other
 
     @cached_property
     def states(self) -> np.ndarray:
