@@ -24,6 +24,10 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   prefix and its metadata as ``metadata["embedded"]`` (with the estimate's
   ``observed_order``, ``order`` and ``floor``, :class:`gridlbc.accuracy.EmbeddedEstimate`); absent when
   the solution carries none;
+- ``embedded_coarser.*``: the solve on the grid below the embedded one (4h), from which the
+  estimate observes its order late in a task (:meth:`gridlbc.accuracy.EmbeddedEstimate.order_at`),
+  its metadata as ``metadata["embedded"]["coarser"]``; absent where there was none, and in files
+  written before it was kept (their estimate then uses the order observed at t = 0);
 - ``embedded_pair0.*``, ``embedded_pair1.*``: the solves on the pair of grids of
   :func:`gridlbc.accuracy.phase_pair`, their metadata as ``metadata["embedded"]["pair"]`` (a
   list of two; ``"embedded"`` in place of the first where it is the embedded solve itself).
@@ -68,6 +72,8 @@ EMBEDDED = "embedded."
 """The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
 PAIR = ("embedded_pair0.", "embedded_pair1.")
 """The prefixes of the arrays of the solves on the pair of :func:`gridlbc.accuracy.phase_pair`."""
+COARSER = "embedded_coarser."
+"""The prefix of the arrays of the solve on the grid below the embedded one (4h)."""
 EXCESS = ("embedded_excess.", "embedded_excess_base.")
 """The prefixes of the arrays of the solves on the embedded grid with the costs' excess between
 the nodes and without (:class:`gridlbc.accuracy.Response`)."""
@@ -245,13 +251,17 @@ def write(solution: Solution, path, annotations: dict | None = None) -> Path:
             "floor": estimate.floor,
         }
         arrays.update({EMBEDDED + k: v for k, v in inner.items()})
+        if estimate.coarser is not None:
+            held: dict = {}
+            meta["embedded"]["coarser"] = _record(estimate.coarser, held)
+            arrays.update({COARSER + k: v for k, v in held.items()})
         if estimate.pair is not None:
             records: list = []
             for prefix, side in zip(PAIR, estimate.pair, strict=True):
                 if side is estimate.solution:
                     records.append("embedded")
                     continue
-                held: dict = {}
+                held = {}
                 records.append(_record(side, held))
                 arrays.update({prefix + k: v for k, v in held.items()})
             meta["embedded"]["pair"] = records
@@ -455,6 +465,10 @@ def load(path, system=None) -> Solution:
             if "base" not in excess:  # written when the embedded solve was the base
                 base = embedded
             response = Response(base, raised, float(excess["bound"]))
+        coarser = None
+        if "coarser" in record:  # absent from files written before it was kept
+            held = _prefixed(contents, COARSER)
+            coarser = _solution(record["coarser"], held, version, path, system)
         estimate = EmbeddedEstimate(
             embedded,
             np.nan if observed is None else float(observed),
@@ -462,6 +476,7 @@ def load(path, system=None) -> Solution:
             float(record["floor"]),
             pair,
             response,
+            coarser,
         )
         object.__setattr__(solution, "embedded", estimate)
     return solution

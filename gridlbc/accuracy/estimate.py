@@ -103,7 +103,7 @@ whole: the warning judges v(x, 0), and a controller is also used late in its tas
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import TYPE_CHECKING
 
@@ -136,6 +136,11 @@ ASYMPTOTIC = 0.15
 SAMPLE = 20_000
 """At most this many of the calibration states give the floor (evenly spaced in the nodes'
 order): a median of the estimate needs no more, and a 4-D grid has millions."""
+
+
+ORDER_SAMPLE = 2_000
+"""At most this many of the calibration states give the order observed at a time t > 0
+(:meth:`EmbeddedEstimate.order_at`): a ratio of two sums, read at each time asked for."""
 
 
 ASSESSED = 256
@@ -332,6 +337,9 @@ class EmbeddedEstimate:
     excess : Response or None
         What the costs' sub-cell excess changes in the embedded solve
         (:class:`~gridlbc.accuracy.subcell.Response`); None where not measured.
+    coarser : Solution or None
+        The same problem solved on the grid below the embedded one (4h, step 4Δt), from which
+        the order is observed at later times (:meth:`order_at`); None without it.
     """
 
     solution: Solution
@@ -340,6 +348,29 @@ class EmbeddedEstimate:
     floor: float
     pair: tuple[Solution, Solution] | None = None
     excess: Response | None = None
+    coarser: Solution | None = None
+    _orders: dict = field(default_factory=dict, repr=False, compare=False)
+
+    def order_at(self, solution: Solution, t: float) -> float:
+        """q at time ``t``: :attr:`order` at t = 0 (and without a horizon or a 4h solve), and
+        later in the task the order observed there from the three solves, over
+        :data:`ORDER_SAMPLE` of the :func:`calibration_states`, clipped as :attr:`order` is.
+
+        Why: which error dominates changes along a task. At t = 0 a grid's spacing may set it,
+        and the levels converge at second order; in the first steps from T the step's error
+        and the interpolation between stored slices set it, and a solve at 2Δt with its
+        longer steps differs from the solve by as much as the solve's own error or more (the
+        order observed there is below 1): divided by 2^q − 1 with the order of t = 0 it read
+        a third of an error of 10 % (stranger round 21, docs page :doc:`accuracy`)."""
+        if t == 0.0 or self.coarser is None or solution.problem.stationary:
+            return self.order
+        if t not in self._orders:
+            X = calibration_states(solution, ORDER_SAMPLE)
+            with np.errstate(invalid="ignore"), warnings.catch_warnings():
+                warnings.simplefilter("ignore")  # an underflowed level is left out below
+                v, v2, v4 = (s.value(X, t) for s in (solution, self.solution, self.coarser))
+            self._orders[t] = clipped_order(observed_order(np.abs(v2 - v), np.abs(v4 - v2)))
+        return self._orders[t]
 
     @property
     def converging(self) -> bool:
@@ -422,7 +453,8 @@ class EmbeddedEstimate:
         v = solution.value(x, t) if v is None else v
         embedded = self.solution.value(x, t)
         pair = None if self.pair is None else [side.value(x, t) for side in self.pair]
-        difference, local = _local(v, embedded, pair, solution.temperature, self.order)
+        order = self.order_at(solution, float(t))
+        difference, local = _local(v, embedded, pair, solution.temperature, order)
         return v, embedded, difference, local
 
 
@@ -477,7 +509,7 @@ def embedded_estimate(solution, embedded, coarser=None, pair=None, excess=None) 
     relative = relative_error(local, v, solution.temperature)
     relative = relative[np.isfinite(relative)]
     floor = float(np.median(relative)) if len(relative) else 0.0
-    return EmbeddedEstimate(embedded, observed, order, floor, pair, excess)
+    return EmbeddedEstimate(embedded, observed, order, floor, pair, excess, coarser)
 
 
 def observed_order(fine, coarse) -> float:
@@ -710,8 +742,7 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
             a = replace(a, error=largest, local=True)
         if largest > a.worst_error:
             a = replace(a, worst_state=where, worst_error=largest)
-    late = late_time(solution)
-    for reading in (matter, matter.at(late)) if late > 0.0 else (matter,):
+    for reading in _readings(solution, matter):
         if given or a.error > tol:
             break
         both, where = confirmed_locally(solution, tol, reading)
@@ -720,6 +751,36 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
             a = replace(a, error=both, worst_state=where, worst_error=worst, confirmed=True)
             a = replace(a, time=reading.t)
     return a
+
+
+def _readings(solution, matter: _Matter):
+    """The states that matter read at t = 0, then (lazily: :func:`assess` stops where a reading
+    already exceeds its tolerance) at each of :func:`late_times`."""
+    yield matter
+    for t in late_times(solution):
+        yield matter.at(t)
+
+
+def late_times(solution) -> list[float]:
+    """The times late in a task with a horizon at which :func:`assess` also confirms a default
+    solve (:func:`confirmed_locally`): :func:`late_time`, from which the local certificate runs
+    to the horizon, and T − Δs/2, Δs the last interval between stored slices (T − Δt/2 where
+    every step is stored); none without a horizon.
+
+    Why the second: a step long against how fast the terminal cost makes v change errs most in
+    the first steps from T, and a value read between two stored slices is interpolated in time
+    (a point mass with a terminal cost only, no drift and no state cost, solved at the default
+    step T/10, is within 0.3 % at t = 0 and 13–27 % off at T − Δt/2, stranger round 21); 8 steps
+    before T that error has not yet reached the states, and on a 10-step solve T − 8Δt is early
+    in the task. At that time the solves at 2h and 4h, with their longer steps, interpolate
+    across more of the change than the solve, and the order observed from them there
+    (:meth:`EmbeddedEstimate.order_at`) says so."""
+    problem = solution.problem
+    if problem.stationary:
+        return []
+    times = solution.times
+    middle = float(times[-1] - (times[-1] - times[-2]) / 2) if len(times) > 1 else 0.0
+    return [t for t in dict.fromkeys((late_time(solution), middle)) if t > 0.0]
 
 
 def late_time(solution) -> float:

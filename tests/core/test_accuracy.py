@@ -958,3 +958,35 @@ def test_a_task_read_late_is_estimated_and_warned_where_its_exit_meets_the_horiz
     assert np.all(error > 0.15 * truth) and np.all(se < 0.01 * error)
     # the whole remaining task's certificate sees what every coarser grid shares
     assert np.all(solution.error_estimate(x, t) >= 0.5 * error)
+
+
+def test_a_step_long_against_the_terminal_cost_is_warned_in_the_last_steps(tmp_path):
+    # Stranger round 21's si2: ẋ = u in 2-D, g = 4(x₀ − 0.5)² + 2x₁², no drift and no state
+    # cost (so the default step is T/10 = 0.2), λ = 0.3, 101². Riccati is exact here: v = xᵀPx
+    # + c with P(τ) = W (I + 2Wτ)⁻¹, τ = T − t, which halves its largest entry within 0.06 of
+    # T. From t = 0 the solve is within 0.3 %; in the last step, at T − Δt/2 = 1.9, it is 13–27 %
+    # high: the first steps from T are long against that change, and 8 steps before T (t = 0.4)
+    # the error has not yet reached the states. The late check at T − Δt/2 warns.
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2, 2, 101)] * 2),
+        2.0,
+        g.Quadratic([0.5, 0.0], [4.0, 2.0]),
+        temperature=0.3,
+    )
+    with pytest.warns(g.ResolutionWarning, match=r"at t = 1\.9") as record:
+        solution = g.solve(problem)
+    assert len(record) == 1
+    x, t = np.array([[0.0, 0.0], [1.0, 1.0], [-1.5, 0.5]]), 1.9
+    exact = lq_solution(problem).value(x, t)
+    error = np.abs(solution.value(x, t) - exact)
+    assert np.all(error > 0.1 * exact)
+    assert np.all(solution.error_estimate(x, t) >= 0.5 * error)
+    # The levels' order observed there is below 1 (the solve at 2Δt errs more than twice as
+    # much), so their difference is not divided by 2^q − 1 with the order of t = 0 (1.9).
+    estimate = solution.embedded
+    assert estimate.order > 1.5 and estimate.order_at(solution, t) == 1.0
+    # The solve at 4h it is observed from is kept with the solution and saved with it.
+    back = g.load(g.save(solution, tmp_path / "late"))
+    assert back.embedded.order_at(back, t) == 1.0
+    np.testing.assert_array_equal(back.error_estimate(x, t), solution.error_estimate(x, t))
