@@ -17,7 +17,8 @@ from the three solves::
 evaluated at any states by the same interpolation as the values, with
 
 - q = p clipped to [1, 2] (the library's schemes are monotone, hence first order in general,
-  and second order at best) where the two solves differ by at most :data:`ASYMPTOTIC` relative
+  and second order at best; read at t > 0, p is observed at that time,
+  :meth:`EmbeddedEstimate.order_at`) where the two solves differ by at most :data:`ASYMPTOTIC` relative
   to the value, and q = 1 where they differ by more: a coarse solve that far from the fine one
   is outside the range where Richardson's model holds, and an order observed from it says more
   about the coarse grids than about this one (dividing by 3 there understated the error of a
@@ -95,9 +96,10 @@ lie in it, so that the paths are sampled once). A large estimate on
 too few states for the percentile warns where the grid terms and γ both exceed the tolerance
 there or at the centre of a cell around there, where an interpolated value is furthest from the
 nodes (:func:`confirmed_locally`). A solve with a horizon is also confirmed so at
-:func:`late_time`, 8 steps before T, where the local certificate certifies the remaining task
-whole: the warning judges v(x, 0), and a controller is also used late in its task. With
-``states=``, at its largest over them.
+:func:`late_times`: 8 steps before T, where the local certificate certifies the remaining task
+whole, and in the middle of the last interval between stored slices, where a step long against
+the terminal cost errs most: the warning judges v(x, 0), and a controller is also used late in
+its task. With ``states=``, at its largest over them.
 """
 
 from __future__ import annotations
@@ -369,7 +371,8 @@ class EmbeddedEstimate:
             with np.errstate(invalid="ignore"), warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # an underflowed level is left out below
                 v, v2, v4 = (s.value(X, t) for s in (solution, self.solution, self.coarser))
-            self._orders[t] = clipped_order(observed_order(np.abs(v2 - v), np.abs(v4 - v2)))
+                fine, coarse = np.abs(v2 - v), np.abs(v4 - v2)  # NaN where two underflowed
+            self._orders[t] = clipped_order(observed_order(fine, coarse))
         return self._orders[t]
 
     @property
@@ -680,11 +683,11 @@ def _judged_nodes(solution) -> np.ndarray:
     return _evenly_index(matter_mask(solution), ASSESSED)
 
 
-def relative_difference(solution, other, X: np.ndarray) -> np.ndarray:
+def relative_difference(solution, other, X: np.ndarray, t: float = 0.0) -> np.ndarray:
     """abs(v_other − v) relative to the solution's value (:func:`relative_error`) at states ``X``
-    at t = 0: the embedded estimate when ``other`` is the embedded solve."""
-    v = solution.value(X, 0.0)
-    return relative_error(np.abs(other.value(X, 0.0) - v), v, solution.temperature)
+    at time ``t``: the embedded estimate when ``other`` is the embedded solve."""
+    v = solution.value(X, t)
+    return relative_error(np.abs(other.value(X, t) - v), v, solution.temperature)
 
 
 def statistic(rel: np.ndarray, given: bool) -> float:
@@ -705,7 +708,8 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     tol : float
         The relative tolerance that ``share_above`` counts against.
     states : array_like (N, d) or (d,), optional
-        The states to judge; the statistic is then the maximum rather than the quantile.
+        The states to judge; the statistic is then the maximum rather than the quantile, over
+        t = 0 and :func:`late_times`.
 
     Returns
     -------
@@ -714,19 +718,16 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     """
     if solution.embedded is None:
         return None
-    given = states is not None
-    keep = None
-    if given:
-        X = judged_states(solution, states)
-    else:
-        keep = _judged_nodes(solution)
-        X = _nodes(solution, keep)
-    # the local certificate at the user's states; at the states that matter only where
-    # confirmed_locally checks a candidate (its paths cost more than γ's)
-    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS, local=given)
-    a = _read_at(X, rel, tol, given)
+    if states is not None:
+        return _assess_given(solution, tol, judged_states(solution, states))
+    keep = _judged_nodes(solution)
+    X = _nodes(solution, keep)
+    # the local certificate only where confirmed_locally checks a candidate (its paths cost more
+    # than γ's)
+    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS, local=False)
+    a = _read_at(X, rel, tol, False)
     problem = solution.problem
-    if keep is not None and problem.exit is None and not problem.stationary:
+    if problem.exit is None and not problem.stationary:
         # also the better half, where a finite horizon's paths end up (states_that_matter):
         # the states read above that lie in it, an evenly spaced sample of it
         held = _better_half_mask(solution)[keep]
@@ -736,14 +737,14 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
         if half.worst_error > a.worst_error:
             a = replace(a, worst_state=half.worst_state, worst_error=half.worst_error)
     matter = _Matter(solution)  # what S's maximum and the confirmation both read
-    if states is None and solution.embedded.excess is not None:
+    if solution.embedded.excess is not None:
         largest, where = largest_response(solution, matter)
         if largest > a.error:
             a = replace(a, error=largest, local=True)
         if largest > a.worst_error:
             a = replace(a, worst_state=where, worst_error=largest)
     for reading in _readings(solution, matter):
-        if given or a.error > tol:
+        if a.error > tol:
             break
         both, where = confirmed_locally(solution, tol, reading)
         if both > a.error:
@@ -781,6 +782,22 @@ def late_times(solution) -> list[float]:
     times = solution.times
     middle = float(times[-1] - (times[-1] - times[-2]) / 2) if len(times) > 1 else 0.0
     return [t for t in dict.fromkeys((late_time(solution), middle)) if t > 0.0]
+
+
+def _assess_given(solution, tol: float, X: np.ndarray) -> Assessment:
+    """:func:`assess` at the user's states ``X``: the largest estimate there, with the local
+    certificate, at t = 0 and, up to the first that exceeds ``tol``, at each of
+    :func:`late_times` (a task with a horizon is also run late, from wherever it stands)."""
+    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS)
+    a = _read_at(X, rel, tol, True)
+    for t in late_times(solution):
+        if a.error > tol:
+            break
+        rel = solution.embedded.relative(solution, X, t, samples=ASSESSED_PATHS)
+        late = _read_at(X, rel, tol, True)
+        if late.error > a.error:
+            a = replace(late, time=t)
+    return a
 
 
 def late_time(solution) -> float:
@@ -942,6 +959,11 @@ def largest_response(solution, matter: _Matter | None = None) -> tuple[float, np
     return float(rel[worst]), X[worst]
 
 
+ESTIMATE_WARNING = "the estimated error of "
+"""How :func:`check_accuracy`'s warning begins (a solve to a tolerance reads the estimate itself
+and reports it, :func:`gridlbc.accuracy.tolerance.finish`)."""
+
+
 def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) when the embedded estimate of a default solve
     exceeds ``tol`` at the states that matter (:func:`assess`).
@@ -1001,7 +1023,7 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     if getattr(solution, "average_cost", None) is not None:
         value, symbol = "the relative value h (the average cost c has its own estimate)", "h"
     warn_user(
-        f"the estimated error of {value} exceeds {tol:.0%} of |{symbol}| {where}, see "
+        f"{ESTIMATE_WARNING}{value} exceeds {tol:.0%} of |{symbol}| {where}, see "
         f"solution.error_estimate(x) at your own states.{loose} {change} (docs page 'accuracy')",
         ResolutionWarning,
     )

@@ -102,6 +102,11 @@ def _interpolant(problem, grid, x: np.ndarray) -> np.ndarray:
     return np.einsum("nv,nvk->nk", weights, drift[which.reshape(idx.shape)])
 
 
+FLOW_WARNING = "the drift changes between the nodes"
+"""How :func:`check_flow`'s warning begins (a solve to a tolerance refines its step for it and
+warns itself where it remains)."""
+
+
 def check_flow(solution) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) where the drift between the nodes carries a path
     :data:`FLOW_CELLS` of a cell or more beyond its interpolant in one step and the excess does
@@ -111,7 +116,7 @@ def check_flow(solution) -> None:
         return
     state = np.array2string(where, precision=3, separator=", ")
     warn_user(
-        f"the drift changes between the nodes near {state} where the grid does not follow it: "
+        f"{FLOW_WARNING} near {state} where the grid does not follow it: "
         f"in one step it carries a path {cells:.2g} cells beyond what its interpolant from the "
         "nodes says, and its interpolant on the grid with every other node is no worse (a gust "
         "or jet narrower than a cell). The coarser solves step over it alike, so the error "

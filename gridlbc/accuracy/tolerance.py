@@ -42,21 +42,23 @@ from .certified import (
     certified_error,
 )
 from .estimate import (
+    ESTIMATE_WARNING,
     assess,
     judged_states,
     relative_difference,
     relative_error,
     statistic,
 )
-from .flow import FLOW_CELLS, check_flow, flow_excess
+from .flow import FLOW_CELLS, FLOW_WARNING, check_flow, flow_excess
 from .grids import (
     embedded_grid,
     scaled_grid,
 )
 
 
-def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
-    """Each axis's share of the error of ``solution`` and the difference from its embedded solve.
+def axis_shares(solution, solve_on, states=None, t: float = 0.0) -> tuple[np.ndarray, float]:
+    """Each axis's share of the error of ``solution`` and the difference from its embedded solve,
+    read at time ``t`` (where :func:`assess` found the largest error).
 
     The share of axis i is the relative difference (:func:`statistic` at the judged states) from
     a solve with only that axis coarsened (every other node, ``solve_on(grid)``, which may return
@@ -79,9 +81,9 @@ def axis_shares(solution, solve_on, states=None) -> tuple[np.ndarray, float]:
         coarse = embedded_grid(grid, axes=(i,))
         other = None if coarse is None else solve_on(coarse)
         if other is not None:
-            shares[i] = statistic(relative_difference(solution, other, X), given)
-    v = solution.value(X, 0.0)
-    difference = solution.embedded.difference(solution, X, 0.0)
+            shares[i] = statistic(relative_difference(solution, other, X, t), given)
+    v = solution.value(X, t)
+    difference = solution.embedded.difference(solution, X, t)
     whole = statistic(relative_error(difference, v, solution.temperature), given)
     return shares, whole
 
@@ -228,13 +230,13 @@ class Refinement:
         )
 
 
-def _step_share(solution, problem, settings, states) -> float:
+def _step_share(solution, problem, settings, states, t: float = 0.0) -> float:
     """The step's share of the error of ``solution``: ê_t = abs(v_{h,2Δt} − v_{h,Δt}) relative to
-    v (:func:`statistic` at the judged states), from one more solve on the same grid at twice
-    the step (the error of a first-order step, or more)."""
+    v (:func:`statistic` at the judged states, time ``t``), from one more solve on the same grid
+    at twice the step (the error of a first-order step, or more)."""
     dt, steps = solution.diagnostics.dt, solution.diagnostics.steps
-    half = _march_quietly(problem, settings, 2 * dt, steps, problem.grid)
-    rel = relative_difference(solution, half, judged_states(solution, states))
+    half = _march_quietly(problem, settings, 2 * dt, steps, problem.grid, t)
+    rel = relative_difference(solution, half, judged_states(solution, states), t)
     return statistic(rel, states is not None)
 
 
@@ -363,7 +365,9 @@ def solve_to_tolerance(
     Each round solves on the current grid with the current step and reads the relative estimate
     ê (:func:`assess`). If it exceeds ``tol``, it measures the step's share ê_t = abs(v_{h,2Δt} −
     v_{h,Δt}) and each axis's share (:func:`axis_shares`: solves at the same step with one axis
-    coarsened at a time), and chooses the next grid and step:
+    coarsened at a time), both at the time where ê was read (0, or late in the task where the
+    check there found the larger error, :func:`~gridlbc.accuracy.estimate.late_times`), and
+    chooses the next grid and step:
 
     - in the model's range (:func:`unsteerable` says nothing), the factors that bring the sum of
       the shares, scaled to add up to ê and extrapolated with the observed order q for the axes
@@ -441,7 +445,7 @@ def solve_to_tolerance(
         The last solution, with :attr:`~gridlbc.Solution.refinement` (one :class:`Refinement` per
         round). A :class:`gridlbc.ResolutionWarning` says what stopped it if ``tol`` was not met.
     """
-    from ..solver import planned_step, settings_for, solve_many
+    from ..solver import planned_step, settings_for
 
     check_tolerance(tol, options)
     check_budget(max_seconds)
@@ -476,11 +480,7 @@ def solve_to_tolerance(
                 break
         started = time.perf_counter()
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore", ResolutionWarning)
-                solution = solve_many(
-                    problem, [problem.terminal_cost], base, dt=dt, error_estimate=True
-                )[0]
+            solution, round_warnings = _solve_holding(problem, base, dt)
         except MemoryError:
             if coarser is None:
                 raise
@@ -493,6 +493,7 @@ def solve_to_tolerance(
         if a is None and embedded_grid(problem.grid) is None:
             raise unestimated(problem.grid)
         error = UNPOSED if a is None else a.error  # None: refine until the coarser grid poses it
+        when = 0.0 if a is None else a.time  # where the error was read: the shares are read there
         solved = time.perf_counter() - started  # the least a round on a grid as fine takes
         held = predicted / 2 <= error <= 2 * predicted
         reach, predicted = (2 * reach if held else 2.0), np.nan
@@ -502,7 +503,7 @@ def solve_to_tolerance(
         cells, flow_order, _ = flow_excess(solution)
         flow = cells if cells >= FLOW_CELLS and not flow_order >= 1.0 else 0.0
         if error <= tol and not flow:  # confirmed by the step's own share
-            time_error = _step_share(solution, problem, base, states)
+            time_error = _step_share(solution, problem, base, states, when)
         met = (error <= tol and not flow and time_error <= tol) or certified <= tol
         done = met or len(history) >= max_refinements
         least = np.nan  # where the time left would not hold even a round like this one
@@ -512,7 +513,7 @@ def solve_to_tolerance(
             if stop:
                 done, limit, least = True, stop, solved
         if not done and error > tol:
-            time_error = _step_share(solution, problem, base, states)
+            time_error = _step_share(solution, problem, base, states, when)
         history.append(
             Refinement(
                 problem.grid.shape,
@@ -537,7 +538,7 @@ def solve_to_tolerance(
         if done:
             break
         step, steps = solution.diagnostics.dt, solution.diagnostics.steps
-        solve_on = partial(_march_quietly, problem, base, step, steps)
+        solve_on = partial(_march_quietly, problem, base, step, steps, t=when)
         embedded = solution.embedded
         shares = np.full(problem.grid.ndim, np.nan)
         factors = np.ones(problem.grid.ndim + 1)  # met but for the step or the flow: the step
@@ -549,7 +550,7 @@ def solve_to_tolerance(
             if embedded is None:
                 reason = "no estimate: the grid with every other node cannot pose the problem"
             else:
-                shares, whole = axis_shares(solution, solve_on, states)
+                shares, whole = axis_shares(solution, solve_on, states, when)
                 reason = unsteerable(embedded, error, shares, whole, time_error)
             if reason:  # every axis and the step, by 2 (the scheme's step for the finer grid)
                 factors[:] = 2.0
@@ -593,7 +594,12 @@ def solve_to_tolerance(
         finer, storage, capped = fitting_plan(
             problem, dataclasses.replace(base, dt=next_dt), factors[:-1], max_nodes
         )
-        if finer is not None and next_dt is not None:
+        if finer is not None and next_dt is None:
+            # the scheme's step for the finer grid, but at most half this one: it does not
+            # shrink with the grid where nothing sets a rate (no drift, no state cost: T/10)
+            default, _ = planned_step(finer, dataclasses.replace(storage, dt=None))
+            next_dt = min(default, step / 2)
+        if finer is not None:
             next_dt = min(next_dt, base.scheme.step_bound(finer).limit)
         seconds = time.perf_counter() - started
         history[-1] = dataclasses.replace(history[-1], wall_time=seconds)
@@ -613,13 +619,38 @@ def solve_to_tolerance(
     finish(solution, tol, history, where, limit, max_refinements, advice)
     if flow:
         check_flow(solution)
+    for caught in round_warnings:  # the last solve's own, but those its rounds read (above)
+        text = str(caught.message)
+        if not text.startswith((ESTIMATE_WARNING, FLOW_WARNING)):
+            warn_user(text, caught.category)
     return solution
 
 
-def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid):
-    """``problem`` solved on ``grid`` with step ``dt``, its warnings silenced and no estimate,
-    storing only the first and last slices (at most ``steps`` steps): a comparison solve of
-    :func:`solve_to_tolerance`, read at t = 0."""
+def _solve_holding(problem, settings, dt):
+    """One round of :func:`solve_to_tolerance`: the solve with its estimate, and its
+    :class:`gridlbc.ResolutionWarning` s held back (the last round's are told at the end, but
+    the estimate's and the drift's, which the rounds read and :func:`finish` reports); other
+    warnings pass as they come."""
+    from ..solver import solve_many
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ResolutionWarning)
+        solution = solve_many(
+            problem, [problem.terminal_cost], settings, dt=dt, error_estimate=True
+        )[0]
+    held = [w for w in caught if issubclass(w.category, ResolutionWarning)]
+    for w in caught:
+        if w not in held:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return solution, held
+
+
+def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid, t: float = 0.0):
+    """``problem`` solved on ``grid`` with step ``dt``, its warnings silenced and no estimate: a
+    comparison solve of :func:`solve_to_tolerance`, read at time ``t``. It stores only the first
+    and last slices (at most ``steps`` steps) where it is read at t = 0, its slices as
+    ``settings`` store them where it is read later (between them, as the solve it is compared
+    with)."""
     from ..solver import solve_many
 
     with warnings.catch_warnings():
@@ -630,7 +661,7 @@ def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid):
             settings,
             dt=dt,
             error_estimate=False,
-            store_every=steps,
+            store_every=steps if t == 0.0 else settings.store_every,
         )[0]
 
 

@@ -473,16 +473,21 @@ def test_tol_meets_a_step_limited_tolerance_in_the_rounds_the_model_predicts():
     # do not converge at first order (the observed order below the schemes' 1) one round refines
     # the largest shares by 2; once they do, the measured shares of a first-order error
     # (e ≈ Σ C_i h_i + C_t Δt) give the factors that put the predicted estimate at tol, and
-    # rounding to even cell counts only refines further. So one round out of range and one
-    # steered round meet tol: three solves.
+    # rounding to even cell counts only refines further. The states are judged at t = 0 and
+    # late in the task (8 steps before T and in the middle of the last step), where a step
+    # errs most: the first steered round's factors are held to the model's reach of 2, and the
+    # second meets tol. So one round out of range and two steered rounds: four solves, within
+    # tol at t = 0 and at both late times against Riccati.
     problem = lq_point_mass(41)
     solution = _quiet_solve(problem, tol=0.01, states=STATES, dt=0.5)
     rounds = solution.refinement
-    assert rounds[-1].error <= 0.01 and len(rounds) <= 3
+    assert rounds[-1].error <= 0.01 and len(rounds) <= 4
     steered = [r for r in rounds[:-1] if not r.reason]
     assert steered and len(steered[0].factors) == 3
-    true = lq_solution(solution.problem).value(STATES, 0.0)
-    assert np.max(np.abs(solution.value(STATES, 0.0) / true - 1)) <= 0.01
+    exact = lq_solution(solution.problem)
+    for t in (0.0, *accuracy.estimate.late_times(solution)):
+        true = exact.value(STATES, t)
+        assert np.max(np.abs(solution.value(STATES, t) / true - 1)) <= 0.01
 
 
 def test_certified_error_bounds_the_true_error_where_the_levels_do_not_converge():
@@ -548,25 +553,28 @@ def test_a_time_budget_stops_tol_after_the_round_that_fits_and_says_so():
 
 
 def test_tol_predicts_a_round_from_the_last_by_the_work_ratio():
-    # The prediction is the last round's wall time times the ratio of nodes × steps; the
-    # budget (2.5 s) admits the 81² round (predicted 0.23 s after 0.06 s spent here) but not
-    # the 321² round after it (predicted 15-20 s): right on machines 7× slower to 6× faster.
-    # Against the measured time of the round it predicts: within 4×, since a small round's
-    # fixed costs (first calls into the kernels, the assessments) do not scale with the work
-    # and make the prediction high, while a much larger round costs more per node-step (its
-    # arrays leave the caches: 1.3× under, from 81² to 277×321). Measured here: 0.23 s
-    # predicted, 0.25-0.31 s taken.
+    # The prediction is the last round's wall time times the ratio of nodes × steps. Here the
+    # rounds are 41² at Δt 0.1, 81² at 0.05, 161² at 0.025, then 641×161 at 0.00625: the
+    # budget (7.5 s) admits the third (predicted 1.9 s after 0.4 s spent) but not the fourth
+    # (predicted 24 s after 1.9 s spent): right on machines 3× slower to 3× faster. Against
+    # the measured time of the round it predicts: within 4× from the second round to the
+    # third, 1.9 s predicted, 1.5 s taken (from the first to the second a small round's fixed
+    # costs, the first calls into the kernels and the assessments, which do not scale with the
+    # work, make the prediction 4× high: 0.97 s for 0.24 s).
     _quiet_solve(lq_point_mass(21))  # the compiled kernels loaded before anything is timed
     told = r"next round, grid \d+×\d+ with dt [\d.]+, would take about [\d.]+ s: beyond "
-    told += r"max_seconds = 2\.5"
+    told += r"max_seconds = 7\.5"
     with pytest.warns(g.ResolutionWarning, match=told):
-        solution = g.solve(lq_point_mass(41), tol=1e-4, states=STATES, max_seconds=2.5)
-    first, second = solution.refinement[:2]
-    work = [r.shape[0] * r.shape[1] * round(1.0 / r.dt) for r in (first, second)]  # T = 1
-    assert first.predicted_seconds == pytest.approx(first.wall_time * work[1] / work[0])
-    assert second.wall_time / 4 <= first.predicted_seconds <= 4 * second.wall_time
-    assert len(solution.refinement) == 2 and solution.grid.shape == (81, 81)
-    assert second.predicted_seconds > 2.5 - first.wall_time - second.wall_time
+        solution = g.solve(lq_point_mass(41), tol=1e-4, states=STATES, max_seconds=7.5)
+    rounds = solution.refinement
+    assert len(rounds) == 3 and solution.grid.shape == (161, 161)
+    work = [r.shape[0] * r.shape[1] * round(1.0 / r.dt) for r in rounds]  # T = 1
+    for i in range(2):
+        assert rounds[i].predicted_seconds == pytest.approx(
+            rounds[i].wall_time * work[i + 1] / work[i]
+        )
+    assert rounds[2].wall_time / 4 <= rounds[1].predicted_seconds <= 4 * rounds[2].wall_time
+    assert rounds[2].predicted_seconds > 7.5 - sum(r.wall_time for r in rounds)
 
 
 @pytest.mark.parametrize("budget", [0, -1.0, float("inf"), float("nan"), "60", True])
@@ -990,3 +998,48 @@ def test_a_step_long_against_the_terminal_cost_is_warned_in_the_last_steps(tmp_p
     back = g.load(g.save(solution, tmp_path / "late"))
     assert back.embedded.order_at(back, t) == 1.0
     np.testing.assert_array_equal(back.error_estimate(x, t), solution.error_estimate(x, t))
+
+
+def test_certificates_do_not_prove_a_solve_that_misses_a_goal_narrower_than_a_cell():
+    # The corpus's goal_off8: g = 0.1|x|² + 1.5 (1 − exp(−|x − c|²/2w²)), a goal w = h/8 wide
+    # an eighth of a cell off a node, λ = 0.1, T = 1, 201². The solve misses it (15 and 23 %
+    # high at its states against the exact series), and so does its policy: certificates
+    # proposed by it agree with the solve (within 0.5 % on the 801² grid, ESS 991 of 1000),
+    # and a solve to a tolerance at those states once ended "met" on them. S, the response to
+    # the costs' excess between the nodes, sees the goal; where it exceeds tol the certificates
+    # are not asked.
+    c, w = np.array([0.3025, -0.2975]), 0.0025
+
+    def goal(x):
+        x = np.atleast_2d(x)
+        return 0.1 * np.sum(x**2, axis=1) + 1.5 * (
+            1 - np.exp(-0.5 * np.sum((x - c) ** 2, 1) / w**2)
+        )
+
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2, 2, 201)] * 2),
+        1.0,
+        goal,
+        temperature=0.1,
+    )
+    with pytest.warns(g.ResolutionWarning, match="narrower than a cell"):
+        solution = g.solve(problem)
+    X = np.array([[0.0, 0.0], [0.3, -0.3]])
+    v = solution.value(X)
+    assert np.all(solution.embedded.excess_response(X) > 0.05 * np.maximum(v, 0.1))
+    assert np.isnan(accuracy.certified_error(solution, X, 0.05))
+
+
+def test_tol_tells_the_warnings_of_the_solve_it_returns():
+    # A solve to a tolerance reads each round's estimate itself and reports the last; the other
+    # warnings of the solve it returns are told, not dropped (here the control step of
+    # Pendulum-v1 at λ = 0.2, about 90 cells per step: test_solver's premise). They once were:
+    # a late exit task met tol at its states with the plain scheme's warning that it cannot
+    # resolve the desirability silenced.
+    from gridlbc.studies.problems import pendulum_v1_problem
+
+    with pytest.warns(g.ResolutionWarning, match=r"cells per step") as record:
+        solution = g.solve(pendulum_v1_problem(101, temperature=0.2), tol=0.5)
+    assert len(solution.refinement) == 1 and solution.refinement[0].met(0.5)
+    assert not any(str(w.message).startswith("the estimated error") for w in record)

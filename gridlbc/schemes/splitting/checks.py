@@ -154,8 +154,8 @@ def check_fitted_resolution(problem: Problem, solution: Solution, diffusion: lis
         if ax.n < 4 or not np.any(np.asarray(coefficient) > 0):
             continue
         lines = np.moveaxis(grid.reshape(ell), k, -1).reshape(-1, ax.n)
-        kappa = lines[:, :-2] - 2.0 * lines[:, 1:-1] + lines[:, 2:]
-        with np.errstate(invalid="ignore"):
+        with np.errstate(invalid="ignore"):  # −inf − (−inf) where z underflowed: not judged
+            kappa = lines[:, :-2] - 2.0 * lines[:, 1:-1] + lines[:, 2:]
             jump = np.abs(np.diff(kappa, axis=1)) / (0.5 * np.abs(kappa[:, 1:] + kappa[:, :-1]) + 1)
             judged = (lines[:, 2:-1] >= top - _FIT_RELEVANT) & np.isfinite(jump)
         if np.any(judged):
