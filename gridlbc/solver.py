@@ -362,6 +362,7 @@ def solve(
     *,
     tol: float | None = None,
     states=None,
+    times=None,
     max_nodes: int | None = None,
     max_seconds: float | None = None,
     **options,
@@ -387,6 +388,10 @@ def solve(
     states : array_like (N, d), optional
         With ``tol``: the states where it must hold (default: the states that matter,
         :func:`gridlbc.accuracy.states_that_matter`).
+    times : float or sequence of float, optional
+        With ``tol`` and ``states``, for a problem with a horizon: the times in [0, T] at which
+        it must hold there (default: t = 0 and late in the task,
+        :func:`gridlbc.accuracy.estimate.late_times`).
     max_nodes : int, optional
         With ``tol``: refine the grid no further than this many nodes.
     max_seconds : float, optional
@@ -415,6 +420,8 @@ def solve(
                 "a stationary problem (horizon None or 'average') has no time step and no "
                 "time-march settings: give its options by name (rates=, linear_solver=)"
             )
+        if times is not None:
+            raise TypeError("times= applies to a problem with a horizon: this one has none")
         if tol is not None:
             return solve_stationary_to_tolerance(
                 problem, tol, states, max_nodes, max_seconds=max_seconds, **options
@@ -436,15 +443,22 @@ def solve(
         options["dt"] = dt
     if tol is not None:
         return solve_to_tolerance(
-            problem, tol, states, settings, max_nodes, max_seconds=max_seconds, **options
+            problem,
+            tol,
+            states,
+            settings,
+            max_nodes,
+            max_seconds=max_seconds,
+            times=times,
+            **options,
         )
-    _check_tolerance_options(states, max_nodes, max_seconds)
+    _check_tolerance_options(states, max_nodes, max_seconds, times)
     return solve_many(problem, [problem.terminal_cost], settings, **options)[0]
 
 
-def _check_tolerance_options(states, max_nodes, max_seconds) -> None:
+def _check_tolerance_options(states, max_nodes, max_seconds, times=None) -> None:
     """Refuse the options of a solve to a tolerance given without ``tol``."""
-    if states is not None or max_nodes is not None or max_seconds is not None:
+    if any(option is not None for option in (states, max_nodes, max_seconds, times)):
         raise TypeError(
-            "states=, max_nodes= and max_seconds= apply with tol=: give tol or drop them"
+            "states=, times=, max_nodes= and max_seconds= apply with tol=: give tol or drop them"
         )

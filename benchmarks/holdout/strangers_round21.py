@@ -107,6 +107,22 @@ RESULTS (library of commit 6918083, 2026-12-06, one thread; ``--table``/``--comp
   of 0.5, λ = 30 in 3-D, λ = 10 nonlinear: ≤ 0.8 %), 5-D single integrator without q, the
   options float32 (λ = 0.02), dt = 2× default, the "fast" preset, the average cost on the
   circle (warm, fast rotation: ≤ 0.2 %).
+
+AFTER (library of commit db1831f, the same day: a solve with a horizon is also confirmed at
+T − Δs/2, the middle of its last stored interval, and read at t > 0 the embedded difference is
+divided by 2^q − 1 with the order observed at that time, ``EmbeddedEstimate.order_at``):
+ê ≥ ½|v − v*| at 243 / 249. Silent: 6 pairs, all mechanism 2 (``opt_store19*``: only t = 0
+and T stored, read between them; a user's ``store_every``, not the default). Mechanism 1 warns
+on every entry, naming the last step (si2 near (2, −0.04) at t = 1.9; si1_long, si1_quad,
+si3_q0, sim0 likewise). Under-reads: 1 (``opt_store19_late`` (0, 0), as before). The new late
+warnings, each checked at the state and time it names (Riccati, or this round's 1-D truths):
+pm_q0 7.2 % (t = 1.92), spin 13.3 % (1.97), the "fast" preset's spin 22.6 % (1.96), lq_cold
+7.0 % and its float32 twin 7.1 % (2.92), lq_warm01 6.9 % (2.92), opt_dt5 10 % (2.85), ou1_stiff
+5.6 % (1.99), tiny_hot 35 % low (0.997), nl_hot10 68 % high (0.981), hot30_3d 27 % low (0.497):
+all true (the hot ones, quiet and within 0.8 % at t = 0, are far off in their last step);
+si5_q0 (13⁵) at (0.167, 0.167, 0, 0.167, 0.167), t = 0.95: 3.8 %, a false alarm (ê 62 %: the
+5-D estimates over-read). The "false alarm" tally of ``--table`` counts these solves, whose
+tabled states (mostly at t = 0) are within 3 %.
 """
 
 from __future__ import annotations

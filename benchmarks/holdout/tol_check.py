@@ -1,7 +1,8 @@
 """Is ``gridlbc.solve(problem, tol=...)`` honest on the hold-out corpus?
 
 For each member of ``corpus.py``: ``gridlbc.solve(member.build(), tol=TOL, max_seconds=...)``,
-either with ``states=member.states`` (``--states``) or without (the states that matter), every
+either with ``states=member.states`` (``--states``; ``times=[member.time]`` for a member read late
+in its task) or without (the states that matter), every
 warning it raises recorded (category and the first 120 characters). The value is then read at
 the member's states at ``t = member.time`` and compared with the certified optimum of
 ``truths.json`` exactly as ``run.py`` does (its :func:`run.rows_for`: the certificate
@@ -73,6 +74,8 @@ def check(member: Member, truths: dict, tol: float, states: bool, max_seconds: f
                 problem,
                 tol=tol,
                 states=member.states if states else None,
+                # a member read late is judged where it is read
+                times=[member.time] if states and member.time > 0.0 else None,
                 max_seconds=max_seconds,
             )
             seconds = time.perf_counter() - start

@@ -99,7 +99,8 @@ nodes (:func:`confirmed_locally`). A solve with a horizon is also confirmed so a
 :func:`late_times`: 8 steps before T, where the local certificate certifies the remaining task
 whole, and in the middle of the last interval between stored slices, where a step long against
 the terminal cost errs most: the warning judges v(x, 0), and a controller is also used late in
-its task. With ``states=``, at its largest over them.
+its task. With ``states=``, at its largest over them, at t = 0 and those late times (or the
+``times=`` given).
 """
 
 from __future__ import annotations
@@ -300,8 +301,11 @@ class Assessment:
         Whether ``error`` is the largest estimate that the coarser solves and the solve's own
         paths both give at a few states (:func:`confirmed_locally`), above the quantile.
     time : float
-        The time at which ``error`` was read: 0, or :func:`late_time` where the check late in
-        the task found the larger error.
+        The time at which ``error`` was read: 0, or one of :func:`late_times` (or of the user's
+        ``times``) where the reading there found the larger error.
+    late_error : float
+        At the user's states, the largest relative estimate over the times after 0 (0 where none
+        was read): certificates at t = 0 cannot vouch for those (:func:`gridlbc.accuracy.tolerance.solve_to_tolerance`).
     """
 
     error: float
@@ -313,6 +317,7 @@ class Assessment:
     half: bool = False
     confirmed: bool = False
     time: float = 0.0
+    late_error: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -698,7 +703,7 @@ def statistic(rel: np.ndarray, given: bool) -> float:
     return float(rel.max()) if given else float(np.quantile(rel, QUANTILE))
 
 
-def assess(solution, tol: float, states=None) -> Assessment | None:
+def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
     """Read the embedded estimate of ``solution`` at ``states`` (default: :func:`states_that_matter`).
 
     Parameters
@@ -709,7 +714,9 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
         The relative tolerance that ``share_above`` counts against.
     states : array_like (N, d) or (d,), optional
         The states to judge; the statistic is then the maximum rather than the quantile, over
-        t = 0 and :func:`late_times`.
+        ``times``.
+    times : sequence of float, optional
+        With ``states``: the times at which they are judged (default: 0 and :func:`late_times`).
 
     Returns
     -------
@@ -719,7 +726,7 @@ def assess(solution, tol: float, states=None) -> Assessment | None:
     if solution.embedded is None:
         return None
     if states is not None:
-        return _assess_given(solution, tol, judged_states(solution, states))
+        return _assess_given(solution, tol, judged_states(solution, states), times)
     keep = _judged_nodes(solution)
     X = _nodes(solution, keep)
     # the local certificate only where confirmed_locally checks a candidate (its paths cost more
@@ -784,20 +791,18 @@ def late_times(solution) -> list[float]:
     return [t for t in dict.fromkeys((late_time(solution), middle)) if t > 0.0]
 
 
-def _assess_given(solution, tol: float, X: np.ndarray) -> Assessment:
+def _assess_given(solution, tol: float, X: np.ndarray, times=None) -> Assessment:
     """:func:`assess` at the user's states ``X``: the largest estimate there, with the local
-    certificate, at t = 0 and, up to the first that exceeds ``tol``, at each of
-    :func:`late_times` (a task with a horizon is also run late, from wherever it stands)."""
-    rel = solution.embedded.relative(solution, X, samples=ASSESSED_PATHS)
-    a = _read_at(X, rel, tol, True)
-    for t in late_times(solution):
-        if a.error > tol:
-            break
+    certificate, over ``times`` (default: t = 0 and :func:`late_times`, since a task with a
+    horizon is also run late, from wherever it stands), and the largest over those after 0."""
+    times = (0.0, *late_times(solution)) if times is None else tuple(times)
+    readings = []
+    for t in times:
         rel = solution.embedded.relative(solution, X, t, samples=ASSESSED_PATHS)
-        late = _read_at(X, rel, tol, True)
-        if late.error > a.error:
-            a = replace(late, time=t)
-    return a
+        readings.append(replace(_read_at(X, rel, tol, True), time=t))
+    a = max(readings, key=lambda reading: reading.error)
+    late = [reading.error for reading in readings if reading.time > 0.0]
+    return replace(a, late_error=max(late, default=0.0))
 
 
 def late_time(solution) -> float:

@@ -358,6 +358,7 @@ def solve_to_tolerance(
     max_nodes: int | None = None,
     max_refinements: int = 8,
     max_seconds: float | None = None,
+    times=None,
     **options,
 ):
     """Solve ``problem`` again and again until the embedded estimate meets ``tol``.
@@ -422,6 +423,9 @@ def solve_to_tolerance(
         The relative tolerance on v (see :func:`relative_error`), in (0, 1).
     states : array_like (N, d), optional
         Where the tolerance must hold; default :func:`states_that_matter` (at :data:`QUANTILE`).
+    times : sequence of float, optional
+        With ``states``: the times in [0, T] at which it must hold there (default: 0 and
+        :func:`~gridlbc.accuracy.estimate.late_times`, late in the task where a step errs most).
     settings : SolverSettings or str, optional
         As for :func:`gridlbc.solve`.
     max_nodes : int, optional
@@ -449,6 +453,7 @@ def solve_to_tolerance(
 
     check_tolerance(tol, options)
     check_budget(max_seconds)
+    times = judged_times(problem, states, times)
     clock = time.perf_counter()
     base = settings_for(problem, settings, options)
     dt = base.dt
@@ -489,7 +494,7 @@ def solve_to_tolerance(
             problem, dt = coarser[0], coarser[1] / 2
             coarser = None
             continue
-        a = assess(solution, tol, states)
+        a = assess(solution, tol, states, times)
         if a is None and embedded_grid(problem.grid) is None:
             raise unestimated(problem.grid)
         error = UNPOSED if a is None else a.error  # None: refine until the coarser grid poses it
@@ -498,7 +503,8 @@ def solve_to_tolerance(
         held = predicted / 2 <= error <= 2 * predicted
         reach, predicted = (2 * reach if held else 2.0), np.nan
         time_error = certified = np.nan
-        if error > tol and certifiable(solution, states):
+        # certificates read t = 0: they cannot vouch for an estimate late in the task
+        if error > tol and a is not None and a.late_error <= tol and certifiable(solution, states):
             certified = certified_error(solution, judged_states(solution, states), tol)
         cells, flow_order, _ = flow_excess(solution)
         flow = cells if cells >= FLOW_CELLS and not flow_order >= 1.0 else 0.0
@@ -624,6 +630,25 @@ def solve_to_tolerance(
         if not text.startswith((ESTIMATE_WARNING, FLOW_WARNING)):
             warn_user(text, caught.category)
     return solution
+
+
+def judged_times(problem, states, times) -> tuple[float, ...] | None:
+    """``times`` checked (:func:`solve_to_tolerance`): a non-empty sequence of times in [0, T],
+    given with ``states``; None where not given."""
+    if times is None:
+        return None
+    if states is None:
+        raise TypeError(
+            "times= says when the given states= are judged: give states too (without them a "
+            "solve is judged at the states that matter at t = 0 and late in the task)"
+        )
+    out = tuple(float(t) for t in np.atleast_1d(np.asarray(times, dtype=float)))
+    horizon = problem.require_horizon("times=")
+    if not out or not all(0.0 <= t <= horizon for t in out):
+        raise ValueError(
+            f"times must be one or more times in [0, T] = [0, {horizon:g}], got {times!r}"
+        )
+    return out
 
 
 def _solve_holding(problem, settings, dt):

@@ -1043,3 +1043,17 @@ def test_tol_tells_the_warnings_of_the_solve_it_returns():
         solution = g.solve(pendulum_v1_problem(101, temperature=0.2), tol=0.5)
     assert len(solution.refinement) == 1 and solution.refinement[0].met(0.5)
     assert not any(str(w.message).startswith("the estimated error") for w in record)
+
+
+def test_times_say_when_the_given_states_are_judged():
+    problem = lq_point_mass(21)
+    with pytest.raises(TypeError, match="give states too"):
+        g.solve(problem, tol=0.05, times=[0.5])
+    with pytest.raises(ValueError, match=r"times must be one or more times in \[0, T\]"):
+        g.solve(problem, tol=0.05, states=STATES, times=[1.5])
+    with pytest.raises(TypeError, match="apply with tol="):
+        g.solve(problem, states=STATES, times=[0.5])
+    # judged where asked: the assessment's reading is at one of the given times
+    solution = _quiet_solve(problem, tol=0.5, states=STATES, times=[0.25, 0.75])
+    a = accuracy.assess(solution, 0.5, STATES, times=[0.25, 0.75])
+    assert a.time in (0.25, 0.75) and a.late_error == a.error
