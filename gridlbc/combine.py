@@ -223,7 +223,9 @@ def combined_error(components, alpha: np.ndarray, x, t) -> np.ndarray:
             "their error separately, e.g. with gridlbc.certify"
         )
     estimates = np.stack([np.atleast_1d(c.error_estimate(x, t)) for c in components], axis=1)
-    return np.sum(np.abs(alpha) * estimates, axis=1)
+    with np.errstate(invalid="ignore"):  # 0 · inf where a component without weight underflowed
+        carried = np.where(alpha == 0.0, 0.0, np.abs(alpha) * estimates)
+    return np.sum(carried, axis=1)
 
 
 @dataclass(frozen=True, eq=False)
