@@ -241,44 +241,44 @@ def write(solution: Solution, path, annotations: dict | None = None) -> Path:
     }
     estimate = solution.embedded
     if estimate is not None:  # the error estimate's coarse solve, under its own prefix
-        inner: dict = {}
         meta["embedded"] = {
-            **_record(estimate.solution, inner),
+            **_record_under(estimate.solution, EMBEDDED, arrays),
             "observed_order": None
             if np.isnan(estimate.observed_order)
             else estimate.observed_order,
             "order": estimate.order,
             "floor": estimate.floor,
         }
-        arrays.update({EMBEDDED + k: v for k, v in inner.items()})
         if estimate.coarser is not None:
-            held: dict = {}
-            meta["embedded"]["coarser"] = _record(estimate.coarser, held)
-            arrays.update({COARSER + k: v for k, v in held.items()})
+            meta["embedded"]["coarser"] = _record_under(estimate.coarser, COARSER, arrays)
         if estimate.pair is not None:
-            records: list = []
-            for prefix, side in zip(PAIR, estimate.pair, strict=True):
-                if side is estimate.solution:
-                    records.append("embedded")
-                    continue
-                held = {}
-                records.append(_record(side, held))
-                arrays.update({prefix + k: v for k, v in held.items()})
-            meta["embedded"]["pair"] = records
+            meta["embedded"]["pair"] = [
+                "embedded" if side is estimate.solution else _record_under(side, prefix, arrays)
+                for prefix, side in zip(PAIR, estimate.pair, strict=True)
+            ]
         response = estimate.excess
         if response is not None:
             meta["embedded"]["excess"] = {"bound": response.bound}
             for prefix, key in zip(EXCESS, ("raised", "base"), strict=True):
-                held = {}
                 side = getattr(response, key)
-                meta["embedded"]["excess"][key] = None if side is None else _record(side, held)
-                arrays.update({prefix + k: v for k, v in held.items()})
+                meta["embedded"]["excess"][key] = (
+                    None if side is None else _record_under(side, prefix, arrays)
+                )
     if annotations is not None:
         meta["annotations"] = annotations
     arrays["metadata"] = np.array(json.dumps(meta))
     with open(path, "wb") as f:
         np.savez(f, **arrays)
     return path
+
+
+def _record_under(solution: Solution, prefix: str, arrays: dict) -> dict:
+    """:func:`_record` of a solution the saved one carries, its arrays put into ``arrays`` under
+    ``prefix``."""
+    held: dict = {}
+    record = _record(solution, held)
+    arrays.update({prefix + k: v for k, v in held.items()})
+    return record
 
 
 def _record(solution: Solution, arrays: dict) -> dict:

@@ -300,6 +300,16 @@ class Solution(FieldEvaluation):
         """
         return -self.temperature * self.log_desirability_nodes(j)
 
+    def better_half(self) -> np.ndarray:
+        """The flat mask of the nodes whose value at t = 0 is finite and at most its median over
+        them: where a controlled process spends its time (the error estimate's judged states
+        and the control-step check read it; docs page :doc:`accuracy`)."""
+        v = self.value_nodes(0)
+        chosen = np.isfinite(v)
+        if chosen.any():
+            chosen &= v <= np.median(v[chosen])
+        return chosen
+
     # -- evaluation anywhere --------------------------------------------------------------------
 
     def _input_matrix_at(self, nodes: np.ndarray) -> np.ndarray:

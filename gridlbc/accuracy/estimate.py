@@ -199,16 +199,7 @@ def better_half(solution, limit: int = SAMPLE) -> np.ndarray:
     """The nodes whose value at t = 0 is finite and at most the median over the grid, ``(M, d)``
     (at most ``limit`` of them, evenly spaced): where a controlled process without an exit set
     spends its time, and where a finite-horizon task's paths end up."""
-    return _evenly(solution, _better_half_mask(solution), limit)
-
-
-def _better_half_mask(solution) -> np.ndarray:
-    """The flat mask of the nodes whose value at t = 0 is finite and at most the median."""
-    v = solution.value_nodes(0)
-    chosen = np.isfinite(v)
-    if chosen.any():
-        chosen &= v <= np.median(v[chosen])
-    return chosen
+    return _evenly(solution, solution.better_half(), limit)
 
 
 def states_that_matter(solution, limit: int = SAMPLE) -> np.ndarray:
@@ -250,7 +241,7 @@ def matter_mask(solution) -> np.ndarray:
     """The flat mask of the nodes among which :func:`states_that_matter` are chosen."""
     problem = solution.problem
     if problem.exit is None and problem.stationary:
-        return _better_half_mask(solution)
+        return solution.better_half()
     return _finite_off_exit(solution)
 
 
@@ -737,7 +728,7 @@ def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
     if problem.exit is None and not problem.stationary:
         # also the better half, where a finite horizon's paths end up (states_that_matter):
         # the states read above that lie in it, an evenly spaced sample of it
-        held = _better_half_mask(solution)[keep]
+        held = solution.better_half()[keep]
         half = _read_at(X[held], rel[held], tol, False)
         if half.error > a.error:
             a = replace(half, half=True)
