@@ -234,7 +234,8 @@ class Solution(FieldEvaluation):
         :doc:`accuracy`): the Richardson estimate ``abs(v_2h(x, t) − v(x, t)) / (2^q − 1)``
         from the embedded solve (grid spacing 2h, step 2Δt) with the observed order q where the
         two are close (1 elsewhere), at least the difference between the solves on the pair of
-        :func:`gridlbc.accuracy.phase_pair` (which sees features between nodes), at least
+        :func:`gridlbc.accuracy.phase_pair` (which sees features between nodes; solved where
+        the problem may have one, :func:`gridlbc.accuracy.reads_pair`), at least
         the typical relative error (:class:`gridlbc.accuracy.EmbeddedEstimate`), at least what
         the costs' excess between the nodes changes in the embedded solve (a goal or a well
         narrower than a cell: :mod:`gridlbc.accuracy.subcell`), and at least the cost that the

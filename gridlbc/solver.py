@@ -29,6 +29,8 @@ from .accuracy import (
     attach_estimates,
     check_flow,
     embedded_solves,
+    pair_solves,
+    reads_pair,
     responses,
     solve_to_tolerance,
 )
@@ -269,9 +271,10 @@ def _exit_settings(s: SolverSettings, explicit: bool, fitting="auto") -> SolverS
 
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
     """Attach to each solution its embedded solve (the same problem on the grid with every other
-    node, step 2Δt), the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step
-    2Δt), the observed order from a third solve at 4h, 4Δt, and the response of the embedded grid's
-    plain-scheme solves to the costs' sub-cell excess (:func:`gridlbc.accuracy.responses`), and
+    node, step 2Δt), the observed order from a third solve at 4h, 4Δt, the response of the embedded
+    grid's plain-scheme solves to the costs' sub-cell excess (:func:`gridlbc.accuracy.responses`)
+    and, where a feature narrower than a cell asks for it (:func:`gridlbc.accuracy.reads_pair`),
+    the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step 2Δt); and
     warn where the estimate exceeds the default tolerance, or where none could be made
     (:func:`gridlbc.accuracy.embedded_solves`), and where the drift changes between the nodes
     faster than the grid follows (:func:`gridlbc.accuracy.check_flow`). The embedded solves' own
@@ -291,8 +294,8 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             )
 
     fine = problem.require_grid("an embedded solve")
-    levels, pairs, reason = embedded_solves(fine, solve_on)
-    excess = None
+    levels, reason = embedded_solves(fine, solve_on)
+    excess = pairs = None
     if levels:
         coarse = levels[0][0].grid
         plain = dataclasses.replace(s, fitting=None)  # why: subcell.responses
@@ -302,6 +305,8 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             coarse,
             lambda on, costs: solve_on(coarse, 2, on, costs, plain),
         )
+        if reads_pair(solutions[0], excess):
+            pairs = pair_solves(fine, levels[0], solve_on)
     attach_estimates(solutions, levels, pairs, excess, reason)
     check_flow(solutions[0])  # the drift is the problem's: one look for all its solutions
 

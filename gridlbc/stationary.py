@@ -67,7 +67,9 @@ from .accuracy import (
     finish,
     limiting_axes,
     over_budget,
+    pair_solves,
     predicted_seconds,
+    reads_pair,
     refined_grid,
     responses,
     scalar_estimate,
@@ -1037,14 +1039,18 @@ def _embed(problem: Problem, s: StationarySettings, solution: StationarySolution
 
 def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) -> None:
     """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
-    and exit cost on the grids with every other node (2h and 4h) and the pair, and the embedded
-    solve's response to the exit costs' sub-cell excess (:func:`gridlbc.accuracy.responses`);
-    and warn where an estimate exceeds the default tolerance, or where none could be made."""
-    levels, pairs, reason = _levels(problem, lambda p: solve_first_exit_many(p, exit_costs, s))
-    excess = None
+    and exit cost on the grids with every other node (2h and 4h), the embedded solve's response
+    to the exit costs' sub-cell excess (:func:`gridlbc.accuracy.responses`) and, where a feature
+    narrower than a cell asks for it (:func:`gridlbc.accuracy.reads_pair`), the pair; and warn
+    where an estimate exceeds the default tolerance, or where none could be made."""
+
+    def solve(on: Problem) -> list:
+        return solve_first_exit_many(on, exit_costs, s)
+
+    levels, reason = _levels(problem, solve)
+    excess = pairs = None
     if levels:
         coarse = levels[0][0].grid
-
         excess = responses(
             problem,
             exit_costs,
@@ -1052,6 +1058,7 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
             lambda on, costs: _quietly(solve_first_exit_many, on.replace(grid=coarse), costs, s),
             levels[0],  # the same solve: its base
         )
+        pairs = _pair(problem, solve, solutions[0], levels[0], excess)
     attach_estimates(solutions, levels, pairs, excess, reason)
 
 
@@ -1062,9 +1069,13 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
     between the nodes, :func:`gridlbc.accuracy.responses`) and of its average cost c
     (``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h
     and 4h, γ_c and S_c); warn where either exceeds the default tolerance."""
-    levels, pairs, reason = _levels(problem, lambda p: [solve_average_cost(p, s)])
+
+    def solve(on: Problem) -> list:
+        return [solve_average_cost(on, s)]
+
+    levels, reason = _levels(problem, solve)
     if not levels:
-        attach_estimates([solution], levels, pairs, reason=reason)
+        attach_estimates([solution], levels, reason=reason)
         return
     coarse = levels[0][0].grid
     (moved,) = responses(
@@ -1074,6 +1085,7 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
         lambda on, _: [_quietly(solve_average_cost, on.replace(grid=coarse), s)],
         levels[0],  # the same solve: its base
     )
+    pairs = _pair(problem, solve, solution, levels[0], [moved])
     attach_estimates([solution], levels, pairs, [moved], reason=reason)
     response = 0.0  # S_c: what the excess moves c by on the embedded grid
     if moved.raised is not None and moved.base is not None:
@@ -1096,16 +1108,33 @@ def _average_cost(solution) -> float:
     return c
 
 
-def _levels(problem: Problem, solve) -> tuple[list, list | None, str]:
+def _levels(problem: Problem, solve) -> tuple[list, str]:
     """``solve(problem on the grid)`` on the grids of :func:`~gridlbc.accuracy.embedded_solves`
-    (2h, 4h and the pair), their own warnings silenced; fewer levels where a grid is too coarse
-    to embed or the problem is not posed that coarsely (an exit set the coarse grid misses: the
-    reason is returned, and the estimate warns of it)."""
+    (2h and 4h), their own warnings silenced; fewer levels where a grid is too coarse to embed
+    or the problem is not posed that coarsely (an exit set the coarse grid misses: the reason is
+    returned, and the estimate warns of it)."""
+    return embedded_solves(problem.require_grid("an embedded solve"), _on_grids(problem, solve))
+
+
+def _pair(problem: Problem, solve, solution, embedded, excess) -> list | None:
+    """``solve(problem on the grid)`` on the pair of :func:`~gridlbc.accuracy.phase_pair` where
+    the estimate of ``solution`` reads it (:func:`~gridlbc.accuracy.reads_pair`, with the
+    costs' ``excess`` responses), their warnings silenced; None elsewhere."""
+    if not reads_pair(solution, excess):
+        return None
+    return pair_solves(
+        problem.require_grid("an embedded solve"), embedded, _on_grids(problem, solve)
+    )
+
+
+def _on_grids(problem: Problem, solve):
+    """``solve`` of ``problem`` moved to a grid (the step factor of a time march is not used),
+    its warnings silenced."""
 
     def solve_on(grid: Grid, factor: int):
         return _quietly(solve, problem.replace(grid=grid))
 
-    return embedded_solves(problem.require_grid("an embedded solve"), solve_on)
+    return solve_on
 
 
 def _quietly(solve, *args):

@@ -34,7 +34,11 @@ embedded grid misses a narrow feature midway between two nodes by as much as the
 the pair's difference is what sees that error; it is how far a coarse solve moves with where its
 nodes fall, not a difference between h and 2h, so it is not divided by 2^q − 1. The pair costs
 one or two more coarse solves (one where every axis has an odd cell count: its first grid is
-then the embedded one).
+then the embedded one), and is solved only where the problem may have a feature narrower than
+a cell (:func:`~gridlbc.accuracy.flow.reads_pair`: costs with an excess between the nodes, an
+exit set, a drift or a noise whose interpolation error does not converge at first order on
+the grids the estimate reads); with smooth costs and coefficients its difference is of the
+order of the embedded one.
 
 The estimate is also at least abs(γ(x, t)), the cost that the grid's interpolants of q and g add
 along the solve's own paths (:mod:`gridlbc.accuracy.paths`): it sees a cost narrower than a cell

@@ -32,12 +32,15 @@ the scheme's business, which the embedded estimate measures.
 
 from __future__ import annotations
 
+from itertools import pairwise
+
 import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
 from ..interpolate import barycentric
 from .estimate import observed_order, states_that_matter
 from .grids import embedded_grid
+from .paths import ROUNDING
 
 FLOW_SAMPLES = 1 << 14
 """States at which :func:`flow_excess` compares the drift with its interpolants."""
@@ -74,32 +77,92 @@ def flow_excess(solution, samples: int = FLOW_SAMPLES) -> tuple[float, float, np
         The state where F is largest (NaN where there is none).
     """
     problem, grid = solution.problem, solution.grid
-    nodes = states_that_matter(solution)
-    if len(nodes) == 0 or solution.diagnostics.dt <= 0:
+    x = _around(solution, samples)
+    if len(x) == 0 or solution.diagnostics.dt <= 0:
         return 0.0, np.nan, np.full(grid.ndim, np.nan)
-    rng = np.random.default_rng(SEED)
     h = np.asarray(grid.spacing, dtype=float)
-    x = nodes[rng.integers(len(nodes), size=samples)]
-    x = grid.clamp(x + (2.0 * rng.random(x.shape) - 1.0) * h)
-    drift = np.asarray(problem.system.drift(x), dtype=float)
-    excess = np.abs(drift - _interpolant(problem, grid, x))
+    drift = problem.system.drift
+    exact = np.asarray(drift(x), dtype=float)
+    excess = np.abs(exact - _interpolant(drift, grid, x))
     cells = (excess * solution.diagnostics.dt / h).max(axis=1)
     worst = int(np.argmax(cells))
     coarse = embedded_grid(grid)
     order = np.nan
     if coarse is not None:
-        coarser = np.abs(drift - _interpolant(problem, coarse, x))
+        coarser = np.abs(exact - _interpolant(drift, coarse, x))
         order = observed_order(excess.sum(axis=1), coarser.sum(axis=1))
     return float(cells[worst]), order, x[worst]
 
 
-def _interpolant(problem, grid, x: np.ndarray) -> np.ndarray:
-    """(I a)(x): the drift at the vertices of each state's simplex on ``grid``, weighted (the
-    drift evaluated once at each vertex that the simplices share)."""
+def follows_coefficients(solution, samples: int = FLOW_SAMPLES) -> bool:
+    """Whether the grid of ``solution`` and the coarser grids its estimate reads (spacings 2h and
+    4h, :func:`~gridlbc.accuracy.embedded_grid`) follow the drift a and the noise's variances
+    diag Σ between their nodes: at the states :func:`flow_excess` samples, the interpolation
+    error of each converges at first order or better from 4h to 2h and from 2h to h (the
+    observed order at least 1, as the estimate asks of its own levels), or is rounding at the
+    finer of the two (an affine drift, constant noise).
+
+    Where it does not, a coefficient changes within a cell of one of the grids (a gust, a jet, a
+    noise that switches): the solves on those grids depend on where their nodes fall, and the
+    embedded solve may be outside the range where Richardson's comparison holds even where the
+    grid itself resolves the feature (a gust 0.02 wide on a grid of spacing 0.025: the
+    interpolation errors shrink at order 2 from 2h to h and at 0.5 from 4h to 2h)."""
+    x = _around(solution, samples)
+    if len(x) == 0:
+        return True
+    problem, levels = solution.problem, [solution.grid]
+    while len(levels) < 3 and (coarse := embedded_grid(levels[-1])) is not None:
+        levels.append(coarse)
+    for f in (problem.system.drift, problem.noise_diagonal):
+        exact = np.asarray(f(x), dtype=float)
+        rounding = ROUNDING * float(np.abs(exact).sum())
+        errors = [np.abs(exact - _interpolant(f, level, x)).sum(axis=1) for level in levels]
+        for fine, coarse in pairwise(errors):
+            if fine.sum() > rounding and observed_order(fine, coarse) < 1.0:
+                return False
+    return True
+
+
+def reads_pair(solution, responses) -> bool:
+    """Whether the error estimate of ``solution`` reads the pair of grids
+    (:func:`~gridlbc.accuracy.phase_pair`, docs page :doc:`accuracy`, "Features between nodes"):
+    where the problem may have a feature narrower than a cell, whose error depends on where the
+    nodes fall, which the embedded grid, every other node of the grid, can miss alike. That is,
+    where the costs have an excess between the nodes that a coarse solve was run to respond to
+    (one of ``responses``, the :class:`~gridlbc.accuracy.subcell.Response` of each cost, has
+    its raised solve), where there is an exit set (its boundary falls between the nodes), and
+    where the grids do not follow the drift or the noise (:func:`follows_coefficients`).
+    Elsewhere, with smooth costs and coefficients, the pair's difference is of the order of the
+    embedded one, and its coarse solves are saved."""
+    if solution.problem.exit is not None:
+        return True
+    if any(response.raised is not None for response in responses or ()):
+        return True
+    return not follows_coefficients(solution)
+
+
+def _around(solution, samples: int) -> np.ndarray:
+    """``samples`` states around the :func:`~gridlbc.accuracy.states_that_matter`: a node drawn
+    from them, then an offset uniform within a cell along each axis (a fixed seed), ``(M, d)``;
+    none where there are none."""
+    grid = solution.grid
+    nodes = states_that_matter(solution)
+    if len(nodes) == 0:
+        return nodes
+    rng = np.random.default_rng(SEED)
+    h = np.asarray(grid.spacing, dtype=float)
+    x = nodes[rng.integers(len(nodes), size=samples)]
+    return grid.clamp(x + (2.0 * rng.random(x.shape) - 1.0) * h)
+
+
+def _interpolant(f, grid, x: np.ndarray) -> np.ndarray:
+    """(I f)(x): ``f`` (states ``(n, d)`` → ``(n, k)``, the drift or the noise's variances) at
+    the vertices of each state's simplex on ``grid``, weighted (evaluated once at each vertex
+    that the simplices share)."""
     idx, weights = barycentric(grid, x)
     vertices, which = np.unique(idx, return_inverse=True)
-    drift = np.asarray(problem.system.drift(grid.node_coordinates(vertices)), dtype=float)
-    return np.einsum("nv,nvk->nk", weights, drift[which.reshape(idx.shape)])
+    values = np.asarray(f(grid.node_coordinates(vertices)), dtype=float)
+    return np.einsum("nv,nvk->nk", weights, values[which.reshape(idx.shape)])
 
 
 FLOW_WARNING = "the drift changes between the nodes"

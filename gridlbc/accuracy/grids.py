@@ -71,29 +71,26 @@ def phase_pair(grid: Grid) -> tuple[Grid, Grid] | None:
     return Grid(pair[0]), Grid(pair[1])
 
 
-def embedded_solves(fine: Grid, solve) -> tuple[list, list | None, str]:
+def embedded_solves(fine: Grid, solve) -> tuple[list, str]:
     """The solves an estimate reads: ``solve(grid, factor)`` on the embedded grid (spacing 2h,
-    ``factor`` 2: the step is doubled with the spacing), on the one below it (4h, ``factor`` 4),
-    and on the pair of :func:`phase_pair` (``factor`` 2; the embedded solve itself where the
-    pair's first grid is the embedded one).
+    ``factor`` 2: the step is doubled with the spacing) and on the one below it (4h, ``factor``
+    4).
 
     A solve that raises ValueError (the problem cannot be posed that coarsely: an exit set that
     holds no node of the coarser grid) or :class:`gridlbc.ConvergenceError` (its iterative
-    solve did not converge that coarsely) ends the levels there, and the pair is not solved:
-    an estimate's coarse solve never fails the solve it checks.
+    solve did not converge that coarsely) ends the levels there: an estimate's coarse solve
+    never fails the solve it checks.
 
     Returns
     -------
     levels : list
         The solves at 2h and 4h, as far as the grids and the problem allow (empty: no estimate).
-    pair : list of two, or None
-        The pair's solves; None where the grid is too coarse for it or a level is missing.
     reason : str
         Why there is no level although the grid could be embedded ("" otherwise).
     """
     levels: list = []
     reason = ""
-    embedded = grid = embedded_grid(fine)
+    grid = embedded_grid(fine)
     for factor in (2, 4):
         if grid is None:
             break
@@ -116,13 +113,24 @@ def embedded_solves(fine: Grid, solve) -> tuple[list, list | None, str]:
                 )
             break
         grid = embedded_grid(grid)
-    pair = phase_pair(fine) if len(levels) else None
+    return levels, reason
+
+
+def pair_solves(fine: Grid, embedded, solve) -> list | None:
+    """``solve(grid, 2)`` on each grid of :func:`phase_pair` (step 2Δt), the ``embedded`` solve
+    itself where the pair's first grid is the embedded one; None where the grid is too coarse
+    for the pair or a solve raises ValueError or :class:`gridlbc.ConvergenceError` (as in
+    :func:`embedded_solves`, the estimate's solves never fail the solve they check).
+
+    The estimate reads the pair only where the problem has a feature whose error depends on
+    where the nodes fall (:func:`gridlbc.accuracy.reads_pair`)."""
+    pair = phase_pair(fine)
     if pair is None:
-        return levels, None, reason
+        return None
     try:
-        return levels, [levels[0] if c == embedded else solve(c, 2) for c in pair], reason
+        return [embedded if c == embedded_grid(fine) else solve(c, 2) for c in pair]
     except (ValueError, ConvergenceError):
-        return levels, None, reason
+        return None
 
 
 def refined_grid(grid: Grid, axes=None, factor: int = 2) -> Grid:

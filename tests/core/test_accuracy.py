@@ -16,6 +16,7 @@ from conftest import lq_point_mass
 import gridlbc as g
 from gridlbc import accuracy
 from gridlbc.reference import lq_solution
+from gridlbc.studies.problems import mild_pendulum_problem
 
 STATES = np.array([[1.0, -0.5], [-1.5, 1.0], [0.5, 1.5]])
 
@@ -621,6 +622,28 @@ def _gust_problem(width):
     )
 
 
+def test_the_pair_is_solved_where_a_feature_may_lie_between_the_nodes():
+    # reads_pair: the gust 0.02 wide on 161 nodes (h = 0.025) is followed from 2h to h (its
+    # interpolation error shrinks at order 2) but not from 4h to 2h (order 0.5), so the
+    # embedded solve does not resolve it and the pair is read; on 345 nodes every level follows
+    # it. A smooth drift (the pendulum's sin θ), an affine one with a quadratic cost (the LQ
+    # point mass, whose interpolants are exact) read no pair; an exit set always does.
+    def solved(problem, n):
+        grid = g.Grid([g.Axis(-2.0, 2.0, n)])
+        return g.solve(problem.replace(grid=grid), error_estimate=False)
+
+    gust = _gust_problem(0.02)
+    assert not accuracy.follows_coefficients(solved(gust, 161))
+    assert accuracy.reads_pair(solved(gust, 161), [])
+    assert accuracy.follows_coefficients(solved(gust, 345))
+    pendulum = g.solve(mild_pendulum_problem(), error_estimate=False)
+    assert accuracy.follows_coefficients(pendulum)
+    assert not accuracy.reads_pair(pendulum, [])
+    assert _quiet_solve(lq_point_mass(21)).embedded.pair is None
+    door = lq_point_mass(21).replace(exit=lambda x: x[:, 0] >= 1.5, exit_cost=0.0)
+    assert _quiet_solve(door).embedded.pair is not None
+
+
 def test_a_gust_narrower_than_a_cell_between_the_nodes_warns():
     # A gust 0.4 cells wide midway between two nodes (stranger round 13's hz_headwind, in 1-D):
     # the default step (0.15) carries a path 13 cells beyond the drift's interpolant, and the
@@ -657,10 +680,16 @@ def test_a_coarse_solve_that_does_not_converge_ends_the_levels_without_failing_t
 
         return solve
 
-    levels, pair, reason = accuracy.embedded_solves(fine, failing_at(4))
+    levels, reason = accuracy.embedded_solves(fine, failing_at(4))
     assert levels == [(17, 17)] and reason == ""
-    levels, pair, reason = accuracy.embedded_solves(fine, failing_at(2))
-    assert levels == [] and pair is None and "did not converge" in reason
+    levels, reason = accuracy.embedded_solves(fine, failing_at(2))
+    assert levels == [] and "did not converge" in reason
+    # the pair likewise: None where one of its solves fails; on an even cell count (32) both of
+    # its grids are solved, on an odd one (31) the first is the embedded grid, whose solve it keeps
+    assert accuracy.pair_solves(fine, "embedded", failing_at(2)) is None
+    assert accuracy.pair_solves(fine, "embedded", failing_at(4)) == [(16, 16), (18, 18)]
+    odd = g.Grid([g.Axis(0.0, 1.0, 32)] * 2)
+    assert accuracy.pair_solves(odd, "embedded", failing_at(4)) == ["embedded", (17, 17)]
 
 
 HEADWIND_STATES = np.array([[-1.0], [-0.3]])
