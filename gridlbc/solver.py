@@ -27,6 +27,7 @@ import numpy as np
 
 from .accuracy import (
     attach_estimates,
+    check_exit,
     check_flow,
     embedded_solves,
     pair_solves,
@@ -277,7 +278,8 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step 2Δt); and
     warn where the estimate exceeds the default tolerance, or where none could be made
     (:func:`gridlbc.accuracy.embedded_solves`), and where the drift changes between the nodes
-    faster than the grid follows (:func:`gridlbc.accuracy.check_flow`). The embedded solves' own
+    faster than the grid follows (:func:`gridlbc.accuracy.check_flow`) or the exit set has a part
+    that no node holds (:func:`gridlbc.accuracy.check_exit`). The embedded solves' own
     warnings are not the user's: they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
@@ -309,6 +311,7 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             pairs = pair_solves(fine, levels[0], solve_on)
     attach_estimates(solutions, levels, pairs, excess, reason)
     check_flow(solutions[0])  # the drift is the problem's: one look for all its solutions
+    check_exit(solutions[0])  # so is the exit set
 
 
 def _solutions(

@@ -60,6 +60,7 @@ from .accuracy import (
     average_truncation,
     axes_to_refine,
     check_budget,
+    check_exit,
     check_scalar,
     check_tolerance,
     embedded_grid,
@@ -1042,7 +1043,8 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
     and exit cost on the grids with every other node (2h and 4h), the embedded solve's response
     to the exit costs' sub-cell excess (:func:`gridlbc.accuracy.responses`) and, where a feature
     narrower than a cell asks for it (:func:`gridlbc.accuracy.reads_pair`), the pair; and warn
-    where an estimate exceeds the default tolerance, or where none could be made."""
+    where an estimate exceeds the default tolerance, where none could be made, or where the exit
+    set has a part that no node holds (:func:`gridlbc.accuracy.check_exit`)."""
 
     def solve(on: Problem) -> list:
         return solve_first_exit_many(on, exit_costs, s)
@@ -1060,6 +1062,7 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
         )
         pairs = _pair(problem, solve, solutions[0], levels[0], excess)
     attach_estimates(solutions, levels, pairs, excess, reason)
+    check_exit(solutions[0])
 
 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:

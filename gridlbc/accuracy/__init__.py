@@ -71,12 +71,16 @@ from .estimate import (
     states_that_matter,
     statistic,
 )
+from .exits import check_exit, missed_exit
 from .flow import (
     FLOW_CELLS,
     FLOW_SAMPLES,
+    SMOOTH_ORDER,
     check_flow,
     flow_excess,
+    followed,
     follows_coefficients,
+    noise_excess,
     reads_pair,
 )
 from .grids import (
@@ -150,6 +154,7 @@ __all__ = [
     "PATH_WORK",
     "QUANTILE",
     "SAMPLE",
+    "SMOOTH_ORDER",
     "STATIONARY_SAMPLES",
     "UNPOSED",
     "WHOLE_SAMPLES",
@@ -174,6 +179,7 @@ __all__ = [
     "certified_error",
     "check_accuracy",
     "check_budget",
+    "check_exit",
     "check_flow",
     "check_scalar",
     "check_tolerance",
@@ -187,11 +193,14 @@ __all__ = [
     "fitting_plan",
     "fitting_storage",
     "flow_excess",
+    "followed",
     "follows_coefficients",
     "judged_states",
     "largest_discount",
     "limiting_axes",
     "local_error",
+    "missed_exit",
+    "noise_excess",
     "observed_order",
     "over_budget",
     "pair_solves",

@@ -49,7 +49,7 @@ from .estimate import (
     relative_error,
     statistic,
 )
-from .flow import FLOW_CELLS, FLOW_WARNING, check_flow, flow_excess
+from .flow import FLOW_CELLS, FLOW_WARNING, check_flow, flow_excess, followed
 from .grids import (
     embedded_grid,
     scaled_grid,
@@ -387,7 +387,7 @@ def solve_to_tolerance(
     than either. Where ê_t exceeds ``tol`` the step alone is refined, by ê_t / tol (at most the
     reach). And a round is not met where the drift changes between the nodes faster than the
     grid follows (:func:`~gridlbc.accuracy.flow_excess`: F ≥ :data:`FLOW_CELLS` cells a step and
-    an observed order below 1): the coarser solves step over such a gust alike, and the step is
+    an observed order that is not :func:`~gridlbc.accuracy.flow.followed`): the coarser solves step over such a gust alike, and the step is
     refined until F is below :data:`FLOW_CELLS` (F ∝ Δt/h: by F/:data:`FLOW_CELLS` times the
     largest axis factor); if the solve ends with it unresolved, it warns as the default solve
     does (:func:`~gridlbc.accuracy.check_flow`).
@@ -507,7 +507,7 @@ def solve_to_tolerance(
         if error > tol and a is not None and a.late_error <= tol and certifiable(solution, states):
             certified = certified_error(solution, judged_states(solution, states), tol)
         cells, flow_order, _ = flow_excess(solution)
-        flow = cells if cells >= FLOW_CELLS and not flow_order >= 1.0 else 0.0
+        flow = cells if cells >= FLOW_CELLS and not followed(flow_order) else 0.0
         if error <= tol and not flow:  # confirmed by the step's own share
             time_error = _step_share(solution, problem, base, states, when)
         met = (error <= tol and not flow and time_error <= tol) or certified <= tol
