@@ -154,6 +154,14 @@ Under 3fc621e (the pair solved only where ``reads_pair`` expects a feature) both
 driftwall3_even_node, gainband2_node, gainband3_qtr: walls and bands on nodes both grids keep, whose
 interpolation converges at first order) read ≤ 0.5 % from it before, and their estimates and
 warnings are unchanged.
+
+AFTER (library of commit d8e5596, rerun ``--solve`` of all 62 entries, one thread): the exit set is
+sampled between the nodes (``gridlbc.accuracy.missed_exit``: every exit strip at mid-cell and a
+quarter cell warns), and the drift and the noise are judged by their least interpolation order
+over the estimate's grids against 1.5 (``gridlbc.accuracy.SMOOTH_ORDER``: every drift wall and
+gain band warns). Silent: none (16 before). ê ≥ ½|err| at 187/222, as before: the checks warn and
+do not raise the estimate, so the under-reads above remain, each warned. False alarms: the same
+six narrow wells.
 """
 
 from __future__ import annotations
