@@ -189,15 +189,18 @@ def reads_pair(solution, responses) -> bool:
 def _around(solution, samples: int) -> np.ndarray:
     """``samples`` states around the :func:`~gridlbc.accuracy.states_that_matter`: a node drawn
     from them, then an offset uniform within a cell along each axis (a fixed seed), ``(M, d)``;
-    none where there are none."""
-    grid = solution.grid
-    nodes = states_that_matter(solution)
-    if len(nodes) == 0:
-        return nodes
-    rng = np.random.default_rng(SEED)
-    h = np.asarray(grid.spacing, dtype=float)
-    x = nodes[rng.integers(len(nodes), size=samples)]
-    return grid.clamp(x + (2.0 * rng.random(x.shape) - 1.0) * h)
+    none where there are none. Kept with the solution (the drift and the noise read the same)."""
+    kept = solution._cache.setdefault("coefficient_states", {})
+    if samples not in kept:
+        grid = solution.grid
+        nodes = states_that_matter(solution)
+        if len(nodes):
+            rng = np.random.default_rng(SEED)
+            h = np.asarray(grid.spacing, dtype=float)
+            x = nodes[rng.integers(len(nodes), size=samples)]
+            nodes = grid.clamp(x + (2.0 * rng.random(x.shape) - 1.0) * h)
+        kept[samples] = nodes
+    return kept[samples]
 
 
 def _interpolant(f, grid, x: np.ndarray) -> np.ndarray:
