@@ -33,6 +33,7 @@ import strangers_round16 as r16
 import strangers_round17 as r17
 import strangers_round18 as r18
 import strangers_round20 as r20
+import strangers_round22 as r22
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1004,6 +1005,24 @@ def _notch_horizon_exact(X):
     return value
 
 
+def _strip_exact(X):
+    """1-D finite differences (strangers_round22, "fd"): v depends on x₀ alone; central
+    differences of (q/λ) z = D z″ + a z′ off E, z = e^{−g_E/λ} on E, on 10 001 and 20 001 nodes
+    (the strip holds 38–75 of them)"""
+    return r22.P22["exit_strip_mid"][2](X)[0]
+
+
+def _wall_exact(X):
+    """separable 1-D Crank–Nicolson (strangers_round22, "1-D"): v the sum of each axis's value,
+    on 8001 and 16 001 nodes with τ/4000 and τ/8000 steps (the wall 12–24 fine nodes wide),
+    within 0.003 of each other"""
+    return r22.P22["driftwall2_even_node"][2](X)[0]
+
+
+def _gain_exact(X):
+    """separable 1-D Crank–Nicolson (strangers_round22, "1-D") as for driftwall_kept_node"""
+    return r22.P22["gainband2_deep"][2](X)[0]
+
 def _tiny_ball_exact(X):
     """Bessel series (strangers_round11.ball_exact): z = K₀(κr)/K₀(κρ) about the ball, κ² =
     2Rq/λ², the box's walls over 50 decay lengths 1/κ away"""
@@ -1729,6 +1748,39 @@ MEMBERS: tuple[Member, ...] = (
         tags=("first exit", "local feature", "noiseless axis", "user system", "closed"),
         time=4.7,
         proposals=lambda problem: {"a finer solve without the exit": r20.noexit_policy(problem)},
+    ),
+    Member(
+        "exit_strip_between",
+        r22.P22["exit_strip_mid"][0],
+        r22.P22["exit_strip_mid"][1][1:4],  # off the strip, where v* > 0
+        "first exit (q = 1, λ = 0.2, 81²) through a strip |x₀ − 0.525| ≤ 0.0075 at no cost, 0.15 "
+        "cell wide at mid-cell, or x₀ ≤ −1.9 at cost 3 (stranger round 22's exit_strip_mid): no "
+        "node of any grid lies in the strip, every solve is that of the task without it, v 1–32 "
+        "times the truth, silent until the exit set was sampled between the nodes",
+        tags=("first exit", "narrow exit", "closed"),
+        exact=_strip_exact,
+    ),
+    Member(
+        "driftwall_kept_node",
+        r22.P22["driftwall2_even_node"][0],
+        r22.P22["driftwall2_even_node"][1],
+        "a drift wall ẋ₀ = −30 e^{−(x₀−0.4)²/2s²} + u₀, s an eighth of a cell, on a node the "
+        "coarser grids keep (101², λ = 0.1, T = 1; stranger round 22's driftwall2_even_node): no "
+        "step's midpoint evaluation feels the wall, v 43–50 % low, silent until the drift's "
+        "interpolation order was read over the estimate's grids against 1.5",
+        tags=("narrow drift", "user system", "closed"),
+        exact=_wall_exact,
+    ),
+    Member(
+        "gain_band",
+        r22.P22["gainband2_deep"][0],
+        r22.P22["gainband2_deep"][1],
+        "a gain b(x₀) that drops to 0.05 in a band 0.3 cell wide at mid-cell (noise and control "
+        "together; 101², λ = 0.1; stranger round 22's gainband2_deep): the grid reads B at its "
+        "nodes, v 13–15 % low with every part of the estimate below 2.1 %, warned since the "
+        "noise's interpolation is checked",
+        tags=("narrow gain", "user system", "closed"),
+        exact=_gain_exact,
     ),
 )
 
