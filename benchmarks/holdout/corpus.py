@@ -1023,6 +1023,7 @@ def _gain_exact(X):
     """separable 1-D Crank–Nicolson (strangers_round22, "1-D") as for driftwall_kept_node"""
     return r22.P22["gainband2_deep"][2](X)[0]
 
+
 def _tiny_ball_exact(X):
     """Bessel series (strangers_round11.ball_exact): z = K₀(κr)/K₀(κρ) about the ball, κ² =
     2Rq/λ², the box's walls over 50 decay lengths 1/κ away"""
