@@ -159,9 +159,12 @@ AFTER (library of commit d8e5596, rerun ``--solve`` of all 62 entries, one threa
 sampled between the nodes (``gridlbc.accuracy.missed_exit``: every exit strip at mid-cell and a
 quarter cell warns), and the drift and the noise are judged by their least interpolation order
 over the estimate's grids against 1.5 (``gridlbc.accuracy.SMOOTH_ORDER``: every drift wall and
-gain band warns). Silent: none (16 before). ê ≥ ½|err| at 187/222, as before: the checks warn and
-do not raise the estimate, so the under-reads above remain, each warned. False alarms: the same
-six narrow wells.
+gain band warns). Silent: none (16 before). Then (library of the next commit) the response S also
+moves the parts of the exit set no node holds onto the embedded grid's nearest node
+(``gridlbc.accuracy.exits.MovedExit``): the strips are read (exit_strip_mid: ê 3.1–6.4 where v is
+2.1–6.4 too high). ê ≥ ½|err| at 198/222 (187 before); under-reads left, each warned: the drift
+walls, the gain bands, goal4_thin_qtr, exit_strip_T_node (2 %). False alarms: the same six narrow
+wells.
 """
 
 from __future__ import annotations

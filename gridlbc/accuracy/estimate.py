@@ -1003,9 +1003,10 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         )
     elif a.local:
         where = (
-            f"near {state}, where a cost narrower than a cell, between the nodes, changes the "
-            f"solve on the grid with every other node by up to {a.error:.0%} of |v| (the costs "
-            "sampled between the nodes against their reconstruction from the nodes)"
+            f"near {state}, where a cost or a part of the exit set narrower than a cell, between "
+            "the nodes, changes the solve on the grid with every other node by up to "
+            f"{a.error:.0%} of |v| (the costs sampled between the nodes against their "
+            "reconstruction from the nodes, and the exit set's parts that no node holds)"
         )
     else:
         judged = (

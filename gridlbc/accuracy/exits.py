@@ -10,10 +10,12 @@ certificate), reads nothing. For a first-exit task whose cheapest exit is such a
 then the value of the task without it (stranger round 22: a strip 0.3 cell wide at mid-cell, v
 1–32 times the truth, silent).
 
-:func:`missed_exit` samples E in each cell without a corner in E, at the points of the costs'
-sampling lattice (:func:`~gridlbc.accuracy.subcell.samples_per_cell` per cell along each axis,
-at the centres of a cell's sub-cells), and :func:`check_exit` warns where it finds one. A part
-narrower than the lattice's spacing (an eighth of a cell in 2-D) can still be missed.
+:func:`missed_points` samples E in each cell without a corner in E, at the points of the costs'
+sampling lattice (:func:`~gridlbc.accuracy.samples_per_cell` per cell along each axis, at the
+centres of a cell's sub-cells), and :func:`check_exit` warns where it finds one. The estimate's
+response S (:func:`gridlbc.accuracy.responses`) also reads what they change: the embedded grid
+solved again with each part moved onto its nearest node (:class:`MovedExit`). A part narrower
+than the lattice's spacing (an eighth of a cell in 2-D) can still be missed.
 """
 
 from __future__ import annotations
@@ -22,9 +24,11 @@ import itertools
 
 import numpy as np
 
+from ..costs import evaluate_cost
 from ..errors import ResolutionWarning, warn_user
 from ..grid import Grid
-from .subcell import samples_per_cell
+from ..regions import GridRegion
+from .grids import samples_per_cell
 
 EXIT_BLOCK = 1 << 20
 """At most about this many lattice points are tested at once (:func:`missed_exit`)."""
@@ -33,24 +37,86 @@ EXIT_BLOCK = 1 << 20
 def missed_exit(problem) -> np.ndarray | None:
     """A point of the exit set E of ``problem`` in a cell of its grid none of whose corners is in
     E (module docstring), ``(d,)``; None where there is none (or no exit set)."""
-    if problem.exit is None:
-        return None
+    points = missed_points(problem, first=True)
+    return points[0] if len(points) else None
+
+
+def missed_points(problem, first: bool = False) -> np.ndarray:
+    """The lattice points of the exit set E of ``problem`` in the cells of its grid none of whose
+    corners is in E (module docstring), ``(M, d)`` (the first block's only where ``first``);
+    none without an exit set."""
     grid: Grid = problem.require_grid("the exit set's check")
-    inside = grid.reshape(problem.exit_mask())
-    lower = _open_cells(grid, inside)
-    if len(lower) == 0:
-        return None
+    if problem.exit is None:
+        return np.empty((0, grid.ndim))
+    lower = _open_cells(grid, grid.reshape(problem.exit_mask()))
     m = samples_per_cell(grid)
     offsets = np.array(list(itertools.product((np.arange(m) + 0.5) / m, repeat=grid.ndim)))
     h = np.asarray(grid.spacing, dtype=float)
     per_block = max(1, EXIT_BLOCK // len(offsets))
+    found = []
     for start in range(0, len(lower), per_block):
         corners = grid.lo + lower[start : start + per_block] * h
-        points = (corners[:, None, :] + offsets[None] * h).reshape(-1, grid.ndim)
-        hit = problem.exit_mask(grid.wrap(points))
+        points = grid.wrap((corners[:, None, :] + offsets[None] * h).reshape(-1, grid.ndim))
+        hit = problem.exit_mask(points)
         if hit.any():
-            return points[int(np.argmax(hit))]
-    return None
+            found.append(points[hit])
+            if first:
+                break
+    return np.concatenate(found) if found else np.empty((0, grid.ndim))
+
+
+class MovedExit:
+    """The exit set of a problem on a coarser ``grid`` with its parts between the fine grid's
+    nodes (``points``, :func:`missed_points`) moved onto the nearest coarse node: the task a
+    coarse solve answers when it does hold them. The estimate's response S compares it with the
+    task without them (:func:`gridlbc.accuracy.responses`): what the parts no node holds change,
+    to within the coarse grid's cell of where they lie.
+
+    Attributes
+    ----------
+    region : GridRegion
+        The coarse grid's exit nodes and the nodes the parts moved onto.
+    """
+
+    def __init__(self, problem, grid: Grid, points: np.ndarray):
+        self.grid, self.points = grid, points
+        self.nodes = _nearest(grid, points)
+        added = np.zeros(grid.size, dtype=bool)
+        added[self.nodes] = True
+        inside = problem.exit_mask(grid.nodes()) | added
+        self.region = GridRegion(grid, inside, f"{problem.exit!r} with its parts between the nodes")
+
+    def cost(self, exit_cost) -> MovedCost:
+        """``exit_cost`` with, at each node a part moved onto, its least value over the part's
+        points there (the cheapest way out that the part offers)."""
+        values = evaluate_cost(exit_cost, self.points, "exit_cost")
+        at = np.full(self.grid.size, np.inf)
+        np.minimum.at(at, self.nodes, values)
+        return MovedCost(exit_cost, self.grid, at)
+
+
+class MovedCost:
+    """An exit cost that a :class:`MovedExit` reads: ``cost`` at states ``x``, but at a node of
+    ``grid`` where ``at`` is finite, ``at`` there."""
+
+    def __init__(self, cost, grid: Grid, at: np.ndarray):
+        self.cost, self.grid, self.at = cost, grid, at
+
+    def __call__(self, x) -> np.ndarray:
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        out = evaluate_cost(self.cost, x, "exit_cost")
+        h = np.asarray(self.grid.spacing, dtype=float)
+        on_node = np.all(np.abs(np.remainder(x - self.grid.lo + h / 2, h) - h / 2) <= 1e-9 * h, 1)
+        moved = self.at[_nearest(self.grid, x)]
+        return np.where(on_node & np.isfinite(moved), moved, out)
+
+
+def _nearest(grid: Grid, x: np.ndarray) -> np.ndarray:
+    """The flat index of the node of ``grid`` nearest each state of ``x`` (n, d)."""
+    shape = np.array(grid.shape)
+    index = np.rint((x - grid.lo) / np.asarray(grid.spacing, dtype=float)).astype(np.int64)
+    index = np.where(grid.periodic, index % shape, np.clip(index, 0, shape - 1))
+    return index @ grid.strides
 
 
 def _open_cells(grid: Grid, inside: np.ndarray) -> np.ndarray:

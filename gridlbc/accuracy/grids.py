@@ -133,6 +133,22 @@ def pair_solves(fine: Grid, embedded, solve) -> list | None:
         return None
 
 
+LATTICE_POINTS = 1 << 24
+"""The sampling lattice has as many points per cell along each axis, of 8, 4 and 2, as keep it
+within this many points (:func:`samples_per_cell`)."""
+
+
+def samples_per_cell(grid: Grid) -> int:
+    """m, the lattice points per cell along each axis: the most of 8, 4 and 2 for which the
+    lattice holds at most :data:`LATTICE_POINTS` points (m = 8 on a 2-D grid up to 512², 4 up to
+    about 1000² and on a 3-D one up to 64³), and 2 beyond, so that sampling the costs stays a few
+    seconds' work."""
+    for m in (8, 4):
+        if refined_grid(grid, factor=m).size <= LATTICE_POINTS:
+            return m
+    return 2
+
+
 def refined_grid(grid: Grid, axes=None, factor: int = 2) -> Grid:
     """The grid with every cell divided into ``factor`` (spacing h/factor; every factor-th node a
     node of ``grid``), or only along the given ``axes``. With the default factor 2: the grid whose

@@ -11,7 +11,7 @@ measures what they change.
 
 **The excess.** On the sampling *lattice*, m points per cell along every axis (spacing h/m;
 the most of 8, 4 and 2 for which the lattice holds at most 2²⁴ points: m = 8 on a 2-D grid up to
-512² and a 3-D one up to 32³, 4 up to about 1000² and 64³, 2 beyond, :func:`samples_per_cell`),
+512² and a 3-D one up to 32³, 4 up to about 1000² and 64³, 2 beyond, :func:`~gridlbc.accuracy.samples_per_cell`),
 each cost f is compared
 with its reconstruction R f from the nodes (:func:`refine`, along each axis in turn): nodes keep
 their values, and a point at offset t within a cell takes the cubic through the four nodes
@@ -104,7 +104,8 @@ from ..backends.numba.lattice import (
 from ..costs import Constant, Quadratic
 from ..grid import NODE_CHUNK, Axis, Grid
 from ..interpolate import interpolate
-from .grids import refined_grid
+from .exits import MovedExit, missed_points
+from .grids import refined_grid, samples_per_cell
 
 if TYPE_CHECKING:
     from ..solution import Solution
@@ -122,22 +123,6 @@ deeper than this many λ/τ is counted as this deep (still a huge one)."""
 KINK = 2.0
 """A point between two nodes takes the quadratic of the smoother side where one side's second
 difference exceeds the other's this many times (a kink on a node, :func:`refine`)."""
-
-
-LATTICE_POINTS = 1 << 24
-"""The sampling lattice has as many points per cell along each axis, of 8, 4 and 2, as keep it
-within this many points (:func:`samples_per_cell`)."""
-
-
-def samples_per_cell(grid: Grid) -> int:
-    """m, the lattice points per cell along each axis: the most of 8, 4 and 2 for which the
-    lattice holds at most :data:`LATTICE_POINTS` points (m = 8 on a 2-D grid up to 512², 4 up to
-    about 1000² and on a 3-D one up to 64³), and 2 beyond, so that sampling the costs stays a few
-    seconds' work."""
-    for m in (8, 4):
-        if refined_grid(grid, factor=m).size <= LATTICE_POINTS:
-            return m
-    return 2
 
 
 def refine(values: np.ndarray, axis: int, along_axis: Axis, m: int, rows=None) -> np.ndarray:
@@ -273,7 +258,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     terminal_costs : sequence of callable
         The terminal costs g_i (exit costs for a problem without a horizon).
     m : int, optional
-        Lattice points per cell along each axis (default :func:`samples_per_cell`).
+        Lattice points per cell along each axis (default :func:`~gridlbc.accuracy.samples_per_cell`).
 
     Returns
     -------
@@ -636,6 +621,12 @@ def responses(problem, terminal_costs, coarse: Grid, solve, base=None) -> list[R
     is a fraction of the true one, the smaller the more axes and steps (docs page
     :doc:`accuracy`, "Costs between the nodes", has the measurements).
 
+    Where the exit set has parts that no node of the grid holds
+    (:func:`~gridlbc.accuracy.exits.missed_points`), the raised solve also moves them onto the
+    coarse grid's nearest nodes (:class:`~gridlbc.accuracy.exits.MovedExit`), and is run
+    whatever the costs' excess: S then reads what those parts change too (and ``bound`` is
+    +inf).
+
     Parameters
     ----------
     problem : Problem
@@ -658,18 +649,29 @@ def responses(problem, terminal_costs, coarse: Grid, solve, base=None) -> list[R
     if found.exit is not None:
         held += float(np.abs(found.exit).max())
     bounds = [float(np.abs(dg).max()) + held for dg in found.terminal] or [held]
+    points = missed_points(problem)
+    moved = MovedExit(problem, coarse, points) if len(points) else None
+    if moved is not None:  # what a part of E moved onto a node changes has no such bound
+        bounds = [np.inf for _ in bounds]
     if max(bounds) <= NEGLIGIBLE * problem.temperature:
         return [Response(None, None, bound) for bound in bounds]
     changes: dict = {}
     if found.state is not None:
         changes["state_cost"] = WithExcess(problem.state_cost, coarse, found.state, 0.0)
-    if found.exit is not None:
-        changes["exit_cost"] = WithExcess(problem.exit_cost, coarse, found.exit)
     ending = _ending(problem)
-    costs = [
-        WithExcess(getattr(problem.replace(**{ending: g}), ending), coarse, dg)
-        for g, dg in zip(terminal_costs, found.terminal, strict=True)
-    ]
+    exit_cost = problem.exit_cost
+    if moved is not None:
+        changes["exit"] = moved.region
+        if ending != "exit_cost":
+            exit_cost = changes["exit_cost"] = moved.cost(exit_cost)
+    if found.exit is not None:
+        changes["exit_cost"] = WithExcess(exit_cost, coarse, found.exit)
+    costs = []
+    for g, dg in zip(terminal_costs, found.terminal, strict=True):
+        own = getattr(problem.replace(**{ending: g}), ending)
+        if moved is not None and ending == "exit_cost":  # a first exit's costs are exit costs
+            own = moved.cost(own)
+        costs.append(WithExcess(own, coarse, dg))
     base = solve(problem, list(terminal_costs)) if base is None else list(base)
     raised = solve(problem.replace(**changes), costs)
     return [Response(b, r, bound) for b, r, bound in zip(base, raised, bounds, strict=True)]
