@@ -150,8 +150,9 @@ def check_exit(solution) -> None:
     warn_user(
         f"the exit set has a part between the nodes near {state} that no node of the grid holds "
         "(narrower than a cell): the grid solves the task without it, and so does every coarser "
-        "grid, so the error estimate cannot see what it changes; where paths would exit there, "
-        "v can be far too high. Give a grid whose nodes fall in every part of the exit set "
-        "(a spacing below its width), and compare (docs page 'accuracy')",
+        "grid; where paths would exit there, v can be far too high. The error estimate reads "
+        "what it changes with the part moved onto a node of the grid with every other node. "
+        "Give a grid whose nodes fall in every part of the exit set (a spacing below its "
+        "width), or solve with tol=, and compare (docs page 'accuracy')",
         ResolutionWarning,
     )

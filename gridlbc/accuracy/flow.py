@@ -226,29 +226,33 @@ def check_flow(solution) -> None:
     :data:`FLOW_CELLS` of a cell or more beyond its interpolant in one step, or the noise's
     spread in one step differs from its interpolant's by as much (:func:`noise_excess`), and
     the grids do not follow it (:func:`followed`)."""
-    cells, order, where = flow_excess(solution)
-    if cells >= FLOW_CELLS and not followed(order):
-        state = np.array2string(where, precision=3, separator=", ")
-        warn_user(
-            f"{FLOW_WARNING} near {state} where the grid does not follow it: "
-            f"in one step it carries a path {cells:.2g} cells beyond what its interpolant from "
-            "the nodes says, and its interpolants on the coarser grids shrink towards it at "
-            f"order {order:.2g} (a smooth drift gives 2: a gust, jet or wall narrower than a "
-            "cell). The coarser solves step over it alike, so the error estimate sees at most "
-            "part of it, and v can be far off. Give a grid that resolves the flow, or a dt that "
-            "moves a path less than half a cell through it, and compare (docs page 'accuracy')",
-            ResolutionWarning,
-        )
-    cells, order, where = noise_excess(solution)
-    if cells >= FLOW_CELLS and not followed(order):
-        state = np.array2string(where, precision=3, separator=", ")
-        warn_user(
-            f"{NOISE_WARNING} near {state} where the grid does not follow it: the spread of one "
-            f"step differs by {cells:.2g} cells from what its interpolant from the nodes says, "
-            f"and its interpolants on the coarser grids shrink towards it at order {order:.2g} (a "
-            "smooth gain gives 2: a gain or noise that changes within a cell). The grid reads "
-            "the gain B(x) at its nodes only, so the error estimate sees at most part of it, "
-            "and v can be far off. Give a grid that resolves it, and compare (docs page "
-            "'accuracy')",
-            ResolutionWarning,
-        )
+    for measure, begins, how, why in (
+        (
+            flow_excess,
+            FLOW_WARNING,
+            "in one step it carries a path {} cells beyond what its interpolant from the nodes "
+            "says",
+            "a smooth drift gives 2: a gust, jet or wall narrower than a cell). The coarser "
+            "solves step over it alike, so the error estimate sees at most part of it, and v can "
+            "be far off. Give a grid that resolves the flow, or a dt that moves a path less than "
+            "half a cell through it",
+        ),
+        (
+            noise_excess,
+            NOISE_WARNING,
+            "the spread of one step differs by {} cells from what its interpolant from the nodes "
+            "says",
+            "a smooth gain gives 2: a gain or noise that changes within a cell). The grid reads "
+            "the gain B(x) at its nodes only, so the error estimate sees at most part of it, and "
+            "v can be far off. Give a grid that resolves it",
+        ),
+    ):
+        cells, order, where = measure(solution)
+        if cells >= FLOW_CELLS and not followed(order):
+            state = np.array2string(where, precision=3, separator=", ")
+            warn_user(
+                f"{begins} near {state} where the grid does not follow it: "
+                f"{how.format(f'{cells:.2g}')}, and its interpolants on the coarser grids shrink "
+                f"towards it at order {order:.2g} ({why}, and compare (docs page 'accuracy')",
+                ResolutionWarning,
+            )

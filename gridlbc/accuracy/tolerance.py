@@ -49,7 +49,7 @@ from .estimate import (
     relative_error,
     statistic,
 )
-from .flow import FLOW_CELLS, FLOW_WARNING, check_flow, flow_excess, followed
+from .flow import FLOW_CELLS, FLOW_WARNING, NOISE_WARNING, check_flow, flow_excess, followed
 from .grids import (
     embedded_grid,
     scaled_grid,
@@ -627,7 +627,7 @@ def solve_to_tolerance(
         check_flow(solution)
     for caught in round_warnings:  # the last solve's own, but those its rounds read (above)
         text = str(caught.message)
-        if not text.startswith((ESTIMATE_WARNING, FLOW_WARNING)):
+        if not text.startswith((ESTIMATE_WARNING, FLOW_WARNING, NOISE_WARNING)):
             warn_user(text, caught.category)
     return solution
 
