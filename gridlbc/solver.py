@@ -30,6 +30,7 @@ from .accuracy import (
     check_exit,
     check_flow,
     embedded_solves,
+    missed_points,
     pair_solves,
     reads_pair,
     responses,
@@ -298,6 +299,7 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     fine = problem.require_grid("an embedded solve")
     levels, reason = embedded_solves(fine, solve_on)
     excess = pairs = None
+    missed = missed_points(problem)  # the exit set's parts no node holds (none without one)
     if levels:
         coarse = levels[0][0].grid
         plain = dataclasses.replace(s, fitting=None)  # why: subcell.responses
@@ -306,12 +308,13 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
             terminal_costs,
             coarse,
             lambda on, costs: solve_on(coarse, 2, on, costs, plain),
+            missed=missed,
         )
         if reads_pair(solutions[0], excess):
             pairs = pair_solves(fine, levels[0], solve_on)
     attach_estimates(solutions, levels, pairs, excess, reason)
     check_flow(solutions[0])  # the drift is the problem's: one look for all its solutions
-    check_exit(solutions[0])  # so is the exit set
+    check_exit(solutions[0], missed)  # so is the exit set
 
 
 def _solutions(

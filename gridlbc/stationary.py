@@ -67,6 +67,7 @@ from .accuracy import (
     embedded_solves,
     finish,
     limiting_axes,
+    missed_points,
     over_budget,
     pair_solves,
     predicted_seconds,
@@ -1051,6 +1052,7 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
 
     levels, reason = _levels(problem, solve)
     excess = pairs = None
+    missed = missed_points(problem)  # the exit set's parts no node holds
     if levels:
         coarse = levels[0][0].grid
         excess = responses(
@@ -1059,10 +1061,11 @@ def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) 
             coarse,
             lambda on, costs: _quietly(solve_first_exit_many, on.replace(grid=coarse), costs, s),
             levels[0],  # the same solve: its base
+            missed,
         )
         pairs = _pair(problem, solve, solutions[0], levels[0], excess)
     attach_estimates(solutions, levels, pairs, excess, reason)
-    check_exit(solutions[0])
+    check_exit(solutions[0], missed)
 
 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:

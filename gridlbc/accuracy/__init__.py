@@ -71,7 +71,7 @@ from .estimate import (
     states_that_matter,
     statistic,
 )
-from .exits import check_exit, missed_exit
+from .exits import check_exit, missed_exit, missed_points
 from .flow import (
     FLOW_CELLS,
     FLOW_SAMPLES,
@@ -200,6 +200,7 @@ __all__ = [
     "limiting_axes",
     "local_error",
     "missed_exit",
+    "missed_points",
     "noise_excess",
     "observed_order",
     "over_budget",

@@ -140,10 +140,11 @@ def _take(inside: np.ndarray, corner: tuple, counts: list) -> np.ndarray:
     return out
 
 
-def check_exit(solution) -> None:
+def check_exit(solution, points: np.ndarray | None = None) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) where the exit set has a part that no node of
-    the grid holds (:func:`missed_exit`)."""
-    where = missed_exit(solution.problem)
+    the grid holds: one of ``points`` (:func:`missed_points`, where the caller has them) or
+    :func:`missed_exit`."""
+    where = missed_exit(solution.problem) if points is None else next(iter(points), None)
     if where is None:
         return
     state = np.array2string(where, precision=3, separator=", ")

@@ -609,7 +609,9 @@ class Response:
         return np.where(np.isnan(response), 0.0, response)
 
 
-def responses(problem, terminal_costs, coarse: Grid, solve, base=None) -> list[Response]:
+def responses(
+    problem, terminal_costs, coarse: Grid, solve, base=None, missed=None
+) -> list[Response]:
     """The :class:`Response` of the coarse solves of ``problem`` with each of ``terminal_costs``
     to the costs' sub-cell excess.
 
@@ -639,6 +641,9 @@ def responses(problem, terminal_costs, coarse: Grid, solve, base=None) -> list[R
     base : list of Solution, optional
         v_c[g, q] for each cost where the caller has it already (a stationary solve's embedded
         level, made by the same ``solve``); solved here otherwise.
+    missed : ndarray (M, d), optional
+        The exit set's parts that no node holds (:func:`~gridlbc.accuracy.exits.missed_points`),
+        where the caller has them; found here otherwise.
 
     Returns
     -------
@@ -649,7 +654,7 @@ def responses(problem, terminal_costs, coarse: Grid, solve, base=None) -> list[R
     if found.exit is not None:
         held += float(np.abs(found.exit).max())
     bounds = [float(np.abs(dg).max()) + held for dg in found.terminal] or [held]
-    points = missed_points(problem)
+    points = missed_points(problem) if missed is None else missed
     moved = MovedExit(problem, coarse, points) if len(points) else None
     if moved is not None:  # what a part of E moved onto a node changes has no such bound
         bounds = [np.inf for _ in bounds]
