@@ -11,8 +11,8 @@ measures what they change.
 
 **The excess.** On the sampling *lattice*, m points per cell along every axis (spacing h/m;
 the most of 8, 4 and 2 for which the lattice holds at most 2²⁴ points: m = 8 on a 2-D grid up to
-512² and a 3-D one up to 32³, 4 up to about 1000² and 64³, 2 beyond, :func:`~gridlbc.accuracy.samples_per_cell`),
-each cost f is compared
+512² and a 3-D one up to 32³, 4 up to about 1000² and 64³, 2 beyond,
+:func:`~gridlbc.accuracy.samples_per_cell`), each cost f is compared
 with its reconstruction R f from the nodes (:func:`refine`, along each axis in turn): nodes keep
 their values, and a point at offset t within a cell takes the cubic through the four nodes
 around it (at t = ½ the rule (−f_{i−1} + 9 f_i + 9 f_{i+1} − f_{i+2})/16), or, where one side's
@@ -258,7 +258,8 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     terminal_costs : sequence of callable
         The terminal costs g_i (exit costs for a problem without a horizon).
     m : int, optional
-        Lattice points per cell along each axis (default :func:`~gridlbc.accuracy.samples_per_cell`).
+        Lattice points per cell along each axis (default
+        :func:`~gridlbc.accuracy.samples_per_cell`).
 
     Returns
     -------

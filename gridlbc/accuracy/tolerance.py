@@ -387,8 +387,8 @@ def solve_to_tolerance(
     than either. Where ê_t exceeds ``tol`` the step alone is refined, by ê_t / tol (at most the
     reach). And a round is not met where the drift changes between the nodes faster than the
     grid follows (:func:`~gridlbc.accuracy.flow_excess`: F ≥ :data:`FLOW_CELLS` cells a step and
-    an observed order that is not :func:`~gridlbc.accuracy.flow.followed`): the coarser solves step over such a gust alike, and the step is
-    refined until F is below :data:`FLOW_CELLS` (F ∝ Δt/h: by F/:data:`FLOW_CELLS` times the
+    an observed order that is not :func:`~gridlbc.accuracy.flow.followed`): the coarser solves
+    step over such a gust alike, and the step is refined until F is below :data:`FLOW_CELLS` (F ∝ Δt/h: by F/:data:`FLOW_CELLS` times the
     largest axis factor); if the solve ends with it unresolved, it warns as the default solve
     does (:func:`~gridlbc.accuracy.check_flow`).
 
