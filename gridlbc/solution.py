@@ -304,12 +304,16 @@ class Solution(FieldEvaluation):
     def better_half(self) -> np.ndarray:
         """The flat mask of the nodes whose value at t = 0 is finite and at most its median over
         them: where a controlled process spends its time (the error estimate's judged states
-        and the control-step check read it; docs page :doc:`accuracy`)."""
-        v = self.value_nodes(0)
-        chosen = np.isfinite(v)
-        if chosen.any():
-            chosen &= v <= np.median(v[chosen])
-        return chosen
+        and the control-step check read it; docs page :doc:`accuracy`). Kept with the solution
+        (read-only)."""
+        if "better_half" not in self._cache:
+            v = self.value_nodes(0)
+            chosen = np.isfinite(v)
+            if chosen.any():
+                chosen &= v <= np.median(v[chosen])
+            chosen.flags.writeable = False
+            self._cache["better_half"] = chosen
+        return self._cache["better_half"]
 
     # -- evaluation anywhere --------------------------------------------------------------------
 

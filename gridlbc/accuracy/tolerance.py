@@ -388,9 +388,10 @@ def solve_to_tolerance(
     reach). And a round is not met where the drift changes between the nodes faster than the
     grid follows (:func:`~gridlbc.accuracy.flow_excess`: F ≥ :data:`FLOW_CELLS` cells a step and
     an observed order that is not :func:`~gridlbc.accuracy.flow.followed`): the coarser solves
-    step over such a gust alike, and the step is refined until F is below :data:`FLOW_CELLS` (F ∝ Δt/h: by F/:data:`FLOW_CELLS` times the
-    largest axis factor); if the solve ends with it unresolved, it warns as the default solve
-    does (:func:`~gridlbc.accuracy.check_flow`).
+    step over such a gust alike, and the step is refined until F is below :data:`FLOW_CELLS`
+    (F ∝ Δt/h: by F/:data:`FLOW_CELLS` times the largest axis factor); if the solve ends with it
+    unresolved, it warns as the default solve does (:func:`~gridlbc.accuracy.check_flow`, which
+    also judges the noise).
 
     Where the levels do not converge (the estimate is then rough in either direction) and the
     user gave at most :data:`CERTIFIED_STATES` states, a round whose estimate misses ``tol`` is
@@ -623,8 +624,7 @@ def solve_to_tolerance(
     if limit.startswith("the time budget"):
         advice = "raise max_seconds or loosen tol"
     finish(solution, tol, history, where, limit, max_refinements, advice)
-    if flow:
-        check_flow(solution)
+    check_flow(solution)  # the returned solve's drift and noise, read once (held above)
     for caught in round_warnings:  # the last solve's own, but those its rounds read (above)
         text = str(caught.message)
         if not text.startswith((ESTIMATE_WARNING, FLOW_WARNING, NOISE_WARNING)):
