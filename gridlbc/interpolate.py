@@ -23,8 +23,8 @@ import numpy as np
 
 from .backends.numba.interpolation import (
     SERIAL_BELOW,
-    central_gradient_kernel,
-    central_gradient_kernel_serial,
+    input_gradient_kernel,
+    input_gradient_kernel_serial,
     kuhn_kernel,
     kuhn_kernel_serial,
 )
@@ -58,37 +58,65 @@ def interpolate(grid: Grid, values, x) -> np.ndarray:
     return (values[..., idx] * weights).sum(axis=-1)
 
 
-def node_gradient(
+def input_gradient(
     grid: Grid,
     values: np.ndarray,
+    time_weights: np.ndarray,
     nodes: np.ndarray,
-    axis: int,
+    weights: np.ndarray,
+    input_matrix: np.ndarray,
     log_divisor: np.ndarray | None = None,
 ) -> np.ndarray:
-    """Finite-difference derivative along ``axis`` of nodal ``values`` ``(K, size)`` at flat
-    ``nodes`` (of values / e^{log_divisor} when ``log_divisor`` ``(K, size)`` is given).
+    """Bᵀ∇y interpolated at N states from their simplices, ``(N, m)``:
 
-    Second-order central differences in the interior and on periodic axes, first-order one-sided
-    differences at the ends of a non-periodic axis. Returns ``(K, len(nodes))``; linear in values.
+        Σ_v w_v B(x_v)ᵀ Σ_r τ_r ∇y_r(x_v),      y_r = values[r] (/ e^{log_divisor[r]} if given),
+
+    with ∇y_r by finite differences at the vertices along the axes that B drives: second-order
+    central differences in the interior and on periodic axes, first-order one-sided ones at the
+    ends of a closed axis. Linear in ``values`` when ``log_divisor`` is None.
+
+    Parameters
+    ----------
+    grid : Grid
+    values : ndarray (K, size)
+        Nodal values of K slices (float64 or float32).
+    time_weights : ndarray (K,)
+        τ_r, the slices' weights.
+    nodes, weights : ndarray (N, V)
+        Flat node indices and weights of each state's vertices (:func:`barycentric`; V = 1 with
+        weight 1 reads the derivative at nodes).
+    input_matrix : ndarray (N, V, d, m)
+        B at the vertices; broadcast from one (d, m) matrix where B is constant.
+    log_divisor : ndarray (K, size), optional
+        Divide the values by e^{log_divisor} node by node first.
     """
+    B = np.asarray(input_matrix, dtype=float)
+    if B.strides[0] == 0 and B.strides[1] == 0:  # constant B, broadcast
+        B = B[:1, :1]
+    B = np.ascontiguousarray(B)
+    axes = np.flatnonzero([B[:, :, k, :].any() for k in range(grid.ndim)]).astype(np.int64)
+    nodes = np.ascontiguousarray(nodes, dtype=np.int64)
     values = np.ascontiguousarray(values)
-    nodes = np.ascontiguousarray(nodes, dtype=np.int64).reshape(-1)
     divisor = (
         np.empty((values.shape[0], 0)) if log_divisor is None else np.ascontiguousarray(log_divisor)
     )
-    out = np.empty((values.shape[0], nodes.size), dtype=np.result_type(values.dtype, np.float64))
+    out = np.empty((nodes.shape[0], B.shape[-1]))
     kernel = (
-        central_gradient_kernel if nodes.size >= SERIAL_BELOW else central_gradient_kernel_serial
+        input_gradient_kernel if nodes.shape[0] >= SERIAL_BELOW else input_gradient_kernel_serial
     )
+    _, spacing, shape, strides, periodic = grid.kernel_arrays()
     kernel(
         values,
+        np.ascontiguousarray(time_weights, dtype=float),
         divisor,
         nodes,
-        int(axis),
-        np.array(grid.shape, dtype=np.int64),
-        grid.strides,
-        grid.spacing,
-        bool(grid.axes[axis].periodic),
+        np.ascontiguousarray(weights, dtype=float),
+        B,
+        axes,
+        shape,
+        strides,
+        spacing,
+        periodic,
         out,
     )
     return out

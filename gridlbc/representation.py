@@ -38,7 +38,7 @@ import numpy as np
 
 from .errors import UnderflowWarning, warn_user
 from .grid import Grid
-from .interpolate import node_gradient
+from .interpolate import input_gradient
 
 
 @dataclass(frozen=True, eq=False)
@@ -98,25 +98,14 @@ class Stencil:
         time_weights: np.ndarray,
         log_divisor: np.ndarray | None = None,
     ) -> np.ndarray:
-        """Bᵀ I[∇f], ``(N, m)``: ∇f by finite differences at the vertices
-        (:func:`gridlbc.interpolate.node_gradient`, of f / e^{log_divisor} when given) along the
-        axes that B drives, interpolated in space and with ``time_weights`` in time."""
+        """Bᵀ I[∇f], ``(N, m)``: ∇f by finite differences at the vertices (of f / e^{log_divisor}
+        when given) along the axes that B drives, interpolated in space and with
+        ``time_weights`` in time (:func:`gridlbc.interpolate.input_gradient`)."""
         B = self.input_matrix
         assert B is not None, "build the stencil with gradient=True"
-        g = np.zeros((self.nodes.shape[0], B.shape[-1]))
-        for k in _driven_axes(B):
-            d = node_gradient(self.grid, pair, self.nodes.ravel(), int(k), log_divisor=log_divisor)
-            d = np.einsum("s,snv->nv", time_weights, d.reshape((len(pair), *self.nodes.shape)))
-            g += np.einsum("nv,nvm,nv->nm", self.weights, B[:, :, k, :], d)
-        return g
-
-
-def _driven_axes(B: np.ndarray) -> np.ndarray:
-    """The axes k that B ``(N, d+1, d, m)`` drives somewhere (B[..., k, :] not all zero); a B
-    broadcast over the states and vertices (a constant one) is read at one vertex."""
-    if B.strides[0] == 0 and B.strides[1] == 0:
-        B = B[:1, :1]
-    return np.flatnonzero(np.any(B != 0, axis=(0, 1, 3)))
+        return input_gradient(
+            self.grid, pair, time_weights, self.nodes, self.weights, B, log_divisor
+        )
 
 
 @dataclass(frozen=True, eq=False)

@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gridlbc import Axis, Grid
-from gridlbc.interpolate import barycentric, interpolate, node_gradient
+from gridlbc.interpolate import barycentric, input_gradient, interpolate
 from gridlbc.testing import barycentric_numpy
 
 GRIDS = {
@@ -102,12 +102,23 @@ def test_hypothesis_points_give_convex_weights(point):
     assert np.all(w >= 0) and abs(w.sum() - 1) < 1e-14
 
 
+def _at_nodes(grid, values, axis, log_divisor=None):
+    """The derivative of ``values`` (1, size) along ``axis`` at every node: each node its own
+    one-vertex simplex of weight 1, and B the unit input along ``axis``."""
+    nodes = np.arange(grid.size)[:, None]
+    B = np.zeros((grid.size, 1, grid.ndim, 1))
+    B[:, :, axis, 0] = 1.0
+    return input_gradient(grid, values, np.ones(1), nodes, np.ones((grid.size, 1)), B, log_divisor)[
+        :, 0
+    ]
+
+
 def test_node_gradient_exact_for_affine_and_one_sided_at_ends(rng):
     grid = Grid([Axis(-1.0, 1.0, 6), Axis(0.0, 2.0, 5, periodic=True)])
     x = grid.nodes()
     values = (3.0 * x[:, 0] - 0.5 * x[:, 0] ** 2)[None, :]
     nodes = np.arange(grid.size)
-    d0 = node_gradient(grid, values, nodes, 0)[0]
+    d0 = _at_nodes(grid, values, 0)
     h = grid.spacing[0]
     i = np.unravel_index(nodes, grid.shape)[0]
     interior = (i > 0) & (i < 5)
@@ -119,10 +130,39 @@ def test_node_gradient_exact_for_affine_and_one_sided_at_ends(rng):
         atol=1e-12,
     )
     periodic_values = np.sin(np.pi * x[:, 1])[None, :]
-    d1 = node_gradient(grid, periodic_values, nodes, 1)[0]
+    d1 = _at_nodes(grid, periodic_values, 1)
     h1 = grid.spacing[1]
     expected = (np.sin(np.pi * (x[:, 1] + h1)) - np.sin(np.pi * (x[:, 1] - h1))) / (2 * h1)
     np.testing.assert_allclose(d1, expected, atol=1e-12)
+
+
+def test_input_gradient_interpolates_the_vertices_gradients_through_B(rng):
+    # Bᵀ∇y at a state is Σ_v w_v B(x_v)ᵀ Σ_r τ_r ∇y_r(x_v): a quadratic's central differences
+    # are exact, so with an affine B(x) and two slices the sum is known in closed form
+    grid = Grid([Axis(-1.0, 1.0, 11), Axis(0.0, 3.0, 13)])
+    x = grid.nodes()
+    slices = np.stack([x[:, 0] ** 2 + 2 * x[:, 1], -x[:, 0] * x[:, 1]])
+    tau = np.array([0.25, 0.75])
+    lo, hi = np.array([-0.8, 0.3]), np.array([0.8, 2.7])  # interior: central differences
+    states = lo + (hi - lo) * rng.random((50, 2))
+    idx, w = barycentric(grid, states)
+    vertices = grid.node_coordinates(idx.ravel()).reshape(50, 3, 2)
+    B = np.stack([1.0 + vertices[..., 1], 2.0 * vertices[..., 0]], axis=-1)[..., None]  # (N,3,2,1)
+    grad = np.stack(
+        [
+            tau[0] * 2 * vertices[..., 0] - tau[1] * vertices[..., 1],
+            tau[0] * 2.0 - tau[1] * vertices[..., 0],
+        ],
+        axis=-1,
+    )
+    expected = np.einsum("nv,nvk,nvk->n", w, B[..., 0], grad)
+    got = input_gradient(grid, slices, tau, idx, w, B)[:, 0]
+    np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
+    constant = np.broadcast_to(np.array([[0.5], [-2.0]]), (50, 3, 2, 1))
+    expected = np.einsum("nv,k,nvk->n", w, np.array([0.5, -2.0]), grad)
+    np.testing.assert_allclose(
+        input_gradient(grid, slices, tau, idx, w, constant)[:, 0], expected, rtol=1e-12, atol=1e-12
+    )
 
 
 @pytest.mark.parametrize("d", [2, 4])
@@ -140,7 +180,9 @@ def test_the_serial_and_threaded_kernels_agree_bitwise(d, monkeypatch):
     for threshold in (0, 10**9):
         monkeypatch.setattr(interpolation, "SERIAL_BELOW", threshold)
         idx, weights = barycentric(grid, x)
-        gradient = node_gradient(grid, values, idx.ravel(), d - 1, log_divisor=values)
+        B = np.zeros((len(x), d + 1, d, 1))
+        B[:, :, d - 1, 0] = 1.0
+        gradient = input_gradient(grid, values, np.ones(2), idx, weights, B, log_divisor=values)
         out.append((idx, weights, gradient))
     for threaded, serial in zip(*out):
         np.testing.assert_array_equal(threaded, serial)

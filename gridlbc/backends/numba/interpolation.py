@@ -97,56 +97,112 @@ def _ratio(z, log_divisor, r, node):
 
 
 @jit_inline
-def _central_gradients(
-    start, stop, z, log_divisor, nodes, k, shape, strides, spacing, periodic, out
+def _neighbours(node, n, s, h, periodic):
+    """The nodes (up, down) of a central difference along an axis of n nodes, stride s and
+    spacing h at a flat node, and its factor 1/(up − down): the node itself on the side of a
+    closed end (one-sided there), the node across the seam on a periodic axis."""
+    i = (node // s) % n
+    if periodic:
+        up = node + s if i < n - 1 else node - (n - 1) * s
+        down = node - s if i > 0 else node + (n - 1) * s
+        return up, down, 0.5 / h
+    if i == 0:
+        return node + s, node, 1.0 / h
+    if i == n - 1:
+        return node, node - s, 1.0 / h
+    return node + s, node - s, 0.5 / h
+
+
+@jit_inline
+def _input_gradients(
+    start,
+    stop,
+    z,
+    time_weights,
+    log_divisor,
+    nodes,
+    weights,
+    B,
+    axes,
+    shape,
+    strides,
+    spacing,
+    periodic,
+    out,
 ):
-    """∂y/∂x_k at the flat nodes ``nodes[start:stop]`` into ``out[:, start:stop]``
-    (:func:`central_gradient_kernel`; the loop in one function: a loop that calls a helper per
-    node runs several times slower)."""
-    n = shape[k]
-    s = strides[k]
-    h = spacing[k]
+    """Σ_v w_v B(x_v)ᵀ Σ_r τ_r ∇y_r(x_v) for the states ``start:stop`` into ``out`` (N, m), the
+    derivative along each of ``axes`` a central difference at the vertex (:func:`_neighbours`);
+    B (N, d+1, d, m), or (1, 1, d, m) where it is the same everywhere."""
+    m = out.shape[1]
+    constant = B.shape[0] == 1
     for p in range(start, stop):
-        node = nodes[p]
-        i = (node // s) % n
-        if periodic:
-            up = node + s if i < n - 1 else node - (n - 1) * s
-            down = node - s if i > 0 else node + (n - 1) * s
-            scale = 0.5 / h
-        elif i == 0:
-            up, down, scale = node + s, node, 1.0 / h
-        elif i == n - 1:
-            up, down, scale = node, node - s, 1.0 / h
-        else:
-            up, down, scale = node + s, node - s, 0.5 / h
-        for r in range(z.shape[0]):
-            if log_divisor.shape[1] == 0:
-                out[r, p] = (z[r, up] - z[r, down]) * scale
-            else:
-                out[r, p] = (
-                    _ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)
-                ) * scale
+        for j in range(m):
+            out[p, j] = 0.0
+        for v in range(nodes.shape[1]):
+            node = nodes[p, v]
+            w = weights[p, v]
+            b = 0 if constant else p
+            c = 0 if constant else v
+            for a in range(axes.shape[0]):
+                k = axes[a]
+                up, down, scale = _neighbours(node, shape[k], strides[k], spacing[k], periodic[k])
+                g = 0.0
+                for r in range(z.shape[0]):
+                    if log_divisor.shape[1] == 0:
+                        difference = z[r, up] - z[r, down]  # in z's precision
+                    else:
+                        difference = _ratio(z, log_divisor, r, up) - _ratio(z, log_divisor, r, down)
+                    g += time_weights[r] * difference
+                g *= w * scale
+                for j in range(m):
+                    out[p, j] += B[b, c, k, j] * g
 
 
 @jit_parallel
-def central_gradient_kernel(z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out):
-    """∂y/∂x_axis at the given flat nodes for y = z (in z's precision), or y = z / e^{log_divisor}
-    when ``log_divisor`` has columns (:func:`_ratio`): central differences, one-sided at closed
-    ends; on the threads, in blocks."""
-    n_nodes = nodes.shape[0]
-    n_blocks = min(n_nodes, 256)
+def input_gradient_kernel(
+    z, time_weights, log_divisor, nodes, weights, B, axes, shape, strides, spacing, periodic, out
+):
+    """:func:`_input_gradients` for every state, on the threads, in blocks."""
+    n_points = nodes.shape[0]
+    n_blocks = min(n_points, 256)
     for b in prange(n_blocks):
-        start, stop = b * n_nodes // n_blocks, (b + 1) * n_nodes // n_blocks
-        _central_gradients(
-            start, stop, z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+        start, stop = b * n_points // n_blocks, (b + 1) * n_points // n_blocks
+        _input_gradients(
+            start,
+            stop,
+            z,
+            time_weights,
+            log_divisor,
+            nodes,
+            weights,
+            B,
+            axes,
+            shape,
+            strides,
+            spacing,
+            periodic,
+            out,
         )
 
 
 @jit
-def central_gradient_kernel_serial(
-    z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+def input_gradient_kernel_serial(
+    z, time_weights, log_divisor, nodes, weights, B, axes, shape, strides, spacing, periodic, out
 ):
-    """:func:`central_gradient_kernel` in this thread (few nodes: :data:`SERIAL_BELOW`)."""
-    _central_gradients(
-        0, nodes.shape[0], z, log_divisor, nodes, axis, shape, strides, spacing, periodic, out
+    """:func:`input_gradient_kernel` in this thread (few states: :data:`SERIAL_BELOW`)."""
+    _input_gradients(
+        0,
+        nodes.shape[0],
+        z,
+        time_weights,
+        log_divisor,
+        nodes,
+        weights,
+        B,
+        axes,
+        shape,
+        strides,
+        spacing,
+        periodic,
+        out,
     )
