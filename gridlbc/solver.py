@@ -30,6 +30,7 @@ from .accuracy import (
     check_exit,
     check_flow,
     embedded_solves,
+    embedded_store_every,
     missed_points,
     pair_solves,
     reads_pair,
@@ -284,7 +285,9 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     warnings are not the user's: they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
-    def solve_on(grid: Grid, factor: int, on: Problem = problem, costs=terminal_costs, using=s):
+    def solve_on(
+        grid: Grid, factor: int, on=problem, costs=terminal_costs, using=s, every=s.store_every
+    ):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
             return solve_many(
@@ -294,10 +297,16 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
                 dt=min(factor * dt, horizon),
                 progress=False,
                 error_estimate=False,
+                store_every=every,
             )
 
     fine = problem.require_grid("an embedded solve")
-    levels, reason = embedded_solves(fine, solve_on)
+    levels, reason = embedded_solves(  # stored densely enough to read between the slices
+        fine,
+        lambda grid, factor: solve_on(
+            grid, factor, every=embedded_store_every(s.store_every, factor)
+        ),
+    )
     excess = pairs = None
     missed = missed_points(problem)  # the exit set's parts no node holds (none without one)
     if levels:

@@ -60,6 +60,11 @@ what landing each step's foot by two half steps instead of one midpoint step cha
 carried along the paths (:mod:`gridlbc.accuracy.tracing`): a drift that switches within a step's
 travel sends the midpoint foot across the switch on every grid alike.
 
+Where the solve stores only every k-th step's slice (``store_every``), it is also at least
+τ(x, t), what interpolating v linearly in time between the solve's stored slices changes on the
+embedded solve, which stores its own at least twice as densely
+(:meth:`EmbeddedEstimate.between_slices`).
+
 At the states a user asks about (:meth:`EmbeddedEstimate.error`, not at the states a default solve
 is judged at, where it would cost several times γ's paths) it is also at least the local
 certificate's abs(v_h − v_ℓ) less two of its standard errors (:mod:`gridlbc.accuracy.bellman`):
@@ -103,7 +108,8 @@ nodes (:func:`confirmed_locally`). A solve with a horizon is also confirmed so a
 :func:`late_times`: 8 steps before T, where the local certificate certifies the remaining task
 whole, and in the middle of the last interval between stored slices, where a step long against
 the terminal cost errs most: the warning judges v(x, 0), and a controller is also used late in
-its task. With ``states=``, at its largest over them, at t = 0 and those late times (or the
+its task. Where the solve stores every k-th slice only, τ is read there too, at its
+:data:`QUANTILE` over the states that matter (:func:`interpolated_in_time`). With ``states=``, at its largest over them, at t = 0 and those late times (or the
 ``times=`` given).
 """
 
@@ -117,6 +123,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
+from ..problem import bracket
 from .bellman import SPAN, largest_discount, local_error
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
@@ -295,6 +302,9 @@ class Assessment:
     confirmed : bool
         Whether ``error`` is the largest estimate that the coarser solves and the solve's own
         paths both give at a few states (:func:`confirmed_locally`), above the quantile.
+    between : bool
+        Whether ``error`` is what interpolating in time between the stored slices changes
+        (:func:`interpolated_in_time`), above the quantile at t = 0.
     time : float
         The time at which ``error`` was read: 0, or one of :func:`late_times` (or of the user's
         ``times``) where the reading there found the larger error.
@@ -311,6 +321,7 @@ class Assessment:
     local: bool = False
     half: bool = False
     confirmed: bool = False
+    between: bool = False
     time: float = 0.0
     late_error: float = 0.0
 
@@ -388,8 +399,30 @@ class EmbeddedEstimate:
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t``, with q = ``order``
         where the relative difference is at most :data:`ASYMPTOTIC` and 1 elsewhere, and at
-        least the pair's difference abs(v_c₁ − v_c₂), undivided."""
+        least the pair's difference abs(v_c₁ − v_c₂) and :meth:`between_slices`, undivided."""
         return self._read(solution, x, t)[3]
+
+    def between_slices(self, solution: Solution, x, t=0.0, embedded=None) -> np.ndarray:
+        """τ(x, t) = abs((1 − θ) v_2h(x, t_j) + θ v_2h(x, t_j+1) − v_2h(x, t)) at states ``x``
+        (N, d), t = (1 − θ) t_j + θ t_j+1 between two of the solve's stored times: what
+        interpolating linearly in time between the solve's slices changes, measured on the
+        embedded solve, which stores its own at most half as far apart
+        (:func:`~gridlbc.accuracy.grids.embedded_store_every`); 0 at a stored time and where the
+        solve stores every step (between its steps the interpolation is part of the step's
+        error, which the embedded difference reads). ``embedded``: v_2h(x, t), where the
+        caller has it."""
+        x = np.atleast_2d(x)
+        if solution.problem.stationary or solution.diagnostics.store_every == 1:
+            return np.zeros(len(x))
+        times = solution.times
+        j, theta = bracket(times, float(t))
+        if theta in (0.0, 1.0):
+            return np.zeros(len(x))
+        coarse = self.solution
+        embedded = coarse.value(x, t) if embedded is None else embedded
+        with np.errstate(invalid="ignore"):  # inf − inf where the embedded solve underflowed
+            ends = (1 - theta) * coarse.value(x, times[j]) + theta * coarse.value(x, times[j + 1])
+            return np.abs(ends - embedded)
 
     def error(self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES) -> np.ndarray:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
@@ -458,6 +491,7 @@ class EmbeddedEstimate:
         pair = None if self.pair is None else [side.value(x, t) for side in self.pair]
         order = self.order_at(solution, float(t))
         difference, local = _local(v, embedded, pair, solution.temperature, order)
+        local = np.fmax(local, self.between_slices(solution, x, t, embedded))
         return v, embedded, difference, local
 
 
@@ -748,11 +782,16 @@ def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
     for reading in _readings(solution, matter):
         if a.error > tol:
             break
+        between = interpolated_in_time(solution, tol, reading)
+        if between is not None and between.error > a.error:
+            a = replace(between, between=True, time=reading.t)
+            if a.error > tol:
+                break
         both, where = confirmed_locally(solution, tol, reading)
         if both > a.error:
             worst = max(both, a.worst_error)
             a = replace(a, error=both, worst_state=where, worst_error=worst, confirmed=True)
-            a = replace(a, time=reading.t)
+            a = replace(a, between=False, time=reading.t)
     return a
 
 
@@ -762,6 +801,23 @@ def _readings(solution, matter: _Matter):
     yield matter
     for t in late_times(solution):
         yield matter.at(t)
+
+
+def interpolated_in_time(solution, tol: float, matter: _Matter) -> Assessment | None:
+    """:meth:`EmbeddedEstimate.between_slices` relative to max(abs(v), λ), read at the states
+    that matter at the time of ``matter`` (its :data:`QUANTILE`); None where the solve stores
+    every step or the time is a stored one.
+
+    Why on its own: interpolating in time between stored slices far apart errs alike at most
+    states (a broad error, read at the quantile as the grid terms are), and the coarser solves,
+    which store theirs more densely, measure it directly, without the sampling that the
+    confirmation needs; the middle of the last stored interval, one of :func:`late_times`, is
+    where it is largest."""
+    if solution.diagnostics.store_every == 1 or matter.t in solution.times:
+        return None
+    X = matter.states
+    tau = solution.embedded.between_slices(solution, X, matter.t)
+    return _read_at(X, relative_error(tau, matter.value, solution.temperature), tol, False)
 
 
 def late_times(solution) -> list[float]:
@@ -992,7 +1048,18 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         else f"Solve with tol={tol:g} to refine dt and the grid until the estimate meets it, or "
         "give a finer grid or a smaller dt"
     )
-    if a.confirmed:
+    if a.between:
+        every = solution.diagnostics.store_every
+        where = (
+            f"at t = {a.time:.3g}, between the stored slices (store_every={every}: the value "
+            "is interpolated linearly in time between every "
+            f"{every}th step's slice), where interpolating changes v by more than {a.error:.0%} "
+            f"at {1 - QUANTILE:.0%} of the states that matter (the largest, "
+            f"{a.worst_error:.0%}, at {state}), measured on the grid with every other node, "
+            "which stores its slices at least twice as densely"
+        )
+        change = "Read v at the stored times (solution.times), or solve with a smaller store_every"
+    elif a.confirmed:
         when = f" at t = {a.time:.3g}" if a.time else ""
         where = (
             f"near {state}{when}: there the solves on the grids with every other node and a check "

@@ -52,6 +52,7 @@ from .estimate import (
 from .flow import FLOW_CELLS, FLOW_WARNING, NOISE_WARNING, check_flow, flow_excess, followed
 from .grids import (
     embedded_grid,
+    embedded_store_every,
     scaled_grid,
 )
 
@@ -690,11 +691,17 @@ def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid, t: floa
         )[0]
 
 
-def storage_margin(ndim: int) -> float:
-    """1 + 3 · 2^−(d+1): the memory of a solution with its embedded solve and the pair's
-    (:func:`phase_pair`), relative to its own slices (each has 2^−d of the nodes and half the
-    steps)."""
-    return 1.0 + 3 * 2.0 ** -(ndim + 1)
+def held_memory(need: dict, ndim: int, store_every: int) -> float:
+    """The bytes that a solve planned as ``need`` (:func:`gridlbc.solver.planned_memory`) holds
+    with its estimate: its own, and the coarser solves' slices, (r₂ + 1) 2^−d + r₄ 4^−d of its
+    slices' bytes. The embedded solve (2^−d of the nodes, half the steps) and the one below it
+    (4^−d, a quarter) store every k-th of their steps
+    (:func:`~gridlbc.accuracy.grids.embedded_store_every`), r₂ = store_every / 2k and
+    r₄ = store_every / 4k of the solve's slice count; the two solves on the pair of grids
+    (:func:`phase_pair`) store as the solve does, half as many slices each."""
+    r2 = store_every / (2 * embedded_store_every(store_every, 2))
+    r4 = store_every / (4 * embedded_store_every(store_every, 4))
+    return need["ram"] + need["stored"] * ((r2 + 1) * 2.0**-ndim + r4 * 4.0**-ndim)
 
 
 def fitting_storage(problem, settings):
@@ -705,21 +712,19 @@ def fitting_storage(problem, settings):
     they are stored as float32 (the march itself stays in double precision), then only every
     k-th step's slice is stored (k = 2, 4, …: the value at t = 0, which the tolerance judges, is
     unchanged; the value and the policy between stored slices are interpolated in time). The
-    embedded solve (2^−(d+1) of the slices' bytes: 2^−d of the nodes, half the steps) is held
-    with the solution, and so are the solves on the pair of grids (:func:`phase_pair`), hence
-    the margin.
-    """
+    embedded solve is held with the solution, and so are the solves on the pair of grids
+    (:func:`phase_pair`), (:func:`held_memory`)."""
     from ..solver import planned_memory
     from ..storage import available_memory
 
     available = available_memory()
     if available is None:
         return settings
-    margin = storage_margin(problem.grid.ndim)
     candidate, stored = settings, None
     while True:
         need = planned_memory(problem, candidate)
-        if need["ram"] * margin <= 0.9 * available:
+        held = held_memory(need, problem.grid.ndim, candidate.store_every)
+        if held <= 0.9 * available:
             return candidate
         if candidate.dtype == "float64":
             candidate = dataclasses.replace(candidate, dtype="float32")
@@ -727,9 +732,8 @@ def fitting_storage(problem, settings):
             stored = need["stored"]
             candidate = dataclasses.replace(candidate, store_every=2 * candidate.store_every)
         else:
-            need = need["ram"] * margin
             return (
-                f"memory: the grid {problem.grid.shape} would need about {need / 2**30:.1f} GiB "
+                f"memory: the grid {problem.grid.shape} would need about {held / 2**30:.1f} GiB "
                 f"of {available / 2**30:.1f} GiB available even storing few slices"
             )
 
