@@ -685,9 +685,10 @@ def attach_estimates(solutions, levels: list, pairs=None, excess=None, reason: s
     (2h), if present ``levels[1][r]`` (4h), ``pairs[0][r]``, ``pairs[1][r]``
     (:func:`phase_pair`) and ``excess[r]`` (what the costs' sub-cell excess changes,
     :class:`~gridlbc.accuracy.subcell.Response`), and warn (:func:`check_accuracy`) where one exceeds the
-    default tolerance. Without levels there is no estimate: a :class:`gridlbc.ResolutionWarning`
-    says so where there is a ``reason`` (the problem cannot be posed on the embedded grid: the
-    grid resolves it too barely for an estimate); none for a grid too coarse to embed."""
+    default tolerance. Without levels there is no estimate, and a
+    :class:`gridlbc.ResolutionWarning` gives the ``reason`` (a grid too coarse to embed, or a
+    problem that cannot be posed on the embedded grid: the grid resolves it too barely for an
+    estimate)."""
     if not levels:
         if reason:
             warn_user(

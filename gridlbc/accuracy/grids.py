@@ -100,11 +100,18 @@ def embedded_solves(fine: Grid, solve) -> tuple[list, str]:
     levels : list
         The solves at 2h and 4h, as far as the grids and the problem allow (empty: no estimate).
     reason : str
-        Why there is no level although the grid could be embedded ("" otherwise).
+        Why there is no level: the grid is too coarse to embed, or the problem cannot be posed
+        (or solved) on the embedded grid ("" where there is one).
     """
     levels: list = []
     reason = ""
     grid = embedded_grid(fine)
+    if grid is None:
+        reason = (
+            f"the grid {fine.shape} is too coarse to embed a grid with every other node (a "
+            "closed axis needs at least 5 nodes, a periodic one 8), so nothing checks its "
+            "values, which may be far off on so few nodes; give a finer grid"
+        )
     for factor in (2, 4):
         if grid is None:
             break

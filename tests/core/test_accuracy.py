@@ -47,6 +47,17 @@ def test_embedded_grid_keeps_every_other_node():
     assert accuracy.embedded_grid(g.Grid([g.Axis(0, 1, 4)])) is None
 
 
+def test_a_grid_too_coarse_to_embed_warns_that_nothing_checks_it():
+    # 4 nodes per axis keep 2 on the embedded grid: no estimate, and the values are far off
+    # (the exact value at (1, -0.5) is several times below the solve's)
+    problem = lq_point_mass(4)
+    with pytest.warns(g.ResolutionWarning, match="too coarse to embed") as record:
+        solution = g.solve(problem)
+    assert len(record) == 1 and solution.embedded is None
+    x = np.array([1.0, -0.5])
+    assert solution.value(x) > 2 * lq_solution(problem).value(x[None], 0.0)[0]
+
+
 def test_phase_pair_cell_counts_add_up_to_the_grids():
     even = g.Grid([g.Axis(-1, 1, 41), g.Axis(-np.pi, np.pi, 64, periodic=True)])  # C = 40, 64
     assert [grid.shape for grid in accuracy.phase_pair(even)] == [(20, 31), (22, 33)]
