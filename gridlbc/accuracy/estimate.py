@@ -109,8 +109,8 @@ nodes (:func:`confirmed_locally`). A solve with a horizon is also confirmed so a
 whole, and in the middle of the last interval between stored slices, where a step long against
 the terminal cost errs most: the warning judges v(x, 0), and a controller is also used late in
 its task. Where the solve stores every k-th slice only, τ is read there too, at its
-:data:`QUANTILE` over the states that matter (:func:`interpolated_in_time`). With ``states=``, at its largest over them, at t = 0 and those late times (or the
-``times=`` given).
+:data:`QUANTILE` over the states that matter (:func:`interpolated_in_time`). With ``states=``,
+at its largest over them, at t = 0 and those late times (or the ``times=`` given).
 """
 
 from __future__ import annotations

@@ -79,9 +79,9 @@ def embedded_store_every(store_every: int, factor: int) -> int:
 
     Why: a value read between two stored slices is interpolated linearly in time, off by about
     Δs² ∂²v/∂t² / 8 at the middle. Coarser solves that stored as sparsely would interpolate
-    alike, and their difference from the solve would not see it (with only t = 0 and T
-    stored, a point mass read at T/2 was 16–29 % off and the estimate quiet, stranger round 21);
-    stored twice as densely they measure it (:meth:`EmbeddedEstimate.between_slices`)."""
+    alike, and their difference from the solve would not see it (stranger round 21: a point
+    mass with only t = 0 and T stored, read at T/2, docs page :doc:`accuracy`); stored twice as
+    densely they measure it (:meth:`EmbeddedEstimate.between_slices`)."""
     return max(1, store_every // (2 * factor))
 
 

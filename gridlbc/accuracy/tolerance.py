@@ -713,7 +713,7 @@ def fitting_storage(problem, settings):
     k-th step's slice is stored (k = 2, 4, …: the value at t = 0, which the tolerance judges, is
     unchanged; the value and the policy between stored slices are interpolated in time). The
     embedded solve is held with the solution, and so are the solves on the pair of grids
-    (:func:`phase_pair`), (:func:`held_memory`)."""
+    (:func:`phase_pair`): :func:`held_memory` counts their slices."""
     from ..solver import planned_memory
     from ..storage import available_memory
 
