@@ -81,7 +81,7 @@ def embedded_store_every(store_every: int, factor: int) -> int:
     Δs² ∂²v/∂t² / 8 at the middle. Coarser solves that stored as sparsely would interpolate
     alike, and their difference from the solve would not see it (stranger round 21: a point
     mass with only t = 0 and T stored, read at T/2, docs page :doc:`accuracy`); stored twice as
-    densely they measure it (:meth:`EmbeddedEstimate.between_slices`)."""
+    densely they measure it (:meth:`~gridlbc.accuracy.EmbeddedEstimate.between_slices`)."""
     return max(1, store_every // (2 * factor))
 
 
