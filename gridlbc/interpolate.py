@@ -25,6 +25,8 @@ from .backends.numba.interpolation import (
     SERIAL_BELOW,
     input_gradient_kernel,
     input_gradient_kernel_serial,
+    interpolate_kernel,
+    interpolate_kernel_serial,
     kuhn_kernel,
     kuhn_kernel_serial,
 )
@@ -56,6 +58,48 @@ def interpolate(grid: Grid, values, x) -> np.ndarray:
         )
     idx, weights = barycentric(grid, x)
     return (values[..., idx] * weights).sum(axis=-1)
+
+
+def interpolate_slices(
+    values: np.ndarray,
+    time_weights: np.ndarray,
+    nodes: np.ndarray,
+    weights: np.ndarray,
+    log_divisor: np.ndarray | None = None,
+) -> np.ndarray:
+    """Nodal slices interpolated at N states from their simplices, ``(N,)``:
+
+        Σ_v w_v Σ_r τ_r y_r(x_v),      y_r = values[r] (/ e^{log_divisor[r]} if given),
+
+    linear in ``values`` when ``log_divisor`` is None.
+
+    Parameters
+    ----------
+    values : ndarray (K, size)
+        Nodal values of K slices (float64 or float32).
+    time_weights : ndarray (K,)
+        τ_r, the slices' weights.
+    nodes, weights : ndarray (N, V)
+        Flat node indices and weights of each state's vertices (:func:`barycentric`).
+    log_divisor : ndarray (K, size), optional
+        Divide the values by e^{log_divisor} node by node first (zero where a value is).
+    """
+    nodes = np.ascontiguousarray(nodes, dtype=np.int64)
+    values = np.ascontiguousarray(values)
+    divisor = (
+        np.empty((values.shape[0], 0)) if log_divisor is None else np.ascontiguousarray(log_divisor)
+    )
+    out = np.empty(nodes.shape[0])
+    kernel = interpolate_kernel if nodes.shape[0] >= SERIAL_BELOW else interpolate_kernel_serial
+    kernel(
+        values,
+        np.ascontiguousarray(time_weights, dtype=float),
+        divisor,
+        nodes,
+        np.ascontiguousarray(weights, dtype=float),
+        out,
+    )
+    return out
 
 
 def input_gradient(

@@ -38,7 +38,7 @@ import numpy as np
 
 from .errors import UnderflowWarning, warn_user
 from .grid import Grid
-from .interpolate import input_gradient
+from .interpolate import input_gradient, interpolate_slices
 
 
 @dataclass(frozen=True, eq=False)
@@ -88,9 +88,15 @@ class Stencil:
         slice ``(1, size)`` when steady."""
         return slices[self.slot : self.slot + (1 if self.steady else 2)]
 
-    def interpolate(self, at_vertices: np.ndarray, time_weights: np.ndarray) -> np.ndarray:
-        """Σ_s τ_s Σ_v w_v f_s(vertex v), ``(N,)``, from values at the vertices ``(2, N, d+1)``."""
-        return np.einsum("s,snv,nv->n", time_weights, at_vertices, self.weights)
+    def interpolate(
+        self,
+        pair: np.ndarray,
+        time_weights: np.ndarray,
+        log_divisor: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """Σ_s τ_s Σ_v w_v f_s(vertex v), ``(N,)``, of the nodal slices ``pair`` (of f /
+        e^{log_divisor} when given; :func:`gridlbc.interpolate.interpolate_slices`)."""
+        return interpolate_slices(pair, time_weights, self.nodes, self.weights, log_divisor)
 
     def input_gradient(
         self,
@@ -204,7 +210,7 @@ class LinearZ:
         top = float(scales.max())
         weights = stencil.time_weights * np.exp(scales - top)
         pair = stencil.pair(slices)
-        z = stencil.interpolate(pair[:, stencil.nodes], weights)
+        z = stencil.interpolate(pair, weights)
         g = stencil.input_gradient(pair, weights) if stencil.gradient else None
         return Fields(None, top, z, None, g)
 
@@ -241,12 +247,8 @@ class RelativeZ:
         top = float(offsets.max())
         relative = weights * np.exp(offsets - top)  # the time weights of y, relative to e^top
         Z, R = stencil.pair(slices), stencil.pair(self.log_slices)
-        nodes = stencil.nodes
-        ell = stencil.interpolate(R[:, nodes], weights) + weights @ stencil.pair(self.log_scales)
-        Zv, Rv = Z[:, nodes].astype(float), R[:, nodes].astype(float)
-        with np.errstate(divide="ignore", under="ignore"):
-            yv = np.where(Zv > 0, np.exp(np.log(np.where(Zv > 0, Zv, 1.0)) - Rv), 0.0)
-        y = stencil.interpolate(yv, relative)
+        ell = stencil.interpolate(R, weights) + weights @ stencil.pair(self.log_scales)
+        y = stencil.interpolate(Z, relative, log_divisor=R)
         if not stencil.gradient:
             return Fields(ell, top, y)
         g_ell = stencil.input_gradient(R, weights)
@@ -270,9 +272,7 @@ class LogZ:
         """b = I[log z] (with the scales), y = 1, and Bᵀ∇b = Bᵀ I[∇ log z]."""
         weights = stencil.time_weights
         pair = stencil.pair(slices)
-        ell = stencil.interpolate(pair[:, stencil.nodes], weights) + weights @ stencil.pair(
-            log_scales
-        )
+        ell = stencil.interpolate(pair, weights) + weights @ stencil.pair(log_scales)
         g = stencil.input_gradient(pair, weights) if stencil.gradient else None
         return Fields(ell, 0.0, None, g)
 

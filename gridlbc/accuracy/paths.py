@@ -251,7 +251,7 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
             r = along[2](y, t + s)
         elif q_nodes is not None:
             assert last is not None  # the policy's, at the same states y
-            interpolated = (q_nodes[last.nodes] * last.weights).sum(axis=-1)
+            interpolated = last.interpolate(q_nodes[None], np.ones(1))  # I_h q
             r = interpolated - problem.state_cost_values(y, signed=True)
         r[last_bad] = np.nan
         return r if also is None else np.column_stack([r, also(y, t + s)])

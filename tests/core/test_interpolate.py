@@ -7,7 +7,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from gridlbc import Axis, Grid
-from gridlbc.interpolate import barycentric, input_gradient, interpolate
+from gridlbc.interpolate import barycentric, input_gradient, interpolate, interpolate_slices
 from gridlbc.testing import barycentric_numpy
 
 GRIDS = {
@@ -134,6 +134,25 @@ def test_node_gradient_exact_for_affine_and_one_sided_at_ends(rng):
     h1 = grid.spacing[1]
     expected = (np.sin(np.pi * (x[:, 1] + h1)) - np.sin(np.pi * (x[:, 1] - h1))) / (2 * h1)
     np.testing.assert_allclose(d1, expected, atol=1e-12)
+
+
+def test_interpolate_slices_reproduces_an_affine_function_in_space_and_time(rng):
+    # barycentric weights reproduce affine functions, and the time weights blend the slices:
+    # slices f_r = a_r + b_r·x give Σ_r τ_r (a_r + b_r·x) at any state, exactly up to rounding;
+    # with log_divisor the slices are divided by e^{divisor} node by node first
+    grid = Grid([Axis(-1.0, 1.0, 11), Axis(0.0, 3.0, 13, periodic=False)])
+    x = grid.nodes()
+    slices = np.stack([1.0 + 2 * x[:, 0] - x[:, 1], 0.5 * x[:, 1]])
+    tau = np.array([0.25, 0.75])
+    states = np.array([[-0.93, 0.1], [0.31, 2.2], [0.0, 1.5]])
+    idx, w = barycentric(grid, states)
+    expected = tau[0] * (1 + 2 * states[:, 0] - states[:, 1]) + tau[1] * 0.5 * states[:, 1]
+    np.testing.assert_allclose(interpolate_slices(slices, tau, idx, w), expected, atol=1e-13)
+    positive = np.abs(slices)
+    divisor = np.log(positive + 1.0)
+    ratio = positive / np.exp(divisor)
+    got = interpolate_slices(positive, tau, idx, w, log_divisor=divisor)
+    np.testing.assert_allclose(got, np.einsum("r,rnv,nv->n", tau, ratio[:, idx], w), rtol=1e-13)
 
 
 def test_input_gradient_interpolates_the_vertices_gradients_through_B(rng):

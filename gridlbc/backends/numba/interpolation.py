@@ -97,6 +97,40 @@ def _ratio(z, log_divisor, r, node):
 
 
 @jit_inline
+def _interpolated(start, stop, z, time_weights, log_divisor, nodes, weights, out):
+    """Σ_v w_v Σ_r τ_r y_r(x_v) for the states ``start:stop`` into ``out`` (N,), y_r = z[r] (or
+    z[r] / e^{log_divisor[r]}, :func:`_ratio`, where ``log_divisor`` has columns)."""
+    for p in range(start, stop):
+        total = 0.0
+        for v in range(nodes.shape[1]):
+            node = nodes[p, v]
+            at_vertex = 0.0
+            for r in range(z.shape[0]):
+                if log_divisor.shape[1] == 0:
+                    at_vertex += time_weights[r] * z[r, node]
+                else:
+                    at_vertex += time_weights[r] * _ratio(z, log_divisor, r, node)
+            total += weights[p, v] * at_vertex
+        out[p] = total
+
+
+@jit_parallel
+def interpolate_kernel(z, time_weights, log_divisor, nodes, weights, out):
+    """:func:`_interpolated` for every state, on the threads, in blocks."""
+    n_points = nodes.shape[0]
+    n_blocks = min(n_points, 256)
+    for b in prange(n_blocks):
+        start, stop = b * n_points // n_blocks, (b + 1) * n_points // n_blocks
+        _interpolated(start, stop, z, time_weights, log_divisor, nodes, weights, out)
+
+
+@jit
+def interpolate_kernel_serial(z, time_weights, log_divisor, nodes, weights, out):
+    """:func:`interpolate_kernel` in this thread (few states: :data:`SERIAL_BELOW`)."""
+    _interpolated(0, nodes.shape[0], z, time_weights, log_divisor, nodes, weights, out)
+
+
+@jit_inline
 def _neighbours(node, n, s, h, periodic):
     """The nodes (up, down) of a central difference along an axis of n nodes, stride s and
     spacing h at a flat node, and its factor 1/(up − down): the node itself on the side of a
