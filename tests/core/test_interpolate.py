@@ -177,6 +177,10 @@ def test_input_gradient_interpolates_the_vertices_gradients_through_B(rng):
     expected = np.einsum("nv,nvk,nvk->n", w, B[..., 0], grad)
     got = input_gradient(grid, slices, tau, idx, w, B)[:, 0]
     np.testing.assert_allclose(got, expected, rtol=1e-12, atol=1e-12)
+    # one state reads its own vertices' B, as it does among many
+    np.testing.assert_array_equal(
+        input_gradient(grid, slices, tau, idx[:1], w[:1], B[:1]), got[:1, None]
+    )
     constant = np.broadcast_to(np.array([[0.5], [-2.0]]), (50, 3, 2, 1))
     expected = np.einsum("nv,k,nvk->n", w, np.array([0.5, -2.0]), grad)
     np.testing.assert_allclose(

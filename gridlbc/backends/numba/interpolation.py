@@ -166,17 +166,18 @@ def _input_gradients(
 ):
     """Σ_v w_v B(x_v)ᵀ Σ_r τ_r ∇y_r(x_v) for the states ``start:stop`` into ``out`` (N, m), the
     derivative along each of ``axes`` a central difference at the vertex (:func:`_neighbours`);
-    B (N, d+1, d, m), or (1, 1, d, m) where it is the same everywhere."""
+    B (N, d+1, d, m), an axis of length 1 read for every state or vertex ((1, 1, d, m) where B is
+    the same everywhere)."""
     m = out.shape[1]
-    constant = B.shape[0] == 1
+    one_state, one_vertex = B.shape[0] == 1, B.shape[1] == 1  # B broadcast along the axis
     for p in range(start, stop):
         for j in range(m):
             out[p, j] = 0.0
         for v in range(nodes.shape[1]):
             node = nodes[p, v]
             w = weights[p, v]
-            b = 0 if constant else p
-            c = 0 if constant else v
+            b = 0 if one_state else p
+            c = 0 if one_vertex else v
             for a in range(axes.shape[0]):
                 k = axes[a]
                 up, down, scale = _neighbours(node, shape[k], strides[k], spacing[k], periodic[k])
