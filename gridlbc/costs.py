@@ -84,8 +84,11 @@ class Quadratic:
         return wrap_difference(x - self.center, self.periods)
 
     def __call__(self, x) -> np.ndarray:
+        """(x − c)ᵀ W (x − c) at states ``(N, d)``, ``(N,)``: at least 0 (W is positive
+        semi-definite; where it is singular, rounding would otherwise put the form a few ulps
+        below 0 along its null directions)."""
         diff = self.difference(x)
-        return np.einsum("ni,ij,nj->n", diff, self.weights, diff)
+        return np.maximum(np.einsum("ni,ij,nj->n", diff, self.weights, diff), 0.0)
 
     def __repr__(self):
         w = (

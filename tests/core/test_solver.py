@@ -203,6 +203,22 @@ def test_bad_state_cost(state_cost, match):
         gridlbc.solve(problem)
 
 
+def test_a_singular_quadratic_state_cost_is_never_negative():
+    # Stranger round 24's hedge valley: with a rank-1 W = K v vᵀ the form fell a few ulps below
+    # 0 where x − c lies along W's null direction, and the solve refused the state cost as
+    # negative. It is clipped at 0 (W is positive semi-definite), and equal to the form elsewhere.
+    W = 200 * np.outer([1e-3, 1.0], [1e-3, 1.0])
+    cost = Quadratic([500.0, 0.5], W)
+    x = np.array([[300.0, 0.7], [500.0, 0.5], [700.0, 0.3], [0.0, 1.0]])
+    assert np.all(cost(x) >= 0.0)
+    diff = x - cost.center
+    np.testing.assert_allclose(cost(x), np.einsum("ni,ij,nj->n", diff, W, diff), atol=1e-12)
+    grid = Grid([Axis(0.0, 1000.0, 41), Axis(0.0, 1.0, 41)])
+    problem = Problem(PointMass(), grid, 1.0, Quadratic([500.0, 0.0], [1e-6, 1.0]), state_cost=cost)
+    assert np.all(cost(grid.nodes()) >= 0.0)
+    gridlbc.solve(problem, error_estimate=False)
+
+
 def test_nan_drift_is_an_error_not_a_silent_step():
     """A drift that is NaN at some node would make the default step and the feet NaN: it is
     refused before anything is solved, with or without an explicit dt."""
