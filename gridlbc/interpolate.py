@@ -84,22 +84,30 @@ def interpolate_slices(
     log_divisor : ndarray (K, size), optional
         Divide the values by e^{log_divisor} node by node first (zero where a value is).
     """
-    nodes = np.ascontiguousarray(nodes, dtype=np.int64)
+    z, tau, divisor, nodes, weights = _slices_on_simplices(
+        values, time_weights, nodes, weights, log_divisor
+    )
+    out = np.empty(len(nodes))
+    kernel = interpolate_kernel if len(nodes) >= SERIAL_BELOW else interpolate_kernel_serial
+    kernel(z, tau, divisor, nodes, weights, out)
+    return out
+
+
+def _slices_on_simplices(values, time_weights, nodes, weights, log_divisor):
+    """``(values, time_weights, log_divisor, nodes, weights)`` as the kernels take them:
+    contiguous, float64 weights, int64 nodes, and a divisor without columns where none is
+    given."""
     values = np.ascontiguousarray(values)
     divisor = (
         np.empty((values.shape[0], 0)) if log_divisor is None else np.ascontiguousarray(log_divisor)
     )
-    out = np.empty(nodes.shape[0])
-    kernel = interpolate_kernel if nodes.shape[0] >= SERIAL_BELOW else interpolate_kernel_serial
-    kernel(
+    return (
         values,
         np.ascontiguousarray(time_weights, dtype=float),
         divisor,
-        nodes,
+        np.ascontiguousarray(nodes, dtype=np.int64),
         np.ascontiguousarray(weights, dtype=float),
-        out,
     )
-    return out
 
 
 def input_gradient(
@@ -139,28 +147,11 @@ def input_gradient(
         B = B[:1, :1]
     B = np.ascontiguousarray(B)
     axes = np.flatnonzero([B[:, :, k, :].any() for k in range(grid.ndim)]).astype(np.int64)
-    nodes = np.ascontiguousarray(nodes, dtype=np.int64)
-    values = np.ascontiguousarray(values)
-    divisor = (
-        np.empty((values.shape[0], 0)) if log_divisor is None else np.ascontiguousarray(log_divisor)
+    z, tau, divisor, nodes, weights = _slices_on_simplices(
+        values, time_weights, nodes, weights, log_divisor
     )
-    out = np.empty((nodes.shape[0], B.shape[-1]))
-    kernel = (
-        input_gradient_kernel if nodes.shape[0] >= SERIAL_BELOW else input_gradient_kernel_serial
-    )
+    out = np.empty((len(nodes), B.shape[-1]))
+    kernel = input_gradient_kernel if len(nodes) >= SERIAL_BELOW else input_gradient_kernel_serial
     _, spacing, shape, strides, periodic = grid.kernel_arrays()
-    kernel(
-        values,
-        np.ascontiguousarray(time_weights, dtype=float),
-        divisor,
-        nodes,
-        np.ascontiguousarray(weights, dtype=float),
-        B,
-        axes,
-        shape,
-        strides,
-        spacing,
-        periodic,
-        out,
-    )
+    kernel(z, tau, divisor, nodes, weights, B, axes, shape, strides, spacing, periodic, out)
     return out

@@ -491,6 +491,9 @@ class Member:
     proposals : callable or None
         The problem certified → {name: policy}: proposals for the certificate beside the finer
         and the default solves' policies (``truths.py`` keeps the one with the largest ESS).
+    options : dict
+        Solve options the user passes (e.g. ``store_every``), given to the default solve and to
+        the solve to a tolerance alike.
     """
 
     name: str
@@ -506,6 +509,7 @@ class Member:
     exact: Callable[[np.ndarray], np.ndarray] | None = None
     time: float = 0.0
     proposals: Callable[[Problem], dict] | None = None
+    options: dict = field(default_factory=dict)
 
     def certified_problem(self) -> Problem:
         """The problem whose value at t = 0 is the truth at ``time``: the remaining task."""
@@ -1022,6 +1026,28 @@ def _wall_exact(X):
 def _gain_exact(X):
     """separable 1-D Crank–Nicolson (strangers_round22, "1-D") as for driftwall_kept_node"""
     return r22.P22["gainband2_deep"][2](X)[0]
+
+
+def _store_far_problem() -> Problem:
+    """Stranger round 21's opt_store19 (round 20's LQ point mass): m = 2 brought to (1, 0),
+    g = 4(x₀ − 1)² + x₁², q = (x₀ + 0.5)² + 0.1 x₁², λ = 0.5, T = 3, 101² on [−4, 4] × [−6, 6]."""
+    return Problem(
+        PointMass(mass=2.0),
+        Grid([Axis(-4, 4, 101), Axis(-6, 6, 101)]),
+        3.0,
+        terminal_cost=Quadratic([1.0, 0.0], [4.0, 1.0]),
+        state_cost=Quadratic([-0.5, 0.0], [1.0, 0.1]),
+        temperature=0.5,
+    )
+
+
+def _store_far_exact(X):
+    """Riccati (gridlbc.reference.lq_solution) of the remaining task, T − t = 1.5: exact for a
+    linear system with quadratic costs; the walls are several standard deviations away"""
+    from gridlbc.reference import lq_solution
+
+    problem = _store_far_problem()
+    return lq_solution(problem.replace(horizon=1.5)).value(X, 0.0)
 
 
 def _tiny_ball_exact(X):
@@ -1782,6 +1808,19 @@ MEMBERS: tuple[Member, ...] = (
         "noise's interpolation is checked",
         tags=("narrow gain", "user system", "closed"),
         exact=_gain_exact,
+    ),
+    Member(
+        "store_far_apart",
+        _store_far_problem,
+        np.array([[0.0, 0.0], [1.5, 1.0], [-2.0, -1.0]]),
+        "a user's store_every=19 on a 19-step solve (only t = 0 and T stored), read at t = 1.5: v "
+        "interpolated linearly in time between them, 16–29 % off; the coarser solves stored "
+        "as sparsely and interpolated alike (stranger round 21's opt_store19), silent until they "
+        "stored twice as densely and the estimate read what the interpolation changes",
+        tags=("read late", "solve options", "closed"),
+        exact=_store_far_exact,
+        time=1.5,
+        options={"store_every": 19},
     ),
 )
 

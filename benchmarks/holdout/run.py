@@ -59,7 +59,7 @@ def predict(member: Member) -> dict:
         warnings.simplefilter("always")
         with np.errstate(all="warn", under="ignore"):
             start = time.perf_counter()
-            solution = gridlbc.solve(problem)
+            solution = gridlbc.solve(problem, **member.options)
             seconds = time.perf_counter() - start
             t = member.time
             values = np.asarray(solution.value(member.states, t), dtype=float).reshape(-1)
@@ -118,7 +118,7 @@ def tolerance_check(member: Member, truths: dict) -> str:
     started = time.perf_counter()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", gridlbc.GridlbcWarning)
-        solution = gridlbc.solve(member.build(), tol=TOL, states=member.states)
+        solution = gridlbc.solve(member.build(), tol=TOL, states=member.states, **member.options)
     values = np.asarray(solution.value(member.states, member.time), dtype=float).reshape(-1)
     truth = [t.get("v_extrapolated", t["v"]) for t in truths[member.name]["states"]]
     errors = ", ".join(f"{100 * (v - t) / abs(t):+.1f}%" for v, t in zip(values, truth))
