@@ -274,9 +274,11 @@ def _exit_settings(s: SolverSettings, explicit: bool, fitting="auto") -> SolverS
 
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
     """Attach to each solution its embedded solve (the same problem on the grid with every other
-    node, step 2Δt), the observed order from a third solve at 4h, 4Δt, the response of the embedded
-    grid's plain-scheme solves to the costs' sub-cell excess (:func:`gridlbc.accuracy.responses`)
-    and, where a feature narrower than a cell asks for it (:func:`gridlbc.accuracy.reads_pair`),
+    node, step 2Δt, its slices stored at least twice as densely:
+    :func:`gridlbc.accuracy.embedded_store_every`), the observed order from a third solve at 4h,
+    4Δt, the response of the embedded grid's plain-scheme solves to the costs' sub-cell excess
+    (:func:`gridlbc.accuracy.responses`) and, where a feature narrower than a cell asks for it
+    (:func:`gridlbc.accuracy.reads_pair`),
     the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step 2Δt); and
     warn where the estimate exceeds the default tolerance, or where none could be made
     (:func:`gridlbc.accuracy.embedded_solves`), and where the drift changes between the nodes
@@ -286,7 +288,12 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     horizon = problem.require_horizon("an embedded solve")
 
     def solve_on(
-        grid: Grid, factor: int, on=problem, costs=terminal_costs, using=s, every=s.store_every
+        grid: Grid,
+        factor: int,
+        on: Problem = problem,
+        costs=terminal_costs,
+        using=s,
+        every: int = s.store_every,
     ):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
