@@ -77,6 +77,7 @@ def check(member: Member, truths: dict, tol: float, states: bool, max_seconds: f
                 # a member read late is judged where it is read
                 times=[member.time] if states and member.time > 0.0 else None,
                 max_seconds=max_seconds,
+                **member.options,  # a user's own solve options (corpus.Member.options)
             )
             seconds = time.perf_counter() - start
     with warnings.catch_warnings(record=True) as reading:
