@@ -167,6 +167,13 @@ class Grid:
             [self._lo[k] + self.axes[k].spacing * multi[k] for k in range(self.ndim)], axis=-1
         )
 
+    def nearest_node(self, x) -> np.ndarray:
+        """The multi-index of the node nearest each state ``(N, d)``, ``(N, d)`` int64: across the
+        seam on a periodic axis, the end node beyond either end of a closed one."""
+        n = np.array(self.shape)
+        index = np.rint((np.asarray(x, dtype=float) - self._lo) / self.spacing).astype(np.int64)
+        return np.where(self.periodic, index % n, np.clip(index, 0, n - 1))
+
     def wrap(self, x) -> np.ndarray:
         """Map states into the box: periodic coordinates modulo their period into ``[lo, hi)``.
 

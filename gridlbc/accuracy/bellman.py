@@ -260,9 +260,8 @@ def quadratic_read(solution, x: np.ndarray, t: float) -> np.ndarray:
         warnings.simplefilter("ignore")  # an underflowed value is the solve's to warn of
         value = solution.value(x, t)
         n = np.array(grid.shape)
-        index = np.rint((grid.wrap(x) - grid.lo) / h).astype(np.int64)
-        inward = np.clip(index, 1, n - 2)
-        index = np.where(grid.periodic, index % n, inward)
+        index = grid.nearest_node(x)
+        index = np.where(grid.periodic, index, np.clip(index, 1, n - 2))  # inward at a closed end
         centre = grid.lo + index * h
         offsets = [np.zeros(d)]
         for k in range(d):

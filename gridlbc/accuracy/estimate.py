@@ -977,7 +977,7 @@ def cell_centres(solution, nodes: np.ndarray, mask: np.ndarray) -> np.ndarray:
         return np.empty((0, grid.ndim))
     n = np.array(grid.shape)
     periodic = grid.periodic
-    index = np.rint((nodes - grid.lo) / grid.spacing).astype(np.int64)
+    index = grid.nearest_node(nodes)
     shifts = np.array(np.meshgrid(*([[-1, 0]] * grid.ndim), indexing="ij")).reshape(grid.ndim, -1).T
     lower = (index[:, None, :] + shifts[None]).reshape(-1, grid.ndim)
     lower = np.where(periodic, lower % n, lower)

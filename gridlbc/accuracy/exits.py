@@ -80,7 +80,7 @@ class MovedExit:
 
     def __init__(self, problem, grid: Grid, points: np.ndarray):
         self.grid, self.points = grid, points
-        self.nodes = _nearest(grid, points)
+        self.nodes = grid.nearest_node(points) @ grid.strides
         added = np.zeros(grid.size, dtype=bool)
         added[self.nodes] = True
         inside = problem.exit_mask(grid.nodes()) | added
@@ -107,16 +107,8 @@ class MovedCost:
         out = evaluate_cost(self.cost, x, "exit_cost")
         h = np.asarray(self.grid.spacing, dtype=float)
         on_node = np.all(np.abs(np.remainder(x - self.grid.lo + h / 2, h) - h / 2) <= 1e-9 * h, 1)
-        moved = self.at[_nearest(self.grid, x)]
+        moved = self.at[self.grid.nearest_node(x) @ self.grid.strides]
         return np.where(on_node & np.isfinite(moved), moved, out)
-
-
-def _nearest(grid: Grid, x: np.ndarray) -> np.ndarray:
-    """The flat index of the node of ``grid`` nearest each state of ``x`` (n, d)."""
-    shape = np.array(grid.shape)
-    index = np.rint((x - grid.lo) / np.asarray(grid.spacing, dtype=float)).astype(np.int64)
-    index = np.where(grid.periodic, index % shape, np.clip(index, 0, shape - 1))
-    return index @ grid.strides
 
 
 def _open_cells(grid: Grid, inside: np.ndarray) -> np.ndarray:
