@@ -81,6 +81,7 @@ class Grid:
 
     axes: tuple[Axis, ...]
     _lo: np.ndarray = field(init=False, repr=False, compare=False)
+    _kernel: tuple = field(init=False, repr=False, compare=False)
 
     def __init__(self, axes):
         axes = tuple(axes) if not isinstance(axes, Axis) else (axes,)
@@ -91,6 +92,14 @@ class Grid:
                 raise TypeError(f"Grid axes[{k}] must be an Axis, got {type(ax).__name__}")
         object.__setattr__(self, "axes", axes)
         object.__setattr__(self, "_lo", np.array([a.lo for a in axes]))
+        kernel = (
+            np.array([a.lo for a in axes]),
+            np.array([a.spacing for a in axes]),
+            np.array([a.n for a in axes], dtype=np.int64),
+            np.array([math.prod(a.n for a in axes[k + 1 :]) for k in range(len(axes))]),
+            np.array([a.periodic for a in axes]),
+        )
+        object.__setattr__(self, "_kernel", kernel)
 
     def __eq__(self, other):
         return isinstance(other, Grid) and self.axes == other.axes
@@ -141,14 +150,9 @@ class Grid:
 
     def kernel_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """``(lo, spacing, shape, strides, periodic)``: the grid as the arrays compiled kernels
-        take (float64, float64, int64, int64, bool; each of shape ``(d,)``)."""
-        return (
-            self.lo,
-            self.spacing,
-            np.array(self.shape, dtype=np.int64),
-            self.strides,
-            self.periodic,
-        )
+        take (float64, float64, int64, int64, bool; each of shape ``(d,)``), made once with the
+        grid and shared by every caller, which must not change them."""
+        return self._kernel
 
     def points(self) -> list[np.ndarray]:
         """Node coordinates per axis."""

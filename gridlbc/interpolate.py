@@ -27,6 +27,8 @@ from .backends.numba.interpolation import (
     input_gradient_kernel_serial,
     interpolate_kernel,
     interpolate_kernel_serial,
+    interpolate_rows_kernel,
+    interpolate_rows_kernel_serial,
     kuhn_kernel,
     kuhn_kernel_serial,
 )
@@ -56,8 +58,14 @@ def interpolate(grid: Grid, values, x) -> np.ndarray:
             f"values must have {grid.size} nodal entries in the last axis for grid "
             f"{grid.describe()}, got shape {values.shape}"
         )
+    if values.dtype not in (np.float32, np.float64):
+        values = values.astype(float)
     idx, weights = barycentric(grid, x)
-    return (values[..., idx] * weights).sum(axis=-1)
+    rows = np.ascontiguousarray(values.reshape(-1, grid.size))
+    out = np.empty((rows.shape[0], len(idx)))
+    kernel = interpolate_rows_kernel if len(idx) >= SERIAL_BELOW else interpolate_rows_kernel_serial
+    kernel(rows, idx, weights, out)
+    return out.reshape(values.shape[:-1] + (len(idx),))
 
 
 def interpolate_slices(
@@ -146,7 +154,7 @@ def input_gradient(
     if B.strides[0] == 0 and B.strides[1] == 0:  # constant B, broadcast
         B = B[:1, :1]
     B = np.ascontiguousarray(B)
-    axes = np.flatnonzero([B[:, :, k, :].any() for k in range(grid.ndim)]).astype(np.int64)
+    axes = np.flatnonzero(B.any(axis=(0, 1, 3))).astype(np.int64)  # the axes B drives
     z, tau, divisor, nodes, weights = _slices_on_simplices(
         values, time_weights, nodes, weights, log_divisor
     )

@@ -423,13 +423,38 @@ def reflect_into_box(x: np.ndarray, lo: np.ndarray, hi: np.ndarray, closed: np.n
     closed : ndarray (d,) of bool
         The axes to fold (the non-periodic ones).
     """
-    for k in np.flatnonzero(closed):
-        out = (x[:, k] < lo[k]) | (x[:, k] > hi[k])
-        if np.any(out):
-            width = hi[k] - lo[k]
-            y = np.mod(x[out, k] - lo[k], 2 * width)
-            x[out, k] = lo[k] + np.where(y > width, 2 * width - y, y)
+    fold_kernel(x, lo, hi, np.asarray(closed, dtype=bool), np.ones(x.shape[0], dtype=bool))
     return x
+
+
+@jit
+def fold_kernel(x, lo, hi, closed, rows):
+    """x_k ← lo + L − abs(((x_k − lo) mod 2L) − L), L = hi − lo, for the coordinates outside
+    [lo, hi] on the ``closed`` axes of the samples where ``rows`` is True, in place
+    (:func:`reflect_into_box`)."""
+    n, d = x.shape
+    for s in range(n):
+        if not rows[s]:
+            continue
+        for k in range(d):
+            if closed[k] and (x[s, k] < lo[k] or x[s, k] > hi[k]):
+                width = hi[k] - lo[k]
+                y = (x[s, k] - lo[k]) % (2.0 * width)
+                x[s, k] = lo[k] + (2.0 * width - y if y > width else y)
+
+
+@jit
+def wrap_kernel(x, lo, hi, periodic, outside):
+    """x_k ← lo + (x_k − lo) mod (hi − lo) on the ``periodic`` axes (into [lo, hi), as
+    :meth:`gridlbc.Grid.wrap`), and ``outside[s]`` set where a closed coordinate of sample s lies
+    outside [lo, hi], in place."""
+    n, d = x.shape
+    for s in range(n):
+        for k in range(d):
+            if periodic[k]:
+                x[s, k] = lo[k] + (x[s, k] - lo[k]) % (hi[k] - lo[k])
+            elif x[s, k] < lo[k] or x[s, k] > hi[k]:
+                outside[s] = True
 
 
 def check_problem_and_policy(problem, policy) -> None:
@@ -551,6 +576,8 @@ def euler_maruyama(
     scored = tuple(scored)
     log_likelihoods = np.zeros((n, len(scored))) if scored else None
     integral: np.ndarray | None = None if integrand is None else np.zeros(n)
+    if grid is not None:  # the box, as the kernels read it
+        lo, hi, periodic = grid.lo, grid.hi, grid.periodic
     for k in range(n_steps):
         t = k * step
         if noise:
@@ -586,15 +613,20 @@ def euler_maruyama(
                 u = u_a
             else:
                 running[alive], ito[alive], u[alive] = running_a, ito_a, u_a
-            x_new = problem.wrap(x_new)
-            if grid is not None:
-                left[alive] |= np.any(((x_new < grid.lo) | (x_new > grid.hi)) & ~grid.periodic, 1)
-            still: slice | np.ndarray = slice(None)
+            outside = np.zeros(len(x_new), dtype=bool)
+            if grid is None:
+                x_new = problem.wrap(x_new)
+            else:
+                wrap_kernel(x_new, lo, hi, periodic, outside)
+                left[alive] |= outside
+            still = np.ones(len(x_new), dtype=bool)
             if exits is not None:  # before any fold: a step into an exit set beyond an edge ends
-                exits.step(x_a, x_new, B @ root if noise else None, (k + 1) * step, rng)
+                folded = outside if reflect else None
+                spread = B @ root if noise and exits.region is not None else None  # the bridge's
+                exits.step(x_a, x_new, spread, (k + 1) * step, rng, folded)
                 still = exits.alive[alive]
-            if reflect and grid is not None:
-                x_new[still] = reflect_into_box(x_new[still], grid.lo, grid.hi, ~grid.periodic)
+            if reflect and grid is not None and outside.any():
+                fold_kernel(x_new, lo, hi, ~periodic, still)
             x[alive] = x_new
         if on_step is not None:
             on_step(k, x, u)
@@ -614,7 +646,8 @@ def euler_maruyama(
 class _Exits:
     """Which samples have reached the exit set, when, and the exit cost they paid (into
     ``end_cost``; not charged where it is None); the bridge crossing where the region knows its
-    geometry (module docstring)."""
+    geometry (module docstring), each state's distance from E found once (a step's end is the
+    next one's start)."""
 
     def __init__(self, problem: Problem, x: np.ndarray, end_cost: np.ndarray | None):
         self.problem, self.end_cost = problem, end_cost
@@ -622,12 +655,18 @@ class _Exits:
         self.region = cast(RegionBase, problem.exit) if geometric else None
         self.alive = np.ones(x.shape[0], dtype=bool)
         self.times = np.full(x.shape[0], np.nan)
+        # each sample's distance from E and the outward normal there, at its current state (NaN:
+        # not yet found)
+        self.distance = np.full(x.shape[0], np.nan)
+        self.normal = np.empty(x.shape)
         self._stop(np.arange(x.shape[0]), self.problem.exit_mask(x), x, 0.0)
 
-    def step(self, before, after, noise_factor, t: float, rng) -> None:
+    def step(self, before, after, noise_factor, t: float, rng, folded=None) -> None:
         """Stop the running samples (in order, ``before`` → ``after``, both ``(n_alive, d)``)
         that entered E during the step ending at ``t``; ``noise_factor`` ``(n_alive, d, m)`` is
-        B C √(λ Δt) with C Cᵀ = R⁻¹ (None without noise: no bridge)."""
+        B C √(λ Δt) with C Cᵀ = R⁻¹ (None without noise: no bridge). ``folded`` ``(n_alive,)``:
+        the samples whose ``after`` a reflecting edge moves next (their distance from E is found
+        again at the next step)."""
         running = np.flatnonzero(self.alive)
         entered = self.problem.exit_mask(after)
         where = after
@@ -635,8 +674,15 @@ class _Exits:
             draws = rng.random(len(running))
             out = np.flatnonzero(~entered)
             region = self.region
-            d0, normal = region.boundary_distance(before[out])
+            ids = running[out]
+            d0, normal = self.distance[ids], self.normal[ids]
+            unknown = np.isnan(d0)
+            if unknown.any():
+                d0[unknown], normal[unknown] = region.boundary_distance(before[out[unknown]])
             d1, normal1 = region.boundary_distance(after[out])
+            self.distance[ids], self.normal[ids] = d1, normal1
+            if folded is not None:
+                self.distance[ids[folded[out]]] = np.nan
             variance = np.sum(np.einsum("nd,ndm->nm", normal, noise_factor[out]) ** 2, axis=1)
             with np.errstate(divide="ignore", under="ignore"):
                 p = np.where(variance > 0, np.exp(-2 * d0 * d1 / variance), 0.0)

@@ -37,6 +37,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .grid import flat_chunks
 from .interpolate import barycentric
 from .problem import Problem, bracket, check_time, state_evaluation
 from .representation import Fields, LinearZ, RelativeZ, Representation, Stencil
@@ -174,6 +175,11 @@ class FieldEvaluation:
         """Optimal control u*(x, t) = λ R⁻¹ Bᵀ∇z / z = −R⁻¹ Bᵀ∇v, shape ``(N, m)`` (``(m,)`` for one
         state)."""
         return self.fields(x, t).policy(self.temperature, self.problem.R_inv)
+
+
+INPUT_MATRIX_ENTRIES = 1 << 21
+"""At most this many entries of B over the nodes (16 MiB) are kept with a solution, for the policy
+read at many states (:meth:`Solution._input_matrix_nodes`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -318,16 +324,38 @@ class Solution(FieldEvaluation):
     # -- evaluation anywhere --------------------------------------------------------------------
 
     def _input_matrix_at(self, nodes: np.ndarray) -> np.ndarray:
-        system = self.problem.system
-        if system.linear_matrices() is not None:  # constant B: evaluate once
-            B = self._cache.get("input_matrix")
-            if B is None:
-                B = np.asarray(system.input_matrix(self.grid.nodes()[:1]), dtype=float)[0]
-                self._cache["input_matrix"] = B
+        """B at the flat ``nodes`` (any shape), ``nodes.shape + (d, m)``: from B at every node,
+        read once (:meth:`_input_matrix_nodes`), where that is kept."""
+        B = self._input_matrix_nodes()
+        if B is not None and B.ndim == 2:  # the same at every node
             return np.broadcast_to(B, nodes.shape + B.shape)
+        if B is not None:
+            return B[nodes]
         coords = self.grid.node_coordinates(nodes.ravel())
-        B = np.asarray(system.input_matrix(coords), dtype=float)
+        B = np.asarray(self.problem.system.input_matrix(coords), dtype=float)
         return B.reshape(nodes.shape + B.shape[1:])
+
+    def _input_matrix_nodes(self) -> np.ndarray | None:
+        """B at every node, ``(size, d, m)``, or one ``(d, m)`` where it is the same at every
+        node (a linear system's, or a pendulum's torque input); None where the grid holds more
+        than :data:`INPUT_MATRIX_ENTRIES` entries of it (B is then read at the vertices each
+        time). Kept with the solution."""
+        if "input_matrix" in self._cache:
+            return self._cache["input_matrix"]
+        grid, system = self.grid, self.problem.system
+        d, m = grid.ndim, system.control_dim
+        B = None
+        if system.linear_matrices() is not None:  # constant B: evaluate once
+            B = np.asarray(system.input_matrix(grid.nodes()[:1]), dtype=float)[0]
+        elif grid.size * d * m <= INPUT_MATRIX_ENTRIES:
+            B = np.empty((grid.size, d, m))
+            for flat in flat_chunks(grid.size):
+                coords = grid.node_coordinates(flat)
+                B[flat[0] : flat[-1] + 1] = system.input_matrix(coords)
+            if np.all(B[0] == B):
+                B = B[0].copy()
+        self._cache["input_matrix"] = B
+        return B
 
     def stencil(self, x, t, gradient: bool = True) -> Stencil:
         """The simplices of states ``x`` ``(N, d)`` and the stored interval of time ``t``, with B

@@ -206,6 +206,24 @@ def test_the_serial_and_threaded_kernels_agree_bitwise(d, monkeypatch):
         B = np.zeros((len(x), d + 1, d, 1))
         B[:, :, d - 1, 0] = 1.0
         gradient = input_gradient(grid, values, np.ones(2), idx, weights, B, log_divisor=values)
-        out.append((idx, weights, gradient))
+        out.append((idx, weights, gradient, interpolate(grid, values, x)))
     for threaded, serial in zip(*out):
         np.testing.assert_array_equal(threaded, serial)
+
+
+@pytest.mark.parametrize("d", [1, 3, 4])
+def test_interpolate_sums_each_rows_vertices_as_the_weights_say(d, rng):
+    # the compiled sum over a state's d + 1 vertices, in their order, for every row of a stack
+    # of nodal values (any leading shape, any real dtype): the same numbers as the plain gather
+    grid = GRIDS[d]
+    x = rng.uniform(grid.lo, grid.hi, size=(200, d))
+    idx, w = barycentric(grid, x)
+    values = rng.normal(size=(2, 3, grid.size))
+    expected = (values[..., idx] * w).sum(axis=-1)
+    got = interpolate(grid, values, x)
+    assert got.shape == (2, 3, 200)
+    np.testing.assert_array_equal(got, expected)
+    mask = values[0, 0] > 0
+    np.testing.assert_array_equal(interpolate(grid, mask, x), (mask[idx] * w).sum(axis=-1))
+    single = values[0, 0].astype(np.float32)
+    np.testing.assert_array_equal(interpolate(grid, single, x), (single[idx] * w).sum(axis=-1))

@@ -10,7 +10,7 @@ from conftest import line, lq_point_mass
 
 import gridlbc as g
 from gridlbc.reference import lq_solution
-from gridlbc.simulate import em_kernel, em_step_numpy, reflect_into_box
+from gridlbc.simulate import em_kernel, em_step_numpy, fold_kernel, reflect_into_box, wrap_kernel
 from gridlbc.systems import Pendulum
 
 
@@ -148,6 +148,25 @@ def test_reflect_folds_back_as_often_as_needed():
     np.testing.assert_allclose(folded[:, 0], [0.0, 0.5, 0.3, -0.8], atol=1e-15)
     np.testing.assert_array_equal(folded[:, 1], x[:, 1])  # not a closed axis here
     assert folded[2, 0] == 0.3  # inside: untouched
+
+
+def test_the_step_wraps_periodic_coordinates_and_flags_and_folds_closed_ones():
+    # the compiled box step: periodic coordinates as Grid.wrap puts them, a sample marked where
+    # a closed coordinate left [lo, hi], and folded only where its row asks
+    grid = g.Grid([g.Axis(-np.pi, np.pi, 9, periodic=True), g.Axis(0.0, 2.0, 5)])
+    lo, hi, periodic = grid.lo, grid.hi, grid.periodic
+    x = np.array([[4.0, 1.0], [-7.5, 2.5], [0.1, -0.3], [3.0, 2.0], [10.0, -5.0]])
+    wrapped = x.copy()
+    outside = np.zeros(len(x), dtype=bool)
+    wrap_kernel(wrapped, lo, hi, periodic, outside)
+    np.testing.assert_array_equal(wrapped[:, 0], grid.wrap(x)[:, 0])
+    np.testing.assert_array_equal(wrapped[:, 1], x[:, 1])
+    np.testing.assert_array_equal(outside, [False, True, True, False, True])
+    rows = np.array([True, True, False, True, True])
+    fold_kernel(wrapped, lo, hi, ~periodic, rows)
+    np.testing.assert_allclose(wrapped[[1, 4], 1], [1.5, 1.0], atol=1e-15)  # 2.5 → 1.5, −5 → 1
+    assert wrapped[2, 1] == -0.3  # its row was not asked to fold
+    assert wrapped[3, 1] == 2.0  # on the edge: inside
 
 
 def _free_and_reflected(half_width, temperature, n_samples, seed):

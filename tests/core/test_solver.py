@@ -132,6 +132,27 @@ def test_policy_matches_value_gradient():
     np.testing.assert_allclose(sol.policy(x, 0.0)[:, 0], expected, rtol=0.15)
 
 
+@pytest.mark.parametrize("gain", ["constant", "varying"])
+def test_the_policy_reads_b_kept_at_the_nodes_as_it_reads_b_at_the_vertices(gain, monkeypatch):
+    # B at every node is read once and kept (one matrix where it is the same everywhere, as a
+    # pendulum's torque input): the policy must be the one that reads B at each state's vertices
+    import gridlbc.solution as solution_module
+
+    class Gained(Pendulum):
+        def input_matrix(self, x):
+            B = super().input_matrix(x)
+            return B * (1.0 + 0.3 * np.cos(x[:, 0]))[:, None, None] if gain == "varying" else B
+
+    problem = pendulum(32, system=Gained())
+    x = np.random.default_rng(2).uniform(problem.grid.lo, problem.grid.hi, (40, 2))
+    kept = gridlbc.solve(problem, dt=0.05, error_estimate=False)
+    monkeypatch.setattr(solution_module, "INPUT_MATRIX_ENTRIES", 0)  # none kept: read each time
+    fresh = gridlbc.solve(problem, dt=0.05, error_estimate=False)
+    np.testing.assert_array_equal(kept.policy(x, 0.3), fresh.policy(x, 0.3))
+    assert fresh._input_matrix_nodes() is None
+    assert kept._input_matrix_nodes().ndim == (2 if gain == "constant" else 3)
+
+
 @EXACTNESS_ONLY
 def test_underflow_is_reported_not_nan():
     grid = Grid([Axis(-10.0, 10.0, 41)])
