@@ -27,6 +27,7 @@ import numpy as np
 
 from .accuracy import check_flow, embedded_store_every, solve_to_tolerance
 from .accuracy.embedding import embed
+from .accuracy.tolerance import Marcher
 from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
 from .grid import Grid, flat_chunks
@@ -360,6 +361,10 @@ def _solutions(
     return out
 
 
+MARCH = Marcher(settings_for, planned_step, planned_memory, solve_many)
+"""The time march as :func:`gridlbc.accuracy.solve_to_tolerance` repeats and plans it."""
+
+
 def solve(
     problem: Problem,
     dt: float | SolverSettings | str | None = None,
@@ -455,6 +460,7 @@ def solve(
             max_nodes,
             max_seconds=max_seconds,
             times=times,
+            march=MARCH,
             **options,
         )
     _check_tolerance_options(states, max_nodes, max_seconds, times)
