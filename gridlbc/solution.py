@@ -346,7 +346,7 @@ class Solution(FieldEvaluation):
         d, m = grid.ndim, system.control_dim
         B = None
         if system.linear_matrices() is not None:  # constant B: evaluate once
-            B = np.asarray(system.input_matrix(grid.nodes()[:1]), dtype=float)[0]
+            B = np.asarray(system.input_matrix(grid.node_coordinates([0])), dtype=float)[0]
         elif grid.size * d * m <= INPUT_MATRIX_ENTRIES:
             B = np.empty((grid.size, d, m))
             for flat in flat_chunks(grid.size):

@@ -373,7 +373,7 @@ def page_data(
         if state is None
         else grid.check_states(state, "state")[0]
     )
-    B = np.asarray(system.input_matrix(grid.nodes()[:1]), dtype=float)[0]
+    B = np.asarray(system.input_matrix(grid.node_coordinates([0])), dtype=float)[0]
     # A stationary (first-exit) solution has one slice and no time: the page, made for time
     # slices, gets it twice over [0, STATIONARY_ROLLOUT_TIME] (so z does not change with t), the exit set's
     # nodes, and stops its rollout there.
