@@ -264,18 +264,14 @@ def _exit_settings(s: SolverSettings, explicit: bool, fitting="auto") -> SolverS
 
 
 def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float, solutions):
-    """Attach to each solution its embedded solve (the same problem on the grid with every other
-    node, step 2Δt, its slices stored at least twice as densely:
-    :func:`gridlbc.accuracy.embedded_store_every`), the observed order from a third solve at 4h,
-    4Δt, the response of the embedded grid's plain-scheme solves to the costs' sub-cell excess
-    (:func:`gridlbc.accuracy.responses`) and, where a feature narrower than a cell asks for it
-    (:func:`gridlbc.accuracy.reads_pair`),
-    the solves on the pair of grids of :func:`~gridlbc.accuracy.phase_pair` (step 2Δt); and
-    warn where the estimate exceeds the default tolerance, or where none could be made
-    (:func:`gridlbc.accuracy.embedded_solves`), and where the drift changes between the nodes
-    faster than the grid follows (:func:`gridlbc.accuracy.check_flow`) or the exit set has a part
-    that no node holds (:func:`gridlbc.accuracy.check_exit`). The embedded solves' own
-    warnings are not the user's: they are silenced."""
+    """Attach to each solution its embedded estimate (:func:`gridlbc.accuracy.embedding.embed`),
+    the coarser solves marched as this one: on the grid with every other node at step 2Δt and
+    the one below it at 4Δt, their slices stored at least twice as densely
+    (:func:`gridlbc.accuracy.embedded_store_every`); the solves on the pair of grids at 2Δt; and
+    the response to the costs' sub-cell excess by the plain scheme (:func:`gridlbc.accuracy.responses`
+    says why). Then warn where the drift changes between the nodes faster than the grid follows
+    (:func:`gridlbc.accuracy.check_flow`). The coarser solves' own warnings are not the user's:
+    they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
 
     def solve_on(
