@@ -268,8 +268,8 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
     the coarser solves marched as this one: on the grid with every other node at step 2Δt and
     the one below it at 4Δt, their slices stored at least twice as densely
     (:func:`gridlbc.accuracy.embedded_store_every`); the solves on the pair of grids at 2Δt; and
-    the response to the costs' sub-cell excess by the plain scheme (:func:`gridlbc.accuracy.responses`
-    says why). Then warn where the drift changes between the nodes faster than the grid follows
+    the response to the costs' sub-cell excess by the plain scheme
+    (:func:`gridlbc.accuracy.responses` says why). Then warn where the drift changes between the nodes faster than the grid follows
     (:func:`gridlbc.accuracy.check_flow`). The coarser solves' own warnings are not the user's:
     they are silenced."""
     horizon = problem.require_horizon("an embedded solve")
