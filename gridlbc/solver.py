@@ -25,18 +25,9 @@ import warnings
 
 import numpy as np
 
-from .accuracy import (
-    attach_estimates,
-    check_exit,
-    check_flow,
-    embedded_solves,
-    embedded_store_every,
-    missed_points,
-    pair_solves,
-    reads_pair,
-    responses,
-    solve_to_tolerance,
-)
+from .accuracy import check_flow, embedded_store_every, solve_to_tolerance
+from .accuracy.embedding import embed
+from .accuracy.tolerance import Marcher
 from .backends.numba.drift import rate_sums
 from .errors import GridlbcWarning
 from .grid import Grid, flat_chunks
@@ -307,30 +298,18 @@ def _embed(problem: Problem, terminal_costs: list, s: SolverSettings, dt: float,
                 store_every=every,
             )
 
-    fine = problem.require_grid("an embedded solve")
-    levels, reason = embedded_solves(  # stored densely enough to read between the slices
-        fine,
+    plain = dataclasses.replace(s, fitting=None)  # why: subcell.responses
+    embed(
+        problem,
+        terminal_costs,
+        solutions,
+        # the levels store their slices densely enough to read between the solve's
         lambda grid, factor: solve_on(
             grid, factor, every=embedded_store_every(s.store_every, factor)
         ),
+        lambda on, costs: solve_on(on.grid, 2, on, costs, plain),
     )
-    excess = pairs = None
-    missed = missed_points(problem)  # the exit set's parts no node holds (none without one)
-    if levels:
-        coarse = levels[0][0].grid
-        plain = dataclasses.replace(s, fitting=None)  # why: subcell.responses
-        excess = responses(
-            problem,
-            terminal_costs,
-            coarse,
-            lambda on, costs: solve_on(coarse, 2, on, costs, plain),
-            missed=missed,
-        )
-        if reads_pair(solutions[0], excess):
-            pairs = pair_solves(fine, levels[0], solve_on)
-    attach_estimates(solutions, levels, pairs, excess, reason)
     check_flow(solutions[0])  # the drift is the problem's: one look for all its solutions
-    check_exit(solutions[0], missed)  # so is the exit set
 
 
 def _solutions(
@@ -380,6 +359,10 @@ def _solutions(
             )
         )
     return out
+
+
+MARCH = Marcher(settings_for, planned_step, planned_memory, solve_many)
+"""The time march as :func:`gridlbc.accuracy.solve_to_tolerance` repeats and plans it."""
 
 
 def solve(
@@ -477,6 +460,7 @@ def solve(
             max_nodes,
             max_seconds=max_seconds,
             times=times,
+            march=MARCH,
             **options,
         )
     _check_tolerance_options(states, max_nodes, max_seconds, times)

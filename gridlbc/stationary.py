@@ -56,29 +56,23 @@ from .accuracy import (
     UNPOSED,
     Refinement,
     assess,
-    attach_estimates,
     average_truncation,
     axes_to_refine,
     check_budget,
-    check_exit,
     check_scalar,
     check_tolerance,
     embedded_grid,
-    embedded_solves,
     finish,
     limiting_axes,
-    missed_points,
     over_budget,
-    pair_solves,
     predicted_seconds,
-    reads_pair,
     refined_grid,
-    responses,
     scalar_estimate,
     scalar_relative,
     stationary_gap,
     unestimated,
 )
+from .accuracy.embedding import embed
 from .errors import (
     ConvergenceError,
     GridlbcWarning,
@@ -1040,59 +1034,33 @@ def _embed(problem: Problem, s: StationarySettings, solution: StationarySolution
 
 
 def _embed_many(problem: Problem, exit_costs, s: StationarySettings, solutions) -> None:
-    """Attach to each solution its embedded estimate (:mod:`gridlbc.accuracy`): the same problem
-    and exit cost on the grids with every other node (2h and 4h), the embedded solve's response
-    to the exit costs' sub-cell excess (:func:`gridlbc.accuracy.responses`) and, where a feature
-    narrower than a cell asks for it (:func:`gridlbc.accuracy.reads_pair`), the pair; and warn
-    where an estimate exceeds the default tolerance, where none could be made, or where the exit
-    set has a part that no node holds (:func:`gridlbc.accuracy.check_exit`)."""
+    """Attach to each solution its embedded estimate (:func:`gridlbc.accuracy.embedding.embed`):
+    the same problem and exit cost on the grids with every other node (2h and 4h), the embedded
+    solve's response to the exit costs' sub-cell excess and, where a feature narrower than a
+    cell asks for it, the pair; and warn where an estimate exceeds the default tolerance, where
+    none could be made, or where the exit set has a part that no node holds."""
 
-    def solve(on: Problem) -> list:
-        return solve_first_exit_many(on, exit_costs, s)
+    def solve(on: Problem, costs=exit_costs) -> list:
+        return _quietly(solve_first_exit_many, on, costs, s)
 
-    levels, reason = _levels(problem, solve)
-    excess = pairs = None
-    missed = missed_points(problem)  # the exit set's parts no node holds
-    if levels:
-        coarse = levels[0][0].grid
-        excess = responses(
-            problem,
-            exit_costs,
-            coarse,
-            lambda on, costs: _quietly(solve_first_exit_many, on.replace(grid=coarse), costs, s),
-            levels[0],  # the same solve: its base
-            missed,
-        )
-        pairs = _pair(problem, solve, solutions[0], levels[0], excess)
-    attach_estimates(solutions, levels, pairs, excess, reason)
-    check_exit(solutions[0], missed)
+    embed(problem, exit_costs, solutions, _on_grids(problem, solve), solve, base=True)
 
 
 def _embed_average(problem: Problem, s: StationarySettings, solution: StationarySolution) -> None:
     """Attach to an average-cost solution the embedded estimates of its relative value h
-    (:func:`gridlbc.accuracy.attach_estimates`: h normalised to min 0 at the nodes on every
+    (:func:`gridlbc.accuracy.embedding.embed`: h normalised to min 0 at the nodes on every
     level, as on this one, and S, the response of the embedded solve to the state cost's excess
-    between the nodes, :func:`gridlbc.accuracy.responses`) and of its average cost c
-    (``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h
-    and 4h, γ_c and S_c); warn where either exceeds the default tolerance."""
+    between the nodes) and of its average cost c (``average_cost_error``,
+    :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h and 4h, γ_c and S_c);
+    warn where either exceeds the default tolerance."""
 
-    def solve(on: Problem) -> list:
-        return [solve_average_cost(on, s)]
+    def solve(on: Problem, costs=()) -> list:
+        return [_quietly(solve_average_cost, on, s)]
 
-    levels, reason = _levels(problem, solve)
+    levels, pairs, excess = embed(problem, [], [solution], _on_grids(problem, solve), solve, True)
     if not levels:
-        attach_estimates([solution], levels, reason=reason)
         return
-    coarse = levels[0][0].grid
-    (moved,) = responses(
-        problem,
-        [],
-        coarse,
-        lambda on, _: [_quietly(solve_average_cost, on.replace(grid=coarse), s)],
-        levels[0],  # the same solve: its base
-    )
-    pairs = _pair(problem, solve, solution, levels[0], [moved])
-    attach_estimates([solution], levels, pairs, [moved], reason=reason)
+    (moved,) = cast(list, excess)
     response = 0.0  # S_c: what the excess moves c by on the embedded grid
     if moved.raised is not None and moved.base is not None:
         response = abs(_average_cost(moved.raised) - _average_cost(moved.base))
@@ -1114,31 +1082,11 @@ def _average_cost(solution) -> float:
     return c
 
 
-def _levels(problem: Problem, solve) -> tuple[list, str]:
-    """``solve(problem on the grid)`` on the grids of :func:`~gridlbc.accuracy.embedded_solves`
-    (2h and 4h), their own warnings silenced; fewer levels where a grid is too coarse to embed
-    or the problem is not posed that coarsely (an exit set the coarse grid misses: the reason is
-    returned, and the estimate warns of it)."""
-    return embedded_solves(problem.require_grid("an embedded solve"), _on_grids(problem, solve))
-
-
-def _pair(problem: Problem, solve, solution, embedded, excess) -> list | None:
-    """``solve(problem on the grid)`` on the pair of :func:`~gridlbc.accuracy.phase_pair` where
-    the estimate of ``solution`` reads it (:func:`~gridlbc.accuracy.reads_pair`, with the
-    costs' ``excess`` responses), their warnings silenced; None elsewhere."""
-    if not reads_pair(solution, excess):
-        return None
-    return pair_solves(
-        problem.require_grid("an embedded solve"), embedded, _on_grids(problem, solve)
-    )
-
-
 def _on_grids(problem: Problem, solve):
-    """``solve`` of ``problem`` moved to a grid (the step factor of a time march is not used),
-    its warnings silenced."""
+    """``solve`` of ``problem`` moved to a grid (the step factor of a time march is not used)."""
 
     def solve_on(grid: Grid, factor: int):
-        return _quietly(solve, problem.replace(grid=grid))
+        return solve(problem.replace(grid=grid))
 
     return solve_on
 

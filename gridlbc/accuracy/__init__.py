@@ -2,6 +2,7 @@
 :doc:`accuracy`, which explains what the estimate sees and what it cannot).
 
 - :mod:`gridlbc.accuracy.grids`: the embedded grids (every other node) and the finer ones;
+- :mod:`gridlbc.accuracy.embedding`: what every grid solve runs to carry its estimate;
 - :mod:`gridlbc.accuracy.estimate`: the embedded estimate, read at the states that matter, and
   the default solve's warning;
 - :mod:`gridlbc.accuracy.paths`: what the grid cannot see of the costs, sampled along the solve's

@@ -9,6 +9,7 @@ import warnings
 
 import numpy as np
 
+from ..certify import certify
 from ..errors import GridlbcWarning
 from .estimate import (
     judged_states,
@@ -92,8 +93,6 @@ def certified_error(solution, X: np.ndarray, tol: float) -> float:
         without a sign of it (a goal an eighth of a cell wide: the solve 15 and 23 % high, the
         certificates on its 801² grid within 0.5 % of it, ESS 991 and 981 of 1000).
     """
-    from ..certify import certify
-
     v = np.asarray(solution.value(X, 0.0), dtype=float).reshape(-1)
     scale = np.maximum(np.abs(v), solution.temperature)
     if solution.embedded is not None:

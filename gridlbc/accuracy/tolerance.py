@@ -30,13 +30,16 @@ import math
 import numbers
 import time
 import warnings
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
+from typing import NamedTuple
 
 import numpy as np
 
 from ..errors import GridlbcWarning, ResolutionWarning, warn_user
 from ..grid import Grid
+from ..storage import available_memory
 from .certified import (
     certifiable,
     certified_error,
@@ -55,6 +58,16 @@ from .grids import (
     embedded_store_every,
     scaled_grid,
 )
+
+
+class Marcher(NamedTuple):
+    """The time march that :func:`solve_to_tolerance` repeats and plans, as :mod:`gridlbc.solver`
+    passes it in (the solver calls this module, not the other way round)."""
+
+    settings_for: Callable  # (problem, settings, options) → the SolverSettings of a solve
+    planned_step: Callable  # (problem, settings) → (Δt, steps)
+    planned_memory: Callable  # (problem, settings) → what a solve holds (dict of bytes)
+    solve_many: Callable  # (problem, costs, settings, **options) → one Solution per cost
 
 
 def axis_shares(solution, solve_on, states=None, t: float = 0.0) -> tuple[np.ndarray, float]:
@@ -231,12 +244,12 @@ class Refinement:
         )
 
 
-def _step_share(solution, problem, settings, states, t: float = 0.0) -> float:
+def _step_share(march: Marcher, solution, problem, settings, states, t: float = 0.0) -> float:
     """The step's share of the error of ``solution``: ê_t = abs(v_{h,2Δt} − v_{h,Δt}) relative to
     v (:func:`statistic` at the judged states, time ``t``), from one more solve on the same grid
     at twice the step (the error of a first-order step, or more)."""
     dt, steps = solution.diagnostics.dt, solution.diagnostics.steps
-    half = _march_quietly(problem, settings, 2 * dt, steps, problem.grid, t)
+    half = _march_quietly(march, problem, settings, 2 * dt, steps, problem.grid, t)
     rel = relative_difference(solution, half, judged_states(solution, states), t)
     return statistic(rel, states is not None)
 
@@ -257,7 +270,7 @@ def unsteerable(embedded, error: float, shares, whole: float, time_share: float)
     return ""
 
 
-def fitting_plan(problem, settings, factors, max_nodes: int | None = None):
+def fitting_plan(march: Marcher, problem, settings, factors, max_nodes: int | None = None):
     """The grid refined by ``factors`` (:func:`scaled_grid`), or by less where that would exceed
     ``max_nodes`` or the memory: the largest ``factors**α`` (α in [0, 1], bisected) whose grid
     fits, with its storage (:func:`fitting_storage`).
@@ -278,7 +291,7 @@ def fitting_plan(problem, settings, factors, max_nodes: int | None = None):
         grid = scaled_grid(problem.grid, factors**alpha)
         if max_nodes is not None and grid.size > max_nodes:
             return grid, f"the grid {grid.shape} would exceed max_nodes = {max_nodes}"
-        return grid, fitting_storage(problem.replace(grid=grid), settings)
+        return grid, fitting_storage(march, problem.replace(grid=grid), settings)
 
     grid, storage = attempt(1.0)
     if not isinstance(storage, str):
@@ -360,6 +373,8 @@ def solve_to_tolerance(
     max_refinements: int = 8,
     max_seconds: float | None = None,
     times=None,
+    *,
+    march: Marcher,
     **options,
 ):
     """Solve ``problem`` again and again until the embedded estimate meets ``tol``.
@@ -442,6 +457,8 @@ def solve_to_tolerance(
         work, and ``progress=True`` prints each round's prediction before it starts, so a long
         solve is announced rather than cut short. Give one where the time matters more than
         ``tol``.
+    march : Marcher
+        The solver's time march (:func:`gridlbc.solve` passes ``gridlbc.solver.MARCH``).
     **options
         Settings fields, as for :func:`gridlbc.solve`.
 
@@ -451,13 +468,11 @@ def solve_to_tolerance(
         The last solution, with :attr:`~gridlbc.Solution.refinement` (one :class:`Refinement` per
         round). A :class:`gridlbc.ResolutionWarning` says what stopped it if ``tol`` was not met.
     """
-    from ..solver import planned_step, settings_for
-
     check_tolerance(tol, options)
     check_budget(max_seconds)
     times = judged_times(problem, states, times)
     clock = time.perf_counter()
-    base = settings_for(problem, settings, options)
+    base = march.settings_for(problem, settings, options)
     dt = base.dt
     history: list[Refinement] = []
     limit = ""
@@ -470,7 +485,7 @@ def solve_to_tolerance(
     flow = 0.0  # F of the last round where the grid does not follow the drift (flow_excess)
     while True:
         if measured is not None:
-            planned_dt, n = planned_step(problem, dataclasses.replace(base, dt=dt))
+            planned_dt, n = march.planned_step(problem, dataclasses.replace(base, dt=dt))
             seconds = predicted_seconds(*measured, problem.grid.size * n, MARCH_WORK_EXPONENT)
             history[-1] = dataclasses.replace(history[-1], predicted_seconds=seconds)
             plan = f"grid {'×'.join(map(str, problem.grid.shape))} with dt {planned_dt:.4g}"
@@ -487,7 +502,7 @@ def solve_to_tolerance(
                 break
         started = time.perf_counter()
         try:
-            solution, round_warnings = _solve_holding(problem, base, dt)
+            solution, round_warnings = _solve_holding(march, problem, base, dt)
         except MemoryError:
             if coarser is None:
                 raise
@@ -511,7 +526,7 @@ def solve_to_tolerance(
         cells, flow_order, _ = flow_excess(solution)
         flow = cells if cells >= FLOW_CELLS and not followed(flow_order) else 0.0
         if error <= tol and not flow:  # confirmed by the step's own share
-            time_error = _step_share(solution, problem, base, states, when)
+            time_error = _step_share(march, solution, problem, base, states, when)
         met = (error <= tol and not flow and time_error <= tol) or certified <= tol
         done = met or len(history) >= max_refinements
         least = np.nan  # where the time left would not hold even a round like this one
@@ -521,7 +536,7 @@ def solve_to_tolerance(
             if stop:
                 done, limit, least = True, stop, solved
         if not done and error > tol:
-            time_error = _step_share(solution, problem, base, states, when)
+            time_error = _step_share(march, solution, problem, base, states, when)
         history.append(
             Refinement(
                 problem.grid.shape,
@@ -546,7 +561,7 @@ def solve_to_tolerance(
         if done:
             break
         step, steps = solution.diagnostics.dt, solution.diagnostics.steps
-        solve_on = partial(_march_quietly, problem, base, step, steps, t=when)
+        solve_on = partial(_march_quietly, march, problem, base, step, steps, t=when)
         embedded = solution.embedded
         shares = np.full(problem.grid.ndim, np.nan)
         factors = np.ones(problem.grid.ndim + 1)  # met but for the step or the flow: the step
@@ -600,12 +615,12 @@ def solve_to_tolerance(
         else:
             next_dt = step / factors[-1]
         finer, storage, capped = fitting_plan(
-            problem, dataclasses.replace(base, dt=next_dt), factors[:-1], max_nodes
+            march, problem, dataclasses.replace(base, dt=next_dt), factors[:-1], max_nodes
         )
         if finer is not None and next_dt is None:
             # the scheme's step for the finer grid, but at most half this one: it does not
             # shrink with the grid where nothing sets a rate (no drift, no state cost: T/10)
-            default, _ = planned_step(finer, dataclasses.replace(storage, dt=None))
+            default, _ = march.planned_step(finer, dataclasses.replace(storage, dt=None))
             next_dt = min(default, step / 2)
         if finer is not None:
             next_dt = min(next_dt, base.scheme.step_bound(finer).limit)
@@ -652,16 +667,14 @@ def judged_times(problem, states, times) -> tuple[float, ...] | None:
     return out
 
 
-def _solve_holding(problem, settings, dt):
+def _solve_holding(march: Marcher, problem, settings, dt):
     """One round of :func:`solve_to_tolerance`: the solve with its estimate, and its
     :class:`gridlbc.ResolutionWarning` s held back (the last round's are told at the end, but
     the estimate's and the drift's, which the rounds read and :func:`finish` reports); other
     warnings pass as they come."""
-    from ..solver import solve_many
-
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ResolutionWarning)
-        solution = solve_many(
+        solution = march.solve_many(
             problem, [problem.terminal_cost], settings, dt=dt, error_estimate=True
         )[0]
     held = [w for w in caught if issubclass(w.category, ResolutionWarning)]
@@ -671,17 +684,17 @@ def _solve_holding(problem, settings, dt):
     return solution, held
 
 
-def _march_quietly(problem, settings, dt: float, steps: int, grid: Grid, t: float = 0.0):
+def _march_quietly(
+    march: Marcher, problem, settings, dt: float, steps: int, grid: Grid, t: float = 0.0
+):
     """``problem`` solved on ``grid`` with step ``dt``, its warnings silenced and no estimate: a
     comparison solve of :func:`solve_to_tolerance`, read at time ``t``. It stores only the first
     and last slices (at most ``steps`` steps) where it is read at t = 0, its slices as
     ``settings`` store them where it is read later (between them, as the solve it is compared
     with)."""
-    from ..solver import solve_many
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", GridlbcWarning)
-        return solve_many(
+        return march.solve_many(
             problem.replace(grid=grid),
             [problem.terminal_cost],
             settings,
@@ -704,7 +717,7 @@ def held_memory(need: dict, ndim: int, store_every: int) -> float:
     return need["ram"] + need["stored"] * ((r2 + 1) * 2.0**-ndim + r4 * 4.0**-ndim)
 
 
-def fitting_storage(problem, settings):
+def fitting_storage(march: Marcher, problem, settings):
     """``settings`` for a solve of ``problem`` whose slices fit in the memory available, or a
     message saying why none do.
 
@@ -714,15 +727,12 @@ def fitting_storage(problem, settings):
     unchanged; the value and the policy between stored slices are interpolated in time). The
     embedded solve is held with the solution, and so are the solves on the pair of grids
     (:func:`phase_pair`): :func:`held_memory` counts their slices."""
-    from ..solver import planned_memory
-    from ..storage import available_memory
-
     available = available_memory()
     if available is None:
         return settings
     candidate, stored = settings, None
     while True:
-        need = planned_memory(problem, candidate)
+        need = march.planned_memory(problem, candidate)
         held = held_memory(need, problem.grid.ndim, candidate.store_every)
         if held <= 0.9 * available:
             return candidate

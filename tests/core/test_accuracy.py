@@ -391,7 +391,6 @@ def test_tol_stores_fewer_slices_where_the_finer_grid_would_not_fit_otherwise(mo
     # The stored slices dominate a march's memory. Where the finer grid's would not fit,
     # solve(tol=) stores them as float32, then only every k-th, rather than stop refining; the
     # value at t = 0, which tol judges, is the same march's (float32 rounding of the slice).
-    import gridlbc.storage as storage
     from gridlbc.settings import resolve_settings
     from gridlbc.solver import planned_memory
 
@@ -405,7 +404,7 @@ def test_tol_stores_fewer_slices_where_the_finer_grid_would_not_fit_otherwise(mo
     lean, leaner = held(dtype="float32", store_every=4), held(dtype="float32", store_every=8)
     available = 0.5 * (lean + leaner) / 0.9
     assert leaner < 0.9 * available < lean < full  # only storing every 8th slice fits
-    monkeypatch.setattr(storage, "available_memory", lambda: available)
+    monkeypatch.setattr(accuracy.tolerance, "available_memory", lambda: available)
     solution = _quiet_solve(lq_point_mass(21), tol=1e-4, states=STATES, max_refinements=1)
     rounds = [r for r in solution.refinement if r.shape == (41, 41)]
     assert rounds and rounds[0].dtype == "float32" and rounds[0].store_every > 1
