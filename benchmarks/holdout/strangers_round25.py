@@ -1,7 +1,40 @@
 """Stranger round 25: problems drawn at random (fixed seed), posed with the public API only
 (SPEC §1–3, §6, §9–10; README "Your own system").
 
-RESULTS: see the bottom of this docstring (filled in after the run).
+RESULTS (library of main 0b1aee5 merged into r25 as ec4e1ea, 2026-12-06, one thread, ``--run``
+then ``--table``; a first pass on 82b38b6 gave the same solves to the digits shown):
+88 problems (36 LQ: 20 2-D, 12 3-D, 4 4-D; 27 separable with a horizon, 9 first exit, 6 with a
+horizon and an exit set; 10 nonseparable certified), 501 (problem, state, t) pairs, 496 with a
+trusted truth (5 flagged: 4 LQ far states where a box with the same nodes and 25 % more on each
+side, solved at the same Δt, moves v by more than a quarter of the error — lq2b_04 (−1.94, 1.97)
+t=0, lq3_00 far at t=1.86, lq3b_00 far at t=0 and 2.27 — and ns2b_02 (1.76, 2.56) at t=0.96,
+k̂ = 0.96). Every certificate otherwise: ESS 1880–2000 of 2000, k̂ ≤ 0.34.
+
+- pairs > 10 % off: 28, in 14 entries, every one warned. SILENT (> 10 %, no GridlbcWarning): 0.
+- coverage ê ≥ ½|v − v*|: 484 / 496 (97.6 %); under-reads (ê < ½ err, err > 2 %): 4, all warned:
+  sep3fe_01 (1.296, −0.028, 0.975): v 0.1652 vs 0.2924 (−43.5 %), ê 0.0388 (23.5 % of v);
+  lq2b_04 (0.211, −0.181) t = 3.935 (T − 2Δt): 0.1789 vs 0.2036 (−12.1 %), ê 0.0113 (6.3 %);
+  sep2hzb_07 (1.156, 0.290) and (1.081, −1.614) at t = 2.797 (T − 2Δt): 1.4888 vs 1.4224 (+4.7 %)
+  and 1.6340 vs 1.5693 (+4.1 %), ê 1.6 % each.
+- over-reads (ê > 10·err and ê > 5 %): 72 pairs; absurd ones in first-exit tasks at small λ:
+  sep3fe_01 far state ê = 2.2e6 (v 10.34, err 12.7 %), sep2fe_02 (0.494, 0.788) ê = 8090 (v 1.62,
+  err 31 %) — both from ``accuracy.bellman.local_error`` (the whole-task certificate); the grid
+  terms there read 1.20 and 1.22. lq2_11 (λ = 0.022) ê 86–733× |v| at errors ≤ 1 %.
+- false warnings (warned, every trusted pair < 2 %): 23 of 88 entries (65 warned in all); most
+  point at late times between levels or near walls, not at my states.
+- tol = 0.05 (states = the 3, times = t = 0 and T − 2Δt, max_seconds = 120) on the 21 problems with
+  a pair > 5 % off: 12 said met, 9 warned they stopped (the time budget, 4-D and first exit).
+  Met but > 5 % off at a trusted pair (tol dishonesty): 2, both marginal —
+  sep2fe_02 (0.494, 0.788): 2.2379 vs 2.3664 (−5.43 %), its estimate 0.0696 (3.1 %), after
+  82→163→325 nodes on x0; sep2hzfe_00 (1.094, −1.018) at t = 2.282: −0.1605 vs −0.1765 (5.05 % of
+  λ = 0.317), estimate 0.0094, on 177×236 at Δt 0.0029. (lq3_00, lq3b_00 and lq2b_04 "met" with
+  16–36 % at their far states: the wall-flagged pairs, not counted.)
+
+My own truth failed first: Crank–Nicolson in 1-D (round 22's ``cn1d`` scheme) at λ ≈ 0.02–0.04,
+where z spans hundreds of orders over the box, rang to negative z that the log clamps to λ·690:
+v* 2–4× too high at 5 states (sep2hz_01 (1.036, −0.994): CN 13.99, BE 3.5785, the solve 3.5778),
+three fake "met but 24–79 % off" tol runs. The separable truth is now backward Euler on 8001
+nodes with Richardson in the step (CN as the cross-check, ± = the smaller disagreement).
 
 Families (``--list`` prints every drawn problem's definition):
 
