@@ -82,7 +82,6 @@ from scipy.linalg import solve_continuous_lyapunov
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
-from gridlbc.regions import Box
 from gridlbc.systems import ControlAffineSystem, LinearSystem
 
 OUT = Path("/work/main/benchmarks/holdout/strangers_round25_results")  # gitignored there
@@ -115,8 +114,15 @@ def riccati(A, B, R, Wq, cq, WT, cT, lam, tau):
 
 def lq_value(spec, X, t):
     P, p, c0 = riccati(
-        spec["A"], spec["B"], spec["R"], spec["Wq"], spec["cq"], spec["WT"], spec["cT"],
-        spec["lam"], spec["T"] - t,
+        spec["A"],
+        spec["B"],
+        spec["R"],
+        spec["Wq"],
+        spec["cq"],
+        spec["WT"],
+        spec["cT"],
+        spec["lam"],
+        spec["T"] - t,
     )
     X = np.asarray(X, float)
     return 0.5 * np.einsum("ni,ij,nj->n", X, P, X) + X @ p + c0
@@ -188,7 +194,7 @@ def cn1d(ax, lam, taus, n, dt_target, exit_mask=None, exit_cost=None, theta=0.5)
     for tau in taus:
         span = tau - prev
         if span > 0:
-            steps = max(int(math.ceil(span / dt_target)), 4)
+            steps = max(math.ceil(span / dt_target), 4)
             dt = span / steps
             if first and theta == 0.5:
                 be = lhs(1.0, dt / 2)
@@ -212,7 +218,9 @@ def cn1d(ax, lam, taus, n, dt_target, exit_mask=None, exit_cost=None, theta=0.5)
                 z, logs = z / m, logs + math.log(m)
         prev = tau
         v = -lam * (np.log(np.maximum(z, 1e-300)) + logs)
-        out.append((interp1d(x, v, lo, hi, per), interp1d(x, np.log10(np.maximum(z, 1e-300)), lo, hi, per)))
+        out.append(
+            (interp1d(x, v, lo, hi, per), interp1d(x, np.log10(np.maximum(z, 1e-300)), lo, hi, per))
+        )
     return out
 
 
@@ -295,7 +303,9 @@ class Sep(ControlAffineSystem):
 
     def drift(self, x):
         x = self._states(x)
-        return np.stack([np.asarray(f(x[:, i]), float) + 0 * x[:, i] for i, f in enumerate(self.drifts)], 1)
+        return np.stack(
+            [np.asarray(f(x[:, i]), float) + 0 * x[:, i] for i, f in enumerate(self.drifts)], 1
+        )
 
     def input_matrix(self, x):
         x = self._states(x)
@@ -321,7 +331,12 @@ class Coupled2(ControlAffineSystem):
         s = self.spec
         x0, x1 = x[:, 0], x[:, 1]
         a0 = s["a0"][0] * x1 + s["a0"][1] * np.sin(x0 + s["a0"][2]) + s["a0"][3] * np.tanh(x0 * x1)
-        a1 = s["a1"][0] * np.sin(x0) + s["a1"][1] * x1 + s["a1"][2] * x0 * x1 / (1 + x0**2) - s["a1"][3] * x1**3
+        a1 = (
+            s["a1"][0] * np.sin(x0)
+            + s["a1"][1] * x1
+            + s["a1"][2] * x0 * x1 / (1 + x0**2)
+            - s["a1"][3] * x1**3
+        )
         return np.stack([a0, a1], 1)
 
     def input_matrix(self, x):
@@ -367,7 +382,10 @@ def gen_lq(rng, d, k):
                 B[a, j] = rng.uniform(0.3, 2.0) * rng.choice([-1, 1])
             R = np.diag([loguni(rng, 0.1, 5) for _ in range(m)])
         Cm = np.hstack([np.linalg.matrix_power(A, i) @ B for i in range(d)])
-        if np.linalg.matrix_rank(Cm, tol=1e-6) == d and np.linalg.svd(Cm, compute_uv=False).min() > 0.05:
+        if (
+            np.linalg.matrix_rank(Cm, tol=1e-6) == d
+            and np.linalg.svd(Cm, compute_uv=False).min() > 0.05
+        ):
             break
     lam = loguni(rng, 0.01, 3)
     T = float(rng.uniform(0.3, 5))
@@ -376,8 +394,17 @@ def gen_lq(rng, d, k):
     cq = rng.uniform(-1, 1, d) * rng.choice([0, 1], p=[0.3, 0.7])
     cT = rng.uniform(-1, 1, d)
     spec = dict(
-        family="lq", d=d, A=A.tolist(), B=B.tolist(), R=R.tolist(), Wq=Wq, WT=WT,
-        cq=cq.tolist(), cT=cT.tolist(), lam=lam, T=T,
+        family="lq",
+        d=d,
+        A=A.tolist(),
+        B=B.tolist(),
+        R=R.tolist(),
+        Wq=Wq,
+        WT=WT,
+        cq=cq.tolist(),
+        cT=cT.tolist(),
+        lam=lam,
+        T=T,
     )
     # states: typical, near the goal, far
     typical = rng.uniform(-1.0, 1.0, d)
@@ -389,7 +416,11 @@ def gen_lq(rng, d, k):
     Sm = B @ np.linalg.solve(R, B.T)
     Acl = A - Sm @ P
     try:
-        Sig = solve_continuous_lyapunov(Acl, -lam * Sm) if np.linalg.eigvals(Acl).real.max() < -1e-3 else None
+        Sig = (
+            solve_continuous_lyapunov(Acl, -lam * Sm)
+            if np.linalg.eigvals(Acl).real.max() < -1e-3
+            else None
+        )
     except Exception:
         Sig = None
     if Sig is None or np.any(np.diag(Sig) < 0):
@@ -407,12 +438,11 @@ def gen_lq(rng, d, k):
 
 
 def build_lq(spec, widen=1.0):
-    d = spec["d"]
     axes = []
     for L, n in zip(spec["L"], spec["n"]):
         h = 2 * L / (n - 1)
         if widen != 1.0:  # the same nodes, k more on each side (a box about `widen`× as wide)
-            k = max(2, int(round((widen - 1) * (n - 1) / 2)))
+            k = max(2, round((widen - 1) * (n - 1) / 2))
             L, n = L + k * h, n + 2 * k
         axes.append(Axis(-L, L, n))
     return Problem(
@@ -434,16 +464,39 @@ def gen_axis(rng, lo, hi, n, periodic, lam, narrow_ok=True):
     if periodic:
         for _ in range(int(rng.integers(1, 3))):
             kk = int(rng.integers(1, 3))
-            a.append(["sin", float(rng.uniform(-1.5, 1.5)), 2 * math.pi * kk / L, float(rng.uniform(0, 2 * math.pi))])
+            a.append(
+                [
+                    "sin",
+                    float(rng.uniform(-1.5, 1.5)),
+                    2 * math.pi * kk / L,
+                    float(rng.uniform(0, 2 * math.pi)),
+                ]
+            )
         q.append(["cos", loguni(rng, 0.1, 2), float(rng.uniform(lo, hi)), 1])
         g.append(["cos", loguni(rng, 0.2, 3), float(rng.uniform(lo, hi)), 1])
     else:
-        kinds = rng.choice(["sin", "tanh", "cubic", "lin"], size=int(rng.integers(1, 4)), replace=False)
+        kinds = rng.choice(
+            ["sin", "tanh", "cubic", "lin"], size=int(rng.integers(1, 4)), replace=False
+        )
         for kd in kinds:
             if kd == "sin":
-                a.append(["sin", float(rng.uniform(-1.5, 1.5)), float(rng.uniform(0.5, 3)), float(rng.uniform(0, 6.3))])
+                a.append(
+                    [
+                        "sin",
+                        float(rng.uniform(-1.5, 1.5)),
+                        float(rng.uniform(0.5, 3)),
+                        float(rng.uniform(0, 6.3)),
+                    ]
+                )
             elif kd == "tanh":
-                a.append(["tanh", float(rng.uniform(-2, 2)), float(rng.uniform(lo / 2, hi / 2)), loguni(rng, 0.05, 1.0)])
+                a.append(
+                    [
+                        "tanh",
+                        float(rng.uniform(-2, 2)),
+                        float(rng.uniform(lo / 2, hi / 2)),
+                        loguni(rng, 0.05, 1.0),
+                    ]
+                )
             elif kd == "cubic":
                 a.append(["cubic", loguni(rng, 0.05, 1.0), float(rng.uniform(lo / 3, hi / 3))])
             else:
@@ -471,9 +524,19 @@ def gen_axis(rng, lo, hi, n, periodic, lam, narrow_ok=True):
         feats.append(c)
     b0 = loguni(rng, 0.4, 2)
     if periodic:
-        b = [["ripple", b0, float(rng.uniform(0, 0.5)), 2 * math.pi / L, float(rng.uniform(0, 6.3))]]
+        b = [
+            ["ripple", b0, float(rng.uniform(0, 0.5)), 2 * math.pi / L, float(rng.uniform(0, 6.3))]
+        ]
     else:
-        b = [["ripple", b0, float(rng.uniform(0, 0.5)), float(rng.uniform(0.3, 2)), float(rng.uniform(0, 6.3))]]
+        b = [
+            [
+                "ripple",
+                b0,
+                float(rng.uniform(0, 0.5)),
+                float(rng.uniform(0.3, 2)),
+                float(rng.uniform(0, 6.3)),
+            ]
+        ]
     R = loguni(rng, 0.2, 5)
     # make q ≥ 0
     xs = np.linspace(lo, hi, 20001)
@@ -486,8 +549,14 @@ def gen_axis(rng, lo, hi, n, periodic, lam, narrow_ok=True):
 def axis_fns(ax):
     P = (ax["hi"] - ax["lo"]) if ax["periodic"] else None
     return dict(
-        lo=ax["lo"], hi=ax["hi"], periodic=ax["periodic"], R=ax["R"],
-        a=make_fn(ax["a"], P), b=make_fn(ax["b"], P), q=make_fn(ax["q"], P), g=make_fn(ax["g"], P),
+        lo=ax["lo"],
+        hi=ax["hi"],
+        periodic=ax["periodic"],
+        R=ax["R"],
+        a=make_fn(ax["a"], P),
+        b=make_fn(ax["b"], P),
+        q=make_fn(ax["q"], P),
+        g=make_fn(ax["g"], P),
     )
 
 
@@ -521,15 +590,21 @@ def gen_sep(rng, d, k, kind):
             c1 = float(a0["lo"] + rng.uniform(0.55, 0.75) * Lx)
             wdt = loguni(rng, 0.5, 6) * Lx / (a0["n"] - 1)
             spec["exit"] = dict(
-                type="band", c1=c1, c2=c1 + wdt, cost=float(loguni(rng, 0.01, 1)),
-                low=float(a0["lo"] + 0.1 * Lx), lowcost=float(loguni(rng, 1, 5)),
+                type="band",
+                c1=c1,
+                c2=c1 + wdt,
+                cost=float(loguni(rng, 0.01, 1)),
+                low=float(a0["lo"] + 0.1 * Lx),
+                lowcost=float(loguni(rng, 1, 5)),
             )
-        if kind == "fe" and a0["q"] == [] or kind == "fe":
+        if (kind == "fe" and a0["q"] == []) or kind == "fe":
             # q > 0 off E (well-posed): make sure x0's q has a floor
             a0["q"].append(["const", loguni(rng, 0.05, 0.5)])
     # states: typical, near a feature / goal, far
-    X = []
-    typ = [rng.uniform(a["lo"] + 0.3 * (a["hi"] - a["lo"]), a["hi"] - 0.3 * (a["hi"] - a["lo"])) for a in axes]
+    typ = [
+        rng.uniform(a["lo"] + 0.3 * (a["hi"] - a["lo"]), a["hi"] - 0.3 * (a["hi"] - a["lo"]))
+        for a in axes
+    ]
     near = []
     for i, a in enumerate(axes):
         if i == 0 and kind != "hz":
@@ -537,10 +612,18 @@ def gen_sep(rng, d, k, kind):
             c = e["c"] if e["type"] == "half" else 0.5 * (e["c1"] + e["c2"])
             near.append(c - 0.15 * (a["hi"] - a["lo"]) / 4)
         elif a["feats"]:
-            near.append(a["feats"][int(rng.integers(len(a["feats"])))] + rng.normal(scale=0.3) * (a["hi"] - a["lo"]) / a["n"])
+            near.append(
+                a["feats"][int(rng.integers(len(a["feats"])))]
+                + rng.normal(scale=0.3) * (a["hi"] - a["lo"]) / a["n"]
+            )
         else:
             near.append(typ[i] + rng.uniform(-0.3, 0.3))
-    far = [a["lo"] + 0.08 * (a["hi"] - a["lo"]) if rng.random() < 0.5 else a["hi"] - 0.08 * (a["hi"] - a["lo"]) for a in axes]
+    far = [
+        a["lo"] + 0.08 * (a["hi"] - a["lo"])
+        if rng.random() < 0.5
+        else a["hi"] - 0.08 * (a["hi"] - a["lo"])
+        for a in axes
+    ]
     if kind != "hz":
         far[0] = axes[0]["lo"] + 0.15 * (axes[0]["hi"] - axes[0]["lo"])
         e = spec["exit"]
@@ -554,12 +637,14 @@ def gen_sep(rng, d, k, kind):
 def exit_fns(spec):
     e = spec["exit"]
     if e["type"] == "half":
+
         def m1(x):
             return np.asarray(x, float) >= e["c"]
 
         def c1(x):
             return e["cost"] + 0 * np.asarray(x, float)
     else:
+
         def m1(x):
             x = np.asarray(x, float)
             return ((x >= e["c1"]) & (x <= e["c2"])) | (x <= e["low"])
@@ -567,6 +652,7 @@ def exit_fns(spec):
         def c1(x):
             x = np.asarray(x, float)
             return np.where(x <= e["low"], e["lowcost"], e["cost"])
+
     return m1, c1
 
 
@@ -574,7 +660,11 @@ def build_sep(spec):
     axes = spec["axes"]
     fns = [axis_fns(a) for a in axes]
     grid = Grid([Axis(a["lo"], a["hi"], a["n"], periodic=a["periodic"]) for a in axes])
-    sysm = Sep([f["a"] for f in fns], [f["b"] for f in fns], [i for i, a in enumerate(axes) if a["periodic"]])
+    sysm = Sep(
+        [f["a"] for f in fns],
+        [f["b"] for f in fns],
+        [i for i, a in enumerate(axes) if a["periodic"]],
+    )
 
     def q(x):
         return sum(np.asarray(f["q"](x[:, i]), float) + 0 * x[:, i] for i, f in enumerate(fns))
@@ -585,11 +675,19 @@ def build_sep(spec):
     kw = {}
     if spec["kind"] != "hz":
         m1, c1 = exit_fns(spec)
-        kw = dict(exit=lambda x: m1(np.asarray(x)[:, 0]), exit_cost=lambda x: c1(np.asarray(x)[:, 0]))
+        kw = dict(
+            exit=lambda x: m1(np.asarray(x)[:, 0]), exit_cost=lambda x: c1(np.asarray(x)[:, 0])
+        )
     R = [a["R"] for a in axes]
     return Problem(
-        sysm, grid, spec["T"], terminal_cost=g if spec["kind"] != "fe" else None, state_cost=q,
-        control_cost=np.array(R), temperature=spec["lam"], **kw,
+        sysm,
+        grid,
+        spec["T"],
+        terminal_cost=g if spec["kind"] != "fe" else None,
+        state_cost=q,
+        control_cost=np.array(R),
+        temperature=spec["lam"],
+        **kw,
     )
 
 
@@ -610,7 +708,12 @@ def sep_truth(spec, X, ts):
         return res
     T = spec["T"]
     taus = sorted({T - t for t in ts})
-    runs = (("cn", 4001, T / 2000, 0.5), ("cn", 8001, T / 4000, 0.5), ("be", 8001, T / 4000, 1.0), ("be", 8001, T / 8000, 1.0))
+    runs = (
+        ("cn", 4001, T / 2000, 0.5),
+        ("cn", 8001, T / 4000, 0.5),
+        ("be", 8001, T / 4000, 1.0),
+        ("be", 8001, T / 8000, 1.0),
+    )
     per_res = []
     for _m, n, dtt, th in runs:
         tot = {tau: np.zeros(len(X)) for tau in taus}
@@ -637,7 +740,12 @@ def sep_truth(spec, X, ts):
         vbe = 2 * vh - per_res[2][0][tau]
         pm = np.minimum(np.abs(vbe - v2) + np.abs(v2 - v1), np.abs(vbe - vh))
         bad = per_res[3][1][tau] | (pm > 0.02 * np.maximum(np.abs(vbe), lam))
-        res[t] = (vbe, pm, bad, dict(v_cn4001=v1.tolist(), v_cn8001=v2.tolist(), v_be_half=vh.tolist()))
+        res[t] = (
+            vbe,
+            pm,
+            bad,
+            dict(v_cn4001=v1.tolist(), v_cn8001=v2.tolist(), v_be_half=vh.tolist()),
+        )
     return res
 
 
@@ -650,18 +758,42 @@ def gen_ns(rng, k):
     n = int(rng.integers(41, 121))
     n0 = n + (n % 2) if per0 else n
     spec = dict(
-        family="ns", d=2, lam=lam, T=T, periodic0=per0, L0=L0, L1=L1, n=[n0, n],
-        a0=[float(rng.uniform(0, 1.2)), float(rng.uniform(-1, 1)), float(rng.uniform(0, 6.3)), float(rng.uniform(-0.8, 0.8))],
-        a1=[float(rng.uniform(-2, 2)), float(rng.uniform(-0.8, 0.2)), float(rng.uniform(-1, 1)), loguni(rng, 0.02, 0.3)],
+        family="ns",
+        d=2,
+        lam=lam,
+        T=T,
+        periodic0=per0,
+        L0=L0,
+        L1=L1,
+        n=[n0, n],
+        a0=[
+            float(rng.uniform(0, 1.2)),
+            float(rng.uniform(-1, 1)),
+            float(rng.uniform(0, 6.3)),
+            float(rng.uniform(-0.8, 0.8)),
+        ],
+        a1=[
+            float(rng.uniform(-2, 2)),
+            float(rng.uniform(-0.8, 0.2)),
+            float(rng.uniform(-1, 1)),
+            loguni(rng, 0.02, 0.3),
+        ],
         b0=[loguni(rng, 0.3, 1.5), float(rng.uniform(0, 0.5)), float(rng.uniform(0, 6.3))],
         b1=[loguni(rng, 0.5, 2), float(rng.uniform(0, 0.5)), float(rng.uniform(0, 6.3))],
         R=[loguni(rng, 0.3, 3), loguni(rng, 0.3, 3)],
         qw=[loguni(rng, 0.05, 1), loguni(rng, 0.05, 1), float(rng.uniform(-0.5, 0.5))],
         feat=dict(
-            kind=str(rng.choice(["bump", "well"])), c=[float(rng.uniform(-L0 / 2, L0 / 2)), float(rng.uniform(-L1 / 2, L1 / 2))],
-            w=[loguni(rng, 0.5, 4) * 2 * L0 / n, loguni(rng, 0.5, 4) * 2 * L1 / n], H=loguni(rng, 2, 15) * lam,
+            kind=str(rng.choice(["bump", "well"])),
+            c=[float(rng.uniform(-L0 / 2, L0 / 2)), float(rng.uniform(-L1 / 2, L1 / 2))],
+            w=[loguni(rng, 0.5, 4) * 2 * L0 / n, loguni(rng, 0.5, 4) * 2 * L1 / n],
+            H=loguni(rng, 2, 15) * lam,
         ),
-        g=[float(rng.uniform(-L0 / 3, L0 / 3)), float(rng.uniform(-L1 / 3, L1 / 3)), loguni(rng, 0.2, 3), loguni(rng, 0.2, 3)],
+        g=[
+            float(rng.uniform(-L0 / 3, L0 / 3)),
+            float(rng.uniform(-L1 / 3, L1 / 3)),
+            loguni(rng, 0.2, 3),
+            loguni(rng, 0.2, 3),
+        ],
     )
     f = spec["feat"]
     X = [
@@ -682,7 +814,11 @@ def build_ns(spec):
     def q(x):
         x = np.asarray(x, float)
         d0 = x[:, 0] if not per0 else np.sin(x[:, 0])
-        base = spec["qw"][0] * d0**2 + spec["qw"][1] * x[:, 1] ** 2 + spec["qw"][2] * d0 * x[:, 1] * 0.5 * min(spec["qw"][0], spec["qw"][1]) / 0.5
+        base = (
+            spec["qw"][0] * d0**2
+            + spec["qw"][1] * x[:, 1] ** 2
+            + spec["qw"][2] * d0 * x[:, 1] * 0.5 * min(spec["qw"][0], spec["qw"][1]) / 0.5
+        )
         gb = gauss(x[:, 0], f["c"][0], f["w"][0], P0) * gauss(x[:, 1], f["c"][1], f["w"][1])
         feat = f["H"] * gb if f["kind"] == "bump" else f["H"] * (1 - gb)
         return base + feat
@@ -694,35 +830,63 @@ def build_ns(spec):
             d0 = 2 * np.sin(d0 / 2)
         return gg[2] * d0**2 + gg[3] * (x[:, 1] - gg[1]) ** 2
 
-    return Problem(Coupled2(spec), grid, spec["T"], terminal_cost=g, state_cost=q,
-                   control_cost=np.array(spec["R"]), temperature=spec["lam"])
+    return Problem(
+        Coupled2(spec),
+        grid,
+        spec["T"],
+        terminal_cost=g,
+        state_cost=q,
+        control_cost=np.array(spec["R"]),
+        temperature=spec["lam"],
+    )
 
 
 def ns_truth(spec, X, ts):
     res = {}
     base = build_ns(spec)
-    p2 = base.replace(grid=Grid([
-        Axis(a.lo, a.hi, a.n * 2 if a.periodic else (a.n - 1) * 2 + 1, periodic=a.periodic) for a in base.grid.axes
-    ]))
+    p2 = base.replace(
+        grid=Grid(
+            [
+                Axis(a.lo, a.hi, a.n * 2 if a.periodic else (a.n - 1) * 2 + 1, periodic=a.periodic)
+                for a in base.grid.axes
+            ]
+        )
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         fine = gridlbc.solve(p2, error_estimate=False)
     for t in ts:
         p = base.replace(horizon=base.horizon - t)
-        pol = (lambda x, s, t=t: fine.policy(x, s + t))
+
+        def pol(x, s, t=t):
+            return fine.policy(x, s + t)
+
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            c = gridlbc.certify(p, pol, np.asarray(X), n_samples=2000, dt=min(0.004, (base.horizon - t) / 50),
-                                seed=25, richardson=True, progress=False, proposal=None, boundary="reflect")
+            c = gridlbc.certify(
+                p,
+                pol,
+                np.asarray(X),
+                n_samples=2000,
+                dt=min(0.004, (base.horizon - t) / 50),
+                seed=25,
+                richardson=True,
+                progress=False,
+                proposal=None,
+                boundary="reflect",
+            )
         ess = np.asarray(c.effective_sample_size, float)
         if ess.ndim > 1:
             ess = ess.min(0)
         kh = np.asarray(c.pareto_k, float)
         if kh.ndim > 1:
             kh = kh.max(0)
-        res[t] = (np.asarray(c.extrapolated_value), np.asarray(c.extrapolated_value_se),
-                  (ess < 100) | (kh > 0.7), dict(ess=ess.tolist(), khat=kh.tolist(),
-                                               fine_v=fine.value(np.asarray(X), t).tolist()))
+        res[t] = (
+            np.asarray(c.extrapolated_value),
+            np.asarray(c.extrapolated_value_se),
+            (ess < 100) | (kh > 0.7),
+            dict(ess=ess.tolist(), khat=kh.tolist(), fine_v=fine.value(np.asarray(X), t).tolist()),
+        )
     return res
 
 
@@ -730,10 +894,27 @@ def ns_truth(spec, X, ts):
 def draw():
     """Batch A (seed 25) and batch B (seed 2525, names with a 'b')."""
     specs = []
-    plan_a = (("lq", 2, 14), ("lq", 3, 8), ("lq", 4, 3), ("hz", 2, 10), ("hz", 3, 5), ("fe", 2, 4),
-              ("fe", 3, 2), ("hzfe", 2, 3), ("ns", 2, 6))
-    plan_b = (("lq", 2, 6), ("lq", 3, 4), ("lq", 4, 1), ("hz", 2, 8), ("hz", 3, 4), ("fe", 2, 3),
-              ("hzfe", 2, 3), ("ns", 2, 4))
+    plan_a = (
+        ("lq", 2, 14),
+        ("lq", 3, 8),
+        ("lq", 4, 3),
+        ("hz", 2, 10),
+        ("hz", 3, 5),
+        ("fe", 2, 4),
+        ("fe", 3, 2),
+        ("hzfe", 2, 3),
+        ("ns", 2, 6),
+    )
+    plan_b = (
+        ("lq", 2, 6),
+        ("lq", 3, 4),
+        ("lq", 4, 1),
+        ("hz", 2, 8),
+        ("hz", 3, 4),
+        ("fe", 2, 3),
+        ("hzfe", 2, 3),
+        ("ns", 2, 4),
+    )
     for seed, plan, tag in ((SEED, plan_a, ""), (SEED * 101, plan_b, "b")):
         rng = np.random.default_rng(seed)
         for kind, d, cnt in plan:
@@ -789,8 +970,16 @@ def run(name, spec, tol_run=True):
         ts = [0.0, float(max(p.horizon - 2 * dt, 0.0))]
     tr = truth_for(spec, X, ts)
     lam = spec["lam"]
-    rec = dict(name=name, spec=spec, warnings=wl, warned=bool(wl), seconds=secs,
-               dt=None if stationary else float(s.diagnostics.dt), shape=list(p.grid.shape), reads=[])
+    rec = dict(
+        name=name,
+        spec=spec,
+        warnings=wl,
+        warned=bool(wl),
+        seconds=secs,
+        dt=None if stationary else float(s.diagnostics.dt),
+        shape=list(p.grid.shape),
+        reads=[],
+    )
     worst = 0.0
     for t in ts:
         with warnings.catch_warnings():
@@ -802,14 +991,29 @@ def run(name, spec, tol_run=True):
         vt = np.asarray(vt, float)
         err = np.abs(v - vt) / np.maximum(np.abs(vt), lam)
         est = e / np.maximum(np.abs(v), lam)
-        rec["reads"].append(dict(t=t, v=v.tolist(), est=e.tolist(), truth=vt.tolist(), pm=np.asarray(pm).tolist(),
-                                 untrusted=np.asarray(bad).tolist(), err_rel=err.tolist(), est_rel=est.tolist(), extra=extra))
+        rec["reads"].append(
+            dict(
+                t=t,
+                v=v.tolist(),
+                est=e.tolist(),
+                truth=vt.tolist(),
+                pm=np.asarray(pm).tolist(),
+                untrusted=np.asarray(bad).tolist(),
+                err_rel=err.tolist(),
+                est_rel=est.tolist(),
+                extra=extra,
+            )
+        )
         worst = max(worst, float(np.max(np.where(bad, 0, err))))
-    print(f"{name:14s} {str(tuple(p.grid.shape)):16s} λ={lam:.3g} {secs:6.1f}s warned={bool(wl)} worst={worst:.3%}")
+    print(
+        f"{name:14s} {tuple(p.grid.shape)!s:16s} λ={lam:.3g} {secs:6.1f}s warned={bool(wl)} worst={worst:.3%}"
+    )
     for r in rec["reads"]:
         for i in range(len(X)):
-            print(f"    t={r['t']:.3f} x={np.round(X[i], 3)} v={r['v'][i]:.4g} v*={r['truth'][i]:.4g} "
-                  f"err={r['err_rel'][i]:.2%} est={r['est_rel'][i]:.2%}{' UNTRUSTED' if r['untrusted'][i] else ''}")
+            print(
+                f"    t={r['t']:.3f} x={np.round(X[i], 3)} v={r['v'][i]:.4g} v*={r['truth'][i]:.4g} "
+                f"err={r['err_rel'][i]:.2%} est={r['est_rel'][i]:.2%}{' UNTRUSTED' if r['untrusted'][i] else ''}"
+            )
     if wl:
         print("    warn:", wl[0]["message"][:150])
     rec["worst"] = worst
@@ -817,7 +1021,9 @@ def run(name, spec, tol_run=True):
         # walls: the same spacing on a box 1.5× wider
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            sw = gridlbc.solve(build_lq(spec, 1.5), dt=float(s.diagnostics.dt), error_estimate=False)
+            sw = gridlbc.solve(
+                build_lq(spec, 1.5), dt=float(s.diagnostics.dt), error_estimate=False
+            )
         rec["wall"] = [np.asarray(sw.value(X, t)).tolist() for t in ts]
         print("    wider box:", [np.round(x, 4).tolist() for x in rec["wall"]])
     if worst > 0.05 and tol_run:
@@ -830,23 +1036,32 @@ def run(name, spec, tol_run=True):
             try:
                 st = gridlbc.solve(p, **kw)
                 fail = None
-            except Exception as ex:  # noqa: BLE001
+            except Exception as ex:
                 st, fail = None, repr(ex)
         tr2 = dict(seconds=time.perf_counter() - t1, warnings=_warnlist(w2), fail=fail, reads=[])
         if st is not None:
             last = st.refinement[-1]
-            tr2["met"] = bool(last.met(TOL)) and not any("solve(tol=" in x["message"] for x in tr2["warnings"])
-            tr2["rounds"] = [dict(shape=list(r.shape), dt=r.dt, error=r.error, time_error=r.time_error) for r in st.refinement]
+            tr2["met"] = bool(last.met(TOL)) and not any(
+                "solve(tol=" in x["message"] for x in tr2["warnings"]
+            )
+            tr2["rounds"] = [
+                dict(shape=list(r.shape), dt=r.dt, error=r.error, time_error=r.time_error)
+                for r in st.refinement
+            ]
             for t in ts:
                 with warnings.catch_warnings():
                     warnings.simplefilter("ignore")
                     v = np.asarray(st.value(X, t), float)
-                    e = np.asarray(st.error_estimate(X, t) if not stationary else st.error_estimate(X), float)
+                    e = np.asarray(
+                        st.error_estimate(X, t) if not stationary else st.error_estimate(X), float
+                    )
                 vt = np.asarray(tr[t][0], float)
                 err = np.abs(v - vt) / np.maximum(np.abs(vt), lam)
                 tr2["reads"].append(dict(t=t, v=v.tolist(), est=e.tolist(), err_rel=err.tolist()))
-            print(f"    tol=0.05: met={tr2['met']} {tr2['seconds']:.0f}s rounds={len(st.refinement)} "
-                  f"last={st.refinement[-1].shape} errs={[np.round(r['err_rel'], 4).tolist() for r in tr2['reads']]}")
+            print(
+                f"    tol=0.05: met={tr2['met']} {tr2['seconds']:.0f}s rounds={len(st.refinement)} "
+                f"last={st.refinement[-1].shape} errs={[np.round(r['err_rel'], 4).tolist() for r in tr2['reads']]}"
+            )
         else:
             print("    tol run failed", fail)
         rec["tol"] = tr2
@@ -868,7 +1083,9 @@ def flag_walls(r):
             err = abs(rd["v"][i] - rd["truth"][i])
             if eff > max(0.01 * max(abs(rd["truth"][i]), lam), 0.25 * err):
                 rd["untrusted"][i] = True
-                rd.setdefault("why", {})[str(i)] = f"walls: wider box moves v by {eff:.3g}, error {err:.3g}"
+                rd.setdefault("why", {})[str(i)] = (
+                    f"walls: wider box moves v by {eff:.3g}, error {err:.3g}"
+                )
 
 
 def table():
@@ -881,8 +1098,10 @@ def table():
         for rd in r["reads"]:
             for i, u in enumerate(rd["untrusted"]):
                 if u:
-                    print(f"   {r['name']} t={rd['t']:.3f} x={np.round(r['spec']['X'][i], 3).tolist()} v={rd['v'][i]:.4g} "
-                          f"v*={rd['truth'][i]:.4g} ±{rd['pm'][i]:.3g} {rd.get('why', {}).get(str(i), 'truth')}")
+                    print(
+                        f"   {r['name']} t={rd['t']:.3f} x={np.round(r['spec']['X'][i], 3).tolist()} v={rd['v'][i]:.4g} "
+                        f"v*={rd['truth'][i]:.4g} ±{rd['pm'][i]:.3g} {rd.get('why', {}).get(str(i), 'truth')}"
+                    )
     n = big = silent = cover = over = under = 0
     falses, dishonest, silent_list, under_list = [], [], [], []
     for r in recs:
@@ -899,12 +1118,33 @@ def table():
                     big += 1
                     if not r["warned"]:
                         silent += 1
-                        silent_list.append((r["name"], rd["t"], r["spec"]["X"][i], rd["v"][i], rd["truth"][i], err, est))
+                        silent_list.append(
+                            (
+                                r["name"],
+                                rd["t"],
+                                r["spec"]["X"][i],
+                                rd["v"][i],
+                                rd["truth"][i],
+                                err,
+                                est,
+                            )
+                        )
                 if rd["est"][i] >= 0.5 * errabs:
                     cover += 1
                 elif err > 0.02:
                     under += 1
-                    under_list.append((r["name"], rd["t"], r["spec"]["X"][i], rd["v"][i], rd["truth"][i], err, est, r["warned"]))
+                    under_list.append(
+                        (
+                            r["name"],
+                            rd["t"],
+                            r["spec"]["X"][i],
+                            rd["v"][i],
+                            rd["truth"][i],
+                            err,
+                            est,
+                            r["warned"],
+                        )
+                    )
                 if rd["est"][i] > 10 * errabs and est > 0.05:
                     over += 1
         if r["warned"] and errs_all and max(errs_all) < 0.02:
@@ -912,13 +1152,17 @@ def table():
         t = r.get("tol")
         if t and t.get("met"):
             worst = max(
-                max(e for e, u in zip(x["err_rel"], rd["untrusted"]) if not u) if not all(rd["untrusted"]) else 0.0
+                max(e for e, u in zip(x["err_rel"], rd["untrusted"]) if not u)
+                if not all(rd["untrusted"])
+                else 0.0
                 for x, rd in zip(t["reads"], r["reads"])
             )
             if worst > 0.05:
                 dishonest.append((r["name"], worst))
-    print(f"problems {len(recs)}  pairs {n}  >10% {big}  SILENT {silent}  coverage(ê≥½err) {cover}/{n}"
-          f"  under-reads(>2%) {under}  over-reads {over}  false warnings {len(falses)}  tol-dishonest {len(dishonest)}")
+    print(
+        f"problems {len(recs)}  pairs {n}  >10% {big}  SILENT {silent}  coverage(ê≥½err) {cover}/{n}"
+        f"  under-reads(>2%) {under}  over-reads {over}  false warnings {len(falses)}  tol-dishonest {len(dishonest)}"
+    )
     print("silent:")
     for s in silent_list:
         print("   ", s)
@@ -931,8 +1175,10 @@ def table():
     for r in recs:
         t = r.get("tol")
         if t:
-            print(f"   {r['name']:14s} met={t.get('met')} {t['seconds']:.0f}s rounds={len(t.get('rounds', []))} "
-                  f"worst err={max(max(x['err_rel']) for x in t['reads']) if t['reads'] else None}")
+            print(
+                f"   {r['name']:14s} met={t.get('met')} {t['seconds']:.0f}s rounds={len(t.get('rounds', []))} "
+                f"worst err={max(max(x['err_rel']) for x in t['reads']) if t['reads'] else None}"
+            )
 
 
 def retruth(names):
@@ -949,22 +1195,42 @@ def retruth(names):
         lam = spec["lam"]
         for rd in r["reads"]:
             vt, pm, bad = tr[rd["t"]][:3]
-            rd["truth"], rd["pm"], rd["untrusted"] = np.asarray(vt).tolist(), np.asarray(pm).tolist(), np.asarray(bad).tolist()
+            rd["truth"], rd["pm"], rd["untrusted"] = (
+                np.asarray(vt).tolist(),
+                np.asarray(pm).tolist(),
+                np.asarray(bad).tolist(),
+            )
             rd["extra"] = tr[rd["t"]][3] if len(tr[rd["t"]]) > 3 else {}
-            rd["err_rel"] = (np.abs(np.asarray(rd["v"]) - vt) / np.maximum(np.abs(vt), lam)).tolist()
+            rd["err_rel"] = (
+                np.abs(np.asarray(rd["v"]) - vt) / np.maximum(np.abs(vt), lam)
+            ).tolist()
         if r.get("tol"):
             for x in r["tol"]["reads"]:
                 vt = tr[x["t"]][0]
-                x["err_rel"] = (np.abs(np.asarray(x["v"]) - vt) / np.maximum(np.abs(vt), lam)).tolist()
+                x["err_rel"] = (
+                    np.abs(np.asarray(x["v"]) - vt) / np.maximum(np.abs(vt), lam)
+                ).tolist()
         f.write_text(json.dumps(r, indent=1, default=float))
-        print(r["name"], [np.round(rd["err_rel"], 4).tolist() for rd in r["reads"]], [rd["untrusted"] for rd in r["reads"]])
+        print(
+            r["name"],
+            [np.round(rd["err_rel"], 4).tolist() for rd in r["reads"]],
+            [rd["untrusted"] for rd in r["reads"]],
+        )
 
 
 def selftest():
     """1-D CN and FD against Riccati: ẋ = a x + b u, q = w (x − m)², g = wT (x − c)²."""
     lam, T, aa, bb, R, w, m, wT, c = 0.3, 2.0, -0.4, 1.3, 0.7, 0.8, 0.3, 1.5, -0.5
-    ax = dict(lo=-6, hi=6, periodic=False, R=R, a=lambda x: aa * x, b=lambda x: bb + 0 * x,
-              q=lambda x: w * (x - m) ** 2, g=lambda x: wT * (x - c) ** 2)
+    ax = dict(
+        lo=-6,
+        hi=6,
+        periodic=False,
+        R=R,
+        a=lambda x: aa * x,
+        b=lambda x: bb + 0 * x,
+        q=lambda x: w * (x - m) ** 2,
+        g=lambda x: wT * (x - c) ** 2,
+    )
     X = np.array([-1.0, 0.0, 0.7, 1.5])
     for n, dtt in ((4001, T / 2000), (8001, T / 4000)):
         outs = cn1d(ax, lam, [0.1, T], n, dtt)
@@ -995,7 +1261,7 @@ if __name__ == "__main__":
                 continue
             try:
                 run(nm, specs[nm])
-            except Exception as ex:  # noqa: BLE001
+            except Exception as ex:
                 import traceback
 
                 traceback.print_exc()

@@ -99,6 +99,16 @@ combination of steps T/10 and T/27 (``siq_1k_mixdt_late``) 1.9 %; the weight 2e4
 
 Other > 10 % pair (warned): ``pm_far_mid`` (−3, 2.5), t = 1: v 3.007 v* 3.477 (−13.5 %), ê 69 %,
 warned by the components' solves and by combine.
+
+AFTER THE FIX (main, 2026-12-06, the same ``--solve --all`` then ``--table``): ``check_combination``
+also reads the late times where its components are judged, confirmed by the components' own
+paths, and a store_every interval that the embedded solve steps over in one step reads the
+interpolation from the solve's own slices (``own_interpolation_error``). SILENT 0 (was 6); the
+numbers read are unchanged (same v, ê), coverage 232 / 234 as before. ``combine`` now warns on
+66 of 78 combinations (14 before): checked at the state and time each late warning names, 42 of
+its 47 late warnings are 5 % or more off against Riccati (the Riccati mix at the named state), 2 are 2.6 %, 3 within 1.7 % (``neg_deep``, ``neg_sep``, negative weights);
+the 8 read at t = 0 are the quantile's as before. The store_every=4 components' own solves now
+warn at t = 1.8 (9 % off at the 90th percentile of their states that matter, τ was 0).
 """
 
 from __future__ import annotations

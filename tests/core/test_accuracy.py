@@ -1178,6 +1178,66 @@ def test_values_read_between_slices_stored_far_apart_are_estimated_and_warned():
     assert np.all(solution.embedded.between_slices(solution, x, t) > 0.5 * error)
 
 
+def _two_goals(**options):
+    """Stranger round 26's siq: ẋ = u in 2-D, q = 1, goals g_i = |x − c_i|² at c = (∓1.5, 0),
+    λ = 0.3, T = 2, 101² on [−4, 4]² (default Δt 0.2), each goal solved by itself, and the
+    exact value of a combination with weights w: −λ log Σ w_i exp(−v_i/λ) from Riccati."""
+    system = g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2))
+    grid = g.Grid([g.Axis(-4, 4, 101), g.Axis(-4, 4, 101)])
+    goals = [g.Quadratic([-1.5, 0.0], [1.0, 1.0]), g.Quadratic([1.5, 0.0], [1.0, 1.0])]
+    one = g.costs.Constant(1.0, 2)
+    problems = [
+        g.Problem(system, grid, 2.0, goal, state_cost=one, temperature=0.3) for goal in goals
+    ]
+    components = [g.solve(p, **options) for p in problems]
+
+    def exact(weights, x, t):  # q = 1 adds T − t to each v_i
+        v = [lq_solution(p.replace(state_cost=None)).value(x, t) + 2.0 - t for p in problems]
+        return -0.3 * np.log(sum(w * np.exp(-v_i / 0.3) for w, v_i in zip(weights, v)))
+
+    return components, exact
+
+
+def test_a_combination_is_judged_late_in_its_task_where_its_weights_amplify_its_components_errors():
+    # Each component is within a few percent at t = 1.9, between its last time levels (the
+    # value interpolated in time where z changes fast between the goals near T), and its
+    # solve is quiet; the weight 10³ lowers the combination's value by λ log 10³ ≈ 2.07, to
+    # about 0 at (0, 0), where the same absolute error is 16 % of max(|v|, λ). Judged only at
+    # t = 0, combine was silent; late in the task the components' own paths confirm it.
+    components, exact = _two_goals()
+    with pytest.warns(g.ResolutionWarning, match=r"combination's v exceeds 5% .* at t = 1\.9"):
+        combined = g.combine(components, [1.0, 1e3])
+    x, t = np.array([[0.0, 0.0]]), 1.9
+    error = np.abs(combined.value(x, t) - exact([1.0, 1e3], x, t))
+    assert np.all(error > 0.1 * 0.3)  # more than 10 % of max(|v*|, λ)
+    assert np.all(combined.error_estimate(x, t) >= 0.5 * error)
+    with warnings.catch_warnings():  # equal weights: the components' errors, not amplified
+        warnings.simplefilter("error", g.ResolutionWarning)
+        g.combine(components, [1.0, 1.0])
+
+
+def test_an_interval_as_short_as_the_embedded_step_reads_the_interpolation_from_the_solve():
+    # store_every=4 on a 10-step solve stores t = 0, 0.8, 1.6 and 2: the last interval is two
+    # steps, one step of the embedded solve, which has no slice inside it and interpolates there
+    # as the solve does (its τ was 0 and the solve quiet, 9 % off at t = 1.8 at the tenth
+    # largest of the states that matter). The solve's own slices then say what interpolating
+    # changes (own_interpolation_error).
+    with pytest.warns(g.ResolutionWarning, match=r"at t = 1\.8, between the stored slices"):
+        (solution,), exact = _two_goals_first(store_every=4)
+    assert np.allclose(solution.times, [0.0, 0.8, 1.6, 2.0])
+    x, t = np.array([[-0.5, 0.0], [-2.5, -0.5], [0.0, 1.0]]), 1.8  # off the goal
+    error = np.abs(solution.value(x, t) - exact([1.0], x, t))
+    tau = solution.embedded.between_slices(solution, x, t)
+    assert np.all(error > 0.05 * 0.3) and np.all(tau >= 0.5 * error)
+    assert np.all(solution.embedded.between_slices(solution, x, 1.6) == 0.0)  # a stored time
+
+
+def _two_goals_first(**options):
+    """The first goal of :func:`_two_goals` alone."""
+    components, exact = _two_goals(**options)
+    return components[:1], exact
+
+
 def test_certificates_do_not_prove_a_solve_that_misses_a_goal_narrower_than_a_cell():
     # The corpus's goal_off8: g = 0.1|x|² + 1.5 (1 − exp(−|x − c|²/2w²)), a goal w = h/8 wide
     # an eighth of a cell off a node, λ = 0.1, T = 1, 201². The solve misses it (15 and 23 %
