@@ -931,6 +931,35 @@ def test_a_value_steeper_than_a_cell_at_an_invariant_edge_is_warned_by_the_local
     assert np.all(solution.error_estimate(x[:2], later) >= 0.5 * error_later)
 
 
+def test_the_local_certificate_is_held_to_the_uncontrolled_cost_where_a_few_paths_carry_it(
+    monkeypatch,
+):
+    # The certificate is exact for any proposal in expectation, but −λ log of a mean of weights
+    # is biased high, and where the proposal is absurd (stranger round 25: a policy pushing at
+    # 2·10⁴) one path of 32 carries the weight and v_ℓ read thousands above the solve. The
+    # optimum over the span is at most what doing nothing costs, E_0[∫q + v_h(X_σ)]: there
+    # (ESS < LOCAL_ESS) v_ℓ is held to it. Here the proposal pushes at 10³ on an LQ point mass.
+    import gridlbc.accuracy.bellman as bellman
+
+    solution = _quiet_solve(lq_point_mass(41))
+
+    class Absurd:  # the solve with a policy no solve would give
+        def __getattr__(self, name):
+            return getattr(solution, name)
+
+        def policy(self, x, t=0.0):
+            return np.full((len(np.atleast_2d(x)), 1), 1e3)
+
+    x = np.array([[0.5, 0.0], [-1.0, 0.5]])
+    gap, _ = bellman.bellman_gap(Absurd(), x, 0.2)
+    v = solution.value(x, 0.2)
+    # held: the uncontrolled paths pay v_h plus what doing nothing costs over the span
+    assert np.all(np.abs(gap) < v)
+    monkeypatch.setattr(bellman, "LOCAL_ESS", 0.0)  # not held: the few heavy paths' reading
+    unheld, _ = bellman.bellman_gap(Absurd(), x, 0.2)
+    assert np.all(-unheld > 100 * v)
+
+
 def test_the_local_certificate_reads_its_paths_ends_exactly_for_a_quadratic():
     # The paths end between the nodes, where the barycentric interpolant of a convex v is high
     # by up to h²∂²v/8; less its error for a quadratic with the nodal Hessian, the read is exact
