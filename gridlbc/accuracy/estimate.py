@@ -512,7 +512,8 @@ def own_interpolation_error(solution, x: np.ndarray, j: int, theta: float) -> np
     v changes fastest in the last moments (z between two goals, or at a kink of g), and the
     quadratic model of a smooth curvature read a third of the error there (stranger round 26,
     store_every=4 in the last interval); where v is smooth in time this reads high, by up to the
-    ratio of the two intervals. 0 with fewer than three stored slices (:meth:`EmbeddedEstimate.between_slices`)."""
+    ratio of the two intervals. 0 with fewer than three stored slices
+    (:meth:`EmbeddedEstimate.between_slices`)."""
     times = solution.times
     if j >= 1:
         a, b, c = j - 1, j, j + 1
