@@ -93,7 +93,7 @@ class Grid:
         object.__setattr__(self, "axes", axes)
         object.__setattr__(self, "_lo", np.array([a.lo for a in axes]))
         kernel = (
-            np.array([a.lo for a in axes]),
+            self._lo,
             np.array([a.spacing for a in axes]),
             np.array([a.n for a in axes], dtype=np.int64),
             np.array([math.prod(a.n for a in axes[k + 1 :]) for k in range(len(axes))]),

@@ -27,8 +27,6 @@ from .backends.numba.interpolation import (
     input_gradient_kernel_serial,
     interpolate_kernel,
     interpolate_kernel_serial,
-    interpolate_rows_kernel,
-    interpolate_rows_kernel_serial,
     kuhn_kernel,
     kuhn_kernel_serial,
 )
@@ -61,11 +59,11 @@ def interpolate(grid: Grid, values, x) -> np.ndarray:
     if values.dtype not in (np.float32, np.float64):
         values = values.astype(float)
     idx, weights = barycentric(grid, x)
-    rows = np.ascontiguousarray(values.reshape(-1, grid.size))
-    out = np.empty((rows.shape[0], len(idx)))
-    kernel = interpolate_rows_kernel if len(idx) >= SERIAL_BELOW else interpolate_rows_kernel_serial
-    kernel(rows, idx, weights, out)
-    return out.reshape(values.shape[:-1] + (len(idx),))
+    one = np.ones(1)
+    rows = [
+        interpolate_slices(row[None], one, idx, weights) for row in values.reshape(-1, grid.size)
+    ]
+    return np.reshape(rows, values.shape[:-1] + (len(idx),))
 
 
 def interpolate_slices(

@@ -153,7 +153,7 @@ def local_error(
     affords up to :data:`WHOLE_SAMPLES` (none where it affords fewer than ``samples``), and the
     larger of the two."""
     gap, se = bellman_gap(solution, x, t, samples)
-    out = np.fmax(np.abs(gap) - discount * se, 0.0)
+    out = beyond_noise(gap, se, discount)
     x = np.atleast_2d(np.asarray(x, dtype=float))
     problem = solution.problem
     if not whole or problem.stationary or len(x) == 0 or t >= problem.horizon:
@@ -162,8 +162,15 @@ def local_error(
     affordable = min(WHOLE_SAMPLES, LOCAL_WORK // (len(x) * 3 * SUBSTEPS * steps))
     if steps > SPAN and affordable >= samples:
         gap, se = bellman_gap(solution, x, t, affordable, whole=True)
-        out = np.fmax(out, np.fmax(np.abs(gap) - discount * se, 0.0))
+        out = np.fmax(out, beyond_noise(gap, se, discount))
     return out
+
+
+def beyond_noise(gap: np.ndarray, se: np.ndarray, discount: float) -> np.ndarray:
+    """abs(``gap``) less ``discount`` of its standard errors ``se``, at least 0 (0 where the gap
+    is NaN): what a local certificate says beyond its sampling noise (:func:`local_error`,
+    :func:`gridlbc.accuracy.estimate.path_check`)."""
+    return np.fmax(np.abs(gap) - discount * se, 0.0)
 
 
 def largest_discount(count: int) -> float:

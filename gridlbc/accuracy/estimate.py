@@ -125,7 +125,7 @@ from scipy.special import logsumexp
 
 from ..errors import ResolutionWarning, warn_user
 from ..problem import bracket
-from .bellman import SPAN, bellman_gap, largest_discount, local_error
+from .bellman import SPAN, bellman_gap, beyond_noise, largest_discount, local_error
 from .paths import PATH_SAMPLES, cost_gap, sampled
 from .subcell import Response
 from .tracing import gaps
@@ -992,14 +992,21 @@ def confirmed_locally(
     X = np.concatenate([X[top], centres])
     v = np.concatenate([v[top], v_centres])
     grid = np.concatenate([grid[top], grid_centres])
-    above = np.flatnonzero(grid > tol)
-    if len(above) == 0:
+    top = candidates(grid, tol)
+    if len(top) == 0:
         return none
-    top = above[np.argsort(grid[above])[::-1][:CONFIRMED]]
     paths = relative_error(np.abs(path_check(solution, X[top], t)), v[top], solution.temperature)
     both = np.fmin(grid[top], paths)
     worst = int(np.argmax(both))
     return float(both[worst]), X[top[worst]]
+
+
+def candidates(rel: np.ndarray, tol: float) -> np.ndarray:
+    """The indices of the :data:`CONFIRMED` largest entries of ``rel`` above ``tol``, largest
+    first: the states a reading checks along the paths (:func:`confirmed_locally`,
+    :func:`check_combination`)."""
+    above = np.flatnonzero(rel > tol)
+    return above[np.argsort(rel[above])[::-1][:CONFIRMED]]
 
 
 def path_check(solution, X: np.ndarray, t: float) -> np.ndarray:
@@ -1011,7 +1018,7 @@ def path_check(solution, X: np.ndarray, t: float) -> np.ndarray:
     size, :func:`check_combination` carries it through the blend)."""
     gamma = cost_gap(solution, X, t, PATH_SAMPLES)
     gap, se = bellman_gap(solution, X, t)
-    local = np.fmax(np.abs(gap) - largest_discount(len(X)) * se, 0.0)
+    local = beyond_noise(gap, se, largest_discount(len(X)))
     return np.where(np.abs(gamma) >= local, -gamma, -np.sign(gap) * local)
 
 
@@ -1192,8 +1199,7 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
             share = f"at {np.mean(rel[usable] > tol):.0%} of the states that matter "
             share += f"({QUANTILE:.0%} of them are within {error:.1%})"
         else:
-            above = np.flatnonzero(usable & (rel > tol))
-            top = above[np.argsort(rel[above])[::-1][:CONFIRMED]]
+            top = candidates(rel, tol)
             if len(top) == 0:
                 continue
             paths = np.stack([path_check(c, X[top], t) for c in components], axis=1)

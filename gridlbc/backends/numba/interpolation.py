@@ -131,34 +131,6 @@ def interpolate_kernel_serial(z, time_weights, log_divisor, nodes, weights, out)
 
 
 @jit_inline
-def _rows_interpolated(start, stop, values, nodes, weights, out):
-    """Σ_v w_v f_r(x_v) for each row r of ``values`` (K, size) and the states ``start:stop``
-    into ``out`` (K, N)."""
-    for p in range(start, stop):
-        for r in range(values.shape[0]):
-            total = 0.0
-            for v in range(nodes.shape[1]):
-                total += values[r, nodes[p, v]] * weights[p, v]
-            out[r, p] = total
-
-
-@jit_parallel
-def interpolate_rows_kernel(values, nodes, weights, out):
-    """:func:`_rows_interpolated` for every state, on the threads, in blocks."""
-    n_points = nodes.shape[0]
-    n_blocks = min(n_points, 256)
-    for b in prange(n_blocks):
-        start, stop = b * n_points // n_blocks, (b + 1) * n_points // n_blocks
-        _rows_interpolated(start, stop, values, nodes, weights, out)
-
-
-@jit
-def interpolate_rows_kernel_serial(values, nodes, weights, out):
-    """:func:`interpolate_rows_kernel` in this thread (few states: :data:`SERIAL_BELOW`)."""
-    _rows_interpolated(0, nodes.shape[0], values, nodes, weights, out)
-
-
-@jit_inline
 def _neighbours(node, n, s, h, periodic):
     """The nodes (up, down) of a central difference along an axis of n nodes, stride s and
     spacing h at a flat node, and its factor 1/(up − down): the node itself on the side of a
