@@ -44,14 +44,15 @@ from pathlib import Path
 import numpy as np
 
 import gridlbc
+from gridlbc import accuracy as E
 from gridlbc.accuracy import DEFAULT_TOLERANCE, embedded_grid, relative_error
-from gridlbc.accuracy import estimate as E
+from gridlbc.accuracy import assessment as A  # where assess looks states_that_matter up
 
 HERE = Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE), str(HERE / "holdout")]
 SAVED = Path("/tmp/matter_sets.json")
 TOL = DEFAULT_TOLERANCE
-ORIGINAL = E.states_that_matter
+ORIGINAL = A.states_that_matter
 
 from warning_rules import _finer, _kind  # noqa: E402  (the same helpers as the earlier analysis)
 
@@ -190,13 +191,13 @@ def measure(problem, states, truth, opts) -> dict:
     cands = {}
     for which in ("M", "A", "B1", "B2", "C", "D", "F0"):
         mask = node_mask(sol, "A" if which == "F0" else which)
-        E.states_that_matter = patched(node_mask(sol, "M") if which == "F0" else mask)
+        A.states_that_matter = patched(node_mask(sol, "M") if which == "F0" else mask)
         try:
             est = E.embedded_estimate(sol, emb.solution, s4, emb.pair, emb.excess)
-            E.states_that_matter = patched(mask)
+            A.states_that_matter = patched(mask)
             object.__setattr__(sol, "embedded", est)
             a = E.assess(sol, TOL)
-            X = E.states_that_matter(sol)
+            X = A.states_that_matter(sol)
             vx, _, _, local = est._read(sol, X, 0.0)
             scale = np.maximum(np.abs(vx), lam)
             det = relative_error(
@@ -205,7 +206,7 @@ def measure(problem, states, truth, opts) -> dict:
             det = det[np.isfinite(det)]
             est_checked = relative_error(sol.error_estimate(states), v, lam)
         finally:
-            E.states_that_matter = ORIGINAL
+            A.states_that_matter = ORIGINAL
             object.__setattr__(sol, "embedded", emb)
         fires = a.error > TOL
         if which == "D":
@@ -316,11 +317,11 @@ def verify(names, results: Path):
                 p.replace(grid=g4), error_estimate=False, dt=min(4 * s.diagnostics.dt, p.horizon)
             )
             mask = node_mask(s, "A")
-            E.states_that_matter = patched(mask)
+            A.states_that_matter = patched(mask)
             try:
                 est = E.embedded_estimate(s, emb.solution, s4, emb.pair, emb.excess)
             finally:
-                E.states_that_matter = ORIGINAL
+                A.states_that_matter = ORIGINAL
             upper = mask & ~node_mask(s, "M").ravel()
             X = s.grid.node_coordinates(np.flatnonzero(upper))
             v, _, _, local = est._read(s, X, 0.0)

@@ -46,7 +46,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from .accuracy.estimate import check_combination
+from .accuracy.assessment import check_combination
 from .errors import UnderflowWarning
 from .problem import Problem, state_evaluation
 from .representation import Fields, warn_underflow
@@ -474,7 +474,7 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
         ``blend_weights`` α_i = w_i z_i / Σ_j w_j z_j. Where the grid components carry error
         estimates, combine warns (:class:`gridlbc.ResolutionWarning`) when the estimate they
         carry to the combination exceeds the default tolerance relative to its value
-        (:func:`gridlbc.accuracy.estimate.check_combination`).
+        (:func:`gridlbc.accuracy.assessment.check_combination`).
     """
     components = tuple(components)
     if not components:

@@ -397,7 +397,7 @@ def solve(
     times : float or sequence of float, optional
         With ``tol`` and ``states``, for a problem with a horizon: the times in [0, T] at which
         it must hold there (default: t = 0 and late in the task,
-        :func:`gridlbc.accuracy.estimate.late_times`).
+        :func:`gridlbc.accuracy.assessment.late_times`).
     max_nodes : int, optional
         With ``tol``: refine the grid no further than this many nodes.
     max_seconds : float, optional

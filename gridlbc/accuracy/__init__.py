@@ -3,8 +3,10 @@
 
 - :mod:`gridlbc.accuracy.grids`: the embedded grids (every other node) and the finer ones;
 - :mod:`gridlbc.accuracy.embedding`: what every grid solve runs to carry its estimate;
-- :mod:`gridlbc.accuracy.estimate`: the embedded estimate, read at the states that matter, and
-  the default solve's warning;
+- :mod:`gridlbc.accuracy.estimate`: the embedded estimate, read at any state;
+- :mod:`gridlbc.accuracy.matter`: the states at which a default solve is judged;
+- :mod:`gridlbc.accuracy.assessment`: the estimate judged against a tolerance, and the default
+  solve's warning;
 - :mod:`gridlbc.accuracy.paths`: what the grid cannot see of the costs, sampled along the solve's
   paths;
 - :mod:`gridlbc.accuracy.subcell`: the costs' excess between the nodes and what it changes in a
@@ -26,6 +28,16 @@ Each module's docstring has its equations; the names imported here are the packa
 ones.
 """
 
+from .assessment import (
+    ASSESSED_PATHS,
+    DEFAULT_TOLERANCE,
+    QUANTILE,
+    Assessment,
+    assess,
+    check_accuracy,
+    check_scalar,
+    statistic,
+)
 from .bellman import (
     BELLMAN_SE,
     LOCAL_SAMPLES,
@@ -45,32 +57,18 @@ from .certified import (
     certified_error,
 )
 from .estimate import (
-    ASSESSED,
-    ASSESSED_PATHS,
     ASYMPTOTIC,
-    DEFAULT_TOLERANCE,
-    QUANTILE,
-    SAMPLE,
-    Assessment,
     EmbeddedEstimate,
     ScalarEstimate,
-    assess,
     attach_estimates,
-    better_half,
-    calibration_states,
-    check_accuracy,
-    check_scalar,
     clipped_order,
     embedded_estimate,
-    judged_states,
     observed_order,
     relative_difference,
     relative_error,
     richardson,
     scalar_estimate,
     scalar_relative,
-    states_that_matter,
-    statistic,
 )
 from .exits import check_exit, missed_exit, missed_points
 from .flow import (
@@ -93,6 +91,14 @@ from .grids import (
     phase_pair,
     refined_grid,
     scaled_grid,
+)
+from .matter import (
+    ASSESSED,
+    SAMPLE,
+    better_half,
+    calibration_states,
+    judged_states,
+    states_that_matter,
 )
 from .paths import (
     PATH_SAMPLES,

@@ -169,7 +169,7 @@ def local_error(
 def beyond_noise(gap: np.ndarray, se: np.ndarray, discount: float) -> np.ndarray:
     """abs(``gap``) less ``discount`` of its standard errors ``se``, at least 0 (0 where the gap
     is NaN): what a local certificate says beyond its sampling noise (:func:`local_error`,
-    :func:`gridlbc.accuracy.estimate.path_check`)."""
+    :func:`gridlbc.accuracy.assessment.path_check`)."""
     return np.fmax(np.abs(gap) - discount * se, 0.0)
 
 

@@ -11,10 +11,8 @@ import numpy as np
 
 from ..certify import certify
 from ..errors import GridlbcWarning
-from .estimate import (
-    judged_states,
-    relative_error,
-)
+from .estimate import relative_error
+from .matter import judged_states
 
 CERTIFIED_STATES = 16
 """:func:`solve_to_tolerance` certifies the user's states (:func:`certified_error`) where the
@@ -87,11 +85,12 @@ def certified_error(solution, X: np.ndarray, tol: float) -> float:
         ê_c; NaN where a certificate is not :attr:`~gridlbc.Certificate.trusted` at every
         state (too few effective samples or a heavy weight tail: the solve's policy is too poor a
         proposal to certify with), and without certificates where the estimate's response to the
-        costs' excess between the nodes, S (:meth:`~gridlbc.accuracy.EmbeddedEstimate.excess_response`),
-        exceeds ``tol`` at a state: a goal or a well narrower than a cell that the solve misses,
-        its policy steers around as well, and certificates that it proposes agree with the solve
-        without a sign of it (a goal an eighth of a cell wide: the solve 15 and 23 % high, the
-        certificates on its 801² grid within 0.5 % of it, ESS 991 and 981 of 1000).
+        costs' excess between the nodes, S
+        (:meth:`~gridlbc.accuracy.EmbeddedEstimate.excess_response`), exceeds ``tol`` at a state: a
+        goal or a well narrower than a cell that the solve misses, its policy steers around as well,
+        and certificates that it proposes agree with the solve without a sign of it (a goal an
+        eighth of a cell wide: the solve 15 and 23 % high, the certificates on its 801² grid within
+        0.5 % of it, ESS 991 and 981 of 1000).
     """
     v = np.asarray(solution.value(X, 0.0), dtype=float).reshape(-1)
     scale = np.maximum(np.abs(v), solution.temperature)

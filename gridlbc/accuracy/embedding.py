@@ -10,7 +10,9 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import NamedTuple
 
+from ..errors import ResolutionWarning, warn_user
 from ..problem import Problem
+from .assessment import check_accuracy
 from .estimate import attach_estimates
 from .exits import check_exit, missed_points
 from .flow import reads_pair
@@ -35,9 +37,11 @@ def embed(
     base: bool = False,
 ) -> Embedding:
     """Attach to each of ``solutions`` (one per terminal or exit cost of ``costs``) its
-    embedded estimate and warn where it exceeds the default tolerance
-    (:func:`~gridlbc.accuracy.attach_estimates`), where none could be made, or where the exit
-    set has a part that no node holds (:func:`~gridlbc.accuracy.check_exit`):
+    embedded estimate (:func:`~gridlbc.accuracy.attach_estimates`) and warn where it exceeds
+    the default tolerance (:func:`~gridlbc.accuracy.check_accuracy`), where none could be made
+    (a grid too coarse to embed, or a problem that cannot be posed on the embedded grid: the
+    grid resolves it too barely for an estimate), or where the exit set has a part that no
+    node holds (:func:`~gridlbc.accuracy.check_exit`):
 
     1. the solves on the grids with every other node, 2h and 4h
        (:func:`~gridlbc.accuracy.embedded_solves`, by ``on_grid(grid, factor)``, factor the
@@ -66,6 +70,14 @@ def embed(
         excess = responses(problem, costs, coarse, solve, own, missed)
         if reads_pair(solutions[0], excess):
             pairs = pair_solves(fine, levels[0], on_grid)
-    attach_estimates(solutions, levels, pairs, excess, reason)
+    if levels:
+        attach_estimates(solutions, levels, pairs, excess)
+        for solution in solutions:
+            check_accuracy(solution)
+    elif reason:
+        warn_user(
+            f"no error estimate for this solve: {reason} (docs page 'accuracy')",
+            ResolutionWarning,
+        )
     check_exit(solutions[0], missed)  # the exit set is the problem's: one look for all
     return Embedding(levels, pairs, excess)

@@ -47,8 +47,9 @@ import numpy as np
 
 from ..errors import ResolutionWarning, warn_user
 from ..interpolate import barycentric
-from .estimate import observed_order, states_that_matter
+from .estimate import observed_order
 from .grids import embedded_grid
+from .matter import states_that_matter
 from .paths import ROUNDING
 
 FLOW_SAMPLES = 1 << 14

@@ -40,24 +40,19 @@ import numpy as np
 from ..errors import GridlbcWarning, ResolutionWarning, warn_user
 from ..grid import Grid
 from ..storage import available_memory
+from .assessment import ESTIMATE_WARNING, assess, statistic
 from .certified import (
     certifiable,
     certified_error,
 )
-from .estimate import (
-    ESTIMATE_WARNING,
-    assess,
-    judged_states,
-    relative_difference,
-    relative_error,
-    statistic,
-)
+from .estimate import relative_difference, relative_error
 from .flow import FLOW_CELLS, FLOW_WARNING, NOISE_WARNING, check_flow, flow_excess, followed
 from .grids import (
     embedded_grid,
     embedded_store_every,
     scaled_grid,
 )
+from .matter import judged_states
 
 
 class Marcher(NamedTuple):
@@ -383,7 +378,7 @@ def solve_to_tolerance(
     ê (:func:`assess`). If it exceeds ``tol``, it measures the step's share ê_t = abs(v_{h,2Δt} −
     v_{h,Δt}) and each axis's share (:func:`axis_shares`: solves at the same step with one axis
     coarsened at a time), both at the time where ê was read (0, or late in the task where the
-    check there found the larger error, :func:`~gridlbc.accuracy.estimate.late_times`), and
+    check there found the larger error, :func:`~gridlbc.accuracy.assessment.late_times`), and
     chooses the next grid and step:
 
     - in the model's range (:func:`unsteerable` says nothing), the factors that bring the sum of
@@ -442,7 +437,7 @@ def solve_to_tolerance(
         Where the tolerance must hold; default :func:`states_that_matter` (at :data:`QUANTILE`).
     times : sequence of float, optional
         With ``states``: the times in [0, T] at which it must hold there (default: 0 and
-        :func:`~gridlbc.accuracy.estimate.late_times`, late in the task where a step errs most).
+        :func:`~gridlbc.accuracy.assessment.late_times`, late in the task where a step errs most).
     settings : SolverSettings or str, optional
         As for :func:`gridlbc.solve`.
     max_nodes : int, optional

@@ -500,7 +500,7 @@ def test_tol_meets_a_step_limited_tolerance_in_the_rounds_the_model_predicts():
     steered = [r for r in rounds[:-1] if not r.reason]
     assert steered and len(steered[0].factors) == 3
     exact = lq_solution(solution.problem)
-    for t in (0.0, *accuracy.estimate.late_times(solution)):
+    for t in (0.0, *accuracy.assessment.late_times(solution)):
         true = exact.value(STATES, t)
         assert np.max(np.abs(solution.value(STATES, t) / true - 1)) <= 0.01
 
@@ -1042,10 +1042,10 @@ def test_cell_centres_are_those_of_the_cells_around_the_nodes_held_by_the_mask()
     solution = type("S", (), {"grid": grid})()
     mask = np.ones(grid.size, dtype=bool)
     corner = np.array([[0.0, 0.0]])
-    got = accuracy.estimate.cell_centres(solution, corner, mask)
+    got = accuracy.assessment.cell_centres(solution, corner, mask)
     assert sorted(map(tuple, got)) == [(0.125, 0.125), (0.125, 0.875)]
     mask[grid.strides @ [1, 3]] = False  # the node (0.25, 0.75): both cells across the seam
-    got = accuracy.estimate.cell_centres(solution, np.array([[0.25, 0.0]]), mask)
+    got = accuracy.assessment.cell_centres(solution, np.array([[0.25, 0.0]]), mask)
     assert sorted(map(tuple, got)) == [(0.125, 0.125), (0.375, 0.125)]
 
 
@@ -1250,7 +1250,7 @@ def test_components_errors_carry_through_the_blend_exactly():
     # −λ log Σ α_i exp(−δv_i/λ), exactly, however large the δv_i (the demo's coordination at
     # t = 2.98: a component 12 above its value at weight ½ moves the combination by 2.3, which
     # Σ α_i δv_i read as 6.6); with a negative weight the carried sizes are added
-    from gridlbc.accuracy.estimate import blended
+    from gridlbc.accuracy.assessment import blended
 
     rng = np.random.default_rng(5)
     lam = 0.7

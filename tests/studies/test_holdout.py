@@ -177,21 +177,23 @@ def _judge(problem, name, truths, key="v_extrapolated", share=0.0):
 def test_a_local_response_warns_where_the_percentile_does_not():
     """goal4d_mid (a 4-D goal a sixth of a cell wide, 11.5 % high at it): the estimate's 90th
     percentile over the states that matter is below the 5 % tolerance, since the goal changes v
-    on a small share of them; S, judged at its largest (accuracy.estimate.largest_response),
+    on a small share of them; S, judged at its largest (accuracy.assessment.largest_response),
     exceeds it near the goal, and the warning says where."""
     import warnings
 
     import gridlbc as g
-    from gridlbc.accuracy import estimate
+    from gridlbc.accuracy import assessment, matter
 
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         solution = g.solve(BY_NAME["goal4d_mid"].build())
-    X = estimate.judged_states(solution)
-    relative = solution.embedded.relative(solution, X, samples=estimate.ASSESSED_PATHS, local=False)
-    percentile = estimate.statistic(relative, False)
-    largest, where = estimate.largest_response(solution)
-    assert percentile < estimate.DEFAULT_TOLERANCE < largest
+    X = matter.judged_states(solution)
+    relative = solution.embedded.relative(
+        solution, X, samples=assessment.ASSESSED_PATHS, local=False
+    )
+    percentile = assessment.statistic(relative, False)
+    largest, where = assessment.largest_response(solution)
+    assert percentile < assessment.DEFAULT_TOLERANCE < largest
     assert np.linalg.norm(where - np.array([0.05, -0.35, 0.25, -0.15])) < 0.5  # near the goal
     messages = [str(w.message) for w in caught if issubclass(w.category, g.ResolutionWarning)]
     assert any("near" in m and "narrower than a cell" in m for m in messages)
