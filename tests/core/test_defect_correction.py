@@ -1,5 +1,5 @@
 """Defect correction of first-exit solves (StationarySettings.defect_correction,
-gridlbc.stationary._defect_correction): second order on an axis without noise, still one linear
+gridlbc.stationary.first_exit._defect_correction): second order on an axis without noise, still one linear
 map of the exit values, and the first-order solve kept where z is not resolved."""
 
 import warnings

@@ -685,15 +685,15 @@ def test_shares_of_c_pick_the_axes_that_move_c():
     # whose share is at least half the largest are refined, every axis where none is known.
     from types import SimpleNamespace
 
-    from gridlbc.stationary import _shares_of_c
+    from gridlbc.stationary.solve import shares_of_c
 
     grid = g.Grid([g.Axis(-2, 2, 41), g.Axis(-2, 2, 41), g.Axis(-2, 2, 41)])
     solution = SimpleNamespace(grid=grid, average_cost=1.0)
     coarse = [g.accuracy.embedded_grid(grid, axes=(i,)).shape for i in range(3)]
     moved = {shape: SimpleNamespace(average_cost=c) for shape, c in zip(coarse, [1.1, 1.06, 1.01])}
-    axes, shares = _shares_of_c(solution, moved)
+    axes, shares = shares_of_c(solution, moved)
     assert axes == [0, 1] and np.allclose(shares, [0.1, 0.06, 0.01])
-    axes, shares = _shares_of_c(solution, {shape: None for shape in coarse})
+    axes, shares = shares_of_c(solution, {shape: None for shape in coarse})
     assert axes == [0, 1, 2] and np.all(np.isnan(shares))
 
 
