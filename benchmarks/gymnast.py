@@ -32,7 +32,7 @@ from pathlib import Path
 import numpy as np
 
 import gridlbc
-from gridlbc.certify import CertificateWarning
+from gridlbc.errors import CertificateWarning
 from gridlbc.settings import SolverSettings
 from gridlbc.simulate import simulate
 from gridlbc.solver import courant_rates, time_grid

@@ -6,7 +6,8 @@ and solutions for different terminal costs superpose into new optimal controller
 """
 
 from . import costs, reference, regions, systems, trajectory
-from .certify import Certificate, certify
+from .certificate import Certificate
+from .certify import certify
 from .combine import Combination, CombinedSolution, NaiveBlend, combine, naive_blend
 from .costs import Quadratic
 from .errors import (
@@ -27,8 +28,7 @@ from .simulate import Rollouts, simulate
 from .solution import Solution, SolveDiagnostics, StationarySolution
 from .solver import solve, solve_many
 from .sweep import SweepMember, sweep  # imports Dask only when a sweep runs
-
-__version__ = "0.1.0"
+from .version import __version__ as __version__
 
 __all__ = [
     "METHODS",

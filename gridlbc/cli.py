@@ -355,7 +355,8 @@ def _cmd_certify(args) -> int:
 
     import numpy as np
 
-    from .certify import CertificateWarning, certify
+    from .certify import certify
+    from .errors import CertificateWarning
     from .io import load
 
     solution = load(args.solution)

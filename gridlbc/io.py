@@ -64,6 +64,7 @@ from .problem import Problem
 from .regions import GridRegion
 from .representation import REPRESENTATIONS, LinearZ, LogZ, RelativeZ
 from .solution import OperatorSignature, Solution, SolveDiagnostics, StationarySolution
+from .version import __version__
 
 FORMAT = "gridlbc-solution"
 FORMAT_VERSION = 2
@@ -227,7 +228,6 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
 def write(solution: Solution, path, annotations: dict | None = None) -> Path:
     """:func:`save` without its check that :func:`load` can rebuild the system alone (for a
     caller that loads with ``system=``, as :func:`gridlbc.sweep` does)."""
-    from . import __version__
 
     path = Path(path)
     if path.suffix != ".npz":
@@ -240,7 +240,7 @@ def write(solution: Solution, path, annotations: dict | None = None) -> Path:
         **_record(solution, arrays),
     }
     estimate = solution.embedded
-    if estimate is not None:  # the error estimate's coarse solve, under its own prefix
+    if isinstance(estimate, EmbeddedEstimate):  # the estimate's coarse solve, under its own prefix
         meta["embedded"] = {
             **_record_under(estimate.solution, EMBEDDED, arrays),
             "observed_order": None

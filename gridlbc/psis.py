@@ -1,7 +1,7 @@
 """The Pareto tail diagnostic k̂ of importance weights (Pareto-smoothed importance sampling).
 
 An importance-sampling estimate of a mean, here z*(x₀) = E_u[w] with w = exp(−S_u/λ) (see
-:mod:`gridlbc.certify`), is reliable when the weights' distribution has a light enough right tail.
+:mod:`gridlbc.certificate`), is reliable when the weights' distribution has a light enough right tail.
 Vehtari, Simpson, Gelman, Yao & Gabry ("Pareto smoothed importance sampling", JMLR 25(72), 2024)
 measure the tail by fitting a generalized Pareto distribution (GPD)
 

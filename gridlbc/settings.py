@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .problem import Problem
 from .schemes import LINEAR_SOLVERS, METHODS
 
 
@@ -178,3 +179,22 @@ def resolve_settings(settings, options) -> SolverSettings:
 def is_own_reference(fitting, n_rhs: int) -> bool:
     """A single terminal cost fitted to itself is its own reference: no extra row is solved."""
     return fitting == "terminal" and n_rhs == 1
+
+
+def memory_estimate(
+    problem: Problem, settings: SolverSettings, n_slices: int, n_rhs: int = 1
+) -> dict[str, int]:
+    """Bytes a solve will hold: stored slices (and the fitting reference's, when it is a row of
+    its own), working arrays (two float64 copies of z and the terminal data) and the step
+    operator; ``"ram"`` sums what must fit in memory (the slices
+    live on disk when ``mmap_dir`` is set)."""
+    grid = problem.require_grid("solve")
+    fitted = settings.reference is not None
+    rows = n_rhs + settings.reference_rows(n_rhs)
+    stored = n_slices * rows * grid.size * np.dtype(settings.dtype).itemsize  # + log φ, fitted
+    # + log φ, the curvature term and (at most two bytes per node) its stencils' places, fitted
+    curved = 2.25 if fitted else 0
+    working = int((3 * rows + grid.ndim + curved) * grid.size * 8)
+    operator = settings.scheme.estimate_bytes(grid)
+    ram = working + operator + (0 if settings.mmap_dir else stored)
+    return {"stored": stored, "working": working, "operator": operator, "ram": ram}

@@ -516,7 +516,7 @@ def euler_maruyama(
     dε' being the passive chain's noise that produces the same step (u the sampling policy's
     control, dε its noise). For u_j = u this is (Σ uᵀR dε + ½ Σ uᵀRu Δt)/λ, the inverse of the
     Girsanov factor of :func:`gridlbc.certify`; the folds at reflecting edges and the stopping
-    rule are functions of the path and cancel from every ratio (:mod:`gridlbc.certify`).
+    rule are functions of the path and cancel from every ratio (:mod:`gridlbc.certificate`).
 
     Parameters
     ----------

@@ -33,7 +33,7 @@ every evaluation in the library).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import numpy as np
 
@@ -42,8 +42,14 @@ from .interpolate import barycentric
 from .problem import Problem, bracket, check_time, state_evaluation
 from .representation import Fields, LinearZ, RelativeZ, Representation, Stencil
 
-if TYPE_CHECKING:
-    from .accuracy import EmbeddedEstimate
+
+class ErrorEstimate(Protocol):
+    """What a solution's error estimate answers (:class:`gridlbc.accuracy.EmbeddedEstimate`, which
+    :mod:`gridlbc.accuracy` attaches after the solve): abs(v − v_exact) at states ``x`` (N, d),
+    time ``t`` (:meth:`Solution.error_estimate`)."""
+
+    def error(self, solution, x, t=0.0) -> np.ndarray: ...
+
 
 FittingReference = RelativeZ
 """The former name of :class:`gridlbc.representation.RelativeZ` (log φ at the stored times)."""
@@ -216,7 +222,7 @@ class Solution(FieldEvaluation):
     operator: OperatorSignature
     representation: Representation = field(default_factory=LinearZ)
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
-    embedded: EmbeddedEstimate | None = field(default=None, repr=False, compare=False)
+    embedded: ErrorEstimate | None = field(default=None, repr=False, compare=False)
     refinement: tuple = field(default=(), repr=False, compare=False)
 
     @property

@@ -34,7 +34,7 @@ from .grid import Grid, flat_chunks
 from .problem import Problem
 from .schemes import METHODS
 from .schemes.protocol import Marched, MarchPlan, Terminal
-from .settings import SolverSettings, is_own_reference, resolve_settings
+from .settings import SolverSettings, is_own_reference, memory_estimate, resolve_settings
 from .solution import OperatorSignature, Solution, SolveDiagnostics
 from .stationary import (
     exit_nodes,
@@ -42,7 +42,7 @@ from .stationary import (
     solve_stationary_many,
     solve_stationary_to_tolerance,
 )
-from .storage import check_memory, memory_estimate
+from .storage import check_memory
 
 
 def courant_rates(problem: Problem) -> tuple[float, float]:
@@ -97,7 +97,7 @@ def kept_steps(steps: int, store_every: int) -> list[int]:
 
 def planned_memory(problem: Problem, settings: SolverSettings) -> dict[str, int]:
     """The bytes :func:`solve` of ``problem`` with ``settings`` would hold
-    (:func:`gridlbc.storage.memory_estimate`), its step chosen as the solve chooses it, without
+    (:func:`gridlbc.settings.memory_estimate`), its step chosen as the solve chooses it, without
     solving."""
     if problem.exit is not None and not settings.scheme.supports_exit:
         settings = _exit_settings(settings, explicit=False)

@@ -1,5 +1,6 @@
-"""Where a solve keeps its slices: the memory estimate and check made before any work, the
-slice arrays (in RAM or an unlinked memory-mapped file) and the kernel that stores a slice.
+"""Where a solve keeps its slices: the memory check made before any work (against the estimate
+of :func:`gridlbc.settings.memory_estimate`), the slice arrays (in RAM or an unlinked
+memory-mapped file) and the kernel that stores a slice.
 """
 
 from __future__ import annotations
@@ -9,21 +10,14 @@ import mmap
 import os
 import shutil
 import tempfile
-from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .backends.numba.storage import store_kernel
-from .problem import Problem
-
-if TYPE_CHECKING:
-    from .settings import SolverSettings
-
 
 __all__ = [
     "available_memory",
     "check_memory",
-    "memory_estimate",
     "slice_storage",
     "store_kernel",  # the backend's kernel that writes a renormalised slice
 ]
@@ -42,25 +36,6 @@ def available_memory() -> int | None:
         return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
     except (ValueError, OSError, AttributeError):
         return None
-
-
-def memory_estimate(
-    problem: Problem, settings: SolverSettings, n_slices: int, n_rhs: int = 1
-) -> dict[str, int]:
-    """Bytes a solve will hold: stored slices (and the fitting reference's, when it is a row of
-    its own), working arrays (two float64 copies of z and the terminal data) and the step
-    operator; ``"ram"`` sums what must fit in memory (the slices
-    live on disk when ``mmap_dir`` is set)."""
-    grid = problem.require_grid("solve")
-    fitted = settings.reference is not None
-    rows = n_rhs + settings.reference_rows(n_rhs)
-    stored = n_slices * rows * grid.size * np.dtype(settings.dtype).itemsize  # + log φ, fitted
-    # + log φ, the curvature term and (at most two bytes per node) its stencils' places, fitted
-    curved = 2.25 if fitted else 0
-    working = int((3 * rows + grid.ndim + curved) * grid.size * 8)
-    operator = settings.scheme.estimate_bytes(grid)
-    ram = working + operator + (0 if settings.mmap_dir else stored)
-    return {"stored": stored, "working": working, "operator": operator, "ram": ram}
 
 
 def check_memory(estimate: dict[str, int], what: str, mmap_dir: str | None):

@@ -43,6 +43,7 @@ from .settings import SolverSettings, resolve_settings
 from .solution import SolveDiagnostics
 from .solver import solve
 from .systems.base import ControlAffineSystem
+from .version import __version__
 
 _NOT_HASHED = ("progress", "mmap_dir")
 """Settings that change how a solve runs but not its result."""
@@ -159,7 +160,6 @@ def member_key(problem: Problem, settings: SolverSettings) -> str:
     The problem enters by its description (:func:`gridlbc.io.problem_record`) and by the full
     state of its system and costs (:func:`identity_record`).
     """
-    from . import __version__
 
     arrays: dict = {}
     description = {

@@ -9,7 +9,7 @@ import warnings
 
 import numpy as np
 
-from ..certify import certify
+from ..certificate import sample_certificate
 from ..errors import GridlbcWarning
 from .estimate import relative_error
 from .matter import judged_states
@@ -103,7 +103,7 @@ def certified_error(solution, X: np.ndarray, tol: float) -> float:
     while True:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", GridlbcWarning)
-            c = certify(
+            c = sample_certificate(
                 solution.problem,
                 solution.policy,
                 X,

@@ -6,7 +6,7 @@ behind a :class:`Scheme`, looked up by name in :data:`gridlbc.schemes.METHODS`. 
 solver calls them:
 
 1. ``scheme.estimate_bytes(grid)``: the operator's memory, for the check before any work
-   (:func:`gridlbc.storage.memory_estimate`);
+   (:func:`gridlbc.settings.memory_estimate`);
 2. ``scheme.step_bound(problem)``: a :class:`StepBound`, the largest step the scheme can take on
    this problem (the default step is held below it; a given one above it is warned about by
    ``bound.check(dt)``);

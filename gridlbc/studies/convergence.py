@@ -28,7 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..certify import Certificate, certify
+from ..certificate import Certificate
+from ..certify import certify
 from ..errors import UnderflowWarning
 from ..problem import Problem
 from ..reference import lq_solution

@@ -28,9 +28,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..certify import CertificateWarning, certify
+from ..certify import certify
 from ..combine import CompositeCost, combine, naive_blend
 from ..costs import Quadratic, wrap_angle
+from ..errors import CertificateWarning
 from ..project import projection
 from ..simulate import simulate
 from ..trajectory import expand, optimize

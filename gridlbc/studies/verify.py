@@ -10,7 +10,7 @@ b. **Optimality**: the predicted v(x₀, 0) = −λ log z(x₀, 0) against the c
    Euler–Maruyama bias, and the policy's cost within 3 SE plus the discretisation error
    |v_grid − v_Riccati|. On the pendulum swing-up the prediction must lie within 10 % of v*.
    A certificate whose effective sample size is below
-   :data:`gridlbc.certify.MIN_EFFECTIVE_SAMPLE_SIZE` fails its row: its v* is not to be trusted.
+   :data:`gridlbc.certificate.MIN_EFFECTIVE_SAMPLE_SIZE` fails its row: its v* is not to be trusted.
 c. **Interpolation** on the pendulum: two goals and a target between them; under the target task,
    the certified optimum, the cost and gap of LBC (weights from :func:`gridlbc.project`), the
    naive blend with the same weights and the target solved directly, and their final-state errors.

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from gridlbc import Axis, Grid, Problem, Quadratic, certify, reference, simulate, solve
-from gridlbc.certify import CertificateWarning
+from gridlbc.errors import CertificateWarning
 from gridlbc.reference import lq_solution
 from gridlbc.systems import Pendulum, PlanarChain, PointMass
 

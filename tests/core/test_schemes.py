@@ -282,7 +282,7 @@ def test_memory_error_before_allocating():
         gridlbc.solve(problem, dt=0.01)
     # the estimate counts every stored slice in the stored dtype, plus the working arrays
     settings = gridlbc.SolverSettings(dtype="float32")
-    estimate = gridlbc.storage.memory_estimate(problem, settings, 101)
+    estimate = gridlbc.settings.memory_estimate(problem, settings, 101)
     assert estimate["stored"] == 101 * 400**4 * 4
     assert estimate["ram"] >= estimate["stored"] + 3 * 400**4 * 8
 

@@ -1,0 +1,644 @@
+"""The certified optimum: the true optimal cost from a start state, and how far a policy is from it.
+
+Run ANY policy u(x, t) (a grid solution, a combination, a trajectory tracker, a controller of your
+own) on the problem's SDE, dx = (a + B u) dt + B dε with Cov[dε] = λ R⁻¹ dt, and accumulate per
+sample
+
+    S_u = g(x_T) + ∫₀ᵀ ( q + ½ uᵀ R u ) dt + ∫₀ᵀ uᵀ R dε          (Itô).
+
+**Why this is exact.** The desirability is a Feynman–Kac expectation over the *uncontrolled*
+process (paper §3.1: the passive dynamics), z*(x₀) = E₀[exp(−(g + ∫q dt)/λ)], because
+z = exp(−v/λ) solves the linear PDE −∂ₜz = −(q/λ)z + aᵀ∇z + (λ/2) tr(B R⁻¹ Bᵀ∇²z). Girsanov's
+theorem changes the measure to the process driven by u: the likelihood ratio of the passive paths to
+the controlled ones is exp(−(1/λ)(∫uᵀR dε + ½∫uᵀRu dt)), with dε the noise of the controlled run.
+Hence, for every policy u,
+
+    z*(x₀) = E_u[ exp(−S_u/λ) ],        v*(x₀) = −λ log E_u[ exp(−S_u/λ) ].
+
+The estimate does not use the policy's claimed value: u only sets the variance, which is zero for
+the optimal policy (then S_u = v*(x₀) on every path). For the Euler–Maruyama chain used here the
+change of measure is exact step by step (the ratio of the two Gaussian transition densities), so the
+estimate is the chain's Feynman–Kac value for any u, and differs from the SDE's only by the
+scheme's O(Δt) weak error. The policy's own cost J(u) = E_u[g + ∫(q + ½uᵀRu) dt] on the same
+samples satisfies J(u) − v* = λ KL(P_u ‖ P*) ≥ 0: the gap measures how suboptimal u is.
+
+**Error bars.** With weights w = exp(−S_u/λ) (computed relative to their largest, so nothing
+underflows at small λ) and n samples, the delta method gives SE(v̂*) = λ σ̂(w) / (√n w̄). The gap
+Ĵ − v̂* = C̄ + λ log w̄ (C the sample's cost) is estimated from the same samples, and its SE is that
+of the paired linearisation C + λ w / w̄. The effective sample size (Σw)² / Σw² says how many
+samples effectively carry the estimate: close to n for a near-optimal proposal, collapsing when the
+proposal is far from optimal or λ is small (the weights then grow sharp). The log of a mean is
+biased upward by about SE²/(2λ), negligible when the SE is.
+
+**Tail diagnostic.** Neither the ESS nor the delta-method SE can see weight that the samples never
+reached: with a heavy right tail of w, −λ log w̄ is biased upward and both look fine. The PSIS
+shape k̂ (:func:`gridlbc.psis.pareto_k`; Vehtari, Simpson, Gelman, Yao & Gabry, "Pareto smoothed
+importance sampling", JMLR 2024) fits a generalized Pareto tail to the largest weights: k̂ < 0.5
+reliable, 0.5–0.7 slow but usable, above 0.7 (:data:`MAX_PARETO_K`) unreliable at any practical
+sample count. A certificate is trusted only with enough effective samples *and* k̂ below that;
+the remedy for a large k̂ is a proposal closer to optimal, not more samples.
+
+**Pooled proposals.** Any policy is a valid proposal, so several can share the samples: with
+u_1…u_J drawing n_j = c_j n paths each, the balance heuristic of multiple importance sampling
+(Veach & Guibas 1995) weights a path by exp(−(g + ∫q dt)/λ) / Σ_j c_j dQ_j/dP, the passive
+process's density over the pool's. Each ratio dQ_j/dP is a product of Gaussian transition
+densities of the chain (:func:`gridlbc.simulate.euler_maruyama` accumulates it for every member
+along every path), so the pooled estimate is exact for the chain as one proposal's is, and its
+weights are at most 1/c_j times member j's own: the pool is nearly as good as its best member.
+That is why :func:`certify` pools a judged policy with a grid solution of the problem by default:
+no statistic of a poor proposal's own samples can reveal the weight they never reach.
+
+**Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. By
+default the certificate concerns the problem the solver solves: with a grid that has closed
+(non-periodic) axes, ``boundary="reflect"`` folds every step back into the box on those axes, as
+the solver's reflecting state constraint keeps the probability in it, and v* is the optimum of
+that constrained problem; a problem without a grid has no box, and its SDE lives on Rᵈ. With
+``boundary="free"`` the SDE lives on all of Rᵈ for a gridded problem too, so samples that cross a
+non-periodic edge of the grid's box keep going (a grid solution's policy is clamped to the box
+there) and v* is the optimum of the problem on Rᵈ. The share of samples that crossed an edge, and
+the share of the optimal path measure that did (the weighted share), say when the box matters. The weight stays exact: the fold acts on the
+state, not on the noise. The controlled chain driven by the noise dε is, step by step, the passive
+chain (the same steps and folds, u = 0) driven by dε' = u dt + dε, because u enters the step only
+through B(u dt + dε); the fold is a fixed function of the state after the step, whichever noise
+produced it. The likelihood ratio of the passive noise law N(0, λR⁻¹dt) to the controlled one
+N(u dt, λR⁻¹dt) at dε' is the Girsanov factor exp(−(uᵀR dε + ½uᵀRu dt)/λ) whatever the folds do,
+so E_u[exp(−S_u/λ)] is the reflected chain's Feynman–Kac desirability exactly.
+
+**Tasks that end** (SPEC §9). With an exit set E the same argument holds up to the stopping time
+τ (the first step in E, or the end): S_u = g_E(x_τ) + ∫₀^τ (q + ½uᵀRu) dt + ∫₀^τ uᵀR dε, and
+E_u[exp(−S_u/λ)] is the stopped chain's desirability, because the stopping rule is a function of
+the path, which the change of measure leaves alone (optional stopping of the Girsanov
+martingale). A problem without a horizon is rolled out to ``max_time``; a sample still running
+then pays only what it has accrued, which biases v* and J low. :attr:`Certificate.unexited_fraction`
+reports their share and :func:`certify` warns above :data:`MAX_UNEXITED`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import CertificateWarning, warn_user
+from .problem import Problem
+from .progress import ProgressBar
+from .psis import pareto_k
+from .simulate import (
+    check_problem_and_policy,
+    check_sample_count,
+    euler_maruyama,
+    resolve_boundary,
+    rollout_horizon,
+    step_count,
+)
+
+MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
+"""Below this effective sample size the normal approximation behind the standard errors fails and
+:func:`certify` warns."""
+
+MAX_PARETO_K = 0.7
+"""Above this PSIS tail shape k̂ the weights' tail is too heavy for the estimate to be trusted
+(Vehtari et al., JMLR 2024, §3.2) and :func:`certify` warns."""
+
+MAX_UNEXITED = 0.01
+"""Above this share of samples that had not reached the exit set by ``max_time`` (a first-exit
+problem without a horizon), :func:`certify` warns: their costs are truncated."""
+
+PROGRESS_DELAY = 2.0
+"""Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
+
+
+_ESTIMATES = (
+    "optimal_value",
+    "optimal_value_se",
+    "policy_cost",
+    "policy_cost_se",
+    "gap",
+    "gap_se",
+    "effective_sample_size",
+    "pareto_k",
+    "left_box_fraction",
+    "optimal_left_box_fraction",
+)
+"""The per-start-state fields of :class:`Certificate`, in the order :func:`_estimates` returns."""
+
+
+@dataclass(frozen=True, eq=False)
+class Certificate:
+    """The certified optimal cost from each start state and the judged policy's distance from it.
+
+    Shapes: for one start state x0 of shape ``(d,)`` the estimates are floats; for start states
+    ``(k, d)`` they are arrays ``(k,)``, one entry per row of ``start_states`` (even for k = 1).
+    Costs are in the problem's cost units; λ is the temperature.
+
+    Attributes
+    ----------
+    start_states : ndarray (k, d)
+        The start states (periodic coordinates wrapped into the box).
+    optimal_value, optimal_value_se : float or ndarray (k,)
+        v*(x₀) = −λ log mean(exp(−S_u/λ)), the true optimal cost up to the O(Δt) of the time
+        step, and its delta-method standard error.
+    policy_cost, policy_cost_se : float or ndarray (k,)
+        J(u), the mean realised cost of the judged policy, and its SE.
+    gap, gap_se : float or ndarray (k,)
+        J(u) − v* = λ KL(P_u ‖ P*) ≥ 0 and its SE: from the paired samples when the policy is its
+        own proposal, √(SE(J)² + SE(v*)²) of independent samples otherwise.
+    effective_sample_size : float or ndarray (k,)
+        (Σw)² / Σw² of the weights (w = exp(−S_u/λ) for one proposal, the pooled weights of the
+        module docstring for several), between 1 and ``n_samples``.
+    pareto_k : float or ndarray (k,)
+        The PSIS tail shape k̂ of the weights (:func:`gridlbc.psis.pareto_k`): < 0.5 reliable,
+        0.5–0.7 slow, > :attr:`max_pareto_k` unreliable. NaN with too few samples to fit a tail.
+    left_box_fraction : float or ndarray (k,)
+        Share of the judged policy's samples that left the grid's box on a non-periodic axis (0
+        without a grid).
+    optimal_left_box_fraction : float or ndarray (k,)
+        The same share under the optimal process (weighted by w).
+    final_states : ndarray (n, d) or (k, n, d)
+        x_T of every sample of the proposal (periodic coordinates wrapped).
+    n_samples : int
+        Samples per start state.
+    dt, temperature : float
+        Euler–Maruyama step and λ.
+    min_effective_sample_size : float
+        Below it an estimate is flagged untrusted (and :class:`CertificateWarning` was issued).
+    max_pareto_k : float
+        Above it likewise.
+    seed : int or None
+    separate_proposal : bool
+        Whether v* came from other samples than the judged policy's alone (then J, its SE and
+        ``left_box_fraction`` come from the policy's own samples, its share of a pool or an
+        independent run, and ``gap_se`` = √(SE(J)² + SE(v*)²)); False: one set of samples of
+        the policy gave all.
+    boundary : str
+        ``"free"`` (the SDE on Rᵈ) or ``"reflect"`` (closed edges of the box reflect), as
+        resolved (:func:`gridlbc.simulate.resolve_boundary`).
+    extrapolated_value, extrapolated_value_se : float, ndarray (k,) or None
+        With ``certify(..., richardson=True)``: v* extrapolated to a vanishing Euler–Maruyama
+        step, 2 v̂*(Δt) − v̂*(2Δt) (Δt this certificate's :attr:`dt`; the estimator's bias is
+        O(Δt)), and its SE √(4 SE(Δt)² + SE(2Δt)²) (independent draws). None otherwise.
+    unexited_fraction : float or ndarray (k,)
+        For a first-exit problem: the share of the proposal's samples that had not reached the
+        exit set by the end (truncated costs, see the module docstring); 0 otherwise.
+    proposal_values, proposal_values_se : ndarray (J,) or (k, J), or None
+        With several proposals (``certify(..., proposal=[p₁, …, p_J])``): v̂* and its SE from
+        each proposal's own samples alone, to compare with the pooled :attr:`optimal_value`;
+        None with one proposal.
+    proposals : tuple of str
+        What drew the samples for v* (e.g. the judged policy and an automatic grid solution).
+    """
+
+    start_states: np.ndarray
+    optimal_value: float | np.ndarray
+    optimal_value_se: float | np.ndarray
+    policy_cost: float | np.ndarray
+    policy_cost_se: float | np.ndarray
+    gap: float | np.ndarray
+    gap_se: float | np.ndarray
+    effective_sample_size: float | np.ndarray
+    pareto_k: float | np.ndarray
+    left_box_fraction: float | np.ndarray
+    optimal_left_box_fraction: float | np.ndarray
+    final_states: np.ndarray
+    n_samples: int
+    dt: float
+    temperature: float
+    min_effective_sample_size: float
+    max_pareto_k: float
+    seed: int | None
+    separate_proposal: bool = False
+    boundary: str = "free"
+    extrapolated_value: float | np.ndarray | None = None
+    extrapolated_value_se: float | np.ndarray | None = None
+    unexited_fraction: float | np.ndarray = 0.0
+    proposal_values: np.ndarray | None = None
+    proposal_values_se: np.ndarray | None = None
+    proposals: tuple[str, ...] = ("the policy",)
+
+    @property
+    def step_contribution(self) -> float | np.ndarray | None:
+        """v̂*(Δt) − the extrapolated value: the part of the estimate that is the time step's
+        (None without ``richardson=True``)."""
+        if self.extrapolated_value is None:
+            return None
+        return np.asarray(self.optimal_value) - self.extrapolated_value
+
+    @property
+    def trusted(self) -> bool | np.ndarray:
+        """Whether the effective sample size reaches :attr:`min_effective_sample_size` and the
+        tail shape k̂ stays below :attr:`max_pareto_k` (a NaN k̂, too few samples to fit a tail,
+        leaves the verdict to the effective sample size)."""
+        ok = _trusted(
+            np.asarray(self.effective_sample_size),
+            np.asarray(self.pareto_k),
+            self.min_effective_sample_size,
+            self.max_pareto_k,
+        )
+        return bool(ok) if ok.ndim == 0 else ok
+
+    def interval(self, level: float = 0.95):
+        """A confidence interval for v*(x₀) at ``level``, using that v* ≤ J(policy) always.
+
+        With z the standard normal quantile of (1 + level)/2 and z′ that of (3 + level)/4,
+
+            lower = v̂* − z SE(v̂*),      upper = min(v̂* + z′ SE(v̂*), Ĵ + z′ SE(Ĵ)),
+
+        the upper end tightened by J(u) − v* = λ KL(P_u ‖ P*) ≥ 0, which holds for the
+        Euler–Maruyama chain as for the SDE. Each of the two upper bounds fails with probability
+        (1 − level)/4, so their minimum fails with at most (1 − level)/2 whether Ĵ and v̂* come
+        from the same samples or not (Bonferroni). Both ends are normal approximations: they hold for
+        the time-discretised chain (its O(Δt) distance from the SDE's optimum is not included)
+        and only as far as the certificate is :attr:`trusted` (a heavy weight tail biases v̂*
+        upward beyond its SE). With ``certify(..., richardson=True)`` the interval is instead
+        extrapolated ± z SE(extrapolated), for the SDE's optimum (the bound by J, a property of
+        one chain, is then not used). See docs/validating.rst.
+
+        Parameters
+        ----------
+        level : float
+            Nominal coverage, in (0, 1).
+
+        Returns
+        -------
+        (lower, upper) : floats, or arrays (k,) for k start states
+        """
+        from scipy.stats import norm
+
+        if not 0.0 < level < 1.0:
+            raise ValueError(f"level must lie in (0, 1), got {level!r}")
+        z = float(norm.ppf(0.5 * (1.0 + level)))
+        if self.extrapolated_value is not None:
+            centre = np.asarray(self.extrapolated_value)
+            half = z * np.asarray(self.extrapolated_value_se)
+            lo, hi = centre - half, centre + half
+            return (float(lo), float(hi)) if lo.ndim == 0 else (lo, hi)
+        z_upper = float(norm.ppf(0.25 * (3.0 + level)))
+        value, se = np.asarray(self.optimal_value), np.asarray(self.optimal_value_se)
+        bound = np.asarray(self.policy_cost) + z_upper * np.asarray(self.policy_cost_se)
+        lower, upper = value - z * se, np.minimum(value + z_upper * se, bound)
+        if lower.ndim == 0:
+            return float(lower), float(upper)
+        return lower, upper
+
+    def summary(self) -> str:
+        """One line per start state: v*, J(u), the gap (± one SE each) and the diagnostics."""
+        rows = [np.atleast_1d(np.asarray(getattr(self, f), dtype=float)) for f in _ESTIMATES]
+        lines = []
+        edge = "reached an edge (reflected)" if self.boundary == "reflect" else "left the box"
+        unexited = np.broadcast_to(np.asarray(self.unexited_fraction, dtype=float), rows[0].shape)
+        for i, x0 in enumerate(self.start_states):
+            v, v_se, J, J_se, gap, gap_se, ess, k_hat, left, left_opt = (r[i] for r in rows)
+            flag = ""
+            if unexited[i] > 0:
+                flag = f"; {100 * unexited[i]:.1f} % had not exited (costs cut short)"
+            if ess < self.min_effective_sample_size:
+                flag += " — TOO FEW EFFECTIVE SAMPLES, v* not trustworthy"
+            elif k_hat > self.max_pareto_k:
+                flag += f" — HEAVY WEIGHT TAIL (k̂ > {self.max_pareto_k:g}), v* not trustworthy"
+            lines.append(
+                f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
+                f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
+                f"{gap_se:.2g} (SE); effective sample size {ess:.0f} of {self.n_samples} "
+                f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, {edge} "
+                f"{100 * left:.1f} % ({100 * left_opt:.1f} % under the optimum){flag}"
+            )
+        source = (
+            f"v* from samples of {' pooled with '.join(self.proposals)}, J from the policy's own"
+            if self.separate_proposal
+            else "v* and J from the same samples of the policy"
+        )
+        lines.append(
+            f"Euler–Maruyama Δt = {self.dt:.3g}, λ = {self.temperature:g}, seed {self.seed}, "
+            f"box edges {self.boundary}; {source}"
+        )
+        return "\n".join(lines)
+
+
+def _trusted(ess, k_hat, min_ess: float, max_k: float) -> np.ndarray:
+    """Enough effective samples and no heavy tail (NaN k̂: no evidence either way)."""
+    return (ess >= min_ess) & ~(k_hat > max_k)
+
+
+def _optimal_value(
+    a: np.ndarray, lam: float, counts: tuple[int, ...] = ()
+) -> tuple[float, float, np.ndarray]:
+    """v̂* = −λ log w̄ from log weights ``a``, its delta-method SE λ SE(w̄)/w̄, and the weights
+    w = exp(a − max a) (the largest is 1: nothing underflows).
+
+    SE(w̄)² = σ̂²(w)/n for one proposal. A pool whose proposals drew ``counts`` = (n_1, …, n_J)
+    consecutive samples each is stratified: w̄ = Σ_j (n_j/n) w̄_j, so SE(w̄)² = Σ_j n_j σ̂_j²/n²
+    with σ̂_j the spread within proposal j's samples (the spread between the w̄_j is not noise).
+    """
+    w = np.exp(a - a.max())
+    w_mean = w.mean()
+    n = a.shape[0]
+    strata = np.split(w, np.cumsum(counts)[:-1]) if counts else [w]
+    if min(len(part) for part in strata) > 1:
+        variance = sum(len(part) * part.var(ddof=1) for part in strata) / n**2
+        se = lam * math.sqrt(variance) / w_mean
+    else:
+        se = math.nan
+    return -lam * (a.max() + math.log(w_mean)), se, w
+
+
+def _estimates(
+    a: np.ndarray,
+    C: np.ndarray,
+    left: np.ndarray,
+    lam: float,
+    judged: tuple[np.ndarray, np.ndarray] | None = None,
+    counts: tuple[int, ...] = (),
+) -> tuple:
+    """The certificate's estimates from one start state's samples of the proposal: the log
+    weights a (−S_u/λ for one proposal), realised costs C, left the box; ``judged`` = (costs,
+    left) of the judged policy's own samples when it is not the proposal; ``counts`` the samples
+    of each pooled proposal, in order (:func:`_optimal_value`)."""
+    n = a.shape[0]
+    value, value_se, w = _optimal_value(a, lam, counts)
+    w_mean = w.mean()
+    ess = w.sum() ** 2 / np.dot(w, w)
+    paired = judged is None
+    weighted_left = np.dot(w, left) / w.sum()
+    if judged is not None:
+        C, left = judged
+    if n > 1 and C.shape[0] > 1:  # the judged policy's samples: n, or its share of a pool
+        cost_se = C.std(ddof=1) / math.sqrt(C.shape[0])
+        gap_se = (
+            (C + lam * w / w_mean).std(ddof=1) / math.sqrt(n)
+            if paired
+            else math.hypot(cost_se, value_se)
+        )
+    else:
+        cost_se = gap_se = math.nan
+    cost = C.mean()
+    return (
+        value,
+        value_se,
+        cost,
+        cost_se,
+        cost - value,
+        gap_se,
+        ess,
+        pareto_k(a),
+        left.mean(),
+        weighted_left,
+    )
+
+
+def sample_certificate(
+    problem: Problem,
+    policy,
+    x0,
+    n_samples: int = 2000,
+    dt: float | None = None,
+    seed: int | None = None,
+    progress: bool | None = None,
+    min_effective_sample_size: float = MIN_EFFECTIVE_SAMPLE_SIZE,
+    max_pareto_k: float = MAX_PARETO_K,
+    proposal="auto",
+    boundary: str | None = None,
+    richardson: bool = False,
+    max_time: float | None = None,
+    grid_proposal: Callable | None = None,
+) -> Certificate:
+    """:func:`gridlbc.certify`, with ``proposal="auto"``'s grid solution from ``grid_proposal``
+    (a function of the problem returning a policy and its name, or None and why not:
+    :func:`gridlbc.certify` passes the solve it makes); without it, ``"auto"`` is the judged
+    policy alone. The arguments and the result are :func:`gridlbc.certify`'s."""
+    if richardson:
+        options = {
+            "n_samples": n_samples,
+            "progress": progress,
+            "min_effective_sample_size": min_effective_sample_size,
+            "max_pareto_k": max_pareto_k,
+            "proposal": proposal,
+            "boundary": boundary,
+            "max_time": max_time,
+            "grid_proposal": grid_proposal,
+        }
+        fine = sample_certificate(problem, policy, x0, dt=dt, seed=seed, **options)
+        coarse_seed = None if seed is None else seed + 1
+        coarse = sample_certificate(
+            problem, policy, x0, dt=2 * fine.dt, seed=coarse_seed, **options
+        )
+        v, v2 = np.asarray(fine.optimal_value), np.asarray(coarse.optimal_value)
+        se = np.hypot(2 * np.asarray(fine.optimal_value_se), np.asarray(coarse.optimal_value_se))
+        single = v.ndim == 0
+        return dataclasses.replace(
+            fine,
+            extrapolated_value=float(2 * v - v2) if single else 2 * v - v2,
+            extrapolated_value_se=float(se) if single else se,
+        )
+    check_problem_and_policy(problem, policy)
+    boundary = resolve_boundary(problem, boundary)
+    n = check_sample_count(n_samples)
+    single = np.ndim(x0) == 1
+    starts = problem.wrap(problem.check_states(x0, "x0"))
+    if problem.average_cost:
+        raise ValueError(
+            "certify estimates the optimal cost-to-go of a task that ends; an average-cost "
+            "problem has none (its value is relative): simulate the policy for a long max_time "
+            "and compare the cost per unit time with solution.average_cost"
+        )
+    T = rollout_horizon(problem, max_time, dt)
+    K = step_count(T, dt)
+    k = starts.shape[0]
+    one_sample = n < 2 and isinstance(proposal, str)  # "auto" with one sample: nothing to share
+    samplers, names = _proposal_policies(
+        problem, policy, None if one_sample else proposal, grid_proposal
+    )
+    if n < len(samplers):
+        raise ValueError(
+            f"n_samples = {n} is fewer than the {len(samplers)} proposals that share it: give at "
+            "least one sample per proposal"
+        )
+    own = next((j for j, sampler in enumerate(samplers) if sampler is policy), None)
+    runs = len(samplers) + (own is None)
+    bar = ProgressBar(
+        runs * K,
+        progress is not False,
+        f"certify {k}×{n} samples",
+        work_per_item=k * n,
+        work_unit="sample-steps",
+        delay=PROGRESS_DELAY if progress is None else 0.0,
+    )
+    rng = np.random.default_rng(seed)
+    lam = problem.temperature
+    counts = [len(c) for c in np.array_split(np.arange(n), len(samplers))]
+    scored = samplers if len(samplers) > 1 else ()
+
+    def roll(run: int, sampler, samples: int, scored=()):
+        """The ``run``-th roll-out (for the progress bar): ``samples`` paths per start state."""
+        return euler_maruyama(
+            problem,
+            sampler,
+            np.repeat(starts, samples, axis=0),
+            K,
+            rng,
+            True,
+            lambda step, x_new, u: bar.update(run * K + step + 1),
+            boundary,
+            T,
+            scored=scored,
+        )
+
+    draws = [(roll(j, s, n_j, scored), n_j) for j, (s, n_j) in enumerate(zip(samplers, counts))]
+    a, C, left, final, unexited, components = _mixture(draws, np.array(counts) / n, k, lam)
+    paired = len(samplers) == 1 and own == 0
+    judged: list = [None] * k
+    if not paired:
+        # the judged policy's own samples: independent of the proposals', or its share of the pool
+        path = roll(len(samplers), policy, n) if own is None else draws[own][0]
+        C_own = (path.running_cost + path.terminal_cost).reshape(k, -1)
+        left_own = path.left_box.reshape(k, -1)
+        judged = [(C_own[i], left_own[i]) for i in range(k)]
+    strata = tuple(counts) if len(counts) > 1 else ()
+    columns = np.array(
+        [_estimates(a[i], C[i], left[i], lam, judged[i], strata) for i in range(k)]
+    ).T
+    estimates = dict(zip(_ESTIMATES, columns))
+    ess, value = estimates["effective_sample_size"], estimates["optimal_value"]
+    k_hat = estimates["pareto_k"]
+    for i in np.flatnonzero(~_trusted(ess, np.zeros(k), min_effective_sample_size, math.inf)):
+        warn_user(
+            f"certify: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
+            f"below {min_effective_sample_size:g}: v* = {value[i]:.4g} and its standard "
+            "error are not trustworthy (a few samples carry all the weight exp(−S/λ)). Use a "
+            "proposal closer to optimal (a finer or fitted grid solution), more samples, or note "
+            f"that the temperature λ = {lam:g} is small relative to the costs, which sharpens "
+            "the weights.",
+            CertificateWarning,
+        )
+    for i in np.flatnonzero((ess >= min_effective_sample_size) & (k_hat > max_pareto_k)):
+        warn_user(
+            f"certify: the weights exp(−S/λ) at x0 = {starts[i]} have a heavy tail (PSIS "
+            f"k̂ = {k_hat[i]:.2f} > {max_pareto_k:g}): v* = {value[i]:.4g} is likely too high and "
+            "its standard error too small, because the samples that carry the weight are rarely "
+            "drawn. More samples do not fix this; a proposal closer to optimal does, e.g. the "
+            "policy of a grid solution of this problem.",
+            CertificateWarning,
+        )
+    if not problem.stationary:
+        unexited = np.zeros(k)
+    for i in np.flatnonzero(unexited > MAX_UNEXITED):
+        warn_user(
+            f"certify: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
+            f"the exit set by max_time = {T:g}: their costs are cut short, so v* and J are "
+            "underestimated. Raise max_time, or use a proposal that reaches the exit sooner.",
+            CertificateWarning,
+        )
+    return Certificate(
+        starts,
+        **{name: float(c[0]) if single else c for name, c in estimates.items()},
+        final_states=final[0] if single else final,
+        n_samples=n,
+        dt=T / K,
+        temperature=lam,
+        min_effective_sample_size=float(min_effective_sample_size),
+        max_pareto_k=float(max_pareto_k),
+        seed=seed,
+        separate_proposal=not paired,
+        proposals=tuple(names),
+        boundary=boundary,
+        unexited_fraction=float(unexited[0]) if single else unexited,
+        proposal_values=None if components is None else components[0][0 if single else ...],
+        proposal_values_se=None if components is None else components[1][0 if single else ...],
+    )
+
+
+def _proposal_policies(
+    problem: Problem, policy, proposal, grid_proposal: Callable | None = None
+) -> tuple[list, list[str]]:
+    """The proposals' policies and their names: ``[policy]`` for None; for ``"auto"`` the judged
+    policy pooled with a grid solution of the problem (``grid_proposal(problem)``) unless it is
+    one already or none is given; one per entry of a list or tuple of proposals; else ``[proposal's policy]``."""
+    if proposal is None:
+        return [policy], ["the policy"]
+    if isinstance(proposal, str):
+        if proposal != "auto":
+            raise ValueError(
+                f'proposal must be "auto", None, a solution, a callable or a list of them, got '
+                f"{proposal!r}"
+            )
+        owner = getattr(policy, "__self__", None)
+        if hasattr(owner, "desirability") and _same_problem(
+            getattr(owner, "problem", None), problem
+        ):
+            return [policy], ["the policy (a grid solution of this problem)"]
+        if grid_proposal is None:
+            return [policy], ["the policy (no grid solution to pool with)"]
+        grid_policy, name = grid_proposal(problem)
+        if grid_policy is None:
+            return [policy], [f"the policy ({name})"]
+        return [policy, grid_policy], ["the policy", name]
+    if isinstance(proposal, (list, tuple)):
+        if not proposal:
+            raise ValueError("proposal is an empty sequence: give one proposal or several")
+        names = [f"proposal {i + 1}" for i in range(len(proposal))]
+        return [_proposal_policy(p) for p in proposal], names
+    return [_proposal_policy(proposal)], ["the proposal"]
+
+
+def _same_problem(other, problem: Problem) -> bool:
+    """Whether ``other`` is ``problem`` or a copy of it (every field the same object)."""
+    return isinstance(other, Problem) and all(
+        getattr(other, f.name) is getattr(problem, f.name) for f in dataclasses.fields(Problem)
+    )
+
+
+def _mixture(draws, shares: np.ndarray, k: int, lam: float):
+    """Pool the samples of the proposals u_1…u_J (``draws``: per proposal its SamplePaths and
+    samples per start state) into log weights for one start state each (rows).
+
+    One proposal: a = −S_u/λ. Several, drawn n_j = c_j n each: the balance heuristic of multiple
+    importance sampling (Veach & Guibas 1995; Owen, "Monte Carlo theory, methods and examples",
+    §9.13) treats the pool as draws of the mixture Σ_j c_j Q_j, whose weight on a path is
+
+        a = −(g + ∫q dt)/λ − log Σ_j c_j dQ_j/dP
+          = −S_u/λ + log dQ_u/dP − log Σ_j c_j dQ_j/dP        (u the proposal that drew it),
+
+    exact for the chain like the single-proposal weight (every ratio is the Euler–Maruyama
+    transition densities', :func:`gridlbc.simulate.euler_maruyama`), and never larger than
+    −(g + ∫q)/λ − log c_j − log dQ_j/dP for any j: the pool is as good as its best member up to
+    the factor 1/c_j. Also returned, per proposal, v̂* and its SE from its own samples alone
+    (arrays (k, J), None for one proposal), to show how far each would have gone alone.
+
+    Returns a, C, left (k, n); the final states (k, n, d); the unexited shares (k,) (zeros
+    without an exit set); and the per-proposal (values, SEs) or None.
+    """
+    parts: list[list[np.ndarray]] = [[], [], [], [], []]
+    alone = []
+    for j, (path, n_j) in enumerate(draws):
+        C = path.running_cost + path.terminal_cost
+        a = -(C + path.ito) / lam
+        if path.log_likelihoods is not None:
+            alone.append([_optimal_value(row, lam)[:2] for row in a.reshape(k, n_j)])
+            pooled = np.log(shares) + path.log_likelihoods
+            top = pooled.max(axis=1, keepdims=True)
+            mixture = top[:, 0] + np.log(np.exp(pooled - top).sum(axis=1))
+            a = a + path.log_likelihoods[:, j] - mixture
+        exited = np.ones(C.shape, bool) if path.exit_times is None else ~np.isnan(path.exit_times)
+        for part, values in zip(parts, (a, C, path.left_box, path.final_states, ~exited)):
+            part.append(values.reshape(k, n_j, *values.shape[1:]))
+    a, C, left, final, unexited = (np.concatenate(part, axis=1) for part in parts)
+    components = None
+    if alone:
+        values = np.array(alone)  # (J, k, 2)
+        components = (values[..., 0].T, values[..., 1].T)
+    return a, C, left, final, unexited.mean(axis=1), components
+
+
+def _proposal_policy(proposal):
+    """``proposal.policy`` where it has one (a Solution, a combination), else ``proposal``."""
+    method = getattr(proposal, "policy", None)
+    if callable(method):
+        return method
+    if callable(proposal):
+        return proposal
+    raise TypeError(
+        "proposal must have a .policy(x, t) method (a Solution, a combination) or be callable as "
+        f"policy(x, t) -> (N, m), got {type(proposal).__name__}"
+    )
