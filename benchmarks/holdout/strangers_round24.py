@@ -56,7 +56,10 @@ with ESS < 100 or k̂ > 0.7 (pk_window's far states, ESS 1–109; hover (0.15, �
 
 RESULTS (library of main c308960 merged into r24, 2026-12-06, one thread, ``--all --solve`` then
 ``--table`` / ``--counts`` / ``--avg``): 581 pairs, 563 with a trusted truth; ê ≥ ½|v − v*| at
-554 / 563. (Errors relative to max(|v*|, λ), ê to max(|v|, λ).)
+554 / 563. (Errors relative to max(|v*|, λ), ê to max(|v|, λ).) Rechecked with backward Euler
+(``recheck_cn_truths.py``, 2026-12-06): ledger3_cold (−4, 950, 0.05) was Crank–Nicolson's
+ringing, not an underflow: v* 19.993 (CN 33.722), the solve 20.050 within 0.3 %, covered; the
+counts become 564 trusted pairs, 555 / 564 covered, none silent.
 
 SILENT (> 10 %, no GridlbcWarning): none. 26 entries do not warn (cash_inv_hot, wealth_hot, tank,
 tank_hot, every CSTR, and their ``_late`` / ``_edge`` reads); their largest error is 3.3 %
