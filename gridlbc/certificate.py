@@ -45,7 +45,7 @@ process's density over the pool's. Each ratio dQ_j/dP is a product of Gaussian t
 densities of the chain (:func:`gridlbc.simulate.euler_maruyama` accumulates it for every member
 along every path), so the pooled estimate is exact for the chain as one proposal's is, and its
 weights are at most 1/c_j times member j's own: the pool is nearly as good as its best member.
-That is why :func:`certify` pools a judged policy with a grid solution of the problem by default:
+That is why :func:`gridlbc.certify` pools a judged policy with a grid solution of the problem by default:
 no statistic of a poor proposal's own samples can reveal the weight they never reach.
 
 **Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. By
@@ -70,7 +70,7 @@ E_u[exp(−S_u/λ)] is the stopped chain's desirability, because the stopping ru
 the path, which the change of measure leaves alone (optional stopping of the Girsanov
 martingale). A problem without a horizon is rolled out to ``max_time``; a sample still running
 then pays only what it has accrued, which biases v* and J low. :attr:`Certificate.unexited_fraction`
-reports their share and :func:`certify` warns above :data:`MAX_UNEXITED`.
+reports their share and :func:`gridlbc.certify` warns above :data:`MAX_UNEXITED`.
 """
 
 from __future__ import annotations
@@ -97,15 +97,15 @@ from .simulate import (
 
 MIN_EFFECTIVE_SAMPLE_SIZE = 30.0
 """Below this effective sample size the normal approximation behind the standard errors fails and
-:func:`certify` warns."""
+:func:`gridlbc.certify` warns."""
 
 MAX_PARETO_K = 0.7
 """Above this PSIS tail shape k̂ the weights' tail is too heavy for the estimate to be trusted
-(Vehtari et al., JMLR 2024, §3.2) and :func:`certify` warns."""
+(Vehtari et al., JMLR 2024, §3.2) and :func:`gridlbc.certify` warns."""
 
 MAX_UNEXITED = 0.01
 """Above this share of samples that had not reached the exit set by ``max_time`` (a first-exit
-problem without a horizon), :func:`certify` warns: their costs are truncated."""
+problem without a horizon), :func:`gridlbc.certify` warns: their costs are truncated."""
 
 PROGRESS_DELAY = 2.0
 """Seconds after which ``certify(..., progress=None)`` starts its progress bar."""

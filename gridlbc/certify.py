@@ -49,8 +49,8 @@ def certify(
     """Estimate the true optimal cost v*(x₀) by importance sampling, and the cost of ``policy``.
 
     v*(x₀) = −λ log E_u[exp(−S_u/λ)] with S_u = g(x_T) + ∫(q + ½uᵀRu) dt + ∫uᵀR dε holds for any
-    proposal policy u (Feynman–Kac and Girsanov; see the module docstring and the README section
-    "Certified optimality"). The judged policy's own cost J(policy) is the plain Monte-Carlo mean
+    proposal policy u (Feynman–Kac and Girsanov; :mod:`gridlbc.certificate` and the README
+    section "Certified optimality"). The judged policy's own cost J(policy) is the plain Monte-Carlo mean
     of its realised costs, and the gap J − v* ≥ 0 says how suboptimal it is.
 
     The proposal sets only the variance, and a poor one (few effective samples, a heavy weight
@@ -59,8 +59,8 @@ def certify(
     drawn. So by default (``proposal="auto"``) a policy that is not itself a grid solution of
     ``problem`` is pooled with one: :func:`certify` solves the problem on its grid (coarsened to
     :data:`AUTO_PROPOSAL_NODES` nodes at most, once per problem) and draws half the samples with
-    each policy, weighted by multiple importance sampling (the balance heuristic, module
-    docstring), which is as good as the better of the two up to a factor 2 in variance. J then
+    each policy, weighted by multiple importance sampling (the balance heuristic,
+    :mod:`gridlbc.certificate`), which is as good as the better of the two up to a factor 2 in variance. J then
     comes from the judged policy's half, and the gap's SE is √(SE(J)² + SE(v*)²). Without a grid
     (or with ``proposal=None``) the judged policy is the only proposal: one set of samples gives
     v*, J and the gap, whose SE is that of the paired linearisation C + λw/w̄. With a
@@ -109,7 +109,7 @@ def certify(
         grid prediction and its certificate concern the same problem; ``"free"`` the problem on
         Rᵈ (the box only a computational domain). None (default): ``"reflect"`` when the grid
         has a closed axis, ``"free"`` otherwise (no grid: no box). The Girsanov weight is exact
-        for both (module docstring).
+        for both (:mod:`gridlbc.certificate`).
     richardson : bool
         Also certify at twice the step, from independent draws (seed + 1), and extrapolate the
         O(Δt) bias away: :attr:`Certificate.extrapolated_value`, its SE and
