@@ -45,8 +45,8 @@ process's density over the pool's. Each ratio dQ_j/dP is a product of Gaussian t
 densities of the chain (:func:`gridlbc.simulate.euler_maruyama` accumulates it for every member
 along every path), so the pooled estimate is exact for the chain as one proposal's is, and its
 weights are at most 1/c_j times member j's own: the pool is nearly as good as its best member.
-That is why :func:`gridlbc.certify` pools a judged policy with a grid solution of the problem by default:
-no statistic of a poor proposal's own samples can reveal the weight they never reach.
+That is why :func:`gridlbc.certify` pools a judged policy with a grid solution of the problem by
+default: no statistic of a poor proposal's own samples can reveal the weight they never reach.
 
 **Box edges.** The rollouts are those of :func:`gridlbc.simulate`: periodic coordinates wrap. By
 default the certificate concerns the problem the solver solves: with a grid that has closed
@@ -56,13 +56,14 @@ that constrained problem; a problem without a grid has no box, and its SDE lives
 ``boundary="free"`` the SDE lives on all of Rᵈ for a gridded problem too, so samples that cross a
 non-periodic edge of the grid's box keep going (a grid solution's policy is clamped to the box
 there) and v* is the optimum of the problem on Rᵈ. The share of samples that crossed an edge, and
-the share of the optimal path measure that did (the weighted share), say when the box matters. The weight stays exact: the fold acts on the
-state, not on the noise. The controlled chain driven by the noise dε is, step by step, the passive
-chain (the same steps and folds, u = 0) driven by dε' = u dt + dε, because u enters the step only
-through B(u dt + dε); the fold is a fixed function of the state after the step, whichever noise
-produced it. The likelihood ratio of the passive noise law N(0, λR⁻¹dt) to the controlled one
-N(u dt, λR⁻¹dt) at dε' is the Girsanov factor exp(−(uᵀR dε + ½uᵀRu dt)/λ) whatever the folds do,
-so E_u[exp(−S_u/λ)] is the reflected chain's Feynman–Kac desirability exactly.
+the share of the optimal path measure that did (the weighted share), say when the box matters.
+The weight stays exact: the fold acts on the state, not on the noise. The controlled chain driven
+by the noise dε is, step by step, the passive chain (the same steps and folds, u = 0) driven by
+dε' = u dt + dε, because u enters the step only through B(u dt + dε); the fold is a fixed
+function of the state after the step, whichever noise produced it. The likelihood ratio of the
+passive noise law N(0, λR⁻¹dt) to the controlled one N(u dt, λR⁻¹dt) at dε' is the Girsanov
+factor exp(−(uᵀR dε + ½uᵀRu dt)/λ) whatever the folds do, so E_u[exp(−S_u/λ)] is the reflected
+chain's Feynman–Kac desirability exactly.
 
 **Tasks that end** (SPEC §9). With an exit set E the same argument holds up to the stopping time
 τ (the first step in E, or the end): S_u = g_E(x_τ) + ∫₀^τ (q + ½uᵀRu) dt + ∫₀^τ uᵀR dε, and
@@ -249,8 +250,8 @@ class Certificate:
         the upper end tightened by J(u) − v* = λ KL(P_u ‖ P*) ≥ 0, which holds for the
         Euler–Maruyama chain as for the SDE. Each of the two upper bounds fails with probability
         (1 − level)/4, so their minimum fails with at most (1 − level)/2 whether Ĵ and v̂* come
-        from the same samples or not (Bonferroni). Both ends are normal approximations: they hold for
-        the time-discretised chain (its O(Δt) distance from the SDE's optimum is not included)
+        from the same samples or not (Bonferroni). Both ends are normal approximations: they hold
+        for the time-discretised chain (its O(Δt) distance from the SDE's optimum is not included)
         and only as far as the certificate is :attr:`trusted` (a heavy weight tail biases v̂*
         upward beyond its SE). With ``certify(..., richardson=True)`` the interval is instead
         extrapolated ± z SE(extrapolated), for the SDE's optimum (the bound by J, a property of
@@ -554,7 +555,8 @@ def _proposal_policies(
 ) -> tuple[list, list[str]]:
     """The proposals' policies and their names: ``[policy]`` for None; for ``"auto"`` the judged
     policy pooled with a grid solution of the problem (``grid_proposal(problem)``) unless it is
-    one already or none is given; one per entry of a list or tuple of proposals; else ``[proposal's policy]``."""
+    one already or none is given; one per entry of a list or tuple of proposals; else the
+    proposal's policy alone."""
     if proposal is None:
         return [policy], ["the policy"]
     if isinstance(proposal, str):
