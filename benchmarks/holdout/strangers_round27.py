@@ -701,7 +701,7 @@ def gen_avg(rng, d, k):
     lam = loguni(rng, 0.02, 3)
     ranges = {2: (41, 121), 3: (21, 41)}[d]
     axes = []
-    for i in range(d):
+    for _ in range(d):
         per = bool(rng.random() < 0.4)
         if per:
             lo, hi = -math.pi, math.pi
@@ -1007,7 +1007,7 @@ def wall_check(name, spec):
     rec = json.loads(f.read_text())
     s2 = json.loads(json.dumps(spec))
     s2["L"] = [L * 1.5 for L in spec["L"]]
-    s2["n"] = [int(round((n - 1) * 1.5)) + 1 for n in spec["n"]]
+    s2["n"] = [round((n - 1) * 1.5) + 1 for n in spec["n"]]
     X = np.asarray(spec["X"], float)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
