@@ -307,8 +307,6 @@ class Sep(ControlAffineSystem):
         return B
 
 
-
-
 def axis_fns(ax):
     P = (ax["hi"] - ax["lo"]) if ax["periodic"] else None
     return dict(
@@ -321,7 +319,6 @@ def axis_fns(ax):
         q=make_fn(ax["q"], P),
         g=make_fn(ax["g"], P),
     )
-
 
 
 def exit_fns(spec):
@@ -381,7 +378,6 @@ def build_sep(spec):
     )
 
 
-
 def sep_truth(spec, X, ts):
     """{t: (v*, ±, untrusted mask)} for the separable problem."""
     X = np.asarray(X, float)
@@ -438,7 +434,6 @@ def sep_truth(spec, X, ts):
             dict(v_cn4001=v1.tolist(), v_cn8001=v2.tolist(), v_be_half=vh.tolist()),
         )
     return res
-
 
 
 # ================= the base problems (hand-posed) ==============================================
@@ -590,7 +585,9 @@ def problems():
                 [["quad", 0.5, -0.3], ["dip", 0.3, 0.41, 0.025]],
                 feats=[0.41],
             ),
-            _ax(-2.0, 2.0, 81, [["sin", 0.5, 1.5, 0.2]], [["quad", 0.3, 0.1]], [["quad", 0.8, 0.2]]),
+            _ax(
+                -2.0, 2.0, 81, [["sin", 0.5, 1.5, 0.2]], [["quad", 0.3, 0.1]], [["quad", 0.8, 0.2]]
+            ),
         ],
         X=[[-0.4, 0.3], [0.41, 0.2], [-1.7, -1.6]],
     )
@@ -631,7 +628,15 @@ def problems():
         lam=2.0,
         T=1.0,
         axes=[
-            _ax(-4.0, 4.0, 81, [["lin", -0.5, 0.0]], [["quad", 0.3, 0.0]], [["quad", 1.0, 1.0]], b0=1.5),
+            _ax(
+                -4.0,
+                4.0,
+                81,
+                [["lin", -0.5, 0.0]],
+                [["quad", 0.3, 0.0]],
+                [["quad", 1.0, 1.0]],
+                b0=1.5,
+            ),
             _ax(
                 -PI,
                 PI,
@@ -651,7 +656,14 @@ def problems():
         lam=0.02,
         T=1.0,
         axes=[
-            _ax(-2.0, 2.0, 121, [["sin", 0.7, 1.0, 0.0]], [["quad", 0.5, 0.2]], [["quad", 1.0, -0.4]]),
+            _ax(
+                -2.0,
+                2.0,
+                121,
+                [["sin", 0.7, 1.0, 0.0]],
+                [["quad", 0.5, 0.2]],
+                [["quad", 1.0, -0.4]],
+            ),
             _ax(
                 -2.0,
                 2.0,
@@ -696,7 +708,9 @@ def problems():
         X=[[0.3, 0.4, -0.4], [0.5, 0.0, 0.62], [-2.2, 2.8, 1.8]],
     )
     # --- first exit ----------------------------------------------------------------------------
-    fe0 = _ax(-2.0, 2.0, 101, [["lin", -0.3, 0.0]], [["quad", 0.3, 0.0], ["const", 0.2]], [], b0=1.0)
+    fe0 = _ax(
+        -2.0, 2.0, 101, [["lin", -0.3, 0.0]], [["quad", 0.3, 0.0], ["const", 0.2]], [], b0=1.0
+    )
     fe1 = _ax(-2.0, 2.0, 61, [["sin", 0.6, 1.0, 0.0]], [["const", 0.0]], [["const", 0.0]])
     P["fe2"] = dict(
         family="sep",
@@ -708,7 +722,15 @@ def problems():
         exit=dict(type="half", c=1.2, cost=0.5),
         X=[[-0.5, 0.3], [1.05, -0.5], [-1.6, 1.5]],
     )
-    he0 = _ax(-2.5, 2.5, 121, [["tanh", -0.5, 0.0, 0.5]], [["quad", 0.2, 0.0]], [["quad", 1.0, 0.0]], b0=0.8)
+    he0 = _ax(
+        -2.5,
+        2.5,
+        121,
+        [["tanh", -0.5, 0.0, 0.5]],
+        [["quad", 0.2, 0.0]],
+        [["quad", 1.0, 0.0]],
+        b0=0.8,
+    )
     he1 = _ax(-2.0, 2.0, 41, [["lin", -0.2, 0.0]], [["const", 0.0]], [["const", 0.0]])
     P["hzfe2"] = dict(
         family="sep",
@@ -746,11 +768,15 @@ def problems():
                 [["quad", 0.8, 0.3]],
                 feats=[-0.2],
             ),
-            _ax(-2.0, 2.0, 61, [["tanh", 0.5, 0.0, 0.5]], [["quad", 0.2, 0.0]], [["quad", 0.5, 0.0]]),
+            _ax(
+                -2.0, 2.0, 61, [["tanh", 0.5, 0.0, 0.5]], [["quad", 0.2, 0.0]], [["quad", 0.5, 0.0]]
+            ),
         ],
         X=[[0.6, 0.5], [-0.19, -0.2], [-1.7, 1.7]],
     )
-    fb0 = _ax(-2.0, 2.0, 121, [["sin", 0.5, 1.5, 0.0]], [["quad", 0.2, -0.5], ["const", 0.1]], [], b0=0.9)
+    fb0 = _ax(
+        -2.0, 2.0, 121, [["sin", 0.5, 1.5, 0.0]], [["quad", 0.2, -0.5], ["const", 0.1]], [], b0=0.9
+    )
     fb1 = _ax(-1.5, 1.5, 31, [["lin", -0.5, 0.0]], [["const", 0.0]], [["const", 0.0]])
     P["fe_band"] = dict(
         family="sep",
@@ -775,8 +801,10 @@ def problems():
 
 def build_lq(spec):
     axes = [Axis(-L, L, n) for L, n in zip(spec["L"], spec["n"])]
-    system = PointMass() if spec.get("catalogue") == "PointMass" else LinearSystem(
-        np.array(spec["A"], float), np.array(spec["B"], float)
+    system = (
+        PointMass()
+        if spec.get("catalogue") == "PointMass"
+        else LinearSystem(np.array(spec["A"], float), np.array(spec["B"], float))
     )
     return Problem(
         system,
@@ -985,7 +1013,10 @@ def _truth_cached(name, spec, X, ts):
         for t, v in tr.items()
     }
     f.write_text(json.dumps(d, indent=1, default=float))
-    return {t: tuple(np.asarray(x) for x in v[:3]) + (v[3] if len(v) > 3 else {},) for t, v in tr.items()}
+    return {
+        t: tuple(np.asarray(x) for x in v[:3]) + (v[3] if len(v) > 3 else {},)
+        for t, v in tr.items()
+    }
 
 
 def solve_with(p, opts):
@@ -1040,7 +1071,11 @@ def run(name, spec, only=None, force=False):
             continue
         opts = mk if stationary else mk(spec, p, dt0)
         shown = {
-            k: (v if isinstance(v, (int, float, str, type(None))) else ("<callable>" if callable(v) else repr(v)))
+            k: (
+                v
+                if isinstance(v, (int, float, str, type(None)))
+                else ("<callable>" if callable(v) else repr(v))
+            )
             for k, v in opts.items()
         }
         if oname == "default":
@@ -1130,12 +1165,16 @@ def table():
         if r["fail"]:
             fails.append((r["name"], r["option"], r["fail"]))
         for x in r["stray"]:
-            strays.append((r["name"], r["option"], "solve", x["category"], x["where"], x["message"][:200]))
+            strays.append(
+                (r["name"], r["option"], "solve", x["category"], x["where"], x["message"][:200])
+            )
         for rd in r["reads"]:
             if rd.get("est_fail"):
                 fails.append((r["name"], r["option"], "error_estimate: " + rd["est_fail"]))
             for x in rd.get("eval_stray", []):
-                strays.append((r["name"], r["option"], "eval", x["category"], x["where"], x["message"][:200]))
+                strays.append(
+                    (r["name"], r["option"], "eval", x["category"], x["where"], x["message"][:200])
+                )
             for i in range(len(rd["v"])):
                 n += 1
                 if rd["untrusted"][i]:
@@ -1145,8 +1184,19 @@ def table():
                 err = rd["err_rel"][i]
                 errabs = abs(rd["v"][i] - rd["truth"][i])
                 X = specs[r["name"]]["X"][i]
-                row = (r["name"], r["option"], X, round(rd["t"], 4), rd["v"][i], rd["truth"][i], err, rd["est"][i])
-                if r["option"] == "no_estimate":  # no estimate to cover with, and no warning by choice
+                row = (
+                    r["name"],
+                    r["option"],
+                    X,
+                    round(rd["t"], 4),
+                    rd["v"][i],
+                    rd["truth"][i],
+                    err,
+                    rd["est"][i],
+                )
+                if (
+                    r["option"] == "no_estimate"
+                ):  # no estimate to cover with, and no warning by choice
                     trusted -= 1
                     o["n"] -= 1
                     if err > 0.10 and not r["warned"]:
@@ -1164,10 +1214,14 @@ def table():
                     o["cover"] += 1
                 elif err > 0.02:
                     under_list.append(row + (r["warned"],))
-    print(f"entries {len(recs)}  pairs {n}  trusted {trusted}  >10% {big}  SILENT {silent}  coverage {cover}/{trusted}")
+    print(
+        f"entries {len(recs)}  pairs {n}  trusted {trusted}  >10% {big}  SILENT {silent}  coverage {cover}/{trusted}"
+    )
     print(f"{'option':20s} entries warned  pairs cover  >10%  silent")
     for k, o in per.items():
-        print(f"{k:20s} {o['entries']:7d} {o['warned']:6d} {o['n']:6d} {o['cover']:5d} {o['big']:5d} {o['silent']:7d}")
+        print(
+            f"{k:20s} {o['entries']:7d} {o['warned']:6d} {o['n']:6d} {o['cover']:5d} {o['big']:5d} {o['silent']:7d}"
+        )
     print("SILENT (> 10 %, no GridlbcWarning): (problem, option, x, t, v, v*, err, est)")
     for s in silent_list:
         print("   ", s)
@@ -1190,7 +1244,15 @@ def table():
         for rd in r["reads"]:
             for i, u in enumerate(rd["untrusted"]):
                 if u:
-                    print("   ", r["name"], rd["t"], specs[r["name"]]["X"][i], rd["truth"][i], rd["pm"][i], rd.get("extra"))
+                    print(
+                        "   ",
+                        r["name"],
+                        rd["t"],
+                        specs[r["name"]]["X"][i],
+                        rd["truth"][i],
+                        rd["pm"][i],
+                        rd.get("extra"),
+                    )
 
 
 # ================= store_every between slices, scanned =========================================
@@ -1216,8 +1278,19 @@ def scan(names):
                 err = np.abs(v - vf) / np.maximum(np.abs(vf), spec["lam"])
                 i = int(np.argmax(err))
                 if err[i] > worst[0]:
-                    worst = (float(err[i]), (round(float(t), 4), X[i].tolist(), float(v[i]), float(vf[i]), float(e[i])))
-            print(name, f"store_every={k}", "warned", bool(ours), "worst vs Δt/4:", round(worst[0], 4), worst[1])
+                    worst = (
+                        float(err[i]),
+                        (round(float(t), 4), X[i].tolist(), float(v[i]), float(vf[i]), float(e[i])),
+                    )
+            print(
+                name,
+                f"store_every={k}",
+                "warned",
+                bool(ours),
+                "worst vs Δt/4:",
+                round(worst[0], 4),
+                worst[1],
+            )
 
 
 def certify_store3():
