@@ -25,8 +25,7 @@ mid-task between steps (round(T/2Δt)Δt + 1.5Δt) and T − 2.5Δt (Δt the def
   10 of the 15 horizon problems, stopped at the time box: each ``error_estimate`` call there took
   0.5–1.2 s on sep_narrowq, whose 1.3 s solve has 179 steps): all the other store_every solves
   warned (worst 1–58 % off the Δt/4 solve, e.g. pm_cold store 5 at t = 1.01: 6.31 vs 4.19); pend
-  store 3 is the
-  only silent one.
+  store 3 is the only silent one.
 - coverage ê ≥ ½|v − v*|: 3352 / 3405 (98.4 %); per option the lowest: settings_obj
   (store_every=4, float32) 122/126, dt_x4 130/135, store3 131/135, courant3 131/135,
   fit_terminal 123/126, default 138/141; implicit / reference / dt_half / dt_quarter 135/135.
