@@ -139,7 +139,14 @@ class SolverSettings:
             fitted = [name for name, scheme in METHODS.items() if scheme.supports_fitting]
             raise ValueError(
                 f"fitting applies to method={' or '.join(map(repr, fitted))}, not "
-                f"{self.method!r}: drop fitting or use one of those methods"
+                f"{self.method!r}: drop fitting or give method={' or '.join(map(repr, fitted))}"
+            )
+        if self.linear_solver != "auto" and not METHODS[self.method].supports_linear_solver:
+            solving = [name for name, scheme in METHODS.items() if scheme.supports_linear_solver]
+            raise ValueError(
+                f"linear_solver applies to method={' or '.join(map(repr, solving))}, not "
+                f"{self.method!r}, which solves no linear system: drop linear_solver or give "
+                f"method={' or '.join(map(repr, solving))}"
             )
         if self.mmap_dir is not None and not os.path.isdir(self.mmap_dir):
             raise ValueError(f"mmap_dir must be an existing directory, got {self.mmap_dir!r}")
@@ -171,7 +178,8 @@ def resolve_settings(settings, options) -> SolverSettings:
     if unknown:
         raise TypeError(
             f"unknown solve option(s) {', '.join(sorted(unknown))}: valid options are "
-            f"{', '.join(fields)}"
+            f"{', '.join(fields)} (and tol=, states=, times=, max_nodes=, max_seconds= for a "
+            "solve to a tolerance)"
         )
     return SolverSettings(**{**settings.__dict__, **options})
 

@@ -46,7 +46,10 @@ from .representation import Fields, LinearZ, RelativeZ, Representation, Stencil
 class ErrorEstimate(Protocol):
     """What a solution's error estimate answers (:class:`gridlbc.accuracy.EmbeddedEstimate`, which
     :mod:`gridlbc.accuracy` attaches after the solve): abs(v − v_exact) at states ``x`` (N, d),
-    time ``t`` (:meth:`Solution.error_estimate`)."""
+    time ``t`` (:meth:`Solution.error_estimate`), and the order its coarser levels converge at
+    (``observed_order``)."""
+
+    observed_order: float
 
     def error(self, solution, x, t=0.0) -> np.ndarray: ...
 

@@ -233,10 +233,13 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
 def settings_for(problem: Problem, settings, options: dict) -> SolverSettings:
     """``settings`` with ``options`` (:func:`~gridlbc.settings.resolve_settings`), for
     ``problem``: with an exit set and a horizon, a scheme that implements the exit
-    (:func:`_exit_settings`; the method asked for by name or by settings must)."""
+    (:func:`_exit_settings`): the implicit one, also under a preset or a settings object that
+    names none other than the default's (stranger round 28: ``settings="fast"`` refused such a
+    problem for a method the user never named); a method asked for by name (``method=``) must
+    implement it."""
     s = resolve_settings(settings, options)
     if problem.exit is not None and not s.scheme.supports_exit:
-        explicit = "method" in options or settings not in (None, "default")
+        explicit = "method" in options or s.method != SolverSettings().method
         s = _exit_settings(s, explicit, options.get("fitting", "auto"))
     return s
 

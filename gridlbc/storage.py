@@ -73,6 +73,7 @@ def slice_storage(shape: tuple[int, ...], dtype: np.dtype, mmap_dir: str | None)
         unix = hasattr(mmap, "MAP_PRIVATE") and hasattr(mmap, "MAP_ANONYMOUS")
         private = {"flags": mmap.MAP_PRIVATE | mmap.MAP_ANONYMOUS} if unix else {}
         return np.frombuffer(mmap.mmap(-1, nbytes, **private), dtype=dtype).reshape(shape)
-    # An unlinked temporary file: its disk space is returned when the Solution is released.
-    handle = tempfile.TemporaryFile(dir=mmap_dir)  # noqa: SIM115 (the memmap owns it)
-    return np.memmap(handle, dtype=dtype, mode="w+", shape=shape)
+    # An unlinked temporary file, closed once mapped (the mapping holds the file): its disk
+    # space is returned when the Solution is released.
+    with tempfile.TemporaryFile(dir=mmap_dir) as handle:
+        return np.memmap(handle, dtype=dtype, mode="w+", shape=shape)

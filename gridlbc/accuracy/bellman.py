@@ -316,20 +316,23 @@ def quadratic_read(solution, x: np.ndarray, t: float) -> np.ndarray:
                     offsets.append(a * h[k] * np.eye(d)[k] + b * h[m] * np.eye(d)[m])
         points = (centre[:, None, :] + np.array(offsets)[None]).reshape(-1, d)
         around = solution.value(grid.wrap(points), t).reshape(len(x), len(offsets))
-    hessian = np.empty((len(x), d, d))
-    for k in range(d):
-        second = around[:, 1 + 2 * k] - 2 * around[:, 0] + around[:, 2 + 2 * k]
-        hessian[:, k, k] = second / h[k] ** 2
-    j = 1 + 2 * d
-    for k in range(d):
-        for m in range(k + 1, d):
-            pp, pm, mp, mm = (around[:, j + i] for i in range(4))
-            hessian[:, k, m] = hessian[:, m, k] = (pp - pm - mp + mm) / (4 * h[k] * h[m])
-            j += 4
-    idx, weights = barycentric(grid, x)
-    vertices = grid.node_coordinates(idx.ravel()).reshape(len(x), d + 1, d)
-    gaps = vertices - grid.wrap(x)[:, None, :]
-    period = grid.hi - grid.lo
-    gaps = np.where(grid.periodic, (gaps + 0.5 * period) % period - 0.5 * period, gaps)
-    error = 0.5 * np.einsum("ni,nik,nkl,nil->n", weights, gaps, hessian, gaps)
-    return value - error
+    # where v underflowed (+inf) the Hessian is no number and so is the read: NaN, which the
+    # caller takes for a weight it cannot read
+    with np.errstate(invalid="ignore"):
+        hessian = np.empty((len(x), d, d))
+        for k in range(d):
+            second = around[:, 1 + 2 * k] - 2 * around[:, 0] + around[:, 2 + 2 * k]
+            hessian[:, k, k] = second / h[k] ** 2
+        j = 1 + 2 * d
+        for k in range(d):
+            for m in range(k + 1, d):
+                pp, pm, mp, mm = (around[:, j + i] for i in range(4))
+                hessian[:, k, m] = hessian[:, m, k] = (pp - pm - mp + mm) / (4 * h[k] * h[m])
+                j += 4
+        idx, weights = barycentric(grid, x)
+        vertices = grid.node_coordinates(idx.ravel()).reshape(len(x), d + 1, d)
+        gaps = vertices - grid.wrap(x)[:, None, :]
+        period = grid.hi - grid.lo
+        gaps = np.where(grid.periodic, (gaps + 0.5 * period) % period - 0.5 * period, gaps)
+        error = 0.5 * np.einsum("ni,nik,nkl,nil->n", weights, gaps, hessian, gaps)
+        return value - error

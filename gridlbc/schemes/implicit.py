@@ -184,6 +184,7 @@ class ImplicitScheme(SchemeBase):
     name = "implicit"
     supports_fitting = False
     supports_exit = True
+    supports_linear_solver = True
     step = ImplicitStep
 
     def step_rule(self, settings) -> StepRule:

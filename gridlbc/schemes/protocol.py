@@ -20,7 +20,8 @@ solver calls them:
    (:class:`~gridlbc.solution.ResolutionWarning`).
 
 ``scheme.supports_fitting`` says whether ``fitting=`` applies (:class:`gridlbc.SolverSettings`
-resolves ``"auto"`` with it); ``scheme.supports_exit`` whether it solves problems with an exit set
+resolves ``"auto"`` with it); ``scheme.supports_linear_solver`` whether ``linear_solver=``
+does; ``scheme.supports_exit`` whether it solves problems with an exit set
 (SPEC §9: z held at exp(−g_E/λ) on E). Inside, a scheme builds a :class:`StepOperator` and steps it; the
 solver never sees the operator except through :attr:`Marched.operator` (its memory and iteration
 counts go to the diagnostics).
@@ -171,6 +172,7 @@ class Scheme(Protocol):
     name: str
     supports_fitting: bool
     supports_exit: bool
+    supports_linear_solver: bool
 
     def estimate_bytes(self, grid: Grid) -> int:
         """Memory of the operator on ``grid``, without building it."""
@@ -195,6 +197,7 @@ class SchemeBase:
     name: str
     supports_fitting: bool = False
     supports_exit: bool = False
+    supports_linear_solver: bool = False
     step: type[StepOperator]
 
     def estimate_bytes(self, grid: Grid) -> int:

@@ -131,9 +131,11 @@ def stationary_settings(options: dict) -> StationarySettings:
     ignored = {"progress"}
     unknown = sorted(set(options) - known - ignored)
     if unknown:
+        verb = "does" if len(unknown) == 1 else "do"
         raise TypeError(
-            f"{', '.join(unknown)} do not apply to a stationary problem (no time march): it "
-            f"takes {', '.join(sorted(known))}"
+            f"{', '.join(unknown)} {verb} not apply to a stationary problem (no time march): it "
+            f"takes {', '.join(sorted(known))} (and tol=, states=, max_nodes=, max_seconds= "
+            "for a solve to a tolerance)"
         )
     return StationarySettings(**{k: v for k, v in options.items() if k in known})
 

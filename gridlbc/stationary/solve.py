@@ -63,7 +63,8 @@ def solve_stationary_to_tolerance(
     **options,
 ) -> StationarySolution:
     """Solve a first-exit or an average-cost problem on finer and finer grids (h → h/2 along the
-    axes that limit it) until its embedded error estimate meets ``tol``, or ``max_nodes``, the
+    axes that limit it) until its embedded error estimate meets ``tol`` from levels that converge
+    at first order or better (:meth:`gridlbc.accuracy.Refinement.met`), or ``max_nodes``, the
     memory, ``max_refinements`` or the time budget ``max_seconds`` stops it (then a
     :class:`gridlbc.ResolutionWarning` says which). :func:`gridlbc.solve` calls this for
     ``solve(problem, tol=...)``.
@@ -126,8 +127,18 @@ def solve_stationary_to_tolerance(
         error = UNPOSED if a is None else a.error  # None: refine until the coarser grid poses it
         c_error = _relative_error_of_c(solution)
         solved = time.perf_counter() - started
-        history.append(Refinement(solution.grid.shape, 0.0, max(error, c_error), np.nan, solved))
-        if history[-1].error <= tol or len(history) > max_refinements:
+        order = np.nan if solution.embedded is None else solution.embedded.observed_order
+        history.append(
+            Refinement(
+                solution.grid.shape,
+                0.0,
+                max(error, c_error),
+                np.nan,
+                solved,
+                observed_order=order,
+            )
+        )
+        if history[-1].met(tol) or len(history) > max_refinements:
             break
         here = f"grid {'×'.join(map(str, solution.grid.shape))} or finer"
         limit = over_budget(max_seconds, time.perf_counter() - clock, here, solved, least=True)

@@ -942,3 +942,26 @@ def test_a_fitting_asked_for_a_task_with_an_exit_set_and_a_horizon_is_refused():
     )
     with pytest.raises(ValueError, match="no fitted form"):
         g.solve(problem, fitting="terminal")
+
+
+def test_a_preset_solves_a_task_with_an_exit_set_and_a_horizon_by_the_implicit_march():
+    # stranger round 28: settings="fast" (or a SolverSettings naming no method) refused such a
+    # task for a method the user never named; the implicit march, as without settings, and the
+    # same values as a solve that names it (the preset's other fields apply alike)
+    problem = g.Problem(
+        SingleIntegrator(),
+        g.Grid([g.Axis(-2, 2, 41)]),
+        1.0,
+        lambda x: np.zeros(len(x)),
+        state_cost=lambda x: np.ones(len(x)),
+        exit=Box([1.5], [np.inf]),
+        exit_cost=0.0,
+    )
+    x = np.array([[0.0], [1.0]])
+    for settings in ("fast", g.SolverSettings(store_every=2)):
+        solution = g.solve(problem, settings, error_estimate=False)
+        assert solution.diagnostics.method == "implicit"
+        named = g.solve(problem, settings, method="implicit", error_estimate=False)
+        np.testing.assert_array_equal(solution.value(x), named.value(x))
+    with pytest.raises(ValueError, match="does not implement an exit set"):
+        g.solve(problem, method="splitting")

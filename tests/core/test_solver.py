@@ -376,3 +376,10 @@ def test_a_state_cost_all_but_constant_along_a_noise_axis_is_no_overflow(tiny):
         warnings.simplefilter("ignore", gridlbc.ResolutionWarning)
         with np.errstate(all="warn", under="ignore"):
             gridlbc.solve(problem)
+
+
+def test_a_linear_solver_for_a_scheme_that_solves_no_linear_system_is_refused():
+    # stranger round 28: linear_solver="gauss-seidel" with the splitting scheme was ignored
+    with pytest.raises(ValueError, match="linear_solver applies to method='implicit'"):
+        gridlbc.SolverSettings(linear_solver="gauss-seidel")
+    assert gridlbc.SolverSettings(method="implicit", linear_solver="gauss-seidel")
