@@ -7,10 +7,12 @@ average cost) differ only in how they solve on another grid, which they pass in.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
+from contextlib import contextmanager
 from typing import NamedTuple
 
-from ..errors import ResolutionWarning, warn_user
+from ..errors import ResolutionWarning, UnderflowWarning, warn_user
 from ..problem import Problem
 from .assessment import check_accuracy
 from .estimate import attach_estimates
@@ -57,27 +59,38 @@ def embed(
     Their own warnings are the callers' to silence: they are not the user's.
     """
     fine = problem.require_grid("an embedded solve")
-    levels, reason = embedded_solves(fine, on_grid)
-    excess = pairs = None
-    missed = missed_points(problem)  # the exit set's parts no node holds (none without one)
-    if levels:
-        coarse = levels[0][0].grid
-        own = levels[0] if base else None
+    with quiet_reads():
+        levels, reason = embedded_solves(fine, on_grid)
+        excess = pairs = None
+        missed = missed_points(problem)  # the exit set's parts no node holds (none without one)
+        if levels:
+            coarse = levels[0][0].grid
+            own = levels[0] if base else None
 
-        def solve(on: Problem, raised: list) -> list:
-            return on_coarse(on.replace(grid=coarse), raised)
+            def solve(on: Problem, raised: list) -> list:
+                return on_coarse(on.replace(grid=coarse), raised)
 
-        excess = responses(problem, costs, coarse, solve, own, missed)
-        if reads_pair(solutions[0], excess):
-            pairs = pair_solves(fine, levels[0], on_grid)
-    if levels:
-        attach_estimates(solutions, levels, pairs, excess)
-        for solution in solutions:
-            check_accuracy(solution)
-    elif reason:
-        warn_user(
-            f"no error estimate for this solve: {reason} (docs page 'accuracy')",
-            ResolutionWarning,
-        )
-    check_exit(solutions[0], missed)  # the exit set is the problem's: one look for all
+            excess = responses(problem, costs, coarse, solve, own, missed)
+            if reads_pair(solutions[0], excess):
+                pairs = pair_solves(fine, levels[0], on_grid)
+            attach_estimates(solutions, levels, pairs, excess)
+            for solution in solutions:
+                check_accuracy(solution)
+        elif reason:
+            warn_user(
+                f"no error estimate for this solve: {reason} (docs page 'accuracy')",
+                ResolutionWarning,
+            )
+        check_exit(solutions[0], missed)  # the exit set is the problem's: one look for all
     return Embedding(levels, pairs, excess)
+
+
+@contextmanager
+def quiet_reads():
+    """Silence the :class:`gridlbc.UnderflowWarning` of the estimate's own reads of a solution:
+    where v underflowed they are +inf, and the estimate takes that for what it is, but those are
+    not the user's queries (the solve warns once of its underflowed nodes): stranger rounds 27
+    and 28 saw a dozen warnings of thousands of "query states" that no one had asked about."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UnderflowWarning)
+        yield

@@ -569,7 +569,9 @@ def solve_to_tolerance(
             )
         )
         if base.progress:
-            stored = "" if base.store_every == 1 else f", every {base.store_every}th slice stored"
+            stored = (
+                "" if base.store_every == 1 else f", a slice stored every {base.store_every} steps"
+            )
             told = "" if np.isnan(certified) else f", certified at the states {certified:.2%}"
             if proved > error:
                 told += f", {proved:.2%} at the levels' observed order {order:.2f}"

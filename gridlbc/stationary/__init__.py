@@ -27,11 +27,10 @@ the same operator,
     (L − diag(q/λ)) e = −(c/λ) e,
 
 the eigenvalue of largest real part, whose eigenvector is positive (Perron–Frobenius: the
-matrix's off-diagonal entries are non-negative). It is found by shift-and-invert Arnoldi
-(scipy's ARPACK, one sparse LU) about σ = −min q/λ + ε, which is above the principal eigenvalue
-and closer to it than to any other, where the first-exit system would be solved by LU (one and
-two dimensions); otherwise by Noda's inverse iteration, whose shifts σ_k ↓ μ keep σ_k I − M a
-non-singular M-matrix solved by the same Krylov methods (:func:`principal_eigenpair`). h is
+matrix's off-diagonal entries are non-negative). It is found by Noda's inverse iteration,
+whose shifts σ_k ↓ μ from σ₀ = −min q/λ + ε keep σ_k I − M a non-singular M-matrix, solved
+by LU where the first-exit system would be (one and two dimensions) and otherwise by the same
+Krylov methods (:func:`principal_eigenpair`). h is
 normalised to min h = 0 at the nodes, and the embedded solves on the grids 2h and 4h, normalised
 the same way, give the estimates of h (:meth:`StationarySolution.error_estimate`) and of c
 (``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate`).

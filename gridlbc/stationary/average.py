@@ -1,11 +1,10 @@
 """Average cost (SPEC §9; docs page :doc:`first_exit`): the principal eigenpair
-(L − diag(q/λ)) e = −(c/λ) e by shift-and-invert Arnoldi or Noda's inverse iteration, and the
+(L − diag(q/λ)) e = −(c/λ) e by Noda's inverse iteration, and the
 stationary distribution from the left eigenvector (:mod:`gridlbc.stationary`)."""
 
 from __future__ import annotations
 
 import time
-from functools import partial
 
 import numpy as np
 import scipy.sparse as sp
@@ -108,12 +107,8 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
 
         min_i (Mx)_i / x_i  ≤  μ  ≤  max_i (Mx)_i / x_i,
 
-    the upper one with x = 1 being the largest row sum, −min q/λ. Two methods, after
-    ``s.linear_solver`` (:func:`~gridlbc.stationary.linear.linear_method`):
-
-    - direct: shift-and-invert Arnoldi (ARPACK, started from 1) about σ = −min q/λ + ε, one
-      sparse LU of M − σI;
-    - iterative (Noda's inverse iteration): from e₀ = 1, σ₀ = −min q/λ + ε,
+    the upper one with x = 1 being the largest row sum, −min q/λ. Noda's inverse iteration,
+    from e₀ = 1, σ₀ = −min q/λ + ε,
 
           (σ_k I − M) y = e_k,      e_{k+1} = y / max y,
           σ_{k+1} = max( max_i (M e_{k+1})_i / e_{k+1,i},  ρ_{k+1} + δ ),
@@ -121,7 +116,11 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
       the Collatz–Wielandt quotient read where e_{k+1,i} ≥ √``residual`` (below that an
       iterative solve does not resolve e's entries), never above σ_k, and ρ = eᵀMe / eᵀe
       the Rayleigh quotient (δ = ``residual`` ‖M‖_∞). σ_k stays above μ, so each shifted system
-      is an M-matrix, solved as the first-exit system is (rows scaled, BiCGSTAB, ILU-GMRES where
+      is an M-matrix, solved after ``s.linear_solver``
+      (:func:`~gridlbc.stationary.linear.linear_method`):
+
+    - direct: by a sparse LU of σ_k I − M, one per shift, exactly;
+    - iterative: as the first-exit system is (rows scaled, BiCGSTAB, ILU-GMRES where
       it stalls), from the guess y₀ = e_k / (σ_k − ρ_k), to the backward error
       η_k = max(``residual``, min(10⁻², r_k / 10)), r_k the eigen-residual of e_k below: it stops
       at ‖A y − b‖ ≤ η_k ‖A‖_∞ ‖y₀‖ (at most 0.1 ‖b‖, and at most a tenth of the guess's own
@@ -134,14 +133,18 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
       solve come out negative (eᵀy < 0: σ fell below μ), the shift returns to the last one
       above μ and stays there (plain inverse iteration, linear convergence).
 
-    Both stop when the eigen-residual ‖(M − ρI)e‖₂ ≤ ``residual`` · ‖M‖_∞ ‖e‖₂
-    (:func:`eigen_residual`); the iterative one after :data:`~gridlbc.stationary.linear.MAX_SHIFTS`
-    shifts at most.
+    It stops when the eigen-residual ‖(M − ρI)e‖₂ ≤ ``residual`` · ‖M‖_∞ ‖e‖₂
+    (:func:`eigen_residual`), after :data:`~gridlbc.stationary.linear.MAX_SHIFTS` shifts at
+    most. Why not shift-and-invert Arnoldi about σ₀ (ARPACK, one LU), used until 2026-12-06: on
+    a strongly non-normal M (an axis without noise at a small λ) it converged to Ritz values
+    of tiny residual that are not eigenvalues (−6.70 ± 0.10i where the Collatz–Wielandt bound
+    puts μ at −7.08, stranger round 27's cold average cost on 88×155, c then 5 % low) and took
+    48 000 solves (636 s) on 88×309, where Noda's takes 58 shifts (2.4 s); the two agree
+    elsewhere to the residual.
 
     With ``left``, also the left eigenvector ẽ > 0 (Mᵀẽ = μẽ, max entry 1), for the chain's
-    stationary distribution (:func:`stationary_distribution`): by the same shift-and-invert
-    Arnoldi on Mᵀ with the transposed solves of the same LU factors, or by the same inverse
-    iteration on Mᵀ (which doubles the iterative eigen-solve's work).
+    stationary distribution (:func:`stationary_distribution`), by the same iteration on Mᵀ
+    (which doubles the eigen-solve's work).
 
     Returns
     -------
@@ -156,36 +159,11 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
     upper = float((M @ np.ones(n)).max())
     sigma = upper + 1e-3 * max(float(np.abs(M.diagonal()).max()), 1e-300)
     method = linear_method(s, ndim, n)
-    if method == "direct":
-        factors = spla.splu((M - sigma * sp.identity(n, format="csc")).tocsc())
-        mu, e = _arnoldi(M, sigma, factors.solve, s.residual)
-        if not left:
-            return mu, e, (), None
-        _, e_left = _arnoldi(M.T, sigma, partial(factors.solve, trans="T"), s.residual)
-        return mu, e, (), e_left
     mu, e, counts = _noda(M, sigma, s, method)
     if not left:
         return mu, e, counts, None
     _, e_left, more = _noda(M.T.tocsr(), sigma, s, method)
     return mu, e, counts + more, e_left
-
-
-def _arnoldi(M: sp.spmatrix, sigma: float, inverse, residual: float) -> tuple[float, np.ndarray]:
-    """The eigenpair of M nearest ``sigma`` by ARPACK's shift-and-invert Arnoldi, ``inverse``
-    applying (M − σI)⁻¹, started from 1 (ARPACK's default start is random: the same solve, the
-    same digits); the eigenvector scaled to max entry 1."""
-    n = M.shape[0]
-    values, vectors = spla.eigs(
-        M,
-        k=1,
-        sigma=sigma,
-        which="LM",
-        tol=residual,
-        v0=np.ones(n),
-        OPinv=spla.LinearOperator((n, n), matvec=inverse, dtype=float),
-    )
-    e = vectors[:, 0].real
-    return float(values[0].real), e / e[np.argmax(np.abs(e))]
 
 
 def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
@@ -198,23 +176,15 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
     above, fixed = sigma, False
     identity = sp.identity(n, format="csr")
     error = eigen_residual(M, rho, e)
+    factors: dict[float, spla.SuperLU] = {}  # the LU of σI − M (direct), by σ
     for _ in range(MAX_SHIFTS):
-        A, inverse = scaled_rows(sigma * identity - M)
-        b = inverse @ e
-        guess = e / (sigma - rho) if sigma > rho else None
-        # the backward error max(residual, min(10⁻², r_k/10)) as a residual relative to b:
-        # ‖A y − b‖ ≤ η ‖A‖ ‖y‖ with ‖y‖ ≈ ‖e‖ / (σ − ρ)
-        backward = max(s.residual, min(1e-2, 0.1 * error))
-        target = 0.1
-        if guess is not None:
-            scale = float(np.linalg.norm(b))
-            growth = float(abs(A).sum(axis=1).max() * np.linalg.norm(guess) / scale)
-            # near the eigenvector the guess itself nearly solves the system: ask for a tenth of
-            # its residual at most, or the shift does no work and σ never moves
-            start = float(np.linalg.norm(A @ guess - b)) / scale
-            target = min(0.1, backward * max(growth, 1.0), 0.1 * start)
-        y, iterations = iterative(A, b, s, method, guess, max(target, 1e-15))
-        counts.append(iterations)
+        if method == "direct":  # exact solves: one LU per shift, kept while σ stays
+            if sigma not in factors:
+                factors = {sigma: spla.splu((sigma * identity - M).tocsc())}
+            y = factors[sigma].solve(e)
+        else:
+            y, iterations = _shifted_solve(M, sigma, e, rho, error, s, method)
+            counts.append(iterations)
         if e @ y < 0:  # σ fell below μ: back to the last shift above it, and keep it
             sigma, fixed = above, True
         else:
@@ -229,8 +199,34 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
             resolved = e >= np.sqrt(s.residual)
             quotient = float(np.max(Me[resolved] / e[resolved]))
             sigma = min(sigma, max(quotient, rho + s.residual * norm))
+    advice = (
+        "give a larger residual="
+        if method == "direct"
+        else f"({sum(counts)} Krylov iterations): give linear_solver='direct' if its "
+        "factorisation fits in memory, or a larger residual="
+    )
     raise ConvergenceError(
         f"the average cost's eigen-solve did not reach the residual {s.residual:g} in "
-        f"{MAX_SHIFTS} shifts ({sum(counts)} Krylov iterations): give linear_solver='direct' "
-        "if its factorisation fits in memory, or a larger residual="
+        f"{MAX_SHIFTS} shifts {advice}"
     )
+
+
+def _shifted_solve(M, sigma: float, e, rho: float, error: float, s: StationarySettings, method):
+    """y with (σI − M) y = e by a Krylov ``method`` (rows scaled) from the guess e / (σ − ρ), to
+    the backward error max(residual, min(10⁻², error / 10)) (:func:`principal_eigenpair`), and
+    its iteration count."""
+    A, inverse = scaled_rows(sigma * sp.identity(M.shape[0], format="csr") - M)
+    b = inverse @ e
+    guess = e / (sigma - rho) if sigma > rho else None
+    # the backward error max(residual, min(10⁻², r_k/10)) as a residual relative to b:
+    # ‖A y − b‖ ≤ η ‖A‖ ‖y‖ with ‖y‖ ≈ ‖e‖ / (σ − ρ)
+    backward = max(s.residual, min(1e-2, 0.1 * error))
+    target = 0.1
+    if guess is not None:
+        scale = float(np.linalg.norm(b))
+        growth = float(abs(A).sum(axis=1).max() * np.linalg.norm(guess) / scale)
+        # near the eigenvector the guess itself nearly solves the system: ask for a tenth of
+        # its residual at most, or the shift does no work and σ never moves
+        start = float(np.linalg.norm(A @ guess - b)) / scale
+        target = min(0.1, backward * max(growth, 1.0), 0.1 * start)
+    return iterative(A, b, s, method, guess, max(target, 1e-15))

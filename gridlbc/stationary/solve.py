@@ -32,7 +32,7 @@ from ..accuracy import (
     stationary_gap,
     unestimated,
 )
-from ..accuracy.embedding import embed
+from ..accuracy.embedding import embed, quiet_reads
 from ..errors import (
     ConvergenceError,
     GridlbcWarning,
@@ -314,13 +314,14 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
     response = 0.0  # S_c: what the excess moves c by on the embedded grid
     if moved.raised is not None and moved.base is not None:
         response = abs(_average_cost(moved.raised) - _average_cost(moved.base))
-    estimate = scalar_estimate(
-        [solution.average_cost] + [level[0].average_cost for level in levels],
-        None if pairs is None else [side[0].average_cost for side in pairs],
-        stationary_gap(solution),
-        response,
-        average_truncation(solution),
-    )
+    with quiet_reads():
+        estimate = scalar_estimate(
+            [solution.average_cost] + [level[0].average_cost for level in levels],
+            None if pairs is None else [side[0].average_cost for side in pairs],
+            stationary_gap(solution),
+            response,
+            average_truncation(solution),
+        )
     object.__setattr__(solution, "average_cost_error", estimate.error)
     check_scalar(estimate, "the average cost c")
 
