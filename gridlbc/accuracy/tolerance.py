@@ -251,7 +251,7 @@ def at_observed_order(error: float, order: float) -> float:
     h and 2h by 2^q − 1 ≥ 1, and a solve whose error shrinks as h^p is off by that difference
     divided by 2^p − 1, up to 1/(2^p − 1) times more (stranger round 27: an average cost's
     relative value along an axis without noise, at observed orders 0.05–0.81, read at 9.8 %,
-    9.85 % and 2.5 % where it was 25 %, 16 % and 6.7 % off; at their orders, 276 %, 16 % and
+    9.85 % and 2.5 % where it was 25 %, 16 % and 6.7 % off; at their orders, 278 %, 17 % and
     3.4 %, above the tolerances 10 %, 10 % and 3 % that those rounds had met)."""
     if not order < 1.0:
         return error
