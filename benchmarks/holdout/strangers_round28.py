@@ -14,10 +14,11 @@ pend) or 20 stationary ones. 3 states each (typical, at the feature / goal, far)
 mid-task between steps (round(T/2Δt)Δt + 1.5Δt) and T − 2.5Δt (Δt the default's).
 
 Rerun after the fixes (main, 2026-12-06: τ read in the middle of every interval between stored
-slices; ``--run pend --only=store3 --force``, and ``--only=mmap_store3``): pend store_every=3 warns, with and without mmap_dir (at t = 0.397, between
-the stored slices), the same errors and estimates as below. The presets now solve hzfe2, the
-exit with a horizon, by the implicit march; linear_solver with the splitting is refused;
-mmap_dir raises no ResourceWarning (not rerun here: tests in tests/core).
+slices; ``--run pend --only=store3 --force`` and ``--only=mmap_store3``): pend with
+store_every=3 warns, with and without mmap_dir (at t = 0.397, between the stored slices), the
+same errors and estimates as below, and mmap_dir raises no ResourceWarning; ``--table``: none
+silent. The presets now solve hzfe2, the exit with a horizon, by the implicit march, and
+linear_solver with the splitting is refused (tests in tests/core; not rerun here).
 
 - 467 (problem, option) entries; 3546 (problem, option, state, t) pairs read; 3405 with an
   estimate (error_estimate=False: 141 pairs without), all with a trusted truth.
