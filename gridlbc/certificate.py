@@ -70,8 +70,9 @@ chain's Feynman–Kac desirability exactly.
 E_u[exp(−S_u/λ)] is the stopped chain's desirability, because the stopping rule is a function of
 the path, which the change of measure leaves alone (optional stopping of the Girsanov
 martingale). A problem without a horizon is rolled out to ``max_time``; a sample still running
-then pays only what it has accrued, which biases v* and J low. :attr:`Certificate.unexited_fraction`
-reports their share and :func:`gridlbc.certify` warns above :data:`MAX_UNEXITED`.
+then pays only what it has accrued, which biases v* and J low. :attr:`Certificate.unexited_fraction
+<gridlbc.Certificate.unexited_fraction>` reports their share and :func:`gridlbc.certify` warns
+above :data:`MAX_UNEXITED`.
 """
 
 from __future__ import annotations

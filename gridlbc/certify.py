@@ -23,8 +23,8 @@ from .problem import Problem
 from .solver import solve
 
 AUTO_PROPOSAL_NODES = 1_000_000
-"""With ``proposal="auto"``, the most grid nodes :func:`certify` solves on by itself to pool a grid
-policy with the judged one (a larger grid is coarsened to this many, box unchanged)."""
+"""With ``proposal="auto"``, the most grid nodes :func:`~gridlbc.certify` solves on by itself to
+pool a grid policy with the judged one (a larger grid is coarsened to this many, box unchanged)."""
 
 
 _GRID_PROPOSALS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
@@ -57,9 +57,10 @@ def certify(
     tail: see :attr:`Certificate.pareto_k`) can make v̂* too high by many of its own standard
     errors without any diagnostic showing it, because the paths that carry the weight are never
     drawn. So by default (``proposal="auto"``) a policy that is not itself a grid solution of
-    ``problem`` is pooled with one: :func:`certify` solves the problem on its grid (coarsened to
-    :data:`AUTO_PROPOSAL_NODES` nodes at most, once per problem) and draws half the samples with
-    each policy, weighted by multiple importance sampling (the balance heuristic,
+    ``problem`` is pooled with one: :func:`~gridlbc.certify` solves the problem on its grid
+    (coarsened to
+    :data:`~gridlbc.certify.AUTO_PROPOSAL_NODES` nodes at most, once per problem) and draws half the
+    samples with each policy, weighted by multiple importance sampling (the balance heuristic,
     :mod:`gridlbc.certificate`), which is as good as the better of the two up to a factor 2 in variance. J then
     comes from the judged policy's half, and the gap's SE is √(SE(J)² + SE(v*)²). Without a grid
     (or with ``proposal=None``) the judged policy is the only proposal: one set of samples gives
@@ -88,7 +89,7 @@ def certify(
         Seed of ``np.random.default_rng``: the same seed gives the same certificate.
     progress : bool, optional
         A progress bar on stderr: True always, False never, None (default) once the run has
-        taken :data:`PROGRESS_DELAY` seconds.
+        taken :data:`~gridlbc.certificate.PROGRESS_DELAY` seconds.
     min_effective_sample_size : float
         Warn (:class:`CertificateWarning`) and flag the summary where the effective sample size is
         below this.
@@ -145,8 +146,8 @@ def _grid_proposal(problem: Problem):
     """A grid solution's policy for ``proposal="auto"`` and its name, or (None, why not).
 
     The default :func:`gridlbc.solve` of the problem on its own grid, or, above
-    :data:`AUTO_PROPOSAL_NODES` nodes, on the same box with every axis's node count scaled by
-    (AUTO_PROPOSAL_NODES / nodes)^(1/d). Its warnings are silenced and non-finite controls
+    :data:`~gridlbc.certify.AUTO_PROPOSAL_NODES` nodes, on the same box with every axis's node count
+    scaled by (AUTO_PROPOSAL_NODES / nodes)^(1/d). Its warnings are silenced and non-finite controls
     (where z underflowed) replaced by 0: any policy is a valid proposal, its quality only sets
     the variance, which the certificate's diagnostics report.
     """

@@ -239,7 +239,8 @@ class CombinedSolution(FieldEvaluation):
         The fixed weights w (all ones for coordination).
     problem : Problem
         The components' problem with the composite terminal cost
-        g = −λ log Σ w_i exp(−g_i/λ) (a :class:`CompositeCost`), e.g. for :func:`gridlbc.simulate`.
+        g = −λ log Σ w_i exp(−g_i/λ) (a :class:`~gridlbc.combine.CompositeCost`), e.g.
+        for :func:`gridlbc.simulate`.
     exact : bool
         Always True: the components share one linear operator (same scheme, and no fitting or
         one shared fitting reference), so this is the direct solve of the composite cost to
@@ -284,8 +285,8 @@ class CombinedSolution(FieldEvaluation):
         return _normalised(z)
 
     def blend_and_value(self, x, t=0.0) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`blend_weights` and :meth:`value` at states ``x`` (N, d) from one evaluation of
-        the components' fields."""
+        """:meth:`blend_weights` and :meth:`~gridlbc.solution.FieldEvaluation.value` at states ``x``
+        (N, d) from one evaluation of the components' fields."""
         L, z, _ = self._component_fields(x, t, gradient=False)
         value = -self.temperature * Fields(None, L, z.sum(axis=0)).log_desirability()
         return _normalised(z), value
@@ -293,7 +294,7 @@ class CombinedSolution(FieldEvaluation):
     @state_evaluation
     def error_estimate(self, x, t=0.0) -> np.ndarray:
         """``Σ_i abs(α_i) ê_i``: the components' error estimates carried to the combination
-        (:func:`combined_error`), ``(N,)`` (a scalar for one state)."""
+        (:func:`~gridlbc.combine.combined_error`), ``(N,)`` (a scalar for one state)."""
         return combined_error(self.components, self.blend_weights(x, t), x, t)
 
 
@@ -307,7 +308,8 @@ class Combination:
         Trajectory expansions and/or grid Solutions of one problem.
     weights : ndarray (n,)
     problem : Problem
-        The components' problem with the composite terminal cost (a :class:`CompositeCost`).
+        The components' problem with the composite terminal cost
+        (a :class:`~gridlbc.combine.CompositeCost`).
     exact : bool
         Always False: the combination is only as accurate as its components (their values are
         approximations of different origins, not one linear operator's solutions), so it
@@ -354,7 +356,7 @@ class Combination:
     @state_evaluation
     def desirability(self, x, t=0.0) -> np.ndarray:
         """z = Σ w_i z_i, shape ``(N,)`` (a scalar for one state ``(d,)``) (may underflow: use
-        :meth:`value`)."""
+        :meth:`~gridlbc.solution.FieldEvaluation.value`)."""
         with np.errstate(under="ignore", over="ignore"):
             return np.exp(self.log_desirability(x, t))
 
@@ -370,15 +372,15 @@ class Combination:
         return _normalised(self._scaled(x, t)[1])
 
     def blend_and_value(self, x, t=0.0) -> tuple[np.ndarray, np.ndarray]:
-        """:meth:`blend_weights` and :meth:`value` at states ``x`` (N, d) from one evaluation of
-        the components."""
+        """:meth:`blend_weights` and :meth:`~gridlbc.solution.FieldEvaluation.value` at states ``x``
+        (N, d) from one evaluation of the components."""
         top, terms, total = self._scaled(x, t)
         return _normalised(terms), -self.temperature * _log_total(top, total)
 
     @state_evaluation
     def error_estimate(self, x, t=0.0) -> np.ndarray:
-        """``Σ_i abs(α_i) ê_i`` (:func:`combined_error`), ``(N,)`` (a scalar for one state);
-        every component must be a grid Solution."""
+        """``Σ_i abs(α_i) ê_i`` (:func:`~gridlbc.combine.combined_error`), ``(N,)`` (a scalar for
+        one state); every component must be a grid Solution."""
         return combined_error(self.components, self.blend_weights(x, t), x, t)
 
     @state_evaluation
@@ -507,7 +509,7 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
 def composite_problem(components, w: np.ndarray) -> Problem:
     """The problem a combination solves: the components' with each cost paid at the end (the
     terminal cost, and the exit cost of a first-exit problem) replaced by its
-    :class:`CompositeCost`."""
+    :class:`~gridlbc.combine.CompositeCost`."""
     base = components[0].problem
     ends = {}
     for name in ("terminal_cost", "exit_cost"):

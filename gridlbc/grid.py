@@ -210,8 +210,9 @@ class Grid:
         return values.reshape(values.shape[:-1] + self.shape)
 
     def node_values(self, function) -> np.ndarray:
-        """``function(x)`` at every node, ``(size,)``, evaluated on :func:`flat_chunks` of nodes
-        (the full ``(size, d)`` node array is never built)."""
+        """``function(x)`` at every node, ``(size,)``, evaluated
+        on :func:`~gridlbc.grid.flat_chunks` of nodes (the full ``(size, d)`` node array is never
+        built)."""
         out = np.empty(self.size)
         for flat in flat_chunks(self.size):
             out[flat[0] : flat[-1] + 1] = function(self.node_coordinates(flat))

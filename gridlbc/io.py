@@ -1,4 +1,4 @@
-"""Saving and loading solutions: :func:`save` and :func:`load` (exact round trip).
+"""Saving and loading solutions: :func:`~gridlbc.save` and :func:`load` (exact round trip).
 
 File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
 
@@ -68,7 +68,7 @@ from .version import __version__
 
 FORMAT = "gridlbc-solution"
 FORMAT_VERSION = 2
-"""The version :func:`save` writes."""
+"""The version :func:`~gridlbc.save` writes."""
 EMBEDDED = "embedded."
 """The prefix of the embedded solve's arrays (the error estimate's, :mod:`gridlbc.accuracy`)."""
 PAIR = ("embedded_pair0.", "embedded_pair1.")
@@ -206,8 +206,8 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
     path : str or Path
         The file to write; ``.npz`` is appended if missing.
     annotations : dict, optional
-        JSON-serialisable data kept with the file (:func:`read_metadata` returns it under
-        ``"annotations"``; :func:`load` ignores it).
+        JSON-serialisable data kept with the file (:func:`~gridlbc.io.read_metadata` returns it
+        under ``"annotations"``; :func:`load` ignores it).
 
     Returns
     -------
@@ -226,7 +226,7 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
 
 
 def write(solution: Solution, path, annotations: dict | None = None) -> Path:
-    """:func:`save` without its check that :func:`load` can rebuild the system alone (for a
+    """:func:`~gridlbc.save` without its check that :func:`load` can rebuild the system alone (for a
     caller that loads with ``system=``, as :func:`gridlbc.sweep` does)."""
 
     path = Path(path)
@@ -310,7 +310,7 @@ def _record(solution: Solution, arrays: dict) -> dict:
 def _warn_unrebuildable(system) -> None:
     """Warn when ``type(system)(**system.parameters())``, what :func:`load` calls, fails or builds
     a system of other state (:func:`state_digest`): load will then need the system
-    (:func:`save`). A state that cannot be read trusts its ``parameters()``."""
+    (:func:`~gridlbc.save`). A state that cannot be read trusts its ``parameters()``."""
     cls, parameters = type(system), system.parameters()
     call = f"{cls.__qualname__}(**{parameters!r})"
     try:
@@ -331,7 +331,7 @@ def _warn_unrebuildable(system) -> None:
 
 def state_digest(system) -> str | None:
     """The SHA-256 of a system's full state (:func:`gridlbc.fingerprint.state_record`, arrays by
-    their bytes), which :func:`save` records and :func:`load` compares with the system it
+    their bytes), which :func:`~gridlbc.save` records and :func:`load` compares with the system it
     rebuilds; None where the state cannot be read."""
     arrays: dict = {}
     try:
@@ -405,25 +405,25 @@ def _read(path, arrays: bool) -> tuple[dict, dict]:
 
 
 def read_metadata(path) -> dict:
-    """The metadata of a file written by :func:`save`, without reading its arrays."""
+    """The metadata of a file written by :func:`~gridlbc.save`, without reading its arrays."""
     return _read(path, arrays=False)[0]
 
 
 def load(path, system=None) -> Solution:
-    """Read a Solution written by :func:`save`; the arrays come back bit for bit.
+    """Read a Solution written by :func:`~gridlbc.save`; the arrays come back bit for bit.
 
     Parameters
     ----------
     path : str or Path
-        A file written by :func:`save`.
+        A file written by :func:`~gridlbc.save`.
     system : ControlAffineSystem, optional
         The solution's system, where the file's record (its class and ``parameters()``) cannot
         rebuild it (a user's class without ``parameters()``, or one not importable here); it
         must be of the recorded class, and is taken as the one the solution was solved with.
 
     Where the system rebuilt (or given) is not in the state the solution was solved with (the
-    digest of its attributes that :func:`save` records), a :class:`gridlbc.GridlbcWarning` says
-    so: the values are the file's, but the policy's paths, certificates and the error estimate
+    digest of its attributes that :func:`~gridlbc.save` records), a :class:`gridlbc.GridlbcWarning`
+    says so: the values are the file's, but the policy's paths, certificates and the error estimate
     read the system.
 
     Returns

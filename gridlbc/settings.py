@@ -98,7 +98,7 @@ class SolverSettings:
 
     def reference_rows(self, n_rhs: int) -> int:
         """Rows solved besides ``n_rhs`` terminal costs: one for a fitting reference that is not
-        one of them (:func:`is_own_reference`), else none."""
+        one of them (:func:`~gridlbc.settings.is_own_reference`), else none."""
         fitted = self.reference is not None
         return 1 if fitted and not is_own_reference(self.reference, n_rhs) else 0
 

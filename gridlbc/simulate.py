@@ -215,7 +215,7 @@ def _initial_states(problem: Problem, x0, n_samples) -> np.ndarray:
 
 def step_count(horizon: float, dt) -> int:
     """Euler–Maruyama steps over ``horizon`` for a step of about ``dt`` (``None``:
-    :data:`DEFAULT_STEPS`).
+    :data:`~gridlbc.simulate.DEFAULT_STEPS`).
 
     Parameters
     ----------
@@ -247,8 +247,8 @@ def rollout_horizon(problem: Problem, max_time, dt=None) -> float:
         Given for (and only for) a problem without a horizon.
     dt : float or None
         The step asked for. A problem without a horizon needs one: ``max_time`` is only a cap,
-        so the default T / :data:`DEFAULT_STEPS` would tie the step to it (30 s gives 0.1 s
-        steps, coarse enough to swing a pendulum up by integration error alone).
+        so the default T / :data:`~gridlbc.simulate.DEFAULT_STEPS` would tie the step to it (30 s
+        gives 0.1 s steps, coarse enough to swing a pendulum up by integration error alone).
     """
     if problem.stationary:
         if max_time is None:
@@ -314,11 +314,11 @@ def simulate(
     n_samples : int
         Number of independent samples.
     dt : float, optional
-        Euler–Maruyama step, rounded down to divide T. Default T / 300 (:data:`DEFAULT_STEPS`);
-        required for a problem without a horizon (``max_time`` is only a cap).
-        The scheme's weak error is O(Δt) with a problem-dependent constant, large where the
-        dynamics are fast (the README's swing-up tables are rolled out at Δt = 0.002). Pass a
-        smaller ``dt`` when a cost must be checked to a few percent.
+        Euler–Maruyama step, rounded down to divide T. Default T / 300
+        (:data:`~gridlbc.simulate.DEFAULT_STEPS`); required for a problem without a horizon
+        (``max_time`` is only a cap). The scheme's weak error is O(Δt) with a problem-dependent
+        constant, large where the dynamics are fast (the README's swing-up tables are rolled out at
+        Δt = 0.002). Pass a smaller ``dt`` when a cost must be checked to a few percent.
     seed : int, optional
         Seed of ``np.random.default_rng``: the same seed gives the same rollouts.
     noise : bool
@@ -327,8 +327,8 @@ def simulate(
         At a closed (non-periodic) edge of the grid's box: ``"free"`` lets the state leave the box
         (the SDE on Rᵈ); ``"reflect"`` folds it back in after each step (the solver's reflecting
         state constraint, SPEC §3). None (default): as the solver, ``"reflect"`` when the grid has
-        a closed axis, ``"free"`` otherwise (:func:`resolve_boundary`). A problem without a grid
-        has no box: ``"free"`` only.
+        a closed axis, ``"free"`` otherwise (:func:`~gridlbc.simulate.resolve_boundary`). A problem
+        without a grid has no box: ``"free"`` only.
     max_time : float, optional
         For a problem without a horizon (required there): the rollouts stop at this time
         (first exit: the samples that had not exited are counted in ``n_unexited``).
@@ -503,7 +503,7 @@ def euler_maruyama(
     integrand=None,
     costs: bool = True,
 ) -> SamplePaths:
-    """Run the Euler–Maruyama loop shared by :func:`simulate` and :func:`gridlbc.certify`.
+    """Run the Euler–Maruyama loop shared by :func:`~gridlbc.simulate` and :func:`gridlbc.certify`.
 
     With an exit set a sample stops on the first step that lands in it (module docstring): its
     state, costs and Girsanov term are frozen from then on, and its control is recorded as 0.
@@ -535,7 +535,8 @@ def euler_maruyama(
     on_step : callable, optional
         ``on_step(k, x_{k+1}, u_k)``, called after each step (recording, progress).
     boundary : {"free", "reflect"}, optional
-        At closed edges of the grid's box (see :func:`simulate`; None: :func:`resolve_boundary`).
+        At closed edges of the grid's box (see :func:`~gridlbc.simulate`;
+        None: :func:`~gridlbc.simulate.resolve_boundary`).
     horizon : float, optional
         How long the paths run (:func:`rollout_horizon`; default the problem's T).
     scored : sequence of callables

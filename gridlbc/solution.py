@@ -19,8 +19,9 @@ varies by a large factor across a cell, and the central difference of z overstat
 sinh(Δ)/Δ for a rise Δ of v/λ per cell (a factor of 3 at Δ = 3, and far more beyond). The
 fitted solvers therefore store and interpolate as their fitted step does: a solution knows its
 :attr:`Solution.representation` (:mod:`gridlbc.representation`: :class:`LinearZ` above,
-:class:`RelativeZ` relative to a shared fitting reference φ, :class:`LogZ` for a solve fitted
-to its own terminal cost), and one evaluation path asks it for the interpolated fields.
+:class:`~gridlbc.representation.RelativeZ` relative to a shared fitting reference φ, :class:`LogZ`
+for a solve fitted to its own terminal cost), and one evaluation path asks it for the interpolated
+fields.
 
 A solution also knows the operator that made it (:class:`OperatorSignature`: scheme, Δt,
 fitting reference): solutions of one linear operator combine exactly (:func:`gridlbc.combine`).
@@ -89,7 +90,7 @@ class SolveDiagnostics:
         The bytes the solve was estimated to need (checked before allocating).
     fitting : str
         ``"none"``, or a fingerprint of the reference the drift was fitted to (as
-        :attr:`OperatorSignature.reference`).
+        :attr:`OperatorSignature.reference <gridlbc.solution.OperatorSignature.reference>`).
     """
 
     method: str
@@ -135,8 +136,9 @@ class OperatorSignature:
 
 
 class FieldEvaluation:
-    """Value, desirability and policy anywhere from interpolated :class:`Fields`
-    (:mod:`gridlbc.representation`): the one evaluation path that :class:`Solution` and
+    """Value, desirability and policy anywhere from
+    interpolated :class:`~gridlbc.representation.Fields` (:mod:`gridlbc.representation`): the one
+    evaluation path that :class:`Solution` and
     :class:`gridlbc.CombinedSolution` share. Subclasses provide ``problem`` and
     ``fields(x, t, gradient)``."""
 
@@ -168,7 +170,8 @@ class FieldEvaluation:
     @state_evaluation
     def desirability(self, x, t=0.0) -> np.ndarray:
         """z(x, t) = exp(−v/λ), shape ``(N,)`` (a scalar for one state ``(d,)``). May underflow to 0
-        far from the goal: use :meth:`log_desirability` or :meth:`value` for the full range."""
+        far from the goal: use :meth:`log_desirability`
+        or :meth:`~gridlbc.solution.FieldEvaluation.value` for the full range."""
         L, z, _ = self.scaled_fields(x, t, gradient=False)
         with np.errstate(under="ignore", over="ignore"):
             return z * np.exp(L)
@@ -234,8 +237,8 @@ class Solution(FieldEvaluation):
 
     @property
     def reference(self) -> RelativeZ | None:
-        """The fitting reference φ of a :class:`RelativeZ` solution (its log φ at the stored
-        times), else None."""
+        """The fitting reference φ of a :class:`~gridlbc.representation.RelativeZ` solution (its log
+        φ at the stored times), else None."""
         return self.representation if isinstance(self.representation, RelativeZ) else None
 
     @property
@@ -281,8 +284,8 @@ class Solution(FieldEvaluation):
         Returns
         -------
         ndarray (N,)
-            The estimated absolute error of :meth:`value` at each state (a scalar for one
-            state).
+            The estimated absolute error of :meth:`~gridlbc.solution.FieldEvaluation.value` at each
+            state (a scalar for one state).
         """
         if self.embedded is None:
             raise ValueError(
@@ -411,7 +414,7 @@ class StationarySolution(Solution):
     representation : LinearZ
         The slice holds z itself.
     embedded : gridlbc.accuracy.EmbeddedEstimate or None
-        The solves on the embedded grids (:meth:`error_estimate`).
+        The solves on the embedded grids (:meth:`~gridlbc.Solution.error_estimate`).
     refinement : tuple of gridlbc.accuracy.Refinement
         With ``solve(tol=...)`` of a first-exit or average-cost problem: the solves that led to this one
         (:func:`gridlbc.stationary.solve_stationary_to_tolerance`); empty otherwise.
@@ -419,14 +422,14 @@ class StationarySolution(Solution):
         The optimal cost per unit time c of an average-cost problem (its value is then the
         relative value h, min 0); None for first exit.
     average_cost_error : float or None
-        The estimate of c's error (:class:`gridlbc.accuracy.ScalarEstimate`: from c on the
+        The estimate of c's error (:class:`gridlbc.accuracy.estimate.ScalarEstimate`: from c on the
         grids h, 2h and 4h and the pair, and the state cost between the nodes under the
         stationary law); None for first exit or without the estimate.
     stationary_distribution : ndarray (N,) or None
         For average cost: the long-run share of time π_i that the solve's optimally controlled
         chain spends at each node (Σ π = 1; π ∝ e ⊙ ẽ, the right and left principal
-        eigenvectors, :func:`gridlbc.stationary.stationary_distribution`), found with the error
-        estimate (which samples the state cost under it); None otherwise.
+        eigenvectors, :func:`gridlbc.stationary.average.stationary_distribution`), found with the
+        error estimate (which samples the state cost under it); None otherwise.
     """
 
     average_cost: float | None = None

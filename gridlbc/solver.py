@@ -1,4 +1,5 @@
-"""Backward time stepping of the linear Bellman PDE: :func:`solve` and :func:`solve_many`.
+"""Backward time stepping of the linear Bellman PDE: :func:`~gridlbc.solve`
+and :func:`~gridlbc.solve_many`.
 
 From the terminal data z(·, T) = exp(−g/λ) a step operator S (a monotone linear map, see
 :mod:`gridlbc.schemes`) is applied n = T/Δt times,
@@ -96,7 +97,7 @@ def kept_steps(steps: int, store_every: int) -> list[int]:
 
 
 def planned_memory(problem: Problem, settings: SolverSettings) -> dict[str, int]:
-    """The bytes :func:`solve` of ``problem`` with ``settings`` would hold
+    """The bytes :func:`~gridlbc.solve` of ``problem`` with ``settings`` would hold
     (:func:`gridlbc.settings.memory_estimate`), its step chosen as the solve chooses it, without
     solving."""
     if problem.exit is not None and not settings.scheme.supports_exit:
@@ -106,8 +107,8 @@ def planned_memory(problem: Problem, settings: SolverSettings) -> dict[str, int]
 
 
 def planned_step(problem: Problem, settings: SolverSettings) -> tuple[float, int]:
-    """The step Δt and the number of steps n that :func:`solve` of ``problem`` with ``settings``
-    would take (:func:`time_grid`), without solving."""
+    """The step Δt and the number of steps n that :func:`~gridlbc.solve` of ``problem`` with
+    ``settings`` would take (:func:`time_grid`), without solving."""
     if problem.exit is not None and not settings.scheme.supports_exit:
         settings = _exit_settings(settings, explicit=False)
     bound = settings.scheme.step_bound(problem)
@@ -179,14 +180,14 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
         The terminal costs g_i; for a first-exit problem without a horizon, its exit costs
         (one factorisation for all: :func:`gridlbc.stationary.solve_stationary_many`).
     settings : SolverSettings or str, optional
-        A :class:`SolverSettings` or a preset's name, as for :func:`solve`.
+        A :class:`SolverSettings` or a preset's name, as for :func:`~gridlbc.solve`.
     **options
-        Settings fields overriding ``settings``, as for :func:`solve`.
+        Settings fields overriding ``settings``, as for :func:`~gridlbc.solve`.
 
     Returns
     -------
     list of Solution
-        One per cost, each exactly as :func:`solve` would return for
+        One per cost, each exactly as :func:`~gridlbc.solve` would return for
         ``problem.replace(terminal_cost=g_i)`` (``exit_cost=g_i``).
     """
     if not isinstance(problem, Problem):
@@ -383,8 +384,8 @@ def solve(
     problem : Problem
     dt : float, SolverSettings or str, optional
         Time step (default from the Courant number, see :class:`SolverSettings`). Settings or a
-        preset's name may be given here too, as the second argument of :func:`solve_many` is:
-        ``solve(problem, "fast")``.
+        preset's name may be given here too, as the second argument of :func:`~gridlbc.solve_many`
+        is: ``solve(problem, "fast")``.
     settings : SolverSettings or str, optional
         Settings or the name of a preset in :data:`gridlbc.PRESETS`.
     tol : float, optional

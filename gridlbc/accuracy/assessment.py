@@ -4,20 +4,22 @@ warning"): its embedded estimate (:mod:`gridlbc.accuracy.estimate`) read at the 
 
 The relative estimate is read at the states that matter at its 90th percentile, and S at its
 largest (a cost narrower than a cell changes v near it only, on a share of the states that may
-be far below a tenth: :func:`largest_response`). A finite horizon without an exit set is also
-judged at the better half, where its paths end up: a defect there is a share of the better half
-twice as large as of the box (the states read that lie in it, so that the paths are sampled
-once). A large estimate on too few states for the percentile warns where the grid terms and γ
-both exceed the tolerance there or at the centre of a cell around there, where an interpolated
-value is furthest from the nodes (:func:`confirmed_locally`). A solve with a horizon is also
-confirmed so at :func:`late_times`: 8 steps before T, where the local certificate certifies the
-remaining task whole, and in the middle of the last interval between stored slices, where a
-step long against the terminal cost errs most: the warning judges v(x, 0), and a controller is
-also used late in its task. Where the solve stores every k-th slice only, τ is read there too,
-at its :data:`QUANTILE` over the states that matter (:func:`interpolated_in_time`). With
-``states=``, at its largest over them, at t = 0 and those late times (or the ``times=`` given).
-A combination is judged from its components' estimates (:func:`check_combination`), an average
-cost c from its levels (:func:`check_scalar`).
+be far below a tenth: :func:`~gridlbc.accuracy.assessment.largest_response`). A finite horizon
+without an exit set is also judged at the better half, where its paths end up: a defect there is a
+share of the better half twice as large as of the box (the states read that lie in it, so that the
+paths are sampled once). A large estimate on too few states for the percentile warns where the grid
+terms and γ both exceed the tolerance there or at the centre of a cell around there, where an
+interpolated value is furthest from the nodes
+(:func:`~gridlbc.accuracy.assessment.confirmed_locally`). A solve with a horizon is also confirmed
+so at :func:`~gridlbc.accuracy.assessment.late_times`: 8 steps before T, where the local certificate
+certifies the remaining task whole, and in the middle of the last interval between stored slices,
+where a step long against the terminal cost errs most: the warning judges v(x, 0), and a controller
+is also used late in its task. Where the solve stores every k-th slice only, τ is read there too, at
+its :data:`~gridlbc.accuracy.assessment.QUANTILE` over the states that matter
+(:func:`~gridlbc.accuracy.assessment.interpolated_in_time`). With ``states=``, at its largest over
+them, at t = 0 and those late times (or the ``times=`` given). A combination is judged from its
+components' estimates (:func:`check_combination`), an average cost c from its levels
+(:func:`check_scalar`).
 """
 
 from __future__ import annotations
@@ -61,9 +63,10 @@ class Assessment:
     Attributes
     ----------
     error : float
-        The relative estimate that is compared with the tolerance: its :data:`QUANTILE` over the
-        states that matter, or its maximum over the user's states; without the user's states at
-        least the largest S over the states that matter (:func:`largest_response`).
+        The relative estimate that is compared with the tolerance:
+        its :data:`~gridlbc.accuracy.assessment.QUANTILE` over the states that matter, or its
+        maximum over the user's states; without the user's states at least the largest S over the
+        states that matter (:func:`~gridlbc.accuracy.assessment.largest_response`).
     worst_state : ndarray (d,)
         Where the relative estimate is largest.
     worst_error : float
@@ -73,25 +76,27 @@ class Assessment:
     n_states : int
         How many states were read.
     local : bool
-        Whether ``error`` is the largest S over the states that matter (:func:`largest_response`),
-        above the quantile.
+        Whether ``error`` is the largest S over the states that matter
+        (:func:`~gridlbc.accuracy.assessment.largest_response`), above the quantile.
     half : bool
         Whether ``error`` and ``share_above`` are read over the
-        :func:`~gridlbc.accuracy.matter.better_half` (a finite horizon without an exit set, where
+        :func:`~gridlbc.accuracy.better_half` (a finite horizon without an exit set, where
         the quantile there is the larger) rather than over all the states that matter.
     confirmed : bool
         Whether ``error`` is the largest estimate that the coarser solves and the solve's own
-        paths both give at a few states (:func:`confirmed_locally`), above the quantile.
+        paths both give at a few states (:func:`~gridlbc.accuracy.assessment.confirmed_locally`),
+        above the quantile.
     between : bool
         Whether ``error`` is what interpolating in time between the stored slices changes
-        (:func:`interpolated_in_time`), above the quantile at t = 0.
+        (:func:`~gridlbc.accuracy.assessment.interpolated_in_time`), above the quantile at t = 0.
     time : float
-        The time at which ``error`` was read: 0, or one of :func:`late_times` (or of the user's
-        ``times``) where the reading there found the larger error.
+        The time at which ``error`` was read: 0, or one
+        of :func:`~gridlbc.accuracy.assessment.late_times` (or of the user's ``times``) where the
+        reading there found the larger error.
     late_error : float
         At the user's states, the largest relative estimate over the times after 0 (0 where none
         was read): certificates at t = 0 cannot vouch for those
-        (:func:`gridlbc.accuracy.tolerance.solve_to_tolerance`).
+        (:func:`gridlbc.accuracy.solve_to_tolerance`).
     """
 
     error: float
@@ -109,9 +114,9 @@ class Assessment:
 
 def statistic(rel: np.ndarray, given: bool) -> float:
     """The number compared with a tolerance: the maximum over the user's states, the
-    :data:`QUANTILE` over the states that matter (+inf where it falls among states whose value
-    underflowed, whose relative estimate is +inf: interpolating between two of them is no
-    number, which no tolerance would exceed; stranger round 27)."""
+    :data:`~gridlbc.accuracy.assessment.QUANTILE` over the states that matter (+inf where it falls
+    among states whose value underflowed, whose relative estimate is +inf: interpolating between two
+    of them is no number, which no tolerance would exceed; stranger round 27)."""
     if len(rel) == 0:
         return np.inf
     if given:
@@ -123,7 +128,7 @@ def statistic(rel: np.ndarray, given: bool) -> float:
 
 def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
     """Read the embedded estimate of ``solution`` at ``states`` (default:
-    :func:`~gridlbc.accuracy.matter.states_that_matter`).
+    :func:`~gridlbc.accuracy.states_that_matter`).
 
     Parameters
     ----------
@@ -135,7 +140,8 @@ def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
         The states to judge; the statistic is then the maximum rather than the quantile, over
         ``times``.
     times : sequence of float, optional
-        With ``states``: the times at which they are judged (default: 0 and :func:`late_times`).
+        With ``states``: the times at which they are judged (default: 0
+        and :func:`~gridlbc.accuracy.assessment.late_times`).
 
     Returns
     -------
@@ -193,7 +199,7 @@ def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
 
 MIDDLES = 128
 """At most this many intervals between a solve's stored slices (evenly spaced among them, the
-last included) have τ read at their middle by :func:`assess`."""
+last included) have τ read at their middle by :func:`~gridlbc.accuracy.assess`."""
 
 
 def interval_middles(solution) -> list[float]:
@@ -215,23 +221,25 @@ def interval_middles(solution) -> list[float]:
 
 
 def _readings(solution, matter: _Matter):
-    """The states that matter read at t = 0, then (lazily: :func:`assess` stops where a reading
-    already exceeds its tolerance) at each of :func:`late_times`."""
+    """The states that matter read at t = 0, then (lazily: :func:`~gridlbc.accuracy.assess` stops
+    where a reading already exceeds its tolerance) at each
+    of :func:`~gridlbc.accuracy.assessment.late_times`."""
     yield matter
     for t in late_times(solution):
         yield matter.at(t)
 
 
 def interpolated_in_time(solution, tol: float, matter: _Matter) -> Assessment | None:
-    """:meth:`~gridlbc.accuracy.estimate.EmbeddedEstimate.between_slices` relative to max(abs(v),
-    λ), read at the states that matter at the time of ``matter`` (its :data:`QUANTILE`); None where
-    the solve stores every step or the time is a stored one.
+    """:meth:`~gridlbc.accuracy.EmbeddedEstimate.between_slices` relative to max(abs(v),
+    λ), read at the states that matter at the time of ``matter``
+    (its :data:`~gridlbc.accuracy.assessment.QUANTILE`); None where the solve stores every step or
+    the time is a stored one.
 
     Why on its own: interpolating in time between stored slices far apart errs alike at most
     states (a broad error, read at the quantile as the grid terms are), and the coarser solves,
     which store theirs more densely, measure it directly, without the sampling that the
-    confirmation needs; the middle of the last stored interval, one of :func:`late_times`, is
-    where it is largest."""
+    confirmation needs; the middle of the last stored interval, one
+    of :func:`~gridlbc.accuracy.assessment.late_times`, is where it is largest."""
     if solution.diagnostics.store_every == 1 or matter.t in solution.times:
         return None
     X = matter.states
@@ -240,10 +248,11 @@ def interpolated_in_time(solution, tol: float, matter: _Matter) -> Assessment | 
 
 
 def late_times(solution) -> list[float]:
-    """The times late in a task with a horizon at which :func:`assess` also confirms a default
-    solve (:func:`confirmed_locally`): :func:`late_time`, from which the local certificate runs
-    to the horizon, and T − Δs/2, Δs the last interval between stored slices (T − Δt/2 where
-    every step is stored); none without a horizon.
+    """The times late in a task with a horizon at which :func:`~gridlbc.accuracy.assess` also
+    confirms a default solve
+    (:func:`~gridlbc.accuracy.assessment.confirmed_locally`): :func:`late_time`, from which the
+    local certificate runs to the horizon, and T − Δs/2, Δs the last interval between stored slices
+    (T − Δt/2 where every step is stored); none without a horizon.
 
     Why the second: a step long against how fast the terminal cost makes v change errs most in
     the first steps from T, and a value read between two stored slices is interpolated in time
@@ -252,7 +261,7 @@ def late_times(solution) -> list[float]:
     before T that error has not yet reached the states, and on a 10-step solve T − 8Δt is early
     in the task. At that time the solves at 2h and 4h, with their longer steps, interpolate
     across more of the change than the solve, and the order observed from them there
-    (:meth:`~gridlbc.accuracy.estimate.EmbeddedEstimate.order_at`) says so."""
+    (:meth:`~gridlbc.accuracy.EmbeddedEstimate.order_at`) says so."""
     problem = solution.problem
     if problem.stationary:
         return []
@@ -262,9 +271,10 @@ def late_times(solution) -> list[float]:
 
 
 def _assess_given(solution, tol: float, X: np.ndarray, times=None) -> Assessment:
-    """:func:`assess` at the user's states ``X``: the largest estimate there, with the local
-    certificate, over ``times`` (default: t = 0 and :func:`late_times`, since a task with a
-    horizon is also run late, from wherever it stands), and the largest over those after 0."""
+    """:func:`~gridlbc.accuracy.assess` at the user's states ``X``: the largest estimate there, with
+    the local certificate, over ``times`` (default: t = 0
+    and :func:`~gridlbc.accuracy.assessment.late_times`, since a task with a horizon is also run
+    late, from wherever it stands), and the largest over those after 0."""
     times = (0.0, *late_times(solution)) if times is None else tuple(times)
     readings = []
     for t in times:
@@ -277,9 +287,9 @@ def _assess_given(solution, tol: float, X: np.ndarray, times=None) -> Assessment
 
 def late_time(solution) -> float:
     """T − :data:`~gridlbc.accuracy.bellman.SPAN` Δt, the time from which the local certificate
-    of :func:`confirmed_locally` runs to the horizon, where a default solve with a horizon is
-    also checked (:func:`assess`); 0 without a horizon or where the horizon is closer than that
-    (the check at t = 0 is then the same)."""
+    of :func:`~gridlbc.accuracy.assessment.confirmed_locally` runs to the horizon, where a default
+    solve with a horizon is also checked (:func:`~gridlbc.accuracy.assess`); 0 without a horizon or
+    where the horizon is closer than that (the check at t = 0 is then the same)."""
     problem = solution.problem
     if problem.stationary:
         return 0.0
@@ -287,10 +297,10 @@ def late_time(solution) -> float:
 
 
 class _Matter:
-    """The :func:`~gridlbc.accuracy.matter.states_that_matter` of a solution, and v and S there at
-    time ``t``, each read once when first asked for (:func:`assess` gives them to
-    :func:`largest_response` and to
-    :func:`confirmed_locally`)."""
+    """The :func:`~gridlbc.accuracy.states_that_matter` of a solution, and v and S there at
+    time ``t``, each read once when first asked for (:func:`~gridlbc.accuracy.assess` gives them to
+    :func:`~gridlbc.accuracy.assessment.largest_response` and to
+    :func:`~gridlbc.accuracy.assessment.confirmed_locally`)."""
 
     def __init__(self, solution, t: float = 0.0):
         self.solution, self.t = solution, t
@@ -303,13 +313,13 @@ class _Matter:
 
     @cached_property
     def states(self) -> np.ndarray:
-        """:func:`~gridlbc.accuracy.matter.states_that_matter`."""
+        """:func:`~gridlbc.accuracy.states_that_matter`."""
         return states_that_matter(self.solution)
 
     @cached_property
     def mask(self) -> np.ndarray:
         """The flat mask of the nodes among which :attr:`states` are chosen
-        (:func:`~gridlbc.accuracy.matter.states_that_matter`)."""
+        (:func:`~gridlbc.accuracy.states_that_matter`)."""
         return matter_mask(self.solution)
 
     @cached_property
@@ -320,16 +330,16 @@ class _Matter:
     @cached_property
     def response(self) -> np.ndarray:
         """S at :attr:`states`, time t
-        (:meth:`~gridlbc.accuracy.estimate.EmbeddedEstimate.excess_response`)."""
+        (:meth:`~gridlbc.accuracy.EmbeddedEstimate.excess_response`)."""
         return self.solution.embedded.excess_response(self.states, self.t)
 
 
 CONFIRMED = 64
 """At most this many states, those with the largest grid terms above the tolerance among the
 states that matter and the centres of the cells around them, are checked along the solve's own
-paths by :func:`confirmed_locally`, each from :data:`~gridlbc.accuracy.paths.PATH_SAMPLES` paths
-(as many paths in all as the quantile's states take: the largest of a few noisy means would
-otherwise read high)."""
+paths by :func:`~gridlbc.accuracy.assessment.confirmed_locally`, each
+from :data:`~gridlbc.accuracy.paths.PATH_SAMPLES` paths (as many paths in all as the quantile's
+states take: the largest of a few noisy means would otherwise read high)."""
 
 
 def confirmed_locally(
@@ -337,10 +347,10 @@ def confirmed_locally(
 ) -> tuple[float, np.ndarray]:
     """The largest relative error that two independent parts of the estimate both give at one
     of the states that matter or between them, at the time of ``matter`` (0 by default), and
-    where: min(grid terms, max(abs(γ), :func:`~gridlbc.accuracy.bellman.local_error`)) relative
+    where: min(grid terms, max(abs(γ), :func:`~gridlbc.accuracy.local_error`)) relative
     to max(abs(v), λ), over the :data:`CONFIRMED` candidates whose grid terms (the embedded and
     pair differences, the floor and S,
-    :meth:`~gridlbc.accuracy.estimate.EmbeddedEstimate.grid_terms`) are the largest above ``tol``; 0
+    :meth:`~gridlbc.accuracy.EmbeddedEstimate.grid_terms`) are the largest above ``tol``; 0
     where none is above it or γ is not sampled. The candidates are the
     :data:`CONFIRMED` states that matter with the largest grid terms and the centres of the cells
     around them that lie among the states that matter (:func:`cell_centres`).
@@ -355,7 +365,7 @@ def confirmed_locally(
     them is also interpolated, and where v bends within a cell (a kink of g between the nodes
     under a short horizon) its error is largest at the cell's centre, where no node sees it.
     ``matter``: the states that matter and what is read there, where the caller has them
-    (:func:`assess`)."""
+    (:func:`~gridlbc.accuracy.assess`)."""
     problem = solution.problem
     none = (0.0, np.full(solution.grid.ndim, np.nan))
     if not sampled(problem):
@@ -388,7 +398,8 @@ def confirmed_locally(
 
 def candidates(rel: np.ndarray, tol: float) -> np.ndarray:
     """The indices of the :data:`CONFIRMED` largest entries of ``rel`` above ``tol``, largest
-    first: the states a reading checks along the paths (:func:`confirmed_locally`,
+    first: the states a reading checks along the paths
+    (:func:`~gridlbc.accuracy.assessment.confirmed_locally`,
     :func:`check_combination`)."""
     above = np.flatnonzero(rel > tol)
     return above[np.argsort(rel[above])[::-1][:CONFIRMED]]
@@ -397,9 +408,10 @@ def candidates(rel: np.ndarray, tol: float) -> np.ndarray:
 def path_check(solution, X: np.ndarray, t: float) -> np.ndarray:
     """What the solve's own paths say of its error at the candidates ``X`` (N, d), time ``t``,
     signed as v − v_h: the larger of abs(γ) (with the sign of −γ: γ > 0 where the grid charges
-    more than the costs) and :func:`~gridlbc.accuracy.bellman.local_error` (with the sign of
+    more than the costs) and :func:`~gridlbc.accuracy.local_error` (with the sign of
     v_ℓ − v_h), the local certificate discounted as the largest of N is
-    (:func:`~gridlbc.accuracy.bellman.largest_discount`) (:func:`confirmed_locally` reads its
+    (:func:`~gridlbc.accuracy.largest_discount`)
+    (:func:`~gridlbc.accuracy.assessment.confirmed_locally` reads its
     size, :func:`check_combination` carries it through the blend)."""
     gamma = cost_gap(solution, X, t, PATH_SAMPLES)
     gap, se = bellman_gap(solution, X, t)
@@ -438,16 +450,16 @@ def _read_at(X: np.ndarray, rel: np.ndarray, tol: float, given: bool) -> Assessm
 
 
 def largest_response(solution, matter: _Matter | None = None) -> tuple[float, np.ndarray]:
-    """The largest relative S (:meth:`~gridlbc.accuracy.estimate.EmbeddedEstimate.excess_response`,
+    """The largest relative S (:meth:`~gridlbc.accuracy.EmbeddedEstimate.excess_response`,
     relative as
     :func:`~gridlbc.accuracy.estimate.relative_error`) over the
-    :func:`~gridlbc.accuracy.matter.states_that_matter`, and where it is.
+    :func:`~gridlbc.accuracy.states_that_matter`, and where it is.
 
     A cost feature narrower than a cell changes the value near it only, on a share of the states
-    that matter that may be far below 1 − :data:`QUANTILE`: S is judged by its largest value. It
-    is a solve's response to the measured excess, with no sampling noise for a quantile to
-    discount. ``matter``: the states that matter and what is read there, where the caller has
-    them (:func:`assess`)."""
+    that matter that may be far below 1 − :data:`~gridlbc.accuracy.assessment.QUANTILE`: S is judged
+    by its largest value. It is a solve's response to the measured excess, with no sampling noise
+    for a quantile to discount. ``matter``: the states that matter and what is read there, where the
+    caller has them (:func:`~gridlbc.accuracy.assess`)."""
     matter = _Matter(solution) if matter is None else matter
     X = matter.states
     if len(X) == 0:
@@ -464,14 +476,14 @@ and reports it, :func:`gridlbc.accuracy.tolerance.finish`)."""
 
 def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) when the embedded estimate of a default solve
-    exceeds ``tol`` at the states that matter (:func:`assess`).
+    exceeds ``tol`` at the states that matter (:func:`~gridlbc.accuracy.assess`).
 
     Parameters
     ----------
     solution : Solution
         The solution to judge.
     tol : float
-        The relative tolerance (default :data:`DEFAULT_TOLERANCE`).
+        The relative tolerance (default :data:`~gridlbc.accuracy.DEFAULT_TOLERANCE`).
     """
     a = assess(solution, tol)
     if a is None or a.error <= tol:
@@ -543,10 +555,12 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) when the estimate that a combination of grid
     solutions carries, Σ_i abs(α_i) ê_i (:func:`gridlbc.combine.combined_error`), exceeds
     ``tol`` relative to the combination's value at the :data:`~gridlbc.accuracy.matter.ASSESSED`
-    states that matter of its first component: at t = 0 at their :data:`QUANTILE`, with each ê_i its
-    grid terms (:meth:`~gridlbc.accuracy.estimate.EmbeddedEstimate.grid_terms`: no paths), and at
-    the late times where its components are judged (:func:`late_times`) where the components' own
-    paths confirm it, as a solve's late readings are confirmed (:func:`confirmed_locally`): at the
+    states that matter of its first component: at t = 0 at
+    their :data:`~gridlbc.accuracy.assessment.QUANTILE`, with each ê_i its grid terms
+    (:meth:`~gridlbc.accuracy.EmbeddedEstimate.grid_terms`: no paths), and at the late times where
+    its components are judged (:func:`~gridlbc.accuracy.assessment.late_times`) where the
+    components' own paths confirm it, as a solve's late readings are confirmed
+    (:func:`~gridlbc.accuracy.assessment.confirmed_locally`): at the
     :data:`CONFIRMED` states where the carried grid terms are largest above ``tol``,
 
         min( Σ_i abs(α_i) ê_i, abs(δv) ) / max(abs(v), λ),
@@ -636,7 +650,7 @@ def check_scalar(estimate: ScalarEstimate, name: str, tol: float = DEFAULT_TOLER
     name : str
         What the number is, for the message (e.g. ``"the average cost c"``).
     tol : float
-        The relative tolerance (default :data:`DEFAULT_TOLERANCE`).
+        The relative tolerance (default :data:`~gridlbc.accuracy.DEFAULT_TOLERANCE`).
     """
     if estimate.relative <= tol:
         return

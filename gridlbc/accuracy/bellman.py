@@ -7,7 +7,8 @@ time σ ≤ T (the first of τ, a short time τ_ℓ and the horizon),
     z(x, t) = E_0[ exp(−∫_t^σ q ds / λ) z(X_σ, σ) ]
 
 under the passive dynamics (paper §3.1), so v = −λ log z is, at every state, what the SDE makes
-of v a little later. :func:`bellman_gap` measures how far the solve's v_h is from that:
+of v a little later. :func:`~gridlbc.accuracy.bellman_gap` measures how far the solve's v_h is from
+that:
 
     v_ℓ(x) = −λ log E_u[ exp(−S/λ) ],   S = ∫_t^σ (q + ½uᵀRu) ds + ∫_t^σ uᵀR dε + v_h(X_σ, σ),
 
@@ -19,18 +20,18 @@ v is high between the nodes). Where v_h is the optimal value, v_ℓ = v_h up to 
 and the Euler–Maruyama chain's weak error. Where v_h is wrong at x but right where the paths go
 within τ_ℓ, v_h(x) − v_ℓ(x) is that error.
 
-The paths run over τ_ℓ = :data:`SPAN` of the solve's steps (of :func:`gridlbc.accuracy.path_step`
-without a horizon), at a quarter and an eighth of that step, the coarser chain driven by the
-finer one's Brownian motion (:class:`_Paired`), extrapolated to a vanishing step
-(:func:`bellman_gap`): long enough to leave the cells next to a feature
-the grid does not resolve (a value that changes by many λ within one cell of an invariant edge,
-where the grid interpolates across the change), short enough that the errors the solve carries
+The paths run over τ_ℓ = :data:`~gridlbc.accuracy.bellman.SPAN` of the solve's steps
+(of :func:`gridlbc.accuracy.path_step` without a horizon), at a quarter and an eighth of that step,
+the coarser chain driven by the finer one's Brownian motion (:class:`_Paired`), extrapolated to a
+vanishing step (:func:`~gridlbc.accuracy.bellman_gap`): long enough to leave the cells next to a
+feature the grid does not resolve (a value that changes by many λ within one cell of an invariant
+edge, where the grid interpolates across the change), short enough that the errors the solve carries
 along its characteristics are mostly shared by x and by where its paths go (those are the
 embedded solves' to measure). It is therefore a check of the solve's *local* consistency: an
 error that v_h makes alike at x and a stretch downstream is not seen. Run on to the horizon
 (``whole``), where v_h is g, exact, the same paths certify the whole remaining task
-(:func:`local_error`): nothing of the solve is read at their end, and an error shared all the
-way to T is seen, at the price of weights whose spread grows with the span.
+(:func:`~gridlbc.accuracy.local_error`): nothing of the solve is read at their end, and an error
+shared all the way to T is seen, at the price of weights whose spread grows with the span.
 """
 
 from __future__ import annotations
@@ -48,36 +49,39 @@ SPAN = 8
 """τ_ℓ, in the solve's steps (module docstring)."""
 
 SUBSTEPS = 4
-"""Path steps per solve step of the coarser of the two chains that :func:`bellman_gap`
-extrapolates from (the finer takes twice as many)."""
+"""Path steps per solve step of the coarser of the two chains
+that :func:`~gridlbc.accuracy.bellman_gap` extrapolates from (the finer takes twice as many)."""
 
 LOCAL_SAMPLES = 32
-"""Paths per state of :func:`bellman_gap` (fewer where :data:`LOCAL_WORK` asks)."""
+"""Paths per state of :func:`~gridlbc.accuracy.bellman_gap` (fewer
+where :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` asks)."""
 
 WHOLE_SAMPLES = 512
-"""Paths per state of the whole remaining task's certificate (:func:`local_error`), fewer where
-:data:`LOCAL_WORK` asks: its paths run to the horizon under a proposal that may steer where the
-solve is wrong, and their weights are heavy-tailed (32 paths read −6.5 and −1.4 where the error
-is −2.5)."""
+"""Paths per state of the whole remaining task's certificate
+(:func:`~gridlbc.accuracy.local_error`), fewer where
+:data:`~gridlbc.accuracy.bellman.LOCAL_WORK` asks: its paths run to the horizon under a proposal
+that may steer where the solve is wrong, and their weights are heavy-tailed (32 paths read −6.5 and
+−1.4 where the error is −2.5)."""
 
 LOCAL_WORK = 1 << 22
-"""At most this many path-steps per call of :func:`bellman_gap` (but at least 8 paths per
-state): a map of the estimate over many states is checked more thinly, and its noise, which
-:func:`local_error` discounts, is larger."""
+"""At most this many path-steps per call of :func:`~gridlbc.accuracy.bellman_gap` (but at least 8
+paths per state): a map of the estimate over many states is checked more thinly, and its noise,
+which
+:func:`~gridlbc.accuracy.local_error` discounts, is larger."""
 
 BELLMAN_SE = 2.0
 """The local certificate's difference from the solve counts beyond this many of its standard
-errors (:func:`local_error`)."""
+errors (:func:`~gridlbc.accuracy.local_error`)."""
 
 LOCAL_ESS = 4.0
 """Below this effective sample size (Σw)²/Σw² of either chain's weights at a state, the local
 certificate's v_ℓ is held to at most what the uncontrolled process pays over the same span
-(:func:`bellman_gap`), E_0[∫ q ds + v_h(X_σ)] plus :data:`BELLMAN_SE` of its standard errors,
-since the optimum over the span is at most the cost of any policy, doing nothing included. There
-a few paths carry the whole weight, and −λ log of the weights' mean, biased high as the
-logarithm of a mean is, can lie far above the true v_ℓ where the solve's policy is absurd
-(stranger round 25: a first exit at λ = 0.05 whose policy pushes at 2·10⁴ read v_ℓ 8090 above
-v_h = 1.6, one path of 32 carrying the weight)."""
+(:func:`~gridlbc.accuracy.bellman_gap`), E_0[∫ q ds + v_h(X_σ)]
+plus :data:`~gridlbc.accuracy.bellman.BELLMAN_SE` of its standard errors, since the optimum over the
+span is at most the cost of any policy, doing nothing included. There a few paths carry the whole
+weight, and −λ log of the weights' mean, biased high as the logarithm of a mean is, can lie far
+above the true v_ℓ where the solve's policy is absurd (stranger round 25: a first exit at λ = 0.05
+whose policy pushes at 2·10⁴ read v_ℓ 8090 above v_h = 1.6, one path of 32 carrying the weight)."""
 
 
 def bellman_gap(
@@ -85,13 +89,13 @@ def bellman_gap(
 ) -> tuple[np.ndarray, np.ndarray]:
     """v_h(x, t) − v_ℓ(x, t) at states ``x`` (N, d), time ``t``, and its standard error (the
     delta method over the two chains' paired paths, :func:`_extrapolated`), from ``samples`` paths per state (fewer where
-    :data:`LOCAL_WORK` asks; module docstring); NaN where v_h or the policy is not finite (v_ℓ
-    at most the uncontrolled process's cost where fewer than :data:`LOCAL_ESS` paths carry the
-    weight). v_ℓ
-    is extrapolated in the chain's step δ, 2 v_ℓ(δ/2) − v_ℓ(δ) with δ = Δt/:data:`SUBSTEPS`,
-    which removes the Euler–Maruyama chain's first-order weak error (a solve's step may be long
-    against its dynamics: a spring of rate 2 solved at Δt = 0.2 read a 17 % error at δ = Δt/4
-    where the solve is within 1.3 %).
+    :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` asks; module docstring); NaN where v_h or the
+    policy is not finite (v_ℓ at most the uncontrolled process's cost where fewer
+    than :data:`~gridlbc.accuracy.bellman.LOCAL_ESS` paths carry the weight). v_ℓ
+    is extrapolated in the chain's step δ, 2 v_ℓ(δ/2) − v_ℓ(δ) with δ =
+    Δt/:data:`~gridlbc.accuracy.bellman.SUBSTEPS`, which removes the Euler–Maruyama chain's
+    first-order weak error (a solve's step may be long against its dynamics: a spring of rate 2
+    solved at Δt = 0.2 read a 17 % error at δ = Δt/4 where the solve is within 1.3 %).
 
     Parameters
     ----------
@@ -105,7 +109,7 @@ def bellman_gap(
         Paths per state.
     whole : bool
         Whether the paths run to the horizon (the remaining task certified whole) rather than
-        over :data:`SPAN` of the solve's steps; ignored without a horizon.
+        over :data:`~gridlbc.accuracy.bellman.SPAN` of the solve's steps; ignored without a horizon.
 
     Returns
     -------
@@ -144,14 +148,15 @@ def local_error(
     whole: bool = False,
     discount: float = BELLMAN_SE,
 ) -> np.ndarray:
-    """abs(:func:`bellman_gap`) less ``discount`` of its standard errors, at least 0, at states
-    ``x`` (N, d), time ``t``: what the local certificate says of the solve's error beyond its
-    sampling noise (:func:`largest_discount` where the largest over many states is read); NaN
-    where it could not be read. With ``whole``, also the certificate of
+    """abs(:func:`~gridlbc.accuracy.bellman_gap`) less ``discount`` of its standard errors, at least
+    0, at states ``x`` (N, d), time ``t``: what the local certificate says of the solve's error
+    beyond its sampling noise (:func:`largest_discount` where the largest over many states is read);
+    NaN where it could not be read. With ``whole``, also the certificate of
     the whole remaining task (the paths run to the horizon) where that is longer than
-    :data:`SPAN` of the solve's steps, from as many paths per state as :data:`LOCAL_WORK`
-    affords up to :data:`WHOLE_SAMPLES` (none where it affords fewer than ``samples``), and the
-    larger of the two."""
+    :data:`~gridlbc.accuracy.bellman.SPAN` of the solve's steps, from as many paths per state
+    as :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` affords up
+    to :data:`~gridlbc.accuracy.bellman.WHOLE_SAMPLES` (none where it affords fewer than
+    ``samples``), and the larger of the two."""
     gap, se = bellman_gap(solution, x, t, samples)
     out = beyond_noise(gap, se, discount)
     x = np.atleast_2d(np.asarray(x, dtype=float))
@@ -168,7 +173,8 @@ def local_error(
 
 def beyond_noise(gap: np.ndarray, se: np.ndarray, discount: float) -> np.ndarray:
     """abs(``gap``) less ``discount`` of its standard errors ``se``, at least 0 (0 where the gap
-    is NaN): what a local certificate says beyond its sampling noise (:func:`local_error`,
+    is NaN): what a local certificate says beyond its sampling noise
+    (:func:`~gridlbc.accuracy.local_error`,
     :func:`gridlbc.accuracy.assessment.path_check`)."""
     return np.fmax(np.abs(gap) - discount * se, 0.0)
 
@@ -176,18 +182,19 @@ def beyond_noise(gap: np.ndarray, se: np.ndarray, discount: float) -> np.ndarray
 def largest_discount(count: int) -> float:
     """The standard errors by which the largest of ``count`` certificates is discounted: the
     level z that the largest of ``count`` independent standard normals exceeds with the
-    probability that one exceeds :data:`BELLMAN_SE` (about 2.3 %), z = Φ⁻¹(1 − p/count) (3.6 for
-    128). Read at many states, a difference of two standard errors is found somewhere by
-    chance; the warning's confirmation reads the largest over its candidates."""
+    probability that one exceeds :data:`~gridlbc.accuracy.bellman.BELLMAN_SE` (about 2.3 %), z =
+    Φ⁻¹(1 − p/count) (3.6 for 128). Read at many states, a difference of two standard errors is
+    found somewhere by chance; the warning's confirmation reads the largest over its candidates."""
     tail = float(norm.sf(BELLMAN_SE))
     return float(norm.isf(tail / max(count, 1)))
 
 
 def _span(solution, t: float, whole: bool) -> tuple[float, int]:
-    """τ_ℓ from time ``t`` and the solve steps it spans: :data:`SPAN` of them, or the time to
-    the horizon where that is shorter or ``whole`` asks for it (at least :data:`SPAN` steps
-    still: a shorter stretch is taken in as many chain steps); without a horizon :data:`SPAN`
-    steps of :func:`~gridlbc.accuracy.paths.path_step`."""
+    """τ_ℓ from time ``t`` and the solve steps it spans: :data:`~gridlbc.accuracy.bellman.SPAN` of
+    them, or the time to the horizon where that is shorter or ``whole`` asks for it (at
+    least :data:`~gridlbc.accuracy.bellman.SPAN` steps still: a shorter stretch is taken in as many
+    chain steps); without a horizon :data:`~gridlbc.accuracy.bellman.SPAN` steps
+    of :func:`~gridlbc.accuracy.paths.path_step`."""
     problem = solution.problem
     if problem.stationary:
         return SPAN * path_step(solution), SPAN
@@ -294,9 +301,9 @@ def quadratic_read(solution, x: np.ndarray, t: float) -> np.ndarray:
         v(x) ≈ Σ_i w_i v_h(x_i) − ½ Σ_i w_i (x_i − x)ᵀ H (x_i − x),
 
     x_i and w_i the vertices and weights of x's simplex (:func:`gridlbc.interpolate.barycentric`).
-    The paths of :func:`bellman_gap` end between the nodes, where the plain interpolant of a
-    convex v is high by up to h²∂²v/8: read so, a well's bottom would make the local
-    certificate read an error the solve does not have."""
+    The paths of :func:`~gridlbc.accuracy.bellman_gap` end between the nodes, where the plain
+    interpolant of a convex v is high by up to h²∂²v/8: read so, a well's bottom would make the
+    local certificate read an error the solve does not have."""
     grid = solution.grid
     d, h = grid.ndim, grid.spacing
     with np.errstate(invalid="ignore"), warnings.catch_warnings():

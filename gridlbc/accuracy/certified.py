@@ -15,38 +15,42 @@ from .estimate import relative_error
 from .matter import judged_states
 
 CERTIFIED_STATES = 16
-""":func:`solve_to_tolerance` certifies the user's states (:func:`certified_error`) where the
-embedded levels do not converge, if there are at most this many."""
+""":func:`solve_to_tolerance` certifies the user's states
+(:func:`~gridlbc.accuracy.certified_error`) where the embedded levels do not converge, if there are
+at most this many."""
 
 
 CERTIFICATE_SAMPLES = 1000
-"""Samples per state of the certificates that :func:`certified_error` draws first (four times as
-many where the first ones cannot decide)."""
+"""Samples per state of the certificates that :func:`~gridlbc.accuracy.certified_error` draws first
+(four times as many where the first ones cannot decide)."""
 
 
 CERTIFICATE_LEVEL = 0.95
-"""The confidence level of each state's certified interval (:func:`certified_error`)."""
+"""The confidence level of each state's certified interval
+(:func:`~gridlbc.accuracy.certified_error`)."""
 
 
 CERTIFICATE_STEPS = 300
-"""The certificates' first Euler–Maruyama step is T / this (:func:`certified_error`)."""
+"""The certificates' first Euler–Maruyama step is T / this
+(:func:`~gridlbc.accuracy.certified_error`)."""
 
 
 def certificate_work(n_states: int) -> int:
     """The sample-steps of the first certificates at ``n_states`` states: samples × (the steps at
-    Δt_c and at 2Δt_c) × states (:func:`certified_error`)."""
+    Δt_c and at 2Δt_c) × states (:func:`~gridlbc.accuracy.certified_error`)."""
     return CERTIFICATE_SAMPLES * (CERTIFICATE_STEPS + CERTIFICATE_STEPS // 2) * n_states
 
 
 def certifiable(solution, states) -> bool:
-    """Whether :func:`solve_to_tolerance` certifies the user's ``states`` (:func:`certified_error`)
-    after a round whose estimate missed: where the embedded levels do not converge at first order
-    (the estimate is then rough in either direction: far above the error on 4-D grids of a few
-    dozen nodes per axis), the user gave at most :data:`CERTIFIED_STATES` states, and the round
-    cost at least as much as the certificates would: its node-steps (nodes × steps) against their
-    sample-steps (:func:`certificate_work`), each an interpolation or a stencil of about the same
-    cost. Where a round is cheaper, the next one is the cheaper way to learn more (on a 32² grid
-    the certificates took a hundred times as long as the round)."""
+    """Whether :func:`solve_to_tolerance` certifies the user's ``states``
+    (:func:`~gridlbc.accuracy.certified_error`) after a round whose estimate missed: where the
+    embedded levels do not converge at first order (the estimate is then rough in either direction:
+    far above the error on 4-D grids of a few dozen nodes per axis), the user gave at
+    most :data:`CERTIFIED_STATES` states, and the round cost at least as much as the certificates
+    would: its node-steps (nodes × steps) against their sample-steps
+    (:func:`~gridlbc.accuracy.certified.certificate_work`), each an interpolation or a stencil of
+    about the same cost. Where a round is cheaper, the next one is the cheaper way to learn more (on
+    a 32² grid the certificates took a hundred times as long as the round)."""
     embedded = solution.embedded
     if states is None or embedded is None or embedded.converging:
         return False

@@ -39,10 +39,10 @@ def embed(
     base: bool = False,
 ) -> Embedding:
     """Attach to each of ``solutions`` (one per terminal or exit cost of ``costs``) its
-    embedded estimate (:func:`~gridlbc.accuracy.attach_estimates`) and warn where it exceeds
-    the default tolerance (:func:`~gridlbc.accuracy.check_accuracy`), where none could be made
-    (a grid too coarse to embed, or a problem that cannot be posed on the embedded grid: the
-    grid resolves it too barely for an estimate), or where the exit set has a part that no
+    embedded estimate (:func:`~gridlbc.accuracy.estimate.attach_estimates`) and warn where it
+    exceeds the default tolerance (:func:`~gridlbc.accuracy.assessment.check_accuracy`), where none
+    could be made (a grid too coarse to embed, or a problem that cannot be posed on the embedded
+    grid: the grid resolves it too barely for an estimate), or where the exit set has a part that no
     node holds (:func:`~gridlbc.accuracy.check_exit`):
 
     1. the solves on the grids with every other node, 2h and 4h

@@ -20,25 +20,25 @@ evaluated at any states by the same interpolation as the values, with
 
 - q = p clipped to [1, 2] (the library's schemes are monotone, hence first order in general,
   and second order at best; read at t > 0, p is observed at that time,
-  :meth:`EmbeddedEstimate.order_at`) where the two solves differ by at most :data:`ASYMPTOTIC`
-  relative to the value, and q = 1 where they differ by more: a coarse solve that far from the fine
-  one is outside the range where Richardson's model holds, and an order observed from it says more
-  about the coarse grids than about this one (dividing by 3 there understated the error of a
-  25⁴ acrobot threefold);
+  :meth:`EmbeddedEstimate.order_at <gridlbc.accuracy.EmbeddedEstimate.order_at>`) where the two
+  solves differ by at most :data:`~gridlbc.accuracy.estimate.ASYMPTOTIC` relative to the value, and
+  q = 1 where they differ by more: a coarse solve that far from the fine one is outside the range
+  where Richardson's model holds, and an order observed from it says more about the coarse grids
+  than about this one (dividing by 3 there understated the error of a 25⁴ acrobot threefold);
 - the floor r, the median over the calibration states
-  (:func:`~gridlbc.accuracy.matter.calibration_states`) of the first term relative to the value:
+  (:func:`~gridlbc.accuracy.calibration_states`) of the first term relative to the value:
   errors accumulate with the cost along the characteristics, so where the two solves happen to agree
   (their difference changes sign) the error is not smaller, relative to v, than the typical one
-  (:func:`embedded_estimate`).
+  (:func:`~gridlbc.accuracy.embedded_estimate`).
 
 The estimate is also at least abs(v_c₁ − v_c₂), undivided: the difference between the solves
 (step 2Δt) on a pair of grids whose cell counts add up to the grid's
-(:func:`~gridlbc.accuracy.grids.phase_pair`). The embedded grid misses a narrow feature midway
+(:func:`~gridlbc.accuracy.phase_pair`). The embedded grid misses a narrow feature midway
 between two nodes by as much as the grid does, and the pair's difference is what sees that error; it
 is how far a coarse solve moves with where its nodes fall, not a difference between h and 2h, so it
 is not divided by 2^q − 1. The pair costs one or two more coarse solves (one where every axis has an
 odd cell count: its first grid is then the embedded one), and is solved only where the problem may
-have a feature narrower than a cell (:func:`~gridlbc.accuracy.flow.reads_pair`: costs with an excess
+have a feature narrower than a cell (:func:`~gridlbc.accuracy.reads_pair`: costs with an excess
 between the nodes, an exit set, a drift or a noise whose interpolation error does not converge at
 first order on the grids the estimate reads); with smooth costs and coefficients its difference is
 of the order of the embedded one.
@@ -47,7 +47,7 @@ The estimate is also at least abs(γ(x, t)), the cost that the grid's interpolan
 along the solve's own paths (:mod:`gridlbc.accuracy.paths`): it sees a cost narrower than a cell
 wherever the nodes fall, also where the pair's two offsets are equal and every coarser grid
 misses the feature alike (next to the ends of an axis, and its centre where its cell count is
-even: :func:`~gridlbc.accuracy.grids.phase_pair`).
+even: :func:`~gridlbc.accuracy.phase_pair`).
 
 And it is at least S(x, t) = abs(v_2h[g + δg, q + δq] − v_2h[g, q]), what the costs' excess
 between the nodes (δg, δq: the costs at points between the nodes against their reconstruction
@@ -66,17 +66,17 @@ travel sends the midpoint foot across the switch on every grid alike.
 Where the solve stores only every k-th step's slice (``store_every``), it is also at least
 τ(x, t), what interpolating v linearly in time between the solve's stored slices changes on the
 embedded solve, which stores its own at least twice as densely
-(:meth:`EmbeddedEstimate.between_slices`).
+(:meth:`EmbeddedEstimate.between_slices <gridlbc.accuracy.EmbeddedEstimate.between_slices>`).
 
-At the states a user asks about (:meth:`EmbeddedEstimate.error`, not at the states a default solve
-is judged at, where it would cost several times γ's paths) it is also at least the local
-certificate's abs(v_h − v_ℓ) less two of its standard errors (:mod:`gridlbc.accuracy.bellman`):
-v_h against what the SDE makes of it a few steps later. It sees a value steeper than a cell
-where the costs are smooth (next to an invariant edge), which the coarser grids interpolate
-alike and the cost gap does not see. Beside it, where its paths are affordable, the certificate
-of the whole remaining task (the paths run to the horizon, where v_h is g, exact): an error that
-x shares with every state its paths reach before T (an exit across an axis without noise, late
-in a task) is seen only so.
+At the states a user asks about (:meth:`EmbeddedEstimate.error
+<gridlbc.accuracy.EmbeddedEstimate.error>`, not at the states a default solve is judged at, where it
+would cost several times γ's paths) it is also at least the local certificate's abs(v_h − v_ℓ) less
+two of its standard errors (:mod:`gridlbc.accuracy.bellman`): v_h against what the SDE makes of it a
+few steps later. It sees a value steeper than a cell where the costs are smooth (next to an
+invariant edge), which the coarser grids interpolate alike and the cost gap does not see. Beside it,
+where its paths are affordable, the certificate of the whole remaining task (the paths run to the
+horizon, where v_h is g, exact): an error that x shares with every state its paths reach before T
+(an exit across an axis without noise, late in a task) is seen only so.
 
 The estimate never changes the solution it checks. It sees what refining h and Δt would change:
 time steps too long for a fast local flow, features narrower than a cell, a grid too coarse for
@@ -121,7 +121,8 @@ ASYMPTOTIC = 0.15
 
 ORDER_SAMPLE = 2_000
 """At most this many of the calibration states give the order observed at a time t > 0
-(:meth:`EmbeddedEstimate.order_at`): a ratio of two sums, read at each time asked for."""
+(:meth:`EmbeddedEstimate.order_at <gridlbc.accuracy.EmbeddedEstimate.order_at>`): a ratio of two
+sums, read at each time asked for."""
 
 
 def relative_error(estimate: np.ndarray, value: np.ndarray, temperature: float) -> np.ndarray:
@@ -149,12 +150,12 @@ class EmbeddedEstimate:
         coarse to say how accurate this grid is, and the estimate is rough in either direction.
     order : float
         q, the observed order clipped to [1, 2] (1 without a third level), used where the two
-        solves differ by at most :data:`ASYMPTOTIC`.
+        solves differ by at most :data:`~gridlbc.accuracy.estimate.ASYMPTOTIC`.
     floor : float
         The least relative error reported (the median over the
-        :func:`~gridlbc.accuracy.matter.calibration_states`).
+        :func:`~gridlbc.accuracy.calibration_states`).
     pair : tuple of two Solution, or None
-        The same problem solved on the grids of :func:`~gridlbc.accuracy.grids.phase_pair` (step
+        The same problem solved on the grids of :func:`~gridlbc.accuracy.phase_pair` (step
         2Δt); None where the grid is too coarse for them.
     excess : Response or None
         What the costs' sub-cell excess changes in the embedded solve
@@ -176,7 +177,8 @@ class EmbeddedEstimate:
     def order_at(self, solution: Solution, t: float) -> float:
         """q at time ``t``: :attr:`order` at t = 0 (and without a horizon or a 4h solve), and
         later in the task the order observed there from the three solves, over
-        :data:`ORDER_SAMPLE` of the :func:`~gridlbc.accuracy.matter.calibration_states`, clipped as
+        :data:`~gridlbc.accuracy.estimate.ORDER_SAMPLE` of
+        the :func:`~gridlbc.accuracy.calibration_states`, clipped as
         :attr:`order` is.
 
         Why: which error dominates changes along a task. At t = 0 a grid's spacing may set it,
@@ -204,13 +206,14 @@ class EmbeddedEstimate:
     def difference(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """abs(v_2h − v_h) at states ``x`` (N, d), time ``t``: the larger of the embedded
         difference and abs(v_c₁ − v_c₂), the ``pair``'s
-        (:func:`~gridlbc.accuracy.grids.phase_pair`)."""
+        (:func:`~gridlbc.accuracy.phase_pair`)."""
         return self._read(solution, x, t)[2]
 
     def local(self, solution: Solution, x, t=0.0) -> np.ndarray:
         """abs(v_2h − v_h) / (2^q − 1) at states ``x`` (N, d), time ``t``, with q = ``order``
-        where the relative difference is at most :data:`ASYMPTOTIC` and 1 elsewhere, and at
-        least the pair's difference abs(v_c₁ − v_c₂) and :meth:`between_slices`, undivided."""
+        where the relative difference is at most :data:`~gridlbc.accuracy.estimate.ASYMPTOTIC` and 1
+        elsewhere, and at least the pair's difference abs(v_c₁ − v_c₂) and :meth:`between_slices`,
+        undivided."""
         return self._read(solution, x, t)[3]
 
     def between_slices(self, solution: Solution, x, t=0.0, embedded=None) -> np.ndarray:
@@ -218,13 +221,13 @@ class EmbeddedEstimate:
         (N, d), t = (1 − θ) t_j + θ t_j+1 between two of the solve's stored times: what
         interpolating linearly in time between the solve's slices changes, measured on the
         embedded solve, which stores its own at most half as far apart
-        (:func:`~gridlbc.accuracy.grids.embedded_store_every`); 0 at a stored time and where the
+        (:func:`~gridlbc.accuracy.embedded_store_every`); 0 at a stored time and where the
         solve stores every step (between its steps the interpolation is part of the step's
         error, which the embedded difference reads). Where the embedded solve stores no slice
         inside [t_j, t_j+1] (an interval as short as its own step, as the last one often is),
         it interpolates there as the solve does and τ is read from the solve's own slices
-        instead (:func:`own_interpolation_error`). ``embedded``: v_2h(x, t), where the caller
-        has it."""
+        instead (:func:`~gridlbc.accuracy.estimate.own_interpolation_error`). ``embedded``: v_2h(x,
+        t), where the caller has it."""
         x = np.atleast_2d(x)
         if solution.problem.stationary or solution.diagnostics.store_every == 1:
             return np.zeros(len(x))
@@ -244,9 +247,9 @@ class EmbeddedEstimate:
         """The estimate at states ``x`` (N, d), time ``t``: the local term, at least ``floor``
         relative to ``max(abs(v), λ)``, at least the :meth:`excess_response` S, at least
         abs(γ), the cost that the grid's interpolants add along the solve's paths
-        (:func:`~gridlbc.accuracy.paths.cost_gap`, from ``samples`` paths per state), the
+        (:func:`~gridlbc.accuracy.cost_gap`, from ``samples`` paths per state), the
         truncation and tracing terms where they apply (module docstring), and at least the
-        local certificate beyond its noise (:func:`~gridlbc.accuracy.bellman.local_error`)."""
+        local certificate beyond its noise (:func:`~gridlbc.accuracy.local_error`)."""
         return self._error(solution, x, t, samples, whole=True)[1]
 
     def excess_response(self, x, t=0.0) -> np.ndarray:
@@ -260,9 +263,10 @@ class EmbeddedEstimate:
     def relative(
         self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES, local: bool = True
     ) -> np.ndarray:
-        """:meth:`error` relative to ``max(abs(v), λ)`` (:func:`relative_error`), with the
-        local certificate over :data:`~gridlbc.accuracy.bellman.SPAN` steps only (what
-        ``solve(tol=, states=)`` reads each round), and without it where ``local`` is False."""
+        """:meth:`error` relative to ``max(abs(v), λ)``
+        (:func:`~gridlbc.accuracy.estimate.relative_error`), with the local certificate
+        over :data:`~gridlbc.accuracy.bellman.SPAN` steps only (what ``solve(tol=, states=)`` reads
+        each round), and without it where ``local`` is False."""
         v, error = self._error(solution, x, t, samples, local)
         return relative_error(error, v, solution.temperature)
 
@@ -325,7 +329,7 @@ def own_interpolation_error(solution, x: np.ndarray, j: int, theta: float) -> np
     quadratic model of a smooth curvature read a third of the error there (stranger round 26,
     store_every=4 in the last interval); where v is smooth in time this reads high, by up to the
     ratio of the two intervals. 0 with fewer than three stored slices
-    (:meth:`EmbeddedEstimate.between_slices`)."""
+    (:meth:`EmbeddedEstimate.between_slices <gridlbc.accuracy.EmbeddedEstimate.between_slices>`)."""
     times = solution.times
     if j >= 1:
         a, b, c = j - 1, j, j + 1
@@ -359,9 +363,9 @@ def _local(v, embedded, pair, temperature: float, order: float) -> tuple[np.ndar
 
 def embedded_estimate(solution, embedded, coarser=None, pair=None, excess=None) -> EmbeddedEstimate:
     """The estimate of ``solution`` from its embedded solve and, if given, the one below it and
-    those on :func:`~gridlbc.accuracy.grids.phase_pair`.
+    those on :func:`~gridlbc.accuracy.phase_pair`.
 
-    Over the :func:`~gridlbc.accuracy.matter.calibration_states`: the observed order::
+    Over the :func:`~gridlbc.accuracy.calibration_states`: the observed order::
 
         p = log₂( Σ abs(v_4h − v_2h) / Σ abs(v_2h − v_h) )
 
@@ -373,7 +377,7 @@ def embedded_estimate(solution, embedded, coarser=None, pair=None, excess=None) 
     solution, embedded, coarser : Solution
         The solves at h, 2h and 4h (steps Δt, 2Δt, 4Δt); ``coarser`` None: no third solve.
     pair : tuple of two Solution, or None
-        The solves on :func:`~gridlbc.accuracy.grids.phase_pair` (step 2Δt).
+        The solves on :func:`~gridlbc.accuracy.phase_pair` (step 2Δt).
     excess : Response or None
         What the costs' sub-cell excess changes in the embedded solve
         (:attr:`EmbeddedEstimate.excess`).
@@ -415,8 +419,8 @@ def clipped_order(observed: float) -> float:
 
 def richardson(difference, relative, order: float) -> np.ndarray:
     """The local estimate from abs(v_2h − v_h): ``difference`` / (2^q − 1) where its
-    ``relative`` size is at most :data:`ASYMPTOTIC`, the ``difference`` itself elsewhere (the
-    module docstring says why)."""
+    ``relative`` size is at most :data:`~gridlbc.accuracy.estimate.ASYMPTOTIC`, the ``difference``
+    itself elsewhere (the module docstring says why)."""
     difference = np.asarray(difference, dtype=float)
     near = np.asarray(relative) <= ASYMPTOTIC
     return np.where(near, difference / (2.0**order - 1.0), difference)
@@ -433,12 +437,13 @@ class ScalarEstimate:
 
         ê = max( abs(c_2h − c_h),  abs(c_4h − c_2h) / 2^q ) / (2^q − 1),
 
-    and without the division where abs(c_2h − c_h) exceeds :data:`ASYMPTOTIC` · abs(c_h), as for
-    the values (:func:`richardson`). The second term is the difference that the coarser pair
-    predicts between the finer: it keeps ê from vanishing where c_h and c_2h agree by chance
-    (two error terms of opposite sign crossing), as the floor does for the values. ê is also at
-    least abs(c_c₁ − c_c₂), the difference on the pair of
-    :func:`~gridlbc.accuracy.grids.phase_pair`, undivided as for the values: it is how far a coarse
+    and without the division where abs(c_2h − c_h)
+    exceeds :data:`~gridlbc.accuracy.estimate.ASYMPTOTIC` · abs(c_h), as for the values
+    (:func:`richardson`). The second term is the difference that the coarser pair predicts between
+    the finer: it keeps ê from vanishing where c_h and c_2h agree by chance (two error terms of
+    opposite sign crossing), as the floor does for the values. ê is also at least abs(c_c₁ − c_c₂),
+    the difference on the pair of
+    :func:`~gridlbc.accuracy.phase_pair`, undivided as for the values: it is how far a coarse
     solve moves with where its nodes fall, not a multiple of this grid's error. And it is at least
     abs(γ_c), for an average cost the cost per unit time that the grid leaves out of q under the
     solve's stationary law (:func:`gridlbc.accuracy.paths.stationary_gap`), and at least S_c =
@@ -490,7 +495,7 @@ def scalar_estimate(
 ) -> ScalarEstimate:
     """The :class:`ScalarEstimate` of ``levels[0]`` from the same number on the embedded grids
     ``levels[1]`` (2h) and, if given, ``levels[2]`` (4h) and on
-    :func:`~gridlbc.accuracy.grids.phase_pair` (whose difference abs(c_c₁ − c_c₂) the estimate is at
+    :func:`~gridlbc.accuracy.phase_pair` (whose difference abs(c_c₁ − c_c₂) the estimate is at
     least), and at least abs(``gap``), ``response`` and abs(``truncation``).
 
     Parameters
@@ -498,7 +503,7 @@ def scalar_estimate(
     levels : sequence of float
         c_h, c_2h and optionally c_4h.
     pair : tuple of two float, or None
-        The number on the grids of :func:`~gridlbc.accuracy.grids.phase_pair`.
+        The number on the grids of :func:`~gridlbc.accuracy.phase_pair`.
     gap : float
         γ_c, what the grid leaves out of the number along the solve's own law
         (:func:`gridlbc.accuracy.paths.stationary_gap`).
@@ -506,7 +511,7 @@ def scalar_estimate(
         S_c, what the costs' excess between the nodes changes in the number on the embedded grid.
     truncation : float
         E_π[λτ], what the generator's truncation error leaves out of the number
-        (:func:`gridlbc.accuracy.truncation.average_truncation`).
+        (:func:`gridlbc.accuracy.average_truncation`).
 
     Returns
     -------
@@ -530,7 +535,7 @@ def scalar_estimate(
 def attach_estimates(solutions, levels: list, pairs=None, excess=None) -> None:
     """Give each of ``solutions`` its :class:`EmbeddedEstimate` from the solves ``levels[0][r]``
     (2h), if present ``levels[1][r]`` (4h), ``pairs[0][r]``, ``pairs[1][r]``
-    (:func:`~gridlbc.accuracy.grids.phase_pair`) and ``excess[r]`` (what the costs' sub-cell
+    (:func:`~gridlbc.accuracy.phase_pair`) and ``excess[r]`` (what the costs' sub-cell
     excess changes, :class:`~gridlbc.accuracy.subcell.Response`)."""
     for r, solution in enumerate(solutions):
         coarser = levels[1][r] if len(levels) > 1 else None
@@ -541,7 +546,8 @@ def attach_estimates(solutions, levels: list, pairs=None, excess=None) -> None:
 
 
 def relative_difference(solution, other, X: np.ndarray, t: float = 0.0) -> np.ndarray:
-    """abs(v_other − v) relative to the solution's value (:func:`relative_error`) at states ``X``
-    at time ``t``: the embedded estimate when ``other`` is the embedded solve."""
+    """abs(v_other − v) relative to the solution's value
+    (:func:`~gridlbc.accuracy.estimate.relative_error`) at states ``X`` at time ``t``: the embedded
+    estimate when ``other`` is the embedded solve."""
     v = solution.value(X, t)
     return relative_error(np.abs(other.value(X, t) - v), v, solution.temperature)

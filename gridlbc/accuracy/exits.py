@@ -10,12 +10,13 @@ certificate), reads nothing. For a first-exit task whose cheapest exit is such a
 then the value of the task without it (stranger round 22: a strip 0.3 cell wide at mid-cell, v
 1–32 times the truth, silent).
 
-:func:`missed_points` samples E in each cell without a corner in E, at the points of the costs'
-sampling lattice (:func:`~gridlbc.accuracy.samples_per_cell` per cell along each axis, at the
-centres of a cell's sub-cells), and :func:`check_exit` warns where it finds one. The estimate's
-response S (:func:`gridlbc.accuracy.responses`) also reads what they change: the embedded grid
-solved again with each part moved onto its nearest node (:class:`MovedExit`). A part narrower
-than the lattice's spacing (an eighth of a cell in 2-D) can still be missed.
+:func:`~gridlbc.accuracy.exits.missed_points` samples E in each cell without a corner in E, at the
+points of the costs' sampling lattice (:func:`~gridlbc.accuracy.grids.samples_per_cell` per cell
+along each axis, at the centres of a cell's sub-cells), and :func:`~gridlbc.accuracy.check_exit`
+warns where it finds one. The estimate's response S (:func:`gridlbc.accuracy.responses`) also reads
+what they change: the embedded grid solved again with each part moved onto its nearest node
+(:class:`MovedExit`). A part narrower than the lattice's spacing (an eighth of a cell in 2-D) can
+still be missed.
 """
 
 from __future__ import annotations
@@ -67,10 +68,10 @@ def missed_points(problem, first: bool = False) -> np.ndarray:
 
 class MovedExit:
     """The exit set of a problem on a coarser ``grid`` with its parts between the fine grid's
-    nodes (``points``, :func:`missed_points`) moved onto the nearest coarse node: the task a
-    coarse solve answers when it does hold them. The estimate's response S compares it with the
-    task without them (:func:`gridlbc.accuracy.responses`): what the parts no node holds change,
-    to within the coarse grid's cell of where they lie.
+    nodes (``points``, :func:`~gridlbc.accuracy.exits.missed_points`) moved onto the nearest coarse
+    node: the task a coarse solve answers when it does hold them. The estimate's response S compares
+    it with the task without them (:func:`gridlbc.accuracy.responses`): what the parts no node holds
+    change, to within the coarse grid's cell of where they lie.
 
     Attributes
     ----------
@@ -134,7 +135,8 @@ def _take(inside: np.ndarray, corner: tuple, counts: list) -> np.ndarray:
 
 def check_exit(solution, points: np.ndarray | None = None) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) where the exit set has a part that no node of
-    the grid holds: one of ``points`` (:func:`missed_points`, where the caller has them) or
+    the grid holds: one of ``points`` (:func:`~gridlbc.accuracy.exits.missed_points`, where the
+    caller has them) or
     :func:`missed_exit`."""
     where = missed_exit(solution.problem) if points is None else next(iter(points), None)
     if where is None:

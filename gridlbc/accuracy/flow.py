@@ -17,8 +17,9 @@ offset uniform within a cell along each axis, with a fixed seed),
 
 is how far, in cells of axis k, the drift between the nodes carries a path in one step beyond
 what the grid's picture of it says. A drift the grid resolves has an interpolation error that
-falls as h²: on the grid with every other node (I_2h a, :func:`~gridlbc.accuracy.embedded_grid`)
-it is about four times as large, and the observed order
+falls as h²: on the grid with every other node (I_2h
+a, :func:`~gridlbc.accuracy.grids.embedded_grid`) it is about four times as large, and the observed
+order
 
     p = log₂( Σ_x abs(a − I_2h a) / Σ_x abs(a − I_h a) )
 
@@ -27,16 +28,17 @@ a cell gives p near 1. p is observed from 2h to h and from 4h to 2h, the grids t
 compares, and the least of the two is read: a wall on a node that the grid with every other node
 keeps is over-represented alike by both interpolants' hats (p 1.35 and 1.14, stranger round 22,
 where the midpoint rule's one evaluation lands beyond the wall and no step feels it: v 37–50 %
-low). Where F is at least :data:`FLOW_CELLS` and p is below :data:`SMOOTH_ORDER`, nearer first
-than second order, :func:`check_flow` warns and says where: there the path lands in another
+low). Where F is at least :data:`~gridlbc.accuracy.flow.FLOW_CELLS` and p is
+below :data:`~gridlbc.accuracy.flow.SMOOTH_ORDER`, nearer first than second
+order, :func:`~gridlbc.accuracy.check_flow` warns and says where: there the path lands in another
 cell than the grid's picture of the flow says, and the grids do not follow the feature. A smooth
-drift that the grid resolves only roughly (large F, p near 2) is the scheme's business, which
-the embedded estimate measures.
+drift that the grid resolves only roughly (large F, p near 2) is the scheme's business, which the
+embedded estimate measures.
 
-The noise is read the same way (:func:`noise_excess`): the grid reads the gain B(x), and with
-it Σ = λ B R⁻¹ Bᵀ, at its nodes only, and a gain that drops within a cell (a band of 0.3 cell
-where it falls to a twentieth, round 22) leaves v 6–15 % low with every part of the estimate
-below 2 %. There F compares the spread of one step, sqrt(abs(Σ − I_h Σ) Δt) / h in cells.
+The noise is read the same way (:func:`~gridlbc.accuracy.noise_excess`): the grid reads the gain
+B(x), and with it Σ = λ B R⁻¹ Bᵀ, at its nodes only, and a gain that drops within a cell (a band of
+0.3 cell where it falls to a twentieth, round 22) leaves v 6–15 % low with every part of the
+estimate below 2 %. There F compares the spread of one step, sqrt(abs(Σ − I_h Σ) Δt) / h in cells.
 """
 
 from __future__ import annotations
@@ -53,18 +55,19 @@ from .matter import states_that_matter
 from .paths import ROUNDING
 
 FLOW_SAMPLES = 1 << 14
-"""States at which :func:`flow_excess` compares the drift with its interpolants."""
+"""States at which :func:`~gridlbc.accuracy.flow_excess` compares the drift with its
+interpolants."""
 
 FLOW_CELLS = 0.5
-""":func:`check_flow` warns where the drift between the nodes carries a path this share of a cell
-or more beyond its interpolant in one step (and the excess does not shrink on refinement): half
-a cell puts the path in another cell than the grid's picture of the flow says."""
+""":func:`~gridlbc.accuracy.check_flow` warns where the drift between the nodes carries a path this
+share of a cell or more beyond its interpolant in one step (and the excess does not shrink on
+refinement): half a cell puts the path in another cell than the grid's picture of the flow says."""
 
 SMOOTH_ORDER = 1.5
 """The interpolation error of a coefficient smooth at the grid's scale shrinks at order 2 from
 one grid to the next finer, of one that jumps within a cell at order 1, of one narrower than a
 cell at order 0 or below: an observed order below this, nearer first than second order, says
-that the grids do not follow it (:func:`followed`)."""
+that the grids do not follow it (:func:`~gridlbc.accuracy.followed`)."""
 
 SEED = 20090802
 """The samples' seed: the same solve gives the same numbers."""
@@ -100,10 +103,10 @@ def flow_excess(solution, samples: int = FLOW_SAMPLES) -> tuple[float, float, np
 
 
 def noise_excess(solution, samples: int = FLOW_SAMPLES) -> tuple[float, float, np.ndarray]:
-    """:func:`flow_excess` for the noise's variances diag Σ(x) (Σ = λ B R⁻¹ Bᵀ, so also the
-    control's gain B): F = max_x max_k sqrt(abs(Σ_kk − I_h Σ_kk) Δt) / h_k, how far in cells the
-    spread of one step differs from the grid's picture of it, and the least observed order of
-    the interpolants (+inf for a constant noise)."""
+    """:func:`~gridlbc.accuracy.flow_excess` for the noise's variances diag Σ(x) (Σ = λ B R⁻¹ Bᵀ, so
+    also the control's gain B): F = max_x max_k sqrt(abs(Σ_kk − I_h Σ_kk) Δt) / h_k, how far in
+    cells the spread of one step differs from the grid's picture of it, and the least observed order
+    of the interpolants (+inf for a constant noise)."""
     x = _around(solution, samples)
     excess, order = _excess(solution, "noise", x)
     cells = np.sqrt(excess * solution.diagnostics.dt) / np.asarray(solution.grid.spacing)
@@ -155,14 +158,16 @@ def _excess(solution, coefficient: str, x: np.ndarray) -> tuple[np.ndarray, floa
 
 def followed(order: float) -> bool:
     """Whether an observed interpolation order says the grids follow a coefficient: at least
-    :data:`SMOOTH_ORDER` (or +inf, or NaN where no coarser grid could be compared)."""
+    :data:`~gridlbc.accuracy.flow.SMOOTH_ORDER` (or +inf, or NaN where no coarser grid could be
+    compared)."""
     return not order < SMOOTH_ORDER
 
 
 def follows_coefficients(solution, samples: int = FLOW_SAMPLES) -> bool:
     """Whether the grid of ``solution`` and the coarser grids its estimate reads follow the
     drift and the noise between their nodes: the least observed order of each one's
-    interpolants (:func:`flow_excess`, :func:`noise_excess`) is :func:`followed`.
+    interpolants (:func:`~gridlbc.accuracy.flow_excess`, :func:`~gridlbc.accuracy.noise_excess`)
+    is :func:`~gridlbc.accuracy.followed`.
 
     Where it is not, a coefficient changes within a cell of one of the grids (a gust, a jet, a
     noise that switches): the solves on those grids depend on where their nodes fall."""
@@ -215,18 +220,19 @@ def _interpolant(f, grid, x: np.ndarray) -> np.ndarray:
 
 
 FLOW_WARNING = "the drift changes between the nodes"
-"""How :func:`check_flow`'s warning begins (a solve to a tolerance refines its step for it and
-warns itself where it remains)."""
+"""How :func:`~gridlbc.accuracy.check_flow`'s warning begins (a solve to a tolerance refines its
+step for it and warns itself where it remains)."""
 
 NOISE_WARNING = "the noise changes between the nodes"
-"""How :func:`check_flow`'s warning about the noise begins."""
+"""How :func:`~gridlbc.accuracy.check_flow`'s warning about the noise begins."""
 
 
 def check_flow(solution) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) where the drift between the nodes carries a path
-    :data:`FLOW_CELLS` of a cell or more beyond its interpolant in one step, or the noise's
-    spread in one step differs from its interpolant's by as much (:func:`noise_excess`), and
-    the grids do not follow it (:func:`followed`)."""
+    :data:`~gridlbc.accuracy.flow.FLOW_CELLS` of a cell or more beyond its interpolant in one step,
+    or the noise's spread in one step differs from its interpolant's by as much
+    (:func:`~gridlbc.accuracy.noise_excess`), and the grids do not follow it
+    (:func:`~gridlbc.accuracy.followed`)."""
     for measure, begins, how, why in (
         (
             flow_excess,

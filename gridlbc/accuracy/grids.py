@@ -4,9 +4,9 @@
 The embedded grid keeps every other node of each axis (spacing 2h). On a closed axis with an odd
 node count and a periodic one with an even count its nodes are the fine grid's even-numbered
 nodes (the axis is *nested*); otherwise its spacing is slightly above 2h. Beside it the estimate
-reads a pair of grids whose cell counts add up to the grid's (:func:`phase_pair`): how much their
-solves differ says how much a solve at this resolution depends on where the nodes fall relative
-to the problem's narrow features, which the embedded grid alone cannot see."""
+reads a pair of grids whose cell counts add up to the grid's (:func:`~gridlbc.accuracy.phase_pair`):
+how much their solves differ says how much a solve at this resolution depends on where the nodes
+fall relative to the problem's narrow features, which the embedded grid alone cannot see."""
 
 from __future__ import annotations
 
@@ -47,10 +47,10 @@ def phase_pair(grid: Grid) -> tuple[Grid, Grid] | None:
 
     Why: how well a grid resolves a feature narrower than a few cells (a pit in the state cost, a
     sharp goal) depends on how far the feature lies from the nearest node, and the embedded grid
-    (:func:`embedded_grid`), whose nodes are every other node of the grid, misses a feature
-    midway between two nodes by exactly as much as the grid does, so the difference between the
-    two solves cannot see that error. At a point x of an axis of length L, the offsets from the
-    nearest node measured in cells of each grid, f = xC/L, a = xc₁/L and b = xc₂/L, satisfy
+    (:func:`~gridlbc.accuracy.grids.embedded_grid`), whose nodes are every other node of the grid,
+    misses a feature midway between two nodes by exactly as much as the grid does, so the difference
+    between the two solves cannot see that error. At a point x of an axis of length L, the offsets
+    from the nearest node measured in cells of each grid, f = xC/L, a = xc₁/L and b = xc₂/L, satisfy
     f = a + b: where the grid's nodes are aligned with the feature (f an integer) the two
     coarse grids miss it by the same distance and agree, and where the grid misses it (f near ½)
     their offsets a and ½ − a differ and so do their solves, unless both are a quarter cell off:
@@ -138,9 +138,10 @@ def embedded_solves(fine: Grid, solve) -> tuple[list, str]:
 
 
 def pair_solves(fine: Grid, embedded, solve) -> list | None:
-    """``solve(grid, 2)`` on each grid of :func:`phase_pair` (step 2Δt), the ``embedded`` solve
-    itself where the pair's first grid is the embedded one; None where the grid is too coarse
-    for the pair or a solve raises ValueError or :class:`gridlbc.ConvergenceError` (as in
+    """``solve(grid, 2)`` on each grid of :func:`~gridlbc.accuracy.phase_pair` (step 2Δt), the
+    ``embedded`` solve itself where the pair's first grid is the embedded one; None where the grid
+    is too coarse for the pair or a solve raises ValueError or :class:`gridlbc.ConvergenceError` (as
+    in
     :func:`embedded_solves`, the estimate's solves never fail the solve they check).
 
     The estimate reads the pair only where the problem has a feature whose error depends on
@@ -193,8 +194,9 @@ def refined_grid(grid: Grid, axes=None, factor: int = 2) -> Grid:
 def scaled_grid(grid: Grid, factors) -> Grid:
     """The grid with each axis's spacing divided by at least ``factors[i]`` (≥ 1; 1 leaves the
     axis as it is): the fewest cells that do so, an even number of them, so that the grid with
-    every other node (:func:`embedded_grid`) keeps spacing exactly 2h. A factor of 2 gives
-    :func:`refined_grid`."""
+    every other node (:func:`~gridlbc.accuracy.grids.embedded_grid`) keeps spacing exactly 2h. A
+    factor of 2 gives
+    :func:`~gridlbc.accuracy.grids.refined_grid`."""
     out = []
     for a, r in zip(grid.axes, factors):
         cells = a.n if a.periodic else a.n - 1

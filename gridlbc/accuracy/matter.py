@@ -2,13 +2,14 @@
 page :doc:`accuracy`, "Relative error and the states that matter").
 
 Without states from the user, a solve is judged at the states that matter
-(:func:`states_that_matter`): for a task that runs on (no exit set, no horizon) the nodes whose
-value is finite and at most the median over the grid (the better half of the box, where the
-controlled process spends its time; the far corners of a box, where every solve is poor, do not
-count); for a task that ends (an exit set, a horizon or both) every node with a finite value off
-the exit set, since v(x, 0) is the cost of a task started at x and a task starts anywhere,
+(:func:`~gridlbc.accuracy.states_that_matter`): for a task that runs on (no exit set, no horizon)
+the nodes whose value is finite and at most the median over the grid (the better half of the box,
+where the controlled process spends its time; the far corners of a box, where every solve is poor,
+do not count); for a task that ends (an exit set, a horizon or both) every node with a finite value
+off the exit set, since v(x, 0) is the cost of a task started at x and a task starts anywhere,
 typically far from where it ends, where v is largest. The estimate's floor and observed order
-are measured over :func:`calibration_states`, where the errors carried along the paths end up.
+are measured over :func:`~gridlbc.accuracy.calibration_states`, where the errors carried along the
+paths end up.
 """
 
 from __future__ import annotations
@@ -79,7 +80,7 @@ def states_that_matter(solution, limit: int = SAMPLE) -> np.ndarray:
       value is the exit cost, given, not solved for.
 
     A finite horizon without an exit set is also judged at the :func:`better_half`
-    (:func:`~gridlbc.accuracy.assessment.assess`), where its paths end up.
+    (:func:`~gridlbc.accuracy.assess`), where its paths end up.
 
     Parameters
     ----------
@@ -97,7 +98,8 @@ def states_that_matter(solution, limit: int = SAMPLE) -> np.ndarray:
 
 
 def matter_mask(solution) -> np.ndarray:
-    """The flat mask of the nodes among which :func:`states_that_matter` are chosen."""
+    """The flat mask of the nodes among which :func:`~gridlbc.accuracy.states_that_matter` are
+    chosen."""
     problem = solution.problem
     if problem.exit is None and problem.stationary:
         return solution.better_half()
@@ -106,7 +108,7 @@ def matter_mask(solution) -> np.ndarray:
 
 def calibration_states(solution, limit: int = SAMPLE) -> np.ndarray:
     """The states over which the estimate's floor and observed order are measured
-    (:func:`~gridlbc.accuracy.estimate.embedded_estimate`), ``(M, d)``: the :func:`better_half` of a
+    (:func:`~gridlbc.accuracy.embedded_estimate`), ``(M, d)``: the :func:`better_half` of a
     task without an exit set (with or without a horizon), every node off the exit set of a task with
     one.
 
@@ -114,9 +116,9 @@ def calibration_states(solution, limit: int = SAMPLE) -> np.ndarray:
     leaves where the two solves happen to agree, and the order is Richardson's model of the
     levels. A finite horizon's paths end up in the better half from wherever they start, so the
     errors they carry are read there; the states far up the value, judged for the warning
-    (:func:`states_that_matter`), hold the errors of their own region (a gust, a wall) and
-    often levels that do not converge at all, which, taken into the floor and the order, would
-    raise the estimate everywhere. The estimate at any state is therefore the same as when the
+    (:func:`~gridlbc.accuracy.states_that_matter`), hold the errors of their own region (a gust, a
+    wall) and often levels that do not converge at all, which, taken into the floor and the order,
+    would raise the estimate everywhere. The estimate at any state is therefore the same as when the
     better half alone was judged: only where it is judged changed."""
     if solution.problem.exit is None:
         return better_half(solution, limit)
@@ -124,7 +126,8 @@ def calibration_states(solution, limit: int = SAMPLE) -> np.ndarray:
 
 
 def judged_states(solution, states=None) -> np.ndarray:
-    """``states`` as ``(N, d)``, or :data:`ASSESSED` of :func:`states_that_matter` when None."""
+    """``states`` as ``(N, d)``, or :data:`ASSESSED` of :func:`~gridlbc.accuracy.states_that_matter`
+    when None."""
     if states is None:
         return node_states(solution, judged_nodes(solution))
     return np.atleast_2d(np.asarray(states, dtype=float))
@@ -132,5 +135,5 @@ def judged_states(solution, states=None) -> np.ndarray:
 
 def judged_nodes(solution) -> np.ndarray:
     """The flat indices of the nodes :func:`judged_states` reads without states: the
-    :data:`ASSESSED` of :func:`states_that_matter`."""
+    :data:`ASSESSED` of :func:`~gridlbc.accuracy.states_that_matter`."""
     return _evenly_index(matter_mask(solution), ASSESSED)

@@ -15,15 +15,15 @@ the policy π_h that is optimal with the interpolated costs (the solve's own pol
     v[I_h q, I_h g](x, t) − v[q, g](x, t)
         ≥ γ(x, t) = E_{π_h}[ ∫_t^T (I_h q − q)(X_s) ds + (I_h g − g)(X_T) | X_t = x ],
 
-the expected cost that the grid adds along the paths its policy takes. :func:`cost_gap` samples γ
-with :data:`PATH_SAMPLES` Euler–Maruyama paths per state at the solve's own step Δt (rectangle
-rule, a fixed seed: the same states give the same numbers), reflected at closed edges as the solver
-does (:func:`gridlbc.simulate`). The solve's step resolves the dynamics the solve resolves; a
-longer one can make the explicit paths unstable where the drift is stiff (ẋ = −kx with kΔt > 2),
-and they then cross costs the true process never reaches. Where the costs vary smoothly,
-I_h q − q is O(h²) and γ is mostly below the embedded estimate; where a path lingers in a feature
-the grid does not resolve, γ is the error the solve makes there (``error_estimate`` reads
-abs(γ)).
+the expected cost that the grid adds along the paths its policy
+takes. :func:`~gridlbc.accuracy.cost_gap` samples γ with :data:`PATH_SAMPLES` Euler–Maruyama paths
+per state at the solve's own step Δt (rectangle rule, a fixed seed: the same states give the same
+numbers), reflected at closed edges as the solver does (:func:`gridlbc.simulate`). The solve's step
+resolves the dynamics the solve resolves; a longer one can make the explicit paths unstable where
+the drift is stiff (ẋ = −kx with kΔt > 2), and they then cross costs the true process never reaches.
+Where the costs vary smoothly, I_h q − q is O(h²) and γ is mostly below the embedded estimate; where
+a path lingers in a feature the grid does not resolve, γ is the error the solve makes there
+(``error_estimate`` reads abs(γ)).
 
 What γ cannot see: the error of the scheme itself for the interpolated costs (the embedded solves
 measure that); costs felt between the steps of the paths; and a feature the solve's policy never
@@ -33,10 +33,10 @@ smooth, steep cost, the chain's lattice represents it better than I_h does and �
 error (by O(h²)). It is zero for a solution read back by :func:`gridlbc.load` whose costs were not
 quadratics: those are stored as their nodal values, which the grid represents exactly.
 
-**Tasks that end** (an exit set E, with or without a horizon: :func:`path_gap`). The paths stop
-at τ, on entering E (:func:`gridlbc.simulate.euler_maruyama`, whose Brownian-bridge check also
-stops a path that crossed into E between two steps, at the nearest point of E's boundary), or at
-min(τ, T), and
+**Tasks that end** (an exit set E, with or without a horizon: :func:`~gridlbc.accuracy.path_gap`).
+The paths stop at τ, on entering E (:func:`gridlbc.simulate.euler_maruyama`, whose Brownian-bridge
+check also stops a path that crossed into E between two steps, at the nearest point of E's
+boundary), or at min(τ, T), and
 
     γ(x) = E_{π_h}[ ∫_0^τ (I_h q − q)(X_s) ds + (I_h g_E − g_E)(X_τ) ],
 
@@ -44,25 +44,25 @@ min(τ, T), and
 the nodes: the grid reads g_E at the nodes of E and at the points where its grid lines cross E's
 boundary, and on a boundary along grid lines (a half-space at a node) the nodal interpolant is
 what it charges between those points; elsewhere the two differ by O(h²) where g_E is smooth. A
-problem without a horizon has no solve step; the paths take :func:`path_step`, about a cell
-along any axis per step (a finite-horizon solve's step moves the passive drift by up to one
-cell, implicit, or six or seven, splitting: these paths are no coarser), and run in chunks of
+problem without a horizon has no solve step; the paths take :func:`~gridlbc.accuracy.path_step`,
+about a cell along any axis per step (a finite-horizon solve's step moves the passive drift by up to
+one cell, implicit, or six or seven, splitting: these paths are no coarser), and run in chunks of
 :data:`CHUNK` steps until every path has exited, or twice the steps by which nine in ten had
 (:data:`SETTLED`), or :data:`EXIT_STEPS` steps or :data:`EXIT_WORK` path-steps are spent. A path
 still running at that cap adds the part it has accrued: γ is then truncated (a lower bound of
-its size where I_h q − q has one sign along the paths); :func:`path_gap` counts such paths.
-Where the grid charges less than the costs (a toll the nodes miss), the solve's policy does not
-avoid the toll and crosses it more slowly than the optimal one, and γ overstates the error (two-
-to fivefold for stranger round 11's ``toll_blind``). Without a horizon, where the costs equal
+its size where I_h q − q has one sign along the paths); :func:`~gridlbc.accuracy.path_gap` counts
+such paths. Where the grid charges less than the costs (a toll the nodes miss), the solve's policy
+does not avoid the toll and crosses it more slowly than the optimal one, and γ overstates the error
+(two- to fivefold for stranger round 11's ``toll_blind``). Without a horizon, where the costs equal
 their interpolants at every cell's centre (constant or affine costs: :func:`interpolated_exactly`)
 γ is zero and no path is run.
 
 **Average cost** (no end, no horizon: :func:`stationary_gap`). The cost per unit time that the
 grid leaves out is an expectation under the solve's long-run law instead of along paths that
 end. The solve's chain spends the share p_i of its time at node i
-(:func:`gridlbc.stationary.stationary_distribution`) and is charged q(x_i) there; its continuous
-counterpart spreads that share over the node's hat function, ρ_h = Σ_i p_i φ_i / ∫φ_i, and is
-charged q where it is. For the policy π_h that is optimal on the grid, c[q] ≤ c_{π_h}[q], the
+(:func:`gridlbc.stationary.average.stationary_distribution`) and is charged q(x_i) there; its
+continuous counterpart spreads that share over the node's hat function, ρ_h = Σ_i p_i φ_i / ∫φ_i,
+and is charged q where it is. For the policy π_h that is optimal on the grid, c[q] ≤ c_{π_h}[q], the
 control's cost is the same in both, so
 
     c_h − c[q] ≥ γ_c = Σ_i p_i ( q(x_i) − ⟨q⟩_{φ_i} ) = E[ q(x_I) − q(X) ],
@@ -90,8 +90,8 @@ from ..regions import RegionBase, has_geometry
 from ..simulate import euler_maruyama
 
 PATH_SAMPLES = 16
-"""Paths per state from which :func:`cost_gap` averages γ (fewer where many states are asked
-for: :data:`PATH_WORK`)."""
+"""Paths per state from which :func:`~gridlbc.accuracy.cost_gap` averages γ (fewer where many states
+are asked for: :data:`~gridlbc.accuracy.paths.PATH_WORK`)."""
 
 PATH_WORK = 8_388_608
 """At most this many path-steps per call (but at least 4 paths per state): a map of the estimate
@@ -103,13 +103,13 @@ SEED = 20090801
 
 EXIT_STEPS = 16_384
 """At most this many steps per path for a problem without a horizon (first exit): a path still
-running then is truncated (:func:`path_gap`)."""
+running then is truncated (:func:`~gridlbc.accuracy.path_gap`)."""
 
 EXIT_WORK = 1 << 18
 """At most about this many path-steps per call for a first-exit problem without a horizon (but
 at least one :data:`CHUNK` per path): its paths run until they exit, which on a fine grid with
 a noiseless axis takes thousands of steps of a cell each; a path stopped by this budget adds the
-part it has accrued (:func:`path_gap`)."""
+part it has accrued (:func:`~gridlbc.accuracy.path_gap`)."""
 
 CHUNK = 128
 """The steps between two looks at which paths of a first-exit problem have exited (the run ends
@@ -126,7 +126,7 @@ is rounding (:func:`interpolated_exactly`)."""
 
 STEP_STATES = 1024
 """At most this many nodes off the exit set give the paths' step of a first-exit problem
-without a horizon (:func:`path_step`)."""
+without a horizon (:func:`~gridlbc.accuracy.path_step`)."""
 
 
 STATIONARY_SAMPLES = 1 << 16
@@ -135,8 +135,8 @@ STATIONARY_SAMPLES = 1 << 16
 
 
 def sampled(problem) -> bool:
-    """Whether :func:`cost_gap` samples γ for ``problem``: a horizon (with or without an exit
-    set), or an exit set without one (first exit); not for average cost."""
+    """Whether :func:`~gridlbc.accuracy.cost_gap` samples γ for ``problem``: a horizon (with or
+    without an exit set), or an exit set without one (first exit); not for average cost."""
     if problem.average_cost:
         return False
     return not problem.stationary or problem.exit is not None
@@ -145,14 +145,15 @@ def sampled(problem) -> bool:
 def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, also=None) -> np.ndarray:
     """γ(x, t), the expected cost the grid's interpolants add along the solve's paths (module
     docstring), at states ``x`` (N, d): the mean over ``samples`` paths per state (fewer where
-    :data:`PATH_WORK` asks) driven by ``solution.policy`` from time ``t`` to T. Zero where
-    :func:`sampled` is false; NaN for a state whose paths meet an underflowed policy (the solve
-    has warned of it).
+    :data:`~gridlbc.accuracy.paths.PATH_WORK` asks) driven by ``solution.policy`` from time ``t`` to
+    T. Zero where
+    :func:`~gridlbc.accuracy.paths.sampled` is false; NaN for a state whose paths meet an
+    underflowed policy (the solve has warned of it).
 
     Parameters
     ----------
     solution : Solution
-        A grid solution (a horizon, an exit set or both: :func:`sampled`).
+        A grid solution (a horizon, an exit set or both: :func:`~gridlbc.accuracy.paths.sampled`).
     x : ndarray (N, d)
         Start states.
     t : float
@@ -160,7 +161,8 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, also=None
     samples : int
         Paths per state.
     also : callable, optional
-        A second rate ``r(y, t)`` ``(n,)`` integrated along the same paths (:func:`path_gap`).
+        A second rate ``r(y, t)`` ``(n,)`` integrated along the same paths
+        (:func:`~gridlbc.accuracy.path_gap`).
 
     Returns
     -------
@@ -175,21 +177,21 @@ def cost_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, also=None
 
 
 def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=None, also=None):
-    """γ(x, t) (:func:`cost_gap`), and how many of its paths had not exited when they were
-    stopped (the cap of a task without a horizon: the module docstring).
+    """γ(x, t) (:func:`~gridlbc.accuracy.cost_gap`), and how many of its paths had not exited when
+    they were stopped (the cap of a task without a horizon: the module docstring).
 
     ``along``: ``(problem, policy, rate)``, the problem whose dynamics, exit set and horizon
     the paths follow, a policy ``u(y, t)`` ``(n, m)`` and a running cost ``r(y, t)`` ``(n,)``
     that replace the solution's problem, the solve's policy and I_h q − q; the paths then add
-    no exit or terminal gap (:func:`gridlbc.accuracy.truncation.truncation_gap` integrates λτ
+    no exit or terminal gap (:func:`gridlbc.accuracy.truncation_gap` integrates λτ
     so). ``also``: a second rate ``r(y, t)`` ``(n,)`` integrated along the same paths (the same
-    draws: :func:`gridlbc.accuracy.tracing.tracing_gap` shares γ's paths so), returned as the
+    draws: :func:`gridlbc.accuracy.tracing_gap` shares γ's paths so), returned as the
     second column of ``gap``.
 
     The paths stop at τ, on entering an exit set E (:func:`gridlbc.simulate.euler_maruyama`,
     with its Brownian-bridge crossing check), or at T where there is a horizon, and run at the
-    solve's step Δt there, at :func:`path_step` without one. A path that exits at x_τ adds
-    (I_h g_E − g_E)(x_τ), one still running at T adds (I_h g − g)(x_T), one still running
+    solve's step Δt there, at :func:`~gridlbc.accuracy.path_step` without one. A path that exits at
+    x_τ adds (I_h g_E − g_E)(x_τ), one still running at T adds (I_h g − g)(x_T), one still running
     at the cap of a problem without a horizon adds nothing more (its γ is the part accrued).
 
     Returns
@@ -289,7 +291,8 @@ def path_gap(solution, x, t: float = 0.0, samples: int = PATH_SAMPLES, along=Non
 
 
 def _columns(gap: np.ndarray, columns: int) -> np.ndarray:
-    """``gap`` (N,), with a second column of zeros where :func:`path_gap` integrates ``also``."""
+    """``gap`` (N,), with a second column of zeros where :func:`~gridlbc.accuracy.path_gap`
+    integrates ``also``."""
     return gap if columns == 1 else np.column_stack([gap, np.zeros(len(gap))])
 
 
@@ -368,9 +371,9 @@ def path_step(solution, policy=None) -> float:
 
     by the drift under the solve's policy u (or ``policy(x)``, where given) or by the noise
     Σ = λ B R⁻¹ Bᵀ (a standard deviation of h_k in Δt), the largest over up to
-    :data:`STEP_STATES` nodes off the exit set (where the policy is defined): as the
-    finite-horizon γ's step, what the grid resolves of the paths. Kept with the solution (for
-    the solve's policy)."""
+    :data:`~gridlbc.accuracy.paths.STEP_STATES` nodes off the exit set (where the policy is
+    defined): as the finite-horizon γ's step, what the grid resolves of the paths. Kept with the
+    solution (for the solve's policy)."""
     if policy is None and "path_step" in solution._cache:
         return solution._cache["path_step"]
     problem, grid = solution.problem, solution.problem.grid

@@ -12,7 +12,7 @@ measures what they change.
 **The excess.** On the sampling *lattice*, m points per cell along every axis (spacing h/m;
 the most of 8, 4 and 2 for which the lattice holds at most 2²⁴ points: m = 8 on a 2-D grid up to
 512² and a 3-D one up to 32³, 4 up to about 1000² and 64³, 2 beyond,
-:func:`~gridlbc.accuracy.samples_per_cell`), each cost f is compared
+:func:`~gridlbc.accuracy.grids.samples_per_cell`), each cost f is compared
 with its reconstruction R f from the nodes (:func:`refine`, along each axis in turn): nodes keep
 their values, and a point at offset t within a cell takes the cubic through the four nodes
 around it (at t = ½ the rule (−f_{i−1} + 9 f_i + 9 f_{i+1} − f_{i+2})/16), or, where one side's
@@ -30,18 +30,19 @@ sampled (:func:`reproduced`).
 
 over the lattice points s, with τ = 1 for the terminal cost g (and an exit cost g_E) and, for
 the state cost q, τ = T, the horizon, or without one (first exit, average cost) the time in
-which the noise moves a path across a cell of the embedded grid (:func:`hold_time`). For g this
-is the ratio of the desirability exp(−g/λ) that the hat holds to the one its reconstruction
-holds: a narrow goal counts with its weight, as the value does. For q it is what a path that
-stays by the node for the time τ could gain: a narrow well is worth its depth to a path that
-holds still in it, a narrow pit (which a path can step around) little. Held longer than the
-noise's time across a cell, a path pays to stay in the well, and the soft minimum at that τ
-charges at most what staying costs (:func:`hold_time`): a task that never ends is priced by it,
-not by a hold of infinite length, which would make any well worth its whole depth.
-I f_c, the embedded grid's multilinear interpolant of the cost at its own nodes, keeps the
-exponentials in range. An exit cost is paid on the exit set E only: the sums run over the
-lattice points in E (a hat with none has no excess), so a user's g_E off E (``np.where`` of a
-door's cost, 0 elsewhere, which no path pays) is no feature.
+which the noise moves a path across a cell of the embedded grid
+(:func:`~gridlbc.accuracy.subcell.hold_time`). For g this is the ratio of the desirability exp(−g/λ)
+that the hat holds to the one its reconstruction holds: a narrow goal counts with its weight, as the
+value does. For q it is what a path that stays by the node for the time τ could gain: a narrow well
+is worth its depth to a path that holds still in it, a narrow pit (which a path can step around)
+little. Held longer than the noise's time across a cell, a path pays to stay in the well, and the
+soft minimum at that τ charges at most what staying costs
+(:func:`~gridlbc.accuracy.subcell.hold_time`): a task that never ends is priced by it, not by a hold
+of infinite length, which would make any well worth its whole depth. I f_c, the embedded grid's
+multilinear interpolant of the cost at its own nodes, keeps the exponentials in range. An exit cost
+is paid on the exit set E only: the sums run over the lattice points in E (a hat with none has no
+excess), so a user's g_E off E (``np.where`` of a door's cost, 0 elsewhere, which no path pays) is
+no feature.
 
 **Between the lattice points.** A goal much narrower than the lattice's spacing whose centre is
 as far from a node as from the lattice points around it is seen by all of them alike, by its
@@ -65,11 +66,11 @@ not the solve's paths go near them (:class:`Response`;
 :meth:`gridlbc.accuracy.EmbeddedEstimate.error` reads it beside its other terms). Both solves
 are made without exponential fitting: a fitted scheme interpolates z relative to its reference
 in every step, which spreads a dip that the reference does not have by about a cell per step,
-so its response to one is a fraction of the true one (:func:`responses`). Where
-sup|δg| + τ sup|δq| is at most :data:`NEGLIGIBLE` λ the raised solve is not run and S is that
-bound, which with a horizon it never exceeds (v is 1-Lipschitz in the costs in the supremum
-norm). For the average cost the response is read for the relative value h and for c
-(:func:`gridlbc.accuracy.scalar_estimate`).
+so its response to one is a fraction of the true one (:func:`~gridlbc.accuracy.responses`). Where
+sup|δg| + τ sup|δq| is at most :data:`~gridlbc.accuracy.subcell.NEGLIGIBLE` λ the raised solve is
+not run and S is that bound, which with a horizon it never exceeds (v is 1-Lipschitz in the costs in
+the supremum norm). For the average cost the response is read for the relative value h and for c
+(:func:`gridlbc.accuracy.estimate.scalar_estimate`).
 
 What S cannot see: a feature that no lattice point sees at all (narrower than the lattice's
 spacing and too shallow in its tails to leave an excess below zero at a point near it). It errs
@@ -111,8 +112,8 @@ if TYPE_CHECKING:
     from ..solution import Solution
 
 LATTICE_BLOCK = 1 << 21
-"""At most about this many points of the sampling lattice are held at once (:func:`excess` works
-through it in blocks of whole rows along the first axis)."""
+"""At most about this many points of the sampling lattice are held at once
+(:func:`~gridlbc.accuracy.excess` works through it in blocks of whole rows along the first axis)."""
 
 
 EXPONENT_CAP = 700.0
@@ -201,7 +202,8 @@ class Excess:
         δg_E,j for the exit cost of a task with a horizon and an exit set (None otherwise, or
         where it is reproduced).
     hold : float
-        τ of the state cost (:func:`hold_time`; 0 where ``state`` is None).
+        τ of the state cost (:func:`~gridlbc.accuracy.subcell.hold_time`; 0 where ``state`` is
+        None).
     """
 
     terminal: np.ndarray
@@ -217,7 +219,8 @@ def _ending(problem) -> str:
 
 
 HOLD_STATES = 4096
-"""At most this many nodes of the coarse grid (evenly spaced) give :func:`hold_time`."""
+"""At most this many nodes of the coarse grid (evenly spaced)
+give :func:`~gridlbc.accuracy.subcell.hold_time`."""
 
 
 def hold_time(problem, coarse: Grid) -> float | None:
@@ -246,8 +249,8 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     """The sub-cell excess of ``problem``'s state cost and of each of ``terminal_costs``, as a soft
     minimum over the hat functions of ``coarse`` (module docstring). For a problem without a
     horizon the costs are exit costs g_E (τ = 1, as for g; none for the average cost) and the
-    state cost's τ is :func:`hold_time`; with a horizon and an exit set, the exit cost is
-    sampled beside g and q (τ = 1).
+    state cost's τ is :func:`~gridlbc.accuracy.subcell.hold_time`; with a horizon and an exit set,
+    the exit cost is sampled beside g and q (τ = 1).
 
     Parameters
     ----------
@@ -259,7 +262,7 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
         The terminal costs g_i (exit costs for a problem without a horizon).
     m : int, optional
         Lattice points per cell along each axis (default
-        :func:`~gridlbc.accuracy.samples_per_cell`).
+        :func:`~gridlbc.accuracy.grids.samples_per_cell`).
 
     Returns
     -------
@@ -350,17 +353,17 @@ def rebuild(nodes: np.ndarray, grid: Grid, x) -> np.ndarray:
 
 def descend(measure, grid: Grid, centres: np.ndarray, side: np.ndarray):
     """Box averages of exp(u) for the two exponents u that ``measure`` returns (the cost's and its
-    reconstruction's, :func:`excess`), around each of ``centres`` (S, d), and where the first is
-    largest.
+    reconstruction's, :func:`~gridlbc.accuracy.excess`), around each of ``centres`` (S, d), and
+    where the first is largest.
 
     The box B of width ``side`` (per axis) around a centre is cut into 3^d boxes a third as wide
     (its centre stays a sample), each counted by its centre's value, and the one where the first
     exponent is largest is cut again, up to :data:`DESCENT_LEVELS` times: an adaptive midpoint
     rule that follows a goal or a well narrower than the box down to its bottom, where the points
     around it see only its tail. It stops where the box's mean over its 3^d centres and its own
-    centre's value agree as well for one exponent as for the other, to :data:`NEGLIGIBLE` (in
-    log): the cost is as smooth as its reconstruction there, and cutting further would move
-    both sums alike.
+    centre's value agree as well for one exponent as for the other,
+    to :data:`~gridlbc.accuracy.subcell.NEGLIGIBLE` (in log): the cost is as smooth as its
+    reconstruction there, and cutting further would move both sums alike.
 
     Parameters
     ----------
@@ -415,7 +418,7 @@ def descend(measure, grid: Grid, centres: np.ndarray, side: np.ndarray):
 
 def _exponents(f, nodes, grid: Grid, coarse: Grid, anchor, rate, x) -> np.ndarray:
     """(2, N): the soft minimum's exponents −rate (f − I f_c) and −rate (R f − I f_c) at states
-    ``x`` (:func:`excess`), for :func:`descend`."""
+    ``x`` (:func:`~gridlbc.accuracy.excess`), for :func:`descend`."""
     reference = multilinear(coarse, anchor, x)
     return -rate * np.stack([f(x) - reference, rebuild(nodes, grid, x) - reference])
 
@@ -588,12 +591,14 @@ class Response:
         The coarse solve, v_c[g, q], by the plain scheme; None where it was not needed.
     raised : Solution or None
         The same with the costs raised by their excess, v_c[g + δg, q + δq]; None where
-        ``bound`` is negligible (:data:`NEGLIGIBLE`) and neither was solved.
+        ``bound`` is negligible (:data:`~gridlbc.accuracy.subcell.NEGLIGIBLE`) and neither was
+        solved.
     bound : float
         sup|δg| + τ sup|δq| (+ sup|δg_E| with an exit set and a horizon) over the coarse nodes,
-        τ = :func:`hold_time`. With a horizon (τ = T) S never exceeds it (v is 1-Lipschitz in
-        the costs, in the supremum norm, and so is a monotone scheme's); without one it only
-        says whether the excess is negligible (a first-exit path may stay longer than τ).
+        τ = :func:`~gridlbc.accuracy.subcell.hold_time`. With a horizon (τ = T) S never exceeds it
+        (v is 1-Lipschitz in the costs, in the supremum norm, and so is a monotone scheme's);
+        without one it only says whether the excess is negligible (a first-exit path may stay longer
+        than τ).
     """
 
     base: Solution | None

@@ -1,26 +1,27 @@
 """Solves to a tolerance: refine the step and the grid until the embedded estimate meets ``tol``
 (docs page :doc:`accuracy`).
 
-:func:`solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve
+:func:`~gridlbc.accuracy.solve_to_tolerance` (``gridlbc.solve(problem, tol=...)``) repeats the solve
 until the estimate meets ``tol`` or a limit (memory, ``max_nodes``, ``max_refinements``) stops it.
 Between rounds it measures each part's share of the error, the step's by a solve at 2Δt and
 each axis's by a solve with that axis alone coarsened, and models the estimate as their sum,
 e ≈ Σ_i C_i h_i^q + C_t Δt: it chooses the factors by which to refine each axis and the step
-so that the predicted estimate meets ``tol`` at the least work (:func:`refinement_factors`),
-rounded to feasible grids and cut to what fits in memory (:func:`fitting_plan`). The model
-extrapolates only as far as it has been checked: by at most 2 per round until a round's
-estimate comes within 2× of what it predicted (each such round doubles the reach). Where it
-does not describe the errors (:func:`unsteerable`: an estimate above 100 % of v, or shares
-that do not add up to the embedded difference) every axis and the step are refined by 2;
-where the levels do not converge at first order, the largest shares by 2. Where they do not
-converge, the estimate cannot prove a tolerance it meets (it is far above the error on 4-D
-grids of a few dozen nodes per axis): at a few states given by the user, certificates measure
-the error itself (:func:`certified_error`) and end the solve when they prove ``tol``. The path
-is in :attr:`gridlbc.Solution.refinement`. A round is met only where the step's own share
-(a solve at 2Δt) meets ``tol`` too, and where the drift does not change between the nodes faster
-than the grid follows (:mod:`gridlbc.accuracy.flow`). A default solve whose estimate exceeds
-:data:`DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the estimate and what to
-change.
+so that the predicted estimate meets ``tol`` at the least work
+(:func:`~gridlbc.accuracy.refinement_factors`), rounded to feasible grids and cut to what fits in
+memory (:func:`~gridlbc.accuracy.fitting_plan`). The model extrapolates only as far as it has been
+checked: by at most 2 per round until a round's estimate comes within 2× of what it predicted (each
+such round doubles the reach). Where it does not describe the errors
+(:func:`~gridlbc.accuracy.unsteerable`: an estimate above 100 % of v, or shares that do not add up
+to the embedded difference) every axis and the step are refined by 2; where the levels do not
+converge at first order, the largest shares by 2. Where they do not converge, the estimate cannot
+prove a tolerance it meets (it is far above the error on 4-D grids of a few dozen nodes per axis):
+at a few states given by the user, certificates measure the error itself
+(:func:`~gridlbc.accuracy.certified_error`) and end the solve when they prove ``tol``. The path is
+in :attr:`gridlbc.Solution.refinement`. A round is met only where the step's own share (a solve at
+2Δt) meets ``tol`` too, and where the drift does not change between the nodes faster than the grid
+follows (:mod:`gridlbc.accuracy.flow`). A default solve whose estimate exceeds
+:data:`~gridlbc.accuracy.DEFAULT_TOLERANCE` warns (:class:`gridlbc.ResolutionWarning`) with the
+estimate and what to change.
 """
 
 from __future__ import annotations
@@ -56,8 +57,9 @@ from .matter import judged_states
 
 
 class Marcher(NamedTuple):
-    """The time march that :func:`solve_to_tolerance` repeats and plans, as :mod:`gridlbc.solver`
-    passes it in (the solver calls this module, not the other way round)."""
+    """The time march that :func:`~gridlbc.accuracy.solve_to_tolerance` repeats and plans,
+    as :mod:`gridlbc.solver` passes it in (the solver calls this module, not the other way
+    round)."""
 
     settings_for: Callable  # (problem, settings, options) → the SolverSettings of a solve
     planned_step: Callable  # (problem, settings) → (Δt, steps)
@@ -69,13 +71,15 @@ def axis_shares(solution, solve_on, states=None, t: float = 0.0) -> tuple[np.nda
     """Each axis's share of the error of ``solution`` and the difference from its embedded solve,
     read at time ``t`` (where :func:`assess` found the largest error).
 
-    The share of axis i is the relative difference (:func:`statistic` at the judged states) from
-    a solve with only that axis coarsened (every other node, ``solve_on(grid)``, which may return
-    None where the problem cannot be posed on that grid; NaN then, and for an axis too coarse to
-    coarsen). The difference D from the embedded solves, which coarsen every axis (and double the
-    step), is read the same way (:meth:`EmbeddedEstimate.difference`, with the pair of
-    :func:`phase_pair`, which the shares leave out: where misaligned features make D, the shares
-    do not add up to it and every axis is refined, :func:`shares_add_up`).
+    The share of axis i is the relative difference (:func:`~gridlbc.accuracy.assessment.statistic`
+    at the judged states) from a solve with only that axis coarsened (every other node,
+    ``solve_on(grid)``, which may return None where the problem cannot be posed on that grid; NaN
+    then, and for an axis too coarse to coarsen). The difference D from the embedded solves, which
+    coarsen every axis (and double the step), is read the same way
+    (:meth:`EmbeddedEstimate.difference`, with the pair of
+    :func:`~gridlbc.accuracy.phase_pair`, which the shares leave out: where misaligned features make
+    D, the shares do not add up to it and every axis is
+    refined, :func:`~gridlbc.accuracy.tolerance.shares_add_up`).
 
     Returns
     -------
@@ -109,11 +113,12 @@ def axes_to_refine(
     solution, solve_on, states=None, time_share: float = 0.0
 ) -> tuple[list[int], np.ndarray]:
     """Which axes limit the accuracy of ``solution``, from each axis's share of the error
-    (:func:`axis_shares`).
+    (:func:`~gridlbc.accuracy.axis_shares`).
 
-    Where the shares add up (:func:`shares_add_up`), the axes whose share is at least half the
-    largest are returned: refining the others alone would gain little. Where they do not, every
-    axis is returned. Also returned: every share (NaN for an axis too coarse to coarsen).
+    Where the shares add up (:func:`~gridlbc.accuracy.tolerance.shares_add_up`), the axes whose
+    share is at least half the largest are returned: refining the others alone would gain little.
+    Where they do not, every axis is returned. Also returned: every share (NaN for an axis too
+    coarse to coarsen).
     """
     shares, whole = axis_shares(solution, solve_on, states)
     if not shares_add_up(shares, whole, time_share):
@@ -175,7 +180,7 @@ def refinement_factors(errors, orders, tol: float) -> np.ndarray:
 
 @dataclass(frozen=True)
 class Refinement:
-    """One solve of :func:`solve_to_tolerance`.
+    """One solve of :func:`~gridlbc.accuracy.solve_to_tolerance`.
 
     Attributes
     ----------
@@ -197,19 +202,20 @@ class Refinement:
         It stored every ``store_every``-th step's slice (and the last).
     axis_errors : tuple of float
         Where it was followed by another round: each axis's share of the error, the relative
-        difference from a solve with only that axis coarsened (:func:`axis_shares`). Empty
-        otherwise.
+        difference from a solve with only that axis coarsened
+        (:func:`~gridlbc.accuracy.axis_shares`). Empty otherwise.
     factors : tuple of float
         The refinement asked for after it, per axis and then for the step (h_i → h_i / r_i,
         Δt → Δt / r_t; 1: unchanged); the grid reached may be coarser where memory or
         ``max_nodes`` held it. Empty where it was the last round.
     reason : str
-        Why the factors were not the model's own choice (:func:`unsteerable`, or levels that do
-        not converge at first order); "" where they were.
+        Why the factors were not the model's own choice (:func:`~gridlbc.accuracy.unsteerable`, or
+        levels that do not converge at first order); "" where they were.
     certified_error : float
         Where the embedded levels did not converge and the user gave few states: the relative
-        error at those states measured against certified optima (:func:`certified_error`); NaN
-        where it was not measured or the certificates could not say.
+        error at those states measured against certified optima
+        (:func:`~gridlbc.accuracy.certified_error`); NaN where it was not measured or the
+        certificates could not say.
     observed_order : float
         The order p observed from the embedded levels (NaN where not measured): below 1 the
         round is judged by :func:`at_observed_order`.
@@ -260,8 +266,8 @@ def at_observed_order(error: float, order: float) -> float:
 
 def _step_share(march: Marcher, solution, problem, settings, states, t: float = 0.0) -> float:
     """The step's share of the error of ``solution``: ê_t = abs(v_{h,2Δt} − v_{h,Δt}) relative to
-    v (:func:`statistic` at the judged states, time ``t``), from one more solve on the same grid
-    at twice the step (the error of a first-order step, or more)."""
+    v (:func:`~gridlbc.accuracy.assessment.statistic` at the judged states, time ``t``), from one
+    more solve on the same grid at twice the step (the error of a first-order step, or more)."""
     dt, steps = solution.diagnostics.dt, solution.diagnostics.steps
     half = _march_quietly(march, problem, settings, 2 * dt, steps, problem.grid, t)
     rel = relative_difference(solution, half, judged_states(solution, states), t)
@@ -271,11 +277,12 @@ def _step_share(march: Marcher, solution, problem, settings, states, t: float = 
 def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:
     """Why the measured shares cannot choose the next grid, or "" where they can.
 
-    The per-component model e ≈ Σ_i C_i h_i^p + C_t Δt (:func:`refinement_factors`) steers
-    where it describes the errors. Where it does not, the estimate says that the solve is poor,
-    not which part to refine, and every axis and the step are refined: an estimate above 100 %
-    of v (the coarser solves are not near v at all), or shares that do not add up to the
-    embedded difference (:func:`shares_add_up`)."""
+    The per-component model e ≈ Σ_i C_i h_i^p + C_t Δt
+    (:func:`~gridlbc.accuracy.refinement_factors`) steers where it describes the errors. Where it
+    does not, the estimate says that the solve is poor, not which part to refine, and every axis and
+    the step are refined: an estimate above 100 % of v (the coarser solves are not near v at all),
+    or shares that do not add up to the embedded difference
+    (:func:`~gridlbc.accuracy.tolerance.shares_add_up`)."""
     if not error <= 1.0:
         return f"estimate {error:.0%} above 100 % of v"
     total = np.nansum(shares) + time_share
@@ -287,7 +294,7 @@ def unsteerable(embedded, error: float, shares, whole: float, time_share: float)
 def fitting_plan(march: Marcher, problem, settings, factors, max_nodes: int | None = None):
     """The grid refined by ``factors`` (:func:`scaled_grid`), or by less where that would exceed
     ``max_nodes`` or the memory: the largest ``factors**α`` (α in [0, 1], bisected) whose grid
-    fits, with its storage (:func:`fitting_storage`).
+    fits, with its storage (:func:`~gridlbc.accuracy.tolerance.fitting_storage`).
 
     Returns
     -------
@@ -335,9 +342,9 @@ is refined by 2 (and the step), until that coarser grid holds the set."""
 
 
 MARCH_WORK_EXPONENT = 1.0
-"""The power of the work ratio (nodes × steps) by which :func:`solve_to_tolerance` scales a
-round's time to predict the next one's (:func:`predicted_seconds`): a time-marched solve, its
-embedded solves and its comparison solves all cost a fixed amount per node and step."""
+"""The power of the work ratio (nodes × steps) by which :func:`~gridlbc.accuracy.solve_to_tolerance`
+scales a round's time to predict the next one's (:func:`predicted_seconds`): a time-marched solve,
+its embedded solves and its comparison solves all cost a fixed amount per node and step."""
 
 
 def predicted_seconds(seconds: float, work: float, planned: float, exponent: float) -> float:
@@ -395,18 +402,18 @@ def solve_to_tolerance(
 
     Each round solves on the current grid with the current step and reads the relative estimate
     ê (:func:`assess`). If it exceeds ``tol``, it measures the step's share ê_t = abs(v_{h,2Δt} −
-    v_{h,Δt}) and each axis's share (:func:`axis_shares`: solves at the same step with one axis
-    coarsened at a time), both at the time where ê was read (0, or late in the task where the
-    check there found the larger error, :func:`~gridlbc.accuracy.assessment.late_times`), and
-    chooses the next grid and step:
+    v_{h,Δt}) and each axis's share (:func:`~gridlbc.accuracy.axis_shares`: solves at the same step
+    with one axis coarsened at a time), both at the time where ê was read (0, or late in the task
+    where the check there found the larger error, :func:`~gridlbc.accuracy.assessment.late_times`),
+    and chooses the next grid and step:
 
-    - in the model's range (:func:`unsteerable` says nothing), the factors that bring the sum of
-      the shares, scaled to add up to ê and extrapolated with the observed order q for the axes
-      and 1 for the step, to ``tol`` at the least work (:func:`refinement_factors`), each at
-      most the *reach*: 2 until a round's estimate comes within 2× of the model's prediction
-      for it, doubled by each round that does, back to 2 by one that does not; where the levels
-      do not converge at first order (observed order below 1), only the shares at least half
-      the largest are refined, by at most 2;
+    - in the model's range (:func:`~gridlbc.accuracy.unsteerable` says nothing), the factors that
+      bring the sum of the shares, scaled to add up to ê and extrapolated with the observed order q
+      for the axes and 1 for the step, to ``tol`` at the least work
+      (:func:`~gridlbc.accuracy.refinement_factors`), each at most the *reach*: 2 until a round's
+      estimate comes within 2× of the model's prediction for it, doubled by each round that does,
+      back to 2 by one that does not; where the levels do not converge at first order (observed
+      order below 1), only the shares at least half the largest are refined, by at most 2;
     - outside it, every axis by 2 with the scheme's default step for the finer grid (or half
       the current step once one has been set).
 
@@ -416,23 +423,24 @@ def solve_to_tolerance(
     than the step follows, whose error the coarser grid happens to offset) it reads far less
     than either. Where ê_t exceeds ``tol`` the step alone is refined, by ê_t / tol (at most the
     reach). And a round is not met where the drift changes between the nodes faster than the
-    grid follows (:func:`~gridlbc.accuracy.flow_excess`: F ≥ :data:`FLOW_CELLS` cells a step and
-    an observed order that is not :func:`~gridlbc.accuracy.flow.followed`): the coarser solves
-    step over such a gust alike, and the step is refined until F is below :data:`FLOW_CELLS`
-    (F ∝ Δt/h: by F/:data:`FLOW_CELLS` times the largest axis factor); if the solve ends with it
-    unresolved, it warns as the default solve does (:func:`~gridlbc.accuracy.check_flow`, which
-    also judges the noise).
+    grid follows (:func:`~gridlbc.accuracy.flow_excess`: F
+    ≥ :data:`~gridlbc.accuracy.flow.FLOW_CELLS` cells a step and an observed order that is
+    not :func:`~gridlbc.accuracy.followed`): the coarser solves step over such a gust alike, and the
+    step is refined until F is below :data:`~gridlbc.accuracy.flow.FLOW_CELLS` (F ∝ Δt/h: by
+    F/:data:`~gridlbc.accuracy.flow.FLOW_CELLS` times the largest axis factor); if the solve ends
+    with it unresolved, it warns as the default solve does (:func:`~gridlbc.accuracy.check_flow`,
+    which also judges the noise).
 
     Where the levels do not converge (the estimate is then rough in either direction) and the
     user gave at most :data:`CERTIFIED_STATES` states, a round whose estimate misses ``tol`` is
-    also judged by certificates at those states (:func:`certified_error`), and ends the solve if
-    they prove it (:attr:`Refinement.certified_error`).
+    also judged by certificates at those states (:func:`~gridlbc.accuracy.certified_error`), and
+    ends the solve if they prove it (:attr:`Refinement.certified_error`).
 
     The grid is the one with each axis's spacing divided by its factor (:func:`scaled_grid`);
     where it would exceed ``max_nodes`` or the memory, the factors are reduced together to the
-    largest grid that fits (:func:`fitting_plan`: its slices stored as float32, then only every
-    k-th, :func:`fitting_storage`); if not even a slightly finer grid fits, Δt is halved
-    instead and the limit is reported.
+    largest grid that fits (:func:`~gridlbc.accuracy.fitting_plan`: its slices stored as float32,
+    then only every k-th, :func:`~gridlbc.accuracy.tolerance.fitting_storage`); if not even a
+    slightly finer grid fits, Δt is halved instead and the limit is reported.
 
     Before each round after the first, its time is predicted from the last round's: that
     round's wall time (its solve, estimates and the comparison solves that steered it) times
@@ -451,9 +459,11 @@ def solve_to_tolerance(
     problem : Problem
         The problem; its grid is the first one tried.
     tol : float
-        The relative tolerance on v (see :func:`relative_error`), in (0, 1).
+        The relative tolerance on v (see :func:`~gridlbc.accuracy.estimate.relative_error`), in (0,
+        1).
     states : array_like (N, d), optional
-        Where the tolerance must hold; default :func:`states_that_matter` (at :data:`QUANTILE`).
+        Where the tolerance must hold; default :func:`states_that_matter`
+        (at :data:`~gridlbc.accuracy.assessment.QUANTILE`).
     times : sequence of float, optional
         With ``states``: the times in [0, T] at which it must hold there (default: 0 and
         :func:`~gridlbc.accuracy.assessment.late_times`, late in the task where a step errs most).
@@ -672,8 +682,8 @@ def solve_to_tolerance(
 
 
 def judged_times(problem, states, times) -> tuple[float, ...] | None:
-    """``times`` checked (:func:`solve_to_tolerance`): a non-empty sequence of times in [0, T],
-    given with ``states``; None where not given."""
+    """``times`` checked (:func:`~gridlbc.accuracy.solve_to_tolerance`): a non-empty sequence of
+    times in [0, T], given with ``states``; None where not given."""
     if times is None:
         return None
     if states is None:
@@ -691,7 +701,8 @@ def judged_times(problem, states, times) -> tuple[float, ...] | None:
 
 
 def _solve_holding(march: Marcher, problem, settings, dt):
-    """One round of :func:`solve_to_tolerance`: the solve with its estimate, and its
+    """One round of :func:`~gridlbc.accuracy.solve_to_tolerance`: the solve with its estimate, and
+    its
     :class:`gridlbc.ResolutionWarning` s held back (the last round's are told at the end, but
     the estimate's and the drift's, which the rounds read and :func:`finish` reports); other
     warnings pass as they come."""
@@ -711,9 +722,9 @@ def _march_quietly(
     march: Marcher, problem, settings, dt: float, steps: int, grid: Grid, t: float = 0.0
 ):
     """``problem`` solved on ``grid`` with step ``dt``, its warnings silenced and no estimate: a
-    comparison solve of :func:`solve_to_tolerance`, read at time ``t``. It stores only the first
-    and last slices (at most ``steps`` steps) where it is read at t = 0, its slices as
-    ``settings`` store them where it is read later (between them, as the solve it is compared
+    comparison solve of :func:`~gridlbc.accuracy.solve_to_tolerance`, read at time ``t``. It stores
+    only the first and last slices (at most ``steps`` steps) where it is read at t = 0, its slices
+    as ``settings`` store them where it is read later (between them, as the solve it is compared
     with)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", GridlbcWarning)
@@ -732,9 +743,9 @@ def held_memory(need: dict, ndim: int, store_every: int) -> float:
     with its estimate: its own, and the coarser solves' slices, (r₂ + 1) 2^−d + r₄ 4^−d of its
     slices' bytes. The embedded solve (2^−d of the nodes, half the steps) and the one below it
     (4^−d, a quarter) store every k-th of their steps
-    (:func:`~gridlbc.accuracy.grids.embedded_store_every`), r₂ = store_every / 2k and
+    (:func:`~gridlbc.accuracy.embedded_store_every`), r₂ = store_every / 2k and
     r₄ = store_every / 4k of the solve's slice count; the two solves on the pair of grids
-    (:func:`phase_pair`) store as the solve does, half as many slices each."""
+    (:func:`~gridlbc.accuracy.phase_pair`) store as the solve does, half as many slices each."""
     r2 = store_every / (2 * embedded_store_every(store_every, 2))
     r4 = store_every / (4 * embedded_store_every(store_every, 4))
     return need["ram"] + need["stored"] * ((r2 + 1) * 2.0**-ndim + r4 * 4.0**-ndim)
@@ -749,7 +760,7 @@ def fitting_storage(march: Marcher, problem, settings):
     k-th step's slice is stored (k = 2, 4, …: the value at t = 0, which the tolerance judges, is
     unchanged; the value and the policy between stored slices are interpolated in time). The
     embedded solve is held with the solution, and so are the solves on the pair of grids
-    (:func:`phase_pair`): :func:`held_memory` counts their slices."""
+    (:func:`~gridlbc.accuracy.phase_pair`): :func:`held_memory` counts their slices."""
     available = available_memory()
     if available is None:
         return settings

@@ -22,14 +22,14 @@ v(X, t + Δt), so per unit time the solve's value exceeds the better-traced one 
 
     ρ(x, t) = ( v_h(X(x), t + Δt) − v_h(X₂(x), t + Δt) ) / Δt,
 
-and :func:`tracing_gap` carries ρ along the solve's own paths (:func:`gridlbc.accuracy.path_gap`
-at the solve's step, the paths γ is sampled on: :func:`gaps`) from t to T, E[∫ ρ ds], a
-first-order estimate of how much the feet move v.
+and :func:`~gridlbc.accuracy.tracing_gap` carries ρ along the solve's own paths
+(:func:`gridlbc.accuracy.path_gap` at the solve's step, the paths γ is sampled on: :func:`gaps`)
+from t to T, E[∫ ρ ds], a first-order estimate of how much the feet move v.
 Where the flow is smooth on the scale of a step, X and X₂ differ by O(Δt³) per step and the term
 is below the scheme's other errors; for a linear drift a = A x with A³ = 0 (a point mass, a
-chain of integrators) the two feet agree exactly and no path is run (:func:`traced`).
-The implicit scheme (first exit with a horizon) reads the drift at the nodes only and has no
-feet: there the term is zero.
+chain of integrators) the two feet agree exactly and no path is run
+(:func:`~gridlbc.accuracy.tracing.traced`). The implicit scheme (first exit with a horizon) reads
+the drift at the nodes only and has no feet: there the term is zero.
 """
 
 from __future__ import annotations
@@ -44,9 +44,10 @@ from .paths import cost_gap
 
 def traced(solution) -> bool:
     """Whether the solution was marched by the splitting scheme over a horizon, whose feet
-    :func:`tracing_gap` compares, with a drift for which they can differ: for a = A x the one
-    step and the two half steps land at (I + ΔtA + Δt²A²/2) x and (I + ΔtA/2 + Δt²A²/8)² x, which
-    differ by (Δt³A³/8 + Δt⁴A⁴/64) x, zero where A³ = 0 (a point mass, a chain of integrators)."""
+    :func:`~gridlbc.accuracy.tracing_gap` compares, with a drift for which they can differ: for a =
+    A x the one step and the two half steps land at (I + ΔtA + Δt²A²/2) x and (I + ΔtA/2 + Δt²A²/8)²
+    x, which differ by (Δt³A³/8 + Δt⁴A⁴/64) x, zero where A³ = 0 (a point mass, a chain of
+    integrators)."""
     problem = solution.problem
     if solution.operator.method != "splitting" or problem.stationary:
         return False
@@ -75,7 +76,7 @@ def tracing_rate(solution, y: np.ndarray, t: float) -> np.ndarray:
 def tracing_gap(solution, x, samples: int, t: float = 0.0) -> np.ndarray:
     """E[∫_t^T ρ(X_s, s) ds] from states ``x`` (N, d) at time ``t``, along ``samples`` paths per
     state driven by the solve's policy at its step (module docstring); zeros for a solution that
-    is not :func:`traced`.
+    is not :func:`~gridlbc.accuracy.tracing.traced`.
 
     Returns
     -------
@@ -87,9 +88,9 @@ def tracing_gap(solution, x, samples: int, t: float = 0.0) -> np.ndarray:
 
 
 def gaps(solution, x, samples: int, t: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
-    """γ (:func:`gridlbc.accuracy.cost_gap`) and :func:`tracing_gap` at states ``x`` (N, d), from
-    the same paths (the same draws, the solve's policy and step): each is what it would be
-    alone, and the paths are run once."""
+    """γ (:func:`gridlbc.accuracy.cost_gap`) and :func:`~gridlbc.accuracy.tracing_gap` at states
+    ``x`` (N, d), from the same paths (the same draws, the solve's policy and step): each is what it
+    would be alone, and the paths are run once."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     if not traced(solution) or len(x) == 0:
         return cost_gap(solution, x, t, samples), np.zeros(len(x))

@@ -30,16 +30,17 @@ cost, so along that policy
 
     v − v_h ≤ E[ ∫₀^τ λ τ(X_s) ds ],
 
-which :func:`truncation_gap` samples for a first-exit solve with the paths of
+which :func:`~gridlbc.accuracy.truncation_gap` samples for a first-exit solve with the paths of
 :func:`gridlbc.accuracy.path_gap`, with ∇v_h from the nodes' central differences of v (exact
 for a z that falls geometrically from node to node; the solve's own policy, λR⁻¹Bᵀ∇z/z from
 interpolated z, is not: it moves too fast where z falls by much more than e per cell). For an
-average-cost solve c − c_h ≈ E_π[λτ] under its stationary law π (:func:`average_truncation`),
-and the relative value's error is the same integral of λτ − E_π[λτ] until the paths reach h's
-minimum (the nodes within λ of it). The term sees the error of a problem whose temperature is small against the cell,
-which the embedded solves, all far from their asymptotic range, underestimate. It is first
-order in τ: where λτ is of the size of the costs it overstates the error (the policy optimal
-for q − λτ is slower than the true one), on the safe side.
+average-cost solve c − c_h ≈ E_π[λτ] under its stationary law π
+(:func:`~gridlbc.accuracy.average_truncation`), and the relative value's error is the same integral
+of λτ − E_π[λτ] until the paths reach h's minimum (the nodes within λ of it). The term sees the
+error of a problem whose temperature is small against the cell, which the embedded solves, all far
+from their asymptotic range, underestimate. It is first order in τ: where λτ is of the size of the
+costs it overstates the error (the policy optimal for q − λτ is slower than the true one), on the
+safe side.
 
 Only the nodes whose neighbours along every axis are free (not in the exit set, inside the box)
 and finite are read: the chain's arms to an exit set's boundary are shorter than a cell, and a
@@ -61,9 +62,10 @@ between them the nearest is read): a full pass over the nodes each."""
 
 
 def generator_rates(solution) -> str | None:
-    """The jump rates of the generator a solution's operator steps with (:data:`gridlbc.schemes
-    .generator.RATES`): a stationary solve's own, ``"upwind"`` for the implicit time march;
-    None for an operator that is no chain's generator (the splitting scheme)."""
+    """The jump rates of the generator a solution's operator steps with
+    (:data:`gridlbc.schemes.generator.RATES`): a stationary solve's own, ``"upwind"`` for the
+    implicit time march; None for an operator that is no chain's generator (the splitting
+    scheme)."""
     method = solution.operator.method
     if method.startswith("stationary-"):
         return method.removeprefix("stationary-")
@@ -79,7 +81,7 @@ def truncation_rate(solution, j: int = 0) -> np.ndarray:
     ----------
     solution : Solution
         A stationary solution of :mod:`gridlbc.stationary` or a time-marched one of the
-        implicit scheme (:func:`generator_rates` not None).
+        implicit scheme (:func:`~gridlbc.accuracy.truncation.generator_rates` not None).
     j : int
         The stored slice (time ``solution.times[j]``).
 
@@ -135,8 +137,9 @@ def truncation_gap(solution, x, samples: int, t: float = 0.0, below=None, v=None
     is within a factor e of its largest: around x_m, where the stationary law sits), the
     first-order change of h(x) − h(x_m) with the cost to within its change over that set. A
     time-marched solve of the implicit scheme reads λτ and ∇v_h at the nearest of up to
-    :data:`SLICES` of its stored slices. Zero for an operator that is not a chain's generator
-    (:func:`generator_rates`) or where λτ vanishes at every node.
+    :data:`~gridlbc.accuracy.truncation.SLICES` of its stored slices. Zero for an operator that is
+    not a chain's generator (:func:`~gridlbc.accuracy.truncation.generator_rates`) or where λτ
+    vanishes at every node.
 
     The paths are run only from the states where the term could exceed ``below`` (N,) (the rest
     of an estimate, or 0): for a first-exit solve where abs(λτ) ≤ ε q at every free node, the
@@ -200,9 +203,10 @@ def truncation_gap(solution, x, samples: int, t: float = 0.0, below=None, v=None
 
 def _slices(solution, t: float = 0.0) -> np.ndarray:
     """The stored slices whose λτ a time-marched solve's paths from time ``t`` read: up to
-    :data:`SLICES`, evenly spaced in time over [t, T], the last before t and the last among them
-    (the one slice of a stationary solve). The paths see λτ only from t on, and near the
-    horizon it changes fastest (an exit set's desirability against the terminal cost's)."""
+    :data:`~gridlbc.accuracy.truncation.SLICES`, evenly spaced in time over [t, T], the last before
+    t and the last among them (the one slice of a stationary solve). The paths see λτ only from t
+    on, and near the horizon it changes fastest (an exit set's desirability against the terminal
+    cost's)."""
     times = np.asarray(solution.times, dtype=float)
     first = max(int(np.searchsorted(times, t, side="right")) - 1, 0)
     count = len(times) - first
@@ -211,7 +215,7 @@ def _slices(solution, t: float = 0.0) -> np.ndarray:
 
 def _bound(solution, rate: np.ndarray, x: np.ndarray, v) -> np.ndarray:
     """ε/(1 − ε) (v_h − min g_E) at ``x`` with ε = max abs(λτ)/q over the nodes where λτ ≠ 0
-    (:func:`truncation_gap`); inf where ε ≥ 1 or q ≤ 0 at such a node."""
+    (:func:`~gridlbc.accuracy.truncation_gap`); inf where ε ≥ 1 or q ≤ 0 at such a node."""
     problem = solution.problem
     felt = rate != 0
     if problem.state_cost is None:

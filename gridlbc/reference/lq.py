@@ -1,7 +1,7 @@
 """The Riccati solution of linear-quadratic problems, the exact check for the grid solvers.
 
-:func:`lq_solution` is the closed-form optimum of a linear system with quadratic costs:
-v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward from T,
+:func:`~gridlbc.reference.lq_solution` is the closed-form optimum of a linear system with quadratic
+costs: v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward from T,
 
     −Ṗ  = AᵀP + P A − P S P + 2 W_q                    P(T)  = 2 W_T
     −ṗ  = (A − S P)ᵀ p − 2 W_q c_q                     p(T)  = −2 W_T c_T
@@ -9,8 +9,9 @@ v(x, t) = ½ xᵀP(t)x + p(t)ᵀx + c₀(t) with S = B R⁻¹ Bᵀ and, backward
 
 and u*(x, t) = −R⁻¹ Bᵀ (P x + p). The ODEs are integrated to near machine precision (DOP853).
 
-:func:`euler_chain_value` is the exact optimum of the Euler–Maruyama chain of the same problem,
-the number :func:`gridlbc.certify` estimates at a given step (docs page :doc:`validating`).
+:func:`~gridlbc.reference.euler_chain_value` is the exact optimum of the Euler–Maruyama chain of the
+same problem, the number :func:`gridlbc.certify` estimates at a given step (docs
+page :doc:`validating`).
 
 """
 
@@ -73,8 +74,8 @@ def _quadratic_terms(cost, name: str, d: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def is_linear_quadratic(problem: Problem) -> bool:
-    """Whether :func:`lq_solution` applies to ``problem``: a(x) = A x with constant B, Quadratic
-    (or no) terminal and state costs, and no periodic axis."""
+    """Whether :func:`~gridlbc.reference.lq_solution` applies to ``problem``: a(x) = A x with
+    constant B, Quadratic (or no) terminal and state costs, and no periodic axis."""
     return (
         problem.system.linear_matrices() is not None
         and not problem.periodic_axes
@@ -148,7 +149,7 @@ def euler_chain_value(problem: Problem, x0, n_steps: int = 300) -> float:
         c_k = c_qᵀW_q c_q Δt + c − ½ pᵀNp + (λ/2) log det(I + Δt R⁻¹BᵀPB).
 
     This is what :func:`gridlbc.certify` estimates at the step Δt for any proposal (its
-    distance from :func:`lq_solution`'s value is the chain's O(Δt) weak error).
+    distance from :func:`~gridlbc.reference.lq_solution`'s value is the chain's O(Δt) weak error).
 
     Parameters
     ----------

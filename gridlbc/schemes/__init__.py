@@ -2,7 +2,8 @@
 
 Every scheme is a *step operator* S with z(·, t − Δt) = S z(·, t), linear in z and monotone
 (z ≥ 0 and a discrete maximum principle), so the discrete problem is itself a linearly solvable
-Markov chain and superposition holds to rounding. :data:`METHODS` names the schemes; each is a
+Markov chain and superposition holds to rounding. :data:`~gridlbc.METHODS` names the schemes; each
+is a
 :class:`~gridlbc.schemes.protocol.Scheme`, the written contract of everything
 :func:`gridlbc.solve` asks of a scheme (its default step, its bound on the step, its time loop,
 its checks; :mod:`gridlbc.schemes.protocol` lists them in the order they are called).
@@ -10,7 +11,7 @@ its checks; :mod:`gridlbc.schemes.protocol` lists them in the order they are cal
 Where things go:
 
 - A scheme: a module or package here with a :class:`~gridlbc.schemes.protocol.Scheme` object,
-  registered in :data:`METHODS` (the implicit scheme, one module, is the small example; the
+  registered in :data:`~gridlbc.METHODS` (the implicit scheme, one module, is the small example; the
   splitting, :mod:`gridlbc.schemes.splitting`, the large one). Its compiled kernels go to
   :mod:`gridlbc.backends.numba`; loops over a linear step operator can reuse
   :func:`gridlbc.schemes.march.march_linear`.

@@ -15,9 +15,9 @@ nodes), and the equation the sparse linear system
 
 over the nodes I off E, with the nodes of E and the boundary points as known values. Its matrix is a non-singular
 M-matrix exactly when every node can reach E or a node with q > 0 along the chain's jumps
-(:func:`check_well_posed` refuses a problem where some cannot: their z would be undetermined).
-It is solved directly (sparse LU) or by a Krylov method; no time marching. The solution is
-linear in z_E: exit costs g_i on one E, solved with one operator, superpose exactly,
+(:func:`~gridlbc.stationary.first_exit.check_well_posed` refuses a problem where some cannot: their
+z would be undetermined). It is solved directly (sparse LU) or by a Krylov method; no time marching.
+The solution is linear in z_E: exit costs g_i on one E, solved with one operator, superpose exactly,
 z = Σ_i w_i z_i (:func:`gridlbc.combine`).
 
 **Average cost.** A task that never ends has an optimal cost per unit time c and a relative value
@@ -32,8 +32,9 @@ whose shifts σ_k ↓ μ from σ₀ = −min q/λ + ε keep σ_k I − M a non-s
 by LU where the first-exit system would be (one and two dimensions) and otherwise by the same
 Krylov methods (:func:`principal_eigenpair`). h is
 normalised to min h = 0 at the nodes, and the embedded solves on the grids 2h and 4h, normalised
-the same way, give the estimates of h (:meth:`StationarySolution.error_estimate`) and of c
-(``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate`).
+the same way, give the estimates of h (:meth:`StationarySolution.error_estimate
+<gridlbc.Solution.error_estimate>`) and of c
+(``average_cost_error``, :func:`gridlbc.accuracy.estimate.scalar_estimate`).
 
 The package: :mod:`~gridlbc.stationary.first_exit` (the linear system),
 :mod:`~gridlbc.stationary.average` (the eigenpair), :mod:`~gridlbc.stationary.linear` (their

@@ -103,7 +103,7 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     Returns
     -------
     list of StationarySolution
-        One per exit cost, each as :func:`solve_first_exit` gives for
+        One per exit cost, each as :func:`~gridlbc.stationary.first_exit.solve_first_exit` gives for
         ``problem.replace(exit_cost=g_i)``.
     """
     start = time.perf_counter()

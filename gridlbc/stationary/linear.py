@@ -1,6 +1,7 @@
 """What the stationary solves share (docs page :doc:`first_exit`): their settings, the sparse
 linear solvers (LU, BiCGSTAB, GMRES) with rows scaled to a unit diagonal, the re-solve of a
-solution's small entries (:func:`accurate_tail`), and the packaging of a solved z as a
+solution's small entries (:func:`~gridlbc.stationary.accurate_tail`), and the packaging of a solved
+z as a
 :class:`~gridlbc.solution.StationarySolution`."""
 
 from __future__ import annotations
@@ -40,8 +41,8 @@ LINEAR_SOLVERS = ("auto", "direct", "bicgstab", "gmres")
 
 The residual bounds the iterative solves' error in z relative to its largest value, so
 v = −λ log z would be rounding where z is far below it (far from the exit set, where v exceeds
-its minimum by many λ): the entries below :data:`TAIL` of the largest are solved again from the
-others (:func:`accurate_tail`), without defect correction.
+its minimum by many λ): the entries below :data:`~gridlbc.stationary.linear.TAIL` of the largest are
+solved again from the others (:func:`~gridlbc.stationary.accurate_tail`), without defect correction.
 """
 
 
@@ -53,7 +54,7 @@ reports (beyond them, while :data:`BYTES_PER_NODE` per unknown fits in half of i
 BYTES_PER_NODE = 2500
 """Peak memory of a first-exit solve by sparse LU per grid node (2.2 kB measured on 401² and
 801² grids, 1.9 kB on 1608×1601), for the choice of ``"auto"`` and for
-:func:`~gridlbc.stationary.solve.solve_stationary_to_tolerance`'s check before refining."""
+:func:`~gridlbc.stationary.solve_stationary_to_tolerance`'s check before refining."""
 
 
 MAX_ITERATIONS = 5_000
@@ -62,7 +63,7 @@ MAX_ITERATIONS = 5_000
 
 MAX_SHIFTS = 100
 """Shifts of the average cost's eigen-solve
-(:func:`~gridlbc.stationary.average.principal_eigenpair`) before it counts as not converged
+(:func:`~gridlbc.stationary.principal_eigenpair`) before it counts as not converged
 (stranger round 27's cold average cost of a linear system with one control, λ = 0.023 on
 88×309, takes 58)."""
 
@@ -77,7 +78,7 @@ class StationarySettings:
         The generator's jump rates, ``"fitted"`` (default) or ``"upwind"``
         (:mod:`gridlbc.schemes.generator`).
     linear_solver : str
-        One of :data:`LINEAR_SOLVERS`.
+        One of :data:`~gridlbc.stationary.linear.LINEAR_SOLVERS`.
     residual : float
         The relative residual at which the Krylov solvers stop (and the eigen-solver's
         tolerance).
@@ -180,8 +181,9 @@ def solve_linear(A: sp.csr_matrix, b: np.ndarray, s: StationarySettings, ndim: i
 
 
 def linear_solver(A: sp.csr_matrix, s: StationarySettings, ndim: int):
-    """A function ``b (n, K) -> (Z, iterations)`` with A Z = b: :func:`solve_linear` with its
-    factorisation (direct) or its scaled matrix (Krylov) kept for further right-hand sides."""
+    """A function ``b (n, K) -> (Z, iterations)`` with A Z =
+    b: :func:`~gridlbc.stationary.linear.solve_linear` with its factorisation (direct) or its scaled
+    matrix (Krylov) kept for further right-hand sides."""
     A, inverse = scaled_rows(A)
     method = linear_method(s, ndim, A.shape[0])
     if method == "direct":
@@ -255,8 +257,9 @@ def _krylov(A: sp.csr_matrix, b: np.ndarray, residual: float, method: str, guess
 
 TAIL = 1e-6
 """Entries of an iterative first-exit solve's z, and of the principal eigenvector, below this
-share of their largest are solved for again from the others (:func:`accurate_tail`): v more
-than λ log(1/TAIL) ≈ 14 λ above its least value."""
+share of their largest are solved for again from the others
+(:func:`~gridlbc.stationary.accurate_tail`): v more than λ log(1/TAIL) ≈ 14 λ above its least
+value."""
 
 
 def accurate_tail(
@@ -270,21 +273,21 @@ def accurate_tail(
     to its largest entry only: an entry far below it is rounding, and v = −λ log x there would
     stop near λ log(1/ε) ≈ 36 λ (λ log(1/residual) for a Krylov solve, or +inf where the
     rounding dips below zero) above its least value whatever the truth, on every grid alike (the
-    estimate cannot see it). Over the nodes T where x < :data:`TAIL` of its largest (H the
-    others, held), the rows T of A x = b give
+    estimate cannot see it). Over the nodes T where x < :data:`~gridlbc.stationary.linear.TAIL` of
+    its largest (H the others, held), the rows T of A x = b give
 
         A_TT x_T = b_T − A_TH x_H,
 
     a non-singular M-matrix (for the eigenvector: the principal eigenvalue of M's restriction
     to T is below μ, M being irreducible) with a non-negative right-hand side (A's off-diagonal
-    entries are not positive), solved as the first-exit system is (:func:`solve_linear`): by
-    sparse LU each entry keeps its own relative accuracy, as z does in a direct first-exit
-    solve; an iterative solve resolves entries down to its residual relative to the largest of
-    T, so it is repeated on the entries below :data:`TAIL` of that, and so on, down to the
-    smallest normal number. Each pass solves in units of its threshold (x_T about 1 at most),
-    which keeps the Krylov iterates out of the subnormal range (BiCGSTAB falling back on
-    ILU-GMRES as under ``"auto"``; where neither converges the solve warns, and those entries
-    stay rounding)."""
+    entries are not positive), solved as the first-exit system is
+    (:func:`~gridlbc.stationary.linear.solve_linear`): by sparse LU each entry keeps its own
+    relative accuracy, as z does in a direct first-exit solve; an iterative solve resolves entries
+    down to its residual relative to the largest of T, so it is repeated on the entries
+    below :data:`~gridlbc.stationary.linear.TAIL` of that, and so on, down to the smallest normal
+    number. Each pass solves in units of its threshold (x_T about 1 at most), which keeps the Krylov
+    iterates out of the subnormal range (BiCGSTAB falling back on ILU-GMRES as under ``"auto"``;
+    where neither converges the solve warns, and those entries stay rounding)."""
     x = np.clip(x, 0.0, None)
     threshold = TAIL * float(x.max())
     # BiCGSTAB with ILU-GMRES to fall back on (or LU where "auto" picks it)
@@ -354,9 +357,9 @@ def packaged(problem, label, z, top, start, setup, iterations, digest) -> Statio
 
 def stationary_work_exponent(method: str, ndim: int) -> float:
     """The power of the nodes ratio by which
-    :func:`~gridlbc.stationary.solve.solve_stationary_to_tolerance` scales a round's time to predict
+    :func:`~gridlbc.stationary.solve_stationary_to_tolerance` scales a round's time to predict
     the next one's (:func:`gridlbc.accuracy.predicted_seconds`), for the linear solver ``method``
-    (resolved, :func:`linear_method`) of the planned grid.
+    (resolved, :func:`~gridlbc.stationary.linear.linear_method`) of the planned grid.
 
     Sparse LU with a fill-reducing ordering costs N^1.5 in two dimensions (nested dissection)
     and N^2 in three; measured (the first-exit solve of a ball's exit, one thread): 2-D from 161²

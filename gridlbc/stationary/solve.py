@@ -1,6 +1,6 @@
 """The stationary solves as :func:`gridlbc.solve` runs them: first exit or average cost on the
 grid, with the embedded solves that carry the error estimate (:mod:`gridlbc.accuracy.embedding`),
-and to a tolerance (:func:`solve_stationary_to_tolerance`)."""
+and to a tolerance (:func:`~gridlbc.stationary.solve_stationary_to_tolerance`)."""
 
 from __future__ import annotations
 
@@ -71,16 +71,16 @@ def solve_stationary_to_tolerance(
 
     A round's error is the relative estimate of v at ``states`` (:func:`gridlbc.accuracy.assess`);
     for the average cost, the larger of that of the relative value h and c's own,
-    ê_c / c (``average_cost_error``, :func:`gridlbc.accuracy.scalar_estimate`): c is what an
-    average-cost solve is asked for first, and h's estimate does not bound it. The axes refined
+    ê_c / c (``average_cost_error``, :func:`gridlbc.accuracy.estimate.scalar_estimate`): c is what
+    an average-cost solve is asked for first, and h's estimate does not bound it. The axes refined
     are those whose share of the larger error is at least half the largest share: h's shares by
-    :func:`gridlbc.accuracy.axes_to_refine`, c's by :func:`shares_of_c`, from the same solves
-    with one axis coarsened.
+    :func:`gridlbc.accuracy.tolerance.axes_to_refine`, c's
+    by :func:`~gridlbc.stationary.solve.shares_of_c`, from the same solves with one axis coarsened.
 
     Before each refinement its round's time (the solve, its embedded solves and the solves with
     one axis coarsened that steer the next) is predicted from the last round's: its wall time
     times the ratio of the nodes to the power
-    :func:`~gridlbc.stationary.linear.stationary_work_exponent` (measured for the linear solvers); a
+    :func:`~gridlbc.stationary.stationary_work_exponent` (measured for the linear solvers); a
     round that would take the total past ``max_seconds`` is not started
     (:attr:`gridlbc.accuracy.Refinement.predicted_seconds`), nor steered where the time left would
     not hold even a round on the same grid.
@@ -223,7 +223,7 @@ def _solve_quietly(problem: Problem, s: StationarySettings, grid: Grid, kept=Non
 
 def solve_stationary_many(problem: Problem, exit_costs, **options) -> list:
     """:func:`gridlbc.solve_many` for a first-exit problem: one operator, several exit costs
-    (:func:`~gridlbc.stationary.first_exit.solve_first_exit_many`), each solution with its embedded
+    (:func:`~gridlbc.stationary.solve_first_exit_many`), each solution with its embedded
     estimate.
 
     Parameters
@@ -301,8 +301,8 @@ def _embed_average(problem: Problem, s: StationarySettings, solution: Stationary
     (:func:`gridlbc.accuracy.embedding.embed`: h normalised to min 0 at the nodes on every
     level, as on this one, and S, the response of the embedded solve to the state cost's excess
     between the nodes) and of its average cost c (``average_cost_error``,
-    :func:`gridlbc.accuracy.scalar_estimate` from c on the grids h, 2h and 4h, γ_c and S_c);
-    warn where either exceeds the default tolerance."""
+    :func:`gridlbc.accuracy.estimate.scalar_estimate` from c on the grids h, 2h and 4h, γ_c and
+    S_c); warn where either exceeds the default tolerance."""
 
     def solve(on: Problem, costs=()) -> list:
         return [_quietly(solve_average_cost, on, s)]

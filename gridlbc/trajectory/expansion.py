@@ -124,7 +124,7 @@ class TrajectoryExpansion:
     curvature : str
         The pass that gives P: ``"newton"`` (full DDP) or ``"gauss-newton"``.
     feedback : str
-        The pass that gives K, one of :data:`FEEDBACKS`.
+        The pass that gives K, one of :data:`~gridlbc.trajectory.expansion.FEEDBACKS`.
     """
 
     problem: Problem
@@ -249,8 +249,9 @@ def expand(
     radius : "auto", float or None
         Saturate the tracker's feedback at this Mahalanobis distance ρ_max (in standard
         deviations of the component's desirability). ``"auto"`` (the default):
-        ρ_max = √(χ²_d⁻¹(0.99)), :func:`default_radius`, and no saturation on a
-        linear-quadratic problem, where the expansion is global; ``None``: no saturation.
+        ρ_max = √(χ²_d⁻¹(0.99)), :func:`~gridlbc.trajectory.expansion.default_radius`, and no
+        saturation on a linear-quadratic problem, where the expansion is global; ``None``: no
+        saturation.
     curvature : {"newton", "gauss-newton"}
         The pass that gives p and P of the value: full DDP (the default) or Gauss–Newton.
     feedback : {"projected-newton", "newton", "gauss-newton"}
