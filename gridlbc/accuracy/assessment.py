@@ -33,7 +33,7 @@ from scipy.special import logsumexp
 
 from ..errors import ResolutionWarning, warn_user
 from .bellman import SPAN, bellman_gap, beyond_noise, largest_discount
-from .estimate import ScalarEstimate, relative_error
+from .estimate import ScalarEstimate, quiet_reads, relative_error
 from .matter import (
     judged_nodes,
     judged_states,
@@ -126,6 +126,7 @@ def statistic(rel: np.ndarray, given: bool) -> float:
     return np.inf if np.isnan(quantile) else quantile
 
 
+@quiet_reads()
 def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
     """Read the embedded estimate of ``solution`` at ``states`` (default:
     :func:`~gridlbc.accuracy.states_that_matter`).

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..certificate import sample_certificate
 from ..errors import GridlbcWarning
-from .estimate import relative_error
+from .estimate import quiet_reads, relative_error
 from .matter import judged_states
 
 CERTIFIED_STATES = 16
@@ -59,6 +59,7 @@ def certifiable(solution, states) -> bool:
     return n <= CERTIFIED_STATES and work >= certificate_work(n)
 
 
+@quiet_reads()
 def certified_error(solution, X: np.ndarray, tol: float) -> float:
     """The relative error of v at the states ``X`` measured against certified optima::
 

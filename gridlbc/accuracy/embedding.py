@@ -7,15 +7,13 @@ average cost) differ only in how they solve on another grid, which they pass in.
 
 from __future__ import annotations
 
-import warnings
 from collections.abc import Callable
-from contextlib import contextmanager
 from typing import NamedTuple
 
-from ..errors import ResolutionWarning, UnderflowWarning, warn_user
+from ..errors import ResolutionWarning, warn_user
 from ..problem import Problem
 from .assessment import check_accuracy
-from .estimate import attach_estimates
+from .estimate import attach_estimates, quiet_reads
 from .exits import check_exit, missed_points
 from .flow import reads_pair
 from .grids import embedded_solves, pair_solves
@@ -83,14 +81,3 @@ def embed(
             )
         check_exit(solutions[0], missed)  # the exit set is the problem's: one look for all
     return Embedding(levels, pairs, excess)
-
-
-@contextmanager
-def quiet_reads():
-    """Silence the :class:`gridlbc.UnderflowWarning` of the estimate's own reads of a solution:
-    where v underflowed they are +inf, and the estimate takes that for what it is, but those are
-    not the user's queries (the solve warns once of its underflowed nodes): stranger rounds 27
-    and 28 saw a dozen warnings of thousands of "query states" that no one had asked about."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", UnderflowWarning)
-        yield

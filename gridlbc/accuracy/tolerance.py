@@ -46,7 +46,7 @@ from .certified import (
     certifiable,
     certified_error,
 )
-from .estimate import relative_difference, relative_error
+from .estimate import quiet_reads, relative_difference, relative_error
 from .flow import FLOW_CELLS, FLOW_WARNING, NOISE_WARNING, check_flow, flow_excess, followed
 from .grids import (
     embedded_grid,
@@ -67,6 +67,7 @@ class Marcher(NamedTuple):
     solve_many: Callable  # (problem, costs, settings, **options) → one Solution per cost
 
 
+@quiet_reads()
 def axis_shares(solution, solve_on, states=None, t: float = 0.0) -> tuple[np.ndarray, float]:
     """Each axis's share of the error of ``solution`` and the difference from its embedded solve,
     read at time ``t`` (where :func:`assess` found the largest error).
@@ -109,6 +110,7 @@ def shares_add_up(shares: np.ndarray, whole: float, time_share: float = 0.0) -> 
     return bool(np.any(np.isfinite(shares)) and np.nansum(shares) + time_share >= 0.5 * whole)
 
 
+@quiet_reads()
 def axes_to_refine(
     solution, solve_on, states=None, time_share: float = 0.0
 ) -> tuple[list[int], np.ndarray]:
@@ -264,6 +266,7 @@ def at_observed_order(error: float, order: float) -> float:
     return error / (2.0**order - 1.0) if order > 0.0 else np.inf
 
 
+@quiet_reads()
 def _step_share(march: Marcher, solution, problem, settings, states, t: float = 0.0) -> float:
     """The step's share of the error of ``solution``: ê_t = abs(v_{h,2Δt} − v_{h,Δt}) relative to
     v (:func:`~gridlbc.accuracy.assessment.statistic` at the judged states, time ``t``), from one
@@ -823,8 +826,12 @@ def finish(
             if last.error <= tol < last.time_error
             else ""
         )
-        reached = f"reached an estimated error of {last.error:.1%}{step}{certified} on {where}"
+        digits = 1 if f"{last.error:.1%}" != f"{tol:.1%}" else 2  # 10.02 % is not 10.0 %
+        reached = f"reached an estimated error of {last.error:.{digits}%}"
         proved = at_observed_order(last.error, last.observed_order)
+        if np.isfinite(proved) and proved > last.error:
+            reached += f" ({proved:.1%} at its levels' observed order {last.observed_order:.2f})"
+        reached += f"{step}{certified} on {where}"
         if last.error <= tol and not step and proved > tol:
             slow = (
                 f"{proved:.1%} at the order its coarser levels converge at "
@@ -837,5 +844,5 @@ def finish(
                 f"stopped on {where} with an estimated error of {last.error:.1%}{certified}, {slow}"
             )
         else:
-            reached += f", not {tol:.1%}"
+            reached += f", not {tol:.{digits}%}"
         warn_user(f"solve(tol={tol:g}) {reached}: {why}; {advice}", ResolutionWarning)

@@ -32,7 +32,8 @@ from ..accuracy import (
     stationary_gap,
     unestimated,
 )
-from ..accuracy.embedding import embed, quiet_reads
+from ..accuracy.embedding import embed
+from ..accuracy.estimate import quiet_reads
 from ..errors import (
     ConvergenceError,
     GridlbcWarning,
@@ -193,6 +194,7 @@ def _relative_error_of_c(solution: StationarySolution) -> float:
     return scalar_relative(solution.average_cost_error, _average_cost(solution))
 
 
+@quiet_reads()
 def shares_of_c(solution: StationarySolution, coarsened: dict) -> tuple[list[int], np.ndarray]:
     """Each axis's share of c's error, abs(c_i − c) / c with c_i from the solve with that axis
     alone coarsened (``coarsened``, by grid shape; NaN where there is none), and the axes whose
