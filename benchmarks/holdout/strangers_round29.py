@@ -32,6 +32,10 @@ catpendb_00 two states; states whose z underflows in the 1-D truth).
   estimated error of 10.0% on 905×85, not 10.0%" (10.02 %, and 13.5 % at its order 0.80, which
   the message does not give where the unscaled estimate already misses tol).
 
+Both warts fixed on main (2026-12-06 evening): the estimate's reads of the states no longer
+warn (``--run wsep2bfe_00 --force``: 83 "query states" warnings recorded → 5, the script's own
+reads), and the tol warning gives the estimate at the levels' order and enough digits.
+
 Families (``--list`` prints every drawn problem):
 
 1. ``lqm*``: time-march LQ with an axis without noise: a point mass (2-D, B = [0, b]ᵀ) or a
