@@ -189,7 +189,8 @@ def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
             worst = max(both, a.worst_error)
             a = replace(a, error=both, worst_state=where, worst_error=worst, confirmed=True)
             a = replace(a, between=False, time=reading.t)
-    for t in interval_middles(solution):  # τ at the middle of every interval between slices
+    read = set(late_times(solution))  # the readings above read τ there already
+    for t in (t for t in interval_middles(solution) if t not in read):  # every other interval
         if a.error > tol:
             break
         between = interpolated_in_time(solution, tol, matter.at(t))
@@ -216,7 +217,7 @@ def interval_middles(solution) -> list[float]:
     if solution.problem.stationary or solution.diagnostics.store_every == 1:
         return []
     times = np.asarray(solution.times, dtype=float)
-    middles = 0.5 * (times[:-1] + times[1:])
+    middles = times[1:] - np.diff(times) / 2  # as late_times reads the last one
     keep = np.unique(np.linspace(len(middles) - 1, 0, min(MIDDLES, len(middles))).astype(int))
     return [float(t) for t in middles[keep]]
 

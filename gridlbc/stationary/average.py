@@ -183,7 +183,7 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
                 factors = {sigma: spla.splu((sigma * identity - M).tocsc())}
             y = factors[sigma].solve(e)
         else:
-            y, iterations = _shifted_solve(M, sigma, e, rho, error, s, method)
+            y, iterations = _shifted_solve(sigma * identity - M, sigma, e, rho, error, s, method)
             counts.append(iterations)
         if e @ y < 0:  # σ fell below μ: back to the last shift above it, and keep it
             sigma, fixed = above, True
@@ -211,11 +211,13 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
     )
 
 
-def _shifted_solve(M, sigma: float, e, rho: float, error: float, s: StationarySettings, method):
-    """y with (σI − M) y = e by a Krylov ``method`` (rows scaled) from the guess e / (σ − ρ), to
-    the backward error max(residual, min(10⁻², error / 10)) (:func:`principal_eigenpair`), and
-    its iteration count."""
-    A, inverse = scaled_rows(sigma * sp.identity(M.shape[0], format="csr") - M)
+def _shifted_solve(
+    shifted, sigma: float, e, rho: float, error: float, s: StationarySettings, method
+):
+    """y with ``shifted`` y = e, ``shifted`` = σI − M, by a Krylov ``method`` (rows scaled) from the
+    guess e / (σ − ρ), to the backward error max(residual, min(10⁻², error / 10))
+    (:func:`principal_eigenpair`), and its iteration count."""
+    A, inverse = scaled_rows(shifted)
     b = inverse @ e
     guess = e / (sigma - rho) if sigma > rho else None
     # the backward error max(residual, min(10⁻², r_k/10)) as a residual relative to b:
