@@ -34,7 +34,7 @@ import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
-from typing import NamedTuple
+from typing import NamedTuple, TypeVar
 
 import numpy as np
 
@@ -54,6 +54,8 @@ from .grids import (
     scaled_grid,
 )
 from .matter import judged_states
+
+Solved = TypeVar("Solved")
 
 
 class Marcher(NamedTuple):
@@ -529,7 +531,16 @@ def solve_to_tolerance(
                 break
         started = time.perf_counter()
         try:
-            solution, round_warnings = _solve_holding(march, problem, base, dt)
+            (solution,), round_warnings = holding(
+                partial(
+                    march.solve_many,
+                    problem,
+                    [problem.terminal_cost],
+                    base,
+                    dt=dt,
+                    error_estimate=True,
+                )
+            )
         except MemoryError:
             if coarser is None:
                 raise
@@ -677,10 +688,7 @@ def solve_to_tolerance(
         advice = "raise max_seconds or loosen tol"
     finish(solution, tol, history, where, limit, max_refinements, advice)
     check_flow(solution)  # the returned solve's drift and noise, read once (held above)
-    for caught in round_warnings:  # the last solve's own, but those its rounds read (above)
-        text = str(caught.message)
-        if not text.startswith((ESTIMATE_WARNING, FLOW_WARNING, NOISE_WARNING)):
-            warn_user(text, caught.category)
+    tell_held(round_warnings)
     return solution
 
 
@@ -703,22 +711,29 @@ def judged_times(problem, states, times) -> tuple[float, ...] | None:
     return out
 
 
-def _solve_holding(march: Marcher, problem, settings, dt):
-    """One round of :func:`~gridlbc.accuracy.solve_to_tolerance`: the solve with its estimate, and
-    its
-    :class:`gridlbc.ResolutionWarning` s held back (the last round's are told at the end, but
-    the estimate's and the drift's, which the rounds read and :func:`finish` reports); other
-    warnings pass as they come."""
+def holding(solve: Callable[[], Solved]) -> tuple[Solved, list]:
+    """``solve()``, one round of a solve to a tolerance, with its gridlbc warnings held back
+    (other warnings pass as they come): the rounds before the last are refined away, and what
+    their solves warned of is not the user's; the last round's are told at the end
+    (:func:`tell_held`)."""
     with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", ResolutionWarning)
-        solution = march.solve_many(
-            problem, [problem.terminal_cost], settings, dt=dt, error_estimate=True
-        )[0]
-    held = [w for w in caught if issubclass(w.category, ResolutionWarning)]
+        warnings.simplefilter("always", GridlbcWarning)
+        solution = solve()
+    held = [w for w in caught if issubclass(w.category, GridlbcWarning)]
     for w in caught:
         if w not in held:
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return solution, held
+
+
+def tell_held(held: list) -> None:
+    """Warn again of what the returned round's solve warned of (:func:`holding`), but of its
+    estimate, which :func:`finish` reports with the rounds, and of the drift and the noise,
+    which :func:`~gridlbc.accuracy.check_flow` reads once more for the solution returned."""
+    for caught in held:
+        text = str(caught.message)
+        if not text.startswith((ESTIMATE_WARNING, FLOW_WARNING, NOISE_WARNING)):
+            warn_user(text, caught.category)
 
 
 def _march_quietly(

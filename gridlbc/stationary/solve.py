@@ -23,6 +23,7 @@ from ..accuracy import (
     check_tolerance,
     embedded_grid,
     finish,
+    holding,
     limiting_axes,
     over_budget,
     predicted_seconds,
@@ -30,6 +31,7 @@ from ..accuracy import (
     scalar_estimate,
     scalar_relative,
     stationary_gap,
+    tell_held,
     unestimated,
 )
 from ..accuracy.embedding import embed
@@ -37,7 +39,6 @@ from ..accuracy.estimate import quiet_reads
 from ..errors import (
     ConvergenceError,
     GridlbcWarning,
-    ResolutionWarning,
 )
 from ..grid import Grid
 from ..problem import Problem
@@ -119,9 +120,7 @@ def solve_stationary_to_tolerance(
     limit = ""
     while True:
         started = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", ResolutionWarning)
-            solution = _solved(problem, s)
+        solution, round_warnings = holding(partial(_solved, problem, s))
         a = assess(solution, tol, states)
         if a is None and embedded_grid(solution.grid) is None:
             raise unestimated(solution.grid)
@@ -184,6 +183,7 @@ def solve_stationary_to_tolerance(
     if limit.startswith("the time budget"):
         advice = "raise max_seconds or loosen tol"
     finish(solution, tol, history, where, limit, max_refinements, advice)
+    tell_held(round_warnings)
     return solution
 
 

@@ -1343,6 +1343,32 @@ def test_tol_tells_the_warnings_of_the_solve_it_returns():
     assert not any(message.startswith("the estimated error") for message in messages)
 
 
+def test_tol_tells_only_the_returned_rounds_warnings():
+    # A first exit at λ = 0.001: v/λ spans thousands, and z underflows at some nodes of every
+    # round. The rounds refined away are not the user's solve: their underflow warnings (1782
+    # of 6561 nodes on 81²) were told one per round beside the returned one's (7533 of 13041 on
+    # 161 × 81); only the returned round's is told now, with its own count.
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-2.0, 2.0, 81)] * 2),
+        None,
+        exit=lambda x: x[:, 0] >= 1.9,
+        exit_cost=0.0,
+        state_cost=lambda x: np.full(len(x), 100.0),
+        temperature=0.001,
+    )
+    with warnings.catch_warnings(record=True) as record:
+        warnings.simplefilter("always")
+        solution = g.solve(problem, tol=0.05, max_refinements=1)
+    assert len(solution.refinement) == 2
+    underflows = [w for w in record if issubclass(w.category, g.UnderflowWarning)]
+    assert len(underflows) == 1
+    count = solution.diagnostics.underflow_nodes
+    assert count > 0 and f"underflowed at {count} of {solution.grid.size} nodes" in str(
+        underflows[0].message
+    )
+
+
 def test_an_estimate_at_an_order_below_one_is_judged_at_that_order():
     # Richardson at the observed order p: a solve whose error shrinks as h^p is off by the
     # difference of the solves at h and 2h over 2^p − 1; the estimate divides it by 2^q − 1 with
