@@ -10,7 +10,10 @@ They also know how far a state outside them is from their boundary and in which 
 (:meth:`RegionBase.boundary_distance`: exact for boxes and round balls, to first order near the
 boundary of an ellipsoid). Rollouts use it to catch the paths that enter the region between two
 time steps (the Brownian-bridge crossing probability, :mod:`gridlbc.simulate`); a plain callable
-region is checked at the steps only.
+region is checked at the steps only. And they find a point of themselves in any box they meet
+(:meth:`RegionBase.meeting_points`), so that a part of the exit set between the nodes of a grid,
+however thin, is found and warned of (:func:`gridlbc.accuracy.missed_exit`); a plain callable
+is sampled there, and a part thinner than the samples' spacing is missed.
 """
 
 from __future__ import annotations
@@ -54,6 +57,14 @@ class RegionBase:
         the nearest point of the region)."""
         raise NotImplementedError
 
+    def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        """For the boxes [lower_i, upper_i] (``(N, d)`` each, finite): a point of each box
+        ``(N, d)`` that lies in the region wherever the region meets that box, however thinly
+        (elsewhere a point of the box outside it). The check for an exit set narrower than a
+        cell (:func:`gridlbc.accuracy.missed_points`) finds every such part of a shape this
+        way, where a plain callable can only be sampled."""
+        raise NotImplementedError
+
 
 @dataclass(frozen=True, eq=False, init=False)
 class Box(RegionBase):
@@ -88,6 +99,12 @@ class Box(RegionBase):
     def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Exact: the nearest point is x clipped to the box."""
         return _towards(x, np.clip(x, self.lower, self.upper))
+
+    def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        """Exact: the middle of the two boxes' intersection, where they meet (per axis the
+        overlap of [lower, upper] with the box's sides)."""
+        low, high = np.maximum(lower, self.lower), np.minimum(upper, self.upper)
+        return np.where(low <= high, 0.5 * (low + high), lower)
 
     def __repr__(self) -> str:
         return f"Box({self.lower.tolist()}, {self.upper.tolist()})"
@@ -146,6 +163,16 @@ class Ball(RegionBase):
         size = np.maximum(np.linalg.norm(gradient, axis=1), np.finfo(float).tiny)
         return np.maximum(rho - 1.0, 0.0) / size, gradient / size[:, None]
 
+    def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        """Exact: the point of each box nearest the centre's nearest image in the ellipsoid's
+        own metric Σ_k ((x_k − c_k)/r_k)², which is separable, so that point is the centre
+        clipped to the box; it lies in the ellipsoid exactly where the ellipsoid meets the box."""
+        middle = 0.5 * (lower + upper)
+        diff = middle - self.center
+        if self.periods is not None:
+            diff = wrap_difference(diff, self.periods)
+        return np.clip(middle - diff, lower, upper)
+
     def __repr__(self) -> str:
         return f"Ball({self.center.tolist()}, {self.radius.tolist()})"
 
@@ -172,6 +199,16 @@ class Union(RegionBase):
         best = np.argmin(distances, axis=0)
         rows = np.arange(x.shape[0])
         return distances[best, rows], np.stack([n for _, n in parts])[best, rows]
+
+    def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
+        """A part's meeting point, of the first part that meets each box."""
+        out = lower.copy()
+        met = np.zeros(len(lower), dtype=bool)
+        for part in self.parts:
+            points = part.meeting_points(lower, upper)
+            new = ~met & region_mask(part, points)
+            out[new], met = points[new], met | new
+        return out
 
     def __repr__(self) -> str:
         return " | ".join(repr(p) for p in self.parts)
@@ -210,6 +247,15 @@ def has_geometry(region) -> bool:
         return all(has_geometry(p) for p in region.parts)
     own = type(region).boundary_distance if isinstance(region, RegionBase) else None
     return own is not None and own is not RegionBase.boundary_distance
+
+
+def meets_exactly(region) -> bool:
+    """Whether ``region`` finds a point of itself in any box it meets
+    (:meth:`RegionBase.meeting_points`): the shapes here and their unions."""
+    if isinstance(region, Union):
+        return all(meets_exactly(p) for p in region.parts)
+    own = type(region).meeting_points if isinstance(region, RegionBase) else None
+    return own is not None and own is not RegionBase.meeting_points
 
 
 def bind_periods(region, periods):

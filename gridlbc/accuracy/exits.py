@@ -10,13 +10,17 @@ certificate), reads nothing. For a first-exit task whose cheapest exit is such a
 then the value of the task without it (stranger round 22: a strip 0.3 cell wide at mid-cell, v
 1–32 times the truth, silent).
 
-:func:`~gridlbc.accuracy.exits.missed_points` samples E in each cell without a corner in E, at the
+:func:`~gridlbc.accuracy.exits.missed_points` samples E in each cell without a corner in E or next
+to a node in E (a part of E there is the edge of a part the grid holds), at the
 points of the costs' sampling lattice (:func:`~gridlbc.accuracy.grids.samples_per_cell` per cell
 along each axis, at the centres of a cell's sub-cells), and :func:`~gridlbc.accuracy.check_exit`
 warns where it finds one. The estimate's response S (:func:`gridlbc.accuracy.responses`) also reads
 what they change: the embedded grid solved again with each part moved onto its nearest node
-(:class:`MovedExit`). A part narrower than the lattice's spacing (an eighth of a cell in 2-D) can
-still be missed.
+(:class:`MovedExit`). For an exit set given as a shape (:class:`gridlbc.regions.Box`,
+:class:`~gridlbc.regions.Ball`, their unions) the check is exact: each cell is tested for a point of
+the shape (:meth:`~gridlbc.regions.RegionBase.meeting_points`), so a part is found however thin. A
+plain callable is only sampled, and a part of it narrower than the lattice's spacing (an eighth of
+a cell in 2-D) can still be missed.
 """
 
 from __future__ import annotations
@@ -28,7 +32,7 @@ import numpy as np
 from ..costs import evaluate_cost
 from ..errors import ResolutionWarning, warn_user
 from ..grid import Grid
-from ..regions import GridRegion
+from ..regions import GridRegion, meets_exactly
 from .grids import samples_per_cell
 
 EXIT_BLOCK = 1 << 20
@@ -43,21 +47,26 @@ def missed_exit(problem) -> np.ndarray | None:
 
 
 def missed_points(problem, first: bool = False) -> np.ndarray:
-    """The lattice points of the exit set E of ``problem`` in the cells of its grid none of whose
-    corners is in E (module docstring), ``(M, d)`` (the first block's only where ``first``);
-    none without an exit set."""
+    """The points of the exit set E of ``problem`` in the cells of its grid none of whose
+    corners is in E (module docstring), ``(M, d)`` (the first block's only where ``first``):
+    for a shape, one in each cell it meets (:meth:`gridlbc.regions.RegionBase.meeting_points`),
+    for a plain callable, the lattice points it holds; none without an exit set."""
     grid: Grid = problem.require_grid("the exit set's check")
     if problem.exit is None:
         return np.empty((0, grid.ndim))
     lower = _open_cells(grid, grid.reshape(problem.exit_mask()))
+    exact = meets_exactly(problem.exit)
     m = samples_per_cell(grid)
     offsets = np.array(list(itertools.product((np.arange(m) + 0.5) / m, repeat=grid.ndim)))
     h = np.asarray(grid.spacing, dtype=float)
-    per_block = max(1, EXIT_BLOCK // len(offsets))
+    per_block = EXIT_BLOCK if exact else max(1, EXIT_BLOCK // len(offsets))
     found = []
     for start in range(0, len(lower), per_block):
         corners = grid.lo + lower[start : start + per_block] * h
-        points = grid.wrap((corners[:, None, :] + offsets[None] * h).reshape(-1, grid.ndim))
+        if exact:
+            points = grid.wrap(problem.exit.meeting_points(corners, corners + h))
+        else:
+            points = grid.wrap((corners[:, None, :] + offsets[None] * h).reshape(-1, grid.ndim))
         hit = problem.exit_mask(points)
         if hit.any():
             found.append(points[hit])
@@ -114,12 +123,26 @@ class MovedCost:
 
 def _open_cells(grid: Grid, inside: np.ndarray) -> np.ndarray:
     """The lower corners (index coordinates, ``(M, d)``) of the cells none of whose corners is
-    in ``inside`` (the exit mask on the grid's shape): on a periodic axis also the cells across
-    its seam."""
+    in ``inside`` (the exit mask on the grid's shape) or next to a node in it: on a periodic
+    axis also the cells across its seam.
+
+    Why not next to one either: a part of E in such a cell is an edge of a part the grid holds
+    (the cap of a ball that bulges between two rows of nodes), which the grid places to within a
+    cell like any other edge, not a part that no node holds: warned of, it would be a false
+    alarm on many a ball."""
     counts = [a.n if a.periodic else a.n - 1 for a in grid.axes]
+    near = inside
+    for k, axis in enumerate(grid.axes):  # grown by a node each way along every axis in turn
+        grown = near.copy()
+        for shift in (1, -1):
+            moved = np.roll(near, shift, axis=k)
+            if not axis.periodic:  # what rolled across the ends is not a neighbour
+                np.moveaxis(moved, k, 0)[0 if shift == 1 else -1] = False
+            grown |= moved
+        near = grown
     touched = np.zeros(counts, dtype=bool)
     for corner in itertools.product((0, 1), repeat=grid.ndim):
-        touched |= _take(inside, corner, counts)
+        touched |= _take(near, corner, counts)
     return np.argwhere(~touched)
 
 

@@ -1006,3 +1006,70 @@ def test_the_average_cost_is_the_principal_eigenvalue_of_a_non_normal_chain():
     bound = np.max((M @ e)[positive] / e[positive])
     assert np.all(e >= 0) and mu <= bound + 1e-9 * abs(mu)
     assert mu == pytest.approx(-7.0817, abs=1e-3)  # Noda's; Arnoldi's real part read −6.70
+
+
+def test_a_shape_meets_a_box_exactly_where_a_point_of_it_lies_in_the_box():
+    # meeting_points: a point of each box that lies in the shape wherever the shape meets the
+    # box. Checked against a dense sample of each box (a sampled point of the shape in the box
+    # means they meet) and by construction: a box that meets the shape only in a sliver.
+    rng = np.random.default_rng(3)
+    lower = rng.uniform(-1.0, 1.0, (400, 2))
+    upper = lower + rng.uniform(0.01, 0.3, (400, 2))
+    grid = np.stack(np.meshgrid(*[np.linspace(0.0, 1.0, 41)] * 2), -1).reshape(-1, 2)
+    shapes = [
+        Box([-0.2, -np.inf], [-0.199, np.inf]),  # a strip 0.001 wide
+        Ball([0.3, -0.1], [0.02, 0.5]),  # an ellipse
+        Ball([0.9, 0.0], 0.3).with_periods([2.0, np.inf]),  # across a seam
+        Box([0.5, 0.5], [0.6, 0.55]) | Ball([-0.5, 0.5], 0.003),
+    ]
+    for shape in shapes:
+        points = shape.meeting_points(lower, upper)
+        assert np.all((points >= lower) & (points <= upper))
+        sampled = np.array(
+            [shape(lo + grid * (hi - lo)).any() for lo, hi in zip(lower, upper, strict=True)]
+        )
+        assert np.all(shape(points)[sampled])
+    # slivers no sample of the box above would hold
+    strip = Box([0.2004, -np.inf], [0.2006, np.inf])
+    assert strip(strip.meeting_points(np.array([[0.2, 0.0]]), np.array([[0.25, 0.1]])))
+    corner = Ball([0.0, 0.0], 1.0)  # meets the box [0.7071, 1]² at its lower corner only
+    lo = np.full((1, 2), np.sqrt(0.5) - 1e-9)
+    assert corner(corner.meeting_points(lo, lo + 0.3))
+    assert not corner(corner.meeting_points(lo + 2e-9, lo + 0.3))
+
+
+def test_an_exit_shape_thinner_than_the_lattice_is_found_and_warned():
+    # An exit strip 0.06 cell wide at mid-cell of an 81² grid (h = 0.05), between the points of
+    # the check's lattice (8 a cell): given as a callable it is sampled and missed (no node and
+    # no lattice point lies in it; the solve, the task without it, is 6.0 where the 161² grid,
+    # whose node 0.525 lies in it, gives 0.4); given as a Box, each cell is tested exactly, the
+    # part is found and warned, and the estimate's response (the strip moved onto the embedded
+    # grid's nearest node) covers at least half the error at each state.
+    lo, hi = 0.5235, 0.5265
+    x = np.array([[0.225, 0.5], [-1.0, -1.0], [1.5, 1.0]])
+
+    def problem(n, exit):
+        return g.Problem(
+            LinearSystem(np.zeros((2, 2)), np.eye(2)),
+            g.Grid([g.Axis(-2.0, 2.0, n)] * 2),
+            None,
+            exit=exit,
+            exit_cost=lambda x: np.where(x[:, 0] <= -1.9, 3.0, 0.0),
+            state_cost=lambda x: np.ones(len(x)),
+            temperature=0.2,
+        )
+
+    def sampled(y):
+        return ((y[:, 0] >= lo) & (y[:, 0] <= hi)) | (y[:, 0] <= -1.9)
+
+    assert g.accuracy.missed_exit(problem(81, sampled)) is None
+    shape = Box([lo, -np.inf], [hi, np.inf]) | Box([-np.inf, -np.inf], [-1.9, np.inf])
+    found = g.accuracy.missed_exit(problem(81, shape))
+    assert found is not None and lo <= found[0] <= hi
+    with pytest.warns(g.ResolutionWarning) as record:
+        solution = g.solve(problem(81, shape))
+    assert any("exit set has a part between the nodes" in str(w.message) for w in record)
+    finer = g.solve(problem(161, shape), error_estimate=False)
+    error = np.abs(solution.value(x) - finer.value(x))
+    assert np.all(error > 0.4 * solution.value(x))  # 2.1 to 6.4 where v is 4.3 to 7.8
+    assert np.all(solution.error_estimate(x) >= 0.5 * error)
