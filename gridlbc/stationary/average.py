@@ -119,7 +119,11 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
       is an M-matrix, solved after ``s.linear_solver``
       (:func:`~gridlbc.stationary.linear.linear_method`):
 
-    - direct: by a sparse LU of σ_k I − M, one per shift, exactly;
+    - direct: by a sparse LU of σ_k I − M, exactly. A factorisation costs many solves, so where
+      a solve has cut the eigen-residual by at least :data:`KEEP` the shift is kept, and its LU
+      (plain inverse iteration, whose residual falls by (σ − μ)/(σ − μ₂) a solve, μ₂ the
+      next eigenvalue: that rate, measured, is what the kept shift is judged by); a new shift
+      is taken where a solve cut it less;
     - iterative: as the first-exit system is (rows scaled, BiCGSTAB, ILU-GMRES where
       it stalls), from the guess y₀ = e_k / (σ_k − ρ_k), to the backward error
       η_k = max(``residual``, min(10⁻², r_k / 10)), r_k the eigen-residual of e_k below: it stops
@@ -166,6 +170,11 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
     return mu, e, counts + more, e_left
 
 
+KEEP = 0.1
+"""The direct eigen-solve keeps its shift, and the shift's LU, while each solve cuts the
+eigen-residual at least this much (:func:`principal_eigenpair`)."""
+
+
 def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
     """Noda's inverse iteration for the principal eigenpair of M from the shift ``sigma`` above
     it (:func:`principal_eigenpair`): μ, e (max entry 1) and the Krylov iterations per shift."""
@@ -192,9 +201,11 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
         e = y / y[np.argmax(np.abs(y))]
         Me = M @ e
         rho = float(e @ Me / (e @ e))
-        error = float(np.linalg.norm(Me - rho * e) / (norm * np.linalg.norm(e)))
+        error, before = float(np.linalg.norm(Me - rho * e) / (norm * np.linalg.norm(e))), error
         if error <= s.residual:
             return rho, e, tuple(counts)
+        if method == "direct" and error <= KEEP * before:
+            continue  # σ converges fast enough as it is: its LU is kept (module docstring)
         if not fixed:
             resolved = e >= np.sqrt(s.residual)
             quotient = float(np.max(Me[resolved] / e[resolved]))
