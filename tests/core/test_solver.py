@@ -342,6 +342,19 @@ def test_settings_or_a_preset_in_the_place_of_dt():
         gridlbc.solve(problem, [0.1])
 
 
+@EXACTNESS_ONLY
+def test_the_fast_preset_takes_about_half_the_default_steps():
+    # Stranger round 28: "fast" (then the plain splitting at Courant 10, at least 20 steps) took
+    # 0.5–1× the fitted default's step. It is now the default at twice its Courant number: where
+    # the drift sets the step, the step count is the default's halved, rounded up (the step is
+    # rounded down to divide T).
+    problem = _pendulum_problem(n=33, T=5.0)
+    default = gridlbc.solve(problem, error_estimate=False).diagnostics.steps
+    fast = gridlbc.solve(problem, "fast", error_estimate=False).diagnostics
+    assert default > 2 * gridlbc.PRESETS["fast"].min_steps
+    assert fast.method == "splitting" and -(-default // 2) <= fast.steps <= default // 2 + 1
+
+
 def test_a_state_cost_constant_along_a_noise_axis_warns_nothing():
     """A state cost of the angle alone (the noise acts on ω only, along which q is constant):
     the cost-sampling rule has no limit from the noise axis, and the solve emits no numpy
