@@ -61,7 +61,7 @@ class RegionBase:
         """For the boxes [lower_i, upper_i] (``(N, d)`` each, finite): a point of each box
         ``(N, d)`` that lies in the region wherever the region meets that box, however thinly
         (elsewhere a point of the box outside it). The check for an exit set narrower than a
-        cell (:func:`gridlbc.accuracy.missed_points`) finds every such part of a shape this
+        cell (:func:`gridlbc.accuracy.exits.missed_points`) finds every such part of a shape this
         way, where a plain callable can only be sampled."""
         raise NotImplementedError
 

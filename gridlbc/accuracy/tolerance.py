@@ -728,7 +728,7 @@ def holding(solve: Callable[[], Solved]) -> tuple[Solved, list]:
 
 def tell_held(held: list) -> None:
     """Warn again of what the returned round's solve warned of (:func:`holding`), but of its
-    estimate, which :func:`finish` reports with the rounds, and of the drift and the noise,
+    estimate, which :func:`~gridlbc.accuracy.tolerance.finish` reports with the rounds, and of the drift and the noise,
     which :func:`~gridlbc.accuracy.check_flow` reads once more for the solution returned."""
     for caught in held:
         text = str(caught.message)

@@ -120,10 +120,11 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
       (:func:`~gridlbc.stationary.linear.linear_method`):
 
     - direct: by a sparse LU of σ_k I − M, exactly. A factorisation costs many solves, so where
-      a solve has cut the eigen-residual by at least :data:`KEEP` the shift is kept, and its LU
-      (plain inverse iteration, whose residual falls by (σ − μ)/(σ − μ₂) a solve, μ₂ the
-      next eigenvalue: that rate, measured, is what the kept shift is judged by); a new shift
-      is taken where a solve cut it less;
+      a solve has brought the eigen-residual down to at most
+      :data:`~gridlbc.stationary.average.KEEP` of what it was, the shift is kept, and its LU
+      (plain inverse iteration, whose residual falls by about (σ − μ)/(σ − μ₂) a solve, μ₂
+      the next eigenvalue: that rate, measured, is what the kept shift is judged by); a new
+      shift is taken where a solve cut it less;
     - iterative: as the first-exit system is (rows scaled, BiCGSTAB, ILU-GMRES where
       it stalls), from the guess y₀ = e_k / (σ_k − ρ_k), to the backward error
       η_k = max(``residual``, min(10⁻², r_k / 10)), r_k the eigen-residual of e_k below: it stops
@@ -171,8 +172,9 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
 
 
 KEEP = 0.1
-"""The direct eigen-solve keeps its shift, and the shift's LU, while each solve cuts the
-eigen-residual at least this much (:func:`principal_eigenpair`)."""
+"""The direct eigen-solve keeps its shift, and the shift's LU, while each solve brings the
+eigen-residual down to at most this fraction of what it was
+(:func:`~gridlbc.stationary.principal_eigenpair`)."""
 
 
 def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
