@@ -824,8 +824,8 @@ def finish(
 ) -> None:
     """Record the ``history`` of a solve to a tolerance on ``solution`` and warn
     (:class:`gridlbc.ResolutionWarning`) if its last round did not prove ``tol``
-    (:meth:`~gridlbc.accuracy.Refinement.met`: an estimate above it, or below it from levels that do not converge
-    at first order), saying ``where`` it stopped, why (``limit``, or the ``rounds`` spent) and
+    (:meth:`~gridlbc.accuracy.Refinement.met`: an estimate above it, or below it from levels that
+    do not converge at first order), saying ``where`` it stopped, why (``limit``, or the ``rounds`` spent) and
     what to change (``advice``)."""
     object.__setattr__(solution, "refinement", tuple(history))
     last = history[-1]
