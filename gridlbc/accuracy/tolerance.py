@@ -825,8 +825,8 @@ def finish(
     """Record the ``history`` of a solve to a tolerance on ``solution`` and warn
     (:class:`gridlbc.ResolutionWarning`) if its last round did not prove ``tol``
     (:meth:`~gridlbc.accuracy.Refinement.met`: an estimate above it, or below it from levels that
-    do not converge at first order), saying ``where`` it stopped, why (``limit``, or the ``rounds`` spent) and
-    what to change (``advice``)."""
+    do not converge at first order), saying ``where`` it stopped, why (``limit``, or the
+    ``rounds`` spent) and what to change (``advice``)."""
     object.__setattr__(solution, "refinement", tuple(history))
     last = history[-1]
     if not last.met(tol):
