@@ -1,6 +1,9 @@
 """State and terminal costs.
 
-A cost is any callable ``c(x)`` taking states ``(N, d)`` and returning ``(N,)``. The library's own
+A cost is any callable ``c(x)`` taking states ``(N, d)`` and returning ``(N,)``; a state cost may
+also take the time, q(x, t) (:class:`Tracking`, or a callable with a parameter ``t``:
+:class:`TimeDependent`), which the trajectory methods use and the grid solvers refuse. The
+library's own
 :class:`Quadratic`
 
     g(x) = (x − c)ᵀ W (x − c)
@@ -13,6 +16,8 @@ h = exp(−g/λ) is the Gaussian exp(−½ (x − c)ᵀ A (x − c)) with A = 2W
 
 from __future__ import annotations
 
+import inspect
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -252,3 +257,56 @@ class Tracking:
     def __call__(self, x, t) -> np.ndarray:
         diff = self.difference(x, t)
         return np.einsum("ni,ij,nj->n", diff, self.weights, diff)
+
+
+TIME_PARAMETERS = ("t", "time")
+"""The names by which a state cost takes the time (:func:`time_parameter`)."""
+
+
+def time_parameter(cost) -> inspect.Parameter | None:
+    """The parameter of ``cost`` after the states through which it takes the time: one named
+    ``t`` or ``time`` (:data:`TIME_PARAMETERS`); None where it has none, or where its signature
+    cannot be read.
+
+    Why: the grid solvers call a state cost as q(x). A cost written ``q(x, t=0.0)`` would be
+    read at t = 0 alone, a different problem, and every estimate of the solve would judge that
+    problem: its answer could be far off without a word (stranger round 31, docs page
+    :doc:`limitations`). :class:`gridlbc.Problem` marks such a cost time-dependent
+    (:class:`TimeDependent`), as :class:`Tracking` is."""
+    try:
+        parameters = list(inspect.signature(cost).parameters.values())
+    except (TypeError, ValueError):
+        return None
+    variadic = (inspect.Parameter.VAR_POSITIONAL, inspect.Parameter.VAR_KEYWORD)
+    for parameter in parameters[1:]:
+        if parameter.name in TIME_PARAMETERS and parameter.kind not in variadic:
+            return parameter
+    return None
+
+
+@dataclass(frozen=True, eq=False)
+class TimeDependent:
+    """A state cost q(x, t) that takes the time through a parameter (:func:`time_parameter`),
+    marked time-dependent as :class:`Tracking` is: trajectory methods, :func:`gridlbc.simulate`
+    and :func:`gridlbc.certify` pass it t, the grid solvers refuse it with a clear error.
+
+    Parameters
+    ----------
+    cost : callable
+        The user's q, called as ``cost(x, t=t)`` (positionally where ``t`` is positional-only).
+    parameter : inspect.Parameter
+        Its time parameter.
+    """
+
+    cost: Callable
+    parameter: inspect.Parameter
+
+    time_dependent = True
+
+    def __call__(self, x, t) -> np.ndarray:
+        if self.parameter.kind is inspect.Parameter.POSITIONAL_ONLY:
+            return self.cost(x, t)
+        return self.cost(x, **{self.parameter.name: t})
+
+    def __repr__(self) -> str:
+        return f"TimeDependent({self.cost!r})"

@@ -25,7 +25,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ._numba import jit
-from .costs import Constant, Quadratic, Tracking, evaluate_cost, wrap_angle
+from .costs import (
+    Constant,
+    Quadratic,
+    TimeDependent,
+    Tracking,
+    evaluate_cost,
+    time_parameter,
+    wrap_angle,
+)
 from .grid import Grid, check_states
 from .regions import bind_periods, check_region, region_mask
 from .systems.base import ControlAffineSystem
@@ -103,8 +111,9 @@ class Problem:
         periodic axes.
     state_cost : callable, optional
         q(x) ≥ 0 on ``(N, d)`` states; zero when omitted. A cost with ``time_dependent = True``
-        (:class:`gridlbc.costs.Tracking`) is q(x, t): trajectory methods and
-        :func:`gridlbc.simulate` accept it, the grid solvers do not.
+        (:class:`gridlbc.costs.Tracking`), or one with a parameter ``t`` (``q(x, t)``, made a
+        :class:`gridlbc.costs.TimeDependent`), is q(x, t): trajectory methods and
+        :func:`gridlbc.simulate` accept it, the grid solvers refuse it.
     control_cost : float, (m,) or (m, m)
         R, symmetric positive definite (a scalar means R = r I).
     temperature : float
@@ -317,6 +326,10 @@ class Problem:
             raise TypeError(
                 f"{name} must be callable on (N, d) states, e.g. gridlbc.costs.Quadratic"
             )
+        if name == "state_cost" and not getattr(cost, "time_dependent", False):
+            parameter = time_parameter(cost)  # q(x, t=...): not to be read at one time alone
+            if parameter is not None:
+                cost = TimeDependent(cost, parameter)
         if getattr(cost, "time_dependent", False) and name == "terminal_cost":
             raise TypeError(
                 "terminal_cost must be a function of the state alone, g(x): a "
@@ -370,8 +383,12 @@ class Problem:
         if getattr(cost, "time_dependent", False):
             if t is None:
                 raise ValueError(
-                    "state_cost depends on time (q(x, t), e.g. costs.Tracking): the grid solvers "
-                    "need q(x) alone; use gridlbc.trajectory for a tracking cost"
+                    "state_cost depends on time (q(x, t): costs.Tracking, or a function with a "
+                    "parameter t): the grid solvers need q(x) alone. Use gridlbc.trajectory for "
+                    "a tracking cost, or solve on a grid with the time as one more state "
+                    "coordinate s (ds/dt = 1, no noise on it; q(x, s) is then a cost of the "
+                    "state), or piece by piece where q is constant in time (docs page "
+                    "'limitations')"
                 )
             q = evaluate_cost(lambda y: cost(y, t), x, "state_cost")
         else:
