@@ -233,7 +233,7 @@ def nl_problems():
 
     P["pulse"] = dict(name="pulse", f=pulse, lam=0.5, T=T, L=3.0, n=51, g=([0.0, 0.0], [1.0, 1.0]),
                       X=[[0.0, 0.0], [1.0, 0.5], [-1.0, -1.0]], switch=[0.7],
-                      base=pulse_base, pulses=pulse_on)  # fmt: skip
+                      base=pulse_base, pulses=pulse_on, proposal="chain")  # fmt: skip
 
     def periodic(x, t):  # q's centre circles, period T/2
         w = 4 * math.pi / T
@@ -395,6 +395,38 @@ def run_lq(spec, rows, log):
             record(rows, spec, variant, X, read_times(spec, dt), sol, warned, truth, True)
 
 
+def run_traj(spec, rows, log):
+    """The library's own route for q(x, t): gridlbc.trajectory.optimize + expand (exact for LQ)."""
+    d, T, lam = spec["d"], spec["T"], spec["lam"]
+    ref, _ = make_ref(spec["ref"], T, spec["amp"])
+    lin = LinearSystem(spec["A"], spec["B"])
+    grid = Grid([Axis(-spec["L"], spec["L"], spec["n"]) for _ in range(d)])
+    prob = Problem(lin, grid, T, Quadratic(spec["cT"], spec["WT"]),
+                   state_cost=TimeCost(quad_track(spec["W"], ref)), temperature=lam)  # fmt: skip
+    X = np.asarray(spec["X"], float)
+    with warnings.catch_warnings(record=True) as ws:
+        warnings.simplefilter("always")
+        t0 = time.time()
+        try:
+            tr = gridlbc.trajectory.optimize(prob, X[0], restarts=4, seed=0)
+            comp = gridlbc.trajectory.expand(prob, tr)
+        except Exception as exc:
+            log.append(dict(problem=spec["name"], variant="traj", crash=repr(exc)[:400]))
+            return
+    warned = any(is_gridlbc(w) for w in ws)
+    log.append(dict(problem=spec["name"], variant="traj", warnings=[wclass(w) for w in ws],
+                    seconds=time.time() - t0))  # fmt: skip
+    for tname, t in {"t0": 0.0, "mid": T / 2}.items():
+        v = np.asarray(comp.value(X, t), float)
+        vs = lq_truth(spec, X, t)
+        for i, x in enumerate(X):
+            scale = max(abs(vs[i]), lam)
+            rows.append(dict(problem=spec["name"], variant="traj", x=list(map(float, x)),
+                             tname=tname, t=float(t), v=float(v[i]), truth=float(vs[i]),
+                             err=float(abs(v[i] - vs[i]) / scale), est=float("nan"),
+                             warned=warned, read_warnings=[]))  # fmt: skip
+
+
 def check_riccati():
     """My moving-reference Riccati against round 25's for a fixed reference."""
     spec = lq_spec("chk", 2, "fixed", [0.4, -0.3], 0.3, 2.0, 3.0, 61, [[0.5, 0.5]],
@@ -430,6 +462,10 @@ def run_nl(spec, rows, log, n_samples=4000):
     def pol(x, t):
         x = np.atleast_2d(x)
         return fsol.policy(np.c_[x, np.full(len(x), t)], t)
+
+    chain = build_chain(spec["name"], log) if spec.get("pulses") else None
+    if spec.get("proposal") == "chain":
+        pol = chain_policy(chain[0], T)
 
     oprob = Problem(lin, grid, T, g, state_cost=TimeCost(f), temperature=lam)
     ts = read_times(spec, dt)
@@ -472,7 +508,67 @@ def run_nl(spec, rows, log, n_samples=4000):
         return np.array(out)
 
     record(rows, spec, "aug", X, ts, sol, warned, truth, True)
+    if chain is not None:
+        run_chain(spec["name"], rows, log, truth, dt, *chain)
     return aprob, sol, truth
+
+
+def build_chain(name, log):
+    """The on/off problem as a user may pose it without a time axis: one grid solve per interval
+    where q is constant in time, chained backwards (each segment's terminal cost is the next
+    segment's value at its start, a callable g(x)). Judged against the certified truth."""
+    spec = nl_problems()[name]
+    T, lam, d = spec["T"], spec["lam"], 2
+    L, n = spec["L"], spec["n"]
+    lin = LinearSystem(np.zeros((d, d)), np.eye(d))
+    grid = Grid([Axis(-L, L, n) for _ in range(d)])
+    knots = sorted({0.0, T, *[a for on, off, _ in spec["pulses"] for a in (on, off)]})
+    g = Quadratic(*spec["g"])
+    segs = []  # (t_start, t_end, solution), backwards
+    term = g
+    warned_any = False
+    for a, b in reversed(list(itertools.pairwise(knots))):
+        mid = 0.5 * (a + b)
+        on = [st for lo, hi, st in spec["pulses"] if lo <= mid < hi]
+
+        def q(x, on=on):
+            return spec["base"](x, 0.0) + sum((st(x) for st in on), np.zeros(len(x)))
+
+        prob = Problem(lin, grid, b - a, term, state_cost=q, temperature=lam)
+        sol, ws, warned, el = solve_recorded(prob)
+        warned_any |= warned
+        log.append(dict(problem=name, variant="chain", segment=[a, b], warnings=ws, seconds=el))
+        segs.append((a, b, sol))
+        term = (lambda s_: lambda x: s_.value(x, 0.0))(sol)
+    return segs, warned_any
+
+
+def chain_policy(segs, T):
+    def pol(x, t):
+        x = np.atleast_2d(x)
+        a, b, sol = next(sg for sg in segs if sg[0] <= t < sg[1] or (t >= T and sg[1] == T))
+        return sol.policy(x, min(t - a, b - a))
+
+    return pol
+
+
+def run_chain(name, rows, log, truth, dt, segs, warned_any):
+    spec = nl_problems()[name]
+    T, lam = spec["T"], spec["lam"]
+    X = np.asarray(spec["X"], float)
+    for tname, t in read_times(spec, dt).items():
+        a, _b, sol = next(sg for sg in segs if sg[0] <= t < sg[1] or (t == T and sg[1] == T))
+        # the segment's own estimate, and whether ANY segment solve warned (both recorded)
+        v, e, rw = read(sol, X, t - a, False)
+        vs = truth(X, t)
+        for i, x in enumerate(X):
+            if not np.isfinite(vs[i]):
+                continue
+            scale = max(abs(vs[i]), lam)
+            rows.append(dict(problem=name, variant="chain", x=list(map(float, x)), tname=tname,
+                             t=float(t), v=float(v[i]), truth=float(vs[i]),
+                             err=float(abs(v[i] - vs[i]) / scale), est=float(e[i] / scale),
+                             warned=bool(warned_any), read_warnings=rw))  # fmt: skip
 
 
 def run_combine(rows, log):
@@ -553,6 +649,8 @@ def main(argv):
             warnings.simplefilter("always")
             if name == "riccati":
                 log.append(dict(riccati_vs_round25=check_riccati()))
+            elif name.startswith("traj_") and name[5:] in problems():
+                run_traj(problems()[name[5:]], rows, log)
             elif name in problems():
                 run_lq(problems()[name], rows, log)
             elif name in nl_problems():
