@@ -190,7 +190,7 @@ def problems():
                            [[0, 0], [0.5, 0.5], [-1.0, -0.5]], A=PM_A, B=PM_B,
                            W=[[3, 0], [0, 0.1]], WT=[[1, 0], [0, 0.2]])  # fmt: skip
     P["si3_ramp"] = lq_spec("si3_ramp", 3, "ramp", [1.0, -0.5, 0.5], 0.5, 1.0, 3.0, 31,
-                            [[0, 0, 0], [0.5, 0.5, -0.5], [-1.0, 0.8, 0.3]])  # fmt: skip
+                            [[0, 0, 0], [0.5, 0.5, -0.5], [-1.0, 0.8, 0.3]], n_aug=21, ns=21)  # fmt: skip
     P["si1_step"] = lq_spec("si1_step", 1, "step", [1.5], 0.02, 2.0, 3.0, 121,
                             [[0.0], [0.7], [-1.0]], W=[[5.0]])  # fmt: skip
     P["si1_sinf"] = lq_spec("si1_sinf", 1, "sin_fast", [1.0], 0.1, 2.0, 3.0, 121,
@@ -233,7 +233,8 @@ def nl_problems():
 
     P["pulse"] = dict(name="pulse", f=pulse, lam=0.5, T=T, L=3.0, n=51, g=([0.0, 0.0], [1.0, 1.0]),
                       X=[[0.0, 0.0], [1.0, 0.5], [-1.0, -1.0]], switch=[0.7],
-                      base=pulse_base, pulses=pulse_on, proposal="chain")  # fmt: skip
+                      base=pulse_base, pulses=pulse_on, proposal="chain",
+                      extra_times=[0.1, 0.3, 0.5, 0.6, 0.69])  # fmt: skip
 
     def periodic(x, t):  # q's centre circles, period T/2
         w = 4 * math.pi / T
@@ -243,6 +244,25 @@ def nl_problems():
     P["periodic"] = dict(name="periodic", f=periodic, lam=1.0, T=T, L=3.0, n=51,
                          g=([0.0, 0.0], [1.0, 1.0]), X=[[0.0, 0.0], [1.0, 0.0], [-1.0, 1.0]],
                          switch=[])  # fmt: skip
+
+    def well_fast(x, t):  # narrower (σ = 0.05, half a cell) and faster (speed 5: ~ 4 cells/step)
+        c = np.stack([-2.0 + 5.0 * (t % 0.8), 0 * t], 1)
+        return 4.0 - 4.0 * np.exp(-np.sum((x - c) ** 2, 1) / (2 * 0.05**2)) + 0.2 * np.sum(x**2, 1)
+
+    P["well_fast"] = dict(name="well_fast", f=well_fast, lam=0.05, T=T, L=2.5, n=51,
+                          g=([0.0, 0.0], [1.0, 1.0]), X=[[-1.0, 0.0], [0.0, 0.05], [1.0, 0.0]],
+                          switch=[0.8, 1.6])  # fmt: skip
+
+    def kick_base(x, t):
+        return 0.2 * np.sum(x**2, 1)
+
+    def kick_strength(x):  # 0.02 long, between the time nodes of the default augmented grid
+        return 100.0 * np.exp(-np.sum((x - [0.0, 0.5]) ** 2, 1) / 0.3)
+
+    kick_on = [(1.21, 1.23, kick_strength)]
+    P["kick"] = dict(name="kick", f=with_pulses(kick_base, kick_on), lam=0.2, T=T, L=2.5, n=51,
+                     g=([0.0, 0.0], [1.0, 1.0]), X=[[0.0, 0.5], [0.0, -0.5], [1.0, 1.0]],
+                     switch=[1.21], base=kick_base, pulses=kick_on, proposal="chain")  # fmt: skip
     return P
 
 
@@ -300,6 +320,8 @@ def read_times(spec, dt):
     T = spec["T"]
     ts = {"t0": 0.0, "mid": T / 2, "between": round(T / (2 * dt)) * dt + 1.5 * dt,
           "end": T - dt / 2}  # fmt: skip
+    for k, s in enumerate(spec.get("extra_times", [])):
+        ts[f"extra{k}"] = s
     for k, s in enumerate(spec.get("switch", [])):
         ts[f"pre_switch{k}"] = max(s - 0.25 * dt, 0.0)
     if spec.get("ref") == "step":
@@ -376,9 +398,9 @@ def run_lq(spec, rows, log):
         log.append(dict(problem=spec["name"], variant="declared", outcome=repr(exc)[:300]))
 
     # (2) time as a state coordinate
-    if d <= 2:
+    if d <= 2 or spec.get("n_aug"):
         ns = spec.get("ns", 41)
-        agrid = aug_grid(d, spec["L"], spec["n"], T, ns)
+        agrid = aug_grid(d, spec["L"], spec.get("n_aug", spec["n"]), T, ns)
         aprob = Problem(TimeAugmented(spec["A"], spec["B"]), agrid, T,
                         Quadratic(list(spec["cT"]) + [0.0], np.diag(list(np.diag(spec["WT"])) + [0.0])),
                         state_cost=OnState(f, d), temperature=lam)  # fmt: skip
@@ -590,6 +612,9 @@ def run_combine(rows, log):
         warnings.simplefilter("always")
         comb = gridlbc.combine(comps)
     log.append(dict(problem="combine", combine_warnings=[wclass(w) for w in cw]))
+    comb_warned = any(is_gridlbc(w) for w in cw) or any(
+        any("Warning" in w_ for w_ in e.get("warnings", [])) for e in log if "component" in e
+    )
 
     def gmix(x):
         return -lam * np.logaddexp(-gs[0](x) / lam, -gs[1](x) / lam)
@@ -629,7 +654,7 @@ def run_combine(rows, log):
     cspec = dict(spec, name="combine")
     with warnings.catch_warnings(record=True) as cw:
         warnings.simplefilter("always")
-        record(rows, cspec, "combined", X, {"t0": 0.0}, comb, False, truth, True)
+        record(rows, cspec, "combined", X, {"t0": 0.0}, comb, comb_warned, truth, True)
     record(rows, cspec, "direct", X, {"t0": 0.0}, direct, warned, truth, True)
 
 
