@@ -262,7 +262,8 @@ def nl_problems():
     kick_on = [(1.21, 1.23, kick_strength)]
     P["kick"] = dict(name="kick", f=with_pulses(kick_base, kick_on), lam=0.2, T=T, L=2.5, n=51,
                      g=([0.0, 0.0], [1.0, 1.0]), X=[[0.0, 0.5], [0.0, -0.5], [1.0, 1.0]],
-                     switch=[1.21], base=kick_base, pulses=kick_on, proposal="chain")  # fmt: skip
+                     switch=[1.21], base=kick_base, pulses=kick_on, proposal="chain",
+                     extra_times=[0.2, 0.5, 0.8, 1.1, 1.2])  # fmt: skip
     return P
 
 
@@ -629,6 +630,22 @@ def run_combine(rows, log):
         diffs.append(float(np.max(np.abs(a - b) / np.maximum(np.abs(b), lam))))
     log.append(dict(problem="combine", superposition_maxrel=max(diffs), per_time=diffs,
                     direct_warnings=ws))  # fmt: skip
+    log.append(dict(problem="combine", exact_attr=bool(getattr(comb, "exact", None))))
+    # the same with default solves (fitting auto): is the combination exact, and does it say so?
+    dcomps = [solve_recorded(base.replace(terminal_cost=gi))[0] for gi in gs]
+    with warnings.catch_warnings(record=True) as cw2:
+        warnings.simplefilter("always")
+        dcomb = gridlbc.combine(dcomps)
+    ddirect = solve_recorded(base.replace(terminal_cost=gmix))[0]
+    ddiffs = []
+    for t in (0.0, T / 3 - 0.25 * dt, T / 2, T - dt / 2):
+        Xq = np.c_[np.asarray(spec["X"], float), np.full(len(spec["X"]), t)]
+        a, b = dcomb.value(Xq, t), ddirect.value(Xq, t)
+        ddiffs.append(float(np.max(np.abs(a - b) / np.maximum(np.abs(b), lam))))
+    log.append(dict(problem="combine", default_fit_maxrel=max(ddiffs), per_time=ddiffs,
+                    exact_attr=bool(getattr(dcomb, "exact", None)),
+                    reason=str(getattr(dcomb, "reason", ""))[:300],
+                    combine_warnings=[wclass(w) for w in cw2]))  # fmt: skip
     # truth of the composite (certify with the direct's policy, no finer proposal here)
     oprob = Problem(LinearSystem(np.zeros((d, d)), np.eye(d)), Grid([Axis(-L, L, n)] * 2), T,
                     lambda x: gmix(np.c_[x, np.zeros(len(x))]), state_cost=TimeCost(f),
