@@ -697,6 +697,28 @@ def run_combine(rows, log):
     record(rows, cspec, "direct", X, {"t0": 0.0}, direct, warned, truth, True)
 
 
+def run_tol(name, rows, log, tol=0.05):
+    """solve(tol=…) of the augmented problem, judged against the truths certified by ``--run name``."""
+    spec = nl_problems()[name]
+    T, lam, d = spec["T"], spec["lam"], 2
+    L, n = spec["L"], spec["n"]
+    c, w = spec["g"]
+    ga = Quadratic(list(c) + [0.0], np.diag(list(w) + [0.0]))
+    aprob = Problem(TimeAugmented(np.zeros((d, d)), np.eye(d)), aug_grid(d, L, n, T, 41), T, ga,
+                    state_cost=OnState(spec["f"], d), temperature=lam)  # fmt: skip
+    old = json.loads((OUT / f"{name}.json").read_text())["rows"]
+    known = {(tuple(r["x"]), r["t"]): r["truth"] for r in old if r["variant"] == "aug"}
+    sol, ws, warned, el = solve_recorded(aprob, tol=tol)
+    log.append(dict(problem=name, variant=f"tol{tol}", warnings=ws, seconds=el,
+                    dt=float(np.min(np.diff(sol.times))), shape=list(sol.grid.shape)
+                    if hasattr(sol, "grid") else None))  # fmt: skip
+    ts = sorted({t for _, t in known})
+    X = np.asarray(spec["X"], float)
+    record(rows, dict(spec, name=name), f"tol{tol}", X, {f"t{t:.3f}": t for t in ts}, sol, warned,
+           lambda X_, t: np.array([known.get((tuple(map(float, x)), t), np.nan) for x in X_]),
+           True)  # fmt: skip
+
+
 def main(argv):
     OUT.mkdir(parents=True, exist_ok=True)
     if "--list" in argv:
@@ -713,6 +735,8 @@ def main(argv):
             warnings.simplefilter("always")
             if name == "riccati":
                 log.append(dict(riccati_vs_round25=check_riccati()))
+            elif name.startswith("tol_") and name[4:] in nl_problems():
+                run_tol(name[4:], rows, log)
             elif name.startswith("traj_") and name[5:] in problems():
                 run_traj(problems()[name[5:]], rows, log)
             elif name in problems():
