@@ -1,9 +1,86 @@
 """Stranger round 31: COSTS THAT CHANGE IN TIME, q(x, t) (public API only; SPEC §1, §2, §6, §7, §10).
 
-RESULTS: (filled in at the end of the round)
+RESULTS (library of r31 = main 3aea650, 2026-12-06, one thread; ``--run`` per name, then ``--table``)
+
+What the library offers: a state cost declared ``time_dependent = True`` (``costs.Tracking`` or a
+user's own) is refused by ``solve`` (and ``solve(tol=…)``) with a clear ValueError ("the grid
+solvers need q(x) alone; use gridlbc.trajectory"); ``simulate``/``certify`` and
+``gridlbc.trajectory`` accept it. So a control researcher with q(x, t) has four routes, all posed:
+
+- "freeze": the user's callable ``q(x, t=0.0)`` without the flag, handed to ``solve``;
+- "aug": time as a state coordinate (a user ``ControlAffineSystem`` with ds = dt, no noise on s,
+  s-axis [0, 1.15 T], 41 nodes; q(x, s) is then a cost of the state); also ``store_every=3``;
+- "chain": one grid solve per interval on which q is constant, chained backwards (terminal cost
+  of a segment = the next segment's ``value(x, 0)``); on/off problems only;
+- "traj": ``trajectory.optimize`` + ``expand`` (LQ only).
+
+Problems (21 + a combination): 14 LQ tracking problems with EXACT truth (Riccati with a moving
+reference x̃(t): sinusoid, fast sinusoid, ramp, step at T/2; SingleIntegrator 1-D/2-D/3-D and
+PointMass, λ 0.01–3; aug of the 3-D one is 4-D). ``riccati_moving`` agrees with round 25's
+``lq_value`` to 7e-15 for a fixed reference, and the aug solve of si2_sin agrees with it to
+0.01 % at t = 0. 8 nonlinear 2-D problems (a disc forbidden only for t ∈ [T/3, 2T/3]; a narrow
+well moving 1.5 and ~4 cells per step; cost pulses 0.01–0.04 long, shorter than Δt and falling
+between the time nodes of the aug grid, at λ 0.2/0.5/1; a centre circling with period T/2),
+truths by ``certify`` (proposal: the policy of a 2×-finer aug solve at Δt/4, or the chain's
+policy for the pulses; 4000 paths at steps h and h/2 with the on/off factor averaged over each
+step, Richardson by hand; trusted if ESS ≥ 400 and SE < 0.5 % of max(|v*|, λ): 180 certificates,
+ESS 667–3996 for the trusted, 1 discarded (well, x = (−1.5, 0), t = 0, ESS 142)). Read at
+t = 0, T/2, between slices (round(T/2Δt)Δt + 1.5Δt), T − Δt/2, just before every switch, and on
+the pulse problems at 5 more times before the pulse. 875 (problem, variant, state, t) pairs.
+
+    variant        pairs  >10%  SILENT  under  ê ≥ ½err
+    freeze           156   133      58    141        13
+    aug              335    76      21     23       311
+    aug_store3       156     6       0      1       154
+    chain            138     0       0      0       125
+    tol0.05 (aug)     30    21      21      9        21
+    tol0.05+states    30    21       0      6        18
+    combined/direct    6     0       0      0         6
+    traj              24     0       0      0  (no estimate)
+
+FINDINGS, by severity
+
+1. SILENT, the freeze (58 pairs in 6 problems; 133 of 156 freeze pairs > 10 % off): a callable
+   ``q(x, t=0.0)`` without ``time_dependent = True`` is solved as q(x, 0) for the whole horizon
+   with no word; its error estimate measures the frozen problem (0.1–1 %). Worst: si1_sinf x = 0,
+   t = 0: v 0.2394 vs v* 3.0104 (92.0 %), ê 0.09 %; si2_sin (0, 0) t = 0: 0.9041 vs 1.8930
+   (52.2 %), ê 0.46 %; si3_ramp, si2_hot, si2_ramp, si2_sin: the same, no warning. The other
+   freeze solves warn, but only of their resolution elsewhere. (A signature with a parameter
+   named t, or a second parameter, could be detected.) ``--run si1_sinf si2_sin``.
+2. SILENT, a cost pulse between the time nodes of the augmented grid (pulse_hot: λ = 1,
+   q = 0.1|x|² + 100|x − (1, 0)|² for t ∈ [0.7, 0.71), s-nodes 0.69 and 0.7475): the default
+   solve raises NO warning at all and is 17–76 % off at every read before the pulse (21 pairs):
+   x = (0, 0), t = 0: v 1.3049 vs v* 2.4931 ± 0.0057 (47.7 %) with ê 48.6 % — the estimate is
+   right and the solve is silent; t = 0.65, x = (−1, −1): 1.5216 vs 5.9923 ± 0.0097 (74.6 %),
+   ê 0.11 %. The solve's own ``error_estimate`` over its ``states_that_matter`` at t = 0 has
+   q90 11.0 % and 11.9 % of them above 5 % (``--matter pulse_hot``), yet no ResolutionWarning.
+   ``solve(tol=0.05)``: no refinement (51×51×41, Δt 0.2 as the default), no warning, the same 21
+   silent pairs (``--run tol_pulse_hot``). With ``states=`` (the user's states at s = 0) and
+   ``times=[0]``: refines x to 101×101 (s stays 41 nodes, Δt 0.18), stops at the 240 s budget
+   with an honest warning (278.7 %), but ê at t = 0.65/0.69 stays 0.01–0.05 % for errors
+   17–76 % (``--run tolst_pulse_hot``). ``--run pulse_hot``.
+3. Under-reads in warned aug solves (23 pairs): the estimate of a missed pulse flickers with the
+   read time. pulse (λ 0.5): ê 20–290 % at t = 0, 0.1, 0.3, 0.6 but 0.1–0.5 % at t = 0.5, 0.65,
+   0.69 (errors 26–85 %), e.g. t = 0.65, x = (−1, −1): v 1.6534 vs 9.6308 ± 0.0198 (82.8 %),
+   ê 0.11 %; its one warning names t = 1.9 near (0, 0.72), not the pulse. kick (λ 0.2, 0.02 long
+   at 1.21): t = 1.0, x = (0, 0.5): 0.3476 vs 1.5267 (77.2 %) ê 16.1 %; (0, −0.5): 25.8 % ê 0.79 %;
+   (1, 1): 11.2 % ê 0.82 % (t = 0.8 and 1.1 read fine). band_late t = 1.2 (0, 0): 27.1 % ê 12.1 %.
+   ``--run pulse kick band_late``.
+4. Minor under-read: si2_hot aug_store3 (no warning) t = 0.65, x = (−2, 0.5): 4.7617 vs 4.6653
+   (2.07 %), ê 0.87 %.
+5. Not findings: the aug LQ solves (12 problems, 4-D included): 0 silent, ê ≥ ½ err at 311/335
+   aug pairs overall; the chained segments: 138 pairs, none > 10 %, worst 1.7 % (kick, ê 0.59 %);
+   ``combine`` of aug components solved with fitting=None reproduces the direct solve of the
+   composite terminal cost to 2.5e-16 (``exact`` True); with default fits 4.8e-4 and ``exact``
+   False with a clear ``reason`` (no warning, as documented); trajectory route 0.06–0.9 % off on
+   LQ tracking (no estimate to judge). No stray non-gridlbc warnings, no crashes. ``certify`` with
+   the default proposal="auto" on a time-dependent problem silently uses the judged policy alone
+   (same value as proposal=None).
 
     cd /work/wt-r31 && PYTHONPATH=/work/wt-r31 NUMBA_NUM_THREADS=1 \
-        python benchmarks/holdout/strangers_round31.py --list | --run [NAMES] | --table
+        python benchmarks/holdout/strangers_round31.py --list | --run NAMES | --table | --matter NAME
+    (NAMES: the LQ and nonlinear names of --list, riccati, combine, traj_<lq>, tol_<nl>, tolst_<nl>;
+    tol_/tolst_ read the truths that ``--run <nl>`` saved)
 """
 
 from __future__ import annotations
@@ -195,6 +272,11 @@ def problems():
                             [[0.0], [0.7], [-1.0]], W=[[5.0]])  # fmt: skip
     P["si1_sinf"] = lq_spec("si1_sinf", 1, "sin_fast", [1.0], 0.1, 2.0, 3.0, 121,
                             [[0.0], [0.5], [-1.2]], W=[[3.0]])  # fmt: skip
+    P["si2_step_hot"] = lq_spec("si2_step_hot", 2, "step", [1.0, -1.0], 3.0, 1.0, 5.0, 61,
+                                [[0, 0], [1.0, -1.0], [-1.5, 1.5]], W=[[2, 0], [0, 2]])  # fmt: skip
+    P["pm_ramp"] = lq_spec("pm_ramp", 2, "ramp", [1.5, 0.0], 0.5, 2.0, 5.0, 61,
+                           [[0, 0], [1.0, 0.5], [-1.0, -1.0]], A=PM_A, B=PM_B,
+                           W=[[2, 0], [0, 0.2]], WT=[[2, 0], [0, 0.2]], cT=[1.5, 0.0])  # fmt: skip
     return P
 
 
@@ -697,7 +779,7 @@ def run_combine(rows, log):
     record(rows, cspec, "direct", X, {"t0": 0.0}, direct, warned, truth, True)
 
 
-def run_tol(name, rows, log, tol=0.05):
+def run_tol(name, rows, log, tol=0.05, with_states=False):
     """solve(tol=…) of the augmented problem, judged against the truths certified by ``--run name``."""
     spec = nl_problems()[name]
     T, lam, d = spec["T"], spec["lam"], 2
@@ -708,21 +790,49 @@ def run_tol(name, rows, log, tol=0.05):
                     state_cost=OnState(spec["f"], d), temperature=lam)  # fmt: skip
     old = json.loads((OUT / f"{name}.json").read_text())["rows"]
     known = {(tuple(r["x"]), r["t"]): r["truth"] for r in old if r["variant"] == "aug"}
-    sol, ws, warned, el = solve_recorded(aprob, tol=tol)
-    log.append(dict(problem=name, variant=f"tol{tol}", warnings=ws, seconds=el,
+    X = np.asarray(spec["X"], float)
+    opts = dict(tol=tol)
+    if with_states:  # the user's states at s = t = 0, as solve(tol=, states=, times=) allows
+        opts.update(states=np.c_[X, np.zeros(len(X))], times=[0.0], max_seconds=240)
+    variant = f"tol{tol}" + ("_states" if with_states else "")
+    sol, ws, warned, el = solve_recorded(aprob, **opts)
+    log.append(dict(problem=name, variant=variant, warnings=ws, seconds=el,
                     dt=float(np.min(np.diff(sol.times))), shape=list(sol.grid.shape)
                     if hasattr(sol, "grid") else None))  # fmt: skip
     ts = sorted({t for _, t in known})
-    X = np.asarray(spec["X"], float)
-    record(rows, dict(spec, name=name), f"tol{tol}", X, {f"t{t:.3f}": t for t in ts}, sol, warned,
+    record(rows, dict(spec, name=name), variant, X, {f"t{t:.3f}": t for t in ts}, sol, warned,
            lambda X_, t: np.array([known.get((tuple(map(float, x)), t), np.nan) for x in X_]),
            True)  # fmt: skip
+
+
+def matter(name):
+    """The default solve's own error_estimate over its states that matter, at t = 0."""
+    from gridlbc.accuracy.matter import states_that_matter
+
+    spec = nl_problems()[name]
+    T, lam, d = spec["T"], spec["lam"], 2
+    c, w = spec["g"]
+    ga = Quadratic(list(c) + [0.0], np.diag(list(w) + [0.0]))
+    aprob = Problem(TimeAugmented(np.zeros((d, d)), np.eye(d)),
+                    aug_grid(d, spec["L"], spec["n"], T, 41), T, ga,
+                    state_cost=OnState(spec["f"], d), temperature=lam)  # fmt: skip
+    sol, ws, warned, _ = solve_recorded(aprob)
+    M = states_that_matter(sol)
+    rel = sol.error_estimate(M, 0.0) / np.maximum(np.abs(sol.value(M, 0.0)), lam)
+    print(
+        f"{name}: warned {warned} ({len(ws)} warnings); {len(M)} states that matter, "
+        f"rel. estimate q50 {np.quantile(rel, 0.5):.4f} q90 {np.quantile(rel, 0.9):.4f} "
+        f"max {rel.max():.3f}, share > 5 %: {(rel > 0.05).mean():.3f}"
+    )
 
 
 def main(argv):
     OUT.mkdir(parents=True, exist_ok=True)
     if "--list" in argv:
         print(list(problems()), list(nl_problems()), ["combine", "riccati"])
+        return
+    if "--matter" in argv:
+        matter(argv[argv.index("--matter") + 1])
         return
     if "--table" in argv:
         table()
@@ -737,6 +847,8 @@ def main(argv):
                 log.append(dict(riccati_vs_round25=check_riccati()))
             elif name.startswith("tol_") and name[4:] in nl_problems():
                 run_tol(name[4:], rows, log)
+            elif name.startswith("tolst_") and name[6:] in nl_problems():
+                run_tol(name[6:], rows, log, with_states=True)
             elif name.startswith("traj_") and name[5:] in problems():
                 run_traj(problems()[name[5:]], rows, log)
             elif name in problems():
