@@ -14,7 +14,7 @@ solvers need q(x) alone; use gridlbc.trajectory"); ``simulate``/``certify`` and
   of a segment = the next segment's ``value(x, 0)``); on/off problems only;
 - "traj": ``trajectory.optimize`` + ``expand`` (LQ only).
 
-Problems (21 + a combination): 14 LQ tracking problems with EXACT truth (Riccati with a moving
+Problems (20 + a combination): 12 LQ tracking problems with EXACT truth (Riccati with a moving
 reference x̃(t): sinusoid, fast sinusoid, ramp, step at T/2; SingleIntegrator 1-D/2-D/3-D and
 PointMass, λ 0.01–3; aug of the 3-D one is 4-D). ``riccati_moving`` agrees with round 25's
 ``lq_value`` to 7e-15 for a fixed reference, and the aug solve of si2_sin agrees with it to
@@ -40,8 +40,8 @@ the pulse problems at 5 more times before the pulse. 875 (problem, variant, stat
 
 FINDINGS, by severity
 
-1. SILENT, the freeze (58 pairs in 6 problems; 133 of 156 freeze pairs > 10 % off): a callable
-   ``q(x, t=0.0)`` without ``time_dependent = True`` is solved as q(x, 0) for the whole horizon
+1. SILENT, the freeze (58 pairs in 6 problems: si1_sinf, si2_hot, si2_ramp, si2_sin,
+   si2_step_hot, si3_ramp; 133 of 156 freeze pairs > 10 % off): a callable ``q(x, t=0.0)`` without ``time_dependent = True`` is solved as q(x, 0) for the whole horizon
    with no word; its error estimate measures the frozen problem (0.1–1 %). Worst: si1_sinf x = 0,
    t = 0: v 0.2394 vs v* 3.0104 (92.0 %), ê 0.09 %; si2_sin (0, 0) t = 0: 0.9041 vs 1.8930
    (52.2 %), ê 0.46 %; si3_ramp, si2_hot, si2_ramp, si2_sin: the same, no warning. The other
