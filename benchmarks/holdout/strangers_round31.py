@@ -42,7 +42,8 @@ FINDINGS, by severity
 
 1. SILENT, the freeze (58 pairs in 6 problems: si1_sinf, si2_hot, si2_ramp, si2_sin,
    si2_step_hot, si3_ramp; 133 of 156 freeze pairs > 10 % off): a callable ``q(x, t=0.0)``
-   without ``time_dependent = True`` is solved as q(x, 0) for the whole horizon with no word; its error estimate measures the frozen problem (0.1–1 %). Worst: si1_sinf x = 0,
+   without ``time_dependent = True`` is solved as q(x, 0) for the whole horizon with no word;
+   its error estimate measures the frozen problem (0.1–1 %). Worst: si1_sinf x = 0,
    t = 0: v 0.2394 vs v* 3.0104 (92.0 %), ê 0.09 %; si2_sin (0, 0) t = 0: 0.9041 vs 1.8930
    (52.2 %), ê 0.46 %; si3_ramp, si2_hot, si2_ramp, si2_sin: the same, no warning. The other
    freeze solves warn, but only of their resolution elsewhere. (A signature with a parameter
