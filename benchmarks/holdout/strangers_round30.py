@@ -1,0 +1,312 @@
+"""Stranger round 30: UNITS (public API only; SPEC §1, §6, §7, §9, §10).
+
+RESULTS: (filled in at the end of the round)
+
+    cd /work/wt-r30 && PYTHONPATH=/work/wt-r30 NUMBA_NUM_THREADS=1 \
+        python benchmarks/holdout/strangers_round30.py --list | --run [NAMES] | --table
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import re
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import corpus  # noqa: E402
+import strangers_round25 as r25  # noqa: E402
+
+import gridlbc  # noqa: E402
+from gridlbc import Axis, Grid, Problem  # noqa: E402
+from gridlbc.systems import ControlAffineSystem  # noqa: E402
+
+OUT = Path("/work/main/benchmarks/holdout/strangers_round30_results")  # gitignored there
+TRUTHS = json.loads((HERE / "truths.json").read_text())["members"]
+
+
+# ================= the change of units ===========================================================
+class Scaled(ControlAffineSystem):
+    """The system in new units: x = s·y (per axis), t' = τ·t. a'(x) = s·a(x/s)/τ, B'(x) =
+    s·B(x/s) (row-wise); the control in new time is u/τ, paid with R' = τR."""
+
+    def __init__(self, inner, s, tau):
+        self.inner, self.s, self.tau = inner, np.asarray(s, float), float(tau)
+        self.state_dim, self.control_dim = inner.state_dim, inner.control_dim
+        self.state_names = tuple(getattr(inner, "state_names", ()))
+        self.angle_axes = tuple(getattr(inner, "angle_axes", ()))
+
+    def drift(self, x):
+        x = np.asarray(x, float)
+        return self.s * np.asarray(self.inner.drift(x / self.s), float) / self.tau
+
+    def input_matrix(self, x):
+        x = np.asarray(x, float)
+        return self.s[None, :, None] * np.asarray(self.inner.input_matrix(x / self.s), float)
+
+
+def rescale(p: Problem, s=1.0, c=1.0, tau=1.0) -> Problem:
+    """``p`` in new units: space x = s·y (scalar or per axis), cost ×c (λ ×c), time t' = τt."""
+    d = p.state_dim
+    s = np.broadcast_to(np.asarray(s, float), (d,)).copy()
+    axes = [Axis(a.lo * sk, a.hi * sk, a.n, a.periodic, a.name) for a, sk in zip(p.grid.axes, s)]
+    kw = dict(control_cost=np.asarray(p.control_cost) * c * tau, temperature=p.temperature * c)
+    if p.state_cost is not None:
+        q = p.state_cost
+        kw["state_cost"] = lambda x: (c / tau) * np.asarray(q(np.asarray(x) / s), float)
+    if p.terminal_cost is not None:
+        g = p.terminal_cost
+        kw["terminal_cost"] = lambda x: c * np.asarray(g(np.asarray(x) / s), float)
+    if p.exit is not None:
+        kw["exit"] = lambda x: p.exit_mask(np.asarray(x) / s)
+        kw["exit_cost"] = lambda x: c * p.exit_values(np.asarray(x) / s)
+    h = p.horizon
+    horizon = h if (h is None or isinstance(h, str)) else float(h) * tau
+    return Problem(Scaled(p.system, s, tau), Grid(axes), horizon, **kw)
+
+
+def transforms(p: Problem) -> dict:
+    d = p.state_dim
+    half = max(max(abs(a.lo), abs(a.hi)) for a in p.grid.axes)
+    aniso = np.array([1e-2, 10.0, 1e3, 0.1])[:d]
+    si = np.array([1e-3, 100.0, 0.05, 1e3])[:d]
+    return {
+        "id": dict(),
+        "s1e-3": dict(s=1e-3),
+        "s1e3": dict(s=1e3),
+        "c1e4": dict(c=1e4),
+        "c1e-3": dict(c=1e-3),
+        "tau3600": dict(tau=3600.0),
+        "tau1e-2": dict(tau=1e-2),
+        "aniso": dict(s=aniso),
+        "box5mm": dict(s=0.005 / half),
+        "si": dict(s=si, c=1e4, tau=3600.0),
+    }
+
+
+# ================= base problems =================================================================
+def _corpus(name):
+    m = corpus.BY_NAME[name]
+
+    def truth(X, t):
+        rec = TRUTHS.get(name)
+        if rec is None:
+            return None
+        return np.array([st.get("v_extrapolated", st["v"]) for st in rec["states"]])
+
+    return dict(build=m.build, X=np.asarray(m.states, float), t=float(m.time), truth=truth)
+
+
+_R25 = None
+
+
+def _r25(name):
+    def spec():
+        global _R25
+        if _R25 is None:
+            _R25 = r25.draw()
+        return _R25[name]
+
+    def truth(X, t):
+        sp = spec()
+        if sp["family"] == "lq":
+            return r25.lq_value(sp, X, t)
+        tr = r25.truth_for(sp, X, [t])[t]
+        return np.asarray(tr[0], float)
+
+    return dict(
+        build=lambda: r25.build(spec()),
+        X=None,
+        t=0.0,
+        truth=truth,
+        spec=spec,
+    )
+
+
+BASES = {
+    "narrow_goal": _corpus("narrow_goal"),
+    "notch_exit": _corpus("notch_exit"),
+    "two_doors": _corpus("two_doors"),
+    "well_torus_average": _corpus("well_torus_average"),
+    "cold_ou_average": _corpus("cold_ou_average"),
+    "goal_face_3d": _corpus("goal_face_3d"),
+    "goal_4d": _corpus("goal_4d"),
+    "hot_rotor": _corpus("hot_rotor"),
+    "cheap_control": _corpus("cheap_control"),
+    "vortex": _corpus("vortex"),
+    "comb_torus": _corpus("comb_torus"),
+    "gust_between_nodes": _corpus("gust_between_nodes"),
+    "toll_strip": _corpus("toll_strip"),
+    "lq2_00": _r25("lq2_00"),
+    "lq2_03": _r25("lq2_03"),
+    "lq3_00": _r25("lq3_00"),
+}
+
+
+def _warnlist(caught):
+    out = []
+    for w in caught:
+        msg = str(w.message)
+        out.append(
+            dict(
+                category=w.category.__name__,
+                gridlbc=issubclass(w.category, gridlbc.GridlbcWarning),
+                message=msg[:400],
+                shape=re.sub(r"[-+]?\d[\d.,]*(e[-+]?\d+)?", "#", msg)[:400],
+            )
+        )
+    return out
+
+
+def one(p: Problem, X, t, tr: dict) -> dict:
+    s = np.broadcast_to(np.asarray(tr.get("s", 1.0), float), (p.state_dim,))
+    c, tau = float(tr.get("c", 1.0)), float(tr.get("tau", 1.0))
+    q = rescale(p, **tr) if tr is not None else p
+    Xs, ts = X * s, t * tau
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        start = time.perf_counter()
+        sol = gridlbc.solve(q)
+        secs = time.perf_counter() - start
+        v = np.asarray(sol.value(Xs, ts), float).reshape(-1) / c
+        try:
+            e = np.asarray(sol.error_estimate(Xs, ts), float).reshape(-1) / c
+        except Exception as exc:  # noqa: BLE001
+            e = None
+            err = repr(exc)
+        else:
+            err = None
+    diag = sol.diagnostics
+    dt = getattr(diag, "dt", None)
+    rec = dict(
+        v=v.tolist(),
+        est=None if e is None else e.tolist(),
+        est_error=err,
+        warnings=_warnlist(caught),
+        seconds=secs,
+        dt=None if dt is None else float(dt) / tau,
+        steps=getattr(diag, "steps", None),
+        lam=p.temperature,
+    )
+    ac = getattr(sol, "average_cost", None)
+    if ac is not None:
+        rec["average_cost"] = float(ac) * tau / c
+        ace = getattr(sol, "average_cost_error", None)
+        rec["average_cost_error"] = None if ace is None else float(ace) * tau / c
+    return rec
+
+
+def run(names, only=None):
+    OUT.mkdir(parents=True, exist_ok=True)
+    for name in names:
+        b = BASES[name]
+        p = b["build"]()
+        X = b["X"]
+        if X is None:
+            X = np.asarray(b["spec"]()["X"], float)
+        path = OUT / f"{name}.json"
+        res = json.loads(path.read_text()) if path.exists() else {}
+        res.update(dict(name=name, X=X.tolist(), t=b["t"], lam=p.temperature))
+        if "truth" not in res:
+            tv = b["truth"](X, b["t"])
+            res["truth"] = None if tv is None else np.asarray(tv, float).tolist()
+        res.setdefault("runs", {})
+        for key, tr in transforms(p).items():
+            if only and key not in only:
+                continue
+            if key in res["runs"]:
+                continue
+            rec = one(p, X, b["t"], tr)
+            rec["transform"] = {k: np.asarray(v).tolist() for k, v in tr.items()}
+            res["runs"][key] = rec
+            ws = [w["category"] for w in rec["warnings"]]
+            print(
+                f"{name:20s} {key:8s} {rec['seconds']:6.1f}s dt={rec['dt']!s:.8} "
+                f"v={np.round(rec['v'], 5).tolist()} est={rec['est'] and np.round(rec['est'], 5).tolist()} "
+                f"{ws}",
+                flush=True,
+            )
+            path.write_text(json.dumps(res, indent=1))
+
+
+def table():
+    rows = []
+    for path in sorted(OUT.glob("*.json")):
+        res = json.loads(path.read_text())
+        lam, truth = res["lam"], res["truth"]
+        base = res["runs"].get("id")
+        if base is None:
+            continue
+        vb = np.array(base["v"])
+        ref = np.array(truth) if truth is not None else vb
+        den = np.maximum(np.abs(ref), lam)
+        bshape = sorted((w["category"], w["shape"]) for w in base["warnings"])
+        for key, r in res["runs"].items():
+            v = np.array(r["v"])
+            err = np.abs(v - ref) / den if truth is not None else None
+            est = None if r["est"] is None else np.array(r["est"]) / den
+            best = None if base["est"] is None else np.array(base["est"]) / den
+            shape = sorted((w["category"], w["shape"]) for w in r["warnings"])
+            warned = any(w["gridlbc"] for w in r["warnings"])
+            row = dict(
+                name=res["name"],
+                key=key,
+                dt_ratio=None if not (r["dt"] and base["dt"]) else r["dt"] / base["dt"],
+                dv=float(np.max(np.abs(v - vb) / den)),
+                err=None if err is None else float(err.max()),
+                est=None if est is None else est.tolist(),
+                est_ratio=None
+                if est is None or best is None
+                else float(
+                    np.max(np.abs(np.log(np.maximum(est, 1e-300) / np.maximum(best, 1e-300))))
+                ),
+                warn_same=shape == bshape,
+                warned=warned,
+                warnings=[w["category"] + ": " + w["message"][:160] for w in r["warnings"]],
+                silent=bool(err is not None and err.max() > 0.1 and not warned),
+                under=None
+                if err is None or est is None
+                else int(np.sum((est < 0.5 * err) & (err > 0.02))),
+            )
+            rows.append(row)
+            flag = []
+            if row["silent"]:
+                flag.append("SILENT")
+            if not row["warn_same"]:
+                flag.append("WARN-DIFF")
+            if row["est_ratio"] is not None and row["est_ratio"] > 0.05:
+                flag.append(f"EST×{math.exp(row['est_ratio']):.3g}")
+            if row["dv"] > 1e-6:
+                flag.append(f"dv={row['dv']:.2e}")
+            if row["under"]:
+                flag.append(f"under={row['under']}")
+            print(
+                f"{row['name']:20s} {key:8s} dt×{row['dt_ratio'] or 0:.4g} err="
+                f"{row['err'] if row['err'] is None else round(row['err'], 4)} "
+                f"est={None if est is None else np.round(est, 4).tolist()} {' '.join(flag)}"
+            )
+            if not row["warn_same"]:
+                for w in row["warnings"]:
+                    print("      ", w)
+                for w in base["warnings"]:
+                    print("   id:", w["category"] + ": " + w["message"][:160])
+    (OUT / "table.json").write_text(json.dumps(rows, indent=1))
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    if not args or args[0] == "--list":
+        print("\n".join(BASES))
+    elif args[0] == "--run":
+        only = [a.split("=", 1)[1].split(",") for a in args if a.startswith("--only=")]
+        names = [a for a in args[1:] if not a.startswith("--")] or list(BASES)
+        run(names, only[0] if only else None)
+    elif args[0] == "--table":
+        table()
