@@ -88,6 +88,16 @@ def transforms(p: Problem) -> dict:
         "aniso": dict(s=aniso),
         "box5mm": dict(s=0.005 / half),
         "si": dict(s=si, c=1e4, tau=3600.0),
+        "s1e-6": dict(s=1e-6),
+        "c1e-6": dict(c=1e-6),
+        "c1e8": dict(c=1e8),
+        "tau3e7": dict(tau=3.15e7),
+        "tau1e-6": dict(tau=1e-6),
+        "aniso8": dict(s=np.array([1e-4, 1e4, 1e-4, 1e4])[:d]),
+        "tiny": dict(s=1e-5, c=1e-5, tau=1e-5),
+        "huge": dict(s=1e5, c=1e6, tau=1e7),
+        "c1e-12": dict(c=1e-12),
+        "year_micro": dict(c=1e-6, tau=3.15e7),
     }
 
 
@@ -130,7 +140,95 @@ def _r25(name):
     )
 
 
+def _user_lq(A, B, R, Wq, WT, lam, T, L, n, X, cq=None, cT=None):
+    """An LQ problem as an engineer writes it in SI units (a box of millimetres, ...): not an
+    exact rescaling of anything, its truth the Riccati solution (SPEC §6)."""
+    d = len(L)
+    sp = dict(
+        family="lq",
+        d=d,
+        A=np.asarray(A, float).tolist(),
+        B=np.asarray(B, float).tolist(),
+        R=np.atleast_2d(R).tolist(),
+        Wq=np.asarray(Wq, float),
+        WT=np.asarray(WT, float),
+        cq=list(cq if cq is not None else np.zeros(d)),
+        cT=list(cT if cT is not None else np.zeros(d)),
+        lam=lam,
+        T=T,
+        L=list(L),
+        n=list(n),
+        X=np.asarray(X, float).tolist(),
+    )
+    return dict(
+        build=lambda: r25.build_lq(sp),
+        X=np.asarray(X, float),
+        t=0.0,
+        truth=lambda X, t: r25.lq_value(sp, X, t),
+        spec=lambda: sp,
+    )
+
+
+_PM_A, _PM_B = [[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]]
+_MM = [[0.002, 0.01], [0.0, 0.0], [-0.004, 0.03]]
+
+USER = {
+    # PointMass, box ±5 mm × ±5 cm/s, g = 1e4 x² + 1e2 v², everything else default (λ = 1, R = 1)
+    "pm_mm_default": _user_lq(
+        _PM_A,
+        _PM_B,
+        1.0,
+        np.zeros((2, 2)),
+        np.diag([1e4, 1e2]),
+        1.0,
+        1.0,
+        [0.005, 0.05],
+        [101, 101],
+        _MM,
+    ),
+    # the same with the noise the box was drawn for (λ = 1e-6)
+    "pm_mm_cold": _user_lq(
+        _PM_A,
+        _PM_B,
+        1.0,
+        np.zeros((2, 2)),
+        np.diag([1e4, 1e2]),
+        1e-6,
+        1.0,
+        [0.005, 0.05],
+        [101, 101],
+        _MM,
+    ),
+    # λ = 1e-3 with costs ×1e-3 (R = 1e-3), a horizon of an hour, a box of ±5 mm
+    "int_mm_hour": _user_lq(
+        np.zeros((2, 2)),
+        np.eye(2),
+        1e-3 * np.eye(2),
+        1e-3 * np.eye(2) * 1e2,
+        1e-3 * np.eye(2) * 1e4,
+        1e-3,
+        3600.0,
+        [0.005, 0.005],
+        [101, 101],
+        [[0.002, 0.001], [0.0, 0.0], [-0.004, 0.004]],
+    ),
+    # costs of 1e4 (a euro per ...), λ = 0.01, box ±5 mm
+    "int_mm_euro": _user_lq(
+        np.array([[-0.5, 0.0], [0.0, 0.0]]),
+        np.eye(2),
+        np.eye(2) * 1e-4,
+        np.zeros((2, 2)),
+        np.eye(2) * 1e4 * 1e4,
+        0.01,
+        1.0,
+        [0.005, 0.005],
+        [101, 101],
+        [[0.002, 0.001], [0.0, 0.0], [-0.004, 0.004]],
+    ),
+}
+
 BASES = {
+    **USER,
     "narrow_goal": _corpus("narrow_goal"),
     "notch_exit": _corpus("notch_exit"),
     "two_doors": _corpus("two_doors"),
@@ -145,6 +243,28 @@ BASES = {
     "gust_between_nodes": _corpus("gust_between_nodes"),
     "toll_strip": _corpus("toll_strip"),
     "lq2_00": _r25("lq2_00"),
+    **{
+        n: _corpus(n)
+        for n in (
+            "cold_flow_exit",
+            "tiny_ball_cold",
+            "exit_late",
+            "exit_late_cold",
+            "exit_strip_between",
+            "driftwall_kept_node",
+            "relative_value_cold",
+            "pair_average_4d",
+            "notch_exit_horizon",
+            "toll_blind",
+            "three_doors",
+            "logistic_edge",
+            "well_face",
+            "pit_drift",
+            "mass_pit",
+            "hot_band",
+            "dock",
+        )
+    },
     "lq2_03": _r25("lq2_03"),
     "lq3_00": _r25("lq3_00"),
 }
@@ -178,7 +298,7 @@ def one(p: Problem, X, t, tr: dict) -> dict:
         v = np.asarray(sol.value(Xs, ts), float).reshape(-1) / c
         try:
             e = np.asarray(sol.error_estimate(Xs, ts), float).reshape(-1) / c
-        except Exception as exc:  # noqa: BLE001
+        except Exception as exc:
             e = None
             err = repr(exc)
         else:
