@@ -97,6 +97,7 @@ def transforms(p: Problem) -> dict:
         "tiny": dict(s=1e-5, c=1e-5, tau=1e-5),
         "huge": dict(s=1e5, c=1e6, tau=1e7),
         "c1e-12": dict(c=1e-12),
+        "c1e-15": dict(c=1e-15),
         "year_micro": dict(c=1e-6, tau=3.15e7),
     }
 
@@ -323,6 +324,20 @@ def one(p: Problem, X, t, tr: dict) -> dict:
     return rec
 
 
+MAX_STEPS = 10_000_000
+"""A default solve planning more steps is not run: ``solve`` of ``int_mm_hour`` plans 564 537 601
+steps and is OOM-killed (24 GB) building the set of kept steps (``solver.kept_steps``)."""
+
+
+def planned(problem):
+    """The number of steps the default solve plans (None without a horizon)."""
+    if problem.stationary:
+        return None
+    from gridlbc.solver import planned_step, settings_for
+
+    return planned_step(problem, settings_for(problem, None, {}))[1]
+
+
 def run(names, only=None):
     OUT.mkdir(parents=True, exist_ok=True)
     for name in names:
@@ -343,6 +358,12 @@ def run(names, only=None):
                 continue
             if key in res["runs"]:
                 continue
+            steps = planned(rescale(p, **tr))
+            if steps is not None and steps > MAX_STEPS:
+                print(f"{name:20s} {key:8s} skipped: the default solve plans {steps} steps")
+                res["runs"][key] = dict(skipped=f"{steps} steps planned")
+                path.write_text(json.dumps(res, indent=1))
+                continue
             rec = one(p, X, b["t"], tr)
             rec["transform"] = {k: np.asarray(v).tolist() for k, v in tr.items()}
             res["runs"][key] = rec
@@ -356,9 +377,14 @@ def run(names, only=None):
             path.write_text(json.dumps(res, indent=1))
 
 
+def _percents(message):
+    """The unit-free numbers of a warning: its percentages (the rest are in the user's units)."""
+    return tuple(re.findall(r"(\d+(?:\.\d+)?)%", message))
+
+
 def table():
     rows = []
-    for path in sorted(OUT.glob("*.json")):
+    for path in sorted(p for p in OUT.glob("*.json") if p.name != "table.json"):
         res = json.loads(path.read_text())
         lam, truth = res["lam"], res["truth"]
         base = res["runs"].get("id")
@@ -367,13 +393,15 @@ def table():
         vb = np.array(base["v"])
         ref = np.array(truth) if truth is not None else vb
         den = np.maximum(np.abs(ref), lam)
-        bshape = sorted((w["category"], w["shape"]) for w in base["warnings"])
+        bshape = sorted((w["category"], _percents(w["message"])) for w in base["warnings"])
         for key, r in res["runs"].items():
+            if "skipped" in r:
+                continue
             v = np.array(r["v"])
             err = np.abs(v - ref) / den if truth is not None else None
             est = None if r["est"] is None else np.array(r["est"]) / den
             best = None if base["est"] is None else np.array(base["est"]) / den
-            shape = sorted((w["category"], w["shape"]) for w in r["warnings"])
+            shape = sorted((w["category"], _percents(w["message"])) for w in r["warnings"])
             warned = any(w["gridlbc"] for w in r["warnings"])
             row = dict(
                 name=res["name"],
@@ -405,6 +433,14 @@ def table():
                 flag.append(f"EST×{math.exp(row['est_ratio']):.3g}")
             if row["dv"] > 1e-6:
                 flag.append(f"dv={row['dv']:.2e}")
+            if base.get("average_cost") is not None and r.get("average_cost") is not None:
+                acd = abs(r["average_cost"] / base["average_cost"] - 1)
+                ace = (r.get("average_cost_error") or 0) / max(
+                    base.get("average_cost_error") or 0, 1e-300
+                )
+                row["average_cost_rel_change"], row["average_cost_error_ratio"] = acd, ace
+                if acd > 1e-6 or abs(ace - 1) > 0.05:
+                    flag.append(f"AVG c×{1 + acd:.6g} ê_c×{ace:.3g}")
             if row["under"]:
                 flag.append(f"under={row['under']}")
             print(
@@ -418,6 +454,15 @@ def table():
                 for w in base["warnings"]:
                     print("   id:", w["category"] + ": " + w["message"][:160])
     (OUT / "table.json").write_text(json.dumps(rows, indent=1))
+    other = [r for r in rows if r["key"] != "id"]
+    print(
+        f"{len({r['name'] for r in rows})} problems, {len(rows)} (problem, units) solves, "
+        f"{len(other)} rescaled; value changed (> 1e-6 of max(|v|, λ)): "
+        f"{sum(r['dv'] > 1e-6 for r in other)}; estimate changed > 5 %: "
+        f"{sum((r['est_ratio'] or 0) > 0.05 for r in other)}; warnings' categories or "
+        f"percentages differ: {sum(not r['warn_same'] for r in other)}; silent: "
+        f"{sum(r['silent'] for r in rows)}; under-read states: {sum(r['under'] or 0 for r in rows)}"
+    )
 
 
 if __name__ == "__main__":
