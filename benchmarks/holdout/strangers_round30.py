@@ -465,6 +465,115 @@ def table():
     )
 
 
+def probe_cost_floor():
+    """toll_blind with its costs (and λ) ×c, and with costs per second over a year: the estimate
+    read back in the original units."""
+    b = BASES["toll_blind"]
+    p, X = b["build"](), b["X"]
+    out = {}
+    for tr in [dict(c=c) for c in (1.0, 1e-12, 1e-13, 3e-14, 1e-14, 1e-15)] + [
+        dict(c=1e-6, tau=86400.0),
+        dict(c=1e-9, tau=3.15e7),
+    ]:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            sol = gridlbc.solve(rescale(p, **tr))
+            v = np.ravel(sol.value(X)) / tr["c"]
+            e = np.ravel(sol.error_estimate(X)) / tr["c"]
+        out[json.dumps(tr)] = dict(v=v.tolist(), est=e.tolist(), warnings=_warnlist(caught))
+        print(tr, "v", np.round(v, 4), "est", np.round(e, 4), "truth", b["truth"](X, 0), flush=True)
+    return out
+
+
+def probe_exit_shift():
+    """The exit set's boundary moved outward by 1e-12 (original units): the nodes on it leave E."""
+    out = {}
+    for name in ("exit_late", "notch_exit_horizon", "notch_exit"):
+        b = BASES[name]
+        p, X, t = b["build"](), b["X"], b["t"]
+        for eps in (0.0, 1e-12):
+
+            def mask(x, eps=eps, p=p):
+                y = np.array(x, float)
+                y[:, 0] = y[:, 0] - eps * np.sign(y[:, 0])
+                return p.exit_mask(y)
+
+            q = p.replace(exit=mask, exit_cost=lambda x, p=p: p.exit_values(x))
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                sol = gridlbc.solve(q)
+                v, e = np.ravel(sol.value(X, t)), np.ravel(sol.error_estimate(X, t))
+            rec = dict(
+                exit_nodes=int(q.exit_mask().sum()),
+                v=v.tolist(),
+                est=e.tolist(),
+                truth=np.ravel(b["truth"](X, t)).tolist(),
+                warnings=_warnlist(caught),
+            )
+            out[f"{name} {eps:g}"] = rec
+            print(name, eps, {k: rec[k] for k in ("exit_nodes", "v", "est", "truth")}, flush=True)
+    return out
+
+
+def probe_tol(names=("lq2_00", "two_doors", "narrow_goal", "toll_blind", "cold_ou_average")):
+    """``solve(problem, tol=0.05, states=X)`` in several units: what it chose and met."""
+    out = {}
+    for name in names:
+        b = BASES[name]
+        p, X, t = b["build"](), b["X"], b["t"]
+        for key in ("id", "s1e-6", "c1e-15", "tau3e7", "si", "year_micro"):
+            tr = transforms(p)[key]
+            s = np.broadcast_to(np.asarray(tr.get("s", 1.0), float), (p.state_dim,))
+            c, tau = tr.get("c", 1.0), tr.get("tau", 1.0)
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                start = time.perf_counter()
+                sol = gridlbc.solve(rescale(p, **tr), tol=0.05, states=X * s)
+                secs = time.perf_counter() - start
+                v = np.ravel(sol.value(X * s, t * tau)) / c
+                e = np.ravel(sol.error_estimate(X * s, t * tau)) / c
+            rec = dict(
+                grid=sol.problem.grid.describe(),
+                dt=None if sol.diagnostics.dt is None else float(sol.diagnostics.dt) / tau,
+                v=v.tolist(),
+                est=e.tolist(),
+                seconds=secs,
+                warnings=_warnlist(caught),
+            )
+            out[f"{name} {key}"] = rec
+            print(
+                f"{name:18s} {key:10s} {rec['grid']:24s} dt={rec['dt']} v={np.round(v, 4)} "
+                f"est={np.round(e, 4)} {secs:.1f}s {[w['category'] for w in rec['warnings']]}",
+                flush=True,
+            )
+    return out
+
+
+def probe_certify_user():
+    """The user's millimetre problems certified on their reflecting box (the solve's boundary),
+    with the default solve's policy, 2000 paths; the Riccati value on R² beside it."""
+    out = {}
+    for name in ("pm_mm_default", "pm_mm_cold"):
+        b = BASES[name]
+        p, X = b["build"](), b["X"]
+        sol = gridlbc.solve(p)
+        vs, es, ric = np.ravel(sol.value(X)), np.ravel(sol.error_estimate(X)), b["truth"](X, 0)
+        for i, x in enumerate(X):
+            c = gridlbc.certify(p, sol.policy, x, n_samples=2000, seed=30)
+            rec = dict(
+                x=x.tolist(),
+                v=float(vs[i]),
+                est=float(es[i]),
+                vstar=float(np.ravel(c.optimal_value)[0]),
+                se=float(np.ravel(c.optimal_value_se)[0]),
+                ess=float(np.ravel(c.effective_sample_size)[0]),
+                riccati=float(ric[i]),
+            )
+            out.setdefault(name, []).append(rec)
+            print(name, rec, flush=True)
+    return out
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
     if not args or args[0] == "--list":
@@ -475,3 +584,14 @@ if __name__ == "__main__":
         run(names, only[0] if only else None)
     elif args[0] == "--table":
         table()
+    elif args[0] == "--probes":
+        OUT.mkdir(parents=True, exist_ok=True)
+        probes = dict(
+            cost_floor=probe_cost_floor(),
+            exit_shift=probe_exit_shift(),
+            certify_user=probe_certify_user(),
+        )
+        (OUT / "probes.json").write_text(json.dumps(probes, indent=1))
+    elif args[0] == "--tol":
+        OUT.mkdir(parents=True, exist_ok=True)
+        (OUT / "tol.json").write_text(json.dumps(probe_tol(), indent=1))
