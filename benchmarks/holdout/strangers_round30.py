@@ -1,9 +1,123 @@
 """Stranger round 30: UNITS (public API only; SPEC §1, §6, §7, §9, §10).
 
-RESULTS: (filled in at the end of the round)
+RESULTS (library of r30 = main 3aea650, 2026-12-06, one thread; ``--run`` (see BASES and
+``transforms``), ``--table``, ``--probes``, ``--tol``):
+
+Posed: 36 base problems (29 from the hold-out corpus: first exits with and without a horizon,
+average costs, narrow features, 3-D toll_strip / goal_face_3d, 4-D goal_4d / pair_average_4d,
+λ 0.005–1; 3 LQ from round 25 with the exact Riccati truth, lq2_00, lq2_03, lq3_00; 3 user LQ
+problems written in SI units with a ±5 mm box, pm_mm_default / pm_mm_cold / int_mm_euro, and
+int_mm_hour, which cannot be solved: see 5.), each rewritten in new units by an exact change of units through
+the public API only (``Scaled``, a ControlAffineSystem wrapping the base system, and
+``rescale``): space x = s·y (s scalar 1e-6 … 1e5, or per axis with ratios up to 1e8), costs and λ
+×c (1e-15 … 1e8), time t' = τt (1e-6 … 3.15e7 s), and combinations (``si``: s = (1e-3, 100, 0.05,
+1e3), c = 1e4, τ = 3600; ``box5mm``: the box rescaled to ±5 mm; ``year_micro``: c = 1e-6, τ =
+3.15e7). The default ``solve(problem)`` of every pair, read back in the base units at the
+corpus's states (and times), against the identity wrapper (s = c = τ = 1) and against the truths
+(truths.json, Riccati, or ``--probes``' certificates). ``--table``: 36 problems, 479
+(problem, units) solves, 443 of them rescaled; value changed by > 1e-6 of max(|v|, λ): 7 pairs
+(all in 2.); estimate changed by > 5 %: 18; warning categories or percentages differ: 44;
+"silent" 4 and under-read states 31, all explained below (pm_mm_default against the Riccati
+value on R², 12 states; driftwall_kept_node's 2 states in all 8 unit systems alike, 16;
+toll_blind at c = 1e-15, 3).
+
+The default Δt is exactly unit-invariant (Δt/τ identical in every finite-horizon pair: no
+legitimate discretisation difference to explain anything below). In exact binary scalings
+(powers of two) values and estimates are bit-identical everywhere. Most pairs are bit-identical.
+
+Findings, by severity:
+
+0. SILENT pairs under a change of units: none. Every rescaled solve that is > 10 % off its truth
+   is warned in every unit system tried.
+
+1. The estimate's absolute cost floor (``gridlbc/accuracy/paths.py:357``:
+   ``ROUNDING * max(1.0, max|q|)`` in ``interpolated_exactly``: a gap below 1e-12 *cost units*
+   counts as rounding): when the costs are small numbers the γ term (along the paths, first exit
+   without a horizon) and γ_c (average cost) are dropped as if the costs were affine.
+   - toll_blind (first exit, λ = 0.2, truth 2.2954 / 1.2967 / 0.8967): v = 1.9719 / 0.9755 /
+     0.5766 in every unit system (errors 0.323 / 0.321 / 0.320); the estimate (read back) is
+     0.998 / 0.751 / 1.111 for c ≥ 3e-14, and 0.100 / 0.100 / 0.100 for c ≤ 1e-14 and for
+     c = 1e-9, τ = 3.15e7 (costs per second over a year): 10× lower, UNDER-READ at all 3 states
+     (ê < ½ err). Still warned, but by a different warning (the sub-cell one, "up to 21 % of
+     |v|", instead of "exceeds 5 % at 92 % of the states ... along the solve's own paths").
+   - cold_ou_average (average cost, λ = 0.005): at c = 1e-12, c = 1e-15 and year_micro the
+     average cost's own ResolutionWarning ("c = 0.00298181 is 0.000157, 5.3 % of it") is gone
+     (1 warning instead of 2); ê_c 1.57e-4 → 4.86e-5 (×0.31). The exact c is 0.00294474, the
+     solve's 0.00298181 (1.26 % off): still covered, so not silent here.
+   - three_doors (exit costs 1.2 / …): at c ≤ 1e-12 the estimate at (1.4, 1.4) drops
+     0.01788 → 0.00118 (15×); actual error 2.5e-4, still covered.
+
+2. Values that change under an exact change of units (first exits with a horizon, whose exit
+   boundary lies on a row of nodes): rounding in the new units puts those nodes just outside E,
+   and the solve is discontinuous in the boundary's position there. Reproduced in the base units
+   by moving the boundary outward by 1e-12 (``--probes``, ``probe_exit_shift``):
+   - exit_late (|x₀| ≥ 1.8 on a node row, read at t = 1.8, truth 4.7488 / 3.8916 / 5.3640 /
+     2.8020): units box5mm, s = 0.1, 0.01, 1e-4: v(1.6, 0) 2.8272 → 3.3288 (18 %), ê 2.326 →
+     1.623; si and s = 1e-3: v(−1.5, 0) 3.9170 → 4.2635, ê 0.859 → 1.020; boundary +1e-12:
+     exit nodes 1212 → 1010, both changes at once.
+   - exit_late_cold box5mm: v(1.7, −1) 4.1741 → 4.4660 (truth 5.5827), ê 1.335 → 1.173; si:
+     v(−1.5, 0) 2.1959 → 2.4621 (truth 4.6970), ê 3.259 → 3.059.
+   - notch_exit_horizon (Box([0.45, −inf], …), truth 2.0463 / 1.4344 / 0.8236): s = 0.1, 1e-3,
+     1e-6, si: v 1.2080 → 1.2774 and 1.6266 → 1.6968; its estimate does not move (0.3837 /
+     0.1901) although v moved by 0.07.
+   - the same shift leaves the stationary notch_exit bit-identical (its exit is fitted by
+     bisection): the jump is the horizon (implicit march) path's. All these are warned in both
+     units; the estimates cover ½ the error in both.
+   - dock (stationary first exit) box5mm: v changes by 6e-4, ê by 11 %.
+
+3. Estimates and warning percentages that change with the units (values identical):
+   notch_exit ê ×1.11 at c = 1e-6 and year_micro, ×1.07 at c = 1e8, ×1.13 at c = 1e-15 (0.299 →
+   0.326 at (−0.5, 0)); notch_exit_horizon ×1.21 at c = 1e-6 (0.0524 → 0.0636); comb_torus ×1.06
+   at c = 1e-3; the warnings' percentages: notch_exit "up to 39 %" → 45 % (si), 40 % (c1e4);
+   toll_blind si 92 % / 109.8 % / 253 % → 93 % / 107.9 % / 240 %; dock box5mm 37.9 % / 81 % →
+   34.1 % / 76 %; exit_late_cold box5mm 29 % / 68 % → 31 % / 92 %.
+
+4. Warnings locate the trouble in the user's units with numpy's default print precision, so in
+   a millimetre box the location is lost: notch_exit in units s = 1e-3 says "near [0., 0.]"
+   (the base says "near [0.4, 0.]"), narrow_goal box5mm "[0.   , 0.001]", cold_ou_average box5mm
+   "[-0.004,  0.   ]", notch_exit tiny "[4.000e-06, 3.388e-21]".
+
+5. A user's SI problem kills the process: int_mm_hour (LinearSystem 2-D, u on both axes, box
+   ±5 mm on 101², T = 3600 s, λ = 1e-3, R = 1e-3 I, g = 10|x|², q = 0.1|x|²): the default plans
+   564 537 601 steps of 6.38e-6 s, and ``solve`` (already ``planned_memory``) is OOM-killed at
+   24 GB RSS building ``solver.kept_steps``' set of all steps — no error message. (``--run``
+   now skips a solve planning > 1e7 steps; run it only under ``ulimit -v``.)
+
+6. The box is a reflecting state constraint, and a millimetre box with the default λ = 1 says
+   nothing about it: pm_mm_default (PointMass, ±5 mm × ±5 cm/s, g = 1e4 x² + 1e2 v², λ = 1,
+   T = 1): v = 0.171 / 0.168 / 0.174 where the Riccati value on R² is 6.369 (97 % lower), no
+   warning, ê 0.013. Certified on the reflecting box (the solve's boundary, 2000 paths, the
+   default solve's policy): v* = 0.149 / 0.129 / 0.218 ± 0.012 (ESS 1544–1571), so the solve is
+   2–4 % off the problem it solves: not a failure of the estimate by the contract, but the user
+   gets the reflected problem's answer 37× below the unbounded one with no hint. pm_mm_cold
+   (λ = 1e-6, warned): v = 3.601e-4 / 8.25e-6 / 1.190e-3 vs certified 3.505e-4 / 6.47e-6 /
+   1.187e-3 (ESS 23 / 389 / 15) and Riccati 3.477e-4 / 6.37e-6 / 1.179e-3.
+
+7. int_mm_euro (LinearSystem, a = diag(−0.5, 0), box ±5 mm on 101², T = 1, λ = 0.01,
+   R = 1e-4 I, g = 1e8 |x|²: the noise λR⁻¹ = 100 fills the box at once): v = 0.8169 at all 3
+   states (Riccati on R²: 0.2809), warned, ``error_estimate`` 1766 / 1693 / 1811 (2000× |v|)
+   while its warning says "90 % of them are within 48.7 %; the largest, 57 %". The estimate of a
+   state depends on the batch it is read in: 1765.8 at (0.002, 0.001) read with the other two,
+   1699.7 read alone. At c = 1e-15 the warning switches to the other variant ("at 100 % of the
+   better half of the states (value at most the median), where the paths end up (90 % ... within
+   50.4 %)"). Its certificate with the default solve's policy degenerates (ESS 1.0, v* ~5e13,
+   the policy's cost ~1e14): no trusted truth.
+
+8. ``solve(problem, tol=0.05, states=X)`` (``--tol``: lq2_00, two_doors, narrow_goal,
+   toll_blind, in units id, s1e-6, c1e-15, tau3e7, si, year_micro): the same grid and Δt
+   chosen in every unit system; values identical; toll_blind's estimate 0.0093 → 0.0100 in
+   units s1e-6 and si. cold_ou_average's tol run died in ``splu`` under this script's
+   ``ulimit -v 8 GB`` (refined average-cost grid), not a units effect; its log is tol.log.
+
+Everything else is unit-invariant: lq2_00 / lq2_03 / lq3_00 (Riccati), narrow_goal, vortex,
+cheap_control, hot_rotor, gust_between_nodes, goal_face_3d, goal_4d, toll_strip, two_doors,
+well_torus_average, pair_average_4d, relative_value_cold, well_face, pit_drift, hot_band,
+cold_flow_exit, exit_strip_between, logistic_edge, driftwall_kept_node (its 2 under-read states
+are under-read in every unit), tiny_ball_cold: bit-identical values, estimates and warnings.
 
     cd /work/wt-r30 && PYTHONPATH=/work/wt-r30 NUMBA_NUM_THREADS=1 \
-        python benchmarks/holdout/strangers_round30.py --list | --run [NAMES] | --table
+        python benchmarks/holdout/strangers_round30.py --list | --run [NAMES] [--only=K,..] | --table
+                                                          | --probes | --tol
 """
 
 from __future__ import annotations
@@ -386,9 +500,11 @@ def table():
     rows = []
     for path in sorted(p for p in OUT.glob("*.json") if p.name != "table.json"):
         res = json.loads(path.read_text())
+        if "runs" not in res:  # probes.json, tol.json, certified_user.json
+            continue
         lam, truth = res["lam"], res["truth"]
         base = res["runs"].get("id")
-        if base is None:
+        if base is None or "skipped" in base:
             continue
         vb = np.array(base["v"])
         ref = np.array(truth) if truth is not None else vb
@@ -521,6 +637,7 @@ def probe_tol(names=("lq2_00", "two_doors", "narrow_goal", "toll_blind", "cold_o
     for name in names:
         b = BASES[name]
         p, X, t = b["build"](), b["X"], b["t"]
+        X = np.asarray(b["spec"]()["X"], float) if X is None else X
         for key in ("id", "s1e-6", "c1e-15", "tau3e7", "si", "year_micro"):
             tr = transforms(p)[key]
             s = np.broadcast_to(np.asarray(tr.get("s", 1.0), float), (p.state_dim,))
@@ -553,7 +670,7 @@ def probe_certify_user():
     """The user's millimetre problems certified on their reflecting box (the solve's boundary),
     with the default solve's policy, 2000 paths; the Riccati value on R² beside it."""
     out = {}
-    for name in ("pm_mm_default", "pm_mm_cold"):
+    for name in ("pm_mm_default", "pm_mm_cold", "int_mm_euro"):
         b = BASES[name]
         p, X = b["build"](), b["X"]
         sol = gridlbc.solve(p)
