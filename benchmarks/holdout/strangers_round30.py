@@ -3,12 +3,12 @@
 RESULTS (library of r30 = main 3aea650, 2026-12-06, one thread; ``--run`` (see BASES and
 ``transforms``), ``--table``, ``--probes``, ``--tol``):
 
-Posed: 36 base problems (29 from the hold-out corpus: first exits with and without a horizon,
+Posed: 37 base problems (30 from the hold-out corpus: first exits with and without a horizon,
 average costs, narrow features, 3-D toll_strip / goal_face_3d, 4-D goal_4d / pair_average_4d,
-λ 0.005–1; 3 LQ from round 25 with the exact Riccati truth, lq2_00, lq2_03, lq3_00; 3 user LQ
+λ 0.005–1; 3 LQ from round 25 with the exact Riccati truth, lq2_00, lq2_03, lq3_00; 4 user LQ
 problems written in SI units with a ±5 mm box, pm_mm_default / pm_mm_cold / int_mm_euro, and
-int_mm_hour, which cannot be solved: see 5.), each rewritten in new units by an exact change of units through
-the public API only (``Scaled``, a ControlAffineSystem wrapping the base system, and
+int_mm_hour, which cannot be solved: see 5.), each rewritten in new units by an exact change
+of units through the public API only (``Scaled``, a ControlAffineSystem wrapping the base system, and
 ``rescale``): space x = s·y (s scalar 1e-6 … 1e5, or per axis with ratios up to 1e8), costs and λ
 ×c (1e-15 … 1e8), time t' = τt (1e-6 … 3.15e7 s), and combinations (``si``: s = (1e-3, 100, 0.05,
 1e3), c = 1e4, τ = 3600; ``box5mm``: the box rescaled to ±5 mm; ``year_micro``: c = 1e-6, τ =
