@@ -84,7 +84,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import CertificateWarning, warn_user
+from .errors import CertificateWarning, state_text, warn_user
 from .problem import Problem
 from .progress import ProgressBar
 from .psis import pareto_k
@@ -301,7 +301,7 @@ class Certificate:
             elif k_hat > self.max_pareto_k:
                 flag += f" — HEAVY WEIGHT TAIL (k̂ > {self.max_pareto_k:g}), v* not trustworthy"
             lines.append(
-                f"x0 = {np.array2string(x0, precision=4)}: certified optimum v* = {v:.5g} ± "
+                f"x0 = {state_text(x0)}: certified optimum v* = {v:.5g} ± "
                 f"{v_se:.2g}, policy cost J = {J:.5g} ± {J_se:.2g}, gap J − v* = {gap:.4g} ± "
                 f"{gap_se:.2g} (SE); effective sample size {ess:.0f} of {self.n_samples} "
                 f"({100 * ess / self.n_samples:.0f} %), tail k̂ = {k_hat:.2f}, {edge} "

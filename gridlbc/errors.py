@@ -55,3 +55,14 @@ def warn_user(message: str, category: type[Warning]) -> None:
     while frame.f_back is not None and frame.f_code.co_filename.startswith(package):
         frame, level = frame.f_back, level + 1
     warnings.warn(message, category, stacklevel=level)
+
+
+def state_text(x) -> str:
+    """A state ``(d,)`` as a message names it, each coordinate to 4 significant digits: in
+    whatever unit the problem is written (a box of ±5 mm in metres), not to a fixed number of
+    decimals, which would read "[0., 0.001]" there (stranger round 30)."""
+    import numpy as np
+
+    return np.array2string(
+        np.asarray(x, dtype=float), separator=", ", formatter={"float_kind": lambda v: f"{v:.4g}"}
+    )

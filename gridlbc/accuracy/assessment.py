@@ -31,7 +31,7 @@ from functools import cached_property
 import numpy as np
 from scipy.special import logsumexp
 
-from ..errors import ResolutionWarning, warn_user
+from ..errors import ResolutionWarning, state_text, warn_user
 from .bellman import SPAN, bellman_gap, beyond_noise, largest_discount
 from .estimate import ScalarEstimate, quiet_reads, relative_error
 from .matter import (
@@ -490,7 +490,7 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     a = assess(solution, tol)
     if a is None or a.error <= tol:
         return
-    state = np.array2string(a.worst_state, precision=3, separator=", ")
+    state = state_text(a.worst_state)
     loose = (
         ""
         if solution.embedded.converging
@@ -611,7 +611,7 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
             if not np.isfinite(both).any():
                 continue
             error = float(np.nanmax(both))
-            worst = np.array2string(X[top[int(np.nanargmax(both))]], precision=3, separator=", ")
+            worst = state_text(X[top[int(np.nanargmax(both))]])
             share = f"near {worst} at t = {t:.3g}, where its components' own paths confirm it"
         if error > tol:
             warn_user(

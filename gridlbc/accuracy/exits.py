@@ -30,7 +30,7 @@ import itertools
 import numpy as np
 
 from ..costs import evaluate_cost
-from ..errors import ResolutionWarning, warn_user
+from ..errors import ResolutionWarning, state_text, warn_user
 from ..grid import Grid
 from ..regions import GridRegion, meets_exactly
 from .grids import samples_per_cell
@@ -164,7 +164,7 @@ def check_exit(solution, points: np.ndarray | None = None) -> None:
     where = missed_exit(solution.problem) if points is None else next(iter(points), None)
     if where is None:
         return
-    state = np.array2string(where, precision=3, separator=", ")
+    state = state_text(where)
     warn_user(
         f"the exit set has a part between the nodes near {state} that no node of the grid holds "
         "(narrower than a cell): the grid solves the task without it, and so does every coarser "

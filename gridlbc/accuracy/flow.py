@@ -47,7 +47,7 @@ from itertools import pairwise
 
 import numpy as np
 
-from ..errors import ResolutionWarning, warn_user
+from ..errors import ResolutionWarning, state_text, warn_user
 from ..interpolate import barycentric
 from .estimate import observed_order
 from .grids import embedded_grid
@@ -256,7 +256,7 @@ def check_flow(solution) -> None:
     ):
         cells, order, where = measure(solution)
         if cells >= FLOW_CELLS and not followed(order):
-            state = np.array2string(where, precision=3, separator=", ")
+            state = state_text(where)
             warn_user(
                 f"{begins} near {state} where the grid does not follow it: "
                 f"{how.format(f'{cells:.2g}')}, and its interpolants on the coarser grids shrink "

@@ -10,10 +10,7 @@ import numpy as np
 import scipy.sparse as sp
 import scipy.sparse.csgraph as csgraph
 
-from ..errors import (
-    ResolutionWarning,
-    warn_user,
-)
+from ..errors import ResolutionWarning, state_text, warn_user
 from ..grid import Grid
 from ..problem import Problem
 from ..schemes.generator import Generator, exit_generator, generator_matrix
@@ -63,7 +60,7 @@ def check_well_posed(L: sp.csr_matrix, sinks: np.ndarray, grid: Grid) -> None:
     reached[csgraph.breadth_first_order(graph, n, directed=True, return_predecessors=False)] = True
     if not reached[:n].all():
         stuck = np.flatnonzero(~reached[:n])
-        x = np.array2string(grid.node_coordinates(stuck[:1])[0], precision=3, separator=", ")
+        x = state_text(grid.node_coordinates(stuck[:1])[0])
         raise ValueError(
             f"{len(stuck)} of {n} nodes (e.g. {x}) reach neither the exit set nor a state cost "
             "q > 0: the problem is ill-posed there (nothing ends the task and nothing is paid). "

@@ -396,3 +396,24 @@ def test_a_linear_solver_for_a_scheme_that_solves_no_linear_system_is_refused():
     with pytest.raises(ValueError, match="linear_solver applies to method='implicit'"):
         gridlbc.SolverSettings(linear_solver="gauss-seidel")
     assert gridlbc.SolverSettings(method="implicit", linear_solver="gauss-seidel")
+
+
+def test_a_plan_of_hundreds_of_millions_of_steps_is_refused_before_listing_them():
+    # Stranger round 30: a ±5 mm box solved over an hour (λ = R = 1e-3) plans 564 537 601 steps
+    # of 6.4 µs; listing the slices to keep took the process past 24 GB and the kernel killed
+    # it. The slices are counted first, and the memory check says how many steps it planned.
+    from gridlbc.solver import kept_count, kept_steps
+
+    for steps, every in [(10, 1), (10, 3), (9, 3), (1, 5), (0, 2), (7, 7)]:
+        assert kept_count(steps, every) == len(kept_steps(steps, every))
+    problem = gridlbc.Problem(
+        gridlbc.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        gridlbc.Grid([gridlbc.Axis(-0.005, 0.005, 101)] * 2),
+        3600.0,
+        Quadratic([0.0, 0.0], [1e4, 1e4]),
+        state_cost=Quadratic([0.0, 0.0], [1.0, 1.0]),
+        control_cost=1e-3,
+        temperature=1e-3,
+    )
+    with pytest.raises(MemoryError, match=r"in 564537601 steps of 6\.38e-06"):
+        gridlbc.solve(problem)
