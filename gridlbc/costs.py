@@ -272,7 +272,17 @@ def time_parameter(cost) -> inspect.Parameter | None:
     read at t = 0 alone, a different problem, and every estimate of the solve would judge that
     problem: its answer could be far off without a word (stranger round 31, docs page
     :doc:`limitations`). :class:`gridlbc.Problem` marks such a cost time-dependent
-    (:class:`TimeDependent`), as :class:`Tracking` is."""
+    (:class:`TimeDependent`), as :class:`Tracking` is.
+
+    Parameters
+    ----------
+    cost : callable
+        A state cost.
+
+    Returns
+    -------
+    inspect.Parameter or None
+    """
     try:
         parameters = list(inspect.signature(cost).parameters.values())
     except (TypeError, ValueError):

@@ -25,6 +25,13 @@ The default Δt is exactly unit-invariant (Δt/τ identical in every finite-hori
 legitimate discretisation difference to explain anything below). In exact binary scalings
 (powers of two) values and estimates are bit-identical everywhere. Most pairs are bit-identical.
 
+After the fixes (main, 2026-12-06): ``interpolated_exactly`` takes rounding relative to the
+cost's own size (not max(1, max|q|)); toll_blind, three_doors and cold_ou_average at c = 1e-15,
+1e-12 and year_micro now read the same values, estimates and warnings as in the base units
+(0.998 / 0.751 / 1.111 on toll_blind; c's own warning on cold_ou_average). int_mm_hour is
+refused at once with a MemoryError naming its 564537601 steps (the kept slices are counted
+before they are listed). States in messages are given to 4 significant digits.
+
 Findings, by severity:
 
 0. SILENT pairs under a change of units: none. Every rescaled solve that is > 10 % off its truth

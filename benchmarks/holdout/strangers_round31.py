@@ -38,6 +38,13 @@ the pulse problems at 5 more times before the pulse. 875 (problem, variant, stat
     combined/direct    6     0       0      0         6
     traj              24     0       0      0  (no estimate)
 
+After the fixes (main, 2026-12-06): a state cost with a parameter named t (or time) is marked
+time-dependent (``costs.TimeDependent``), so the "freeze" variant is refused by ``solve`` with
+a ValueError that says what to do (trajectory methods, piece by piece as "chain" does, or the
+time as a state axis as "aug" does); its 58 silent pairs are now errors. The pulse between the
+s axis's lattice points (finding 2) is a documented limitation (docs/limitations.rst, "When the
+state cost depends on time").
+
 FINDINGS, by severity
 
 1. SILENT, the freeze (58 pairs in 6 problems: si1_sinf, si2_hot, si2_ramp, si2_sin,
