@@ -3,8 +3,7 @@
 A cost is any callable ``c(x)`` taking states ``(N, d)`` and returning ``(N,)``; a state cost may
 also take the time, q(x, t) (:class:`Tracking`, or a callable with a parameter ``t``:
 :class:`TimeDependent`), which the trajectory methods use and the grid solvers refuse. The
-library's own
-:class:`Quadratic`
+library's own :class:`Quadratic`
 
     g(x) = (x − c)ᵀ W (x − c)
 

@@ -161,9 +161,10 @@ PRESETS = {
 most accurate per second (the fitted splitting). ``"reference"``: the implicit upwind scheme at
 Courant 1, first order: a baseline to compare a scheme with, not the most accurate.
 ``"fast"``: the default at Courant 14 (twice the fitted default's 7) and at least 5 steps, so
-about half its steps where the drift sets the step: less accurate, and its error estimate says by how much
-(it warns as the default does). It names no method, so a task with an exit set and a horizon is
-solved by the implicit march, as by default (:func:`gridlbc.solver.settings_for`)."""
+about half its steps where the drift sets the step: less accurate, and its error estimate says
+by how much (it warns as the default does). It names no method, so a task with an exit set and
+a horizon is solved by the implicit march, as by default
+(``gridlbc.solver.settings_for``)."""
 
 
 def resolve_settings(settings, options) -> SolverSettings:

@@ -207,7 +207,7 @@ def _noda(M: sp.csr_matrix, sigma: float, s: StationarySettings, method: str):
         if error <= s.residual:
             return rho, e, tuple(counts)
         if method == "direct" and error <= KEEP * before:
-            continue  # σ converges fast enough as it is: its LU is kept (module docstring)
+            continue  # σ converges fast enough as it is: its LU is kept (principal_eigenpair)
         if not fixed:
             resolved = e >= np.sqrt(s.residual)
             quotient = float(np.max(Me[resolved] / e[resolved]))
