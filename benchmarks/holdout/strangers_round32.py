@@ -1,0 +1,640 @@
+"""Stranger round 32: NEIGHBOURS OF THE KNOWN FAILURES (issue 25), IN NEW SHAPES (SPEC §1, §3, §6, §10).
+
+RESULTS: (filled in at the end of the round, see below)
+
+    cd /work/wt-r32 && PYTHONPATH=/work/wt-r32 NUMBA_NUM_THREADS=1 \
+        python benchmarks/holdout/strangers_round32.py --list | --run [NAMES] | --tol | --table
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+import gridlbc
+from gridlbc import Axis, Grid, Problem, Quadratic
+from gridlbc.systems import Acrobot, ControlAffineSystem, LinearSystem
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from corpus import TollRoad, Unicycle
+
+OUT = Path("/work/main/benchmarks/holdout/strangers_round32_results")  # gitignored there
+PI = math.pi
+
+
+# ================= the user's own systems ======================================================
+class Flow(ControlAffineSystem):
+    """ẋ = a(x) + B u with a drift function ``fn`` and a constant input matrix ``B`` (d × m)."""
+
+    def __init__(self, fn, B, angle_axes=()):
+        self.fn, self.B = fn, np.asarray(B, float)
+        self.state_dim, self.control_dim = self.B.shape
+        self.state_names = tuple(f"x{i}" for i in range(self.state_dim))
+        self.angle_axes = tuple(angle_axes)
+
+    def drift(self, x):
+        return self.fn(self._states(x))
+
+    def input_matrix(self, x):
+        return np.broadcast_to(self.B, (self._states(x).shape[0], *self.B.shape))
+
+
+def wrap(d, period):
+    return (d + period / 2) % period - period / 2
+
+
+def gauss(d, s):
+    return np.exp(-0.5 * (d / s) ** 2)
+
+
+def spin(rel, rate, radius):
+    w = rate * np.exp(-(rel**2).sum(1) / (2 * radius**2))
+    return w[:, None] * np.stack([-rel[:, 1], rel[:, 0]], axis=1)
+
+
+def G(*axes):
+    return Grid([Axis(a[0], a[1], a[2], periodic=len(a) > 3 and a[3]) for a in axes])
+
+
+# ================= the problems ================================================================
+def problems():
+    P = {}
+    I2, I3 = np.eye(2), np.eye(3)
+
+    # ---- (a) fast local flows in a quiet box ------------------------------------------------
+    def jet(x):
+        return np.stack([6.0 * gauss(x[:, 1], 0.15), np.zeros(len(x))], 1)
+
+    P["jet2"] = dict(
+        p=Problem(
+            Flow(jet, I2),
+            G((-3, 3, 101), (-2, 2, 81)),
+            2.0,
+            Quadratic([1.5, 0.8], [2.0, 2.0]),
+            temperature=0.3,
+        ),
+        X=[[-2.0, 0.0], [-1.0, 0.5]],
+    )
+
+    def shear(x):
+        return np.stack([4.0 * np.tanh(x[:, 1] / 0.1), np.zeros(len(x))], 1)
+
+    P["shear2"] = dict(
+        p=Problem(
+            Flow(shear, I2),
+            G((-3, 3, 100, True), (-2, 2, 81)),
+            1.5,
+            Quadratic([1.0, 0.3], [1.0, 3.0]),
+            temperature=0.1,
+        ),
+        X=[[0.0, 0.05], [-1.0, -0.3]],
+    )
+
+    def srcsink(x):
+        out = np.zeros_like(x)
+        for c, k in (((-0.5, 0.0), 1.5), ((0.5, 0.0), -1.5)):
+            r = x - np.array(c)
+            out += k * r / ((r**2).sum(1) + 0.1**2)[:, None]
+        return out
+
+    P["source_sink"] = dict(
+        p=Problem(
+            Flow(srcsink, I2),
+            G((-2, 2, 101), (-2, 2, 101)),
+            2.0,
+            Quadratic([0.0, 1.0], [2.0, 2.0]),
+            temperature=0.5,
+        ),
+        X=[[-0.45, 0.05], [0.0, -0.5]],
+    )
+
+    def wallvortex(x):
+        return spin(x - np.array([1.75, 0.0]), 18.0, 0.25) + 0.3 * np.stack([-x[:, 1], x[:, 0]], 1)
+
+    P["vortex_wall"] = dict(
+        p=Problem(
+            Flow(wallvortex, I2),
+            G((-2, 2, 81), (-2, 2, 81)),
+            2.0,
+            Quadratic([-1.0, 0.0], [2.0, 2.0]),
+            temperature=1.0,
+        ),
+        X=[[1.6, 0.1], [1.0, -0.5]],
+    )
+
+    def seamvortex(x):
+        rel = np.stack([wrap(x[:, 0] - 2.0, 4.0), x[:, 1]], 1)
+        out = spin(rel, 18.0, 0.3)
+        out[:, 1] += 0.2
+        return out
+
+    P["vortex_seam"] = dict(
+        p=Problem(
+            Flow(seamvortex, I2),
+            G((-2, 2, 80, True), (-2, 2, 81)),
+            2.5,
+            Quadratic([0.0, 0.5], [2.0, 2.0]),
+            temperature=0.5,
+        ),
+        X=[[1.9, 0.0], [-1.9, 0.2]],
+    )
+
+    def offvortex(x):
+        c = np.array([0.825, 0.0167])
+        return spin(x - c, 25.0, 0.12) + 0.3 * np.stack([-x[:, 1], x[:, 0]], 1)
+
+    P["vortex_offnode"] = dict(
+        p=Problem(
+            Flow(offvortex, I2),
+            G((-2.5, 2.5, 101), (-2.5, 2.5, 101)),
+            2.0,
+            Quadratic([-1.0, 0.0], [2.0, 2.0]),
+            temperature=0.3,
+        ),
+        X=[[0.83, 0.02], [0.6, 0.3]],
+    )
+
+    def band(x):
+        return np.stack([np.full(len(x), 0.3), 8.0 * gauss(x[:, 0] - 0.5, 0.05)], 1)
+
+    P["fast_band"] = dict(
+        p=Problem(
+            Flow(band, I2),
+            G((-3, 3, 121), (-2, 2, 81)),
+            2.0,
+            Quadratic([1.5, 0.0], [2.0, 2.0]),
+            temperature=0.2,
+        ),
+        X=[[0.0, 0.0], [0.5, -1.0]],
+    )
+
+    def tube(x):
+        out = np.zeros_like(x)
+        out[:, :2] = spin(x[:, :2] - np.array([0.6, 0.0]), 15.0, 0.25)
+        out[:, 2] = 0.3
+        return out
+
+    P["vortex_tube3"] = dict(
+        p=Problem(
+            Flow(tube, I3),
+            G((-2, 2, 41), (-2, 2, 41), (-2, 2, 41)),
+            1.5,
+            Quadratic([-1.0, 0.0, 0.5], [2.0, 2.0, 1.0]),
+            temperature=0.5,
+        ),
+        X=[[0.6, 0.1, 0.0], [0.3, -0.3, -0.5]],
+    )
+
+    def jet3(x):
+        out = np.zeros_like(x)
+        out[:, 0] = 5.0 * np.exp(-(x[:, 1] ** 2 + x[:, 2] ** 2) / (2 * 0.15**2))
+        return out
+
+    P["jet3"] = dict(
+        p=Problem(
+            Flow(jet3, I3),
+            G((-2, 2, 41), (-2, 2, 41), (-2, 2, 41)),
+            1.5,
+            Quadratic([1.0, 0.5, 0.0], [2.0, 2.0, 2.0]),
+            temperature=0.2,
+        ),
+        X=[[-1.5, 0.0, 0.0], [-1.0, 0.2, -0.1]],
+    )
+
+    # ---- (b) 4-D on coarse grids --------------------------------------------------------------
+    def cartpole(x):
+        th, v, om = x[:, 1], x[:, 2], x[:, 3]
+        return np.stack([v, om, -0.1 * v, 9.81 * np.sin(th) - 0.3 * om - 2.0 * np.cos(th) * v], 1)
+
+    B = np.zeros((4, 2))
+    B[2, 0] = B[3, 1] = 1.0
+    P["cartpole"] = dict(
+        p=Problem(
+            Flow(cartpole, B, angle_axes=(1,)),
+            G((-3, 3, 21), (-PI, PI, 20, True), (-4, 4, 21), (-8, 8, 21)),
+            2.0,
+            Quadratic([0, 0, 0, 0], [1.0, 5.0, 0.2, 0.5]),
+            control_cost=np.diag([1.0, 5.0]),
+            temperature=0.3,
+        ),
+        X=[[1.0, 0.5, 1.5, -2.0], [0.0, 0.2, 0.0, 0.0]],
+        fine=1.5,
+    )
+    A = np.zeros((4, 4))
+    A[0, 2] = A[1, 3] = 1.0
+    P["two_di_cold"] = dict(
+        p=Problem(
+            LinearSystem(A, B),
+            G((-3, 3, 21), (-3, 3, 21), (-4, 4, 21), (-4, 4, 21)),
+            2.0,
+            Quadratic([0, 0, 0, 0], [2.0, 2.0, 0.5, 0.5]),
+            state_cost=Quadratic([0, 0, 0, 0], [0.5, 0.5, 0.05, 0.05]),
+            temperature=0.05,
+        ),
+        X=[[1.5, -1.0, 2.0, 1.0], [0.5, 0.5, 0.0, -0.5]],
+        fine=1.5,
+    )
+    Ac = A.copy()
+    Ac[2, 0], Ac[2, 1], Ac[3, 1], Ac[3, 0] = -2.0, 0.5, -1.0, 0.5
+    P["coupled_di"] = dict(
+        p=Problem(
+            LinearSystem(Ac, B),
+            G((-3, 3, 25), (-3, 3, 25), (-4, 4, 25), (-4, 4, 25)),
+            2.5,
+            Quadratic([0, 0, 0, 0], [2.0, 2.0, 0.5, 0.5]),
+            temperature=0.2,
+        ),
+        X=[[1.0, 1.0, -1.5, 2.0], [-0.5, 0.8, 1.0, 0.0]],
+        fine=1.5,
+    )
+
+    def rotor2(x):
+        t1, t2, p1, p2 = x.T
+        c = np.sin(t2 - t1)
+        return np.stack([p1, p2, -2 * np.sin(t1) + c, -2 * np.sin(t2) - c], 1)
+
+    P["rotor2"] = dict(
+        p=Problem(
+            Flow(rotor2, B, angle_axes=(0, 1)),
+            G((-PI, PI, 24, True), (-PI, PI, 24, True), (-5, 5, 25), (-5, 5, 25)),
+            2.0,
+            Quadratic([PI, PI, 0, 0], [3.0, 3.0, 0.3, 0.3]),
+            temperature=0.5,
+        ),
+        X=[[0.3, -0.5, 2.0, -1.5], [2.5, 2.8, 0.5, 0.5]],
+        fine=1.5,
+    )
+    ac = Acrobot()
+    P["acrobot19"] = dict(
+        p=Problem(
+            ac,
+            ac.default_grid(19),
+            1.5,
+            Quadratic([0, 0, 0, 0], [10.0, 10.0, 0.5, 0.5]),
+            state_cost=Quadratic([0, 0, 0, 0], [1.0, 1.0, 0.1, 0.1]),
+            temperature=0.3,
+        ),
+        X=[[0.2, -0.3, 1.5, -1.0], [0.0, 0.0, 0.0, 0.0]],
+        fine=1.6,
+    )
+    P["pm2_cold"] = dict(
+        p=Problem(
+            LinearSystem(A, B),
+            G((-3, 3, 25), (-3, 3, 25), (-4, 4, 25), (-4, 4, 25)),
+            3.0,
+            Quadratic([0.5, -0.5, 0, 0], [3.0, 3.0, 1.0, 1.0]),
+            temperature=0.02,
+        ),
+        X=[[2.0, -1.0, -1.0, 1.5], [-1.0, 1.0, 1.0, 0.0]],
+        fine=1.5,
+    )
+
+    # ---- (c) narrow costs along drift-only axes -------------------------------------------------
+    def ring(x):
+        r = np.hypot(x[:, 0], x[:, 1])
+        ang = np.arctan2(x[:, 1], x[:, 0])
+        return 60.0 * gauss(r - 1.5, 0.03) * (1 - gauss(wrap(ang, 2 * PI), 0.3))
+
+    P["ring_unicycle"] = dict(
+        p=Problem(
+            Unicycle(),
+            G((-3, 3, 61), (-3, 3, 61), (-PI, PI, 48, True)),
+            3.0,
+            Quadratic([2.0, 0.0, 0.0], [2.0, 2.0, 0.0]),
+            state_cost=ring,
+            temperature=0.3,
+        ),
+        X=[[0.0, 0.0, 0.0], [0.0, 0.0, PI / 2]],
+    )
+
+    def diag(x):
+        return 80.0 * gauss(x[:, 0] + 0.5 * x[:, 1] - 1.5, 0.015) * (1 - gauss(x[:, 1] - 1, 0.3))
+
+    P["diag_strip"] = dict(
+        p=Problem(
+            TollRoad(),
+            G((-0.5, 3.5, 41), (-2, 2, 41), (-4, 4, 41)),
+            2.5,
+            Quadratic([0, 0, 0], [0.0, 2.0, 0.5]),
+            state_cost=diag,
+        ),
+        X=[[0.0, 0.0, 0.0], [0.0, 1.0, 0.5]],
+    )
+
+    A3 = np.zeros((3, 3))
+    A3[1, 2] = 1.0
+
+    def moving(x):
+        return 60.0 * gauss(x[:, 1] - 0.5 - 0.8 * x[:, 0], 0.02) * (1 - gauss(x[:, 0] - 1.0, 0.2))
+
+    def drift_ms(x):
+        return np.stack([np.ones(len(x)), x[:, 2], np.zeros(len(x))], 1)
+
+    P["moving_strip"] = dict(
+        p=Problem(
+            Flow(drift_ms, [[0.0], [0.0], [1.0]]),
+            G((0, 3, 41), (-2, 4, 61), (-4, 4, 41)),
+            2.5,
+            Quadratic([0, 3.0, 0], [0.0, 2.0, 0.5]),
+            state_cost=moving,
+            temperature=0.5,
+        ),
+        X=[[0.0, 0.0, 1.0], [0.0, -0.5, 0.0]],
+        clock=0,  # axis 0 is time: read states with x[0] = t
+    )
+
+    class PerToll:
+        def __call__(self, x):
+            x = np.atleast_2d(x)
+            return 80.0 * gauss(wrap(x[:, 0] - PI, 2 * PI), 0.02) * (1 - gauss(x[:, 1] - 1, 0.3))
+
+    P["periodic_strip"] = dict(
+        p=Problem(
+            PerTollRoad(),
+            G((-PI, PI, 60, True), (-2, 2, 41), (-4, 4, 41)),
+            4.0,
+            Quadratic([0, 0, 0], [0.0, 2.0, 0.5]),
+            state_cost=PerToll(),
+            temperature=0.5,
+        ),
+        X=[[0.0, 0.0, 0.0], [2.0, 1.0, 0.0]],
+    )
+
+    def gbump(x):
+        x = np.atleast_2d(x)
+        return (0.5 * x[:, 1] ** 2 + 0.2 * x[:, 2] ** 2
+                + 5.0 * gauss(x[:, 0] - 2.0, 0.02) * (1 - gauss(x[:, 1] - 1, 0.3)))  # fmt: skip
+
+    P["terminal_bump"] = dict(
+        p=Problem(
+            TollRoad(), G((-0.5, 3.5, 41), (-2, 2, 41), (-4, 4, 41)), 1.5, gbump, temperature=0.3
+        ),
+        X=[[0.5, 0.0, 0.0], [0.52, 0.0, 0.0], [0.45, 1.0, 0.0]],
+    )
+
+    def tails(x):
+        x = np.atleast_2d(x)
+        d = x[:, 0] - 1.5
+        return 150.0 * (gauss(d, 0.004) + 0.05 * gauss(d, 0.08)) * (1 - gauss(x[:, 1] - 1, 0.3))
+
+    P["toll_tails"] = dict(
+        p=Problem(
+            TollRoad(),
+            G((-0.5, 3.5, 61), (-2, 2, 61), (-4, 4, 61)),
+            2.5,
+            Quadratic([0, 0, 0], [0.0, 2.0, 0.5]),
+            state_cost=tails,
+        ),
+        X=[[0.0, 0.0, 0.0], [0.0, 1.0, 0.5]],
+    )
+
+    def strip2(x):
+        x = np.atleast_2d(x)
+        return 100.0 * gauss(x[:, 0] - 1.0, 0.01) * (1 - gauss(x[:, 1] - 0.8, 0.2))
+
+    def d_s2(x):
+        return np.stack([np.full(len(x), 1.2), np.zeros(len(x))], 1)
+
+    P["strip2d"] = dict(
+        p=Problem(
+            Flow(d_s2, [[0.0], [1.0]]),
+            G((-0.5, 3, 71), (-2, 2, 81)),
+            2.0,
+            Quadratic([0, 0], [0.0, 1.0]),
+            state_cost=strip2,
+            temperature=0.1,
+        ),
+        X=[[0.0, 0.0], [0.0, 0.8], [0.0, -1.0]],
+    )
+
+    def d_phase(x):
+        return np.stack([1.0 + 0.5 * x[:, 1], np.zeros(len(x))], 1)
+
+    def gphase(x):
+        x = np.atleast_2d(x)
+        return 0.5 * x[:, 1] ** 2 - 4.0 * gauss(wrap(x[:, 0] - PI, 2 * PI), 0.03)
+
+    P["phase_terminal"] = dict(
+        p=Problem(
+            Flow(d_phase, [[0.0], [1.0]], angle_axes=(0,)),
+            G((-PI, PI, 80, True), (-2, 2, 81)),
+            2.0,
+            gphase,
+            temperature=0.2,
+        ),
+        X=[[0.0, 0.0], [1.0, 0.5]],
+    )
+
+    def d_rot(x):
+        return np.stack([2.0 + x[:, 1], np.zeros(len(x))], 1)
+
+    def qrot(x):
+        x = np.atleast_2d(x)
+        return 50.0 * gauss(wrap(x[:, 0], 2 * PI), 0.02) * (1 - gauss(x[:, 1] - 0.5, 0.15))
+
+    P["phase_toll"] = dict(
+        p=Problem(
+            Flow(d_rot, [[0.0], [1.0]], angle_axes=(0,)),
+            G((-PI, PI, 80, True), (-2, 2, 81)),
+            3.0,
+            Quadratic([0, 0], [0.0, 0.5]),
+            state_cost=qrot,
+            temperature=0.3,
+        ),
+        X=[[-1.0, 0.0], [2.0, 0.5]],
+    )
+    return P
+
+
+class PerTollRoad(TollRoad):
+    """The toll road with s an angle (a circuit of length 2π driven at speed 2)."""
+
+    angle_axes = (0,)
+
+    def __init__(self):
+        super().__init__(speed=2.0)
+
+
+# ================= running =====================================================================
+def wclass(w):
+    return f"{type(w.message).__name__}: {str(w.message)[:160]}"
+
+
+def is_grid_warning(w):
+    return isinstance(w.message, gridlbc.GridlbcWarning)
+
+
+def solve_recorded(problem, **kw):
+    t0 = time.time()
+    with warnings.catch_warnings(record=True) as ws:
+        warnings.simplefilter("always")
+        sol = gridlbc.solve(problem, **kw)
+    return sol, ws, time.time() - t0
+
+
+def finer(grid, f):
+    axes = []
+    for a in grid.axes:
+        if a.periodic:
+            n = round(a.n * f)
+            n += n % 2
+        else:
+            n = round((a.n - 1) * f) + 1
+        axes.append(Axis(a.lo, a.hi, n, periodic=a.periodic))
+    return Grid(axes)
+
+
+def read_states(spec, t):
+    X = np.array(spec["X"], float)
+    if "clock" in spec:
+        X[:, spec["clock"]] += t
+    return X
+
+
+def certify_at(problem, pol, X, t, n_samples, seed):
+    T = problem.horizon
+    H = T - t
+    sub = problem.replace(horizon=H)
+    nst = max(40, math.ceil(400 * H / T))
+
+    def spol(y, s):
+        return pol(y, s + t)
+
+    with warnings.catch_warnings(record=True) as cw:
+        warnings.simplefilter("always")
+        c = gridlbc.certify(sub, spol, X, n_samples=n_samples, seed=seed, proposal=None,
+                            dt=H / nst, richardson=True)  # fmt: skip
+    return c, [wclass(w) for w in cw]
+
+
+def run(name, spec):
+    p = spec["p"]
+    lam = p.temperature
+    T = p.horizon
+    out = dict(problem=name, grid=list(p.grid.shape), lam=lam, T=T)
+    try:
+        sol, ws, el = solve_recorded(p)
+    except Exception as e:
+        out["crash"] = f"{type(e).__name__}: {e}"
+        return out
+    dt = float(sol.times[1] - sol.times[0])
+    out.update(seconds=el, dt=dt, warnings=[wclass(w) for w in ws],
+               warned=any(is_grid_warning(w) for w in ws),
+               stray=[wclass(w) for w in ws if not is_grid_warning(w)])  # fmt: skip
+    print(name, p.grid.shape, f"{el:.1f}s dt={dt:.4g}", out["warnings"][:2], flush=True)
+    f = spec.get("fine", 2.0)
+    fp = p.replace(grid=finer(p.grid, f))
+    fsol, fws, fel = solve_recorded(fp, dt=dt / 2, error_estimate=False)
+    out.update(proposal=dict(grid=list(fp.grid.shape), dt=dt / 2, seconds=fel,
+                             warnings=[wclass(w) for w in fws]))  # fmt: skip
+    print("  proposal", fp.grid.shape, f"{fel:.1f}s", flush=True)
+    pairs = []
+    for t in (0.0, round(T / 2 / dt) * dt + 0.5 * dt, T - dt / 2):
+        X = read_states(spec, t)
+        with warnings.catch_warnings(record=True) as rw:
+            warnings.simplefilter("always")
+            v = sol.value(X, t)
+            e = sol.error_estimate(X, t)
+        n = 2000
+        for attempt in range(2):
+            c, cw = certify_at(p, fsol.policy, X, t, n, seed=32 + attempt)
+            vs = np.atleast_1d(c.extrapolated_value)
+            se = np.atleast_1d(c.extrapolated_value_se)
+            if np.all(se < 0.005 * np.maximum(np.abs(vs), lam)) or attempt == 1:
+                break
+            n = 8000
+        ess = np.atleast_1d(c.effective_sample_size)
+        k = np.atleast_1d(getattr(c, "pareto_k", np.full(len(X), np.nan)))
+        for i, x in enumerate(X):
+            scale = max(abs(vs[i]), lam)
+            row = dict(problem=name, x=list(map(float, x)), t=float(t), v=float(v[i]),
+                       est=float(e[i]), vstar=float(vs[i]), se=float(se[i]), ess=float(ess[i]),
+                       k=float(k[i]), n=n, raw=float(np.atleast_1d(c.optimal_value)[i]),
+                       err=float(abs(v[i] - vs[i]) / scale), est_rel=float(e[i] / scale),
+                       trusted=bool(ess[i] >= 400 and se[i] < 0.005 * scale),
+                       warned=out["warned"],
+                       read_warnings=[wclass(w) for w in rw], cert_warnings=cw)  # fmt: skip
+            pairs.append(row)
+            print(f"  t={t:.3f} x={np.round(x, 3)} v={v[i]:.4f} v*={vs[i]:.4f}±{se[i]:.4f} "
+                  f"err={row['err']:.3f} est={row['est_rel']:.3f} ess={ess[i]:.0f} "
+                  f"trusted={row['trusted']}", flush=True)  # fmt: skip
+    out["pairs"] = pairs
+    return out
+
+
+def run_tol(name, spec, row):
+    """A silent pair: solve(tol=0.05, states=[x]) and compare with the truth."""
+    p = spec["p"]
+    x = np.array(row["x"])
+    sol, ws, el = solve_recorded(p, tol=0.05, states=[x])
+    v = float(sol.value(x[None], row["t"])[0])
+    err = abs(v - row["vstar"]) / max(abs(row["vstar"]), p.temperature)
+    return dict(problem=name, x=row["x"], t=row["t"], v=v, err=err, seconds=el,
+                within=err <= 0.05, warnings=[wclass(w) for w in ws])  # fmt: skip
+
+
+def table():
+    rows, solves = [], []
+    for f in sorted(OUT.glob("*.json")):
+        if f.name.startswith("tol_"):
+            continue
+        d = json.loads(f.read_text())
+        solves.append(d)
+        rows += d.get("pairs", [])
+    tr = [r for r in rows if r["trusted"]]
+    print(f"problems {len(solves)}, pairs {len(rows)}, trusted {len(tr)}")
+    big = [r for r in tr if r["err"] > 0.10]
+    silent = [r for r in big if not r["warned"]]
+    under = [r for r in tr if r["err"] > 0.02 and r["est_rel"] < 0.5 * r["err"]]
+    cover = sum(r["est_rel"] >= 0.5 * r["err"] for r in tr)
+    print(
+        f">10%: {len(big)}  SILENT: {len(silent)}  under: {len(under)}  ê≥½err: {cover}/{len(tr)}"
+    )
+    for d in solves:
+        pr = [r for r in d.get("pairs", []) if r["trusted"]]
+        worst = max((r["err"] for r in pr), default=float("nan"))
+        print(f"{d['problem']:16s} warned={d.get('warned')} trusted={len(pr)}/"
+              f"{len(d.get('pairs', []))} worst={worst:.3f} {d.get('crash', '')}"
+              f" stray={len(d.get('stray', []))}")  # fmt: skip
+    for tag, lst in (("SILENT", silent), ("UNDER", under)):
+        for r in lst:
+            print(tag, r["problem"], np.round(r["x"], 3), f"t={r['t']:.4f} v={r['v']:.4f} "
+                  f"v*={r['vstar']:.4f}±{r['se']:.4f} err={r['err']:.3f} "
+                  f"est={r['est_rel']:.3f} ess={r['ess']:.0f} warned={r['warned']}")  # fmt: skip
+    return silent
+
+
+def main(argv):
+    OUT.mkdir(parents=True, exist_ok=True)
+    P = problems()
+    if "--list" in argv:
+        for k, s in P.items():
+            print(k, s["p"].grid.shape, s["p"].temperature, s["p"].horizon)
+    if "--run" in argv:
+        names = [a for a in argv if a in P] or list(P)
+        for k in names:
+            f = OUT / f"{k}.json"
+            if f.exists() and "--force" not in argv:
+                continue
+            t0 = time.time()
+            res = run(k, P[k])
+            res["wall"] = time.time() - t0
+            f.write_text(json.dumps(res, indent=1))
+    if "--table" in argv:
+        table()
+    if "--tol" in argv:
+        for r in table():
+            res = run_tol(r["problem"], P[r["problem"]], r)
+            print("TOL", res, flush=True)
+            f = OUT / f"tol_{r['problem']}_{r['t']:.3f}_{'_'.join(map(str, r['x']))}.json"
+            f.write_text(json.dumps(res, indent=1))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
