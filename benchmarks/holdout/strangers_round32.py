@@ -568,6 +568,98 @@ def run(name, spec):
     return out
 
 
+# ================= screening: variants the default solve does not warn about ====================
+VARIANTS = [(1.5, 1.0), (2.0, 1.0), (1.0, 2.0), (1.5, 2.0), (2.0, 3.0), (1.0, 4.0)]
+
+
+def variant(spec, f, m):
+    p = spec["p"]
+    g = p.grid if f == 1.0 else finer(p.grid, f)
+    return p.replace(grid=g, temperature=p.temperature * m)
+
+
+def sample_states(spec, p, t, n, rng):
+    lo = np.array([a.lo for a in p.grid.axes])
+    hi = np.array([a.hi for a in p.grid.axes])
+    X = lo + (hi - lo) * rng.random((n, len(lo)))
+    X = np.vstack([read_states(spec, t), X])
+    if "clock" in spec:
+        X[:, spec["clock"]] = t
+    return X
+
+
+def screen(name, spec, budget_nodes=3.0e6):
+    """Variants (grid × f, λ × m); for each one the default solve does not warn about, compare
+    with a 2×-finer Δt/4 solve at 300 random states and the user's states, three times; then
+    certify the worst pairs (the finer solve's policy as the proposal)."""
+    rng = np.random.default_rng(32)
+    res = []
+    for f, m in VARIANTS:
+        p = variant(spec, f, m)
+        if p.grid.size > budget_nodes:
+            continue
+        try:
+            sol, ws, el = solve_recorded(p)
+        except Exception as e:  # a crash is a finding
+            res.append(dict(problem=name, f=f, m=m, crash=f"{type(e).__name__}: {e}"))
+            continue
+        warned = any(is_grid_warning(w) for w in ws)
+        dt = float(sol.times[1] - sol.times[0])
+        rec = dict(problem=name, f=f, m=m, grid=list(p.grid.shape), lam=p.temperature, dt=dt,
+                   seconds=el, warned=warned, warnings=[wclass(w) for w in ws])  # fmt: skip
+        print(name, f, m, p.grid.shape, f"{el:.1f}s warned={warned}", flush=True)
+        res.append(rec)
+        if warned:
+            continue
+        ff = 2.0
+        while finer(p.grid, ff).size > 4 * budget_nodes and ff > 1.3:
+            ff -= 0.25
+        fp = p.replace(grid=finer(p.grid, ff))
+        fsol, _, fel = solve_recorded(fp, dt=dt / 4, error_estimate=False)
+        rec["ref"] = dict(grid=list(fp.grid.shape), dt=dt / 4, seconds=fel)
+        cand = []
+        T = p.horizon
+        for t in (0.0, round(T / 2 / dt) * dt + 0.5 * dt, T - dt / 2):
+            X = sample_states(spec, p, t, 300, rng)
+            with warnings.catch_warnings(record=True) as rw:
+                warnings.simplefilter("always")
+                v = sol.value(X, t)
+                e = sol.error_estimate(X, t)
+            vr = fsol.value(X, t)
+            sc = np.maximum(np.abs(vr), p.temperature)
+            err = np.abs(v - vr) / sc
+            ok = np.isfinite(err)
+            for i in np.argsort(np.where(ok, err, -1))[::-1][:3]:
+                cand.append((float(err[i]), float(e[i] / sc[i]), t, X[i]))
+            rec.setdefault("screen", []).append(
+                dict(t=t, max_err=float(np.nanmax(err)), q90=float(np.nanquantile(err, 0.9)),
+                     n_over10=int((err > 0.1).sum()), read_warnings=[wclass(w) for w in rw])
+            )  # fmt: skip
+            print(f"  t={t:.3f} max={np.nanmax(err):.3f} q90={np.nanquantile(err, 0.9):.3f} "
+                  f">10%: {(err > 0.1).sum()}", flush=True)  # fmt: skip
+        cand = [c for c in cand if c[0] > 0.05]
+        cand.sort(key=lambda c: -c[0])
+        pairs = []
+        for err_ref, _est, t, x in cand[:4]:
+            c, cw = certify_at(p, fsol.policy, x[None], t, 4000, seed=32)
+            vs = float(np.atleast_1d(c.extrapolated_value)[0])
+            se = float(np.atleast_1d(c.extrapolated_value_se)[0])
+            ess = float(np.atleast_1d(c.effective_sample_size)[0])
+            v = float(sol.value(x[None], t)[0])
+            e = float(sol.error_estimate(x[None], t)[0])
+            sc = max(abs(vs), p.temperature)
+            row = dict(problem=f"{name}@g{f},l{m}", x=list(map(float, x)), t=float(t), v=v,
+                       est=e, vstar=vs, se=se, ess=ess, err=abs(v - vs) / sc, est_rel=e / sc,
+                       err_ref=err_ref, trusted=bool(ess >= 400 and se < 0.005 * sc),
+                       warned=warned, cert_warnings=cw, n=4000)  # fmt: skip
+            pairs.append(row)
+            print(f"  CERT t={t:.3f} x={np.round(x, 3)} v={v:.4f} v*={vs:.4f}±{se:.4f} "
+                  f"err={row['err']:.3f} (ref {err_ref:.3f}) est={row['est_rel']:.3f} "
+                  f"ess={ess:.0f}", flush=True)  # fmt: skip
+        rec["pairs"] = pairs
+    return res
+
+
 def run_tol(name, spec, row):
     """A silent pair: solve(tol=0.05, states=[x]) and compare with the truth."""
     p = spec["p"]
@@ -584,9 +676,12 @@ def table():
     for f in sorted(OUT.glob("*.json")):
         if f.name.startswith("tol_"):
             continue
-        d = json.loads(f.read_text())
-        solves.append(d)
-        rows += d.get("pairs", [])
+        data = json.loads(f.read_text())
+        for d in data if isinstance(data, list) else [data]:
+            if "f" in d:
+                d = dict(d, problem=f"{d['problem']}@g{d['f']},l{d['m']}")
+            solves.append(d)
+            rows += d.get("pairs", [])
     tr = [r for r in rows if r["trusted"]]
     print(f"problems {len(solves)}, pairs {len(rows)}, trusted {len(tr)}")
     big = [r for r in tr if r["err"] > 0.10]
@@ -599,7 +694,7 @@ def table():
     for d in solves:
         pr = [r for r in d.get("pairs", []) if r["trusted"]]
         worst = max((r["err"] for r in pr), default=float("nan"))
-        print(f"{d['problem']:16s} warned={d.get('warned')} trusted={len(pr)}/"
+        print(f"{d['problem']:24s} warned={d.get('warned')} trusted={len(pr)}/"
               f"{len(d.get('pairs', []))} worst={worst:.3f} {d.get('crash', '')}"
               f" stray={len(d.get('stray', []))}")  # fmt: skip
     for tag, lst in (("SILENT", silent), ("UNDER", under)):
@@ -626,6 +721,13 @@ def main(argv):
             res = run(k, P[k])
             res["wall"] = time.time() - t0
             f.write_text(json.dumps(res, indent=1))
+    if "--screen" in argv:
+        names = [a for a in argv if a in P] or list(P)
+        for k in names:
+            f = OUT / f"screen_{k}.json"
+            if f.exists() and "--force" not in argv:
+                continue
+            f.write_text(json.dumps(screen(k, P[k]), indent=1))
     if "--table" in argv:
         table()
     if "--tol" in argv:
