@@ -676,14 +676,77 @@ def screen(name, spec, budget_nodes=3.0e6):
     return res
 
 
+# ================= the linear-quadratic members: Riccati truth (round 25's lq_value) =============
+def wmat(w):
+    w = np.asarray(w, float)
+    return np.diag(w) if w.ndim == 1 else w
+
+
+def lq_spec(p):
+    sysm = p.system
+    d = p.grid.ndim
+    tc, qc = p.terminal_cost, p.state_cost
+    return dict(A=np.asarray(sysm.A, float), B=np.asarray(sysm.B, float).reshape(d, -1),
+                R=np.atleast_2d(p.R), Wq=wmat(qc.weights) if qc is not None else np.zeros((d, d)),
+                cq=np.asarray(qc.center, float) if qc is not None else np.zeros(d),
+                WT=wmat(tc.weights), cT=np.asarray(tc.center, float), lam=p.temperature,
+                T=p.horizon)  # fmt: skip
+
+
+def lq_screen(name, spec, inner=0.5):
+    """Default solves of an LQ member and its variants against Riccati at 400 states in the inner
+    ``inner`` of the box (where the box's walls hardly matter) and the user's states."""
+    from strangers_round25 import lq_value
+
+    rng = np.random.default_rng(32)
+    res = []
+    for f, m, soft in ((1.0, 1.0, 1.0), (1.0, 1.0, 0.15), (1.0, 3.0, 1.0), (1.5, 1.0, 0.15)):
+        p = variant(spec, f, m, soft)
+        sol, ws, el = solve_recorded(p)
+        warned = any(is_grid_warning(w) for w in ws)
+        dt = float(sol.times[1] - sol.times[0])
+        lqs = lq_spec(p)
+        lo = np.array([a.lo for a in p.grid.axes])
+        hi = np.array([a.hi for a in p.grid.axes])
+        mid, half = (lo + hi) / 2, (hi - lo) / 2 * inner
+        rows = []
+        T = p.horizon
+        for t in (0.0, round(T / 2 / dt) * dt + 0.5 * dt, T - dt / 2):
+            X = np.vstack([read_states(spec, t), mid + half * (2 * rng.random((400, len(lo))) - 1)])
+            with warnings.catch_warnings(record=True) as rw:
+                warnings.simplefilter("always")
+                v = sol.value(X, t)
+                e = sol.error_estimate(X, t)
+            vs = lq_value(lqs, X, t)
+            sc = np.maximum(np.abs(vs), p.temperature)
+            err, est = np.abs(v - vs) / sc, e / sc
+            for i in range(len(X)):
+                rows.append(dict(problem=f"{name}@g{f},l{m},s{soft}", x=X[i].tolist(), t=float(t),
+                                 v=float(v[i]), est=float(e[i]), vstar=float(vs[i]), se=0.0,
+                                 ess=np.inf, err=float(err[i]), est_rel=float(est[i]),
+                                 trusted=True, warned=warned, truth="riccati",
+                                 read_warnings=len(rw)))  # fmt: skip
+            print(f"{name} g{f} l{m} s{soft} warned={warned} t={t:.3f} max={err.max():.3f} "
+                  f">10%={int((err > 0.1).sum())} under={int(((err > 0.02) & (est < 0.5 * err)).sum())}"
+                  f"/{len(X)}", flush=True)  # fmt: skip
+        res.append(dict(problem=f"{name}@g{f},l{m},s{soft}", grid=list(p.grid.shape),
+                        lam=p.temperature, dt=dt, seconds=el, warned=warned,
+                        warnings=[wclass(w) for w in ws], pairs=rows))  # fmt: skip
+    return res
+
+
 def run_tol(name, spec, row):
     """A silent pair: solve(tol=0.05, states=[x]) and compare with the truth."""
     p = spec["p"]
+    if "@g" in row["problem"]:
+        parts = row["problem"].split("@g")[1].replace(",l", " ").replace(",s", " ").split()
+        p = variant(spec, *map(float, parts))
     x = np.array(row["x"])
     sol, ws, el = solve_recorded(p, tol=0.05, states=[x])
     v = float(sol.value(x[None], row["t"])[0])
     err = abs(v - row["vstar"]) / max(abs(row["vstar"]), p.temperature)
-    return dict(problem=name, x=row["x"], t=row["t"], v=v, err=err, seconds=el,
+    return dict(problem=row["problem"], x=row["x"], t=row["t"], v=v, vstar=row["vstar"], err=err,
+                seconds=el, grid=list(sol.grid.shape) if hasattr(sol, "grid") else None,
                 within=err <= 0.05, warnings=[wclass(w) for w in ws])  # fmt: skip
 
 
@@ -746,11 +809,16 @@ def main(argv):
             f.write_text(
                 json.dumps(screen(k, P[k]), indent=1, default=lambda o: np.asarray(o).tolist())
             )
+    if "--lq" in argv:
+        for k in ("two_di_cold", "coupled_di", "pm2_cold"):
+            (OUT / f"lq_{k}.json").write_text(
+                json.dumps(lq_screen(k, P[k]), default=lambda o: np.asarray(o).tolist())
+            )
     if "--table" in argv:
         table()
     if "--tol" in argv:
         for r in table():
-            res = run_tol(r["problem"], P[r["problem"]], r)
+            res = run_tol(r["problem"], P[r["problem"].split("@")[0]], r)
             print("TOL", res, flush=True)
             f = OUT / f"tol_{r['problem']}_{r['t']:.3f}_{'_'.join(map(str, r['x']))}.json"
             f.write_text(json.dumps(res, indent=1, default=lambda o: np.asarray(o).tolist()))
