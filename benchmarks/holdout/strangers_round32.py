@@ -27,7 +27,7 @@ Counts: 76 default solves (24 base + 40 screen variants + 12 LQ variants); 14711
 trusted (239 certified: 150 base + 89 screen; 14472 Riccati). > 10 % off: 905 (mostly LQ 4-D
 interior states, all warned). SILENT: 2. Under-reads: 27 (25 certified, 2 Riccati). ê ≥ ½ err at
 14640 / 14669. All 24 base solves warn (ResolutionWarning), also at grid ×2 / λ ×4 with the steep
-terminal costs: the warning names t ≈ T − Δt (the first step off g). Unwarned solves: 9 of 52
+terminal costs: the warning names t ≈ T − Δt (the first step off g). Unwarned solves: 9 of 64
 non-LQ (vortex_wall ×2, vortex_offnode ×3, vortex_seam ×1, shear2 ×3). Crashes: none. Stray
 non-gridlbc warnings: none (CertificateWarnings from certify only, on the discarded truths).
 
@@ -62,7 +62,7 @@ FINDINGS, by severity
      g1.5: (1.697, −0.372) t 1.9: 3.9 %, ê 0.4 %.
    - pm2_cold g1.5 soft (37⁴, λ 0.02, Riccati): (1.466, −0.916, 1.982, −1.125) t 1.65: 7.5 %, ê
      2.3 %; (−0.13, −1.479, −0.043, −1.939): 8.4 %, ê 3.8 %.
-4. The 4-D members (b) always warn and their estimates cover (4826 of 4828 Riccati pairs; worst
+4. The 4-D members (b) always warn and their estimates cover (ê ≥ ½ err at 14470 of 14472 Riccati pairs; worst
    two_di_cold 21⁴ 120 % off with ê above it). acrobot19 at rest upright (x = 0) t 0.85: v 13.16 vs
    v* 1.00 (12×), warned, ê 92×. Several truths untrusted (ESS < 400): source_sink (ESS 2–5 from
    (0, −0.5)), acrobot19 t = 0, strip2d (0, −1), fast_band t ≤ 1.1 of the base run.
