@@ -62,8 +62,8 @@ FINDINGS, by severity
      g1.5: (1.697, −0.372) t 1.9: 3.9 %, ê 0.4 %.
    - pm2_cold g1.5 soft (37⁴, λ 0.02, Riccati): (1.466, −0.916, 1.982, −1.125) t 1.65: 7.5 %, ê
      2.3 %; (−0.13, −1.479, −0.043, −1.939): 8.4 %, ê 3.8 %.
-4. The 4-D members (b) always warn and their estimates cover (ê ≥ ½ err at 14470 of 14472 Riccati pairs; worst
-   two_di_cold 21⁴ 120 % off with ê above it). acrobot19 at rest upright (x = 0) t 0.85: v 13.16 vs
+4. The 4-D members (b) always warn and their estimates cover (ê ≥ ½ err at 14470 of 14472
+   Riccati pairs; worst two_di_cold 21⁴ 120 % off with ê above it). acrobot19 at rest upright (x = 0) t 0.85: v 13.16 vs
    v* 1.00 (12×), warned, ê 92×. Several truths untrusted (ESS < 400): source_sink (ESS 2–5 from
    (0, −0.5)), acrobot19 t = 0, strip2d (0, −1), fast_band t ≤ 1.1 of the base run.
 5. Messages: clear; but a solve warns "near [0.69, 0.025] at t = 1.9" for every steep terminal
