@@ -31,6 +31,12 @@ terminal costs: the warning names t ≈ T − Δt (the first step off g). Unwarn
 non-LQ (vortex_wall ×2, vortex_offnode ×3, vortex_seam ×1, shear2 ×3). Crashes: none. Stray
 non-gridlbc warnings: none (CertificateWarnings from certify only, on the discarded truths).
 
+After the fix (main, 2026-12-06): the warning's confirmation reads the tracing gap (the step
+doubling of the paths' feet) beside γ and the local certificate; both silent solves warn
+(vortex_seam g2,l2: confirmed 12.9 % at (1.925, −0.15), t = 2.38; vortex_wall g1,l1: 6.8 % at
+(1.75, 0.15), t = 1.9; g2,l2: 7.3 %). The under-reads of finding 3 are in warned solves and
+stay (the diagonal strip's estimate is 8× below its error).
+
 FINDINGS, by severity
 
 1. SILENT, vortex_wall soft (81², λ 1, g weights ×0.15; ``--screen vortex_wall``, variant g1,l1):
