@@ -48,7 +48,8 @@ def missed_exit(problem) -> np.ndarray | None:
 
 def missed_points(problem, first: bool = False) -> np.ndarray:
     """The points of the exit set E of ``problem`` in the cells of its grid none of whose
-    corners is in E (module docstring), ``(M, d)`` (the first block's only where ``first``):
+    corners is in E or next to a node in E (module docstring), ``(M, d)`` (the first block's
+    only where ``first``):
     for a shape, one in each cell it meets (:meth:`gridlbc.regions.RegionBase.meeting_points`),
     for a plain callable, the lattice points it holds; none without an exit set."""
     grid: Grid = problem.require_grid("the exit set's check")
