@@ -385,9 +385,9 @@ def one(name, spec, tag):
                 warnings.simplefilter("ignore")
                 me = gridlbc.accuracy.missed_exit(p)
             rec["missed_exit"] = None if me is None else np.asarray(me).tolist()
-        except Exception as ex:  # noqa: BLE001
+        except Exception as ex:
             rec["missed_exit"] = f"error: {ex!r}"
-    except Exception as ex:  # noqa: BLE001
+    except Exception as ex:
         rec["crash"] = repr(ex)
         rec["traceback"] = traceback.format_exc()
     d = OUT / tag
@@ -448,7 +448,7 @@ def truth(names):
                 continue
             else:
                 tr = r25.truth_for(spec, np.asarray(spec["X"], float), ts)
-        except Exception as ex:  # noqa: BLE001
+        except Exception as ex:
             print("truth failed", n, repr(ex), flush=True)
             continue
         rec = {
