@@ -1,6 +1,60 @@
 """Stranger round 33: a regression check of r33 (= main 3821f8e) against the library of 3aea650.
 
-RESULTS: (filled in at the end of the round)
+RESULTS (2026-12-06, one thread, OLD = /work/wt-old 3aea650, NEW = r33 = main 3821f8e; the
+commands at the end of this docstring, ``compare`` prints the table):
+179 problems run under both (60 ``r33_*`` drawn from seed 33: 22 LQ, 18 separable with a
+horizon, 9 first exit, 6 horizon + exit, 5 nonseparable certified; round 25's 88; 31 ``ex*``
+first-exit problems with Box / Ball / union exit sets, 2-D and 3-D). 906 (problem, state, t)
+pairs with a trusted truth. Warned: OLD 129, NEW 130.
+
+- Values: bit-identical under OLD and NEW in every one of the 173 solves that ran (13 029 reads:
+  the states at t = 0 and T − 2Δt and 40 random points of the box). (c) changes nothing here.
+- Crashes: none new. 6 ``ex*`` problems whose exit set holds no node raise the same ValueError
+  under both (by design: "contains no node of the grid"); ``ex2_slab_node`` has no estimate under
+  both (its strip holds no node of the 2h grid; the solve warns so).
+- Warnings after stripping numbers (NEW prints states with 4 digits, OLD numpy's repr, so every
+  message's text differs): the same set in 177 of 179. Two differ, both in (b):
+  1. ``ex2_slab_thin_cost`` (a cheap strip 0.521 ≤ x₀ ≤ 0.523, 0.02 = 0.2 cell, between node
+     rows 0.5 and 0.6; a dear wall x₀ ≤ −1.9): OLD SILENT with v 5.060 vs the 1-D truth 0.242
+     at (0.35, −0.5) (+1992 %), 3.230 vs 2.151 at (−1, 0.3); OLD's lattice (an eighth of a cell)
+     stepped over the strip, missed_exit None. NEW finds it exactly (missed_exit (0.522, −1.95))
+     and warns twice. An improvement.
+  2. ``ex3_seam`` (ball r 0.12 at (π, 0.05, −0.05) across the seam of a periodic x₀, holding the
+     node (−π, 0, 0)): OLD warned "a part between the nodes near (−3.037, −0.006, −0.069)" (the
+     edge of the part the node holds, in a cell next to it) and "estimated error > 5 % ... up to
+     163 %"; NEW no longer searches that cell (missed_exit None) and warns once ("at 12 % of the
+     states that matter"). Actual error against a 2× finer solve: at most 2.74 % (v 4.9655 /
+     0.5287 / 2.4682 vs 4.9837 / 0.5435 / 2.4419); NEW's estimates 0.132 / 0.072 / 0.078 (OLD
+     0.496 / 0.354 / 0.349) still ≥ the errors 0.018 / 0.015 / 0.026. OLD's exit warning was a
+     false alarm; NEW is right, and still warns (a false alarm by the 5 % bar, shared).
+- Estimates: unchanged (to the bit) everywhere except 3 ``ex*`` problems: ex3_seam above;
+  ``ex2_ball07_mid_u`` (ball r 0.07 between four nodes) near state (0.30, −0.07): 8.64 → 5.99,
+  the error against a 3× finer solve 6.04 (v 6.653 vs 0.615); ``ex2_two_balls`` near state
+  (0.7, 0.5): 2.52 → 2.17, error 2.16 (v 2.396 vs 0.235). Both now just under the error (the
+  reference itself is a grid solve), above half of it; both warned under both versions.
+- Under-reads that got worse (NEW ê < ½ err where OLD's was not): 0. False alarms new in NEW: 0.
+  Warnings lost: only ex3_seam's exit message above (a false alarm). (a) added no warning on any
+  of the 179.
+- Shared by OLD and NEW (not regressions, recorded for the main session):
+  ``ex2_adj_strip``: a cheap strip (cost 0, −1.935 ≤ x₀ ≤ −1.925) inside the cell next to the
+  dear wall's node row (x₀ ≤ −1.95, cost 3): neither version searches cells with a corner in E,
+  missed_exit None under both, v 3.352 vs the 1-D truth 0.318 at (−1.7, −0.5) (+953 %); warned
+  (the convergence estimate, ê 3.06), not named as an exit part. ``ex2_adj_ball`` likewise (a
+  cheap ball r 0.025 at (0.05, 0.05) next to a dear one holding node (0, 0)): 3.743 vs 0.703
+  (fine ×3), ê 2.58, warned. The 3-D strip ``ex3_adj_strip`` is solved right (0.176 vs 0.177)
+  and warned with ê ≈ 3.0 at every state (a shared false alarm).
+  ``r33_lq3_06`` far state (1.58, −1.61, 1.96) t = 0: v 12.908 vs Riccati 13.960 (−7.5 %),
+  ê 0.138, SILENT under both; the box's wall (a 1.5× wider box at the same spacing gives 13.957).
+  ``sep2fe_00`` (round 25's) 7.8 % silent under both, as in round 25. ``ex2_seam_r05`` 5.8 %
+  against a 3× finer solve, silent, ê 0.175 ≥ err 0.035.
+- Not exercised: the average cost's eigen-solve (no average problems drawn) and the refusal of
+  a state cost with a parameter named t (none of these costs has one).
+
+Reproduce a single problem (OLD, then NEW, then its truth, then the table and its numbers):
+    PYTHONPATH=/work/wt-old python $S batch old ex3_seam --redo
+    PYTHONPATH=/work/wt-r33 python $S batch new ex3_seam --redo
+    PYTHONPATH=/work/wt-r33 python $S truth ex3_seam
+    python $S compare; python $S detail ex3_seam; python $S wall r33_lq3_06
 
 What is compared: each problem is solved with the default ``gridlbc.solve`` under OLD
 (/work/wt-old, 3aea650) and under NEW (/work/wt-r33) in separate processes (one process per
@@ -251,6 +305,29 @@ def exit_specs():
     u["regions"] = u["regions"] + [wall3]
     u["costs"] = u["costs"] + [3.0]
     S.append(u)
+    # a cheap part of E in a cell next to a dear node of E (NEW no longer searches those cells)
+    S.append(
+        _ex(
+            "ex2_adj_strip", 2, L2, H2, N2, [False, False], 0.3, [0.0, 0.0], 1.0,
+            [["box", [-inf, -inf], [-1.95, inf]], ["box", [-1.935, -inf], [-1.925, inf]]],
+            [3.0, 0.0], [[-1.5, 0.3], [-1.7, -0.5], [0.0, 1.5]], slab=True,
+        )
+    )  # fmt: skip
+    S.append(
+        _ex(
+            "ex3_adj_strip", 3, L3, H3, N3, [False] * 3, 0.3, [0.0] * 3, 1.0,
+            [["box", [-inf, -inf, -inf], [-0.95, inf, inf]],
+             ["box", [-0.935, -inf, -inf], [-0.925, inf, inf]]],
+            [3.0, 0.0], [[-0.6, 0.3, 0.0], [-0.8, -0.5, 0.2], [0.5, 0.5, 0.5]], slab=True,
+        )
+    )  # fmt: skip
+    S.append(
+        _ex(
+            "ex2_adj_ball", 2, L2, H2, N2, [False, False], 0.3, [0.0, 0.0], 1.0,
+            [["ball", [0.0, 0.0], 0.03], ["ball", [0.05, 0.05], 0.025]],
+            [3.0, 0.0], [[-0.5, 0.3], [0.3, 0.2], [1.5, -1.5]],
+        )
+    )  # fmt: skip
     return {s["name"]: s for s in S}
 
 
@@ -592,6 +669,22 @@ def compare():
     (OUT / "compare.json").write_text(json.dumps(dict(rows=rows, counts=counts), indent=1))
 
 
+def wall(names):
+    """LQ: the same spacing on a box 1.5× wider at the same Δt (round 25's wall check)."""
+    specs = all_specs()
+    for n in names:
+        spec = specs[n]
+        w = json.loads((OUT / "new" / f"{n}.json").read_text())
+        X = np.asarray(spec["X"], float)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            sw = gridlbc.solve(r25.build_lq(spec, 1.5), dt=w["dt"], error_estimate=False)
+        for r in w["reads"]:
+            print(n, f"t={r['t']:.4f}", "v", np.round(r["v"], 4).tolist(), "wider box",
+                  np.round(np.asarray(sw.value(X, r["t"])), 4).tolist(), "riccati",
+                  np.round(r25.lq_value(spec, X, r["t"]), 4).tolist())  # fmt: skip
+
+
 if __name__ == "__main__":
     cmd = sys.argv[1]
     args = [a for a in sys.argv[2:] if not a.startswith("--")]
@@ -599,6 +692,8 @@ if __name__ == "__main__":
         batch(args[0], args[1:])
     elif cmd == "truth":
         truth(args)
+    elif cmd == "wall":
+        wall(args)
     elif cmd == "detail":
         detail(args)
     elif cmd == "compare":
