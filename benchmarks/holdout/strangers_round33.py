@@ -47,14 +47,20 @@ pairs with a trusted truth. Warned: OLD 129, NEW 130.
   ê 0.138, SILENT under both; the box's wall (a 1.5× wider box at the same spacing gives 13.957).
   ``sep2fe_00`` (round 25's) 7.8 % silent under both, as in round 25. ``ex2_seam_r05`` 5.8 %
   against a 3× finer solve, silent, ê 0.175 ≥ err 0.035.
-- Not exercised: the average cost's eigen-solve (no average problems drawn) and the refusal of
-  a state cost with a parameter named t (none of these costs has one).
+- (c)'s refusal (``tprobe``: a double integrator, 41², T = 1, λ = 0.5, g = |x|², q ≡ 1):
+  ``q(x, t)`` without a default: OLD a raw TypeError ("missing 1 required positional argument:
+  't'"), NEW a ValueError that says what to do (better). ``q(x, t=0.0)``, a cost that ignores
+  t: OLD solves it (v(0, 0) = 1.3472), NEW REFUSES it with the same ValueError ("state_cost
+  depends on time ..."). A problem OLD solved now raises: intended by (c), but a default value
+  for t is caught too; say so in the release notes or accept a defaulted t.
+- Not exercised: the average cost's eigen-solve (no average problems drawn).
 
 Reproduce a single problem (OLD, then NEW, then its truth, then the table and its numbers):
     PYTHONPATH=/work/wt-old python $S batch old ex3_seam --redo
     PYTHONPATH=/work/wt-r33 python $S batch new ex3_seam --redo
     PYTHONPATH=/work/wt-r33 python $S truth ex3_seam
     python $S compare; python $S detail ex3_seam; python $S wall r33_lq3_06
+    PYTHONPATH=/work/wt-old python $S tprobe; PYTHONPATH=/work/wt-r33 python $S tprobe
 
 What is compared: each problem is solved with the default ``gridlbc.solve`` under OLD
 (/work/wt-old, 3aea650) and under NEW (/work/wt-r33) in separate processes (one process per
@@ -685,6 +691,33 @@ def wall(names):
                   np.round(r25.lq_value(spec, X, r["t"]), 4).tolist())  # fmt: skip
 
 
+def tprobe():
+    """(c): a state cost with a parameter named t, with and without a default."""
+    from gridlbc.systems import LinearSystem
+
+    sysm = LinearSystem([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]])
+    grid = Grid([Axis(-2, 2, 41), Axis(-2, 2, 41)])
+    for label, q in (
+        ("q(x, t)", lambda x, t: 1.0 + 0 * x[:, 0] + 0.1 * t),
+        ("q(x, t=0)", lambda x, t=0.0: 1.0 + 0 * x[:, 0]),
+    ):
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                p = Problem(
+                    sysm,
+                    grid,
+                    1.0,
+                    terminal_cost=lambda x: (x**2).sum(1),
+                    state_cost=q,
+                    temperature=0.5,
+                )
+                sol = gridlbc.solve(p, error_estimate=False)
+            print(label, "v(0) =", float(sol.value(np.zeros((1, 2)))[0]))
+        except Exception as ex:
+            print(label, "refused:", repr(ex)[:300])
+
+
 if __name__ == "__main__":
     cmd = sys.argv[1]
     args = [a for a in sys.argv[2:] if not a.startswith("--")]
@@ -692,6 +725,8 @@ if __name__ == "__main__":
         batch(args[0], args[1:])
     elif cmd == "truth":
         truth(args)
+    elif cmd == "tprobe":
+        tprobe()
     elif cmd == "wall":
         wall(args)
     elif cmd == "detail":
