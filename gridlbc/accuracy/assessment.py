@@ -423,7 +423,7 @@ def path_check(solution, X: np.ndarray, t: float) -> np.ndarray:
     slow field, whose root-mean-square Courant rate sets a long step) errs where the flow turns
     within the step, on a region too small for the percentile; the grid terms see it, and of
     the paths' readings only the step doubling of their feet does (stranger round 32: a vortex
-    by a wall, 10.6 % off late in the task and silent)."""
+    by a wall, silent late in the task; docs page :doc:`accuracy`, "The warning")."""
     gamma, tracing = gaps(solution, X, PATH_SAMPLES, t)  # on the same paths
     along = np.where(np.abs(gamma) >= np.abs(tracing), -gamma, -tracing)
     gap, se = bellman_gap(solution, X, t)

@@ -56,15 +56,17 @@ def missed_points(problem, first: bool = False) -> np.ndarray:
     if problem.exit is None:
         return np.empty((0, grid.ndim))
     lower = _open_cells(grid, grid.reshape(problem.exit_mask()))
-    exact = meets_exactly(problem.exit)
-    m = samples_per_cell(grid)
-    offsets = np.array(list(itertools.product((np.arange(m) + 0.5) / m, repeat=grid.ndim)))
     h = np.asarray(grid.spacing, dtype=float)
-    per_block = EXIT_BLOCK if exact else max(1, EXIT_BLOCK // len(offsets))
+    exact = meets_exactly(problem.exit)
+    offsets = None  # the lattice's points in a cell, for a callable only
+    if not exact:
+        m = samples_per_cell(grid)
+        offsets = np.array(list(itertools.product((np.arange(m) + 0.5) / m, repeat=grid.ndim)))
+    per_block = EXIT_BLOCK if offsets is None else max(1, EXIT_BLOCK // len(offsets))
     found = []
     for start in range(0, len(lower), per_block):
         corners = grid.lo + lower[start : start + per_block] * h
-        if exact:
+        if offsets is None:
             points = grid.wrap(problem.exit.meeting_points(corners, corners + h))
         else:
             points = grid.wrap((corners[:, None, :] + offsets[None] * h).reshape(-1, grid.ndim))

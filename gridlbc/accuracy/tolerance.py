@@ -260,9 +260,9 @@ def at_observed_order(error: float, order: float) -> float:
     error / (2^p − 1) (infinite for p ≤ 0): the estimate divides the difference of the solves at
     h and 2h by 2^q − 1 ≥ 1, and a solve whose error shrinks as h^p is off by that difference
     divided by 2^p − 1, up to 1/(2^p − 1) times more (stranger round 27: an average cost's
-    relative value along an axis without noise, at observed orders 0.05–0.81, read at 9.8 %,
-    9.85 % and 2.5 % where it was 25 %, 16 % and 6.7 % off; at their orders, 278 %, 17 % and
-    3.4 %, above the tolerances 10 %, 10 % and 3 % that those rounds had met)."""
+    relative value along an axis without noise, whose levels converge far below first order,
+    was said met while several times the tolerance off; docs page :doc:`accuracy`, "Solving to
+    a tolerance")."""
     if not order < 1.0:
         return error
     return error / (2.0**order - 1.0) if order > 0.0 else np.inf

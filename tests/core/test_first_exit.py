@@ -928,10 +928,9 @@ def test_a_stationary_solve_whose_desirability_underflows_says_so():
     assert any(issubclass(w.category, g.UnderflowWarning) for w in record)
 
 
-def test_a_fitting_asked_for_a_task_with_an_exit_set_and_a_horizon_is_refused():
-    # the implicit time march (the one scheme with an exit set and a horizon) has no fitted
-    # form: a fitting= asked for must not be dropped silently (stranger round 17)
-    problem = g.Problem(
+def _door_with_horizon():
+    """A 1-D task with an exit set (x ≥ 1.5) and a horizon: the implicit march's kind."""
+    return g.Problem(
         SingleIntegrator(),
         g.Grid([g.Axis(-2, 2, 41)]),
         1.0,
@@ -940,6 +939,12 @@ def test_a_fitting_asked_for_a_task_with_an_exit_set_and_a_horizon_is_refused():
         exit=Box([1.5], [np.inf]),
         exit_cost=0.0,
     )
+
+
+def test_a_fitting_asked_for_a_task_with_an_exit_set_and_a_horizon_is_refused():
+    # the implicit time march (the one scheme with an exit set and a horizon) has no fitted
+    # form: a fitting= asked for must not be dropped silently (stranger round 17)
+    problem = _door_with_horizon()
     with pytest.raises(ValueError, match="no fitted form"):
         g.solve(problem, fitting="terminal")
 
@@ -948,15 +953,7 @@ def test_a_preset_solves_a_task_with_an_exit_set_and_a_horizon_by_the_implicit_m
     # stranger round 28: settings="fast" (or a SolverSettings naming no method) refused such a
     # task for a method the user never named; the implicit march, as without settings, and the
     # same values as a solve that names it (the preset's other fields apply alike)
-    problem = g.Problem(
-        SingleIntegrator(),
-        g.Grid([g.Axis(-2, 2, 41)]),
-        1.0,
-        lambda x: np.zeros(len(x)),
-        state_cost=lambda x: np.ones(len(x)),
-        exit=Box([1.5], [np.inf]),
-        exit_cost=0.0,
-    )
+    problem = _door_with_horizon()
     x = np.array([[0.0], [1.0]])
     for settings in ("fast", g.SolverSettings(store_every=2)):
         solution = g.solve(problem, settings, error_estimate=False)
