@@ -214,9 +214,12 @@ def _interpolant(f, grid, x: np.ndarray) -> np.ndarray:
     the vertices of each state's simplex on ``grid``, weighted (evaluated once at each vertex
     that the simplices share)."""
     idx, weights = barycentric(grid, x)
-    vertices, which = np.unique(idx, return_inverse=True)
+    used = np.zeros(grid.size, dtype=bool)  # the vertices in use, found without sorting
+    used[idx] = True
+    vertices = np.flatnonzero(used)
+    position = np.cumsum(used) - 1  # a vertex's row among them
     values = np.asarray(f(grid.node_coordinates(vertices)), dtype=float)
-    return np.einsum("nv,nvk->nk", weights, values[which.reshape(idx.shape)])
+    return np.einsum("nv,nvk->nk", weights, values[position[idx]])
 
 
 FLOW_WARNING = "the drift changes between the nodes"
