@@ -109,9 +109,6 @@ MAX_UNEXITED = 0.01
 """Above this share of samples that had not reached the exit set by ``max_time`` (a first-exit
 problem without a horizon), :func:`gridlbc.certify` warns: their costs are truncated."""
 
-PROGRESS_DELAY = 2.0
-"""Seconds after which ``certify(..., progress=None)`` starts its progress bar."""
-
 
 _ESTIMATES = (
     "optimal_value",
@@ -459,13 +456,12 @@ def sample_certificate(
         )
     own = next((j for j, sampler in enumerate(samplers) if sampler is policy), None)
     runs = len(samplers) + (own is None)
-    bar = ProgressBar(
+    bar = ProgressBar.chosen(
         runs * K,
-        progress is not False,
+        progress,
         f"certify {k}×{n} samples",
         work_per_item=k * n,
         work_unit="sample-steps",
-        delay=PROGRESS_DELAY if progress is None else 0.0,
     )
     rng = np.random.default_rng(seed)
     lam = problem.temperature

@@ -89,7 +89,7 @@ def certify(
         Seed of ``np.random.default_rng``: the same seed gives the same certificate.
     progress : bool, optional
         A progress bar on stderr: True always, False never, None (default) once the run has
-        taken :data:`~gridlbc.certificate.PROGRESS_DELAY` seconds.
+        taken :data:`gridlbc.progress.DELAY` seconds.
     min_effective_sample_size : float
         Warn (:class:`CertificateWarning`) and flag the summary where the effective sample size is
         below this.

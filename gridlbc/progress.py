@@ -6,6 +6,10 @@ import math
 import sys
 import time
 
+DELAY = 2.0
+"""Seconds after which a run given ``progress=None`` (the default of :func:`gridlbc.solve` and
+:func:`gridlbc.certify`) starts its progress bar: quiet for short runs, a bar for long ones."""
+
 
 class ProgressBar:
     """``label [#####    ] done/total items{note} elapsed ETA [rate]`` on one line of stderr.
@@ -44,6 +48,14 @@ class ProgressBar:
         self.work_per_item, self.work_unit, self.delay = work_per_item, work_unit, delay
         self.start = time.perf_counter()
         self.last = -math.inf
+
+    @classmethod
+    def chosen(cls, total: int, progress: bool | None, label: str, **options) -> ProgressBar:
+        """A bar as the user's ``progress`` asks: True always, False never, None once the run
+        has taken :data:`DELAY` seconds."""
+        return cls(
+            total, progress is not False, label, delay=DELAY if progress is None else 0.0, **options
+        )
 
     def update(self, done: int, note: str = ""):
         """Show ``done`` of ``total`` items, ``note`` right after the count (at most twice a

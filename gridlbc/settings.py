@@ -51,8 +51,9 @@ class SolverSettings:
         Slices are max-normalised, so float32 keeps 7 significant digits down to 1e-38 of each
         slice's maximum and flushes only values below ~1e-45 of it to zero (value +inf there);
         how many were flushed is reported in ``diagnostics.flushed_values``.
-    progress : bool
-        Print a progress bar (steps, elapsed, ETA, node-steps/s) to stderr.
+    progress : bool or None
+        Print a progress bar (steps, elapsed, ETA, node-steps/s) to stderr: True always, False
+        never, None (default) once the march has taken :data:`gridlbc.progress.DELAY` seconds.
     mmap_dir : str, optional
         Keep the slices in an (unlinked) memory-mapped file in this directory instead of RAM.
     linear_solver : str
@@ -85,7 +86,7 @@ class SolverSettings:
     min_steps: int | None = None
     store_every: int = 1
     dtype: str = "float64"
-    progress: bool = False
+    progress: bool | None = None
     mmap_dir: str | None = None
     linear_solver: str = "auto"
     fitting: object = "auto"

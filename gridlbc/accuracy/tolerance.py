@@ -38,6 +38,7 @@ from typing import NamedTuple, TypeVar
 
 import numpy as np
 
+from .. import progress
 from ..errors import GridlbcWarning, ResolutionWarning, warn_user
 from ..grid import Grid
 from ..storage import available_memory
@@ -456,8 +457,9 @@ def solve_to_tolerance(
     and a :class:`gridlbc.ResolutionWarning` giving the estimate reached and the predicted time
     of the next round. A round is not steered either (no comparison solves) where the time left
     would not hold even a round on the same grid and step. The prediction is in
-    :attr:`Refinement.predicted_seconds` and, with ``progress=True``, printed. The first round
-    always runs: nothing has been measured to predict it from.
+    :attr:`Refinement.predicted_seconds` and printed with ``progress=True``, or with
+    ``progress=None`` (the default) where it exceeds :data:`gridlbc.progress.DELAY`. The first
+    round always runs: nothing has been measured to predict it from.
 
     Parameters
     ----------
@@ -483,8 +485,8 @@ def solve_to_tolerance(
         would exceed what is left of it. Default None: no budget. The tolerance is what was
         asked for, and a default budget would make the grid reached, and so the answer, depend
         on the machine's speed and load; ``max_refinements`` and the memory already bound the
-        work, and ``progress=True`` prints each round's prediction before it starts, so a long
-        solve is announced rather than cut short. Give one where the time matters more than
+        work, and each long round's prediction is printed before it starts (every round's with
+        ``progress=True``), so a long solve is announced rather than cut short. Give one where the time matters more than
         ``tol``.
     march : Marcher
         The solver's time march (:func:`gridlbc.solve` passes ``gridlbc.solver.MARCH``).
@@ -519,7 +521,7 @@ def solve_to_tolerance(
             history[-1] = dataclasses.replace(history[-1], predicted_seconds=seconds)
             plan = f"grid {'×'.join(map(str, problem.grid.shape))} with dt {planned_dt:.4g}"
             spent = time.perf_counter() - clock
-            if base.progress:
+            if base.progress or (base.progress is None and seconds > progress.DELAY):
                 print(
                     f"tol: the next round, {plan}, should take about {seconds:.3g} s "
                     f"({spent:.3g} s spent)",

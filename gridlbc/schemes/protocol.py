@@ -125,7 +125,7 @@ class MarchPlan:
     kept: list[int]
     dtype: str = "float64"
     mmap_dir: str | None = None
-    progress: bool = False
+    progress: bool | None = False
     started: float = field(default_factory=time.perf_counter)
     options: dict[str, Any] = field(default_factory=dict)
 
@@ -136,7 +136,7 @@ class MarchPlan:
     def progress_bar(self, label: str) -> ProgressBar:
         """A progress bar over the steps, ``label`` and the grid in front."""
         grid = self.problem.require_grid("a march")
-        return ProgressBar(
+        return ProgressBar.chosen(
             self.steps, self.progress, f"{label} {grid.describe()}", work_per_item=grid.size
         )
 

@@ -417,3 +417,20 @@ def test_a_plan_of_hundreds_of_millions_of_steps_is_refused_before_listing_them(
     )
     with pytest.raises(MemoryError, match=r"in 564537601 steps of 6\.38e-06"):
         gridlbc.solve(problem)
+
+
+def test_progress_by_default_only_once_a_march_runs_long(monkeypatch, capsys):
+    """progress=None (the default) shows the bar only after gridlbc.progress.DELAY seconds: a
+    short solve prints nothing, the same solve with the delay at 0 prints its steps; False never
+    prints (as certify's progress does)."""
+    problem = _pendulum_problem(n=17)
+    gridlbc.solve(problem, error_estimate=False)
+    assert capsys.readouterr().err == ""
+    monkeypatch.setattr(gridlbc.progress, "DELAY", 0.0)
+    solution = gridlbc.solve(problem, error_estimate=False)
+    assert (
+        f"{solution.diagnostics.steps}/{solution.diagnostics.steps} steps"
+        in capsys.readouterr().err
+    )
+    gridlbc.solve(problem, error_estimate=False, progress=False)
+    assert capsys.readouterr().err == ""
