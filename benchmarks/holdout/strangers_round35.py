@@ -38,7 +38,7 @@ from gridlbc import Axis, Grid, Problem, Quadratic
 from gridlbc.systems import LinearSystem, PointMass
 
 sys.path.insert(0, str(Path(__file__).parent))
-from strangers_round25 import build_lq, gen_lq, lq_value  # noqa: E402
+from strangers_round25 import build_lq, gen_lq, lq_value
 
 OUT = Path("/work/main/benchmarks/holdout/strangers_round35_results")  # gitignored there
 
@@ -465,7 +465,7 @@ def selftest():
         if spec["family"] != "lq":
             continue
         at = riccati_path(spec)
-        Pm, p = at(0.0)
+        Pm, _p = at(0.0)
         x = np.array(spec["x0"])
         print(
             name,
@@ -491,7 +491,7 @@ def selftest():
                         spec["T"],
                     )[0]
                 )
-            ).max(),  # fmt: skip
+            ).max(),
             "x0",
             x,
         )
