@@ -105,7 +105,49 @@ def problems():
                       n=[221], x0=[-0.5], max_time=6.0, dt=0.01)  # fmt: skip
     P["exit2"] = dict(family="exit", name="exit2", d=2, q0=0.5, R=2.0, lam=0.05, L=[-3.0, 1.5],
                       n=[91, 61], x0=[-1.0, 0.3], max_time=8.0, dt=0.01)  # fmt: skip
+    # two goals (ẋ = u, q = 0): the truth is a 1-D Gaussian quadrature and the Euler–Maruyama
+    # chain is exact (no time-step bias); the deeper well is far from the start
+    P["bim1"] = dict(family="bim", name="bim1", d=1, lam=0.1, T=1.0, R=1.0, W=5.0, depth=1.5,
+                     width=None, centre=-1.0, L=[3.0], n=[121], x0=[0.5])  # fmt: skip
+    P["bim1s"] = dict(family="bim", name="bim1s", d=1, lam=0.1, T=1.0, R=1.0, W=5.0, depth=0.9,
+                      width=None, centre=-1.0, L=[3.0], n=[121], x0=[0.5])  # fmt: skip
+    # a narrow deep dip between the nodes of a 61-node grid (spacing 0.1, dip σ 0.03 at −1.05)
+    P["bimn"] = dict(family="bim", name="bimn", d=1, lam=0.1, T=1.0, R=1.0, W=5.0, depth=2.0,
+                     width=0.03, centre=-1.05, L=[3.0], n=[61], x0=[0.5])  # fmt: skip
     return P
+
+
+def bim_terminal(spec):
+    W, D, c, w = spec["W"], spec["depth"], spec["centre"], spec["width"]
+
+    def g(x):
+        x = np.asarray(x, float)[..., 0]
+        if w is None:  # two quadratic wells, the one at c deeper by D
+            return np.minimum(W * (x - 1.0) ** 2, W * (x - c) ** 2 - D)
+        return (
+            W * (x - 1.0) ** 2 * 0.0
+            + W * np.minimum((x - 1.0) ** 2, 1.0)
+            - (D + W) * np.exp(-((x - c) ** 2) / (2 * w**2))
+        )
+
+    return g
+
+
+def bim_truth(spec):
+    lam, T, R = spec["lam"], spec["T"], spec["R"]
+    sd = math.sqrt(lam * T / R)
+    w = np.linspace(-12 * sd, 12 * sd, 400001)
+    g = bim_terminal(spec)(spec["x0"][0] + w[:, None])
+    a = -(w**2) / (2 * sd**2) - g / lam
+    top = a.max()
+    z = np.trapezoid(np.exp(a - top), w) / (math.sqrt(2 * math.pi) * sd)
+    return float(-lam * (top + math.log(z)))
+
+
+def bim_single_spec(spec):
+    """The LQ problem of the near well alone (goal +1): its exact policy misses the far well."""
+    return _lq(spec["name"] + "_near", [[0.0]], [[1.0]], [[spec["R"]]], [[0.0]], [0.0],
+               [[spec["W"]]], [1.0], spec["lam"], spec["T"], spec["L"], spec["n"], spec["x0"])  # fmt: skip
 
 
 _BUILT: dict = {}
@@ -129,6 +171,15 @@ def build(spec):
             )
         else:
             prob = build_lq(spec)
+    elif spec["family"] == "bim":
+        prob = Problem(
+            LinearSystem([[0.0]], [[1.0]]),
+            Grid([Axis(-spec["L"][0], spec["L"][0], spec["n"][0])]),
+            spec["T"],
+            terminal_cost=bim_terminal(spec),
+            control_cost=np.array([[spec["R"]]]),
+            temperature=spec["lam"],
+        )
     else:
         d = spec["d"]
         lo, hi = spec["L"]
@@ -152,6 +203,8 @@ def build(spec):
 def truth(spec):
     if spec["family"] == "lq":
         return float(lq_value(spec, np.array([spec["x0"]]), 0.0)[0])
+    if spec["family"] == "bim":
+        return bim_truth(spec)
     return math.sqrt(2 * spec["q0"] * spec["R"]) * (1.0 - spec["x0"][0])
 
 
@@ -267,6 +320,7 @@ def exit_policy(spec, kind):
 
 LQ_POLICIES = ("exact", "zero", "g0.1", "g0.5", "g3", "coarse", "other", "away4", "away8")
 EXIT_POLICIES = ("exact", "zero", "g0.5", "g3", "away", "coarse")
+BIM_POLICIES = ("near", "near0.5", "zero", "coarse")
 
 
 def make_policy(spec, kind):
@@ -274,6 +328,11 @@ def make_policy(spec, kind):
         return coarse_policy(spec)
     if spec["family"] == "exit":
         return exit_policy(spec, kind)
+    if spec["family"] == "bim":
+        if kind == "zero":
+            return lambda x, t: np.zeros((len(x), 1))
+        near = bim_single_spec(spec)
+        return lq_policy(near, gain={"near": 1.0, "near0.5": 0.5}[kind])
     if kind == "exact":
         return lq_policy(spec)
     if kind == "zero":
@@ -292,13 +351,15 @@ def configs():
     """name → (problem, policy kind, proposal, n, steps or None, seeds)."""
     out = {}
     for pname, spec in problems().items():
-        kinds = EXIT_POLICIES if spec["family"] == "exit" else LQ_POLICIES
+        kinds = {"exit": EXIT_POLICIES, "bim": BIM_POLICIES}.get(spec["family"], LQ_POLICIES)
         for kind in kinds:
             for prop in ("none", "auto"):
                 for n in (200, 1000, 4000):
                     seeds = 20 if n < 4000 else 10
                     out[f"{pname}-{kind}-{prop}-n{n}"] = (pname, kind, prop, n, None, seeds)
         # explicit steps
+        if spec["family"] == "bim":
+            continue
         if spec["family"] == "lq":
             for K in (30, 100, 1000):
                 for kind in ("exact", "g0.5"):
@@ -329,6 +390,9 @@ def run(name, cfg):
         kw["dt"] = spec["T"] / K
         vchain = chain_value(spec, K)
         vchain2 = chain_value(spec, K // 2) if K % 2 == 0 else None
+    elif spec["family"] == "bim":
+        kw["dt"] = spec["T"] / 300
+        vchain, vchain2 = vt, vt  # ẋ = u, q = 0: the chain is exact
     else:
         kw["dt"] = steps or spec["dt"]
         kw["max_time"] = spec["max_time"]
