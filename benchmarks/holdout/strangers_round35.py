@@ -467,7 +467,10 @@ def classify(rec, r, value="v", se="se", ref=None):
     else:
         z = (r[value] - ref) / r[se]
     rel = abs(r[value] - ref) / max(abs(ref), rec["lam"])
-    warned = bool(r["warnings"]) or not r["trusted"]
+    if value == "v":  # what a plain certify call (no richardson) says: the fine run's own flags
+        warned = not r["trusted"] or r["unexited"] > 0.01
+    else:  # richardson=True also warns about the 2Δt run (its flags are not in the Certificate)
+        warned = bool(r["warnings"]) or not r["trusted"]
     if abs(z) <= 3 or warned:
         cls = "OK"
     elif abs(z) > 4:
@@ -498,7 +501,8 @@ def summarize(rec):
             silent=int(sum(c[3] == "SILENT" for c in cl)),
             silent_tiny=int(sum(c[3] == "silent-tiny" for c in cl)),
         )
-    out["warned"] = float(np.mean([bool(r["warnings"]) or not r["trusted"] for r in runs]))
+    out["warned"] = float(np.mean([not r["trusted"] or r["unexited"] > 0.01 for r in runs]))
+    out["warned_rich"] = float(np.mean([bool(r["warnings"]) or not r["trusted"] for r in runs]))
     out["ess_min"] = float(min(r["ess"] for r in runs))
     out["k_max"] = float(np.nanmax([r["k"] for r in runs])) if runs else math.nan
     return out
