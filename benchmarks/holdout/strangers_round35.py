@@ -1,6 +1,55 @@
 """Stranger round 35: is ``gridlbc.certify`` honest under POOR proposals?
 
-RESULTS: (filled in at the end of the round, see below)
+RESULTS (library of main 4600fb4, branch r35, 2026-12-07, one thread, ``--all`` then ``--table``):
+590 configs, 9400 certificates (each with ``richardson=True``). z = (v̂ − v_true)/SE, "warned" =
+what a plain certify call says (the fine run's ESS < 30, k̂ > 0.7 or unexited > 1 %), SILENT =
+|z| > 4, not warned, |v̂ − v_true| ≥ 0.5 % of max(|v_true|, λ); "chain" = the same against the
+exact value of the Euler–Maruyama chain (LQ) or the truth where the chain is exact (bim).
+
+SILENT, harmful (reproduce: ``--run NAME``, NAME = problem-policy-proposal-n{200,1000,4000}):
+
+A. Unvisited mode, ``proposal=None`` (bim1, bim1s: ẋ = u, q = 0, two terminal wells, the deeper one
+   1.5 from x₀ = 0.5, λ = 0.1, T = 1; chain exact, truth by quadrature). The exact policy of the
+   near well alone (``near``, ``near0.5``): 200/200 runs SILENT, v̂ = 0.23 vs −0.358 (error
+   5.9 λ), ESS ≥ 0.5 n, k̂ ≤ 0.25. Even the passive policy: 12/50 and 22/50 SILENT (ESS 30–200).
+   ``proposal="auto"`` fixes every one (0/300): the grid solve sees the far well.
+B. A terminal-cost dip narrower than a cell, between the nodes (bimn: σ 0.03 at −1.05, 61 nodes,
+   spacing 0.1): EVERY policy and BOTH proposals, incl. certifying the problem's own default solve
+   (``bimn-grid-auto-n1000``: 50/50 SILENT, v̂ 0.2334 ± 0.0004 vs truth −0.3518, ESS 0.96 n, k̂ ≤
+   0.44, gap J − v* ≈ 0). ``gridlbc.solve`` warns about the sub-cell cost; certify's automatic
+   grid solve silences that warning and inherits the blindness; certify agrees with the wrong
+   solve to 4 digits. 298/300 runs of bimn SILENT (the 2 others: passive, ESS < 30).
+C. Over-aggressive feedback (lq4-g3-none: 4-D, λ = 3, T = 0.5, exact gains ×3): 11/50 SILENT at
+   chain level, v̂ 7.6–9.2 vs 6.58 (15–42 %), ESS 35–370, k̂ 0.28–0.70 (n = 200: 6/20, n = 4000:
+   3/10). The proposal is narrower than the optimal path law; the missing tail is never sampled, so
+   k̂ cannot see it. ``auto``: 0/50.
+D. Marginal ESS with the default pool (lq4s: 4-D, λ = 0.1, T = 2, auto grid 13⁴): for every poor
+   policy 6–9/50 chain-SILENT, v̂ +1.0–1.7 % (≈ 0.4 λ), z_chain 4–7, ESS 55–190, k̂ 0.39–0.69
+   (e.g. ``lq4s-zero-auto-n1000`` seeds 7, 10, 14; ``lq4s-zero-auto-n4000`` seeds 3, 4); same with
+   the coarse policy alone (``lq4s-coarse-none-n1000``: 4/20, ESS 87–131). Mean z_chain +1.7.
+E. First exit, discrete monitoring (exit1: ẋ = u, q = 1, E = {x ≥ 1}, v = √(2qR)(1 − x₀)): the
+   chain stops only at steps inside E, so v̂ is high by O(√Δt): 4.0 %, 1.9 %, 0.92 % at Δt 0.04,
+   0.01, 0.0025 with the exact (or the pooled auto) proposal, z ≈ 40, nothing warned. Richardson
+   assumes O(Δt) and removes only 2 − √2 of it: extrapolated 2.4 %, 1.2 %, 0.55 % off, z ≈ 8.6
+   (``exit1-exact-none-n1000``: 20/20 SILENT plain, 20/20 extrapolated). exit2 (2-D, λ = 0.05):
+   0.5 % at Δt 0.01, 1.1 % at 0.04.
+
+Documented, not counted as dishonest: the Euler–Maruyama O(Δt) bias with near-zero-variance
+proposals (lq*-exact-none-K30/K100: up to 3.9 % at 30 steps, z up to 220 at λ = 0.01; 0.14–0.36 %
+at the default 300 steps, "silent-tiny"); ``richardson=True`` removes it (0 SILENT extrapolated
+in every LQ config, |mean z_ext| ≤ 1.2). Against the chain's own value every LQ proposal that
+was not warned is honest apart from C and D (mean z_chain within ±0.6 elsewhere).
+
+Warned correctly: zero, ×0.1, ×3, moved-goal and away (κ = 4, 8) proposals alone at λ ≤ 0.3
+(ESS 1–40, k̂ 1–150), first exit with a policy that never exits (unexited warning). ``auto`` turned
+every LQ poor-proposal config except lq4s into |mean z| ≤ 1.5 (lq2tiny: 16–50 from the Δt bias
+alone, 0.15 % error).
+
+Confusing: (1) with ``richardson=True`` the Certificate's ESS, k̂ and ``trusted`` are the Δt
+run's only; the 2Δt run's are dropped (a warning is all): lq4s-zero-auto-n1000 seed 3 says
+trusted (ESS 79, k̂ 0.39) while the 2Δt run had k̂ 1.15 and the extrapolated value is 5.5 of its
+SEs off. (2) ``auto`` falls back to the policy alone without a warning when the grid solve fails
+(lq2long: cross-diffusion B = (0.8, 0.3)ᵀ; only ``Certificate.proposals`` says so). No crashes.
 
 Exact truths only: LQ problems (Riccati, ``lq_value`` of round 25) in 1-D to 4-D, a
 ``gridlbc.systems.PointMass``, and a first-exit problem with a closed-form value (ẋ = u, constant
