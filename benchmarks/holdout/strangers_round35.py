@@ -10,23 +10,26 @@ SILENT, harmful (reproduce: ``--run NAME``, NAME = problem-policy-proposal-n{200
 
 A. Unvisited mode, ``proposal=None`` (bim1, bim1s: ẋ = u, q = 0, two terminal wells, the deeper one
    1.5 from x₀ = 0.5, λ = 0.1, T = 1; chain exact, truth by quadrature). The exact policy of the
-   near well alone (``near``, ``near0.5``): 200/200 runs SILENT, v̂ = 0.23 vs −0.358 (error
-   5.9 λ), ESS ≥ 0.5 n, k̂ ≤ 0.25. Even the passive policy: 12/50 and 22/50 SILENT (ESS 30–200).
+   near well alone (``near``, ``near0.5``): 200/200 runs SILENT, bim1 v̂ = 0.22–0.24 vs −0.358
+   (5.9 λ), bim1s 0.22–0.24 vs 0.169 (0.6 λ), ESS 0.51–0.99 n, k̂ ≤ 0.25, z 9–3145. Even the
+   passive policy: 12/50 (bim1) and 22/50 (bim1s) SILENT (ESS 2–16 % of n but ≥ 30, k̂ ≤ 0.31).
    ``proposal="auto"`` fixes every one (0/300): the grid solve sees the far well.
 B. A terminal-cost dip narrower than a cell, between the nodes (bimn: σ 0.03 at −1.05, 61 nodes,
    spacing 0.1): EVERY policy and BOTH proposals, incl. certifying the problem's own default solve
    (``bimn-grid-auto-n1000``: 50/50 SILENT, v̂ 0.2334 ± 0.0004 vs truth −0.3518, ESS 0.96 n, k̂ ≤
    0.44, gap J − v* ≈ 0). ``gridlbc.solve`` warns about the sub-cell cost; certify's automatic
    grid solve silences that warning and inherits the blindness; certify agrees with the wrong
-   solve to 4 digits. 298/300 runs of bimn SILENT (the 2 others: passive, ESS < 30).
+   solve to 4 digits. 482/500 runs of bimn SILENT (the rest: passive with ESS < 30, and 2).
 C. Over-aggressive feedback (lq4-g3-none: 4-D, λ = 3, T = 0.5, exact gains ×3): 11/50 SILENT at
-   chain level, v̂ 7.6–9.2 vs 6.58 (15–42 %), ESS 35–370, k̂ 0.28–0.70 (n = 200: 6/20, n = 4000:
+   chain level, v̂ 7.6–9.2 vs 6.58 (15–39 %), ESS 5–36 % of n, k̂ 0.28–0.70 (n = 200: 6/20, 4000:
    3/10). The proposal is narrower than the optimal path law; the missing tail is never sampled, so
    k̂ cannot see it. ``auto``: 0/50.
-D. Marginal ESS with the default pool (lq4s: 4-D, λ = 0.1, T = 2, auto grid 13⁴): for every poor
-   policy 6–9/50 chain-SILENT, v̂ +1.0–1.7 % (≈ 0.4 λ), z_chain 4–7, ESS 55–190, k̂ 0.39–0.69
+D. Marginal ESS with the default pool (lq4s: 4-D, λ = 0.1, T = 2, auto grid 13⁴): every poor
+   policy 8–9/50 chain-SILENT (g0.5: 2/50; 59/450 in all), v̂ +0.8–2.0 % (≈ 0.4 λ), z_chain 4–7.5,
+   ESS 4–19 % of n (≥ 30), k̂ 0.26–0.69
    (e.g. ``lq4s-zero-auto-n1000`` seeds 7, 10, 14; ``lq4s-zero-auto-n4000`` seeds 3, 4); same with
-   the coarse policy alone (``lq4s-coarse-none-n1000``: 4/20, ESS 87–131). Mean z_chain +1.7.
+   the coarse policy alone (``lq4s-coarse-none-*``: 8/50). Mean z_chain +1.7. Likewise
+   exit2-coarse-auto / exit2-g3-auto: 12/50 each, +0.6–1.4 % (part of it the bias of E).
 E. First exit, discrete monitoring (exit1: ẋ = u, q = 1, E = {x ≥ 1}, v = √(2qR)(1 − x₀)): the
    chain stops only at steps inside E, so v̂ is high by O(√Δt): 4.0 %, 1.9 %, 0.92 % at Δt 0.04,
    0.01, 0.0025 with the exact (or the pooled auto) proposal, z ≈ 40, nothing warned. Richardson
