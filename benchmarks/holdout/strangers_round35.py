@@ -40,13 +40,16 @@ E. First exit, discrete monitoring (exit1: ẋ = u, q = 1, E = {x ≥ 1}, v = �
 Documented, not counted as dishonest: the Euler–Maruyama O(Δt) bias with near-zero-variance
 proposals (lq*-exact-none-K30/K100: up to 3.9 % at 30 steps, z up to 220 at λ = 0.01; 0.14–0.36 %
 at the default 300 steps, "silent-tiny"); ``richardson=True`` removes it (0 SILENT extrapolated
-in every LQ config, |mean z_ext| ≤ 1.2). Against the chain's own value every LQ proposal that
-was not warned is honest apart from C and D (mean z_chain within ±0.6 elsewhere).
+in every LQ config, |mean z_ext| ≤ 1.2). Against the chain's own value, over the TRUSTED runs
+only: mean z_chain +5.5 (lq4-g3-none), +4.3 to +5.1 (lq4s auto with every poor policy, and
+lq4s-coarse-none), +3.1 (pm2-g0.5-none, 2 trusted runs, 1 SILENT: seed 19, ESS 31.5, k̂ 0.65,
++2.7 %), and within ±1.2 in every other LQ config.
 
 Warned correctly: zero, ×0.1, ×3, moved-goal and away (κ = 4, 8) proposals alone at λ ≤ 0.3
-(ESS 1–40, k̂ 1–150), first exit with a policy that never exits (unexited warning). ``auto`` turned
-every LQ poor-proposal config except lq4s into |mean z| ≤ 1.5 (lq2tiny: 16–50 from the Δt bias
-alone, 0.15 % error).
+(ESS mostly 1–10, k̂ up to 150), first exit with a policy that never exits (unexited warning).
+``auto`` made every LQ poor-proposal config except lq4s honest against the chain; against the
+SDE's value its |mean z| reaches 7 (lq3) and 16–50 (lq2tiny, λ = 0.01) from the Δt bias alone,
+≤ 0.55 % of v.
 
 Confusing: (1) with ``richardson=True`` the Certificate's ESS, k̂ and ``trusted`` are the Δt
 run's only; the 2Δt run's are dropped (a warning is all): lq4s-zero-auto-n1000 seed 3 says
