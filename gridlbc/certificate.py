@@ -79,8 +79,10 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -88,6 +90,7 @@ from .errors import CertificateWarning, state_text, warn_user
 from .problem import Problem
 from .progress import ProgressBar
 from .psis import pareto_k
+from .regions import has_geometry
 from .simulate import (
     check_problem_and_policy,
     check_sample_count,
@@ -147,10 +150,12 @@ class Certificate:
         own proposal, √(SE(J)² + SE(v*)²) of independent samples otherwise.
     effective_sample_size : float or ndarray (k,)
         (Σw)² / Σw² of the weights (w = exp(−S_u/λ) for one proposal, the pooled weights of the
-        module docstring for several), between 1 and ``n_samples``.
+        module docstring for several), between 1 and ``n_samples``; with ``richardson=True`` the
+        smaller of the two runs'.
     pareto_k : float or ndarray (k,)
         The PSIS tail shape k̂ of the weights (:func:`gridlbc.psis.pareto_k`): < 0.5 reliable,
         0.5–0.7 slow, > :attr:`max_pareto_k` unreliable. NaN with too few samples to fit a tail.
+        With ``richardson=True`` the larger of the two runs'.
     left_box_fraction : float or ndarray (k,)
         Share of the judged policy's samples that left the grid's box on a non-periodic axis (0
         without a grid).
@@ -177,8 +182,9 @@ class Certificate:
         resolved (:func:`gridlbc.simulate.resolve_boundary`).
     extrapolated_value, extrapolated_value_se : float, ndarray (k,) or None
         With ``certify(..., richardson=True)``: v* extrapolated to a vanishing Euler–Maruyama
-        step, 2 v̂*(Δt) − v̂*(2Δt) (Δt this certificate's :attr:`dt`; the estimator's bias is
-        O(Δt)), and its SE √(4 SE(Δt)² + SE(2Δt)²) (independent draws). None otherwise.
+        step, (r v̂*(Δt) − v̂*(2Δt))/(r − 1) with r = 2^p (Δt this certificate's :attr:`dt`; the
+        estimator's bias is O(Δt^p), p = :func:`step_order`: 2 v̂*(Δt) − v̂*(2Δt) where p = 1),
+        and its SE √(r² SE(Δt)² + SE(2Δt)²)/(r − 1) (independent draws). None otherwise.
     unexited_fraction : float or ndarray (k,)
         For a first-exit problem: the share of the proposal's samples that had not reached the
         exit set by the end (truncated costs, see the module docstring); 0 otherwise.
@@ -406,45 +412,22 @@ def sample_certificate(
     """:func:`gridlbc.certify`, with ``proposal="auto"``'s grid solution from ``grid_proposal``
     (a function of the problem returning a policy and its name, or None and why not:
     :func:`gridlbc.certify` passes the solve it makes); without it, ``"auto"`` is the judged
-    policy alone. The arguments and the result are :func:`gridlbc.certify`'s."""
-    if richardson:
-        options = {
-            "n_samples": n_samples,
-            "progress": progress,
-            "min_effective_sample_size": min_effective_sample_size,
-            "max_pareto_k": max_pareto_k,
-            "proposal": proposal,
-            "boundary": boundary,
-            "max_time": max_time,
-            "grid_proposal": grid_proposal,
-        }
-        fine = sample_certificate(problem, policy, x0, dt=dt, seed=seed, **options)
-        coarse_seed = None if seed is None else seed + 1
-        coarse = sample_certificate(
-            problem, policy, x0, dt=2 * fine.dt, seed=coarse_seed, **options
-        )
-        v, v2 = np.asarray(fine.optimal_value), np.asarray(coarse.optimal_value)
-        se = np.hypot(2 * np.asarray(fine.optimal_value_se), np.asarray(coarse.optimal_value_se))
-        single = v.ndim == 0
-        return dataclasses.replace(
-            fine,
-            extrapolated_value=float(2 * v - v2) if single else 2 * v - v2,
-            extrapolated_value_se=float(se) if single else se,
-        )
+    policy alone. The arguments and the result are :func:`gridlbc.certify`'s.
+
+    With ``richardson``, two certificates at Δt and 2Δt (independent draws) give the
+    extrapolated value (:func:`step_order`) and the certificate's diagnostics are the worse of
+    the two runs' (the smaller effective sample size, the larger k̂ and unexited share): a
+    heavy tail at 2Δt spoils the extrapolation as much as one at Δt."""
     check_problem_and_policy(problem, policy)
-    boundary = resolve_boundary(problem, boundary)
     n = check_sample_count(n_samples)
-    single = np.ndim(x0) == 1
-    starts = problem.wrap(problem.check_states(x0, "x0"))
     if problem.average_cost:
         raise ValueError(
             "certify estimates the optimal cost-to-go of a task that ends; an average-cost "
             "problem has none (its value is relative): simulate the policy for a long max_time "
             "and compare the cost per unit time with solution.average_cost"
         )
-    T = rollout_horizon(problem, max_time, dt)
-    K = step_count(T, dt)
-    k = starts.shape[0]
+    problem.check_states(x0, "x0")  # the inputs checked before a grid proposal is solved
+    rollout_horizon(problem, max_time, dt)
     one_sample = n < 2 and isinstance(proposal, str)  # "auto" with one sample: nothing to share
     samplers, names = _proposal_policies(
         problem, policy, None if one_sample else proposal, grid_proposal
@@ -454,6 +437,116 @@ def sample_certificate(
             f"n_samples = {n} is fewer than the {len(samplers)} proposals that share it: give at "
             "least one sample per proposal"
         )
+    once = partial(
+        _certify_once,
+        problem,
+        policy,
+        x0,
+        samplers,
+        names,
+        n,
+        progress=progress,
+        min_effective_sample_size=min_effective_sample_size,
+        max_pareto_k=max_pareto_k,
+        boundary=boundary,
+        max_time=max_time,
+    )
+    if not richardson:
+        if step_order(problem) < 1.0:
+            warn_user(
+                "certify: the exit set is not a gridlbc.regions shape, so a path is stopped only "
+                "where a step lands in it, and one that crosses into it and back within a step "
+                "goes on: v* is biased by O(√dt), which its standard error does not include. Give "
+                "the exit set as a shape (Box, Ball, their unions: crossings between the steps "
+                "are then found by a Brownian bridge), or certify with richardson=True, which "
+                "extrapolates at that order",
+                CertificateWarning,
+            )
+        certificate = once(dt, seed)
+        check_unvisited(problem, samplers, certificate)
+        return certificate
+    fine = once(dt, seed)
+    check_unvisited(problem, samplers, fine)
+    coarse = once(2 * fine.dt, None if seed is None else seed + 1)
+    r = 2.0 ** step_order(problem)
+    v, v2 = np.asarray(fine.optimal_value), np.asarray(coarse.optimal_value)
+    se = np.hypot(r * np.asarray(fine.optimal_value_se), np.asarray(coarse.optimal_value_se)) / (
+        r - 1
+    )
+    extrapolated = (r * v - v2) / (r - 1)
+    ess = np.fmin(fine.effective_sample_size, coarse.effective_sample_size)
+    k_hat = np.fmax(fine.pareto_k, coarse.pareto_k)
+    unexited = np.fmax(fine.unexited_fraction, coarse.unexited_fraction)
+    if v.ndim == 0:
+        extrapolated, se, ess, k_hat, unexited = map(
+            float, (extrapolated, se, ess, k_hat, unexited)
+        )
+    return dataclasses.replace(
+        fine,
+        extrapolated_value=extrapolated,
+        extrapolated_value_se=se,
+        effective_sample_size=ess,
+        pareto_k=k_hat,
+        unexited_fraction=unexited,
+    )
+
+
+def step_order(problem: Problem) -> float:
+    """The order p in Δt of the certificate's bias from its time step, v̂*(Δt) − v* ∝ Δt^p, which
+    ``richardson=True`` extrapolates away, (2^p v̂*(Δt) − v̂*(2Δt))/(2^p − 1): 1 for the
+    Euler–Maruyama chain's weak error, ½ where an exit set is checked only at the steps (a
+    callable, not a :mod:`gridlbc.regions` shape) and the noise moves the paths across its
+    boundary: a path that crosses it and comes back within a step of size Δt is missed with a
+    probability that shrinks only as √Δt (Broadie, Glasserman & Kou, Math. Finance 1997), which a
+    shape's Brownian-bridge check (:func:`gridlbc.simulate.euler_maruyama`) removes.
+
+    Which axes cross the boundary is read on the grid: those along which the exit set's nodes
+    meet the others, at the nodes on either side, with the noise's variance (B R⁻¹ Bᵀ)_kk
+    there. A boundary that only an axis without noise crosses (a point mass's position) is
+    crossed by paths of bounded speed, whose excursions within a step are O(Δt). Without a
+    grid, ½."""
+    if problem.exit is None or has_geometry(problem.exit):
+        return 1.0
+    grid = problem.grid
+    if grid is None:
+        return 0.5
+    inside = grid.reshape(problem.exit_mask())
+    spread = problem.R_inv
+    for k in range(grid.ndim):
+        lower = np.argwhere(np.diff(inside, axis=k))  # the node below each change along axis k
+        if len(lower) == 0:
+            continue
+        upper = lower + np.eye(grid.ndim, dtype=int)[k]
+        nodes = grid.node_coordinates(np.ravel_multi_index(np.vstack([lower, upper]).T, grid.shape))
+        B = np.asarray(problem.system.input_matrix(nodes), dtype=float)
+        if np.any(np.einsum("nj,jl,nl->n", B[:, k, :], spread, B[:, k, :]) > 0):
+            return 0.5
+    return 1.0
+
+
+def _certify_once(
+    problem: Problem,
+    policy,
+    x0,
+    samplers: list,
+    names: list[str],
+    n: int,
+    dt: float | None,
+    seed: int | None,
+    progress: bool | None,
+    min_effective_sample_size: float,
+    max_pareto_k: float,
+    boundary: str | None,
+    max_time: float | None,
+) -> Certificate:
+    """One certificate at one step, its samples drawn by ``samplers`` (:func:`sample_certificate`
+    without ``richardson``)."""
+    boundary = resolve_boundary(problem, boundary)
+    single = np.ndim(x0) == 1
+    starts = problem.wrap(problem.check_states(x0, "x0"))
+    T = rollout_horizon(problem, max_time, dt)
+    K = step_count(T, dt)
+    k = starts.shape[0]
     own = next((j for j, sampler in enumerate(samplers) if sampler is policy), None)
     runs = len(samplers) + (own is None)
     bar = ProgressBar.chosen(
@@ -545,6 +638,71 @@ def sample_certificate(
         proposal_values=None if components is None else components[0][0 if single else ...],
         proposal_values_se=None if components is None else components[1][0 if single else ...],
     )
+
+
+def check_unvisited(problem: Problem, samplers: list, certificate: Certificate) -> None:
+    """Warn (:class:`gridlbc.CertificateWarning`) where a grid solution that drew samples does not
+    resolve a feature of the costs narrower than its cells, and v̂* agrees with that solution.
+
+    Importance sampling sees only what its samples visit. A grid solution's policy steers by the
+    costs its nodes see: a goal or a well between the nodes is not sought, and where the other
+    samplers do not go there either, v̂* is the value of the problem without the feature, with a
+    small SE, a large ESS and a light tail (stranger round 35: a terminal dip 0.3 cell wide,
+    certified at 0.2334 ± 0.0004 where the optimum is −0.352). The grid solution's error
+    estimate measures what such features change: S, its response to the costs' excess between
+    the nodes (:class:`gridlbc.accuracy.subcell.Response`, docs page :doc:`accuracy`). Where S
+    at x₀ exceeds three of v̂*'s standard errors and v̂* lies within S/2 of that solution's own
+    value, the samples most likely missed the feature, and v̂* may be off by up to S. Read only
+    for samplers that are grid solutions of the same task (the policy of a
+    :class:`~gridlbc.Solution`, or the automatic one, :class:`gridlbc.certify.GridPolicy`) whose
+    estimate ran the raised solve (a feature was found)."""
+    starts = certificate.start_states
+    value = np.atleast_1d(np.asarray(certificate.optimal_value, dtype=float))
+    se = np.atleast_1d(np.asarray(certificate.optimal_value_se, dtype=float))
+    for sampler in samplers:
+        solution = getattr(sampler, "solution", getattr(sampler, "__self__", None))
+        response = getattr(getattr(solution, "embedded", None), "excess", None)
+        if solution is None or response is None or response.raised is None:
+            continue
+        if not _same_task(solution.problem, problem):
+            continue
+        change = response(starts, 0.0)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # an underflowed value was the solve's to warn of
+            own = np.reshape(solution.value(starts, 0.0), -1)
+        with np.errstate(invalid="ignore"):
+            blind = (change > 3 * se) & (np.abs(value - own) < 0.5 * change)
+        for i in np.flatnonzero(blind):
+            warn_user(
+                f"certify: at x0 = {state_text(starts[i])} the costs have a feature narrower "
+                "than a cell of a grid solution that drew samples: it changes that grid's value "
+                f"by up to {change[i]:.3g} there (its error estimate's response to the costs "
+                f"between the nodes), and v* = {value[i]:.4g} lies within half of that of the "
+                f"solution's own {own[i]:.4g}. The samples probably never visited the feature, "
+                "and v* is then off by up to that much with nothing in its standard error, "
+                "effective sample size or k̂ to show it. Certify with a proposal that visits it "
+                "(a solution on a grid that resolves the feature: proposal=)",
+                CertificateWarning,
+            )
+
+
+def _same_task(other, problem: Problem) -> bool:
+    """Whether ``other`` poses the task of ``problem``, on any grid: the same system, costs,
+    temperature, horizon and exit set (each field the same object or equal)."""
+    if not isinstance(other, Problem):
+        return False
+    fields = (f.name for f in dataclasses.fields(Problem) if f.name != "grid")
+    return all(_same(getattr(other, name), getattr(problem, name)) for name in fields)
+
+
+def _same(a, b) -> bool:
+    """``a is b``, or equal numbers or arrays."""
+    if a is b:
+        return True
+    try:
+        return bool(np.array_equal(a, b))
+    except (TypeError, ValueError):
+        return False
 
 
 def _proposal_policies(

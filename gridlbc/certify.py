@@ -18,6 +18,7 @@ from .certificate import (
     Certificate,
     sample_certificate,
 )
+from .errors import CertificateWarning, warn_user
 from .grid import Axis, Grid
 from .problem import Problem
 from .solver import solve
@@ -113,9 +114,12 @@ def certify(
         for both (:mod:`gridlbc.certificate`).
     richardson : bool
         Also certify at twice the step, from independent draws (seed + 1), and extrapolate the
-        O(Δt) bias away: :attr:`Certificate.extrapolated_value`, its SE and
-        :attr:`Certificate.step_contribution`; :meth:`Certificate.interval` then bounds the
-        SDE's optimum. Costs half as much again.
+        step's bias away (O(Δt), or O(√Δt) for an exit set given as a callable, checked only at
+        the steps: :func:`gridlbc.certificate.step_order`): :attr:`Certificate.extrapolated_value`,
+        its SE and :attr:`Certificate.step_contribution`; :meth:`Certificate.interval` then
+        bounds the SDE's optimum, and the diagnostics are the worse of the two runs'. Costs half
+        as much again. Without it, a callable exit set is warned of (docs page
+        :doc:`validating`).
     max_time : float, optional
         For a first-exit problem without a horizon (required there): the paths stop at this
         time; the share that had not exited is :attr:`Certificate.unexited_fraction`.
@@ -148,8 +152,10 @@ def _grid_proposal(problem: Problem):
     The default :func:`gridlbc.solve` of the problem on its own grid, or, above
     :data:`~gridlbc.certify.AUTO_PROPOSAL_NODES` nodes, on the same box with every axis's node count
     scaled by (AUTO_PROPOSAL_NODES / nodes)^(1/d). Its warnings are silenced and non-finite controls
-    (where z underflowed) replaced by 0: any policy is a valid proposal, its quality only sets
-    the variance, which the certificate's diagnostics report.
+    (where z underflowed) replaced by 0 (:class:`GridPolicy`): any policy is a valid proposal, its
+    quality only sets the variance, which the certificate's diagnostics report. Where the solve
+    fails, the judged policy draws alone, and :class:`gridlbc.CertificateWarning` says so: the
+    pool is what guards a poor policy's certificate.
     """
     if problem.grid is None:
         return None, "no grid to solve on"
@@ -166,14 +172,31 @@ def _grid_proposal(problem: Problem):
                 warnings.simplefilter("ignore")
                 solution = solve(coarse)
         except (ValueError, MemoryError) as error:
+            warn_user(
+                f'certify: proposal="auto" found no grid solution to pool with the policy (its '
+                f"solve failed: {error}), so the policy alone draws the samples; a poor policy's "
+                "certificate can then be far off with nothing in its diagnostics to show it. Pass "
+                "a proposal of your own (a solution that resolves the problem)",
+                CertificateWarning,
+            )
             return None, f"no grid proposal: its solve failed ({error})"
         _GRID_PROPOSALS[problem] = solution
     solution = _GRID_PROPOSALS[problem]
-    horizon = problem.horizon
-
-    def policy(x, t):
-        t = t if horizon is None else min(t, horizon)
-        return np.nan_to_num(solution.policy(x, t), nan=0.0, posinf=0.0, neginf=0.0)
-
     shape = "×".join(str(a.n) for a in solution.problem.grid.axes)
-    return policy, f"a {shape} grid solution (auto)"
+    return GridPolicy(solution), f"a {shape} grid solution (auto)"
+
+
+class GridPolicy:
+    """A grid solution's policy as the proposal of ``proposal="auto"``: 0 where a control is not
+    finite (z underflowed), the last slice's past the horizon; the solution kept as
+    :attr:`solution` (the certificate reads its error estimate:
+    :func:`gridlbc.certificate.check_unvisited`)."""
+
+    def __init__(self, solution):
+        self.solution = solution
+
+    def __call__(self, x, t):
+        """u(x, t), finite."""
+        horizon = self.solution.problem.horizon
+        t = t if horizon is None else min(t, horizon)
+        return np.nan_to_num(self.solution.policy(x, t), nan=0.0, posinf=0.0, neginf=0.0)
