@@ -130,7 +130,7 @@ class Cost:
                 dd[:, i] = (dd[:, i] + P / 2) % P - P / 2
         return dd
 
-    def __call__(self, x, t=None):
+    def __call__(self, x):
         x = np.atleast_2d(np.asarray(x, float))
         out = np.full(len(x), float(self.const))
         if self.quad:
@@ -366,6 +366,119 @@ def problems():
         ),
         X=[[-1.0, 1.0, 0.0], [0.4, 0.0, 0.0], [1.8, -1.8, PI / 2]],
         max_time=30.0,
+    )
+    # ---- batch 2: harder variants of the same dynamics ----
+    P["dubins_cold"] = dict(
+        p=Problem(
+            Field("dubins", 3, 1, angle_axes=(2,), v=1.5, act=[2]),
+            G((-2, 2, 41), (-2, 2, 41), (-PI, PI, 40, True)),
+            3.0,
+            Quadratic([1.0, 0.0, 0.0], [3, 3, 0]),
+            temperature=0.05,
+        ),
+        X=[[-1.0, 1.0, 0.0], [1.0, 0.1, PI], [1.9, -1.9, -PI / 2]],
+    )
+    P["dubins_well"] = dict(
+        p=Problem(
+            Field("dubins", 3, 1, angle_axes=(2,), v=1.0, act=[2]),
+            G((-3, 3, 61), (-3, 3, 61), (-PI, PI, 48, True)),
+            3.0,
+            Cost(3, well=([1.0, 0.0, 0.0], [0.2, 0.2, 10.0], 3.0)),
+            temperature=0.3,
+        ),
+        X=[[-1.0, 0.0, 0.0], [1.0, 0.1, PI / 2], [-2.8, 2.8, -PI / 2]],
+    )
+    P["rigid_one"] = dict(
+        p=Problem(
+            Field("rigid", 3, 1, I=[1.0, 2.0, 3.0], damp=0.0, act=[2]),
+            G((-2, 2, 41), (-2, 2, 41), (-2, 2, 41)),
+            3.0,
+            Quadratic([0, 0, 0], [2, 2, 2]),
+            temperature=0.05,
+        ),
+        X=[[1.0, 1.0, 1.0], [0.0, 1.5, 0.0], [-1.9, 1.9, -1.9]],
+    )
+    P["lorenz_hot"] = dict(
+        p=Problem(
+            Field("lorenz", 3, 1, sigma=5.0, rho=10.0, beta=1.0, scale=0.3, act=[0]),
+            G((-6, 6, 49), (-6, 6, 49), (-2, 10, 49)),
+            1.5,
+            Quadratic([0, 0, 0], [0.5, 0.5, 0.5]),
+            temperature=1.0,
+        ),
+        X=[[2.0, 2.0, 3.0], [0.0, 0.0, 0.0], [-5.5, 5.5, 9.0]],
+    )
+    P["vdp_exit_small"] = dict(
+        p=Problem(
+            Field("vdp", 2, 1, mu=1.0, act=[1]),
+            G((-3.5, 3.5, 161), (-5, 5, 161)),
+            None,
+            state_cost=Cost(2, const=0.2),
+            exit=Ball([0.0, 0.0], 0.12),
+            exit_cost=0.0,
+            temperature=0.2,
+        ),
+        X=[[2.0, 0.0], [0.15, 0.0], [-3.3, 4.8]],
+        max_time=40.0,
+    )
+    P["lv_exit"] = dict(
+        p=Problem(
+            Field("lv", 2, 1, a=1.0, K=4.0, b=1.0, c=1.0, d=1.0, act=[1]),
+            G((0, 4, 81), (0, 4, 81)),
+            None,
+            state_cost=Cost(2, const=1.0),
+            exit=Ball([1.0, 0.75], 0.2),
+            exit_cost=0.0,
+            temperature=0.1,
+        ),
+        X=[[2.0, 1.0], [1.25, 0.75], [3.8, 3.8]],
+        max_time=30.0,
+    )
+    P["pend_swingup_exit"] = dict(
+        p=Problem(
+            Field("pend_fric", 2, 1, g=9.81, k1=0.1, k2=0.1, kc=0.2, act=[1]),
+            G((-PI, PI, 120, True), (-8, 8, 121)),
+            None,
+            state_cost=Cost(2, const=1.0),
+            exit=Ball([0.0, 0.0], 0.3),
+            exit_cost=0.0,
+            temperature=0.5,
+        ),
+        X=[[PI, 0.0], [0.4, 0.0], [-2.0, -7.0]],
+        max_time=30.0,
+    )
+    P["rigid_exit"] = dict(
+        p=Problem(
+            Field("rigid", 3, 2, I=[1.0, 2.0, 3.0], damp=0.05, act=[0, 2]),
+            G((-2, 2, 41), (-2, 2, 41), (-2, 2, 41)),
+            None,
+            state_cost=Cost(3, const=1.0),
+            exit=Ball([0.0, 0.0, 0.0], 0.3),
+            exit_cost=0.0,
+            temperature=0.2,
+        ),
+        X=[[1.0, 1.0, 1.0], [0.0, 0.4, 0.0], [-1.8, 1.8, -1.8]],
+        max_time=30.0,
+    )
+    P["lv_cold_late"] = dict(
+        p=Problem(
+            Field("lv", 2, 1, a=1.5, K=3.0, b=1.2, c=1.0, d=0.8, act=[1]),
+            G((0, 4, 61), (0, 4, 61)),
+            5.0,
+            Quadratic([0.8, 1.0], [2, 2]),
+            temperature=0.03,
+        ),
+        X=[[2.0, 0.5], [0.8, 1.0], [3.9, 0.1]],
+    )
+    P["pend_fric_quad_cold"] = dict(
+        p=Problem(
+            Field("pend_fric", 2, 1, g=9.81, k1=0.0, k2=0.8, kc=0.0, act=[1]),
+            G((-PI, PI, 80, True), (-8, 8, 81)),
+            4.0,
+            Cost(2, quad=([0, 0], [3, 0.3]), periods=[2 * PI, None]),
+            temperature=0.05,
+        ),
+        X=[[PI, 0.0], [0.4, 0.0], [-2.5, 7.0]],
     )
     return P
 
