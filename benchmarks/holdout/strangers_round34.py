@@ -93,7 +93,7 @@ class Field(ControlAffineSystem):
             q1, q2, w1, w2 = c
             g, l1, l2 = p["g"], p["l1"], p["l2"]
             # computed-torque form: q'' = -M⁻¹(C + G) + u; a simplified unit-mass M
-            m11 = 2 + 2 * np.cos(q2) * l2 / l1
+            m11 = 3 + 2 * np.cos(q2) * l2 / l1
             m12 = 1 + np.cos(q2) * l2 / l1
             m22 = np.ones_like(q2)
             h = np.sin(q2) * l2 / l1
