@@ -143,6 +143,18 @@ class Cost:
         return out
 
 
+class Ring:
+    """g(x) = depth·(1 − exp(−(|x| − r)²/2σ²)): a narrow ring in the plane."""
+
+    def __init__(self, r, sigma, depth):
+        self.r, self.sigma, self.depth = r, sigma, depth
+
+    def __call__(self, x):
+        x = np.atleast_2d(np.asarray(x, float))
+        rr = np.sqrt(x[:, 0] ** 2 + x[:, 1] ** 2)
+        return self.depth * (1 - np.exp(-0.5 * ((rr - self.r) / self.sigma) ** 2))
+
+
 def G(*axes):
     return Grid([Axis(a[0], a[1], a[2], periodic=len(a) > 3 and a[3]) for a in axes])
 
@@ -479,6 +491,70 @@ def problems():
             temperature=0.05,
         ),
         X=[[PI, 0.0], [0.4, 0.0], [-2.5, 7.0]],
+    )
+    # ---- batch 3: narrow features on drift-only axes of nonseparable flows ----
+    P["vdp_strip"] = dict(  # a toll strip across x (drift-only axis), σ = half a cell
+        p=Problem(
+            Field("vdp", 2, 1, mu=1.0, act=[1]),
+            G((-3, 3, 101), (-4, 4, 101)),
+            2.0,
+            Quadratic([-1.0, 0.0], [1, 0.5]),
+            Cost(1 + 1, well=([1.0, 0.0], [0.03, 1e6], -20.0), const=20.0),
+            temperature=0.2,
+        ),
+        X=[[0.5, 1.0], [1.0, 0.0], [2.8, -3.5]],
+    )
+    P["vdp_ring_goal"] = dict(  # terminal: near the limit cycle r ≈ 2, narrow ring (1 cell)
+        p=Problem(
+            Field("vdp", 2, 1, mu=0.5, act=[1]),
+            G((-3.5, 3.5, 101), (-3.5, 3.5, 101)),
+            2.0,
+            Ring(2.0, 0.07, 2.0),
+            temperature=0.1,
+        ),
+        X=[[0.5, 0.5], [2.0, 0.0], [-3.3, 3.3]],
+    )
+    P["lorenz_zwell"] = dict(  # reach z = 2 (uncontrolled) through the x·y coupling, σ ≈ 1 cell
+        p=Problem(
+            Field("lorenz", 3, 1, sigma=3.0, rho=2.0, beta=1.0, scale=1.0, act=[1]),
+            G((-3, 3, 41), (-3, 3, 41), (-1, 5, 41)),
+            2.0,
+            Cost(3, well=([0, 0, 2.0], [1e6, 1e6, 0.15], 3.0)),
+            temperature=0.2,
+        ),
+        X=[[1.0, 1.0, 1.0], [0.0, 0.0, 2.0], [-2.5, 2.5, 4.0]],
+    )
+    P["rigid_w1well"] = dict(  # torque on ω3 only; narrow terminal well in ω1
+        p=Problem(
+            Field("rigid", 3, 1, I=[1.0, 2.0, 3.0], damp=0.0, act=[2]),
+            G((-2, 2, 41), (-2, 2, 41), (-2, 2, 41)),
+            2.0,
+            Cost(3, well=([1.0, 0, 0], [0.1, 1e6, 1e6], 3.0)),
+            temperature=0.2,
+        ),
+        X=[[0.0, 1.0, 1.0], [1.0, 0.0, 0.0], [-1.8, 1.8, -1.8]],
+    )
+    P["pend_fric_long"] = dict(
+        p=Problem(
+            Field("pend_fric", 2, 1, g=9.81, k1=0.2, k2=0.2, kc=0.3, act=[1]),
+            G((-PI, PI, 64, True), (-8, 8, 65)),
+            5.0,
+            Cost(2, quad=([0, 0], [2, 0.2]), periods=[2 * PI, None]),
+            Cost(2, quad=([0, 0], [0.5, 0.02]), periods=[2 * PI, None]),
+            temperature=0.2,
+        ),
+        X=[[PI, 0.0], [0.5, 1.0], [-2.5, -7.5]],
+    )
+    P["duffing_dw_late_far"] = dict(
+        p=Problem(
+            Field("duffing", 2, 1, delta=0.1, alpha=-2.0, beta=1.0, act=[1]),
+            G((-3, 3, 61), (-4, 4, 61)),
+            1.0,
+            Quadratic([1.414, 0.0], [4, 1]),
+            Cost(2, quad=([1.414, 0.0], [0.5, 0.1])),
+            temperature=0.5,
+        ),
+        X=[[-1.414, 0.0], [0.0, 0.0], [2.9, 3.9]],
     )
     return P
 
