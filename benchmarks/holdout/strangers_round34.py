@@ -556,6 +556,48 @@ def problems():
         ),
         X=[[-1.414, 0.0], [0.0, 0.0], [2.9, 3.9]],
     )
+    # ---- batch 4: boxes that cut the flow (outward drift at reflecting walls) ----
+    P["vdp_tightbox"] = dict(  # limit cycle (|x| ≈ 2, |y| ≈ 3.5 at μ 2) cut by the box
+        p=Problem(
+            Field("vdp", 2, 1, mu=2.0, act=[1]),
+            G((-1.5, 1.5, 81), (-3, 3, 81)),
+            3.0,
+            Quadratic([0, 0], [1, 0.3]),
+            temperature=0.3,
+        ),
+        X=[[1.0, 1.0], [1.45, 2.0], [-1.45, -2.9]],
+    )
+    P["dubins_tightbox"] = dict(  # the car drives into the walls
+        p=Problem(
+            Field("dubins", 3, 1, angle_axes=(2,), v=1.0, act=[2]),
+            G((-1, 1, 41), (-1, 1, 41), (-PI, PI, 40, True)),
+            3.0,
+            Quadratic([0.5, 0.0, 0.0], [2, 2, 0]),
+            temperature=0.2,
+        ),
+        X=[[0.0, 0.0, 0.0], [0.95, 0.0, 0.0], [-0.95, 0.95, PI / 2]],
+    )
+    P["duffing_tightbox"] = dict(
+        p=Problem(
+            Field("duffing", 2, 1, delta=0.0, alpha=1.0, beta=1.0, act=[1]),
+            G((-1.5, 1.5, 81), (-2, 2, 81)),
+            3.0,
+            Quadratic([0, 0], [1, 1]),
+            Cost(2, quad=([0, 0], [0.5, 0.0])),
+            temperature=0.3,
+        ),
+        X=[[1.0, 1.0], [1.45, 1.5], [-1.45, -1.9]],
+    )
+    P["lorenz_tightbox"] = dict(
+        p=Problem(
+            Field("lorenz", 3, 1, sigma=5.0, rho=10.0, beta=1.0, scale=0.3, act=[1]),
+            G((-3, 3, 41), (-3, 3, 41), (0, 6, 41)),
+            2.0,
+            Quadratic([0, 0, 1.0], [0.5, 0.5, 0.5]),
+            temperature=0.5,
+        ),
+        X=[[1.0, 1.0, 1.0], [2.9, 2.9, 3.0], [-2.9, 2.0, 5.8]],
+    )
     return P
 
 
