@@ -598,6 +598,47 @@ def problems():
         ),
         X=[[1.0, 1.0, 1.0], [2.9, 2.9, 3.0], [-2.9, 2.0, 5.8]],
     )
+    # ---- batch 5: warmer first-exit problems (just below the warning?) ----
+    for lam, r, tag in ((1.0, 0.5, "warm"), (0.6, 0.4, "mild")):
+        P[f"vdp_exit_{tag}"] = dict(
+            p=Problem(
+                Field("vdp", 2, 1, mu=1.5, act=[1]),
+                G((-3.5, 3.5, 101), (-5, 5, 101)),
+                None,
+                state_cost=Cost(2, const=1.0),
+                exit=Ball([0.0, 0.0], r),
+                exit_cost=0.0,
+                temperature=lam,
+            ),
+            X=[[2.0, 0.0], [r + 0.05, 0.0], [-3.0, 4.0]],
+            max_time=30.0,
+        )
+        P[f"duffing_exit_{tag}"] = dict(
+            p=Problem(
+                Field("duffing", 2, 1, delta=0.2, alpha=-1.0, beta=1.0, act=[1]),
+                G((-2.5, 2.5, 81), (-3, 3, 81)),
+                None,
+                state_cost=Cost(2, const=0.5),
+                exit=Ball([1.0, 0.0], r),
+                exit_cost=0.0,
+                temperature=lam,
+            ),
+            X=[[-1.0, 0.0], [1.0 + r + 0.05, 0.0], [-2.3, -2.5]],
+            max_time=30.0,
+        )
+        P[f"rigid_exit_{tag}"] = dict(
+            p=Problem(
+                Field("rigid", 3, 2, I=[1.0, 2.0, 3.0], damp=0.05, act=[0, 2]),
+                G((-2, 2, 41), (-2, 2, 41), (-2, 2, 41)),
+                None,
+                state_cost=Cost(3, const=1.0),
+                exit=Ball([0.0, 0.0, 0.0], r),
+                exit_cost=0.0,
+                temperature=lam,
+            ),
+            X=[[1.0, 1.0, 1.0], [0.0, r + 0.1, 0.0], [-1.8, 1.8, -1.8]],
+            max_time=30.0,
+        )
     return P
 
 
