@@ -639,6 +639,72 @@ def problems():
             X=[[1.0, 1.0, 1.0], [0.0, r + 0.1, 0.0], [-1.8, 1.8, -1.8]],
             max_time=30.0,
         )
+    # ---- batch 6: hot first exits, states one cell off the ball ----
+    P["vdp_exit_hot"] = dict(
+        p=Problem(
+            Field("vdp", 2, 1, mu=1.5, act=[1]),
+            G((-3.5, 3.5, 141), (-5, 5, 141)),
+            None,
+            state_cost=Cost(2, const=1.0),
+            exit=Ball([0.0, 0.0], 0.5),
+            exit_cost=0.0,
+            temperature=2.0,
+        ),
+        X=[[2.0, 0.0], [0.55, 0.0], [0.0, 0.6]],
+        max_time=30.0,
+    )
+    P["duffing_exit_hot"] = dict(
+        p=Problem(
+            Field("duffing", 2, 1, delta=0.2, alpha=-1.0, beta=1.0, act=[1]),
+            G((-2.5, 2.5, 121), (-3, 3, 121)),
+            None,
+            state_cost=Cost(2, const=0.5),
+            exit=Ball([1.0, 0.0], 0.4),
+            exit_cost=0.0,
+            temperature=2.0,
+        ),
+        X=[[-1.0, 0.0], [1.45, 0.0], [1.0, 0.45]],
+        max_time=30.0,
+    )
+    P["lv_exit_hot"] = dict(
+        p=Problem(
+            Field("lv", 2, 1, a=1.0, K=4.0, b=1.0, c=1.0, d=1.0, act=[1]),
+            G((0, 4, 101), (0, 4, 101)),
+            None,
+            state_cost=Cost(2, const=1.0),
+            exit=Ball([1.0, 0.75], 0.3),
+            exit_cost=0.0,
+            temperature=1.0,
+        ),
+        X=[[2.0, 1.0], [1.35, 0.75], [1.0, 1.1]],
+        max_time=30.0,
+    )
+    P["dubins_exit_hot"] = dict(
+        p=Problem(
+            Field("dubins", 3, 1, angle_axes=(2,), v=1.0, act=[2]),
+            G((-2, 2, 41), (-2, 2, 41), (-PI, PI, 40, True)),
+            None,
+            state_cost=Cost(3, const=1.0),
+            exit=lambda x: (x[:, 0] ** 2 + x[:, 1] ** 2) < 0.4**2,
+            exit_cost=0.0,
+            temperature=1.5,
+        ),
+        X=[[-1.0, 1.0, 0.0], [0.45, 0.0, 0.0], [0.45, 0.0, PI]],
+        max_time=30.0,
+    )
+    P["pend_exit_hot"] = dict(
+        p=Problem(
+            Field("pend_fric", 2, 1, g=9.81, k1=0.1, k2=0.1, kc=0.2, act=[1]),
+            G((-PI, PI, 160, True), (-8, 8, 161)),
+            None,
+            state_cost=Cost(2, const=1.0),
+            exit=Ball([0.0, 0.0], 0.4),
+            exit_cost=0.0,
+            temperature=2.0,
+        ),
+        X=[[PI, 0.0], [0.45, 0.0], [0.0, 0.5]],
+        max_time=30.0,
+    )
     return P
 
 
