@@ -705,6 +705,65 @@ def problems():
         X=[[PI, 0.0], [0.45, 0.0], [0.0, 0.5]],
         max_time=30.0,
     )
+    # ---- batch 7: faster dynamics / coarser grids near the unwarned members ----
+    P["rigid_fast"] = dict(
+        p=Problem(
+            Field("rigid", 3, 2, I=[1.0, 2.0, 3.0], damp=0.0, act=[0, 2]),
+            G((-4, 4, 41), (-4, 4, 41), (-4, 4, 41)),
+            1.5,
+            Quadratic([0, 0, 0], [0.5, 0.5, 0.5]),
+            temperature=0.5,
+        ),
+        X=[[2.0, 2.0, 2.0], [0.0, 3.5, 0.0], [-3.8, 3.8, -3.8]],
+    )
+    P["pend_fric_fast"] = dict(
+        p=Problem(
+            Field("pend_fric", 2, 1, g=40.0, k1=0.1, k2=0.05, kc=0.5, act=[1]),
+            G((-PI, PI, 80, True), (-15, 15, 81)),
+            2.0,
+            Cost(2, quad=([0, 0], [2, 0.05]), periods=[2 * PI, None]),
+            Cost(2, quad=([0, 0], [1, 0.01]), periods=[2 * PI, None]),
+            temperature=0.5,
+        ),
+        X=[[PI, 0.0], [1.0, 3.0], [-2.5, -14.0]],
+    )
+    P["lv_fast"] = dict(
+        p=Problem(
+            Field("lv", 2, 1, a=3.0, K=4.0, b=2.0, c=2.0, d=3.0, act=[1]),
+            G((0, 4, 61), (0, 4, 61)),
+            3.0,
+            Quadratic([1.5, 0.75], [1, 1]),
+            Cost(2, quad=([1.5, 0.75], [0.3, 0.3])),
+            temperature=0.2,
+        ),
+        X=[[2.5, 1.0], [1.5, 0.75], [3.9, 3.9]],
+    )
+    P["duffing_exit_coarse"] = dict(
+        p=Problem(
+            Field("duffing", 2, 1, delta=0.2, alpha=-1.0, beta=1.0, act=[1]),
+            G((-2.5, 2.5, 51), (-3, 3, 51)),
+            None,
+            state_cost=Cost(2, const=0.5),
+            exit=Ball([1.0, 0.0], 0.4),
+            exit_cost=0.0,
+            temperature=2.0,
+        ),
+        X=[[-1.0, 0.0], [1.45, 0.0], [1.0, 0.45]],
+        max_time=30.0,
+    )
+    P["vdp_exit_coarse"] = dict(
+        p=Problem(
+            Field("vdp", 2, 1, mu=1.5, act=[1]),
+            G((-3.5, 3.5, 61), (-5, 5, 61)),
+            None,
+            state_cost=Cost(2, const=1.0),
+            exit=Ball([0.0, 0.0], 0.5),
+            exit_cost=0.0,
+            temperature=3.0,
+        ),
+        X=[[2.0, 0.0], [0.55, 0.0], [0.0, 0.6]],
+        max_time=30.0,
+    )
     return P
 
 
