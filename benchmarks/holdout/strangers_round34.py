@@ -764,6 +764,31 @@ def problems():
         X=[[2.0, 0.0], [0.55, 0.0], [0.0, 0.6]],
         max_time=30.0,
     )
+    # ---- batch 8: 4-D, sharper obstacle / warmer cart-pole ----
+    P["di2_sharp_obstacle"] = dict(
+        p=Problem(
+            Field("di2", 4, 2, drag=0.2, act=[2, 3]),
+            G((-2, 2, 21), (-2, 2, 21), (-2, 2, 21), (-2, 2, 21)),
+            2.0,
+            Quadratic([1.2, 0.0, 0, 0], [2, 2, 0.2, 0.2]),
+            Cost(4, well=([0, 0, 0, 0], [0.15, 0.15, 1e6, 1e6], -10.0), const=10.0),
+            temperature=0.5,
+        ),
+        X=[[-1.2, 0.0, 1.0, 0.0], [-0.25, 0.0, 0.5, 0.0], [-1.8, 1.8, -1.5, 1.5]],
+    )
+    P["cartpole_warm"] = dict(
+        p=Problem(
+            Field("cartpole", 4, 1, angle_axes=(1,), M=1.0, m=0.3, l=1.0, g=9.81, fc=0.5, act=[3]),
+            G((-2, 2, 21), (-PI, PI, 20, True), (-3, 3, 21), (-6, 6, 21)),
+            1.5,
+            Cost(
+                4, quad=([0, 0, 0, 0], [0.2, 0.5, 0.05, 0.05]), periods=[None, 2 * PI, None, None]
+            ),
+            Cost(4, quad=([0, 0, 0, 0], [0.05, 0.3, 0.0, 0.0]), periods=[None, 2 * PI, None, None]),
+            temperature=1.0,
+        ),
+        X=[[0.5, 0.5, 0.0, 0.0], [0.0, PI, 0.0, 0.0], [-1.5, -2.0, 2.0, 4.0]],
+    )
     return P
 
 
