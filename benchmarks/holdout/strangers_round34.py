@@ -789,6 +789,12 @@ def problems():
         ),
         X=[[0.5, 0.5, 0.0, 0.0], [0.0, PI, 0.0, 0.0], [-1.5, -2.0, 2.0, 4.0]],
     )
+    # ---- the unwarned duffing_exit_hot, read next to the ball along the drift-only axis ----
+    P["duffing_exit_hot_side"] = dict(
+        p=P["duffing_exit_hot"]["p"],
+        X=[[0.58, 0.05], [1.42, 0.0], [0.58, -0.05]],
+        max_time=30.0,
+    )
     return P
 
 
@@ -1075,8 +1081,24 @@ def main():
     ap.add_argument("--table", action="store_true")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--force", action="store_true")
+    ap.add_argument("--probe", nargs="+", help="NAME t x1 x2 ...: one state, one time")
     a = ap.parse_args()
     P = problems()
+    if a.probe:
+        spec = P[a.probe[0]]
+        t, x = float(a.probe[1]), np.array([[float(v) for v in a.probe[2:]]])
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            s = gridlbc.solve(spec["p"])
+        tr, _ = truths(spec["p"], x, [t], s, spec.get("max_time"))
+        v, e = read(s, x, t, spec["p"].horizon is None)
+        lam = spec["p"].temperature
+        vt, pm, bad, extra = tr[t]
+        print(
+            f"{a.probe[0]} t={t} x={x[0].tolist()} v={v[0]:.5g} v*={vt[0]:.5g}±{pm[0]:.2g} "
+            f"err={abs(v[0] - vt[0]) / max(abs(vt[0]), lam):.2%} est={e[0] / max(abs(v[0]), lam):.2%} "
+            f"ess={extra['ess'][0]:.0f} k={extra['khat'][0]:.2f} untrusted={bool(bad[0])}"
+        )
     if a.list:
         for k, v in P.items():
             print(k, v["p"].grid.shape, v["p"].temperature, v["p"].horizon)
