@@ -29,6 +29,10 @@ from strangers_round25 import _warnlist
 OUT = Path("/work/main/benchmarks/holdout/strangers_round34_results")  # gitignored there
 PI = math.pi
 TOL = 0.05
+# first exit: the bridge test of certify's exit is exact for a flat edge; next to a small ball at
+# λ ≥ 1 its step bias is large and not O(Δt) (duffing_exit_hot_side: v* 0.58 / 0.87 / 0.92 at Δt
+# 0.004 / 0.001 / 0.00025), so Richardson does not remove it. --retruth redoes the exits at 0.001.
+EXIT_DT = 0.005
 
 
 # ================= the user's own systems ======================================================
@@ -811,7 +815,7 @@ def certify_at(p, pol, X, t, n, seed, max_time=None):
     stationary = p.horizon is None
     if stationary:
         q = p
-        dt = 0.005
+        dt = EXIT_DT
         policy = pol
     else:
         q = p.replace(horizon=p.horizon - t)
@@ -1075,12 +1079,51 @@ def table():
         print("   ", x)
 
 
+def retruth(names, P):
+    """First-exit members: the truth again at EXIT_DT = 0.001 (and 0.002 for Richardson)."""
+    global EXIT_DT
+    EXIT_DT = 0.001
+    for name in names:
+        f = OUT / f"{name}.json"
+        r = json.loads(f.read_text())
+        spec = P[name]
+        p, X = spec["p"], np.asarray(spec["X"], float)
+        if p.horizon is not None or "crash" in r:
+            continue
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            s = gridlbc.solve(p)
+        tr, secs = truths(p, X, [0.0], s, spec.get("max_time"))
+        vt, pm, bad, extra = tr[0.0]
+        lam = p.temperature
+        rd = r["reads"][0]
+        rd["truth_dt005"] = rd["truth"]
+        rd["truth"], rd["pm"], rd["untrusted"], rd["extra"] = (
+            vt.tolist(),
+            pm.tolist(),
+            bad.tolist(),
+            extra,
+        )
+        rd["err_rel"] = (np.abs(np.asarray(rd["v"]) - vt) / np.maximum(np.abs(vt), lam)).tolist()
+        for tr2 in r.get("tol", {}).get("reads", []):
+            tr2["err_rel"] = (
+                np.abs(np.asarray(tr2["v"]) - vt) / np.maximum(np.abs(vt), lam)
+            ).tolist()
+        f.write_text(json.dumps(r, indent=1, default=float))
+        print(
+            f"{name:22s} {secs:5.0f}s v={np.round(rd['v'], 4).tolist()} v*(0.005)="
+            f"{np.round(rd['truth_dt005'], 4).tolist()} v*(0.001)={np.round(vt, 4).tolist()} "
+            f"err={np.round(rd['err_rel'], 4).tolist()}"
+        )
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--run", nargs="*")
     ap.add_argument("--table", action="store_true")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--force", action="store_true")
+    ap.add_argument("--retruth", nargs="*")
     ap.add_argument("--probe", nargs="+", help="NAME t x1 x2 ...: one state, one time")
     a = ap.parse_args()
     P = problems()
@@ -1107,6 +1150,8 @@ def main():
             if not a.force and (OUT / f"{k}.json").exists():
                 continue
             run(k, P[k])
+    if a.retruth is not None:
+        retruth(a.retruth or [k for k in P if P[k]["p"].horizon is None], P)
     if a.table:
         table()
 
