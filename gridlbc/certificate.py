@@ -185,6 +185,11 @@ class Certificate:
         step, (r v̂*(Δt) − v̂*(2Δt))/(r − 1) with r = 2^p (Δt this certificate's :attr:`dt`; the
         estimator's bias is O(Δt^p), p = :func:`step_order`: 2 v̂*(Δt) − v̂*(2Δt) where p = 1),
         and its SE √(r² SE(Δt)² + SE(2Δt)²)/(r − 1) (independent draws). None otherwise.
+    extrapolation_gap : float, ndarray (k,) or None
+        With ``certify(..., richardson=True)``: the extrapolation from (Δt, 2Δt) less the same
+        from (2Δt, 4Δt), a third run at 4Δt (seed + 2): zero up to sampling where the bias is
+        c Δt^p, and :func:`gridlbc.certify` warns where it is more than 3 of its SEs (the
+        extrapolated value is then off by about as much). None otherwise.
     unexited_fraction : float or ndarray (k,)
         For a first-exit problem: the share of the proposal's samples that had not reached the
         exit set by the end (truncated costs, see the module docstring); 0 otherwise.
@@ -218,6 +223,7 @@ class Certificate:
     boundary: str = "free"
     extrapolated_value: float | np.ndarray | None = None
     extrapolated_value_se: float | np.ndarray | None = None
+    extrapolation_gap: float | np.ndarray | None = None
     unexited_fraction: float | np.ndarray = 0.0
     proposal_values: np.ndarray | None = None
     proposal_values_se: np.ndarray | None = None
@@ -467,28 +473,48 @@ def sample_certificate(
         return certificate
     fine = once(dt, seed)
     check_unvisited(problem, samplers, fine)
-    coarse = once(2 * fine.dt, None if seed is None else seed + 1)
-    r = 2.0 ** step_order(problem)
-    v, v2 = np.asarray(fine.optimal_value), np.asarray(coarse.optimal_value)
-    se = np.hypot(r * np.asarray(fine.optimal_value_se), np.asarray(coarse.optimal_value_se)) / (
-        r - 1
+    coarse, coarser = (
+        once(m * fine.dt, None if seed is None else seed + j) for j, m in ((1, 2), (2, 4))
     )
-    extrapolated = (r * v - v2) / (r - 1)
-    ess = np.fmin(fine.effective_sample_size, coarse.effective_sample_size)
-    k_hat = np.fmax(fine.pareto_k, coarse.pareto_k)
-    unexited = np.fmax(fine.unexited_fraction, coarse.unexited_fraction)
-    if v.ndim == 0:
-        extrapolated, se, ess, k_hat, unexited = map(
-            float, (extrapolated, se, ess, k_hat, unexited)
+    order = step_order(problem)
+    runs = (fine, coarse, coarser)
+    h = [c.dt**order for c in runs]  # the steps taken (T over a whole number of them), ^p
+    v1, v2, v4 = (np.asarray(c.optimal_value) for c in runs)
+    s1, s2, s4 = (np.asarray(c.optimal_value_se) for c in runs)
+
+    def weights(a: int, b: int) -> tuple[float, float]:
+        """(w_a, w_b) with w_a v_a + w_b v_b free of a bias c Δt^p (runs a, b)."""
+        return h[b] / (h[b] - h[a]), -h[a] / (h[b] - h[a])
+
+    (w1, w2), (u2, u4) = weights(0, 1), weights(1, 2)
+    extrapolated, se = w1 * v1 + w2 * v2, np.hypot(w1 * s1, w2 * s2)
+    gap = w1 * v1 + (w2 - u2) * v2 - u4 * v4  # from (Δt, 2Δt) less from (2Δt, 4Δt)
+    gap_se = np.sqrt((w1 * s1) ** 2 + ((w2 - u2) * s2) ** 2 + (u4 * s4) ** 2)
+    table = [np.atleast_1d(c) for c in (v1, v2, v4, extrapolated)]
+    gaps, sigmas = np.atleast_1d(gap), np.atleast_1d(gap_se)
+    for i in np.flatnonzero(np.abs(gaps) > 3 * sigmas):
+        at_dt, at_2dt, at_4dt, best = (column[i] for column in table)
+        warn_user(
+            f"certify: at x0 = {state_text(fine.start_states[i])} the time step's bias does not "
+            f"shrink as dt^{order:g}, which the extrapolation assumes: v* = "
+            f"{at_dt:.4g}, {at_2dt:.4g} and {at_4dt:.4g} at dt, 2 dt and 4 dt, and extrapolated "
+            f"from the first two it is {abs(gaps[i]):.3g} away from the last two's extrapolation "
+            f"({abs(gaps[i]) / sigmas[i]:.1f} of that difference's SEs). The extrapolated value "
+            f"{best:.4g} may be off by about as much: certify with a smaller dt (the step is "
+            "long against the dynamics somewhere the paths go: by an exit set, or where the "
+            "policy is steep)",
+            CertificateWarning,
         )
-    return dataclasses.replace(
-        fine,
-        extrapolated_value=extrapolated,
-        extrapolated_value_se=se,
-        effective_sample_size=ess,
-        pareto_k=k_hat,
-        unexited_fraction=unexited,
-    )
+    fields = {  # the worse diagnostics of the two runs, and the extrapolation
+        "effective_sample_size": np.fmin(fine.effective_sample_size, coarse.effective_sample_size),
+        "pareto_k": np.fmax(fine.pareto_k, coarse.pareto_k),
+        "unexited_fraction": np.fmax(fine.unexited_fraction, coarse.unexited_fraction),
+        "extrapolated_value": extrapolated,
+        "extrapolated_value_se": se,
+        "extrapolation_gap": gap,
+    }
+    shaped = {name: float(a) if v1.ndim == 0 else a for name, a in fields.items()}
+    return dataclasses.replace(fine, **shaped)  # type: ignore[arg-type]
 
 
 def step_order(problem: Problem) -> float:
