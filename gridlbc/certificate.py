@@ -423,7 +423,8 @@ def sample_certificate(
     With ``richardson``, two certificates at Δt and 2Δt (independent draws) give the
     extrapolated value (:func:`step_order`) and the certificate's diagnostics are the worse of
     the two runs' (the smaller effective sample size, the larger k̂ and unexited share): a
-    heavy tail at 2Δt spoils the extrapolation as much as one at Δt."""
+    heavy tail at 2Δt spoils the extrapolation as much as one at Δt. A third at 4Δt checks
+    the extrapolation (:attr:`Certificate.extrapolation_gap`)."""
     check_problem_and_policy(problem, policy)
     n = check_sample_count(n_samples)
     if problem.average_cost:
@@ -471,6 +472,13 @@ def sample_certificate(
         certificate = once(dt, seed)
         check_unvisited(problem, samplers, certificate)
         return certificate
+    steps = step_count(rollout_horizon(problem, max_time, dt), dt)
+    if steps < 8:
+        raise ValueError(
+            f"richardson=True compares the step with twice and four times it, and {steps} steps "
+            "leave the coarsest fewer than 2: give a dt of at most an eighth of the horizon "
+            "(of max_time without one)"
+        )
     fine = once(dt, seed)
     check_unvisited(problem, samplers, fine)
     coarse, coarser = (

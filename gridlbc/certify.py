@@ -120,8 +120,8 @@ def certify(
         bounds the SDE's optimum, and the diagnostics are the worse of the two runs'. A third run
         at 4Δt (seed + 2) checks the extrapolation: where the one from (2Δt, 4Δt) differs from
         it by more than 3 SEs (:attr:`Certificate.extrapolation_gap`), the bias does not yet
-        shrink at the assumed order, and :class:`CertificateWarning` says so. Costs three
-        quarters as much again. Without it, a callable exit set is warned of (docs page
+        shrink at the assumed order, and :class:`CertificateWarning` says so. Needs at least 8
+        steps; costs three quarters as much again. Without it, a callable exit set is warned of (docs page
         :doc:`validating`).
     max_time : float, optional
         For a first-exit problem without a horizon (required there): the paths stop at this

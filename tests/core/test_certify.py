@@ -358,6 +358,7 @@ def test_progress_bar_on_request(capsys):
         ({"policy": "zero"}, TypeError, "policy must be callable"),
         ({"policy": lambda x, t: np.zeros(x.shape[0])}, ValueError, r"shape \(N, m\) = \(1, 1\)"),
         ({"policy": lambda x, t: np.full((x.shape[0], 1), np.nan)}, ValueError, "non-finite"),
+        ({"dt": 0.3, "richardson": True}, ValueError, "at most an eighth of the horizon"),
     ],
 )
 def test_bad_input_is_named(kwargs, error, match):
