@@ -1,0 +1,351 @@
+"""Stranger round 36: do certify's new warnings cry wolf, and did the bridge halving hurt?
+
+RESULTS: (filled in at the end of the round)
+
+Mechanisms (library of main 46de7f5): (1) ``check_unvisited`` (a grid solution that drew samples
+is blind to a sub-cell cost feature and v̂* agrees with it); (2) a callable exit set crossed by
+noise (plain certify warns of O(√Δt); richardson extrapolates at order ½); (3) richardson's third
+run at 4Δt (``extrapolation_gap`` > 3 SE warns); (4) the Brownian bridge halved near curved
+shaped exits.
+
+Every run is ONE ``certify(problem, policy, x0, richardson=True, seed=s)`` per start state, the
+policy the problem's default grid solve (or an exact/good policy where stated), default
+``proposal="auto"`` and ``n_samples``: the Δt run of a richardson certificate is the plain
+certificate at that seed, and it is the one ``check_unvisited`` reads, so (1) and (3) are seen in
+one call; (2) fires in a plain call exactly where ``step_order(problem) < 1`` (read directly).
+A warning is JUSTIFIED where the value it warns about is off from the truth: (1) the plain v̂ off
+by > 3 SE and > 0.5 % of max(|v|, λ) (or the extrapolated one by > 3 of its SEs); (2) the plain v̂
+off by > 3 SE; (3) the extrapolated value off by > 3 of its SEs. Otherwise a FALSE ALARM.
+
+    cd /work/main && PYTHONPATH=/work/wt-r36 NUMBA_NUM_THREADS=1 \
+        python benchmarks/holdout/strangers_round36.py --list | --run NAME... | --all | --table
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+import gridlbc
+from gridlbc import Axis, Grid, Problem
+from gridlbc.certificate import step_order
+from gridlbc.regions import Ball, Box
+from gridlbc.systems import LinearSystem, PointMass
+
+sys.path.insert(0, str(Path(__file__).parent))
+import corpus
+import strangers_round25 as r25
+import strangers_round35 as r35
+
+OUT = Path("/work/main/benchmarks/holdout/strangers_round36_results")  # gitignored there
+TRUTHS = json.loads((Path(__file__).parent / "truths.json").read_text())["members"]
+SEEDS = (0, 1, 2)
+_DRAW: dict = {}
+
+
+def draw():
+    """Round 25's draws (cached: drawing them is slow)."""
+    if not _DRAW:
+        _DRAW.update(r25.draw())
+    return _DRAW
+
+
+def _solve(p):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return gridlbc.solve(p)
+
+
+# ================= configs: () -> dict(problem, policy, X, truth, truth_se, kw, group) ==========
+def _r25(name):
+    spec = draw()[name]
+    p = r25.build(spec)
+    X = np.asarray(spec["X"], float)
+    tr = r25.truth_for(spec, X, [0.0])[0.0]
+    kw = {}
+    if p.horizon is None:
+        kw = dict(dt=0.004, max_time=30.0)
+    return dict(problem=p, policy=_solve(p).policy, X=X, truth=np.asarray(tr[0]),
+                truth_se=np.asarray(tr[1]), kw=kw, group="A")  # fmt: skip
+
+
+def _r35(name, kind):
+    spec = r35.problems()[name]
+    p = r35.build(spec)
+    kw = {}
+    if spec["family"] == "exit":
+        kw = dict(dt=spec["dt"], max_time=spec["max_time"])
+    pol = _solve(p).policy if kind == "grid" else r35.make_policy(spec, kind)
+    return dict(problem=p, policy=pol, X=np.array([spec["x0"]]), truth=np.array([r35.truth(spec)]),
+                truth_se=np.zeros(1), kw=kw, group="B" if name in ("bimn", "exit1") else "A")  # fmt: skip
+
+
+def _corpus(name):
+    m = corpus.BY_NAME[name]
+    p = m.build()
+    states = TRUTHS[name]["states"]
+    X = np.array([s["x"] for s in states])
+    vt = np.array([s.get("v_extrapolated", s["v"]) for s in states])
+    se = np.array([s.get("se_extrapolated", s["se"]) or 0.0 for s in states])
+    kw = {}
+    if p.horizon is None:
+        kw = dict(dt=m.cert_dt, max_time=m.max_time or 30.0)
+    return dict(problem=p, policy=_solve(p).policy, X=X, truth=vt, truth_se=se, kw=kw, group="A")
+
+
+def ball3d(lam=1.0, q=0.5, R=1.0, r=0.5, n=41, L=3.0, x0=((1.2, 0, 0), (0.8, 0.3, 0), (2, 1, 0.5))):
+    """3-D Brownian motion, constant q, into a ball of radius r at 0: v = λ log(ρ/r) +
+    (ρ − r)√(2qR), u* = −R⁻¹(λ/ρ + √(2qR)) ρ̂ (exact on R³: boundary "free")."""
+    p = Problem(
+        LinearSystem(np.zeros((3, 3)), np.eye(3)),
+        Grid([Axis(-L, L, n)] * 3),
+        None,
+        state_cost=lambda x, q=q: q + 0.0 * x[:, 0],
+        control_cost=R * np.eye(3),
+        temperature=lam,
+        exit=Ball([0.0, 0.0, 0.0], r),
+        exit_cost=0.0,
+    )
+    X = np.array(x0, float)
+    rho = np.linalg.norm(X, axis=1)
+    vt = lam * np.log(rho / r) + (rho - r) * math.sqrt(2 * q * R)
+
+    def exact(x, t):
+        x = np.asarray(x, float)
+        rr = np.maximum(np.linalg.norm(x, axis=1, keepdims=True), 1e-9)
+        return -(lam / rr + math.sqrt(2 * q * R)) * x / rr / R
+
+    return p, X, vt, exact
+
+
+def _ball3d(lam, policy):
+    p, X, vt, exact = ball3d(lam=lam)
+    pol = exact if policy == "exact" else _solve(p).policy
+    return dict(problem=p, policy=pol, X=X, truth=vt, truth_se=np.zeros(len(X)),
+                kw=dict(dt=0.004, max_time=30.0, boundary="free"), group="C")  # fmt: skip
+
+
+def flat_box(d, lam, policy):
+    """ẋ = u in d = 1 or 2, q = 1, R = 1, exit Box x₀ ≥ 1 (a flat face): v = √2 (1 − x₀)."""
+    axes = [Axis(-3.0, 1.5, 91)] + [Axis(-3.0, 3.0, 61)] * (d - 1)
+    lo, hi = [1.0] + [-50.0] * (d - 1), [50.0] * d
+    p = Problem(
+        LinearSystem(np.zeros((d, d)), np.eye(d)),
+        Grid(axes),
+        None,
+        state_cost=lambda x: 1.0 + 0.0 * x[:, 0],
+        control_cost=np.eye(d),
+        temperature=lam,
+        exit=Box(lo, hi),
+        exit_cost=0.0,
+    )
+    X = np.array([[-0.5] + [0.3] * (d - 1), [0.9] + [0.0] * (d - 1), [0.99] + [0.0] * (d - 1)])
+    vt = math.sqrt(2.0) * (1.0 - X[:, 0])
+    u = np.zeros(d)
+    u[0] = math.sqrt(2.0)
+    pol = (lambda x, t: np.tile(u, (len(x), 1))) if policy == "exact" else _solve(p).policy
+    return dict(problem=p, policy=pol, X=X, truth=vt, truth_se=np.zeros(3),
+                kw=dict(dt=0.01, max_time=20.0, boundary="free"), group="C")  # fmt: skip
+
+
+def pm_ball(lam, x0, dt=0.01):
+    """A point mass (noise on the velocity only) into a Ball exit, q = 0.5, λ 1–3, started next
+    to the ball (within a step's spread along the velocity); reference: the same certificate at
+    dt/8 (richardson extrapolated)."""
+    p = Problem(
+        PointMass(1.0),
+        Grid([Axis(-3.0, 3.0, 121), Axis(-4.0, 4.0, 121)]),
+        None,
+        state_cost=lambda x: 0.5 + 0.0 * x[:, 0],
+        control_cost=np.eye(1),
+        temperature=lam,
+        exit=Ball([1.0, 0.0], 0.4),
+        exit_cost=0.0,
+    )
+    return dict(problem=p, policy=_solve(p).policy, X=np.array([x0], float), truth=None,
+                truth_se=None, kw=dict(dt=dt, max_time=30.0), group="B", ref_dt=dt / 8)  # fmt: skip
+
+
+def _r34_duffing():
+    import strangers_round34 as r34
+
+    spec = r34.problems()["duffing_exit_hot_side"]
+    p = spec["p"]
+    return dict(problem=p, policy=_solve(p).policy, X=np.array([[0.58, 0.05]]), truth=None,
+                truth_se=None, kw=dict(dt=0.008, max_time=30.0), group="B", ref_dt=0.001)  # fmt: skip
+
+
+def configs():
+    C = {}
+    D = draw()
+    for d in (2, 3, 4):
+        for k in [x for x, s in D.items() if s["family"] == "lq" and s["d"] == d][:3]:
+            C[f"r25-{k}"] = lambda k=k: _r25(k)
+    for kind in ("hz", "fe", "hzfe"):
+        for k in [x for x, s in D.items() if s["family"] == "sep" and s["kind"] == kind][:3]:
+            C[f"r25-{k}"] = lambda k=k: _r25(k)
+    for name in ("lq1", "pm2", "lq3", "lq4", "lq2tiny"):
+        C[f"r35-{name}-exact"] = lambda name=name: _r35(name, "exact")
+        C[f"r35-{name}-grid"] = lambda name=name: _r35(name, "grid")
+    C["r35-exit2-exact"] = lambda: _r35("exit2", "exact")
+    C["r35-bimn-grid"] = lambda: _r35("bimn", "grid")
+    C["r35-exit1-exact"] = lambda: _r35("exit1", "exact")
+    C["r35-exit1-grid"] = lambda: _r35("exit1", "grid")
+    for name, rec in TRUTHS.items():
+        m = corpus.BY_NAME.get(name)
+        if m is None or m.time != 0 or "average" in rec["problem"]:
+            continue
+        exact = all(s["se"] == 0 for s in rec["states"])
+        if exact or name in ("goal_in_cell", "pinpoint_goal", "thin_wall", "narrow_goal", "dock"):
+            C[f"corpus-{name}"] = lambda name=name: _corpus(name)
+    for lam in (0.3, 1.0, 2.0):
+        for pol in ("exact", "grid"):
+            C[f"ball3d-l{lam}-{pol}"] = lambda lam=lam, pol=pol: _ball3d(lam, pol)
+    for d in (1, 2):
+        for pol in ("exact", "grid"):
+            C[f"flat{d}d-{pol}"] = lambda d=d, pol=pol: flat_box(d, 0.2, pol)
+    for lam in (1.0, 3.0):
+        C[f"pmball-l{lam}"] = lambda lam=lam: pm_ball(lam, [0.58, 0.05])
+    C["duffing_exit_hot_side"] = _r34_duffing
+    return C
+
+
+# ================= run ============================================================================
+KINDS = {
+    "unvisited": "costs have a feature narrower than a cell",
+    "steporder": "not a gridlbc.regions shape",
+    "gap": "does not shrink as dt",
+}
+
+
+def _kind(message):
+    for k, s in KINDS.items():
+        if s in message:
+            return k
+    return "other"
+
+
+def certify_one(p, pol, x, seed, kw, richardson=True):
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        t0 = time.perf_counter()
+        c = gridlbc.certify(p, pol, x, seed=seed, progress=False, richardson=richardson, **kw)
+        sec = time.perf_counter() - t0
+    ws = [(_kind(str(m.message)), str(m.message)[:400]) for m in w]
+    ws = [m for m in ws if m[0] != "other" or "Certificate" in m[1] or True]
+    return c, ws, sec
+
+
+def run(name, cfg_fn):
+    cfg = cfg_fn()
+    p, pol, X = cfg["problem"], cfg["policy"], cfg["X"]
+    lam = p.temperature
+    order = step_order(p)
+    refs = cfg["truth"]
+    ref_se = cfg["truth_se"]
+    if refs is None:  # a fine-step certificate is the reference
+        refs, ref_se = [], []
+        for x in X:
+            kw = dict(cfg["kw"], dt=cfg["ref_dt"])
+            c, _, _ = certify_one(p, pol, x, 99, kw)
+            refs.append(c.extrapolated_value)
+            ref_se.append(c.extrapolated_value_se)
+        refs, ref_se = np.array(refs), np.array(ref_se)
+    rows = []
+    for i, x in enumerate(X):
+        for seed in SEEDS:
+            try:
+                c, ws, sec = certify_one(p, pol, x, seed, cfg["kw"])
+            except Exception as e:  # report, do not stop
+                rows.append(dict(state=i, seed=seed, error=f"{type(e).__name__}: {e}"[:300]))
+                continue
+            vt, st = float(refs[i]), float(ref_se[i])
+            v, se = float(c.optimal_value), float(c.optimal_value_se)
+            ext, ext_se = float(c.extrapolated_value), float(c.extrapolated_value_se)
+            z = (v - vt) / math.hypot(se, st)
+            z_ext = (ext - vt) / math.hypot(ext_se, st)
+            tol = 0.005 * max(abs(vt), lam)
+            plain_off = abs(z) > 3 and abs(v - vt) > tol
+            ext_off = abs(z_ext) > 3
+            kinds = sorted({k for k, _ in ws})
+            verdict = {}
+            if "unvisited" in kinds:
+                verdict["unvisited"] = plain_off or ext_off
+            if "gap" in kinds:
+                verdict["gap"] = ext_off
+            if order < 1:
+                verdict["steporder"] = abs(z) > 3
+            rows.append(
+                dict(
+                    state=i, x=np.asarray(x).tolist(), seed=seed, truth=vt, truth_se=st, v=v,
+                    se=se, ext=ext, ext_se=ext_se, gap=float(c.extrapolation_gap), z=z,
+                    z_ext=z_ext, ess=float(c.effective_sample_size), k=float(c.pareto_k),
+                    trusted=bool(c.trusted), seconds=sec, kinds=kinds, verdict=verdict,
+                    warnings=[m for _, m in ws],
+                )
+            )  # fmt: skip
+    rec = dict(name=name, group=cfg["group"], lam=lam, order=order, kw=str(cfg["kw"]), rows=rows)
+    OUT.mkdir(parents=True, exist_ok=True)
+    (OUT / f"{name}.json").write_text(json.dumps(rec, indent=1, default=float))
+    return rec
+
+
+def table():
+    counts = {}
+    for f in sorted(OUT.glob("*.json")):
+        rec = json.loads(f.read_text())
+        for r in rec["rows"]:
+            if "error" in r:
+                print(rec["name"], "ERROR", r["error"])
+                continue
+            for k, ok in r["verdict"].items():
+                c = counts.setdefault((rec["group"], k), [0, 0, 0])
+                c[0] += 1
+                c[1 if ok else 2] += 1
+                if not ok or rec["group"] in "BC":
+                    print(f"{rec['name']} s{r['state']} seed{r['seed']} {k} "
+                          f"{'JUSTIFIED' if ok else 'FALSE'} v={r['v']:.4g}±{r['se']:.2g} "
+                          f"ext={r['ext']:.4g}±{r['ext_se']:.2g} gap={r['gap']:.3g} "
+                          f"truth={r['truth']:.4g} z={r['z']:.1f} z_ext={r['z_ext']:.1f}")  # fmt: skip
+            if rec["group"] in "BC" and not r["verdict"]:
+                print(f"{rec['name']} s{r['state']} seed{r['seed']} (none) v={r['v']:.4g}"
+                      f"±{r['se']:.2g} ext={r['ext']:.4g}±{r['ext_se']:.2g} truth="
+                      f"{r['truth']:.4g} z={r['z']:.1f} z_ext={r['z_ext']:.1f} t={r['seconds']:.1f}s")  # fmt: skip
+    for key, (n, ok, bad) in sorted(counts.items()):
+        print(key, f"fired {n} justified {ok} false {bad}")
+
+
+def main(argv):
+    C = configs()
+    if "--list" in argv:
+        print("\n".join(C))
+    if "--run" in argv:
+        for name in argv[argv.index("--run") + 1 :]:
+            if name.startswith("--"):
+                break
+            t0 = time.time()
+            run(name, C[name])
+            print(name, f"{time.time() - t0:.0f}s", flush=True)
+    if "--all" in argv:
+        for name in C:
+            if (OUT / f"{name}.json").exists():
+                continue
+            t0 = time.time()
+            try:
+                run(name, C[name])
+            except Exception as e:  # keep going
+                print(name, "FAILED", type(e).__name__, str(e)[:200], flush=True)
+                continue
+            print(name, f"{time.time() - t0:.0f}s", flush=True)
+    if "--table" in argv:
+        table()
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
