@@ -1,6 +1,75 @@
 """Stranger round 36: do certify's new warnings cry wolf, and did the bridge halving hurt?
 
-RESULTS: (filled in at the end of the round)
+RESULTS (library of main 46de7f5, branch r36, 2026-12-07, one thread, ``--all`` then ``--table``;
+73 configs, 567 certificates, each ``richardson=True`` with seeds 0, 1, 2; the old library, 4a218de
+before (4), via ``git archive 4a218de gridlbc`` and ``R36_OUT=.../old``). Counts are per
+certificate (start state × seed); (2) per problem.
+
+(1) check_unvisited: fired 63 — justified 48 (bimn 3/3; corpus goal_m2_3d, goal_off8, goal_off8_3d,
+    goal_face_3d s1, goal_4d s2, goal4d_mid, goal_quarter s0–s1, exit_strip_between s1: many of
+    them trusted, ESS ≈ n, nothing else warned: v̂ 0.1–0.6 above the exact value), FALSE 15, all
+    on certificates nothing else warned of, all reproducible on every seed:
+    * ``--run r25-sep2hz_02`` (9/9): S = 0.0085–0.010 (≈ 1 % of v), v̂ = the grid's own = truth:
+      s0 (0.619, −0.579) v̂ 1.011 ± 0.0001, truth 1.0112; s1 1.007 vs 1.0078 (z −5, Δt bias,
+      0.08 %); s2 2.489 vs 2.4868 (Δt bias 0.09 %; extrapolated 2.487, z_ext ≤ 0.5).
+    * ``--run corpus-goal_in_cell`` s1 (1, −1, 0.5) (3/3): S = 0.103 (4.6 % of v), v̂ 2.215 ±
+      0.00003 = the grid's own = truth 2.2148 (|z| ≤ 0.6): a start far from the goal, which the
+      goal does not change, but S does.
+    * ``--run corpus-goal_quarter`` s2 (−1, 0.5) (3/3): S = 0.000158 (0.01 % of v) against an SE of
+      0.000024: v̂ 1.6223 = truth. S has no floor relative to v or λ, so a negligible S fires
+      wherever the SE is smaller still.
+    The response S bounds what the feature could change; at starts it does not reach (and where
+    the grid solution is right) it still fires. A check that the feature is near the paths (or
+    that S matters against max(|v|, λ)) would remove all three.
+(2) callable exit crossed by noise (step_order ½; fires on every plain call): 13 problems, each
+    with at least one start/seed off by > 3 SE in the plain call (exit1 z 57–59, exit2 z 22–24,
+    sep2fe/hzfe z up to 53, cold_flow_exit, exit_strip_between); on notch_exit and toll_blind
+    barely (1 of 9 at |z| 3.3–3.9, the rest within 3 SE). No false alarm worth the name. BUT the
+    order-½ extrapolation made two right answers WRONG, silently (no gap warning):
+    * ``--run corpus-toll_blind``: plain v̂ within 3 SE at 8/9 (s2 (−0.1, −1.0) seed 2: 0.8967 =
+      truth 0.8967), extrapolated +0.04…+0.08 high on 8 of 9 (z_ext +1.5…+3.3; s2 seed 2: 0.9737,
+      +8.6 %; s0 seed 2: 2.3547 vs 2.2954): v at 2Δt is LOWER than at Δt (the toll strip, w =
+      0.008, is stepped over), so the bias is not the missed-crossing O(√Δt) the extrapolation
+      assumes, and the gap check does not see it at 3 SE.
+    * ``--run corpus-exit_strip_between`` s2 (1.5, 1.0): plain 1.424 (z 24), extrapolated
+      1.301–1.320 vs 1.3682 (z_ext −4.2…−5.8, 3/3 seeds), no gap warning.
+(3) extrapolation_gap: fired 65 — justified 42 (thin_wall s1, driftwall_kept_node, gain_band:
+    certificates 25–30 % low that NOTHING else warned of — a valuable true alarm; r25-lq3_00,
+    sliding_switch, cold_flow_exit beside ESS warnings), false beside ESS/k̂ warnings 4, FALSE on
+    right answers with no other CertificateWarning 19:
+    * zero SE (15): ``--run corpus-logistic_edge`` (12/12: no noise, SE 0; extrapolated 1.568 =
+      truth 1.568 to 4 digits, gap 0.0014, "inf of that difference's SEs") and ``--run
+      r25-sep2fe_02`` s0 (3/3: x0 inside the exit set, v = 0.1227 at every step, gap 5.55e-17).
+      Each also raises a RuntimeWarning "divide by zero encountered in scalar divide" from the
+      message (|gap| / SE). Needs a floor: gap against max(3 SE, rounding or a share of |v|).
+    * ``--run r25-sep2hz_01`` s2 (−1.932, −2.639) (3/3 seeds, systematic): v = 2.877, 2.884, 2.903
+      at Δt, 2Δt, 4Δt; extrapolated 2.870–2.871 vs truth 2.8710 (z_ext 0.2, −1.2, −2.0), gap
+      0.003–0.0055 (3.1–5.6 SEs). The bias has a Δt² part: with c₁h + c₂h² the (Δt, 2Δt)
+      extrapolation is off by 2c₂Δt² and the gap is 6c₂Δt², three times that; the warning says
+      "off by about as much" and fires on an extrapolation that is right. Testing gap/3 (the
+      fine extrapolation's own residual) against its SE would not fire here.
+    * ``--run corpus-two_doors`` s0 seed 2 (1/9): gap 3.2 SEs, extrapolated 1.302 vs 1.2990 (z_ext
+      2.8): chance (≈ 570 tests at 3 σ).
+True alarms still fire: bimn (unvisited, 3/3, v̂ 0.2334 vs −0.3518), exit1 (step order, plain z
+57–59; extrapolated now right, z_ext −1.8…0.6). duffing_exit_hot (0.58, 0.05) and a point mass by
+a Ball at λ 1 and 3 (``pmball-l1.0``, ``-l3.0``, start (0.58, 0.05)) no longer need one: (4)
+fixed them (duffing v̂ 0.931–0.949 vs dt-0.001 reference 0.9434, z −0.9…0.4; the old library
+0.6 % … z −34.5; pmball-l1.0 z −2.1…−1.9 vs old −13.5…−14.1), so nothing warns and nothing
+should. No true alarm was lost.
+(4) bridge halving, shaped exits with exact truths, z of plain v̂ | of the extrapolation (new vs
+old): flat Box exits (1-D, 2-D) IDENTICAL to the old library to every digit (plane detection
+works; plain z 3–10 is the documented O(Δt), z_ext −2.6…1.8); two_doors identical; 3-D ball
+(λ 0.3, 1, 2; exact and grid policies, 54 certificates) plain |z| ≤ 2.8, |z_ext| ≤ 2.5 (old ≤ 2.3
+| 2.2); tiny_ball_cold (ESS/k̂-warned) plain z up to 5.6 new vs 3.8 old, z_ext ≤ 3.1 vs 1.9
+(within its warned noise); three_doors |z_ext| ≤ 1.3 both. Nothing got worse. COST: a plain
+certify of the 3-D Ball first exit, n = 2000, Δt 0.004 (``--time``): 2.1–2.4 s vs 0.70–0.84 s
+before (×3); with richardson (third run included) 9–14 s vs 3.6–4.6 s per start; pmball 3.4 s vs
+0.6 s, duffing 5.9 s vs 1.3 s. Flat boxes: unchanged.
+
+Not run / caveats: verdicts are recomputed in ``--table`` (an SE of 0 gets a floor of 0.1 % of
+max(|v|, λ)); reference values of pmball and duffing are certificates at Δt/8 of the same
+library (not exact); r25 LQ draws with the default grid policy were mostly ESS/k̂-warned
+(no new warning on them was false).
 
 Mechanisms (library of main 46de7f5): (1) ``check_unvisited`` (a grid solution that drew samples
 is blind to a sub-cell cost feature and v̂* agrees with it); (2) a callable exit set crossed by
