@@ -481,6 +481,142 @@ def problems():
                 note="oscillator ω = 20, slow goal x0 → 1",
             )
         )
+    # ---- round-2 pushes: coarse long horizons, scaled copies, thin wall layers ----------------
+    for T, n in ((100.0, 31), (100.0, 21), (1000.0, 41)):
+        add(
+            lq(
+                f"long_pm_T{int(T)}_{n}",
+                PM_A,
+                PM_B,
+                [[1.0]],
+                diag(1.0, 0.1),
+                [0.0, 0.0],
+                I2,
+                [1.0, 0.0],
+                0.5,
+                T,
+                [(-4, 4, n), (-4, 4, n)],
+                [[-1.5, 1.0], [0.05, 0.05], [3.2, -3.0]],
+                pm=True,
+                note="coarse point mass, long horizon",
+            )
+        )
+    for T, rate, n in ((50.0, 0.5, 41), (20.0, 1.0, 41)):
+        add(
+            lq(
+                f"long_unstable_r{rate:g}_T{int(T)}",
+                [[rate, 1.0], [-1.0, rate]],
+                I2,
+                I2,
+                I2,
+                [0.0, 0.0],
+                I2,
+                [0.5, 0.5],
+                1.0,
+                T,
+                [(-4, 4, n), (-4, 4, n)],
+                [[1.0, -1.0], [0.5, 0.5], [-3.3, 3.3]],
+                note=f"unstable spiral (rate +{rate:g}), fully actuated",
+            )
+        )
+    for lam in (1e-3, 1e-2):
+        add(
+            lq(
+                f"long_pm_T50_l{lam:g}",
+                PM_A,
+                PM_B,
+                [[1.0]],
+                diag(1.0, 0.1),
+                [0.0, 0.0],
+                I2,
+                [1.0, 0.0],
+                lam,
+                50.0,
+                [(-4, 4, 81), (-4, 4, 81)],
+                [[-1.5, 1.0], [0.05, 0.05], [3.2, -3.0]],
+                pm=True,
+                note=f"point mass, long horizon, λ {lam:g} (v/λ up to 1e5)",
+            )
+        )
+    # the same point-mass task with space scaled by eps (R → R/eps², W → W/eps²): v unchanged
+    for eps in (1e-6, 1e6):
+        add(
+            lq(
+                f"scale_x{eps:g}",
+                PM_A,
+                PM_B,
+                [[1.0 / eps**2]],
+                diag(1.0 / eps**2, 0.1 / eps**2),
+                [0.0, 0.0],
+                diag(1.0 / eps**2, 1.0 / eps**2),
+                [1.0 * eps, 0.0],
+                0.5,
+                5.0,
+                [(-4 * eps, 4 * eps, 81), (-4 * eps, 4 * eps, 81)],
+                [[-1.5 * eps, 1.0 * eps], [0.05 * eps, 0.05 * eps], [3.2 * eps, -3.0 * eps]],
+                pm=True,
+                note=f"point mass with space scaled by {eps:g} (same v as the unscaled task)",
+            )
+        )
+    # the same task with time scaled by k (A → A/k, R → kR, q → q/k, T → kT): v unchanged
+    for k in (1e-4, 1e4):
+        add(
+            lq(
+                f"scale_t{k:g}",
+                [[0.0, 1.0 / k], [0.0, 0.0]],
+                PM_B,
+                [[k]],
+                diag(1.0 / k, 0.1 / k),
+                [0.0, 0.0],
+                I2,
+                [1.0, 0.0],
+                0.5,
+                5.0 * k,
+                [(-4, 4, 81), (-4, 4, 81)],
+                [[-1.5, 1.0], [0.05, 0.05], [3.2, -3.0]],
+                note=f"point mass as LinearSystem with time scaled by {k:g} (same v)",
+            )
+        )
+    for s in (30.0, 100.0, 300.0):
+        add(
+            lq(
+                f"cost_pm_s{s:g}_41",
+                PM_A,
+                PM_B,
+                [[1.0]],
+                diag(s, 0.1 * s),
+                [0.0, 0.0],
+                diag(s, s),
+                [0.5, 0.0],
+                1.0,
+                2.0,
+                [(-3, 3, 41), (-3, 3, 41)],
+                [[-1.5, 1.0], [0.5, 0.0], [2.7, -2.7]],
+                pm=True,
+                note=f"point mass, q and g scaled by {s:g}, λ 1, 41²",
+            )
+        )
+    for W, lam, n, T in ((200.0, 2.0, 41, 0.001), (400.0, 1.0, 61, 0.002), (100.0, 0.3, 41, 0.01)):
+        L = 2.0
+        h = 2 * L / (n - 1)
+        c = [0.5 * h + 0.1, -0.5 * h - 0.1]
+        add(
+            lq(
+                f"short_mid_W{W:g}_l{lam:g}_{n}",
+                Z2,
+                I2,
+                I2,
+                Z2,
+                [0.0, 0.0],
+                diag(W, W),
+                c,
+                lam,
+                T,
+                [(-L, L, n), (-L, L, n)],
+                [[0.4 * L + 0.5 * h, -0.3 * L - 0.5 * h], c, [c[0] + 0.5 * h, c[1] + 0.5 * h]],
+                note="steep goal centred on a cell centre; states at cell centres",
+            )
+        )
     return P
 
 
