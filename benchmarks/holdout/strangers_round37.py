@@ -41,7 +41,7 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
-from strangers_round25 import lq_value, sep_truth
+from strangers_round25 import build_sep, lq_value, sep_truth
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -81,7 +81,7 @@ def lq(name, A, B, R, Wq, cq, WT, cT, lam, T, box, X, pm=False, offset=0.0, note
     )
 
 
-def tiny(name, a, wq, cq, wt, ct, lam, T, box, X, note=""):
+def tiny(name, a, wq, cq, wt, ct, lam, T, box, X, note="", a0=None):
     """Separable reflected LQ: ẋᵢ = aᵢ xᵢ + uᵢ, q = Σ wqᵢ (xᵢ − cqᵢ)², g = Σ wtᵢ (xᵢ − ctᵢ)²."""
     return dict(
         family="tiny",
@@ -96,6 +96,7 @@ def tiny(name, a, wq, cq, wt, ct, lam, T, box, X, note=""):
         box=box,
         X=X,
         note=note,
+        a0=a0,
     )
 
 
@@ -617,6 +618,61 @@ def problems():
                 note="steep goal centred on a cell centre; states at cell centres",
             )
         )
+    # drift into a wall: a stationary boundary layer of width λ/(2|a0|), thinner than a cell
+    for a0, lam, n in ((5.0, 0.1, 41), (20.0, 0.1, 41), (20.0, 0.5, 81)):
+        add(
+            tiny(
+                f"wall_drift_a{a0:g}_l{lam:g}_{n}",
+                [0.0, 0.0],
+                [1.0, 0.5],
+                [-0.1, 0.0],
+                [5.0, 2.0],
+                [-0.15, 0.05],
+                lam,
+                2.0,
+                [(-0.2, 0.2, n), (-0.2, 0.2, n)],
+                [[0.0, 0.0], [-0.15, 0.05], [0.195, 0.195]],
+                note=f"constant drift +{a0:g} on x0 into the wall at 0.2, box ±0.2 (user system)",
+                a0=[a0, 0.0],
+            )
+        )
+    # a stiff UNSTABLE axis beside a slow one; long unstable horizons at large λ
+    for r, lam in ((100.0, 0.5), (10.0, 0.5), (10.0, 2.0)):
+        add(
+            lq(
+                f"mixed_unstable_r{r:g}_l{lam:g}",
+                diag(r, -0.1),
+                I2,
+                I2,
+                diag(1.0, 1.0),
+                [0.0, 0.5],
+                diag(1.0, 1.0),
+                [0.3, -0.5],
+                lam,
+                5.0,
+                [(-3, 3, 81), (-3, 3, 81)],
+                [[1.0, -1.0], [0.3, -0.5], [2.8, -2.8]],
+                note=f"axis 0 unstable at rate {r:g}, axis 1 stable at 0.1, both actuated",
+            )
+        )
+    for lam, n in ((2.0, 41), (5.0, 61)):
+        add(
+            lq(
+                f"long_unstable_bigl{lam:g}_{n}",
+                [[0.5, 1.0], [-1.0, 0.5]],
+                I2,
+                I2,
+                I2,
+                [0.0, 0.0],
+                I2,
+                [0.5, 0.5],
+                lam,
+                50.0,
+                [(-5, 5, n), (-5, 5, n)],
+                [[1.0, -1.0], [0.5, 0.5], [-2.5, 2.5]],
+                note=f"unstable spiral rate 0.5, λ {lam:g}, T 50",
+            )
+        )
     return P
 
 
@@ -631,6 +687,8 @@ def build(spec, widen=1.0):
         axes.append(Axis(lo, hi, n))
     grid = Grid(axes)
     lam, T = spec["lam"], spec["T"]
+    if spec["family"] == "tiny" and spec.get("a0"):
+        return build_sep(sep_spec(spec))
     if spec["family"] == "tiny":
         d = len(spec["a"])
         sysm = LinearSystem(np.diag(spec["a"]), np.eye(d))
@@ -666,9 +724,13 @@ def build(spec, widen=1.0):
 
 
 def sep_spec(spec):
-    """Round 25's separable spec of a ``tiny`` problem (reflecting walls)."""
+    """Round 25's separable spec of a ``tiny`` problem (reflecting walls); with a constant drift
+    ``a0`` it is solved as round 25's ``Sep`` system (a user's own ``ControlAffineSystem``)."""
     axes = []
     for i, (lo, hi, n) in enumerate(spec["box"]):
+        a_terms = [["lin", spec["a"][i], 0.0]]
+        if spec.get("a0"):
+            a_terms.append(["const", spec["a0"][i]])
         axes.append(
             dict(
                 lo=lo,
@@ -676,7 +738,7 @@ def sep_spec(spec):
                 n=n,
                 periodic=False,
                 R=1.0,
-                a=[["lin", spec["a"][i], 0.0]],
+                a=a_terms,
                 b=[["const", 1.0]],
                 q=[["quad", spec["wq"][i], spec["cq"][i]]],
                 g=[["quad", spec["wt"][i], spec["ct"][i]]],
@@ -703,6 +765,8 @@ def free_lq(spec):
 def truth(spec, X, ts):
     if spec["family"] == "tiny":
         st = sep_truth(sep_spec(spec), X, ts)
+        if spec.get("a0"):
+            return {t: (np.asarray(st[t][0]), np.asarray(st[t][1]), None) for t in ts}
         fl = free_lq(spec)
         return {t: (np.asarray(st[t][0]), np.asarray(st[t][1]), lq_value(fl, X, t)) for t in ts}
     sp = dict(spec)
