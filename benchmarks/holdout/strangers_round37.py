@@ -673,6 +673,40 @@ def problems():
                 note=f"unstable spiral rate 0.5, λ {lam:g}, T 50",
             )
         )
+    # the same stiff-unstable problems judged against the REFLECTED truth (separable: 1-D FD)
+    for r, lam in ((100.0, 0.5), (10.0, 0.5), (10.0, 2.0)):
+        add(
+            tiny(
+                f"refl_unstable_r{r:g}_l{lam:g}",
+                [r, -0.1],
+                [1.0, 1.0],
+                [0.0, 0.5],
+                [1.0, 1.0],
+                [0.3, -0.5],
+                lam,
+                5.0,
+                [(-3, 3, 81), (-3, 3, 81)],
+                [[1.0, -1.0], [0.3, -0.5], [2.8, -2.8]],
+                note=f"= mixed_unstable_r{r:g}_l{lam:g}, truth of the reflected box",
+            )
+        )
+    for a0, lam, n in ((100.0, 0.5, 41), (50.0, 1.0, 41)):
+        add(
+            tiny(
+                f"wall_drift_a{a0:g}_l{lam:g}_{n}",
+                [0.0, 0.0],
+                [1.0, 0.5],
+                [-0.1, 0.0],
+                [5.0, 2.0],
+                [-0.15, 0.05],
+                lam,
+                2.0,
+                [(-0.2, 0.2, n), (-0.2, 0.2, n)],
+                [[0.0, 0.0], [-0.15, 0.05], [0.195, 0.195]],
+                note=f"constant drift +{a0:g} on x0 into the wall at 0.2, box ±0.2 (user system)",
+                a0=[a0, 0.0],
+            )
+        )
     return P
 
 
