@@ -707,6 +707,29 @@ def problems():
                 a0=[a0, 0.0],
             )
         )
+    # a goal AT the wall the drift presses on: the boundary layer λ/(2 a0) decides v
+    for a0, lam, n, wq0, wt0 in (
+        (100.0, 1.0, 41, 0.0, 1e4),
+        (100.0, 1.0, 41, 1e4, 0.0),
+        (30.0, 1.0, 81, 0.0, 3e3),
+        (300.0, 1.0, 41, 0.0, 1e5),
+    ):
+        add(
+            tiny(
+                f"wall_goal_a{a0:g}_q{wq0:g}_g{wt0:g}_{n}",
+                [0.0, 0.0],
+                [wq0, 0.5],
+                [0.2, 0.0],
+                [wt0, 2.0],
+                [0.2, 0.05],
+                lam,
+                2.0,
+                [(-0.2, 0.2, n), (-0.2, 0.2, n)],
+                [[0.0, 0.0], [0.2, 0.05], [-0.195, -0.195]],
+                note=f"drift +{a0:g} into the wall at 0.2 where a steep cost is centred",
+                a0=[a0, 0.0],
+            )
+        )
     return P
 
 
