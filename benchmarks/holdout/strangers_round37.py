@@ -770,6 +770,24 @@ def problems():
             note="point mass whose force lags the control (rate 50)",
         )
     )
+    # a drift at 45 degrees pressing the state into a corner (the Δt/h blind spot), goal there
+    for a0, wt0 in ((50.0, 300.0), (50.0, 0.0)):
+        add(
+            tiny(
+                f"corner_a{a0:g}_g{wt0:g}",
+                [0.0, 0.0],
+                [0.5, 0.5],
+                [0.0, 0.0],
+                [wt0 or 2.0, wt0 or 2.0],
+                [0.2, 0.2] if wt0 else [-0.1, -0.1],
+                1.0,
+                2.0,
+                [(-0.2, 0.2, 41), (-0.2, 0.2, 41)],
+                [[0.0, 0.0], [0.195, 0.195], [-0.195, -0.195]],
+                note=f"constant drift ({a0:g}, {a0:g}) into the corner (0.2, 0.2)",
+                a0=[a0, a0],
+            )
+        )
     return P
 
 
@@ -952,7 +970,7 @@ def run(name, spec):
     return rec
 
 
-def tol_run(name, spec, max_seconds=150):
+def tol_run(name, spec, max_seconds=90):
     p = build(spec)
     X = np.asarray(spec["X"], float)
     ts = [0.0, 0.9 * spec["T"]]
@@ -1013,8 +1031,13 @@ def wall_flags(r):
 
 def table():
     recs = [json.loads(f.read_text()) for f in sorted(OUT.glob("*.json"))]
+    # the unstable boxes are judged against their reflected truth (refl_unstable_*): against the
+    # free-space Riccati they are the walls' doing (a box 1.5x wider moves v by 2-5x)
+    skipped = [r["name"] for r in recs if r["name"].startswith("mixed_unstable_")]
+    recs = [r for r in recs if r["name"] not in skipped]
+    print("judged by their reflected twins (refl_unstable_*), not counted:", skipped)
     n = big = silent = under_w = 0
-    silent_list, walled, crashes = [], [], []
+    silent_list, walled, crashes, under_list = [], [], [], []
     for r in recs:
         if r.get("fail"):
             crashes.append((r["name"], r["fail"]))
@@ -1038,6 +1061,10 @@ def table():
                         )
                 if r["warned"] and rd["est"][i] < 0.5 * errabs and err > 0.02:
                     under_w += 1
+                    under_list.append(
+                        (r["name"], rd["t"], r["spec"]["X"][i], round(err, 4))
+                        + (round(rd["est_rel"][i], 4),)
+                    )
     print(
         f"problems {len(recs)}  pairs {n}  >10% {big}  SILENT {silent}  "
         f"under-reads in warned solves {under_w}  wall pairs (not counted) {len(walled)}"
@@ -1045,6 +1072,9 @@ def table():
     print("silent:")
     for s in silent_list:
         print("   ", s)
+    print("under-reads in warned solves:")
+    for u in under_list:
+        print("   ", u)
     print("wall-flagged:", walled)
     print("crashes:", crashes)
     for r in recs:
