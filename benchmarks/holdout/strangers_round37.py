@@ -1,6 +1,48 @@
 """Stranger round 37: extremes of TIME and SCALE, posed with the public API only (SPEC §1, §6, §9–10).
 
-RESULTS: (filled in below after the runs)
+RESULTS (library of main 46de7f5, worktree r37, 2026-12-07, one thread, ``--run`` then
+``--tol`` then ``--table``; 74 problems run, 71 counted):
+
+- 405 counted (problem, state, t) pairs (t = 0 and 0.9 T), 21 more flagged as wall pairs (a box
+  1.5× wider at the same spacing and Δt moves v by more than a quarter of the error: the
+  free-space Riccati is not their truth) and not counted. No crash. No UnderflowWarning anywhere
+  and ``diagnostics.underflow_nodes`` = 0 in every solve, also at v/λ up to ~10⁴
+  (``long_pm_T50_l0.001`` 7400, ``cost_offset1000`` 10⁴, ``cost_si_s1000`` 3900): right or
+  warned by ResolutionWarning.
+- > 10 % off: 88 pairs in 21 problems, every one warned. SILENT (> 10 %, no GridlbcWarning): 0.
+- under-reads in warned solves (ê < ½ |v − v*|, err > 2 %): 4, all ``wall_goal_a100_q0_g10000_41``
+  (drift +100 pressing into the wall at x0 = 0.2 where g = 10⁴ (x0 − 0.2)² is centred, λ 1,
+  41², a boundary layer λ/(2a) = 0.005 of half a cell): v 1.085 vs 0.3216 (76 % of λ), ê 29 %,
+  at the states (0.2, 0.05) and (−0.195, −0.195), t = 0 and 1.8 (ê 126 % at the origin).
+- 3 LQ boxes with an unstable axis (``mixed_unstable_r*``: rates 100 / 10 beside −0.1, box ±3) are
+  50–98 % off the FREE-SPACE Riccati and two are quiet, but that is the walls: the same problems
+  judged against the reflected truth (``refl_unstable_r*``, separable: round 25's 1-D FD) are
+  within 1.1 %, 4.0 % and 5.1 % (ê 5.1 % at the 5.1 % pair); they are not counted. A teacher
+  comparing with Riccati gets no hint that the box, not the grid, made v 5× smaller.
+- unwarned problems (13): largest error 5.1 % (``refl_unstable_r10_l2``, ê 5.1 %); the wall
+  layers ``wall_drift_*`` (λ ≥ 0.5) are 3.4–4.3 % low with ê 2–4 %; the corner press
+  ``corner_a50_g0`` 2.7 % with ê 1.8–2.3 %.
+- false warnings (warned, every pair < 2 %): 23 of 71 — every long-horizon point mass and
+  oscillator (T 20–1000), the stiff LQs, the scaled copies and the tiny boxes; nearly all name a
+  state near the goal at t ≈ T − Δt.
+- scale invariance holds to the printed digits: the same point-mass task with space scaled by
+  10⁻⁶ / 10⁶ and time by 10⁻⁴ / 10⁴ (T = 5·10⁻⁴ … 5·10⁴) gives identical v, ê, warnings
+  (17 steps each).
+- tol = 0.02 (states = the 3, times = 0 and 0.9 T, max_seconds = 90): ``short_mid_W100_l0.3_41``
+  met on 321² at Δt 6.25e−5 (errors < 0.003 %); three said they stopped on the time budget with
+  the estimate reached: ``wall_goal_a100_q0_g1000_41`` (refined Δt only, 41² kept: 22 % → 10.9 %
+  off, estimate 11.2 %), ``cost_pm_s1000`` (321², 218.7 % estimated; errors 0.2–22 %, the 22 % at
+  a wall-flagged far state), ``huge_si_201_l0.1`` (401², 326 % estimated; t = 0 exact, 5.9 % at
+  t = 4.5). Met-but-off: none.
+
+Default-solve findings by family (worst error, warned?): very long horizons are accurate
+(≤ 1.8 % on 31²–121², 4.5 % on 21², T up to 1000, Δt 0.19–1.15, up to 1691 steps) and over-warned;
+very short horizons with a steep g off the nodes are 13–2450 % off next to the goal on 41²–121²
+and always warned (201² at λ = 2 is right and quiet); the huge box (±50, goal 100× smaller) is 5 %,
+352 % (λ 0.1) and 129 % (point mass) off, warned; tiny reflected boxes are within 0.6 %; g, q ×1000
+is 12–17 % off (warned, the splitting message "control moves the state by 86–117 cells per step");
+stiff rate-100 axes (stable, coupled, actuator lags) within 3.5 %, the 3-D lagged point mass 16 %
+(warned) and the ω = 20 oscillator 22–67 % (warned, partly walls).
 
 Families (``--list`` prints every problem's definition):
 
