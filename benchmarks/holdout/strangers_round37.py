@@ -830,6 +830,25 @@ def problems():
                 a0=[a0, a0],
             )
         )
+    # huge boxes at large λ and long horizons: the goal sub-cell, the paths far
+    for L, n, lam, T in ((100.0, 201, 2.0, 20.0), (50.0, 101, 5.0, 50.0), (50.0, 101, 0.5, 50.0)):
+        add(
+            lq(
+                f"huge_si_L{L:g}_{n}_l{lam:g}_T{T:g}",
+                Z2,
+                I2,
+                I2,
+                Z2,
+                [0.0, 0.0],
+                diag(16.0, 16.0),
+                [0.3, -0.2],
+                lam,
+                T,
+                [(-L, L, n), (-L, L, n)],
+                [[0.4 * L, -0.2 * L], [0.3, -0.2], [0.84 * L, 0.8 * L]],
+                note=f"box ±{L:g} (h = {2 * L / (n - 1):g}), goal width ~0.25, no running cost",
+            )
+        )
     return P
 
 
