@@ -1,15 +1,15 @@
 """Stranger round 37: extremes of TIME and SCALE, posed with the public API only (SPEC §1, §6, §9–10).
 
 RESULTS (library of main 46de7f5, worktree r37, 2026-12-07, one thread, ``--run`` then
-``--tol`` then ``--table``; 74 problems run, 71 counted):
+``--tol`` then ``--table``; 77 problems run, 74 counted):
 
-- 405 counted (problem, state, t) pairs (t = 0 and 0.9 T), 21 more flagged as wall pairs (a box
+- 423 counted (problem, state, t) pairs (t = 0 and 0.9 T), 21 more flagged as wall pairs (a box
   1.5× wider at the same spacing and Δt moves v by more than a quarter of the error: the
   free-space Riccati is not their truth) and not counted. No crash. No UnderflowWarning anywhere
   and ``diagnostics.underflow_nodes`` = 0 in every solve, also at v/λ up to ~10⁴
   (``long_pm_T50_l0.001`` 7400, ``cost_offset1000`` 10⁴, ``cost_si_s1000`` 3900): right or
   warned by ResolutionWarning.
-- > 10 % off: 88 pairs in 21 problems, every one warned. SILENT (> 10 %, no GridlbcWarning): 0.
+- > 10 % off: 94 pairs in 24 problems, every one warned. SILENT (> 10 %, no GridlbcWarning): 0.
 - under-reads in warned solves (ê < ½ |v − v*|, err > 2 %): 4, all ``wall_goal_a100_q0_g10000_41``
   (drift +100 pressing into the wall at x0 = 0.2 where g = 10⁴ (x0 − 0.2)² is centred, λ 1,
   41², a boundary layer λ/(2a) = 0.005 of half a cell): v 1.085 vs 0.3216 (76 % of λ), ê 29 %,
@@ -22,9 +22,14 @@ RESULTS (library of main 46de7f5, worktree r37, 2026-12-07, one thread, ``--run`
 - unwarned problems (13): largest error 5.1 % (``refl_unstable_r10_l2``, ê 5.1 %); the wall
   layers ``wall_drift_*`` (λ ≥ 0.5) are 3.4–4.3 % low with ê 2–4 %; the corner press
   ``corner_a50_g0`` 2.7 % with ê 1.8–2.3 %.
-- false warnings (warned, every pair < 2 %): 23 of 71 — every long-horizon point mass and
+- false warnings (warned, every pair < 2 %): 23 of 74 — every long-horizon point mass and
   oscillator (T 20–1000), the stiff LQs, the scaled copies and the tiny boxes; nearly all name a
   state near the goal at t ≈ T − Δt.
+- absurd over-reads on huge boxes: ``huge_si_L*`` (±50–±100, h = 0.5–1, goal exp(−16|x − c|²),
+  λ 0.5–5, T 20–50) are exact at t = 0 (errors ≤ 0.4 % at the 3 states, 0.00 % at most) while
+  ê reads 10⁴–10⁶ % of v there (e.g. 53520 % at (40, −20), λ 2, where v = v* = 62.05). The
+  default step there is T/10 (Δt = 2 and 5, 10 steps), and at t = 0.9 T (one step before the end)
+  v is 20–32 % high at the far states (warned).
 - scale invariance holds to the printed digits: the same point-mass task with space scaled by
   10⁻⁶ / 10⁶ and time by 10⁻⁴ / 10⁴ (T = 5·10⁻⁴ … 5·10⁴) gives identical v, ê, warnings
   (17 steps each).
