@@ -112,6 +112,18 @@ MAX_UNEXITED = 0.01
 """Above this share of samples that had not reached the exit set by ``max_time`` (a first-exit
 problem without a horizon), :func:`gridlbc.certify` warns: their costs are truncated."""
 
+UNVISITED_FLOOR = 0.05
+"""A grid solution's response S to the costs between its nodes counts as a feature the samples
+may have missed (:func:`check_unvisited`) only above this share of max(abs(v̂*), λ), the default
+tolerance of a solve's own warning (:data:`gridlbc.accuracy.DEFAULT_TOLERANCE`): S is read on
+the coarser grid and errs high (docs page :doc:`accuracy`), and below it (stranger round 36: S
+of 0.01 % to 4.6 % of v where the certificate was right) it is no evidence of one."""
+
+EXTRAPOLATION_FLOOR = 1e-3
+"""``certify(..., richardson=True)`` warns of an extrapolation whose residual (a third of
+:attr:`Certificate.extrapolation_gap`) exceeds both its SE and this share of max(abs(v), λ): a
+deterministic problem (SE 0) would otherwise be warned of the rounding of its last digits."""
+
 
 _ESTIMATES = (
     "optimal_value",
@@ -182,14 +194,16 @@ class Certificate:
         resolved (:func:`gridlbc.simulate.resolve_boundary`).
     extrapolated_value, extrapolated_value_se : float, ndarray (k,) or None
         With ``certify(..., richardson=True)``: v* extrapolated to a vanishing Euler–Maruyama
-        step, (r v̂*(Δt) − v̂*(2Δt))/(r − 1) with r = 2^p (Δt this certificate's :attr:`dt`; the
-        estimator's bias is O(Δt^p), p = :func:`step_order`: 2 v̂*(Δt) − v̂*(2Δt) where p = 1),
-        and its SE √(r² SE(Δt)² + SE(2Δt)²)/(r − 1) (independent draws). None otherwise.
+        step, 2 v̂*(Δt) − v̂*(2Δt) (Δt this certificate's :attr:`dt`; the estimator's bias is
+        O(Δt); with the steps actually taken, T over a whole number of them), and its SE
+        √(4 SE(Δt)² + SE(2Δt)²) (independent draws). None otherwise.
     extrapolation_gap : float, ndarray (k,) or None
         With ``certify(..., richardson=True)``: the extrapolation from (Δt, 2Δt) less the same
         from (2Δt, 4Δt), a third run at 4Δt (seed + 2): zero up to sampling where the bias is
-        c Δt^p, and :func:`gridlbc.certify` warns where it is more than 3 of its SEs (the
-        extrapolated value is then off by about as much). None otherwise.
+        c Δt, and about three times the extrapolation's own error where a c₂Δt² remains.
+        :func:`gridlbc.certify` warns where it is beyond 3 of its SEs and a third of it exceeds
+        the extrapolation's SE (and :data:`EXTRAPOLATION_FLOOR` of max(abs(v), λ)). None
+        otherwise.
     unexited_fraction : float or ndarray (k,)
         For a first-exit problem: the share of the proposal's samples that had not reached the
         exit set by the end (truncated costs, see the module docstring); 0 otherwise.
@@ -421,7 +435,7 @@ def sample_certificate(
     policy alone. The arguments and the result are :func:`gridlbc.certify`'s.
 
     With ``richardson``, two certificates at Δt and 2Δt (independent draws) give the
-    extrapolated value (:func:`step_order`) and the certificate's diagnostics are the worse of
+    extrapolated value and the certificate's diagnostics are the worse of
     the two runs' (the smaller effective sample size, the larger k̂ and unexited share): a
     heavy tail at 2Δt spoils the extrapolation as much as one at Δt. A third at 4Δt checks
     the extrapolation (:attr:`Certificate.extrapolation_gap`)."""
@@ -458,17 +472,17 @@ def sample_certificate(
         boundary=boundary,
         max_time=max_time,
     )
+    if crossings_unchecked(problem):
+        warn_user(
+            "certify: the exit set is not a gridlbc.regions shape, so a path is stopped only "
+            "where a step lands in it, and one that crosses into it and back within a step goes "
+            "on: v* is biased by O(√dt), which neither its standard error nor the first-order "
+            "extrapolation of richardson=True removes. Give the exit set as a shape (Box, Ball, "
+            "their unions: crossings between the steps are then found by a Brownian bridge), or "
+            "halve dt to see how far the value moves",
+            CertificateWarning,
+        )
     if not richardson:
-        if step_order(problem) < 1.0:
-            warn_user(
-                "certify: the exit set is not a gridlbc.regions shape, so a path is stopped only "
-                "where a step lands in it, and one that crosses into it and back within a step "
-                "goes on: v* is biased by O(√dt), which its standard error does not include. Give "
-                "the exit set as a shape (Box, Ball, their unions: crossings between the steps "
-                "are then found by a Brownian bridge), or certify with richardson=True, which "
-                "extrapolates at that order",
-                CertificateWarning,
-            )
         certificate = once(dt, seed)
         check_unvisited(problem, samplers, certificate)
         return certificate
@@ -484,33 +498,33 @@ def sample_certificate(
     coarse, coarser = (
         once(m * fine.dt, None if seed is None else seed + j) for j, m in ((1, 2), (2, 4))
     )
-    order = step_order(problem)
     runs = (fine, coarse, coarser)
-    h = [c.dt**order for c in runs]  # the steps taken (T over a whole number of them), ^p
+    h = [c.dt for c in runs]  # the steps taken (T over a whole number of them)
     v1, v2, v4 = (np.asarray(c.optimal_value) for c in runs)
     s1, s2, s4 = (np.asarray(c.optimal_value_se) for c in runs)
 
     def weights(a: int, b: int) -> tuple[float, float]:
-        """(w_a, w_b) with w_a v_a + w_b v_b free of a bias c Δt^p (runs a, b)."""
+        """(w_a, w_b) with w_a v_a + w_b v_b free of a bias c Δt (runs a, b)."""
         return h[b] / (h[b] - h[a]), -h[a] / (h[b] - h[a])
 
     (w1, w2), (u2, u4) = weights(0, 1), weights(1, 2)
     extrapolated, se = w1 * v1 + w2 * v2, np.hypot(w1 * s1, w2 * s2)
     gap = w1 * v1 + (w2 - u2) * v2 - u4 * v4  # from (Δt, 2Δt) less from (2Δt, 4Δt)
     gap_se = np.sqrt((w1 * s1) ** 2 + ((w2 - u2) * s2) ** 2 + (u4 * s4) ** 2)
-    table = [np.atleast_1d(c) for c in (v1, v2, v4, extrapolated)]
-    gaps, sigmas = np.atleast_1d(gap), np.atleast_1d(gap_se)
-    for i in np.flatnonzero(np.abs(gaps) > 3 * sigmas):
-        at_dt, at_2dt, at_4dt, best = (column[i] for column in table)
+    # a bias c₁Δt + c₂Δt² leaves 2c₂Δt² in the extrapolation and 6c₂Δt² in the gap
+    residual = np.abs(gap) / 3
+    floor = EXTRAPOLATION_FLOOR * np.fmax(np.abs(extrapolated), problem.temperature)
+    flagged = (np.abs(gap) > 3 * gap_se) & (residual > np.fmax(se, floor))
+    table = [np.atleast_1d(c) for c in (v1, v2, v4, extrapolated, residual, se)]
+    for i in np.flatnonzero(np.atleast_1d(flagged)):
+        at_dt, at_2dt, at_4dt, best, off, error = (column[i] for column in table)
         warn_user(
-            f"certify: at x0 = {state_text(fine.start_states[i])} the time step's bias does not "
-            f"shrink as dt^{order:g}, which the extrapolation assumes: v* = "
-            f"{at_dt:.4g}, {at_2dt:.4g} and {at_4dt:.4g} at dt, 2 dt and 4 dt, and extrapolated "
-            f"from the first two it is {abs(gaps[i]):.3g} away from the last two's extrapolation "
-            f"({abs(gaps[i]) / sigmas[i]:.1f} of that difference's SEs). The extrapolated value "
-            f"{best:.4g} may be off by about as much: certify with a smaller dt (the step is "
-            "long against the dynamics somewhere the paths go: by an exit set, or where the "
-            "policy is steep)",
+            f"certify: at x0 = {state_text(fine.start_states[i])} the time step's bias is not "
+            f"yet of first order: v* = {at_dt:.4g}, {at_2dt:.4g} and {at_4dt:.4g} at dt, 2 dt "
+            "and 4 dt, and the extrapolations from the first two and from the last two differ "
+            f"beyond their sampling. The extrapolated value {best:.4g} (SE {error:.2g}) is then "
+            f"off by about {off:.2g}: certify with a smaller dt (the step is long against the "
+            "dynamics somewhere the paths go: by an exit set, or where the policy is steep)",
             CertificateWarning,
         )
     fields = {  # the worse diagnostics of the two runs, and the extrapolation
@@ -525,25 +539,26 @@ def sample_certificate(
     return dataclasses.replace(fine, **shaped)  # type: ignore[arg-type]
 
 
-def step_order(problem: Problem) -> float:
-    """The order p in Δt of the certificate's bias from its time step, v̂*(Δt) − v* ∝ Δt^p, which
-    ``richardson=True`` extrapolates away, (2^p v̂*(Δt) − v̂*(2Δt))/(2^p − 1): 1 for the
-    Euler–Maruyama chain's weak error, ½ where an exit set is checked only at the steps (a
-    callable, not a :mod:`gridlbc.regions` shape) and the noise moves the paths across its
-    boundary: a path that crosses it and comes back within a step of size Δt is missed with a
-    probability that shrinks only as √Δt (Broadie, Glasserman & Kou, Math. Finance 1997), which a
-    shape's Brownian-bridge check (:func:`gridlbc.simulate.euler_maruyama`) removes.
+def crossings_unchecked(problem: Problem) -> bool:
+    """Whether the certificate's paths can cross the exit set's boundary between two steps
+    unseen: an exit set given as a callable (not a :mod:`gridlbc.regions` shape, whose
+    crossings a Brownian bridge finds, :func:`gridlbc.simulate.euler_maruyama`) where the noise
+    moves the paths across its boundary. A path that crosses and comes back within a step of
+    size Δt is then missed with a probability that shrinks only as √Δt (Broadie, Glasserman &
+    Kou, Math. Finance 1997): a bias of that order, which the first-order extrapolation of
+    ``richardson=True`` does not remove (extrapolating at order ½ instead amplified other
+    biases of the step: stranger round 36, a toll strip the steps cross, 8.6 % high).
 
     Which axes cross the boundary is read on the grid: those along which the exit set's nodes
     meet the others, at the nodes on either side, with the noise's variance (B R⁻¹ Bᵀ)_kk
     there. A boundary that only an axis without noise crosses (a point mass's position) is
     crossed by paths of bounded speed, whose excursions within a step are O(Δt). Without a
-    grid, ½."""
+    grid, any callable exit set."""
     if problem.exit is None or has_geometry(problem.exit):
-        return 1.0
+        return False
     grid = problem.grid
     if grid is None:
-        return 0.5
+        return True
     inside = grid.reshape(problem.exit_mask())
     spread = problem.R_inv
     for k in range(grid.ndim):
@@ -554,8 +569,8 @@ def step_order(problem: Problem) -> float:
         nodes = grid.node_coordinates(np.ravel_multi_index(np.vstack([lower, upper]).T, grid.shape))
         B = np.asarray(problem.system.input_matrix(nodes), dtype=float)
         if np.any(np.einsum("nj,jl,nl->n", B[:, k, :], spread, B[:, k, :]) > 0):
-            return 0.5
-    return 1.0
+            return True
+    return False
 
 
 def _certify_once(
@@ -685,8 +700,9 @@ def check_unvisited(problem: Problem, samplers: list, certificate: Certificate) 
     certified at 0.2334 ± 0.0004 where the optimum is −0.352). The grid solution's error
     estimate measures what such features change: S, its response to the costs' excess between
     the nodes (:class:`gridlbc.accuracy.subcell.Response`, docs page :doc:`accuracy`). Where S
-    at x₀ exceeds three of v̂*'s standard errors and v̂* lies within S/2 of that solution's own
-    value, the samples most likely missed the feature, and v̂* may be off by up to S. Read only
+    at x₀ exceeds three of v̂*'s standard errors and :data:`UNVISITED_FLOOR` of max(abs(v̂*), λ),
+    and v̂* lies within S/2 of that solution's own value, the samples most likely missed the
+    feature, and v̂* may be off by up to S. Read only
     for samplers that are grid solutions of the same task (the policy of a
     :class:`~gridlbc.Solution`, or the automatic one, :class:`gridlbc.certify.GridPolicy`) whose
     estimate ran the raised solve (a feature was found)."""
@@ -704,8 +720,9 @@ def check_unvisited(problem: Problem, samplers: list, certificate: Certificate) 
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # an underflowed value was the solve's to warn of
             own = np.reshape(solution.value(starts, 0.0), -1)
+        scale = UNVISITED_FLOOR * np.fmax(np.abs(value), problem.temperature)
         with np.errstate(invalid="ignore"):
-            blind = (change > 3 * se) & (np.abs(value - own) < 0.5 * change)
+            blind = (change > np.fmax(3 * se, scale)) & (np.abs(value - own) < 0.5 * change)
         for i in np.flatnonzero(blind):
             warn_user(
                 f"certify: at x0 = {state_text(starts[i])} the costs have a feature narrower "

@@ -114,14 +114,14 @@ def certify(
         for both (:mod:`gridlbc.certificate`).
     richardson : bool
         Also certify at twice the step, from independent draws (seed + 1), and extrapolate the
-        step's bias away (O(Δt), or O(√Δt) for an exit set given as a callable, checked only at
-        the steps: :func:`gridlbc.certificate.step_order`): :attr:`Certificate.extrapolated_value`,
-        its SE and :attr:`Certificate.step_contribution`; :meth:`Certificate.interval` then
-        bounds the SDE's optimum, and the diagnostics are the worse of the two runs'. A third run
-        at 4Δt (seed + 2) checks the extrapolation: where the one from (2Δt, 4Δt) differs from
-        it by more than 3 SEs (:attr:`Certificate.extrapolation_gap`), the bias does not yet
-        shrink at the assumed order, and :class:`CertificateWarning` says so. Needs at least 8
-        steps; costs three quarters as much again. Without it, a callable exit set is warned of (docs page
+        step's O(Δt) bias away: :attr:`Certificate.extrapolated_value`, its SE and
+        :attr:`Certificate.step_contribution`; :meth:`Certificate.interval` then bounds the
+        SDE's optimum, and the diagnostics are the worse of the two runs'. A third run at 4Δt
+        (seed + 2) checks the extrapolation (:attr:`Certificate.extrapolation_gap`), and
+        :class:`CertificateWarning` says where the bias is not yet of first order. Needs at
+        least 8 steps; costs three quarters as much again. An exit set given as a callable and
+        crossed by the noise carries an O(√Δt) bias that no extrapolation here removes, and is
+        warned of (:func:`gridlbc.certificate.crossings_unchecked`, docs page
         :doc:`validating`).
     max_time : float, optional
         For a first-exit problem without a horizon (required there): the paths stop at this

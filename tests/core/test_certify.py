@@ -501,26 +501,21 @@ def _push(x, t):
     return np.full((len(x), 1), np.sqrt(2.0))
 
 
-def test_an_exit_checked_only_at_the_steps_warns_and_is_extrapolated_at_order_half():
+def test_an_exit_checked_only_at_the_steps_is_warned_of_and_a_shape_is_not():
     """A callable exit set stops a path only where a step lands in it: one that crosses and
-    comes back within the step goes on, a bias of O(√Δt) (here tens of SEs at Δt = 0.005).
-    Plain certify warns; richardson=True extrapolates at that order, (√2 v(Δt) − v(2Δt))/(√2 −
-    1), from the two runs (the 2Δt run's seed is seed + 1), and lands within 3 of its SEs of
-    the optimum. A Box (a Brownian-bridge check between the steps) leaves the O(Δt) bias of
-    the running cost, which the first-order extrapolation removes."""
+    comes back within the step goes on, a bias of O(√Δt) (here tens of SEs at Δt = 0.005) that
+    the first-order extrapolation of richardson=True does not remove either: certify warns in
+    both. The same exit as a Box (a Brownian-bridge check between the steps) leaves the O(Δt)
+    bias of the running cost, which the extrapolation removes (within 3 of its SEs, no
+    warning)."""
     x0, optimum = np.array([-0.5]), np.sqrt(2.0) * 1.5
     options = {"dt": 0.005, "max_time": 6.0, "proposal": None, "progress": False}
     callable_exit = _exit_problem(lambda x: x[:, 0] >= 1.0)
     with pytest.warns(g.CertificateWarning, match="O\\(√dt\\)"):
         plain = g.certify(callable_exit, _push, x0, 2000, seed=1, **options)
-        double = g.certify(callable_exit, _push, x0, 2000, seed=2, **{**options, "dt": 0.01})
     assert plain.optimal_value - optimum > 10 * plain.optimal_value_se
-    cert = g.certify(callable_exit, _push, x0, 2000, seed=1, richardson=True, **options)
-    r = np.sqrt(2.0)
-    assert cert.extrapolated_value == pytest.approx(
-        (r * plain.optimal_value - double.optimal_value) / (r - 1), rel=1e-12
-    )
-    assert abs(cert.extrapolated_value - optimum) < 3 * cert.extrapolated_value_se
+    with pytest.warns(g.CertificateWarning, match="O\\(√dt\\)"):
+        g.certify(callable_exit, _push, x0, 2000, seed=1, richardson=True, **options)
     box = g.certify(_exit_problem(g.regions.Box([1.0], [np.inf])), _push, x0, 2000, seed=1,
                     richardson=True, **options)  # fmt: skip
     assert abs(box.extrapolated_value - optimum) < 3 * box.extrapolated_value_se
