@@ -723,8 +723,9 @@ class _Exits:
         each half is judged the same way with the noise ``factor``/√2, unless the nearest points
         of both ends lie on one plane with one normal (a flat face, where the rule is exact). The
         tangent plane at the nearest point of a convex E holds E, so the flat rule over-counts
-        crossings of a curved boundary (stranger round 34: a ball of radius 0.4 at λ = 2, whose certificate at Δt =
-        0.004 was 38 % low); each halving shrinks the step against the curvature."""
+        crossings of a curved boundary (stranger round 34: a ball of radius 0.4 at λ = 2, whose
+        certificate at Δt = 0.004 was 38 % low); each halving shrinks the step against the
+        curvature."""
         (d_a, n_a), (d_b, n_b) = start, end
         variance = np.sum(np.einsum("nd,ndm->nm", n_a, factor) ** 2, axis=1)
         with np.errstate(divide="ignore", under="ignore"):
@@ -733,18 +734,18 @@ class _Exits:
         finer = np.zeros(len(p), dtype=bool)
         if levels:  # a plausible crossing of a boundary that is not one plane at both ends
             plane = np.einsum("nd,nd->n", n_a, n_b) >= 1.0 - PLANE
-            gap = np.einsum("nd,nd->n", n_a, reached - (a - d_a[:, None] * n_a))
-            plane &= np.abs(gap) <= PLANE * (1.0 + np.abs(d_a) + np.abs(d_b))
+            offset = np.einsum("nd,nd->n", n_a, reached - (a - d_a[:, None] * n_a))
+            plane &= np.abs(offset) <= PLANE * (1.0 + np.abs(d_a) + np.abs(d_b))
             finer = (p > BRIDGE_REFINE) & ~plane
         crossed = ~finer & (draws < p)
         where = np.flatnonzero(finer)
         if len(where):
             f = factor[where]
-            gap = b[where] - a[where]
+            step = b[where] - a[where]
             if self.problem.grid is not None:
-                gap = wrap_difference(gap, self.problem.periods)
+                step = wrap_difference(step, self.problem.periods)
             noise = np.einsum("ndm,nm->nd", f, rng.standard_normal((len(where), f.shape[2])))
-            middle = self.problem.wrap(a[where] + 0.5 * gap + 0.5 * noise)
+            middle = self.problem.wrap(a[where] + 0.5 * step + 0.5 * noise)
             inside = self.problem.exit_mask(middle)
             crossed[where[inside]] = True
             reached[where[inside]] = middle[inside]
