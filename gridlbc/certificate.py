@@ -447,8 +447,9 @@ def sample_certificate(
             "problem has none (its value is relative): simulate the policy for a long max_time "
             "and compare the cost per unit time with solution.average_cost"
         )
-    problem.check_states(x0, "x0")  # the inputs checked before a grid proposal is solved
-    rollout_horizon(problem, max_time, dt)
+    # the inputs checked once, before a grid proposal is solved
+    starts = problem.wrap(problem.check_states(x0, "x0"))
+    horizon = rollout_horizon(problem, max_time, dt)
     one_sample = n < 2 and isinstance(proposal, str)  # "auto" with one sample: nothing to share
     samplers, names = _proposal_policies(
         problem, policy, None if one_sample else proposal, grid_proposal
@@ -462,15 +463,16 @@ def sample_certificate(
         _certify_once,
         problem,
         policy,
-        x0,
+        starts,
+        np.ndim(x0) == 1,
         samplers,
         names,
         n,
+        horizon,
         progress=progress,
         min_effective_sample_size=min_effective_sample_size,
         max_pareto_k=max_pareto_k,
         boundary=boundary,
-        max_time=max_time,
     )
     if crossings_unchecked(problem):
         warn_user(
@@ -486,7 +488,7 @@ def sample_certificate(
         certificate = once(dt, seed)
         check_unvisited(problem, samplers, certificate)
         return certificate
-    steps = step_count(rollout_horizon(problem, max_time, dt), dt)
+    steps = step_count(horizon, dt)
     if steps < 8:
         raise ValueError(
             f"richardson=True compares the step with twice and four times it, and {steps} steps "
@@ -576,24 +578,23 @@ def crossings_unchecked(problem: Problem) -> bool:
 def _certify_once(
     problem: Problem,
     policy,
-    x0,
+    starts: np.ndarray,
+    single: bool,
     samplers: list,
     names: list[str],
     n: int,
+    T: float,
     dt: float | None,
     seed: int | None,
     progress: bool | None,
     min_effective_sample_size: float,
     max_pareto_k: float,
     boundary: str | None,
-    max_time: float | None,
 ) -> Certificate:
-    """One certificate at one step, its samples drawn by ``samplers`` (:func:`sample_certificate`
-    without ``richardson``)."""
+    """One certificate at one step, from the checked and wrapped ``starts`` (``single``: one
+    state given as ``(d,)``) over ``T``, its samples drawn by ``samplers``
+    (:func:`sample_certificate` without ``richardson``)."""
     boundary = resolve_boundary(problem, boundary)
-    single = np.ndim(x0) == 1
-    starts = problem.wrap(problem.check_states(x0, "x0"))
-    T = rollout_horizon(problem, max_time, dt)
     K = step_count(T, dt)
     k = starts.shape[0]
     own = next((j for j, sampler in enumerate(samplers) if sampler is policy), None)
@@ -714,7 +715,7 @@ def check_unvisited(problem: Problem, samplers: list, certificate: Certificate) 
         response = getattr(getattr(solution, "embedded", None), "excess", None)
         if solution is None or response is None or response.raised is None:
             continue
-        if not _same_task(solution.problem, problem):
+        if not _same_problem(solution.problem, problem, but="grid"):
             continue
         change = response(starts, 0.0)
         with warnings.catch_warnings():
@@ -735,25 +736,6 @@ def check_unvisited(problem: Problem, samplers: list, certificate: Certificate) 
                 "(a solution on a grid that resolves the feature: proposal=)",
                 CertificateWarning,
             )
-
-
-def _same_task(other, problem: Problem) -> bool:
-    """Whether ``other`` poses the task of ``problem``, on any grid: the same system, costs,
-    temperature, horizon and exit set (each field the same object or equal)."""
-    if not isinstance(other, Problem):
-        return False
-    fields = (f.name for f in dataclasses.fields(Problem) if f.name != "grid")
-    return all(_same(getattr(other, name), getattr(problem, name)) for name in fields)
-
-
-def _same(a, b) -> bool:
-    """``a is b``, or equal numbers or arrays."""
-    if a is b:
-        return True
-    try:
-        return bool(np.array_equal(a, b))
-    except (TypeError, ValueError):
-        return False
 
 
 def _proposal_policies(
@@ -790,10 +772,13 @@ def _proposal_policies(
     return [_proposal_policy(proposal)], ["the proposal"]
 
 
-def _same_problem(other, problem: Problem) -> bool:
-    """Whether ``other`` is ``problem`` or a copy of it (every field the same object)."""
+def _same_problem(other, problem: Problem, but: str | None = None) -> bool:
+    """Whether ``other`` is ``problem`` or a copy of it (every field the same object, but the
+    field named ``but``: ``"grid"`` for the same task on another grid)."""
     return isinstance(other, Problem) and all(
-        getattr(other, f.name) is getattr(problem, f.name) for f in dataclasses.fields(Problem)
+        getattr(other, f.name) is getattr(problem, f.name)
+        for f in dataclasses.fields(Problem)
+        if f.name != but
     )
 
 

@@ -39,8 +39,8 @@ along the outward normal n at the first (exact for a flat boundary and constant 
 bias is then O(Δt)); it pays g_E at the point of E nearest to the second state. The tangent plane
 of a curved boundary is not E: where that probability exceeds :data:`BRIDGE_REFINE`, the
 bridge's midpoint is drawn (a stop if it lies in E) and each half judged the same way, up to
-:data:`BRIDGE_LEVELS` times, so that the plane is taken over a fraction of the step only. The bridge
-between two states does not depend on the drift, so this randomised stopping rule is the same
+:data:`BRIDGE_LEVELS` times, so that the plane is taken over a fraction of the step only. The
+bridge between two states does not depend on the drift, so this randomised stopping rule is the same
 under the controlled and the passive process and :func:`gridlbc.certify`'s weight stays exact.
 
 The policy and the drift are evaluated once per step for all samples (vectorised callables); the

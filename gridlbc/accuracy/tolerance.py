@@ -486,8 +486,8 @@ def solve_to_tolerance(
         asked for, and a default budget would make the grid reached, and so the answer, depend
         on the machine's speed and load; ``max_refinements`` and the memory already bound the
         work, and each long round's prediction is printed before it starts (every round's with
-        ``progress=True``), so a long solve is announced rather than cut short. Give one where the time matters more than
-        ``tol``.
+        ``progress=True``), so a long solve is announced rather than cut short. Give one where
+        the time matters more than ``tol``.
     march : Marcher
         The solver's time march (:func:`gridlbc.solve` passes ``gridlbc.solver.MARCH``).
     **options
