@@ -497,7 +497,8 @@ def _exit_problem(exit):
     )
 
 
-def _push(x, t):
+def _optimal_push(x, t):
+    """The exit problem's optimal control, the constant push √(2q/R) towards the exit."""
     return np.full((len(x), 1), np.sqrt(2.0))
 
 
@@ -512,12 +513,12 @@ def test_an_exit_checked_only_at_the_steps_is_warned_of_and_a_shape_is_not():
     options = {"dt": 0.005, "max_time": 6.0, "proposal": None, "progress": False}
     callable_exit = _exit_problem(lambda x: x[:, 0] >= 1.0)
     with pytest.warns(g.CertificateWarning, match="O\\(√dt\\)"):
-        plain = g.certify(callable_exit, _push, x0, 2000, seed=1, **options)
+        plain = g.certify(callable_exit, _optimal_push, x0, 2000, seed=1, **options)
     assert plain.optimal_value - optimum > 10 * plain.optimal_value_se
     with pytest.warns(g.CertificateWarning, match="O\\(√dt\\)"):
-        g.certify(callable_exit, _push, x0, 2000, seed=1, richardson=True, **options)
-    box = g.certify(_exit_problem(g.regions.Box([1.0], [np.inf])), _push, x0, 2000, seed=1,
-                    richardson=True, **options)  # fmt: skip
+        g.certify(callable_exit, _optimal_push, x0, 2000, seed=1, richardson=True, **options)
+    box_exit = _exit_problem(g.regions.Box([1.0], [np.inf]))
+    box = g.certify(box_exit, _optimal_push, x0, 2000, seed=1, richardson=True, **options)
     assert abs(box.extrapolated_value - optimum) < 3 * box.extrapolated_value_se
 
 
