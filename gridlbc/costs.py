@@ -22,6 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .backends.numba.costs import quadratic_kernel
+
 
 @dataclass(frozen=True, eq=False, init=False)
 class Quadratic:
@@ -80,19 +82,23 @@ class Quadratic:
 
     def difference(self, x) -> np.ndarray:
         """x − c, to the nearest periodic image on periodic coordinates, shape ``(N, d)``."""
+        return wrap_difference(self._states(x) - self.center, self.periods)
+
+    def _states(self, x) -> np.ndarray:
+        """``x`` as float states ``(N, d)`` (one state ``(d,)`` as one row), checked."""
         x = np.asarray(x, dtype=float)
         if x.ndim == 1:
             x = x[None, :]
         if x.ndim != 2 or x.shape[1] != self.dim:
             raise ValueError(f"cost argument must have shape (N, {self.dim}), got {x.shape}")
-        return wrap_difference(x - self.center, self.periods)
+        return x
 
     def __call__(self, x) -> np.ndarray:
         """(x − c)ᵀ W (x − c) at states ``(N, d)``, ``(N,)``: at least 0 (W is positive
         semi-definite; where it is singular, rounding would otherwise put the form a few ulps
         below 0 along its null directions)."""
-        diff = self.difference(x)
-        return np.maximum(np.einsum("ni,ij,nj->n", diff, self.weights, diff), 0.0)
+        x = self._states(x)
+        return quadratic_form(x, self.center[None], self.weights, self.periods)
 
     def __repr__(self):
         w = (
@@ -163,6 +169,34 @@ def wrap_difference(diff: np.ndarray, periods) -> np.ndarray:
             P = periods[k]
             diff[:, k] = np.mod(diff[:, k] + 0.5 * P, P) - 0.5 * P
     return diff
+
+
+def quadratic_form(x: np.ndarray, center: np.ndarray, weights: np.ndarray, periods) -> np.ndarray:
+    """max((x − c)ᵀ W (x − c), 0) per state, the difference to its nearest image on periodic
+    coordinates (:func:`wrap_difference`), in one compiled pass.
+
+    Parameters
+    ----------
+    x : ndarray (N, d)
+        States.
+    center : ndarray (N, d) or (1, d)
+        c, one per state or one for all.
+    weights : ndarray (d, d)
+        W, symmetric positive semi-definite.
+    periods : array_like (d,) or None
+        The period of each coordinate (``inf`` where not periodic; ``None``: none is).
+
+    Returns
+    -------
+    ndarray (N,)
+    """
+    d = x.shape[1]
+    periods = np.full(d, np.inf) if periods is None else np.asarray(periods, dtype=float)
+    out = np.empty(x.shape[0])
+    quadratic_kernel(
+        np.ascontiguousarray(x), np.ascontiguousarray(center, dtype=float), weights, periods, out
+    )
+    return out
 
 
 def evaluate_cost(cost, x: np.ndarray, name: str) -> np.ndarray:
@@ -248,14 +282,22 @@ class Tracking:
 
     def difference(self, x, t) -> np.ndarray:
         """x − x̃(t), nearest image on periodic coordinates, shape ``(N, d)``."""
+        x = self._states(x)
+        return wrap_difference(x - self.reference(np.broadcast_to(t, x.shape[:1])), self.periods)
+
+    def _states(self, x) -> np.ndarray:
+        """``x`` as float states ``(N, d)``, checked."""
         x = np.atleast_2d(np.asarray(x, dtype=float))
         if x.ndim != 2 or x.shape[1] != self.dim:
             raise ValueError(f"cost argument must have shape (N, {self.dim}), got {x.shape}")
-        return wrap_difference(x - self.reference(np.broadcast_to(t, x.shape[:1])), self.periods)
+        return x
 
     def __call__(self, x, t) -> np.ndarray:
-        diff = self.difference(x, t)
-        return np.einsum("ni,ij,nj->n", diff, self.weights, diff)
+        """(x − x̃(t))ᵀ Q (x − x̃(t)) at states ``(N, d)`` and time(s) ``t``, ``(N,)``, at least 0
+        (as :meth:`Quadratic.__call__`)."""
+        x = self._states(x)
+        reference = self.reference(np.broadcast_to(t, x.shape[:1]))
+        return quadratic_form(x, reference, self.weights, self.periods)
 
 
 TIME_PARAMETERS = ("t", "time")

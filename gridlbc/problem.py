@@ -515,9 +515,9 @@ def bracket(times: np.ndarray, t: float) -> tuple[int, float]:
     t : float
         A time in [times[0], times[-1]] (:func:`check_time`).
     """
-    j = int(np.clip(np.searchsorted(times, t, side="right") - 1, 0, len(times) - 2))
-    theta = (t - times[j]) / (times[j + 1] - times[j])
-    return j, float(np.clip(theta, 0.0, 1.0))
+    j = min(max(int(np.searchsorted(times, t, side="right")) - 1, 0), len(times) - 2)
+    start, end = float(times[j]), float(times[j + 1])
+    return j, min(max((t - start) / (end - start), 0.0), 1.0)  # in Python floats: a read per step
 
 
 def state_evaluation(method):
