@@ -13,7 +13,8 @@ modules are named by what they compute:
 - ``fitted_cells``, ``fitted_node``, ``fitted_diffusion``: the erf-integrated fitted diffusion;
 - ``special``: erfcx for the kernels;
 - ``storage``: storing a renormalised slice;
-- ``implicit``: Gauss–Seidel sweeps of the implicit scheme.
+- ``implicit``: Gauss–Seidel sweeps of the implicit scheme;
+- ``costs``: the wrap-aware quadratic form of the library's quadratic costs.
 
 Adding a backend (GPU, JAX, …) means a sibling folder with the same functions (same arguments,
 same in-place outputs) and pointing the callers at it. The data the kernels exchange is part of
