@@ -21,7 +21,8 @@ class ResolutionWarning(GridlbcWarning, RuntimeWarning):
 
 
 class UnderflowWarning(GridlbcWarning, RuntimeWarning):
-    """Desirability underflowed to zero at some query states: value +inf, policy undefined (NaN)."""
+    """Desirability underflowed to zero at some query states: value +inf, policy undefined (NaN).
+    Also where a first exit's exit set cannot be reached at all, and z is zero exactly."""
 
 
 class CertificateWarning(GridlbcWarning):

@@ -297,7 +297,8 @@ def warn_underflow(bad: np.ndarray) -> None:
         warn_user(
             f"desirability underflowed at {int(bad.sum())} of {bad.size} query states: value is "
             "+inf there and the policy undefined (NaN). Shrink the box, or raise the temperature "
-            "relative to the costs (docs page 'limitations').",
+            "relative to the costs (docs page 'limitations'); for a first exit, the solve's "
+            "warning says where the exit set cannot be reached at all (there no setting helps).",
             UnderflowWarning,
         )
 

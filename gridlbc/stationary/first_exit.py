@@ -44,12 +44,11 @@ def exit_nodes(problem: Problem) -> np.ndarray:
     return mask
 
 
-def check_well_posed(L: sp.csr_matrix, sinks: np.ndarray, grid: Grid) -> None:
-    """Refuse a problem in which some nodes can reach neither a sink (a node of E or one with
-    q > 0) along the chain's jumps: their desirability is undetermined (nothing is ever paid
-    and nothing ends the task; the linear system is singular there). A breadth-first search
-    from a virtual node joined to every sink, along the jumps reversed."""
-    n = grid.size
+def reaching(L: sp.csr_matrix, sinks: np.ndarray) -> np.ndarray:
+    """The nodes from which the chain of generator ``L`` can reach one of ``sinks`` (boolean
+    ``(N,)`` each) along its jumps: a breadth-first search from a virtual node joined to every
+    sink, along the jumps reversed."""
+    n = L.shape[0]
     off = (L - sp.diags(L.diagonal())).tocsr()
     targets = np.flatnonzero(sinks)
     source = sp.csr_matrix(
@@ -58,13 +57,20 @@ def check_well_posed(L: sp.csr_matrix, sinks: np.ndarray, grid: Grid) -> None:
     graph = sp.bmat([[off.T, None], [source, sp.csr_matrix((1, 1))]], format="csr")
     reached = np.zeros(n + 1, dtype=bool)
     reached[csgraph.breadth_first_order(graph, n, directed=True, return_predecessors=False)] = True
-    if not reached[:n].all():
-        stuck = np.flatnonzero(~reached[:n])
+    return reached[:n]
+
+
+def check_well_posed(L: sp.csr_matrix, sinks: np.ndarray, grid: Grid) -> None:
+    """Refuse a problem in which some nodes can reach neither a sink (a node of E or one with
+    q > 0) along the chain's jumps (:func:`reaching`): their desirability is undetermined
+    (nothing is ever paid and nothing ends the task; the linear system is singular there)."""
+    stuck = np.flatnonzero(~reaching(L, sinks))
+    if len(stuck):
         x = state_text(grid.node_coordinates(stuck[:1])[0])
         raise ValueError(
-            f"{len(stuck)} of {n} nodes (e.g. {x}) reach neither the exit set nor a state cost "
-            "q > 0: the problem is ill-posed there (nothing ends the task and nothing is paid). "
-            "Give a state cost q > 0, or an exit set that every state can reach"
+            f"{len(stuck)} of {grid.size} nodes (e.g. {x}) reach neither the exit set nor a state "
+            "cost q > 0: the problem is ill-posed there (nothing ends the task and nothing is "
+            "paid). Give a state cost q > 0, or an exit set that every state can reach"
         )
 
 
@@ -117,6 +123,8 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     L, to_boundary = generator.matrix, generator.boundary_rates
     reaches_boundary = np.asarray(to_boundary.sum(axis=1)).ravel() > 0
     check_well_posed(L, E | (q > 0) | reaches_boundary, grid)
+    # where the chain never reaches E, the task never ends and z = 0 exactly (v = +inf)
+    never = ~reaching(L, E | reaches_boundary)
     interior = np.flatnonzero(~E)
     A = (sp.diags(q / lam) - L).tocsr()[interior]
     problems = [problem.replace(exit_cost=cost) for cost in exit_costs]
@@ -159,8 +167,9 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
         z = np.empty(grid.size)
         z[E], z[interior] = z_exits[r], Z[:, r]
         np.clip(z, 0.0, None, out=z)  # an iterative solve's rounding may dip below zero
+        z[never] = 0.0
         counts = (iterations,) if iterations else ()
-        out.append(packaged(p, label, z, tops[r], start, setup, counts, digest))
+        out.append(packaged(p, label, z, tops[r], start, setup, counts, digest, never))
     return out
 
 

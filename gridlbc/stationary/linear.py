@@ -19,6 +19,7 @@ from ..errors import (
     ConvergenceError,
     ResolutionWarning,
     UnderflowWarning,
+    state_text,
     warn_user,
 )
 from ..schemes.generator import RATES
@@ -316,9 +317,14 @@ def accurate_tail(
     return x
 
 
-def packaged(problem, label, z, top, start, setup, iterations, digest) -> StationarySolution:
+def packaged(
+    problem, label, z, top, start, setup, iterations, digest, never=None
+) -> StationarySolution:
     """A :class:`StationarySolution` of nodal ``z`` · e^top; ``iterations`` a tuple of counts,
-    ``label`` the operator's name in its :class:`~gridlbc.solution.OperatorSignature`."""
+    ``label`` the operator's name in its :class:`~gridlbc.solution.OperatorSignature`; ``never``
+    (boolean ``(N,)``, optional) the nodes from which a first exit's chain never reaches the exit
+    set, where z is 0 whatever the temperature (:class:`~gridlbc.UnderflowWarning` says so apart
+    from an underflow)."""
     peak = float(z.max())
     Z = z / peak if peak > 0 else z
     diagnostics = SolveDiagnostics(
@@ -334,9 +340,22 @@ def packaged(problem, label, z, top, start, setup, iterations, digest) -> Statio
         courant=0.0,
         iterations=tuple(iterations),
     )
-    if diagnostics.underflow_nodes:
+    never = np.zeros(Z.size, dtype=bool) if never is None else never
+    if never.any():
+        x = state_text(problem.grid.node_coordinates(np.flatnonzero(never)[:1])[0])
         warn_user(
-            f"the desirability underflowed at {diagnostics.underflow_nodes} of {Z.size} nodes "
+            f"the exit set cannot be reached from {int(never.sum())} of {Z.size} nodes (e.g. {x}): "
+            "neither the drift nor the noise leads from them to it, so the task never ends "
+            "there, v is +inf and the policy undefined. This is the problem, not an underflow: "
+            "a higher temperature or a smaller box does not change it. Let the exit set reach "
+            "those states, or give the dynamics a way to it (noise or a drift along the axes "
+            "that lead there)",
+            UnderflowWarning,
+        )
+    underflowed = int(np.count_nonzero((Z == 0) & ~never))
+    if underflowed:
+        warn_user(
+            f"the desirability underflowed at {underflowed} of {Z.size} nodes "
             "(where the solved v is more than about 745 λ above its least value, beyond what a "
             "double holds of z = e^(−v/λ), or where the solve errs by that much): v reads +inf "
             "there and the policy is undefined. Raise the "

@@ -214,6 +214,32 @@ def test_a_stationary_problem_without_cost_or_reachable_exit_is_refused():
         g.solve(unreachable)
 
 
+def test_states_that_never_reach_the_exit_are_named_not_called_an_underflow():
+    # ẋ₀ = x₀ carries x₀ < 0 away from the exit strip x₀ ≥ 0.5 (and x₀ = 0 stays put); the
+    # control moves x₁ only. From there the task never ends: v = +inf exactly, whatever λ, and
+    # the warning says so instead of advising a higher temperature; the other states are solved.
+    system = LinearSystem(np.diag([1.0, 0.0]), [[0.0], [1.0]])
+    grid = g.Grid([g.Axis(-1, 1, 21), g.Axis(-1, 1, 21)])
+    problem = g.Problem(
+        system,
+        grid,
+        None,
+        exit=Box([0.5, -np.inf], [np.inf, np.inf]),
+        state_cost=lambda x: 1.0 + x[:, 1] ** 2,
+        temperature=0.5,
+    )
+    with pytest.warns(g.UnderflowWarning, match=r"cannot be reached from 231 of 441 nodes"):
+        solution = g.solve(problem, error_estimate=False)
+    log_z, x = solution.log_desirability_nodes(), grid.nodes()
+    assert np.all(log_z[x[:, 0] <= 0.0] == -np.inf) and np.all(np.isfinite(log_z[x[:, 0] > 0.0]))
+    # With every state off the exit set out of reach there is nothing for the estimate to judge:
+    # the solve says why v is +inf and raises no ResolutionWarning about it.
+    stuck = problem.replace(system=LinearSystem(np.zeros((2, 2)), [[0.0], [1.0]]))
+    with pytest.warns(g.UnderflowWarning, match="cannot be reached") as record:
+        g.solve(stuck)
+    assert not [w for w in record if issubclass(w.category, g.ResolutionWarning)]
+
+
 def test_time_march_settings_are_refused_for_a_stationary_problem():
     s = corridor(21)
     with pytest.raises(TypeError, match="no time step"):
