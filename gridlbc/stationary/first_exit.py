@@ -153,7 +153,7 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     label = f"stationary-{s.rates}"
     if generator.second_order is not None:
         Z, corrected, more = _defect_correction(
-            Z, solver, generator.second_order, q / lam, E, z_exits, z_boundary, s
+            Z, solver, generator.second_order, q / lam, E, z_exits, z_boundary, s, never
         )
         iterations += more
         if corrected:  # another linear map of the exit values: another operator
@@ -173,7 +173,7 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
     return out
 
 
-def _defect_correction(Z, solver, second_order, decay, E, z_exits, z_boundary, s):
+def _defect_correction(Z, solver, second_order, decay, E, z_exits, z_boundary, s, never):
     """``s.defect_correction`` steps of defect correction (Hemker; Trottenberg, Oosterlee and
     Schüller, *Multigrid*, §5.4) of the first-order solutions ``Z`` ``(n_I, K)`` of
     A₁ z_I = b₁, A₁ = (diag(q/λ) − L₁)_II: with the second-order L₂ of the same generator
@@ -188,9 +188,10 @@ def _defect_correction(Z, solver, second_order, decay, E, z_exits, z_boundary, s
     (exit costs on one exit set) stay solutions of one linear map.
 
     Where z is not resolved (v changes by many λ across a cell) the first-order z is off by a
-    large factor, the correction overshoots and z can come out negative: then every column
-    keeps the first-order solution (the same map for all, so they still combine exactly) and
-    a :class:`gridlbc.ResolutionWarning` says so.
+    large factor, the correction overshoots and z can come out negative (read off the nodes
+    ``never``, from which the chain never reaches E and z is 0): then every column keeps the
+    first-order solution (the same map for all, so they still combine exactly) and a
+    :class:`gridlbc.ResolutionWarning` says so.
 
     Returns
     -------
@@ -212,9 +213,10 @@ def _defect_correction(Z, solver, second_order, decay, E, z_exits, z_boundary, s
     for _ in range(s.defect_correction):
         delta, iterations = solver(-known - A2 @ corrected)
         corrected, total = corrected + delta, total + iterations
-    if np.all(corrected > 0):
+    reach = ~never[interior]  # elsewhere z is 0 in both: the chain never reaches E
+    if np.all(corrected[reach] > 0):
         return corrected, True, total
-    negative = np.count_nonzero(np.any(corrected <= 0, axis=1))
+    negative = np.count_nonzero(np.any(corrected[reach] <= 0, axis=1))
     warn_user(
         f"defect correction made z ≤ 0 at {negative} of {len(corrected)} nodes: the grid does "
         "not resolve z = exp(−v/λ) (v changes by much more than λ across a cell); the "

@@ -232,6 +232,10 @@ def test_states_that_never_reach_the_exit_are_named_not_called_an_underflow():
         solution = g.solve(problem, error_estimate=False)
     log_z, x = solution.log_desirability_nodes(), grid.nodes()
     assert np.all(log_z[x[:, 0] <= 0.0] == -np.inf) and np.all(np.isfinite(log_z[x[:, 0] > 0.0]))
+    # Defect correction judges its z > 0 where the exit can be reached: it is kept, unwarned.
+    with pytest.warns(g.UnderflowWarning, match="cannot be reached"):
+        corrected = g.solve(problem, error_estimate=False, defect_correction=1)
+    assert corrected.operator.method.endswith("+dc1")
     # With every state off the exit set out of reach there is nothing for the estimate to judge:
     # the solve says why v is +inf and raises no ResolutionWarning about it.
     stuck = problem.replace(system=LinearSystem(np.zeros((2, 2)), [[0.0], [1.0]]))
