@@ -1,6 +1,56 @@
 """Stranger round 38: ANISOTROPY and NON-DIAGONAL structure, public API only (SPEC §1–3, §6, §9–10).
 
-RESULTS: (filled in at the end)
+RESULTS (library of main ae47a6b, worktree r38, 2026-12-07, one thread, ``--run`` of every
+problem, ``--reflect`` of the quiet or under-read LQs that the wall test questions, ``--ladder
+quiet011 quiet044``, ``--coarse``, then ``--table``; 270 problems, 268 solved, 2 refused on
+purpose):
+
+- 1430 counted (problem, state, t) pairs (t = 0 and 0.9 T; first exit t = 0), 160 more flagged as
+  wall pairs (a box 1.5× wider moves v by more than a quarter of the error) and not counted.
+  > 10 % off: 148 pairs, every one in a warned solve. SILENT (> 10 %, no GridlbcWarning): 0.
+  No crash, no UnderflowWarning, ``underflow_nodes`` 0 everywhere; every warning a
+  ResolutionWarning (224 of them, 221 warned solves).
+- quiet solves: 47 of 268. Their worst error against a trusted truth is 1.99 % (``quiet011``).
+  Four quiet random LQs were 3.9–26 % off the FREE-SPACE Riccati (``rand005`` 25.9 %: 15×161,
+  box ±2 × ±4, λ 2.9, T 3; ``rand104`` 6.1 %; ``rand070``, ``rand090`` 3.9 %) and are within
+  0.26 %, 0.09 %, 0.99 % and 1.22 % of the certified optimum of the SAME reflected box
+  (``--reflect``: certify of the solve's own policy, richardson, boundary "reflect", 4000
+  samples, ESS ≥ 3500): the walls, not the grid (``rand005``'s box is a noise length wide).
+- under-reads (ê < ½ |v − v*|, err > 2 %): 1, ``aniso_long_box_rot45`` at (−18, −0.9), t = 0
+  (warned): 2.25 % off the reflected certificate, ê 0.99 %; that certificate has ESS 1 and
+  k̂ 1.69 there, so the truth itself is not trusted (it is 34 % off the free-space Riccati).
+  ``quiet009`` (3-D, 41×41×11, λ 1.33, T 5) is 42 % off Riccati at a far state with ê 6.8 %,
+  but within 6.4 % of its reflected certificate (ê 6.8 %), warned.
+- false warnings (warned, every counted pair < 2 %): 58 of 221 warned solves; the mixing-B
+  problems (``mixB_d0.25_l0.5_T2`` 0.89 %, ``mixB_d0.01_l0.5_T2`` 0.99 %, ``mix3ctl_l0.3``
+  0.42 % with ê up to 220 %) warn about a state at a wall at t = 0.95 T; every 3-D draw of the
+  quiet-biased batch (25 of 25, one coarse axis of 7–13 nodes) warned.
+- refusals, both clear: a rotated B with a diagonal anisotropic R (noise not diagonal) says
+  "the noise covariance λ B R⁻¹ Bᵀ is not diagonal in the grid coordinates (entry (0, 1) ...)
+  ... choose B and R so that B R⁻¹ Bᵀ is diagonal"; a Ball exit thinner than a cell of the
+  11-node axis says "contains no node of the grid ... narrower than a cell. ... refine the
+  grid". B mixing two axes with R = Bᵀ D⁻¹ B (off-diagonal R, 3 controls on 2 axes, 2 controls
+  on 3 axes) is accepted and exact to ≤ 1 % where resolved.
+- ladders (``--ladder``): from quiet ``quiet011`` (121×81, λ 0.11, T 2) and ``quiet044``
+  (121×81, λ 0.054, T 1) every single change (λ × 0.5 … 0.12, g × 3 … 30, Δt × 2 / 4, nodes
+  × 0.5 / 0.3) warned before any pair passed 10 %; the largest quiet error on the ladders is
+  2.0 % (``quiet011`` as drawn). Nothing to minimise.
+- coarse axis (``--coarse``): with 3 or 4 nodes on one axis (2-D 201×3/4, 3-D 41×41×3/4) the
+  solve warns "no error estimate for this solve: the grid ... is too coarse to embed" and
+  ``error_estimate`` raises ValueError (values 8–133 % off); 5–7 nodes: warned, ê within 2× of
+  the error at most pairs.
+
+By family (worst error, all warned unless said): rotated vs aligned single-integrator goals
+(W 50–200 across 30°/45°/−45°, λ 0.05–0.5): 17–31 % at the typical and far states at
+t = 0.9 T (default Δt = T/10, one step left, ê 267–1485 %), t = 0 within 0.7 %; the rotation
+itself changes little (aligned 22.7 % / 25.7 %, rotated 25.5–31.1 %; the −45° twins put the far
+state along the wide direction: 3.6 % / 5.8 %); non-normal rotated drifts 10–21 % (wall pairs); mixing B
+≤ 1 % (false warnings) except λ 3 (walls); unequal grids 201×11, 15×301, 161×41: 8–98 %
+(partly wall pairs; ê 18–191 %); 3-D with a 9-node axis 7–25 %; periodic beside closed (separable, 1-D
+finite-difference truth) 0.1–22 %; non-separable pendulum with mixing B and full W
+(certify truth, ESS ≥ 1440, k̂ ≤ 0.3) 0.5–17 %; first exit 0.35–23 % (``exit_ball_mixB_d0.01``
+17–23 % with ê 22–77 %, its certificate ESS 59–930, k̂ up to 0.74: shaky truth), the one quiet
+exit (``exit_box_201x11``) 0.6 %.
 
 Families (``--list`` prints every problem's definition):
 
@@ -35,7 +85,12 @@ Per problem 3 states (typical, near the goal, far) at t = 0 and t = 0.9 T (first
 only). Errors relative to max(|v*|, λ), the estimate relative to max(|v|, λ).
 
     cd /work/wt-r38 && PYTHONPATH=/work/wt-r38 NUMBA_NUM_THREADS=1 \\
-        python benchmarks/holdout/strangers_round38.py --list | --run [NAMES] | --table
+        python benchmarks/holdout/strangers_round38.py --list | --run [NAMES] | --table \\
+        | --reflect NAMES | --ladder NAMES | --coarse
+
+``rand*`` (120) and ``quiet*`` (100) are seeded random draws of families 1–3 (``random_lq``,
+``random_quiet``); ``--reflect`` was run for rand005 rand070 rand090 rand104 rand086 quiet009
+aniso_long_box_rot45.
 """
 
 from __future__ import annotations
