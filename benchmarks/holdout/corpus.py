@@ -34,6 +34,7 @@ import strangers_round17 as r17
 import strangers_round18 as r18
 import strangers_round20 as r20
 import strangers_round22 as r22
+import strangers_round38 as r38
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1041,6 +1042,40 @@ def _store_far_problem() -> Problem:
     )
 
 
+LATE_TERMINAL_TIME = 2.0 - 1.0 / 13.0
+"""T − Δt/2 of :func:`_late_terminal_problem`'s default solve (13 steps): the middle of its last
+stored interval."""
+
+
+def _late_terminal_problem() -> Problem:
+    """Stranger round 21's pm_q0: a point mass with a terminal cost only, g = 4(x₀ − 1)² + x₁²,
+    λ = 0.3, T = 2, 101² on [−4, 4] × [−6, 6] (the default step is T/13)."""
+    return Problem(
+        PointMass(),
+        Grid([Axis(-4, 4, 101), Axis(-6, 6, 101)]),
+        2.0,
+        terminal_cost=Quadratic([1.0, 0.0], [4.0, 1.0]),
+        temperature=0.3,
+    )
+
+
+def _late_terminal_exact(X):
+    """Riccati (gridlbc.reference.lq_solution) of the remaining task, T − t = 1/13: exact for a
+    linear system with quadratic costs; the states are far from the walls"""
+    from gridlbc.reference import lq_solution
+
+    remaining = _late_terminal_problem().replace(horizon=2.0 - LATE_TERMINAL_TIME)
+    return lq_solution(remaining).value(X, 0.0)
+
+
+def _mixing_inputs_problem() -> Problem:
+    """Stranger round 38's mixB_d0.25_l0.5_T2: ẋ = B u with B = [[1, 1], [1, −1]] and
+    R = Bᵀ diag(1, 4) B (noise diag(1, 0.25) λ), q = 0.3 abs(x)², g narrow (10) across 45° and 1
+    along it about (0.4, −0.3), λ = 0.5, T = 2, 61² on [−3, 3]²."""
+    spec = r38.problems()["mixB_d0.25_l0.5_T2"]
+    return r38.build(spec)
+
+
 def _store_far_exact(X):
     """Riccati (gridlbc.reference.lq_solution) of the remaining task, T − t = 1.5: exact for a
     linear system with quadratic costs; the walls are several standard deviations away"""
@@ -1821,6 +1856,29 @@ MEMBERS: tuple[Member, ...] = (
         exact=_store_far_exact,
         time=1.5,
         options={"store_every": 19},
+    ),
+    Member(
+        "late_terminal_only",
+        _late_terminal_problem,
+        np.array([[1.0, 0.54], [0.9, 0.7], [1.5, 0.3]]),
+        "a terminal cost only at the default step T/13, read in the middle of the last interval "
+        "(stranger round 21's pm_q0): 6–7 % off near the goal, warned by the local certificate "
+        "only while its chains resolve the short remaining span finely (a certificate of that "
+        "span in one chain step per solve step lost the warning: its standard error grew 2.7×)",
+        tags=("read late", "closed"),
+        exact=_late_terminal_exact,
+        time=LATE_TERMINAL_TIME,
+    ),
+    Member(
+        "mixing_inputs_late",
+        _mixing_inputs_problem,
+        np.array([[3.0, -0.9], [2.5, -0.9], [0.45, -0.25]]),
+        "two inputs that each push both axes (off-diagonal R, the noise diagonal) with a goal "
+        "narrow across 45°, read one interval before T at the default step T/10 (stranger round "
+        "38's mixB_d0.25_l0.5_T2): 45–47 % off on the wall x₀ = 3, where its warning points; the "
+        "round's own reads (t = 0, 0.9 T) were within 1 %",
+        tags=("read late", "closed"),
+        time=1.9,
     ),
 )
 
