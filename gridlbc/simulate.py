@@ -747,7 +747,9 @@ class _Exits:
             noise = np.einsum("ndm,nm->nd", factor, rng.standard_normal((len(a), factor.shape[2])))
             middle = self.problem.wrap(a + 0.5 * step + 0.5 * noise)
             rest = np.flatnonzero(~self.problem.exit_mask(middle))  # a midpoint in E: crossed
-            d_m, n_m = cast(RegionBase, self.region).boundary_distance(middle[rest])
+            d_m, n_m = np.zeros(0), np.zeros((0, middle.shape[1]))
+            if len(rest):
+                d_m, n_m = cast(RegionBase, self.region).boundary_distance(middle[rest])
             half = factor[rest] / math.sqrt(2.0)
             # the first halves, then the second halves, of the steps whose midpoint is outside E
             ends = (
