@@ -82,23 +82,15 @@ class Quadratic:
 
     def difference(self, x) -> np.ndarray:
         """x − c, to the nearest periodic image on periodic coordinates, shape ``(N, d)``."""
-        return wrap_difference(self._states(x) - self.center, self.periods)
-
-    def _states(self, x) -> np.ndarray:
-        """``x`` as float states ``(N, d)`` (one state ``(d,)`` as one row), checked."""
-        x = np.asarray(x, dtype=float)
-        if x.ndim == 1:
-            x = x[None, :]
-        if x.ndim != 2 or x.shape[1] != self.dim:
-            raise ValueError(f"cost argument must have shape (N, {self.dim}), got {x.shape}")
-        return x
+        return wrap_difference(cost_states(x, self.dim) - self.center, self.periods)
 
     def __call__(self, x) -> np.ndarray:
         """(x − c)ᵀ W (x − c) at states ``(N, d)``, ``(N,)``: at least 0 (W is positive
         semi-definite; where it is singular, rounding would otherwise put the form a few ulps
         below 0 along its null directions)."""
-        x = self._states(x)
-        return quadratic_form(x, self.center[None], self.weights, self.periods)
+        return quadratic_form(
+            cost_states(x, self.dim), self.center[None], self.weights, self.periods
+        )
 
     def __repr__(self):
         w = (
@@ -169,6 +161,23 @@ def wrap_difference(diff: np.ndarray, periods) -> np.ndarray:
             P = periods[k]
             diff[:, k] = np.mod(diff[:, k] + 0.5 * P, P) - 0.5 * P
     return diff
+
+
+def cost_states(x, dim: int) -> np.ndarray:
+    """``x`` as the float states ``(N, dim)`` a quadratic cost reads (one state ``(dim,)`` as one
+    row), or a clear error.
+
+    Parameters
+    ----------
+    x : array_like
+        The states.
+    dim : int
+        The cost's coordinates.
+    """
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    if x.ndim != 2 or x.shape[1] != dim:
+        raise ValueError(f"cost argument must have shape (N, {dim}), got {x.shape}")
+    return x
 
 
 def quadratic_form(x: np.ndarray, center: np.ndarray, weights: np.ndarray, periods) -> np.ndarray:
@@ -282,20 +291,13 @@ class Tracking:
 
     def difference(self, x, t) -> np.ndarray:
         """x − x̃(t), nearest image on periodic coordinates, shape ``(N, d)``."""
-        x = self._states(x)
+        x = cost_states(x, self.dim)
         return wrap_difference(x - self.reference(np.broadcast_to(t, x.shape[:1])), self.periods)
-
-    def _states(self, x) -> np.ndarray:
-        """``x`` as float states ``(N, d)``, checked."""
-        x = np.atleast_2d(np.asarray(x, dtype=float))
-        if x.ndim != 2 or x.shape[1] != self.dim:
-            raise ValueError(f"cost argument must have shape (N, {self.dim}), got {x.shape}")
-        return x
 
     def __call__(self, x, t) -> np.ndarray:
         """(x − x̃(t))ᵀ Q (x − x̃(t)) at states ``(N, d)`` and time(s) ``t``, ``(N,)``, at least 0
         (as :meth:`Quadratic.__call__`)."""
-        x = self._states(x)
+        x = cost_states(x, self.dim)
         reference = self.reference(np.broadcast_to(t, x.shape[:1]))
         return quadratic_form(x, reference, self.weights, self.periods)
 

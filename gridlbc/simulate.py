@@ -733,14 +733,11 @@ class _Exits:
         crossed, reached, split = self._judge(a, b, start, end, factor, draws, levels > 0)
         tree = []  # per level: the steps halved, their midpoints, those outside E, their halves
         where = np.flatnonzero(split)
-        ends = (a, b, start, end, factor)
+        ends = (a, b, *start, *end, factor)  # a, b, d_a, n_a, d_b, n_b, factor of each step
         for level in range(levels, 0, -1):
             if not len(where):
                 break
-            a, b, (d_a, n_a), (d_b, n_b), factor = (
-                ends[0][where], ends[1][where], (ends[2][0][where], ends[2][1][where]),
-                (ends[3][0][where], ends[3][1][where]), ends[4][where],
-            )  # fmt: skip
+            a, b, d_a, n_a, d_b, n_b, factor = (column[where] for column in ends)
             step = b - a
             if self.problem.grid is not None:
                 step = wrap_difference(step, self.problem.periods)
@@ -752,13 +749,22 @@ class _Exits:
                 d_m, n_m = cast(RegionBase, self.region).boundary_distance(middle[rest])
             half = factor[rest] / math.sqrt(2.0)
             # the first halves, then the second halves, of the steps whose midpoint is outside E
-            ends = (
-                np.concatenate([a[rest], middle[rest]]), np.concatenate([middle[rest], b[rest]]),
-                (np.concatenate([d_a[rest], d_m]), np.concatenate([n_a[rest], n_m])),
-                (np.concatenate([d_m, d_b[rest]]), np.concatenate([n_m, n_b[rest]])),
-                np.concatenate([half, half]),
+            ends = tuple(
+                np.concatenate(pair)
+                for pair in (
+                    (a[rest], middle[rest]), (middle[rest], b[rest]), (d_a[rest], d_m),
+                    (n_a[rest], n_m), (d_m, d_b[rest]), (n_m, n_b[rest]), (half, half),
+                )
             )  # fmt: skip
-            halves = self._judge(*ends, rng.random(2 * len(rest)), level > 1)
+            halves = self._judge(
+                ends[0],
+                ends[1],
+                ends[2:4],
+                ends[4:6],
+                ends[6],
+                rng.random(2 * len(rest)),
+                level > 1,
+            )
             tree.append((where, middle, rest, halves))
             where = np.flatnonzero(halves[2])
         # bottom-up: a step halved crosses where its midpoint lies in E (and reaches it there),

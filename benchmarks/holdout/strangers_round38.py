@@ -110,6 +110,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from strangers_round25 import build_sep, lq_value, sep_truth
+from strangers_round37 import wall_flags
 
 import gridlbc
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1325,20 +1326,6 @@ def ladder_one(tag, sp):
     print(f"{tag:14s} warned={bool(wl)!s:5s} | " + " | ".join(cols))
     for x in wl:
         print("     ", x["message"][:140])
-
-
-def wall_flags(r):
-    flags = set()
-    if "wall" not in r:
-        return flags
-    lam = r["spec"]["lam"]
-    for k, (rd, vw) in enumerate(zip(r["reads"], r["wall"])):
-        for i in range(len(rd["v"])):
-            eff = abs(vw[i] - rd["v"][i])
-            err = abs(rd["v"][i] - rd["truth"][i])
-            if eff > max(0.01 * max(abs(rd["truth"][i]), lam), 0.25 * err):
-                flags.add((k, i))
-    return flags
 
 
 def table():

@@ -122,9 +122,11 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
         generator = Generator(L0, sp.csr_matrix((grid.size, 0)), np.empty((0, grid.ndim)))
     L, to_boundary = generator.matrix, generator.boundary_rates
     reaches_boundary = np.asarray(to_boundary.sum(axis=1)).ravel() > 0
-    check_well_posed(L, E | (q > 0) | reaches_boundary, grid)
-    # where the chain never reaches E, the task never ends and z = 0 exactly (v = +inf)
+    # where the chain never reaches E, the task never ends and z = 0 exactly (v = +inf); there
+    # it must pay q > 0 somewhere on its way
     never = ~reaching(L, E | reaches_boundary)
+    if never.any():
+        check_well_posed(L, E | (q > 0) | reaches_boundary, grid)
     interior = np.flatnonzero(~E)
     A = (sp.diags(q / lam) - L).tocsr()[interior]
     problems = [problem.replace(exit_cost=cost) for cost in exit_costs]
