@@ -960,6 +960,33 @@ def test_the_local_certificate_is_held_to_the_uncontrolled_cost_where_a_few_path
     assert np.all(-unheld > 100 * v)
 
 
+def test_the_certificate_s_chain_does_not_overshoot_a_steep_goal():
+    # Stranger round 37's huge box: ẋ = u on ±25 (h = 1), λ = 2, T = 20, a terminal goal
+    # 16|x − c|² far narrower than a cell. The default step is 2, the chain's δ = 0.5, and near
+    # T the policy pulls at a rate 32: explicit steps overshoot 15-fold, the paths oscillate
+    # and the whole task's certificate read errors of about 1.5·10³ where the solve is exact
+    # (v = ½P|x − c|² + λ log(1 + 2WT), P = 2W/(1 + 2WT)). Its proposal, linearly implicit
+    # where the control moves a state by more than a cell, reads what a proposal that cannot
+    # resolve the goal reads (ESS about 10 of 512, k̂ ≈ 1): a few units, not thousands.
+    import gridlbc.accuracy.bellman as bellman
+
+    lam, horizon, w, c = 2.0, 20.0, 16.0, np.array([0.3, -0.2])
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-25.0, 25.0, 51)] * 2),
+        horizon,
+        g.Quadratic(c, np.diag([w, w])),
+        temperature=lam,
+    )
+    solution = _quiet_solve(problem)
+    x = np.array([[10.0, -5.0], [0.3, -0.2], [21.0, 20.0]])
+    p = 2 * w / (1 + 2 * w * horizon)
+    exact = 0.5 * p * np.sum((x - c) ** 2, axis=1) + lam * np.log1p(2 * w * horizon)
+    v = solution.value(x)
+    assert np.all(np.abs(v - exact) < 2e-3 * exact)
+    assert np.all(bellman.local_error(solution, x, whole=True) < 0.5 * v)
+
+
 def test_the_local_certificate_reads_its_paths_ends_exactly_for_a_quadratic():
     # The paths end between the nodes, where the barycentric interpolant of a convex v is high
     # by up to h²∂²v/8; less its error for a quadratic with the nodal Hessian, the read is exact
