@@ -451,8 +451,12 @@ def sample_certificate(
     starts = problem.wrap(problem.check_states(x0, "x0"))
     horizon = rollout_horizon(problem, max_time, dt)
     one_sample = n < 2 and isinstance(proposal, str)  # "auto" with one sample: nothing to share
+    pilot = partial(
+        pilot_share, problem, starts, horizon, dt, boundary, seed, min(n, PILOT_SAMPLES)
+    )
+    work = n * step_count(horizon, dt)  # the sample-steps of the draws at dt, per start state
     samplers, names = _proposal_policies(
-        problem, policy, None if one_sample else proposal, grid_proposal
+        problem, policy, None if one_sample else proposal, grid_proposal, pilot, work
     )
     if n < len(samplers):
         raise ValueError(
@@ -739,12 +743,18 @@ def check_unvisited(problem: Problem, samplers: list, certificate: Certificate) 
 
 
 def _proposal_policies(
-    problem: Problem, policy, proposal, grid_proposal: Callable | None = None
+    problem: Problem,
+    policy,
+    proposal,
+    grid_proposal: Callable | None = None,
+    pilot: Callable | None = None,
+    work: int = 0,
 ) -> tuple[list, list[str]]:
     """The proposals' policies and their names: ``[policy]`` for None; for ``"auto"`` the judged
-    policy pooled with a grid solution of the problem (``grid_proposal(problem)``) unless it is
-    one already or none is given; one per entry of a list or tuple of proposals; else the
-    proposal's policy alone."""
+    policy pooled with a grid solution of the problem (``grid_proposal(problem, pilot, work)``,
+    which may judge its candidates by ``pilot``, :func:`pilot_share`, within a multiple of the
+    certificate's sample-steps ``work``) unless it is one already or none is given; one per
+    entry of a list or tuple of proposals; else the proposal's policy alone."""
     if proposal is None:
         return [policy], ["the policy"]
     if isinstance(proposal, str):
@@ -760,7 +770,7 @@ def _proposal_policies(
             return [policy], ["the policy (a grid solution of this problem)"]
         if grid_proposal is None:
             return [policy], ["the policy (no grid solution to pool with)"]
-        grid_policy, name = grid_proposal(problem)
+        grid_policy, name = grid_proposal(problem, pilot, work)
         if grid_policy is None:
             return [policy], [f"the policy ({name})"]
         return [policy, grid_policy], ["the policy", name]
@@ -770,6 +780,73 @@ def _proposal_policies(
         names = [f"proposal {i + 1}" for i in range(len(proposal))]
         return [_proposal_policy(p) for p in proposal], names
     return [_proposal_policy(proposal)], ["the proposal"]
+
+
+PILOT_SAMPLES = 128
+"""Paths per start state with which :func:`pilot_share` judges a candidate proposal (a few
+percent of a certificate's draws)."""
+
+
+def pilot_share(
+    problem: Problem,
+    starts: np.ndarray,
+    horizon: float,
+    dt: float | None,
+    boundary: str | None,
+    seed: int | None,
+    samples: int,
+    sampler,
+) -> float:
+    """The smallest effective share of ``sampler``'s weights over the start states: (Σw)²/Σw²
+    of ``samples`` paths per state over ``horizon`` at the certificate's step ``dt``, divided
+    by their number (1 for the optimal policy, whose weights are all equal), as a proposal alone.
+    Drawn from a generator of their own (the seed with a second word), so that what a pilot
+    decides is independent of the certificate's draws, which stay exact for any proposal
+    chosen (:func:`gridlbc.certify` judges its automatic proposal so, docs page
+    :doc:`validating`).
+
+    Parameters
+    ----------
+    problem : Problem
+        The problem certified.
+    starts : ndarray (k, d)
+        The certificate's start states, checked and wrapped.
+    horizon : float
+        How long the paths run (:func:`gridlbc.simulate.rollout_horizon`).
+    dt : float or None
+        The certificate's step (None: :data:`gridlbc.simulate.DEFAULT_STEPS` steps).
+    boundary : {"free", "reflect"} or None
+        At closed edges of the box, as the certificate's.
+    seed : int or None
+        The certificate's seed.
+    samples : int
+        Paths per start state (:data:`PILOT_SAMPLES`, or the certificate's count if fewer).
+    sampler : callable
+        The candidate proposal, ``sampler(x, t)`` → ``(N, m)``.
+
+    Returns
+    -------
+    float
+        The smallest effective share over the start states, in (0, 1] (0 where a weight is
+        not finite).
+    """
+    rng = np.random.default_rng(None if seed is None else [seed, 1])
+    k = starts.shape[0]
+    paths = euler_maruyama(
+        problem,
+        sampler,
+        np.repeat(starts, samples, axis=0),
+        step_count(horizon, dt),
+        rng,
+        boundary=resolve_boundary(problem, boundary),
+        horizon=horizon,
+    )
+    a = -(paths.running_cost + paths.terminal_cost + paths.ito) / problem.temperature
+    a = a.reshape(k, samples)
+    if not np.all(np.isfinite(a)):
+        return 0.0
+    w = np.exp(a - a.max(axis=1, keepdims=True))
+    return float(np.min(w.sum(axis=1) ** 2 / (w**2).sum(axis=1))) / samples
 
 
 def _same_problem(other, problem: Problem, but: str | None = None) -> bool:
