@@ -753,7 +753,8 @@ def _proposal_policies(
     """The proposals' policies and their names: ``[policy]`` for None; for ``"auto"`` the judged
     policy pooled with a grid solution of the problem (``grid_proposal(problem, pilot, work)``,
     which may judge its candidates by ``pilot``, :func:`pilot_share`, within a multiple of the
-    certificate's sample-steps ``work``) unless it is one already or none is given; one per
+    certificate's sample-steps ``work``) unless none is given or the policy is one already and
+    a good proposal (its pilot's effective share at least :data:`PILOT_SHARE`); one per
     entry of a list or tuple of proposals; else the proposal's policy alone."""
     if proposal is None:
         return [policy], ["the policy"]
@@ -767,7 +768,15 @@ def _proposal_policies(
         if hasattr(owner, "desirability") and _same_problem(
             getattr(owner, "problem", None), problem
         ):
-            return [policy], ["the policy (a grid solution of this problem)"]
+            own = "the policy (a grid solution of this problem)"
+            if grid_proposal is None or pilot is None or problem.stationary:
+                return [policy], [own]
+            if pilot(policy) >= PILOT_SHARE:
+                return [policy], [own]
+            grid_policy, name = grid_proposal(problem, pilot, work)
+            if grid_policy is None:
+                return [policy], [own]
+            return [policy, grid_policy], [own, name]
         if grid_proposal is None:
             return [policy], ["the policy (no grid solution to pool with)"]
         grid_policy, name = grid_proposal(problem, pilot, work)
@@ -781,6 +790,12 @@ def _proposal_policies(
         return [_proposal_policy(p) for p in proposal], names
     return [_proposal_policy(proposal)], ["the proposal"]
 
+
+PILOT_SHARE = 0.5
+"""With ``proposal="auto"``, a grid solution whose pilot paths' effective share
+(:func:`pilot_share`) is below this is a poor proposal: a judged policy that is a grid
+solution of the problem is then pooled with the automatic one, and the automatic one is solved
+again with half its time step (:func:`gridlbc.certify`, docs page :doc:`validating`)."""
 
 PILOT_SAMPLES = 128
 """Paths per start state with which :func:`pilot_share` judges a candidate proposal (a few

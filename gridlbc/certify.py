@@ -15,6 +15,7 @@ import numpy as np
 from .certificate import (
     MAX_PARETO_K,
     MIN_EFFECTIVE_SAMPLE_SIZE,
+    PILOT_SHARE,
     Certificate,
     sample_certificate,
 )
@@ -27,11 +28,6 @@ AUTO_PROPOSAL_NODES = 1_000_000
 """With ``proposal="auto"``, the most grid nodes :func:`~gridlbc.certify` solves on by itself to
 pool a grid policy with the judged one (a larger grid is coarsened to this many, box unchanged)."""
 
-
-AUTO_SHARE = 0.5
-"""With ``proposal="auto"``, a grid solution whose pilot paths' effective share
-(:func:`gridlbc.certificate.pilot_share`) is below this is solved again with half its time step
-(:func:`~gridlbc.certify._grid_proposal`)."""
 
 AUTO_HALVINGS = 3
 """At most this many halvings of the automatic grid solution's time step."""
@@ -180,7 +176,7 @@ def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
     paths of a candidate from the certificate's start states), the time step is halved, up to
     :data:`AUTO_HALVINGS` times and while the solve's node-steps stay within :data:`AUTO_WORK`
     times the certificate's sample-steps ``work``, as long as the pilot's effective share is below
-    :data:`AUTO_SHARE` (the finest is kept: a pilot of a poor proposal is too noisy to compare
+    :data:`PILOT_SHARE` (the finest is kept: a pilot of a poor proposal is too noisy to compare
     two by, and a finer step does not make a grid policy worse). Why: the policy
     between two stored slices is interpolated linearly in time, and where the terminal cost is
     steep the policy grows within the last step far from linearly; at a small temperature the
@@ -214,7 +210,7 @@ def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
     solutions = _GRID_PROPOSALS[problem]
     chosen = solutions[0]
     for halving in range(1, AUTO_HALVINGS + 1):
-        if pilot is None or problem.stationary or pilot(GridPolicy(chosen)) >= AUTO_SHARE:
+        if pilot is None or problem.stationary or pilot(GridPolicy(chosen)) >= PILOT_SHARE:
             break
         first = solutions[0]
         if first.grid.size * first.diagnostics.steps * 2**halving > AUTO_WORK * work:

@@ -9,6 +9,7 @@ recursion).
 """
 
 import sys
+import warnings
 
 import numpy as np
 import pytest
@@ -454,7 +455,7 @@ def test_the_automatic_proposal_takes_a_finer_step_where_its_pilot_is_poor(monke
     # A point mass at λ = 0.05 whose terminal cost pulls hard (W = 50): its default solve takes
     # 10 steps of 0.2, and the policy between the last two slices, interpolated linearly in
     # time, is far from the optimal one, which grows within that step far from linearly. The
-    # pilot's effective share of that grid policy is below AUTO_SHARE, so certify solves again
+    # pilot's effective share of that grid policy is below PILOT_SHARE, so certify solves again
     # at half the step. Both pools are exact for the chain (within 3 SE of its value); the finer
     # one carries about twice the effective samples (measured at seeds 0–3: 305–331 of 1000
     # against 154–203 with the default step).
@@ -477,6 +478,18 @@ def test_the_automatic_proposal_takes_a_finer_step_where_its_pilot_is_poor(monke
     for cert in (finer, default):
         assert abs(cert.optimal_value - chain) < 3 * cert.optimal_value_se
     assert finer.effective_sample_size > 1.4 * default.effective_sample_size
+    # the problem's own default solve as the judged policy is as poor a proposal: it is pooled
+    # with the automatic one rather than drawing alone
+    monkeypatch.undo()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", g.GridlbcWarning)
+        solution = g.solve(problem)
+    own = g.certify(problem, solution.policy, x0, n_samples=1000, seed=0)
+    assert own.proposals == (
+        "the policy (a grid solution of this problem)",
+        "a 41×41 grid solution (auto), dt = 0.1",
+    )
+    assert abs(own.optimal_value - chain) < 3 * own.optimal_value_se
 
 
 # -- what the samples cannot see, and the step's bias at an exit ----------------------------------
