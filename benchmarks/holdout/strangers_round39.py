@@ -6,10 +6,10 @@ the other 33 are drawn but NOT run), then ``--check r39_3d_hz_06 r39_3d_hz_10 r3
 then ``--table``):
 
 - 15 problems (12 3-D: 6 fixed horizon, 4 first exit with a horizon, 2 first exit without; 3 2-D:
-  2 fixed horizon, 1 first exit with a horizon; ``--list`` prints each definition), 0 raised, 15 of 15 warned (every warning a
-  ResolutionWarning). 84 (problem, state, t) pairs (t = 0 and T − 2Δt; first exit t = 0),
-  75 trusted (ESS ≥ 100 and k̂ ≤ 0.7; the 9 others: 7 with ESS 1–66 / k̂ 0.61–8.6 at t = T − 2Δt,
-  2 states inside the exit set, where k̂ is NaN and v* is the exit cost).
+  2 fixed horizon, 1 first exit with a horizon; ``--list`` prints each definition), 0 raised,
+  15 of 15 warned (every warning a ResolutionWarning). 84 (problem, state, t) pairs (t = 0 and T − 2Δt; first exit t = 0),
+  75 trusted (ESS ≥ 100 and k̂ ≤ 0.7; the 9 others: 6 with ESS 1–66 / k̂ 0.61–8.6 at t = T − 2Δt,
+  3 reads of states inside the exit set, where k̂ is NaN and v* is the exit cost).
 - > 10 % off (trusted): 8, all warned. SILENT: 0 (no quiet solve at all).
 - coverage ê ≥ ½ err: 72 of 75 strictly; the 3 others have err < 1 % (``r39_2d_hz_00`` t = 0
   x0 err 0.12 % ê 0.05 %; ``r39_3d_hz_08`` t = 0 x1 0.52 % / 0.10 %, t = 1.667 x2 0.21 % / 0.07 %).
