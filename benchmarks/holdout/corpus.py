@@ -1068,6 +1068,29 @@ def _late_terminal_exact(X):
     return lq_solution(remaining).value(X, 0.0)
 
 
+SEAM_CENTRE = np.array([0.5, 0.0])
+SEAM_WEIGHTS = np.array([[3.0, 1.2], [1.2, 1.0]])
+
+
+def _seam_cost(x):
+    """(x − c)ᵀW(x − c) with the angle's difference wrapped to [−π, π) and a cross term: as a
+    user writes a wrap-aware quadratic, and discontinuous across the seam θ = c₀ + π, where the
+    cross term's sign flips (a jump of 4πW₀₁|ω − c₁|)."""
+    d = np.asarray(x, dtype=float) - SEAM_CENTRE
+    d[:, 0] = (d[:, 0] + np.pi) % (2 * np.pi) - np.pi
+    return np.einsum("ni,ij,nj->n", d, SEAM_WEIGHTS, d)
+
+
+def _seam_jump_problem():
+    return Problem(
+        Pendulum(),
+        _grid((-np.pi, np.pi, 64, True), (-8.0, 8.0, 107)),
+        3.0,
+        _seam_cost,
+        temperature=0.07,
+    )
+
+
 def _mixing_inputs_problem() -> Problem:
     """Stranger round 38's mixB_d0.25_l0.5_T2: ẋ = B u with B = [[1, 1], [1, −1]] and
     R = Bᵀ diag(1, 4) B (noise diag(1, 0.25) λ), q = 0.3 abs(x)², g narrow (10) across 45° and 1
@@ -1879,6 +1902,16 @@ MEMBERS: tuple[Member, ...] = (
         "round's own reads (t = 0, 0.9 T) were within 1 %",
         tags=("read late", "closed"),
         time=1.9,
+    ),
+    Member(
+        "seam_jump",
+        _seam_jump_problem,
+        np.array([[0.0, 0.0], [1.0, -1.0], [-1.5, 2.0]]),
+        "a pendulum's wrap-aware quadratic terminal cost with a cross term, which jumps by up to "
+        "90 across its seam inside a cell, λ = 0.07 (stranger round 39's r39_3d_hz_06 in 2-D): "
+        "the sub-cell excess read the jump as a goal below every cost the problem has, and the "
+        "estimate 64 times v where the solve is right",
+        tags=("periodic", "small temperature", "discontinuous cost"),
     ),
 )
 

@@ -39,7 +39,12 @@ little. Held longer than the noise's time across a cell, a path pays to stay in 
 soft minimum at that τ charges at most what staying costs
 (:func:`~gridlbc.accuracy.subcell.hold_time`): a task that never ends is priced by it, not by a hold
 of infinite length, which would make any well worth its whole depth. I f_c, the embedded grid's
-multilinear interpolant of the cost at its own nodes, keeps the exponentials in range. An exit cost
+multilinear interpolant of the cost at its own nodes, keeps the exponentials in range. No hat holds
+a cost below its lowest sample: δ_j is at least min f(s) − f(x_j) over the lattice points s in
+the support of φ_j and the bottoms :func:`descend` reaches there (a cost that jumps inside a cell
+stays at its lower level up to the jump while R f ramps across it, and against I f_c the ratio
+above reads that stretch as a goal as deep as the jump, below every cost the problem has:
+stranger round 39). An exit cost
 is paid on the exit set E only: the sums run over the lattice points in E (a hat with none has no
 excess), so a user's g_E off E (``np.where`` of a door's cost, 0 elsewhere, which no path pays) is
 no feature.
@@ -290,6 +295,8 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     anchors = [coarse.reshape(coarse.node_values(values)) for _, values, _, _ in sampled]
     scale = problem.temperature
     sums = np.zeros((2, len(sampled)) + coarse.shape)
+    least = np.full((len(sampled),) + coarse.shape, np.inf)  # min of f over each hat's support
+    supports = [_support(hat) for hat in hats]
     paid_on_exit = any(on_exit for *_, on_exit in sampled)
     for block in _blocks(points) if sampled else ():
         off_exit = ~block.evaluate(problem.exit_mask, bool) if paid_on_exit else None
@@ -300,7 +307,11 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
                 true = np.where(outside, rebuilt, true)
             anchor = block.spread(anchors[k], hats)
             measure = partial(_exponents, values, nodal[k], grid, coarse, anchors[k], tau / scale)
-            seeds, deeper = _deeper(measure, grid, coarse, block, true, rebuilt, m)
+            seeds, deeper, bottoms = _deeper(measure, grid, coarse, block, true, rebuilt, m)
+            lowest = true.copy() if outside is None else np.where(outside, np.inf, true)
+            if len(seeds):  # the descents' bottoms, where they went below the lattice
+                lowest.reshape(-1)[seeds] = np.fmin(lowest.reshape(-1)[seeds], values(bottoms))
+            np.minimum(least[k], block.least(lowest, supports), out=least[k])
             for side, exponent in enumerate((true, rebuilt)):  # −τ (f − I f_c)/λ, in place
                 np.subtract(exponent, anchor, out=exponent)
                 np.multiply(exponent, -tau, out=exponent)
@@ -315,6 +326,8 @@ def excess(problem, coarse: Grid, terminal_costs, m: int | None = None) -> Exces
     others: dict[str, np.ndarray] = {}
     for k, (i, _, tau, _) in enumerate(sampled):
         soft = -scale / tau * _log_ratio(*sums[:, k])
+        floor = least[k] - anchors[k]  # no hat holds a cost below its lowest sample
+        soft = np.where(np.isfinite(floor), np.fmax(soft, floor), soft)
         if isinstance(i, str):
             others[i] = soft.reshape(-1)
         else:
@@ -435,7 +448,7 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
     looks around as many points as keep that within the block's size (a trough along an axis
     has a minimum at every point along it): first the lowest in each cell of ``coarse`` (each
     hat wants its own), the lowest of them where they are more; then the others, evenly spread
-    over the block."""
+    over the block. Also returned: the bottoms the descents reached (S, d)."""
     rounding = ROUNDING * max(float(true.max()), -float(true.min()))  # max abs(f), no copy
     true, rebuilt = true.reshape(-1), rebuilt.reshape(-1)
     minima = np.empty(true.size, dtype=bool)
@@ -459,13 +472,13 @@ def _deeper(measure, grid: Grid, coarse: Grid, block: _Block, true, rebuilt, m: 
         spread = rest[np.linspace(0, len(rest) - 1, most - len(first)).astype(np.int64)]
         seeds = seeds[np.concatenate([first, spread])]
     if len(seeds) == 0:
-        return seeds, np.empty((2, 0))
+        return seeds, np.empty((2, 0)), np.empty((0, grid.ndim))
     side = grid.spacing / m
     found, bottoms, cut = descend(measure, grid, block.points(seeds), side)
     deep = cut > 1  # a feature between the points: summed again around its bottom
     if deep.any():
         found[:, deep] = descend(measure, grid, bottoms[deep], side)[0]
-    return seeds, found
+    return seeds, found, bottoms
 
 
 def reproduced(cost) -> bool:
@@ -519,11 +532,36 @@ class _Block:
             values = along(hats[k].T, values, k)
         return values
 
+    def least(self, values: np.ndarray, supports: list) -> np.ndarray:
+        """min over the block's points s in the support of φ_j of ``values``(s), for every coarse
+        node j (+inf where none lies in the block)."""
+        for k in range(1, len(supports)):
+            values = _least_along(supports[k], values, k)
+        return _least_along(supports[0][:, self.rows], values, 0)
+
     def average(self, values: np.ndarray, hats: list) -> np.ndarray:
         """Σ_s φ_j(s) values(s) over the block's points s, for every coarse node j."""
         for k in range(1, len(hats)):
             values = along(hats[k], values, k)
         return along(hats[0][:, self.rows], values, 0)
+
+
+def _support(hat: sp.csr_matrix) -> sp.csr_matrix:
+    """The hat matrix without its zero weights (a point on a coarse node is in no other hat)."""
+    support = hat.copy()
+    support.eliminate_zeros()
+    return support
+
+
+def _least_along(support: sp.csr_matrix, values: np.ndarray, axis: int) -> np.ndarray:
+    """For every row j of ``support`` (a coarse node), the least of ``values`` along ``axis``
+    over the points in its hat's support (+inf where it holds none)."""
+    moved = np.moveaxis(values, axis, 0)
+    out = np.full((support.shape[0],) + moved.shape[1:], np.inf)
+    held = np.diff(support.indptr) > 0
+    if held.any():
+        out[held] = np.minimum.reduceat(moved[support.indices], support.indptr[:-1][held], axis=0)
+    return np.moveaxis(out, 0, axis)
 
 
 def _blocks(points: Grid):

@@ -273,6 +273,26 @@ def test_the_descent_finds_a_goal_that_the_lattice_points_see_alike(monkeypatch)
     assert blind - dense > 5 * lam
 
 
+def test_a_cost_that_jumps_inside_a_cell_is_no_goal_below_its_own_values():
+    """g = 3 up to x₀ = 0.09 and 46 beyond, a jump inside the cell [0.05, 0.1] of a grid of
+    spacing 0.05, next to the embedded grid's node at 0 (g = 3) whose hat reaches 0.1 (g = 46).
+    There the reconstruction ramps from 3 to 46, the true cost stays at 3 up to the jump, and
+    against the embedded grid's interpolant (also a ramp, from 0 to 0.1) the soft minimum read a
+    goal some 30 deep at that node: raised, its cost fell far below any the problem has, and
+    the raised solve steered every path to it (stranger round 39: a wrap-aware quadratic with
+    cross terms, discontinuous across its seams, read 1327 % where the solve was within 1.1 %).
+    No hat holds a cost below its lowest sample: raised, every node's cost is at least 3 (to
+    rounding), and the true costs sampled between the nodes are no lower."""
+
+    def step(x):
+        return np.where(x[:, 0] < 0.09, 3.0, 46.0)
+
+    problem = _integrator(g.Axis(-1, 1, 41), step, 0.05)
+    coarse = g.Grid([g.Axis(-1, 1, 21)] * 2)
+    raised = coarse.node_values(step) + accuracy.excess(problem, coarse, [step]).terminal[0]
+    assert raised.min() >= 3.0 - 1e-9
+
+
 def _narrow_goal():
     """ẋ = u in 2-D (41², h = 0.1), terminal cost only: a goal half a cell wide at the centre of a
     cell, g = 2 (1 − exp(−|x − c|²/2w²)) + 0.1 |x|², w = 0.05, λ = 0.1, T = 1; and its exact value
