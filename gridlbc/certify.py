@@ -111,8 +111,10 @@ def certify(
         2024: above 0.7 the estimate is unreliable whatever the sample count).
     proposal : "auto", None, object with ``.policy(x, t)``, callable, or a list of them
         The importance-sampling proposal for v*. ``"auto"`` (default): ``policy`` pooled with a
-        grid solution of the problem, or ``policy`` alone when it is a grid solution's policy of
-        this problem or the problem has no grid (:attr:`Certificate.proposals` says which). None:
+        grid solution of the problem (solved with a finer time step where a pilot of a few paths
+        finds it a poor proposal, docs page :doc:`validating`), or ``policy`` alone
+        when it is a grid solution's policy of this problem that the pilot finds a good proposal
+        or the problem has no grid (:attr:`Certificate.proposals` says which). None:
         ``policy`` alone. A :class:`~gridlbc.Solution`, a combination or a callable
         ``policy(x, t)``: that proposal, its paths drawn first from the seeded generator and
         those of ``policy`` after them (independent). A list or tuple: those proposals pooled
