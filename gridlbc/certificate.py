@@ -860,8 +860,24 @@ def pilot_share(
     a = a.reshape(k, samples)
     if not np.all(np.isfinite(a)):
         return 0.0
-    w = np.exp(a - a.max(axis=1, keepdims=True))
-    return float(np.min(w.sum(axis=1) ** 2 / (w**2).sum(axis=1))) / samples
+    return float(np.min(effective_sample_sizes(a))) / samples
+
+
+def effective_sample_sizes(log_weights: np.ndarray) -> np.ndarray:
+    """(Σw)²/Σw² per row of importance weights given by their logarithms (the weights relative to
+    each row's largest, so nothing overflows); NaN where a weight is NaN.
+
+    Parameters
+    ----------
+    log_weights : ndarray (N, n)
+        log w, one row per start state.
+
+    Returns
+    -------
+    ndarray (N,)
+    """
+    w = np.exp(log_weights - np.max(log_weights, axis=1, keepdims=True))
+    return np.sum(w, axis=1) ** 2 / np.sum(w**2, axis=1)
 
 
 def _same_problem(other, problem: Problem, but: str | None = None) -> bool:

@@ -42,6 +42,7 @@ import warnings
 import numpy as np
 from scipy.stats import norm
 
+from ..certificate import effective_sample_sizes
 from ..interpolate import barycentric
 from ..simulate import euler_maruyama
 from .paths import SEED, path_step
@@ -131,7 +132,9 @@ def bellman_gap(
     coarse = _log_weights(solution, x, t, samples, span, steps * SUBSTEPS, paired=True)
     fine = _log_weights(solution, x, t, samples, span, steps * 2 * SUBSTEPS)
     local, se = _extrapolated(fine, coarse, solution.temperature)
-    few = np.flatnonzero(np.fmin(_effective_size(fine), _effective_size(coarse)) < LOCAL_ESS)
+    few = np.flatnonzero(
+        np.fmin(effective_sample_sizes(fine), effective_sample_sizes(coarse)) < LOCAL_ESS
+    )
     if len(few):  # a few heavy paths: v_ℓ at most what the uncontrolled process pays
         costs = -solution.temperature * _log_weights(
             solution, x[few], t, samples, span, steps * 2 * SUBSTEPS, passive=True
@@ -318,13 +321,6 @@ class _Paired:
     def random(self, size) -> np.ndarray:
         """Uniforms, drawn as they are asked for."""
         return self.rng.random(size)
-
-
-def _effective_size(log_weights: np.ndarray) -> np.ndarray:
-    """(Σw)²/Σw² per state of the paths' weights w = exp(log_weights) (N, n); NaN where one is
-    not finite."""
-    w = np.exp(log_weights - np.max(log_weights, axis=1, keepdims=True))
-    return np.sum(w, axis=1) ** 2 / np.sum(w**2, axis=1)
 
 
 def _extrapolated(
