@@ -102,6 +102,7 @@ from scipy.special import logsumexp
 
 from ..backends.numba.lattice import (
     lattice_points,
+    least_in_supports,
     local_minima,
     multilinear_points,
     rebuild_points,
@@ -556,12 +557,11 @@ def _support(hat: sp.csr_matrix) -> sp.csr_matrix:
 def _least_along(support: sp.csr_matrix, values: np.ndarray, axis: int) -> np.ndarray:
     """For every row j of ``support`` (a coarse node), the least of ``values`` along ``axis``
     over the points in its hat's support (+inf where it holds none)."""
-    moved = np.moveaxis(values, axis, 0)
-    out = np.full((support.shape[0],) + moved.shape[1:], np.inf)
-    held = np.diff(support.indptr) > 0
-    if held.any():
-        out[held] = np.minimum.reduceat(moved[support.indices], support.indptr[:-1][held], axis=0)
-    return np.moveaxis(out, 0, axis)
+    values = np.ascontiguousarray(values, dtype=float)
+    outer, inner = int(np.prod(values.shape[:axis])), int(np.prod(values.shape[axis + 1 :]))
+    out = np.empty((outer, support.shape[0], inner))
+    least_in_supports(values.reshape(outer, -1, inner), support.indptr, support.indices, out)
+    return out.reshape(values.shape[:axis] + (support.shape[0],) + values.shape[axis + 1 :])
 
 
 def _blocks(points: Grid):

@@ -258,3 +258,20 @@ def multilinear_points(values, shape, periodic, positions, out):  # pragma: no c
                     flat += ((cell[a] + up) % shape[a]) * strides[a]
                 total += weight * values[flat]
             out[p] = total
+
+
+@jit_parallel
+def least_in_supports(values, indptr, indices, out):  # pragma: no cover - numba
+    """``out[a, j, c]``: the least of ``values[a, i, c]`` over the rows i = ``indices[p]``,
+    ``indptr[j]`` ≤ p < ``indptr[j + 1]`` (a CSR matrix's pattern: the lattice points in the
+    support of coarse node j's hat along the middle axis), +inf where there are none."""
+    outer, rows, inner = out.shape
+    for task in prange(outer * rows):
+        a, j = task // rows, task % rows
+        for c in range(inner):
+            out[a, j, c] = np.inf
+        for p in range(indptr[j], indptr[j + 1]):
+            i = indices[p]
+            for c in range(inner):
+                if values[a, i, c] < out[a, j, c]:
+                    out[a, j, c] = values[a, i, c]
