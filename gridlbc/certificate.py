@@ -116,8 +116,9 @@ UNVISITED_FLOOR = 0.05
 """A grid solution's response S to the costs between its nodes counts as a feature the samples
 may have missed (:func:`check_unvisited`) only above this share of max(abs(v̂*), λ), the default
 tolerance of a solve's own warning (:data:`gridlbc.accuracy.DEFAULT_TOLERANCE`): S is read on
-the coarser grid and errs high (docs page :doc:`accuracy`), and below it (stranger round 36: S
-of 0.01 % to 4.6 % of v where the certificate was right) it is no evidence of one."""
+the coarser grid and errs high (docs page :doc:`accuracy`), and below it S is no evidence of
+one: it reads a few percent where the certificate is right (stranger round 36, docs page
+:doc:`validating`, "What the samples never visit")."""
 
 EXTRAPOLATION_FLOOR = 1e-3
 """``certify(..., richardson=True)`` warns of an extrapolation whose residual (a third of
@@ -553,7 +554,8 @@ def crossings_unchecked(problem: Problem) -> bool:
     size Δt is then missed with a probability that shrinks only as √Δt (Broadie, Glasserman &
     Kou, Math. Finance 1997): a bias of that order, which the first-order extrapolation of
     ``richardson=True`` does not remove (extrapolating at order ½ instead amplified other
-    biases of the step: stranger round 36, a toll strip the steps cross, 8.6 % high).
+    biases of the step and made right answers wrong: stranger round 36's toll strip the steps
+    cross, docs page :doc:`validating`, "An interval").
 
     Which axes cross the boundary is read on the grid: those along which the exit set's nodes
     meet the others, at the nodes on either side, with the noise's variance (B R⁻¹ Bᵀ)_kk
@@ -701,8 +703,9 @@ def check_unvisited(problem: Problem, samplers: list, certificate: Certificate) 
     Importance sampling sees only what its samples visit. A grid solution's policy steers by the
     costs its nodes see: a goal or a well between the nodes is not sought, and where the other
     samplers do not go there either, v̂* is the value of the problem without the feature, with a
-    small SE, a large ESS and a light tail (stranger round 35: a terminal dip 0.3 cell wide,
-    certified at 0.2334 ± 0.0004 where the optimum is −0.352). The grid solution's error
+    small SE, a large ESS and a light tail, far from the optimum and trusted (stranger round
+    35's terminal dip between the nodes: docs page :doc:`validating`, "What the samples never
+    visit"). The grid solution's error
     estimate measures what such features change: S, its response to the costs' excess between
     the nodes (:class:`gridlbc.accuracy.subcell.Response`, docs page :doc:`accuracy`). Where S
     at x₀ exceeds three of v̂*'s standard errors and :data:`UNVISITED_FLOOR` of max(abs(v̂*), λ),

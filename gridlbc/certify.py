@@ -183,9 +183,9 @@ def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
     between two stored slices is interpolated linearly in time, and where the terminal cost is
     steep the policy grows within the last step far from linearly; at a small temperature the
     weights are sharp enough for that to leave a few effective paths, and then the unseen tail
-    biases v̂* high with a small SE and a moderate k̂ (stranger round 35: a 4-D LQ at λ = 0.1
-    solved in 10 steps, ESS 2–39 of 1000, v̂* 0.8–2 % high at 4–7 SEs; in 40 steps ESS 390–500,
-    unbiased). More nodes did not help there; a finer step did.
+    biases v̂* high with a small SE and a moderate k̂, which no diagnostic flags; a finer step
+    restores the effective samples and removes the bias, where more nodes do not (stranger
+    round 35's 4-D LQ at λ = 0.1: docs page :doc:`validating`, "Pooled proposals").
     """
     if problem.grid is None:
         return None, "no grid to solve on"

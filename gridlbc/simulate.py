@@ -723,9 +723,10 @@ class _Exits:
         each half is judged the same way with the noise ``factor``/√2, unless the nearest points
         of both ends lie on one plane with one normal (a flat face, where the rule is exact). The
         tangent plane at the nearest point of a convex E holds E, so the flat rule over-counts
-        crossings of a curved boundary (stranger round 34: a ball of radius 0.4 at λ = 2, whose
-        certificate at Δt = 0.004 was 38 % low); each halving shrinks the step against the
-        curvature.
+        crossings of a curved boundary, and a certificate of a first exit into a ball is then
+        far low (stranger round 34's ball: docs page :doc:`validating`, "An interval", and
+        :doc:`first_exit`, "The rule is exact for a flat boundary"); each halving shrinks the
+        step against the curvature.
 
         The halves are judged level by level, all of a level's at once (one batch of draws per
         level: a bridge halved six times costs six batches, not up to 2⁶ − 1 calls), and a

@@ -99,7 +99,7 @@ def kept_steps(steps: int, store_every: int) -> list[int]:
 def kept_count(steps: int, store_every: int) -> int:
     """How many slices :func:`kept_steps` lists, counted without listing them (a step short
     against the horizon can plan hundreds of millions of steps, whose list alone would not fit
-    in memory: stranger round 30, a ±5 mm box solved over an hour)."""
+    in memory: stranger round 30's ±5 mm box, docs page :doc:`benchmarks`)."""
     return steps // store_every + 1 + (steps % store_every != 0)
 
 

@@ -211,10 +211,10 @@ def interval_middles(solution) -> list[float]:
     stores every step or has no horizon.
 
     Why every interval: interpolating in time errs where v changes fastest in time, which need
-    not be next to T (stranger round 28: a pendulum with ``store_every=3`` was 11–15 % off and
-    silent in its last interval but one, t = 1.19–1.28 of T = 1.5, where the last interval's
-    middle read little); reading τ there costs an interpolation of the coarser solves per
-    state and time, no paths."""
+    not be next to T, and an interval further back can be far off and silent while the last
+    interval's middle reads little (stranger round 28's damped pendulum with ``store_every=3``:
+    docs page :doc:`accuracy`, "Between stored slices"); reading τ there costs an
+    interpolation of the coarser solves per state and time, no paths."""
     if solution.problem.stationary or solution.diagnostics.store_every == 1:
         return []
     times = np.asarray(solution.times, dtype=float)
@@ -260,7 +260,8 @@ def late_times(solution) -> list[float]:
     Why the second: a step long against how fast the terminal cost makes v change errs most in
     the first steps from T, and a value read between two stored slices is interpolated in time
     (a point mass with a terminal cost only, no drift and no state cost, solved at the default
-    step T/10, is within 0.3 % at t = 0 and 13–27 % off at T − Δt/2, stranger round 21); 8 steps
+    step T/10, is accurate at t = 0 and far off at T − Δt/2: stranger round 21, docs page
+    :doc:`accuracy`, "The last step"); 8 steps
     before T that error has not yet reached the states, and on a 10-step solve T − 8Δt is early
     in the task. At that time the solves at 2h and 4h, with their longer steps, interpolate
     across more of the change than the solve, and the order observed from them there
@@ -582,12 +583,14 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
 
     Why: weights far from one move the combination's value far from its components' (a weight
     10³ lowers it by λ log 10³ where that component leads), while their absolute errors carry
-    over: a component 4 % off can leave a combination 30 % off, relative to its own smaller
-    value, and each component's solve judged only itself. Late in a task a component's value
-    between its time levels is a few percent off where z changes fast (between two goals near
+    over: a component a few percent off can leave a combination many times that off, relative
+    to its own smaller value, and each component's solve judged only itself (stranger round
+    14's ``combo_weights``, docs page :doc:`accuracy`, "The warning"). Late in a task a
+    component's value between its time levels is a few percent off where z changes fast
+    (between two goals near
     T), within its own tolerance, and the same error is many times that of a combination whose
-    weights bring its value near 0 (stranger round 26: 13–16 % at t = 1.9 of 2 with weights 1
-    and 10³, the components within 2.4 %, silent while only t = 0 was judged). There the grid
+    weights bring its value near 0, silent while only t = 0 was judged (stranger round 26's two
+    goals with weights 1 and 10³: docs page :doc:`accuracy`, "The warning"). There the grid
     terms alone over-read (the coarser solves' longer steps), as they do for the components'
     own late readings. Nothing is checked where a component carries no estimate."""
     components = combined.components
@@ -642,8 +645,9 @@ def blended(alpha: np.ndarray, errors: np.ndarray, lam: float) -> np.ndarray:
         δv = −λ log Σ_i α_i exp(−δv_i / λ),
 
     exact for any size of the δv_i where the weights are positive (a component far too low
-    dominates the blend, one far too high drops out of it: Σ_i α_i δv_i, its first order, read
-    7.4 % where the combination is 2.7 % off, a component 12 above its own value at weight ½);
+    dominates the blend, one far too high drops out of it, so that its first order Σ_i α_i δv_i
+    over-reads where a component is far too high: the demo's coordination, docs page
+    :doc:`accuracy`, "The warning");
     Σ_i abs(α_i δv_i) where a weight is negative (:func:`check_combination`)."""
     if np.any(alpha < 0):
         return np.sum(np.abs(alpha * errors), axis=1)

@@ -62,8 +62,9 @@ WHOLE_SAMPLES = 512
 """Paths per state of the whole remaining task's certificate
 (:func:`~gridlbc.accuracy.local_error`), fewer where
 :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` asks: its paths run to the horizon under a proposal
-that may steer where the solve is wrong, and their weights are heavy-tailed (32 paths read −6.5 and
-−1.4 where the error is −2.5)."""
+that may steer where the solve is wrong, and their weights are heavy-tailed, so that a few dozen
+paths scatter widely about the error (stranger round 20's ``exit_late``: docs page
+:doc:`accuracy`, "Stranger round 20 found where the whole task is needed")."""
 
 LOCAL_WORK = 1 << 22
 """At most this many path-steps per call of :func:`~gridlbc.accuracy.bellman_gap` (but at least 8
@@ -82,8 +83,9 @@ certificate's v_ℓ is held to at most what the uncontrolled process pays over t
 plus :data:`~gridlbc.accuracy.bellman.BELLMAN_SE` of its standard errors, since the optimum over the
 span is at most the cost of any policy, doing nothing included. There a few paths carry the whole
 weight, and −λ log of the weights' mean, biased high as the logarithm of a mean is, can lie far
-above the true v_ℓ where the solve's policy is absurd (stranger round 25: a first exit at λ = 0.05
-whose policy pushes at 2·10⁴ read v_ℓ 8090 above v_h = 1.6, one path of 32 carrying the weight)."""
+above the true v_ℓ where the solve's policy is absurd (stranger round 25's first exit at small λ
+whose policy pushes hard, one path carrying the weight: docs page :doc:`benchmarks`, "It found
+the local certificate reading ...")."""
 
 
 def bellman_gap(
@@ -96,8 +98,9 @@ def bellman_gap(
     than :data:`~gridlbc.accuracy.bellman.LOCAL_ESS` paths carry the weight). v_ℓ
     is extrapolated in the chain's step δ, 2 v_ℓ(δ/2) − v_ℓ(δ) with δ =
     Δt/:data:`~gridlbc.accuracy.bellman.SUBSTEPS`, which removes the Euler–Maruyama chain's
-    first-order weak error (a solve's step may be long against its dynamics: a spring of rate 2
-    solved at Δt = 0.2 read a 17 % error at δ = Δt/4 where the solve is within 1.3 %).
+    first-order weak error (a solve's step may be long against its dynamics, and the chain's
+    own error then dwarfs the solve's: round 18's springs, docs page :doc:`accuracy`, "A value
+    steeper than a cell where the costs are smooth").
 
     Parameters
     ----------
@@ -163,9 +166,9 @@ def local_error(
     than ``samples``) or, as long as the span, from more paths than ``samples``; and the larger
     of the two. Why also the short one: in the last steps of a task v can change within one
     step by more than interpolating between two slices says (a terminal layer thinner than
-    Δt, which the coarser solves interpolate alike), and 32 paths read such an error below
-    their noise (stranger round 38's mixing inputs at T − Δt/2: −0.024 ± 0.016 where it is
-    −0.048; 512 paths read 0.034)."""
+    Δt, which the coarser solves interpolate alike), and a few paths read such an error below
+    their noise where more paths resolve it (stranger round 38's mixing inputs at T − Δt/2:
+    docs page :doc:`accuracy`, "Stranger round 20 found where the whole task is needed")."""
     gap, se = bellman_gap(solution, x, t, samples)
     out = beyond_noise(gap, se, discount)
     x = np.atleast_2d(np.asarray(x, dtype=float))
@@ -274,10 +277,11 @@ def _tamed(solution, y: np.ndarray, t: float, step: float) -> np.ndarray:
 
     Why: the chain steps explicitly, and where the policy's gain k (the rate at which it pulls
     a state back) exceeds 2/δ each step overshoots by more than it corrects. The paths then
-    oscillate with growing amplitude and their weights carry nothing (stranger round 37: a
-    point at the goal with gain 32 at δ = 0.5; the whole task's certificate read an error
-    of 33 210 where v = 62.05 is exact). The certificate is exact for any proposal, so the
-    proposal may be changed: the linearly implicit step divides the pull by 1 + kδ and, for
+    oscillate with growing amplitude and their weights carry nothing, so the certificate reads
+    an error orders of magnitude above v where v is exact (stranger round 37's huge box: docs
+    page :doc:`accuracy`, "The chain steps explicitly"). The certificate is exact for any
+    proposal, so the proposal may be changed: the linearly implicit step divides the pull by
+    1 + kδ and, for
     a quadratic v a step later, is the mean of the chain's own optimal transition (where the
     pull is weak, α ≈ 1 − kδ, near the solve's policy)."""
     u0 = _read_policy(solution, y, t)

@@ -24,7 +24,8 @@ evaluated at any states by the same interpolation as the values, with
   solves differ by at most :data:`~gridlbc.accuracy.estimate.ASYMPTOTIC` relative to the value, and
   q = 1 where they differ by more: a coarse solve that far from the fine one is outside the range
   where Richardson's model holds, and an order observed from it says more about the coarse grids
-  than about this one (dividing by 3 there understated the error of a 25⁴ acrobot threefold);
+  than about this one (dividing by 3 there understated the error of the hold-out corpus's 25⁴
+  acrobot: docs page :doc:`accuracy`, "What the estimate is");
 - the floor r, the median over the calibration states
   (:func:`~gridlbc.accuracy.calibration_states`) of the first term relative to the value:
   errors accumulate with the cost along the characteristics, so where the two solves happen to agree
@@ -86,8 +87,8 @@ feature that every grid misses and the paths step over.
 Where the observed order is below 1 the coarser solves are not converging at first
 order: they are too coarse to say how accurate this grid is, and the estimate is rough in either
 direction (far above the error on 4-D grids of a few dozen nodes per axis, below it where the
-solves converge slowly: half the error on a first-exit pendulum swing-up), and the warning says
-so.
+solves converge slowly, as on a first-exit pendulum swing-up: docs page :doc:`accuracy`, "What
+the estimate is"), and the warning says so.
 
 **Relative error.** ``ê / max(abs(v), λ)``: a value below the temperature λ is compared with λ,
 the scale on which v = −λ log z is resolved (near a goal v can be arbitrarily small while its
@@ -187,8 +188,9 @@ class EmbeddedEstimate:
         and the levels converge at second order; in the first steps from T the step's error
         and the interpolation between stored slices set it, and a solve at 2Δt with its
         longer steps differs from the solve by as much as the solve's own error or more (the
-        order observed there is below 1): divided by 2^q − 1 with the order of t = 0 it read
-        a third of an error of 10 % (stranger round 21, docs page :doc:`accuracy`)."""
+        order observed there is below 1): divided by 2^q − 1 with the second order of t = 0
+        it reads about a third of the error (stranger round 21, docs page :doc:`accuracy`,
+        "The last step")."""
         if t == 0.0 or self.coarser is None or solution.problem.stationary:
             return self.order
         if t not in self._orders:
@@ -325,8 +327,9 @@ def worst_value(solution: Solution, t: float = 0.0) -> float:
     optimal value (u = 0 pays no control cost, and the box keeps the paths by its nodes); +inf
     without a horizon or for the average cost. The truncation term estimates v − v_h ≥ 0 to
     first order, and is held to this less v_h (:meth:`EmbeddedEstimate.error`): where v/λ
-    changes by a hundred from node to node the expansion fails (stranger round 39's
-    r39_3d_hzfe_13 read 3.6·10²⁷ where v is 8 % low). A cost's peak between the nodes is not
+    changes by a hundred from node to node the expansion fails, its term holding e^100
+    (stranger round 39's r39_3d_hzfe_13: docs page :doc:`accuracy`, "Where v/λ changes by a
+    hundred"). A cost's peak between the nodes is not
     seen, which can only lower the bound on that one term; the others are not held.
 
     Parameters
@@ -361,9 +364,10 @@ def own_interpolation_error(solution, x: np.ndarray, j: int, theta: float) -> np
     carried to θ on [t_j, t_j+1] as an error that grows with the interval's length,
     D · θ(1 − θ) / (θ_b(1 − θ_b)) · (t_j+1 − t_j) / (t_c − t_a). Why linearly: near the horizon
     v changes fastest in the last moments (z between two goals, or at a kink of g), and the
-    quadratic model of a smooth curvature read a third of the error there (stranger round 26,
-    store_every=4 in the last interval); where v is smooth in time this reads high, by up to the
-    ratio of the two intervals. 0 with fewer than three stored slices
+    quadratic model of a smooth curvature under-reads the error there (stranger round 26,
+    store_every=4 in the last interval: docs page :doc:`accuracy`, "Between stored slices");
+    where v is smooth in time this reads high, by up to the ratio of the two intervals. 0 with
+    fewer than three stored slices
     (:meth:`EmbeddedEstimate.between_slices <gridlbc.accuracy.EmbeddedEstimate.between_slices>`)."""
     times = solution.times
     if j >= 1:
@@ -592,9 +596,9 @@ def relative_difference(solution, other, X: np.ndarray, t: float = 0.0) -> np.nd
 def quiet_reads():
     """Silence the :class:`gridlbc.UnderflowWarning` of the estimate's own reads of a solution:
     where v underflowed they are +inf, and the estimate takes that for what it is, but those are
-    not the user's queries (the solve warns once of its underflowed nodes): stranger rounds 27
-    and 28 saw a dozen warnings of thousands of "query states" that no one had asked about, and
-    round 29 39 of a solve to a tolerance, one per read of its states. Also a decorator
+    not the user's queries (the solve warns once of its underflowed nodes): without it a solve
+    warned of "query states" that no one had asked about, and a solve to a tolerance once per
+    read of its states (stranger rounds 27–29, docs page :doc:`benchmarks`). Also a decorator
     (``@quiet_reads()``) of the functions that read a solution to judge it."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", UnderflowWarning)

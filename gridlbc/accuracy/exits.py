@@ -7,8 +7,8 @@ than a cell between two rows of nodes, a small ball between four nodes) is absen
 problem the grid solves, and from the problem every coarser grid solves: the solves agree, and
 the error estimate, whose other terms read the costs (S, γ) or certify a few steps (the local
 certificate), reads nothing. For a first-exit task whose cheapest exit is such a strip, v is
-then the value of the task without it (stranger round 22: a strip 0.3 cell wide at mid-cell, v
-1–32 times the truth, silent).
+then the value of the task without it, many times the truth and silent (stranger round 22's
+strip at mid-cell: docs page :doc:`accuracy`, "An exit between the nodes").
 
 :func:`~gridlbc.accuracy.exits.missed_points` samples E in each cell without a corner in E or next
 to a node in E (a part of E there is the edge of a part the grid holds), at the

@@ -26,9 +26,10 @@ order
 is near 2. A feature narrower than a cell is missed by both alike (p near 0), one that jumps within
 a cell gives p near 1. p is observed from 2h to h and from 4h to 2h, the grids the estimate
 compares, and the least of the two is read: a wall on a node that the grid with every other node
-keeps is over-represented alike by both interpolants' hats (p 1.35 and 1.14, stranger round 22,
-where the midpoint rule's one evaluation lands beyond the wall and no step feels it: v 37–50 %
-low). Where F is at least :data:`~gridlbc.accuracy.flow.FLOW_CELLS` and p is
+keeps is over-represented alike by both interpolants' hats (p between 1 and 2 on both pairs),
+and the midpoint rule's one evaluation lands beyond the wall, so that no step feels it and v is
+far low (stranger round 22's ``driftwall2_even_node``, docs page :doc:`accuracy`, "A wall ...
+an eighth of a cell wide"). Where F is at least :data:`~gridlbc.accuracy.flow.FLOW_CELLS` and p is
 below :data:`~gridlbc.accuracy.flow.SMOOTH_ORDER`, nearer first than second
 order, :func:`~gridlbc.accuracy.check_flow` warns and says where: there the path lands in another
 cell than the grid's picture of the flow says, and the grids do not follow the feature. A smooth
@@ -37,8 +38,10 @@ embedded estimate measures.
 
 The noise is read the same way (:func:`~gridlbc.accuracy.noise_excess`): the grid reads the gain
 B(x), and with it Σ = λ B R⁻¹ Bᵀ, at its nodes only, and a gain that drops within a cell (a band of
-0.3 cell where it falls to a twentieth, round 22) leaves v 6–15 % low with every part of the
-estimate below 2 %. There F compares the spread of one step, sqrt(abs(Σ − I_h Σ) Δt) / h in cells.
+a third of a cell where it falls to a twentieth) leaves the solve that of a constant gain, v
+low, with every part of the estimate far below the error (round 22's ``gainband2_deep``, docs
+page :doc:`accuracy`, "A noise that changes within a cell"). There F compares the spread of one
+step, sqrt(abs(Σ − I_h Σ) Δt) / h in cells.
 """
 
 from __future__ import annotations
@@ -129,10 +132,11 @@ def _excess(solution, coefficient: str, x: np.ndarray) -> tuple[np.ndarray, floa
     finer error is rounding is left out: +inf where every one is; NaN without a coarser grid).
 
     Why both pairs of levels: the embedded solve is compared as if in Richardson's range, and a
-    feature the grid resolves may be narrower than a cell of the embedded grid (a gust 0.02 wide
-    on a grid of spacing 0.025: order 2 from 2h to h and 0.5 from 4h to 2h), or the grid and the
-    embedded grid may both keep the node it sits on (a drift wall on such a node: order 1.35
-    and 1.14, where a smooth drift gives 2 and 2)."""
+    feature the grid resolves may be narrower than a cell of the embedded grid (a gust narrower
+    than a cell of the coarser grids: order 2 from 2h to h and below 1 from 4h to 2h), or the
+    grid and the embedded grid may both keep the node it sits on (a drift wall on such a node:
+    both orders between 1 and 2, where a smooth drift gives 2 and 2; docs page :doc:`accuracy`,
+    "A flow narrower than a cell" and "A wall ... an eighth of a cell wide")."""
     key = (coefficient, len(x))  # the states are drawn with a fixed seed: kept with the solution
     if key in solution._cache.setdefault("coefficient_excess", {}):
         return solution._cache["coefficient_excess"][key]

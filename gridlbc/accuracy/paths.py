@@ -53,8 +53,9 @@ still running at that cap adds the part it has accrued: γ is then truncated (a 
 its size where I_h q − q has one sign along the paths); :func:`~gridlbc.accuracy.path_gap` counts
 such paths. Where the grid charges less than the costs (a toll the nodes miss), the solve's policy
 does not avoid the toll and crosses it more slowly than the optimal one, and γ overstates the error
-(two- to fivefold for stranger round 11's ``toll_blind``). Without a horizon, where the costs equal
-their interpolants at every cell's centre (constant or affine costs: :func:`interpolated_exactly`)
+(stranger round 11's ``toll_blind``, docs page :doc:`accuracy`, "What the estimate is"). Without
+a horizon, where the costs equal their interpolants at every cell's centre (constant or affine
+costs: :func:`interpolated_exactly`)
 γ is zero and no path is run.
 
 **Average cost** (no end, no horizon: :func:`stationary_gap`). The cost per unit time that the
@@ -355,7 +356,7 @@ def interpolated_exactly(solution) -> bool:
             truth = values(block)
             gap = interpolate(grid, nodal(solution, cost), block) - truth
             # rounding relative to the cost's own size, in whatever unit it is given (stranger
-            # round 30: a floor of 1 cost unit took a toll of 1e-15 units for rounding)
+            # round 30: an absolute floor took a whole toll written in small numbers for rounding)
             if np.max(np.abs(gap)) > ROUNDING * float(np.max(np.abs(truth))):
                 exact = False
                 break

@@ -143,9 +143,10 @@ def principal_eigenpair(M: sp.csr_matrix, s: StationarySettings, ndim: int, left
     after :data:`~gridlbc.stationary.linear.MAX_SHIFTS` shifts at most. Why not shift-and-invert
     Arnoldi about σ₀ (ARPACK, one LU), used until 2026-12-06: on a strongly non-normal M (an axis
     without noise at a small λ) it converged to Ritz values of tiny residual that are not
-    eigenvalues (−6.70 ± 0.10i where the Collatz–Wielandt bound puts μ at −7.08, stranger round 27's
-    cold average cost on 88×155, c then 5 % low) and took 48 000 solves (636 s) on 88×309, where
-    Noda's takes 58 shifts (2.4 s); the two agree elsewhere to the residual.
+    eigenvalues, complex where the Collatz–Wielandt bound puts the real μ below them, so that c
+    came out low, and it took orders of magnitude more solves and time than Noda's iteration
+    (stranger round 27's cold average cost: docs page :doc:`first_exit`, "How it is solved" and
+    "Linear solvers"); the two agree elsewhere to the residual.
 
     With ``left``, also the left eigenvector ẽ > 0 (Mᵀẽ = μẽ, max entry 1), for the chain's
     stationary distribution (:func:`~gridlbc.stationary.average.stationary_distribution`), by the

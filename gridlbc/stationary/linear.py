@@ -53,8 +53,8 @@ reports (beyond them, while :data:`BYTES_PER_NODE` per unknown fits in half of i
 
 
 BYTES_PER_NODE = 2500
-"""Peak memory of a first-exit solve by sparse LU per grid node (2.2 kB measured on 401² and
-801² grids, 1.9 kB on 1608×1601), for the choice of ``"auto"`` and for
+"""Peak memory of a first-exit solve by sparse LU per grid node, set at or above what was
+measured (docs page :doc:`first_exit`, "Linear solvers"), for the choice of ``"auto"`` and for
 :func:`~gridlbc.stationary.solve_stationary_to_tolerance`'s check before refining."""
 
 
@@ -65,8 +65,8 @@ MAX_ITERATIONS = 5_000
 MAX_SHIFTS = 100
 """Shifts of the average cost's eigen-solve
 (:func:`~gridlbc.stationary.principal_eigenpair`) before it counts as not converged
-(stranger round 27's cold average cost of a linear system with one control, λ = 0.023 on
-88×309, takes 58)."""
+(a margin above what stranger round 27's cold average cost of a linear system with one
+control takes: docs page :doc:`first_exit`, "Linear solvers")."""
 
 
 @dataclass(frozen=True)
@@ -381,16 +381,14 @@ def stationary_work_exponent(method: str, ndim: int) -> float:
     (resolved, :func:`~gridlbc.stationary.linear.linear_method`) of the planned grid.
 
     Sparse LU with a fill-reducing ordering costs N^1.5 in two dimensions (nested dissection)
-    and N^2 in three; measured (the first-exit solve of a ball's exit, one thread): 2-D from 161²
-    to 321² and 641², exponents 1.26 and 1.37 (1.09 and 1.31 with the embedded solves), 3-D
-    21³ → 33³, 2.03. BiCGSTAB's iterations grow as 1/h, N^(1/d): the work as N^(1 + 1/d), and
-    more where the vectors leave the caches; measured in 3-D, 41³ → 81³ (83 → 166 iterations),
-    1.65. Hence 1.5 for LU in one or two dimensions (N in 1-D, banded: conservative), 2 beyond,
-    and 1.7 for the Krylov methods: at or above what was measured, so that a budget is not
-    overrun by an underestimate. On small grids, where fixed costs dominate, the prediction is
-    high (the two bays of ``tests/core/test_first_exit.py`` from 41²: the 161×81 round predicted
-    at 0.53 s took 0.15 s): a budget stops early there, where rounds take a fraction of a
-    second."""
+    and N^2 in three. BiCGSTAB's iterations grow as 1/h, N^(1/d): the work as N^(1 + 1/d), and
+    more where the vectors leave the caches. Hence 1.5 for LU in one or two dimensions (N in
+    1-D, banded: conservative), 2 beyond, and 1.7 for the Krylov methods: at or above the
+    exponents measured on the first-exit solve of a ball's exit (docs page :doc:`first_exit`,
+    "Linear solvers"), so that a budget is not overrun by an underestimate. On small grids,
+    where fixed costs dominate, the prediction is high (the two bays of
+    ``tests/core/test_first_exit.py``, same page): a budget stops early there, where rounds
+    take a fraction of a second."""
     if method == "direct":
         return 1.5 if ndim <= 2 else 2.0
     return 1.7

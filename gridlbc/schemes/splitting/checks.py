@@ -109,9 +109,9 @@ def check_control_step(problem: Problem, solution: Solution) -> float:
 
     Why the better half: it is where the controlled process spends its time, and far up the
     value a component solved with a reference fitted to several goals (:func:`gridlbc.solve_many`)
-    holds its z at the precision floor, where its gradient is noise: stranger round 21's
-    components at λ = 0.08 read 9·10⁷ cells per step over every node, 28.5 over the better
-    half."""
+    holds its z at the precision floor, where its gradient is noise and the rate read over every
+    node is absurd, where over the better half it is not (stranger round 21's components at
+    λ = 0.08: docs page :doc:`benchmarks`)."""
     grid, dt = problem.require_grid("check_control_step()"), solution.diagnostics.dt
     read = np.arange(0, grid.size, max(1, grid.size // _CONTROL_SAMPLE))
     x = grid.node_coordinates(read[solution.better_half()[read]])
