@@ -207,7 +207,7 @@ def interactive_demo(
     The swing-up pendulum (λ = 1, R = 1) over :data:`INTERACTIVE_HORIZON`, solved on
     ``grid_size`` θ nodes for the :data:`INTERACTIVE_GOALS` with one operator fitted to Σ_i h_i
     (so that they combine exactly), starting from near hanging down, decimated to 4 MB of slices
-    (a 5.3 MB page). ``page_options`` go to :func:`gridlbc.interactive.write_page` (and override
+    (the page's size: docs page :doc:`benchmarks`). ``page_options`` go to :func:`gridlbc.interactive.write_page` (and override
     the demo's weights, state or size).
     """
     problem = swingup_problem(grid_size, horizon=INTERACTIVE_HORIZON)

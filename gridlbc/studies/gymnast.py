@@ -12,13 +12,13 @@ on the box θ1 ∈ [−π, π) (periodic) × θ2 ∈ [−H, H] × |p1| ≤ P1 ×
 
 The hip. A gymnast's legs cannot pass through the arms, so by default the hip angle lives on a
 closed axis with stops at H = π (the box edge is a state constraint) and g is the plain
-quadratic in θ2. This is the problem whose deterministic optimum sets the accuracy target: its
-deterministic optimum (``gridlbc.trajectory.optimize``) costs 13.18, ends 0.59 rad from the handstand,
-keeps θ2 within [−2.21, 1.62] and reaches |p1| = 12.9, |p2| = 7.1. ``hip_range=None`` makes
-the hip a free joint instead (θ2 periodic, g wrap-aware in θ2): the optimum then rotates the legs
-through the arms and costs only 7.89, ending 0.10 rad away.
+quadratic in θ2. This is the problem whose deterministic optimum (``gridlbc.trajectory.optimize``)
+sets the accuracy target: its cost, its distance from the handstand, the hip range it uses and the
+momenta it reaches are tabled in docs page :doc:`benchmarks` (the acrobot). ``hip_range=None``
+makes the hip a free joint instead (θ2 periodic, g wrap-aware in θ2): the optimum then rotates the
+legs through the arms and is much cheaper (same page, "Which hip").
 
-The momentum box P1 = 16, P2 = 9 leaves a margin of about 20 % around the optimal swing-up (the
+The momentum box P1 = 16, P2 = 9 leaves a margin around the optimal swing-up's momenta (the
 box edge must not bend optimal paths) while spending as few nodes as possible on momenta the
 swing-up never uses: a wider box costs resolution h = 2P/(n − 1), and numerical diffusion grows
 with h.
