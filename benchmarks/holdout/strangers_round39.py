@@ -56,6 +56,39 @@ libraries):
 - ``--recheck NAMES`` (a second certificate, seed 40, and the 1.5× wider box at every pair) is
   for silent or under-read pairs; none arose, so it was not run.
 
+Third batch (library of main 9952eb6, worktree r39c, 2026-12-07 08:55–10:00 UTC, one thread,
+the other core busy with round 40; a 75-minute box, each problem stopped at 15 minutes): ``--run
+NAMES`` in ``run_order`` (r39_3d_hz_15 left out, known too slow). SKIPPED unfinished at 15
+minutes: r39_3d_hz_16 (43×46×45), r39_3d_hz_17 (47×37×40), r39_2d_hz_05 (99×198) (with
+r39_3d_hz_15, 4 SKIPPED). Ran 5: r39_3d_hzfe_18 (3.3 min), r39_3d_hz_19 (2.4 min),
+r39_3d_hz_20 (1.1 min), r39_2d_hz_06 (0.2 min), r39_3d_hz_21 (5.2 min); the box stopped the run
+before r39_3d_hz_22, so 19 are drawn and NOT run. Totals over the three batches (``--table``;
+three libraries): 25 problems, 0 raised, 24 warned, 144 pairs, 129 trusted; > 10 % off (trusted)
+16, all warned, SILENT 0; ê ≥ ½ err 123 of 129 strictly (the same 6 with err < 1 % as before),
+under-reads with err ≥ 1 %: 0; absurd over-reads: the same 15, none new. New in batch 3 (30
+pairs, 26 trusted):
+
+- ``r39_3d_hzfe_18`` (Box exit, λ 0.438, T 5.3): t = 0 errors 6.6 / 0.86 / 6.7 % (ê 6.6 / 6.6 /
+  9.1 %); at t = T − 2Δt 33 % and 21 % (v 4.83 vs v* 7.23 ± 0.02, ê 45 %; 12.47 vs 15.81 ± 0.01,
+  ê 31 %), the far state 66 % (ê 195 %) untrusted (ESS 90). Warned: the plain scheme's
+  resolution ("v/λ rises 2.81 per cell along axis 0, the tails cap it at 0.903") and the
+  estimate (5 % exceeded at 100 % of the states that matter). The wider box flags all of t = 0
+  (v 1.133 / 2.586 / 1.855 against 1.068 / 2.487 / 1.429).
+- ``r39_3d_hz_19`` (λ 0.038): every trusted pair ≤ 3.6 % (t = T − 2Δt far state, ê 3.7 %), ê ≥ ½
+  err throughout. Warned near (2.793, −4, −2.376) at t = 4.93 (7 %); ``--check`` there: v 25.376
+  vs v* 26.374 ± 0.008 (3.8 %) but ESS 52, k̂ 0.77: truth not trusted, undecided.
+- ``r39_3d_hz_20`` (λ 0.028, Δt 0.476): trusted errors 0.10–1.5 % (ê 0.7–1.6 %); t = T − 2Δt
+  states 2 and 3 untrusted (ESS 85 / 1: 3.6 %, 59 %). Warned near (0.9237, 1.87, −1.732), no time
+  named; ``--check`` at t = 0: v 5.6785 vs v* 6.0246 ± 0.006 (5.75 %) with ESS 79, k̂ 0.53:
+  above 5 % but just under the ESS 100 of a trusted truth, so likely true, not certified. The
+  wider box flags t = 0 x1, x2 (v 6.416 vs 6.532, 6.110 vs 6.761; errors 0.10 %, 1.5 %).
+- ``r39_2d_hz_06`` (λ 0.139, Δt 0.475): every pair trusted, errors 0.07–0.72 % (ê 0.47–1.02 %).
+  Warned near (−3.705, −0.5236), no time named, "5 % of |v|"; ``--check`` at t = 0: v 9.0353 vs
+  v* 9.4587 ± 0.002 (ESS 1768, k̂ −0.25), 4.5 % off: borderline, close to what it says, not a
+  false alarm at t = 0.
+- ``r39_3d_hz_21`` (λ 0.148): every pair trusted, errors 0.08–1.9 % (ê 1.5–2.4 %, ≥ ½ err
+  throughout). Warned near (0, −1.295, −1.558) at t = 4.22; not checked (time box).
+
 Generator (``gen``, seed 39): ẋ = A φ(x) + a0 + couplings + diag(s(x)) M u with φ = x on closed
 axes and sin x on periodic ones, A a random rotation (ω 0.1–2) plus shear minus damping,
 1–3 couplings c tanh(x_k), c sin(x_k), c clip(x_i x_j, ±K); gains s_i(x) = b_i (1 + β_i tanh φ_k);
