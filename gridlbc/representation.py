@@ -173,6 +173,28 @@ class Fields:
         assert self.linear_gradient is not None
         return self.base_gradient * self.linear[:, None] + self.linear_gradient
 
+    def ended(self, inside: np.ndarray, log_z: np.ndarray) -> Fields:
+        """These fields with log z = ``log_z`` ``(n,)`` and no gradient at the states ``inside``
+        (a boolean mask with n True entries): where the task has ended on entering its exit set
+        E, z = exp(−g_E/λ) exactly and u = 0 (:meth:`gridlbc.Solution.fields`)."""
+        log_base = None if self.log_base is None else self.log_base.copy()
+        linear = None if self.linear is None else self.linear.copy()
+        if log_base is None:
+            assert linear is not None
+            with np.errstate(under="ignore", over="ignore"):
+                linear[inside] = np.exp(log_z - self.log_offset)
+        else:
+            log_base[inside] = log_z - self.log_offset
+            if linear is not None:
+                linear[inside] = 1.0
+        gradients = [
+            None if g is None else g.copy() for g in (self.base_gradient, self.linear_gradient)
+        ]
+        for g in gradients:
+            if g is not None:
+                g[inside] = 0.0
+        return Fields(log_base, self.log_offset, linear, *gradients)
+
     def policy(self, temperature: float, R_inv: np.ndarray) -> np.ndarray:
         """u* = λ R⁻¹ (y Bᵀ∇b + Bᵀ∇y) / y, ``(N, m)``: NaN, with an
         :class:`~gridlbc.UnderflowWarning`, where y underflowed."""

@@ -382,8 +382,20 @@ class Solution(FieldEvaluation):
 
     def fields(self, x, t, gradient: bool = True) -> Fields:
         """The representation's interpolated :class:`~gridlbc.representation.Fields` at states
-        ``x`` ``(N, d)``, time ``t`` (the gradients, for the policy, only when ``gradient``)."""
-        return self.fields_at(self.stencil(x, t, gradient))
+        ``x`` ``(N, d)``, time ``t`` (the gradients, for the policy, only when ``gradient``); at
+        the states in the exit set E, where the task has ended, the exact z = exp(−g_E/λ) and
+        u = 0 (:meth:`~gridlbc.representation.Fields.ended`; SPEC §9: z = exp(−g_E/λ) on E),
+        not the interpolant across E's boundary, which mixes in the values of the nodes outside
+        it."""
+        x = self.grid.check_states(x)
+        fields = self.fields_at(self.stencil(x, t, gradient))
+        problem = self.problem
+        if problem.exit is None:
+            return fields
+        inside = problem.exit_mask(x)
+        if not inside.any():
+            return fields
+        return fields.ended(inside, -problem.exit_values(x[inside]) / problem.temperature)
 
     def fields_at(self, stencil: Stencil) -> Fields:
         """The :meth:`fields` of a stencil already built (:meth:`stencil`), for a caller that

@@ -139,12 +139,64 @@ def bellman_gap(
         np.fmin(effective_sample_sizes(fine), effective_sample_sizes(coarse)) < LOCAL_ESS
     )
     if len(few):  # a few heavy paths: v_ℓ at most what the uncontrolled process pays
-        costs = -solution.temperature * _log_weights(
-            solution, x[few], t, samples, span, steps * 2 * SUBSTEPS, passive=True
-        )
-        bound = costs.mean(axis=1) + BELLMAN_SE * costs.std(axis=1) / np.sqrt(samples)
+        bound = _policy_cost(solution, x[few], t, samples, span, steps * 2 * SUBSTEPS, True)
         local[few] = np.fmin(local[few], bound)
     return v - local, se
+
+
+def value_bound(solution, x, t: float = 0.0) -> np.ndarray:
+    """An upper bound on the optimal v(x, t) at states ``x`` (N, d), time ``t``: the lesser of what
+    the uncontrolled process (u = 0) and the solve's own policy (as the local certificate's chain
+    takes it, :func:`_tamed`) pay to the end of the task (its exit or the horizon),
+    E[∫ (q + ½ uᵀRu) ds + g], each plus :data:`~gridlbc.accuracy.bellman.BELLMAN_SE` of its
+    standard errors (every policy pays at least v*). From
+    :data:`~gridlbc.accuracy.bellman.BOUND_SAMPLES` paths per state, fewer where
+    :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` asks, at the steps of the local certificate's
+    finer chain. +inf without a horizon (the paths need not end) or at T.
+
+    Parameters
+    ----------
+    solution : Solution
+        A grid solution.
+    x : ndarray (N, d)
+        States.
+    t : float
+        Time in [0, T].
+
+    Returns
+    -------
+    ndarray (N,)
+    """
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    problem = solution.problem
+    if problem.stationary or len(x) == 0 or t >= problem.horizon:
+        return np.full(len(x), np.inf)
+    span, steps = _span(solution, t, True)
+    steps *= 2 * SUBSTEPS
+    samples = int(np.clip(LOCAL_WORK // (2 * len(x) * steps), 8, BOUND_SAMPLES))
+    return np.fmin(
+        _policy_cost(solution, x, t, samples, span, steps, passive=True),
+        _policy_cost(solution, x, t, samples, span, steps, passive=False),
+    )
+
+
+BOUND_SAMPLES = 256
+"""Paths per state and policy of :func:`~gridlbc.accuracy.bellman.value_bound`."""
+
+
+def _policy_cost(
+    solution, x, t: float, samples: int, span: float, steps: int, passive: bool
+) -> np.ndarray:
+    """The mean cost S of ``samples`` paths per state of the uncontrolled process (``passive``) or
+    of the chain's proposal over ``span`` in ``steps`` chain steps (v_h read where they are still
+    running at its end, :func:`_log_weights`; the Itô term of S has mean 0), plus
+    :data:`~gridlbc.accuracy.bellman.BELLMAN_SE` of its standard errors; +inf where a cost is not
+    finite."""
+    costs = -solution.temperature * _log_weights(
+        solution, x, t, samples, span, steps, passive=passive
+    )
+    bound = costs.mean(axis=1) + BELLMAN_SE * costs.std(axis=1) / np.sqrt(samples)
+    return np.where(np.isfinite(bound), bound, np.inf)
 
 
 def local_error(

@@ -106,7 +106,7 @@ import numpy as np
 
 from ..errors import UnderflowWarning
 from ..problem import bracket
-from .bellman import local_error
+from .bellman import local_error, value_bound
 from .matter import calibration_states
 from .paths import PATH_SAMPLES, nodal, sampled
 from .subcell import Response
@@ -295,18 +295,28 @@ class EmbeddedEstimate:
     def _error(
         self, solution: Solution, x, t, samples: int, local: bool = True, whole: bool = False
     ) -> tuple[np.ndarray, np.ndarray]:
-        """v_h and :meth:`error` at ``x``: without the local certificate where ``local`` is
-        False (the states a default solve is judged at,
+        """v_h and :meth:`error` at ``x``: without the local certificate, and without holding the
+        truncation term below a policy's cost (:func:`~gridlbc.accuracy.bellman.value_bound`),
+        where ``local`` is False (the states a default solve is judged at,
         :func:`~gridlbc.accuracy.assessment.assess`), with the whole remaining task's certificate
         beside it where ``whole`` is True (the user's states)."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
         v, grid_terms = self._grid_terms(solution, x, t)
         gap, tracing = gaps(solution, x, samples, t)  # γ and the traced feet, on the same paths
         terms = np.fmax(grid_terms, np.abs(gap))
         truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
         truncation = np.fmin(truncation, worst_value(solution, t) - v)  # v − v_h: at most that
+        # an error larger than the value: at most what a policy costs here, sampled from each
+        # such state where the local certificate is read too (not at every judged node)
+        beyond = np.flatnonzero(truncation > np.fmax(np.abs(v), solution.temperature))
+        if local and len(beyond):
+            bound = value_bound(solution, x[beyond], t) - v[beyond]
+            truncation[beyond] = np.fmin(truncation[beyond], bound)
         error = np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
         if local and sampled(solution.problem):
             error = np.fmax(error, local_error(solution, x, t, whole=whole))
+        if solution.problem.exit is not None:  # v = g_E on E, exactly (Solution.fields)
+            error = np.where(solution.problem.exit_mask(x), 0.0, error)
         return v, error
 
     def _read(self, solution: Solution, x, t, v=None) -> tuple[np.ndarray, ...]:

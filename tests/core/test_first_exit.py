@@ -114,6 +114,42 @@ def test_exit_costs_on_one_exit_set_combine_exactly():
     np.testing.assert_allclose(combined.policy(x), direct.policy(x), rtol=1e-9, atol=1e-9)
 
 
+@pytest.mark.parametrize("horizon", [None, 2.0])
+def test_on_the_exit_set_the_value_is_the_exit_cost_exactly(horizon):
+    # SPEC §9: z = exp(−g_E/λ) on E, where the task has ended. Between the nodes, inside E but in
+    # a cell that E's boundary crosses, the interpolant of the nodal z mixes in the values of the
+    # nodes outside E (stranger rounds 39 and 40, docs page first_exit).
+    def exit_cost(x):
+        return 0.2 + 0.5 * (x[:, 0] - 1.2) ** 2 + 0.3 * x[:, 1]
+
+    with pytest.warns(g.ResolutionWarning, match="estimated error"):  # 41²: coarse, and says so
+        solution = point_mass_bays(horizon=horizon, exit_cost=exit_cost)
+    rng = np.random.default_rng(4)
+    x = np.array([1.2, 0.0]) + rng.uniform(-1, 1, (400, 2)) * [0.3, 0.6]
+    inside = solution.problem.exit_mask(x)
+    x = x[inside & (np.abs(x[:, 0] - 1.2) > 0.2)]  # near the boundary: cells that cross it
+    assert len(x) > 20
+    for t in (0.0,) if horizon is None else (0.0, 1.3, horizon):
+        v = solution.value(x, t)
+        np.testing.assert_allclose(v, exit_cost(x), rtol=1e-15, atol=1e-15)  # two roundings
+        np.testing.assert_allclose(solution.desirability(x, t), np.exp(-exit_cost(x) / 0.5))
+        np.testing.assert_array_equal(solution.policy(x, t), 0.0)  # no control once it ended
+        np.testing.assert_array_equal(solution.error_estimate(x, t), 0.0)
+    # outside E the interpolant stands, and it is not the exit cost there
+    outside = np.array([[0.7, 0.0], [1.2, 0.75]])
+    assert not solution.problem.exit_mask(outside).any()
+    assert np.all(np.abs(solution.value(outside) - exit_cost(outside)) > 0.05)
+    # a combination of exit costs on one E holds the composite exit cost there, to rounding
+    other = point_mass_bays(
+        horizon=horizon, exit_cost=lambda y: 1.0 - 0.2 * y[:, 1], error_estimate=False
+    )
+    both = g.combine([solution, other], [0.4, 0.6])
+    composite = -0.5 * np.log(
+        0.4 * np.exp(-exit_cost(x) / 0.5) + 0.6 * np.exp(-(1.0 - 0.2 * x[:, 1]) / 0.5)
+    )
+    np.testing.assert_allclose(both.value(x), composite, rtol=1e-14)
+
+
 def test_components_with_other_exit_sets_do_not_combine():
     a = point_mass_bays(n=21, error_estimate=False)
     other = a.problem.replace(exit=Ball([1.2, 0.0], [0.3, 0.6]))
@@ -264,12 +300,23 @@ def test_stationary_solutions_save_and_load_exactly(tmp_path):
     loaded = g.load(path)
     assert isinstance(loaded, g.StationarySolution)
     x = s.grid.nodes()[::7] + 0.01
-    np.testing.assert_array_equal(loaded.value(x), s.value(x))
     np.testing.assert_array_equal(loaded.problem.exit_mask(), s.problem.exit_mask())
-    # the estimate's coarser solves come back bit for bit; its sampled terms read the exit cost
-    # (a callable, saved by its node values) and the exit set as the nodes hold them after a load
+    # off E the slices are read as they were; on E the task has ended, and the value is the exit
+    # cost, which a load knows as the nodes hold it (E and a callable g_E, by their nodes)
+    off = ~(s.problem.exit_mask(x) | loaded.problem.exit_mask(x))
+    assert 0 < off.sum() < len(x)
+    np.testing.assert_array_equal(loaded.value(x[off]), s.value(x[off]))
+    on = loaded.problem.exit_mask(x)
+    # v = −λ (−g_E/λ): two roundings
+    np.testing.assert_allclose(loaded.value(x[on]), loaded.problem.exit_values(x[on]), rtol=1e-15)
+    # the estimate's coarser solves come back bit for bit; they read E as their own nodes hold it
+    # after a load (a cell of the 4h level wide around it), and its sampled terms read the exit
+    # cost (a callable, saved by its node values) so too
+    far = s.problem.exit.boundary_distance(x)[0] > 4 * max(s.grid.spacing)
+    far &= off
+    assert far.sum() > len(x) // 2
     np.testing.assert_array_equal(
-        loaded.embedded.grid_terms(loaded, x), s.embedded.grid_terms(s, x)
+        loaded.embedded.grid_terms(loaded, x[far]), s.embedded.grid_terms(s, x[far])
     )
     assert g.combine([loaded, g.load(path)]).exact
     a = g.solve(quadratic_average(81))  # 41 nodes: h's estimate (7.8 %) warns
