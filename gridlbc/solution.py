@@ -387,11 +387,11 @@ class Solution(FieldEvaluation):
         u = 0 (:meth:`~gridlbc.representation.Fields.ended`; SPEC §9: z = exp(−g_E/λ) on E),
         not the interpolant across E's boundary, which mixes in the values of the nodes outside
         it."""
-        x = self.grid.check_states(x)
         fields = self.fields_at(self.stencil(x, t, gradient))
         problem = self.problem
-        if problem.exit is None:
+        if problem.exit is None:  # no further look at the states: the stencil checked them
             return fields
+        x = problem.check_states(x)
         inside = problem.exit_mask(x)
         if not inside.any():
             return fields

@@ -139,7 +139,7 @@ def bellman_gap(
         np.fmin(effective_sample_sizes(fine), effective_sample_sizes(coarse)) < LOCAL_ESS
     )
     if len(few):  # a few heavy paths: v_ℓ at most what the uncontrolled process pays
-        bound = _policy_cost(solution, x[few], t, samples, span, steps * 2 * SUBSTEPS, True)
+        bound = _policy_cost(solution, x[few], t, samples, span, steps * 2 * SUBSTEPS, passive=True)
         local[few] = np.fmin(local[few], bound)
     return v - local, se
 
