@@ -375,8 +375,11 @@ def page_data(
     )
     B = np.asarray(system.input_matrix(grid.node_coordinates([0])), dtype=float)[0]
     # A stationary (first-exit) solution has one slice and no time: the page, made for time
-    # slices, gets it twice over [0, STATIONARY_ROLLOUT_TIME] (so z does not change with t), the exit set's
-    # nodes, and stops its rollout there.
+    # slices, gets it twice over [0, STATIONARY_ROLLOUT_TIME] (so z does not change with t). A
+    # problem with an exit set E gives the page E's nodes and each component's exit cost g_E at
+    # every node: the page reads E as gridlbc.load does (a state is in E where the interpolated
+    # membership of the nodes is at least 1/2), gives z = exp(-g_E/lambda) there, with g_E
+    # interpolated from the nodes, and stops its rollout there.
     stationary = problem.stationary
     horizon = STATIONARY_ROLLOUT_TIME if stationary else problem.horizon
     times = [0.0, horizon] if stationary else first.times.tolist()
@@ -417,6 +420,9 @@ def page_data(
                 "log_scales": stored(s.log_scales).tolist(),
                 "slices": _base64(stored(s.slices)),
                 "reference": k,
+                "exit_cost": None
+                if problem.exit is None
+                else _base64(s.problem.exit_values().astype(s.slices.dtype)),
             }
             for lab, s, k in zip(labels, comps, references[1])
         ],

@@ -44,6 +44,7 @@
     label: c.label, cost: c.terminal_cost, logScales: c.log_scales, Z: decode(c.slices),
     R: c.reference === null ? null : refs[c.reference].R,
     refScales: c.reference === null ? null : refs[c.reference].scales,
+    exitCost: c.exit_cost === null ? null : decode(c.exit_cost),
   }));
   const n = comps.length;
   const decodeMs = performance.now() - started;
@@ -178,6 +179,7 @@
   }
   function componentFields(c, tw, x, g) {
     barycentric(x, idxV, bwV);
+    if (exitNodes !== null && insideCell()) return endedFields(c, tw, g);
     if (c.R) return fittedFields(c, tw, x, g);
     const Z = c.Z, off0 = tw.j * size, off1 = off0 + size;
     let z = 0;
@@ -193,6 +195,15 @@
       }
     }
     return z;
+  }
+
+  // in the exit set the task has ended: z = exp(-g_E/lambda) exactly, g_E interpolated from the
+  // nodes as gridlbc.load does, and no control (gridlbc.Solution.fields, SPEC §9)
+  function endedFields(c, tw, g) {
+    let exitCost = 0;
+    for (let v = 0; v <= d; v++) exitCost += bwV[v] * c.exitCost[idxV[v]];
+    for (let r = 0; r < m; r++) g[r] = 0;
+    return Math.exp(-exitCost / lambda - tw.L);
   }
 
   // -------------------------------------------------------------- combination
@@ -278,17 +289,19 @@
     for (let k = 0; k < d; k++) if (periodic[k]) x[k] = lo[k] + pyMod(x[k] - lo[k], period[k]);
     return x;
   }
-  // the exit set of a first-exit problem, by its nodes: a state is in it when its nearest node is
+  // the exit set of a first-exit problem, by its nodes, as gridlbc.load knows it
+  // (gridlbc.regions.GridRegion): a state is in it where the barycentric interpolation of the
+  // nodes' membership is at least 1/2
   const exitNodes = DATA.exit === null ? null : Uint8Array.from(atob(DATA.exit), (c) => c.charCodeAt(0));
   function inExit(x) {
     if (exitNodes === null) return false;
-    let index = 0;
-    for (let k = 0; k < d; k++) {
-      let i = Math.round((x[k] - lo[k]) / spacing[k]);
-      i = periodic[k] ? pyMod(i, shape[k]) : Math.min(Math.max(i, 0), shape[k] - 1);
-      index += i * strides[k];
-    }
-    return exitNodes[index] === 1;
+    barycentric(x, idxV, bwV);
+    return insideCell();
+  }
+  function insideCell() { // of the stencil in idxV, bwV
+    let membership = 0;
+    for (let v = 0; v <= d; v++) membership += bwV[v] * exitNodes[idxV[v]];
+    return membership >= 0.5;
   }
 
   // noise-free Euler rollout of the combined policy from (x0, t0), as gridlbc.simulate

@@ -213,10 +213,24 @@ def test_first_exit_page_equals_combine_and_stops_at_the_exit(tmp_path):
     page = tmp_path / "bays.html"
     write_page(parts, page)
     weights = (1.0, 0.02, 0.02)
+    combined = gridlbc.combine(parts, weights)
     out = _dump(page, "weights=1,0.02,0.02&state=-0.6,1.2&time=3")
-    _assert_probe(out["probe"], gridlbc.combine(parts, weights), weights, (-0.6, 1.2), 0.0)
+    _assert_probe(out["probe"], combined, weights, (-0.6, 1.2), 0.0)
     html = page.read_text()
     assert '"stationary":true' in html
+    # Inside the middle bay, in a cell that its edge v = 0.4 crosses (the nodes at v = 0.3 are in
+    # it, those at v = 0.45 are not; the interpolated membership is 2/3): the task has ended, so
+    # the value is the composite exit cost -λ log Σ w_i exp(-g_i/λ) and the control is 0, as
+    # gridlbc.combine gives; interpolating the nodes across the edge would mix in the solved z
+    # of the nodes outside the bay.
+    inside = (0.0, 0.35)
+    exit_costs = np.array([bay_cost(i)(np.array([inside]))[0] for i in range(3)])
+    lam = base.temperature
+    composite = -lam * np.log(np.dot(weights, np.exp(-exit_costs / lam)))
+    np.testing.assert_allclose(combined.value(np.array(inside)), composite, rtol=1e-14)
+    out = _dump(page, "weights=1,0.02,0.02&state=0,0.35&time=0")
+    _assert_probe(out["probe"], combined, weights, inside, 0.0)
+    assert out["probe"]["policy"] == [0.0]
 
 
 @SMOKE_SIZES
