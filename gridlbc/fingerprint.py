@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["UnidentifiableError", "digest", "state_record"]
+__all__ = ["UnidentifiableError", "digest", "json_default", "state_record"]
 
 _MAX_DEPTH = 40
 
@@ -38,7 +38,7 @@ def digest(record, arrays: dict) -> str:
     """The SHA-256 (hex) of a JSON-ready ``record`` (keys sorted; numpy numbers and arrays in it
     as lists) and of the ``arrays`` it refers to, each by name, dtype, shape and bytes: equal
     for equal records and arrays."""
-    h = hashlib.sha256(json.dumps(record, sort_keys=True, default=_json_default).encode())
+    h = hashlib.sha256(json.dumps(record, sort_keys=True, default=json_default).encode())
     for name in sorted(arrays):
         a = np.ascontiguousarray(arrays[name])
         h.update(f"{name}:{a.dtype}:{a.shape}".encode())
@@ -46,7 +46,9 @@ def digest(record, arrays: dict) -> str:
     return h.hexdigest()
 
 
-def _json_default(obj):
+def json_default(obj):
+    """``json.dumps``'s ``default=`` for records that hold numpy numbers and arrays: as lists
+    (and Python numbers)."""
     if isinstance(obj, np.generic | np.ndarray):
         return obj.tolist()
     raise TypeError(f"{type(obj).__name__} is not JSON-serialisable")

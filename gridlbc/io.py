@@ -57,7 +57,7 @@ import numpy as np
 from .accuracy import EmbeddedEstimate, Response
 from .costs import Quadratic
 from .errors import GridlbcWarning, warn_user
-from .fingerprint import UnidentifiableError, digest, state_record
+from .fingerprint import UnidentifiableError, digest, json_default, state_record
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
@@ -173,7 +173,7 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
         ],
         "system": {
             "class": f"{type(system).__module__}.{type(system).__qualname__}",
-            "parameters": system.parameters(),
+            "parameters": recorded_parameters(system),
         },
         "horizon": problem.horizon,
         "temperature": problem.temperature,
@@ -182,6 +182,21 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
         "state_cost": cost_record(problem.state_cost, "state_cost", problem, arrays),
         **_exit_record(problem, arrays),
     }
+
+
+def recorded_parameters(system) -> dict:
+    """``system.parameters()`` as a file records it and :func:`load` passes it back to the
+    system's class: JSON data, numpy arrays and numbers as lists and Python numbers (a user's
+    ``parameters()`` may return arrays); a clear error for what JSON cannot hold."""
+    parameters = system.parameters()
+    try:
+        return json.loads(json.dumps(parameters, default=json_default))
+    except (TypeError, ValueError) as exc:
+        raise TypeError(
+            f"{type(system).__qualname__}.parameters() must return data that a file can hold "
+            f"(numbers, strings, lists, dicts, numpy arrays), got {parameters!r} ({exc}): give "
+            "the constructor's arguments as such data"
+        ) from None
 
 
 def _exit_record(problem: Problem, arrays: dict) -> dict:
@@ -266,7 +281,7 @@ def write(solution: Solution, path, annotations: dict | None = None) -> Path:
                 )
     if annotations is not None:
         meta["annotations"] = annotations
-    arrays["metadata"] = np.array(json.dumps(meta))
+    arrays["metadata"] = np.array(json.dumps(meta, default=json_default))
     with open(path, "wb") as f:
         np.savez(f, **arrays)
     return path
@@ -311,7 +326,7 @@ def _warn_unrebuildable(system) -> None:
     """Warn when ``type(system)(**system.parameters())``, what :func:`load` calls, fails or builds
     a system of other state (:func:`state_digest`): load will then need the system
     (:func:`~gridlbc.save`). A state that cannot be read trusts its ``parameters()``."""
-    cls, parameters = type(system), system.parameters()
+    cls, parameters = type(system), recorded_parameters(system)  # as load will pass them
     call = f"{cls.__qualname__}(**{parameters!r})"
     try:
         rebuilt = cls(**parameters)
