@@ -149,19 +149,38 @@ def _config(data: dict, args):
 
 
 def _cmd_solve(args) -> int:
+    import numpy as np
+
     from .io import save
     from .settings import SolverSettings
     from .solver import solve
 
     config = _config(_base_description(args), args)
     problem = config.problem
+    states = None
+    if args.at:
+        states = problem.require_grid("--at").check_states(
+            np.array([_vector(x, "--at") for x in args.at]), "--at"
+        )
+    if args.max_seconds is not None and args.tol is None:
+        raise ValueError("--max-seconds is the budget of a solve to a tolerance: give --tol too")
     if not args.quiet:
         print(f"solving {problem.describe()}", flush=True)
     settings = config.settings
+    to_tolerance = {} if args.tol is None else {"tol": args.tol, "states": states}
+    if args.max_seconds is not None:
+        to_tolerance["max_seconds"] = args.max_seconds
     if isinstance(settings, SolverSettings):
-        solution = solve(problem, settings=settings, progress=not args.quiet or settings.progress)
+        progress = False if args.quiet else settings.progress is not False
+        solution = solve(problem, settings=settings, progress=progress, **to_tolerance)
     else:  # a stationary problem: one linear solve, its options by name
-        solution = solve(problem, **dataclasses.asdict(settings))
+        solution = solve(problem, **to_tolerance, **dataclasses.asdict(settings))
+    for r in solution.refinement if args.tol is not None else ():
+        print(
+            f"  round: {'×'.join(map(str, r.shape))}"
+            + ("" if problem.stationary else f", dt = {r.dt:.4g}")
+            + f", estimated error {r.error:.2%} of |v|, {r.wall_time:.1f} s"
+        )
     d = solution.diagnostics
     path = save(solution, args.out)
     if problem.stationary:
@@ -174,6 +193,18 @@ def _cmd_solve(args) -> int:
         f"wrote {path}: {how} in {d.wall_time:.1f} s"
         + (f", {d.underflow_nodes} nodes underflowed" if d.underflow_nodes else "")
     )
+    if args.tol is not None:
+        met = solution.refinement[-1].error <= args.tol
+        print(
+            f"tolerance {args.tol:g} {'met' if met else 'NOT met (the warning says why)'}: "
+            f"estimated error {solution.refinement[-1].error:.2%} of |v| "
+            + ("at the --at states" if states is not None else "where it matters")
+        )
+    if states is not None:
+        v, error = solution.value(states, 0.0), solution.error_estimate(states, 0.0)
+        print(f"{'state':>24}  {'v(x, 0)':>12}  {'estimated |error|':>18}")
+        for x, vx, ex in zip(states, v, error, strict=True):
+            print(f"{','.join(f'{c:g}' for c in x):>24}  {vx:12.6g}  {ex:18.3g}")
     return 0
 
 
@@ -495,6 +526,27 @@ def _add_workflow_parsers(sub):
         "Negative numbers need '=': --axis=-pi,pi,101,periodic; multiples of pi are allowed.",
     )
     _add_problem_arguments(solve)
+    solve.add_argument(
+        "--tol",
+        type=float,
+        metavar="TOL",
+        help="solve again, refining dt and the grid, until the estimated relative error of v "
+        "meets TOL (at the --at states if given, else where it matters); docs/accuracy.rst",
+    )
+    solve.add_argument(
+        "--at",
+        action="append",
+        metavar="STATE",
+        help="print v(x, 0) and its error estimate at this state (comma-separated, "
+        "repeatable); with --tol, where the tolerance must hold",
+    )
+    solve.add_argument(
+        "--max-seconds",
+        type=float,
+        metavar="S",
+        help="with --tol: a wall-clock budget; the last round is saved with a warning of the "
+        "estimate reached",
+    )
     solve.add_argument("--out", required=True, help="where to save the Solution (.npz)")
     solve.add_argument("--quiet", action="store_true", help="no progress output")
     solve.set_defaults(func=_cmd_solve)

@@ -38,14 +38,16 @@ multiple of π in a string (``"pi"``, ``"-pi"``, ``"pi/2"``, ``"2*pi"``)::
 A task that ends when the state enters an exit set (SPEC §9) leaves out ``horizon`` and
 ``terminal_cost`` and gives the set as one or more regions (their union) and, optionally, the
 exit cost (a number or a quadratic table; default 0); its ``[solver]`` table takes the fields of
-:class:`gridlbc.stationary.StationarySettings` (``rates``, ``linear_solver``, ...)::
+:class:`gridlbc.stationary.StationarySettings` (``rates``, ``linear_solver``, ...). In TOML a
+key belongs to the last table above it, so ``exit_cost`` goes with the other top-level keys,
+before the first table::
+
+    exit_cost = 0.0          # with temperature, control_cost, ...
 
     [[exit]]
     box = { lower = [0.45, "-inf"], upper = ["inf", "inf"] }   # the half-plane x₀ ≥ 0.45
     [[exit]]
     ball = { center = [-1.3, 0], radius = [0.2, 0.4] }
-
-    exit_cost = 0.0
 
 ``horizon = "average"`` poses the average-cost problem (no exit, no terminal cost).
 

@@ -214,6 +214,57 @@ def test_main_catches_mistakes_in_process(capsys):
     assert "give --terminal-center and --terminal-weights" in capsys.readouterr().err
 
 
+def test_solve_to_a_tolerance_prints_its_rounds_and_the_estimate(tmp_path, capsys):
+    """``gridlbc solve --tol --at`` is ``gridlbc.solve(problem, tol=, states=)``: the file holds
+    that solution bit for bit, and the table prints its value and error estimate at the
+    states."""
+    (tmp_path / "p.toml").write_text(POINTMASS_TOML.format(c=-1))
+    out = str(tmp_path / "p.npz")
+    flags = ["--config", str(tmp_path / "p.toml"), "--out", out, "--quiet"]
+    assert main(["solve", *flags, "--tol", "0.05", "--at=0.3,0.2", "--at=-1,0"]) == 0
+    printed = capsys.readouterr().out
+    problem = problem_from_dict(pointmass_description(-1)).problem
+    states = np.array([[0.3, 0.2], [-1.0, 0.0]])
+    direct = gridlbc.solve(problem, dt=0.05, tol=0.05, states=states)
+    saved = gridlbc.load(out)
+    np.testing.assert_array_equal(saved.slices, direct.slices)
+    assert printed.count("  round: ") == len(direct.refinement)
+    assert f"estimated error {direct.refinement[-1].error:.2%}" in printed
+    assert "tolerance 0.05 met" in printed and direct.refinement[-1].error <= 0.05
+    rows = [line.split() for line in printed.splitlines()[-2:]]
+    np.testing.assert_allclose([float(r[1]) for r in rows], direct.value(states), rtol=1e-5)
+    np.testing.assert_allclose(
+        [float(r[2]) for r in rows], direct.error_estimate(states), rtol=1e-2
+    )
+    assert main(["solve", *flags, "--max-seconds", "5"]) == 2
+    assert "give --tol too" in capsys.readouterr().err
+
+
+def test_the_config_modules_first_exit_example_reads():
+    """The TOML of gridlbc.config's docstring for an exit set, with a system and a grid added,
+    describes a first-exit problem (its exit_cost above the tables, where TOML keeps it
+    top-level)."""
+    import textwrap
+    import tomllib
+
+    import gridlbc.config
+
+    example = gridlbc.config.__doc__.split("before the first table::")[1].split("``horizon")[0]
+    data = tomllib.loads(textwrap.dedent(example))
+    data.update(
+        system={"name": "PointMass"},
+        grid={"n": [21, 21]},
+        state_cost={"center": [0, 0], "weights": [1, 1]},
+    )
+    problem = problem_from_dict(data).problem
+    assert problem.horizon is None and problem.exit is not None
+    assert problem.exit_mask(np.array([[0.5, 0.0], [-1.3, 0.0], [0.0, 0.0]])).tolist() == [
+        True,
+        True,
+        False,
+    ]
+
+
 @SMOKE_SIZES
 def test_demo_runs_small_and_checks_what_it_claims(tmp_path):
     """The demo job on a 61² grid: superposition of the fitted combination to rounding, and the
