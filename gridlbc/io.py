@@ -16,6 +16,13 @@ File format (``.npz``, a zip of ``.npy`` arrays, readable with plain numpy):
   :class:`GridCost`, which interpolates them (exact at the nodes; the error estimate's terms that
   sample paths, γ and the certificates of :mod:`gridlbc.accuracy.bellman`, then read the
   interpolated costs, and an exit set as its nodes hold it);
+- ``exit_mask`` (N,): a first-exit problem's exit set E at the nodes, with ``metadata["exit"]``
+  its description; where E is made of the library's shapes (:class:`gridlbc.regions.Box`,
+  :class:`gridlbc.regions.Ball`, their unions), ``metadata["exit_region"]`` holds them and
+  :func:`load` rebuilds E exactly; any other E (a callable) comes back as its nodes hold it
+  (:class:`gridlbc.regions.GridRegion`: a state is in it where the interpolated membership of
+  the nodes is at least ½), and so do the values, rollouts and certificates read near its
+  boundary;
 - ``reference_log_slices`` (S, N), ``reference_log_scales`` (S,): for a solution fitted to a
   shared reference (:class:`gridlbc.representation.RelativeZ`), log φ at the stored times, which
   its evaluation needs, with its own digest ``reference_sha256`` in the metadata;
@@ -61,7 +68,7 @@ from .fingerprint import UnidentifiableError, digest, json_default, state_record
 from .grid import Axis, Grid
 from .interpolate import interpolate
 from .problem import Problem
-from .regions import GridRegion
+from .regions import Ball, Box, GridRegion, Union
 from .representation import REPRESENTATIONS, LinearZ, LogZ, RelativeZ
 from .solution import OperatorSignature, Solution, SolveDiagnostics, StationarySolution
 from .version import __version__
@@ -184,6 +191,31 @@ def problem_record(problem: Problem, arrays: dict) -> dict:
     }
 
 
+def region_record(region) -> dict | None:
+    """An exit set made of the library's shapes (:class:`~gridlbc.regions.Box`,
+    :class:`~gridlbc.regions.Ball`, their unions) as JSON data that :func:`region_from_record`
+    rebuilds exactly; None for anything else (a callable, known to a file by its nodes only:
+    :class:`~gridlbc.regions.GridRegion`). A ball's periods are the problem's, bound again when
+    the loaded problem is made."""
+    if isinstance(region, Box):
+        return {"box": {"lower": region.lower.tolist(), "upper": region.upper.tolist()}}
+    if isinstance(region, Ball):
+        return {"ball": {"center": region.center.tolist(), "radius": region.radius.tolist()}}
+    if isinstance(region, Union):
+        parts = [region_record(part) for part in region.parts]
+        return None if any(part is None for part in parts) else {"union": parts}
+    return None
+
+
+def region_from_record(record: dict):
+    """The region of :func:`region_record`."""
+    if "box" in record:
+        return Box(record["box"]["lower"], record["box"]["upper"])
+    if "ball" in record:
+        return Ball(record["ball"]["center"], record["ball"]["radius"])
+    return Union(tuple(region_from_record(part) for part in record["union"]))
+
+
 def recorded_parameters(system) -> dict:
     """``system.parameters()`` as a file records it and :func:`load` passes it back to the
     system's class: JSON data, numpy arrays and numbers as lists and Python numbers (a user's
@@ -304,8 +336,10 @@ def _record(solution: Solution, arrays: dict) -> dict:
     if reference is not None:  # log φ of a fitted operator: the solution's evaluation needs it
         arrays["reference_log_slices"] = reference.log_slices
         arrays["reference_log_scales"] = reference.log_scales
+    shape = region_record(solution.problem.exit)
     meta = {
         **problem_record(solution.problem, arrays),
+        **({} if shape is None else {"exit_region": shape}),
         "diagnostics": asdict(solution.diagnostics),
         "representation": solution.representation.name,
         "operator": asdict(solution.operator),
@@ -518,7 +552,9 @@ def _solution(meta: dict, contents: dict, version: int, path, system=None) -> So
             )
     grid = Grid([Axis(**a) for a in meta["grid"]])
     exit_set = None
-    if "exit" in meta:
+    if "exit_region" in meta:
+        exit_set = region_from_record(meta["exit_region"])
+    elif "exit" in meta:
         exit_set = GridRegion(grid, contents["exit_mask"], meta["exit"])
     problem = Problem(
         _system_from_record(meta["system"], system),

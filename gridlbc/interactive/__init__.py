@@ -36,9 +36,9 @@ import numpy as np
 
 from ..backends import REFERENCE_FLOOR
 from ..combine import check_components, check_weights
-from ..costs import Quadratic
+from ..costs import Constant, Quadratic
 from ..grid import Axis, Grid
-from ..io import quadratic_record
+from ..io import quadratic_record, region_record
 from ..project import CONDITION_LIMIT, NEGATIVE_TOLERANCE, RESIDUAL_TOLERANCE, SUM_TOLERANCE
 from ..representation import LinearZ, LogZ, RelativeZ
 from ..solution import Solution
@@ -308,6 +308,30 @@ def _page_cost(cost):
     return record
 
 
+def _page_region(record):
+    """An exit set's :func:`gridlbc.io.region_record` as the page reads it (``None`` for an
+    infinite bound or radius: JSON has no inf), or ``None`` where E is not made of the library's
+    shapes (the page then knows it by its nodes)."""
+    if record is None:
+        return None
+    if "union" in record:
+        return {"union": [_page_region(part) for part in record["union"]]}
+    ((shape, vectors),) = record.items()
+    return {shape: {k: [x if math.isfinite(x) else None for x in v] for k, v in vectors.items()}}
+
+
+def _page_exit_cost(solution: Solution) -> dict:
+    """A component's exit cost g_E as the page reads it: a quadratic (:func:`_page_cost`) or a
+    constant exactly, anything else by its values at the nodes, which the page interpolates."""
+    cost = solution.problem.exit_cost
+    if isinstance(cost, Constant):
+        return {"constant": float(cost.value)}
+    quadratic = _page_cost(cost)
+    if quadratic is not None:
+        return {"quadratic": quadratic}
+    return {"nodes": _base64(solution.problem.exit_values().astype(solution.slices.dtype))}
+
+
 def _colormap(name: str) -> str:
     """256 RGB entries of a matplotlib colormap as a hex string."""
     from matplotlib import colormaps
@@ -376,10 +400,11 @@ def page_data(
     B = np.asarray(system.input_matrix(grid.node_coordinates([0])), dtype=float)[0]
     # A stationary (first-exit) solution has one slice and no time: the page, made for time
     # slices, gets it twice over [0, STATIONARY_ROLLOUT_TIME] (so z does not change with t). A
-    # problem with an exit set E gives the page E's nodes and each component's exit cost g_E at
-    # every node: the page reads E as gridlbc.load does (a state is in E where the interpolated
-    # membership of the nodes is at least 1/2), gives z = exp(-g_E/lambda) there, with g_E
-    # interpolated from the nodes, and stops its rollout there.
+    # problem with an exit set E gives the page E (its shapes, where it is made of the library's,
+    # else its nodes: a state is in E where the interpolated membership of the nodes is at least
+    # 1/2, as gridlbc.load reads a callable E) and each component's exit cost g_E (a quadratic or
+    # a constant, else its values at the nodes, interpolated); the page gives z = exp(-g_E/lambda)
+    # in E and stops its rollout there.
     stationary = problem.stationary
     horizon = STATIONARY_ROLLOUT_TIME if stationary else problem.horizon
     times = [0.0, horizon] if stationary else first.times.tolist()
@@ -404,6 +429,7 @@ def page_data(
         "exit": None
         if problem.exit is None
         else base64.b64encode(problem.exit_mask().astype(np.uint8).tobytes()).decode("ascii"),
+        "exit_region": _page_region(region_record(problem.exit)),
         "temperature": problem.temperature,
         "R": problem.R.tolist(),
         "R_inv": problem.R_inv.tolist(),
@@ -420,9 +446,7 @@ def page_data(
                 "log_scales": stored(s.log_scales).tolist(),
                 "slices": _base64(stored(s.slices)),
                 "reference": k,
-                "exit_cost": None
-                if problem.exit is None
-                else _base64(s.problem.exit_values().astype(s.slices.dtype)),
+                "exit_cost": None if problem.exit is None else _page_exit_cost(s),
             }
             for lab, s, k in zip(labels, comps, references[1])
         ],

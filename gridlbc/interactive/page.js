@@ -44,7 +44,8 @@
     label: c.label, cost: c.terminal_cost, logScales: c.log_scales, Z: decode(c.slices),
     R: c.reference === null ? null : refs[c.reference].R,
     refScales: c.reference === null ? null : refs[c.reference].scales,
-    exitCost: c.exit_cost === null ? null : decode(c.exit_cost),
+    exitCost: c.exit_cost,
+    exitNodes: c.exit_cost !== null && c.exit_cost.nodes !== undefined ? decode(c.exit_cost.nodes) : null,
   }));
   const n = comps.length;
   const decodeMs = performance.now() - started;
@@ -178,8 +179,8 @@
     return phi * y;
   }
   function componentFields(c, tw, x, g) {
+    if (inExit(x)) return endedFields(c, tw, x, g);
     barycentric(x, idxV, bwV);
-    if (exitNodes !== null && insideCell()) return endedFields(c, tw, g);
     if (c.R) return fittedFields(c, tw, x, g);
     const Z = c.Z, off0 = tw.j * size, off1 = off0 + size;
     let z = 0;
@@ -197,11 +198,15 @@
     return z;
   }
 
-  // in the exit set the task has ended: z = exp(-g_E/lambda) exactly, g_E interpolated from the
-  // nodes as gridlbc.load does, and no control (gridlbc.Solution.fields, SPEC §9)
-  function endedFields(c, tw, g) {
+  // in the exit set the task has ended: z = exp(-g_E/lambda) exactly and no control
+  // (gridlbc.Solution.fields, SPEC §9); g_E a quadratic or a constant, else interpolated from its
+  // values at the nodes (x's stencil is in idxV, bwV)
+  function endedFields(c, tw, x, g) {
+    const cost = c.exitCost;
     let exitCost = 0;
-    for (let v = 0; v <= d; v++) exitCost += bwV[v] * c.exitCost[idxV[v]];
+    if (cost.constant !== undefined) exitCost = cost.constant;
+    else if (cost.quadratic !== undefined) exitCost = quadratic(cost.quadratic, x);
+    else for (let v = 0; v <= d; v++) exitCost += bwV[v] * c.exitNodes[idxV[v]];
     for (let r = 0; r < m; r++) g[r] = 0;
     return Math.exp(-exitCost / lambda - tw.L);
   }
@@ -289,16 +294,36 @@
     for (let k = 0; k < d; k++) if (periodic[k]) x[k] = lo[k] + pyMod(x[k] - lo[k], period[k]);
     return x;
   }
-  // the exit set of a first-exit problem, by its nodes, as gridlbc.load knows it
-  // (gridlbc.regions.GridRegion): a state is in it where the barycentric interpolation of the
-  // nodes' membership is at least 1/2
+  // the exit set of a first-exit problem: its shapes (gridlbc.regions.Box, Ball, their union;
+  // null for an infinite bound or radius), else its nodes, as gridlbc.load knows a callable E
+  // (gridlbc.regions.GridRegion: a state is in it where the barycentric interpolation of the
+  // nodes' membership is at least 1/2)
   const exitNodes = DATA.exit === null ? null : Uint8Array.from(atob(DATA.exit), (c) => c.charCodeAt(0));
-  function inExit(x) {
+  const exitRegion = DATA.exit_region;
+  function inShape(shape, x) {
+    if (shape.union) return shape.union.some((part) => inShape(part, x));
+    if (shape.box) {
+      const lower = shape.box.lower, upper = shape.box.upper;
+      for (let k = 0; k < d; k++) {
+        if (lower[k] !== null && x[k] < lower[k]) return false;
+        if (upper[k] !== null && x[k] > upper[k]) return false;
+      }
+      return true;
+    }
+    let s = 0; // a ball, to the nearest image on periodic axes (gridlbc.costs.wrap_difference)
+    for (let k = 0; k < d; k++) {
+      const r = shape.ball.radius[k];
+      if (r === null) continue;
+      let a = x[k] - shape.ball.center[k];
+      if (periodic[k]) a = pyMod(a + 0.5 * period[k], period[k]) - 0.5 * period[k];
+      s += (a / r) ** 2;
+    }
+    return s <= 1.0;
+  }
+  function inExit(x) { // also leaves x's stencil in idxV, bwV
     if (exitNodes === null) return false;
     barycentric(x, idxV, bwV);
-    return insideCell();
-  }
-  function insideCell() { // of the stencil in idxV, bwV
+    if (exitRegion !== null) return inShape(exitRegion, x);
     let membership = 0;
     for (let v = 0; v <= d; v++) membership += bwV[v] * exitNodes[idxV[v]];
     return membership >= 0.5;

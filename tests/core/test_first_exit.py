@@ -69,9 +69,9 @@ def test_error_estimate_covers_the_actual_error():
     assert np.all(estimate >= 0.5 * actual) and np.all(estimate <= 4 * actual + 1e-3)
 
 
-def point_mass_bays(n=41, horizon=None, exit_cost=None, **solve_options):
+def point_mass_bays(n=41, horizon=None, exit_cost=None, bays=None, **solve_options):
     grid = g.Grid([g.Axis(-2, 2, n), g.Axis(-3, 3, n)])
-    bays = Ball([1.2, 0.0], [0.3, 0.6]) | Ball([-1.2, 0.0], [0.3, 0.6])
+    bays = Ball([1.2, 0.0], [0.3, 0.6]) | Ball([-1.2, 0.0], [0.3, 0.6]) if bays is None else bays
     terminal = None if horizon is None else (lambda x: np.zeros(len(x)))
     problem = g.Problem(
         PointMass(),
@@ -299,26 +299,38 @@ def test_stationary_solutions_save_and_load_exactly(tmp_path):
     path = g.save(s, tmp_path / "bays.npz")
     loaded = g.load(path)
     assert isinstance(loaded, g.StationarySolution)
-    x = s.grid.nodes()[::7] + 0.01
-    np.testing.assert_array_equal(loaded.problem.exit_mask(), s.problem.exit_mask())
-    # off E the slices are read as they were; on E the task has ended, and the value is the exit
-    # cost, which a load knows as the nodes hold it (E and a callable g_E, by their nodes)
-    off = ~(s.problem.exit_mask(x) | loaded.problem.exit_mask(x))
-    assert 0 < off.sum() < len(x)
-    np.testing.assert_array_equal(loaded.value(x[off]), s.value(x[off]))
-    on = loaded.problem.exit_mask(x)
-    # v = −λ (−g_E/λ): two roundings
-    np.testing.assert_allclose(loaded.value(x[on]), loaded.problem.exit_values(x[on]), rtol=1e-15)
-    # the estimate's coarser solves come back bit for bit; they read E as their own nodes hold it
-    # after a load (a cell of the 4h level wide around it), and its sampled terms read the exit
-    # cost (a callable, saved by its node values) so too
+    x = np.random.default_rng(3).uniform([-2, -3], [2, 3], (3000, 2))
+    # E, two balls, comes back exactly (a load by E's nodes put 79 of 3000 random states outside
+    # a ball into it, and rollouts and certificates of the loaded problem stopped there)
+    inside = s.problem.exit_mask(x)
+    np.testing.assert_array_equal(loaded.problem.exit_mask(x), inside)
+    np.testing.assert_array_equal(loaded.value(x[~inside]), s.value(x[~inside]))
+    np.testing.assert_array_equal(loaded.policy(x[~inside]), s.policy(x[~inside]))
+    # on E the task has ended, and the value is the exit cost, a callable saved by its node values
+    # (v = −λ (−g_E/λ): two roundings)
+    np.testing.assert_allclose(
+        loaded.value(x[inside]), loaded.problem.exit_values(x[inside]), rtol=1e-15
+    )
+    # the estimate's coarser solves come back bit for bit, and read the same E; its sampled terms
+    # read the exit cost as its nodes hold it, so they are compared where no path ends (4 cells
+    # of the 4h level from E)
     far = s.problem.exit.boundary_distance(x)[0] > 4 * max(s.grid.spacing)
-    far &= off
     assert far.sum() > len(x) // 2
     np.testing.assert_array_equal(
         loaded.embedded.grid_terms(loaded, x[far]), s.embedded.grid_terms(s, x[far])
     )
     assert g.combine([loaded, g.load(path)]).exact
+    # an E given as a callable is known to a file by its nodes: where their interpolated
+    # membership is at least 1/2
+    ellipse = point_mass_bays(
+        n=41, bays=lambda x: ((x[:, 0] - 1.2) / 0.3) ** 2 + (x[:, 1] / 0.6) ** 2 <= 1.0
+    )
+    back = g.load(g.save(ellipse, tmp_path / "ellipse.npz"))
+    nodes = ellipse.grid.nodes()
+    np.testing.assert_array_equal(back.problem.exit_mask(nodes), ellipse.problem.exit_mask(nodes))
+    off = ~(ellipse.problem.exit_mask(x) | back.problem.exit_mask(x))
+    assert 0 < np.sum(back.problem.exit_mask(x) != ellipse.problem.exit_mask(x)) < 0.05 * len(x)
+    np.testing.assert_array_equal(back.value(x[off]), ellipse.value(x[off]))
     a = g.solve(quadratic_average(81))  # 41 nodes: h's estimate (7.8 %) warns
     loaded = g.load(g.save(a, tmp_path / "average.npz"))
     assert loaded.average_cost == a.average_cost

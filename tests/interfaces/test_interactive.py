@@ -205,11 +205,14 @@ def test_pointmass_projection_is_closed_form(tmp_path):
 def test_first_exit_page_equals_combine_and_stops_at_the_exit(tmp_path):
     # Three parking bays (a stationary first-exit problem): the page holds its one slice over
     # [0, T] (time does not matter), evaluates gridlbc.combine exactly, and its rollout ends in
-    # the exit set.
+    # the exit set. The components' exit costs are of the three kinds the page reads: one by its
+    # values at the nodes (a callable), a quadratic and a constant.
+    from gridlbc.regions import GridRegion
     from gridlbc.studies.problems import bay_cost, bays_problem
 
     base = bays_problem(41)
-    parts = [gridlbc.solve(base.replace(exit_cost=bay_cost(i))) for i in range(3)]
+    costs = [bay_cost(1), Quadratic([0.0, 0.0], [1.0, 0.5]), 0.7]
+    parts = [gridlbc.solve(base.replace(exit_cost=c)) for c in costs]
     page = tmp_path / "bays.html"
     write_page(parts, page)
     weights = (1.0, 0.02, 0.02)
@@ -218,19 +221,28 @@ def test_first_exit_page_equals_combine_and_stops_at_the_exit(tmp_path):
     _assert_probe(out["probe"], combined, weights, (-0.6, 1.2), 0.0)
     html = page.read_text()
     assert '"stationary":true' in html
-    # Inside the middle bay, in a cell that its edge v = 0.4 crosses (the nodes at v = 0.3 are in
-    # it, those at v = 0.45 are not; the interpolated membership is 2/3): the task has ended, so
-    # the value is the composite exit cost -λ log Σ w_i exp(-g_i/λ) and the control is 0, as
-    # gridlbc.combine gives; interpolating the nodes across the edge would mix in the solved z
-    # of the nodes outside the bay.
-    inside = (0.0, 0.35)
-    exit_costs = np.array([bay_cost(i)(np.array([inside]))[0] for i in range(3)])
+    # In the middle bay, in cells that its edge crosses: the task has ended, so the value is the
+    # composite exit cost -λ log Σ w_i exp(-g_i/λ) and the control is 0, as gridlbc.combine
+    # gives; interpolating the nodes across the edge would mix in the solved z of the nodes
+    # outside the bay. The page knows the bay's shape: a state in it whose nodes' membership
+    # interpolates below 1/2 is in E, and one outside it above 1/2 is not.
     lam = base.temperature
-    composite = -lam * np.log(np.dot(weights, np.exp(-exit_costs / lam)))
-    np.testing.assert_allclose(combined.value(np.array(inside)), composite, rtol=1e-14)
-    out = _dump(page, "weights=1,0.02,0.02&state=0,0.35&time=0")
-    _assert_probe(out["probe"], combined, weights, inside, 0.0)
-    assert out["probe"]["policy"] == [0.0]
+    by_nodes = GridRegion(base.grid, base.exit_mask())
+    x = np.random.default_rng(1).uniform([-0.25, -0.5], [0.25, 0.5], (400, 2))
+    inside, nodal = base.exit(x), by_nodes(x)
+    states = [x[inside & ~nodal][0], x[~inside & nodal][0], (0.0, 0.35)]
+    for state in states:
+        query = f"weights=1,0.02,0.02&state={float(state[0])!r},{float(state[1])!r}&time=0"
+        probe = _dump(page, query)["probe"]
+        _assert_probe(probe, combined, weights, state, 0.0)
+        if base.exit(np.array([state]))[0]:
+            g_i = [
+                cost(np.array([state]))[0] if callable(cost) else cost
+                for cost in (parts[0].problem.exit_cost, parts[1].problem.exit_cost, 0.7)
+            ]
+            composite = -lam * np.log(np.dot(weights, np.exp(-np.array(g_i) / lam)))
+            np.testing.assert_allclose(probe["value"], composite, rtol=1e-12)
+            assert probe["policy"] == [0.0]
 
 
 @SMOKE_SIZES
