@@ -787,8 +787,9 @@ class _Exits:
         nearest each end b, and which steps are to be halved instead, where ``refine``)."""
         (d_a, n_a), (d_b, n_b) = start, end
         variance = np.sum(np.einsum("nd,ndm->nm", n_a, factor) ** 2, axis=1)
-        with np.errstate(divide="ignore", under="ignore"):
-            p = np.where(variance > 0, np.exp(-2 * d_a * d_b / variance), 0.0)
+        spread = variance > 0  # no noise across the boundary: no crossing between the steps
+        with np.errstate(under="ignore"):
+            p = np.where(spread, np.exp(-2 * d_a * d_b / np.where(spread, variance, 1.0)), 0.0)
         reached = b - d_b[:, None] * n_b  # the point of E nearest the step's end
         finer = np.zeros(len(p), dtype=bool)
         if refine:  # a plausible crossing of a boundary that is not one plane at both ends
