@@ -406,6 +406,7 @@ def _cmd_certify(args) -> int:
             seed=args.seed,
             progress=None if not args.quiet else False,
             boundary=args.boundary,
+            max_time=args.max_time,
         )
     predicted = solution.value(states, 0.0)
     print(f"proposal: the policy of {args.solution} ({solution.problem.describe()})")
@@ -646,7 +647,18 @@ def _add_workflow_parsers(sub):
     certify.add_argument(
         "--samples", type=int, default=2000, help="samples per start state (default: 2000)"
     )
-    certify.add_argument("--dt", type=float, help="Euler–Maruyama step (default: T/300)")
+    certify.add_argument(
+        "--dt",
+        type=float,
+        help="Euler–Maruyama step (default: T/300; required for a first exit without a horizon)",
+    )
+    certify.add_argument(
+        "--max-time",
+        type=float,
+        metavar="S",
+        help="a first exit without a horizon: the paths that have not reached the exit set by "
+        "then are stopped and reported (well beyond the typical time to reach it)",
+    )
     certify.add_argument("--seed", type=int, help="random seed")
     certify.add_argument(
         "--boundary",

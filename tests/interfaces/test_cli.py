@@ -265,6 +265,29 @@ def test_the_config_modules_first_exit_example_reads():
     ]
 
 
+def test_certify_a_first_exit_file(tmp_path, capsys):
+    """A first exit without a horizon is certified from the command line with --max-time (and
+    --dt, which it requires); without them the one-line error names what to give."""
+    solution = gridlbc.solve(
+        gridlbc.Problem(
+            gridlbc.systems.PointMass(),
+            gridlbc.Grid([gridlbc.Axis(-2, 2, 21), gridlbc.Axis(-3, 3, 21)]),
+            None,
+            state_cost=lambda x: 1.0 + 0 * x[:, 0],
+            temperature=0.5,
+            exit=gridlbc.regions.Ball([1.0, 0.0], [0.4, 0.8]),
+        ),
+        error_estimate=False,
+    )
+    path = str(gridlbc.save(solution, tmp_path / "exit"))
+    assert main(["certify", path, "--state=-1,0", "--samples", "40", "--quiet"]) == 2
+    assert "give max_time" in capsys.readouterr().err
+    flags = ["--state=-1,0", "--samples", "40", "--dt", "0.02", "--max-time", "20", "--seed", "0"]
+    assert main(["certify", path, *flags, "--quiet"]) == 0
+    printed = capsys.readouterr().out
+    assert "certified optimum v*" in printed and "first exit" in printed
+
+
 @SMOKE_SIZES
 def test_demo_runs_small_and_checks_what_it_claims(tmp_path):
     """The demo job on a 61² grid: superposition of the fitted combination to rounding, and the
