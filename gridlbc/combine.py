@@ -49,7 +49,7 @@ import numpy as np
 from .accuracy.assessment import check_combination
 from .errors import UnderflowWarning
 from .problem import Problem, state_evaluation
-from .representation import Fields, warn_underflow
+from .representation import Fields, not_positive
 from .solution import FieldEvaluation, OperatorSignature, Solution
 
 
@@ -197,11 +197,10 @@ class CompositeCost:
 
 
 def _normalised(terms: np.ndarray) -> np.ndarray:
-    """α = terms / Σ terms, ``(n, N)`` → ``(N, n)``; NaN (with an UnderflowWarning) where the
-    sum is not positive."""
+    """α = terms / Σ terms, ``(n, N)`` → ``(N, n)``; NaN (with a warning,
+    :func:`~gridlbc.representation.not_positive`) where the sum is not positive."""
     total = terms.sum(axis=0)
-    bad = ~(total > 0)
-    warn_underflow(bad)
+    bad = not_positive(total)
     with np.errstate(divide="ignore", invalid="ignore"):
         alpha = (terms / np.where(bad, 1.0, total)).T
     alpha[bad] = np.nan
@@ -401,10 +400,9 @@ class Combination:
 
 
 def _log_total(top: np.ndarray, total: np.ndarray) -> np.ndarray:
-    """log Σ w_i z_i = log(total) + top (:meth:`Combination._scaled`); −inf, with an
-    UnderflowWarning, where the total is not positive."""
-    bad = ~(total > 0)
-    warn_underflow(bad)
+    """log Σ w_i z_i = log(total) + top (:meth:`Combination._scaled`); −inf, with a warning
+    (:func:`~gridlbc.representation.not_positive`), where the total is not positive."""
+    bad = not_positive(total)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, total)) + top)
 

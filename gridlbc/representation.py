@@ -36,7 +36,7 @@ from typing import ClassVar, Protocol
 
 import numpy as np
 
-from .errors import UnderflowWarning, warn_user
+from .errors import GridlbcWarning, UnderflowWarning, warn_user
 from .grid import Grid
 from .interpolate import input_gradient, interpolate_slices
 
@@ -325,16 +325,41 @@ def warn_underflow(bad: np.ndarray) -> None:
         )
 
 
-def log_checked(z: np.ndarray) -> np.ndarray:
-    """log z, −inf (with an :class:`~gridlbc.UnderflowWarning`) where z underflowed to zero.
+def not_positive(z: np.ndarray) -> np.ndarray:
+    """Where the desirability ``z`` (up to a positive factor) is not positive, with a warning
+    that says why: zero, where it underflowed (:func:`warn_underflow`), or negative, which only
+    a combination with negative weights can be (a :class:`~gridlbc.GridlbcWarning`: no grid or
+    temperature makes it a desirability there).
 
     Parameters
     ----------
     z : ndarray
-        Non-negative values.
+        Desirabilities.
     """
+    negative = z < 0
     bad = ~(z > 0)
-    warn_underflow(bad)
+    warn_underflow(bad & ~negative)
+    if np.any(negative):
+        warn_user(
+            f"Σ w_i z_i < 0 at {int(negative.sum())} of {negative.size} query states: the "
+            "negative weights outweigh the positive ones there, so the combination is no "
+            "desirability (value +inf, policy and blend weights undefined, NaN). A combination "
+            "with negative weights holds only where Σ w_i z_i stays positive: read it there, or "
+            "use weights that keep it so (gridlbc.project warns when its weights do not)",
+            GridlbcWarning,
+        )
+    return bad
+
+
+def log_checked(z: np.ndarray) -> np.ndarray:
+    """log z, −inf (with a warning, :func:`not_positive`) where z is not positive.
+
+    Parameters
+    ----------
+    z : ndarray
+        Desirabilities.
+    """
+    bad = not_positive(z)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(bad, -np.inf, np.log(np.where(bad, 1.0, z)))
 
@@ -355,8 +380,7 @@ def policy_from_fields(
     g : ndarray (N, m)
         Bᵀ∇z, up to the same factor.
     """
-    bad = ~(z > 0)
-    warn_underflow(bad)
+    bad = not_positive(z)
     with np.errstate(divide="ignore", invalid="ignore"):
         u = temperature * (g @ R_inv.T) / z[:, None]
     u[bad] = np.nan

@@ -287,7 +287,8 @@ def _controls(policy, x: np.ndarray, t: float, m: int, step: int) -> np.ndarray:
         raise ValueError(
             f"policy returned non-finite controls for {int(bad.sum())} of {x.shape[0]} samples at "
             f"t = {t:g} (step {step}), first at x = {x[np.argmax(bad)]}: a grid policy is undefined "
-            "where the desirability underflowed (see UnderflowWarning)"
+            "where the desirability underflowed (see UnderflowWarning), and a combination's "
+            "where negative weights make Σ w_i z_i negative (see its warning)"
         )
     return u
 

@@ -204,6 +204,20 @@ def test_composite_cost_formula():
     assert np.all(negative[costs[1](x) < costs[0](x)] == np.inf)
 
 
+def test_a_negative_combination_says_so_and_not_underflow(pendulum):
+    # API journey round 1: where negative weights outweigh the positive ones, Σ w_i z_i < 0 was
+    # reported as an underflow ("shrink the box, or raise the temperature"), which no setting fixes
+    _, sols = pendulum
+    x = sols[1].grid.nodes()
+    z = [s.desirability(x, 0.0) for s in sols]
+    where = np.flatnonzero(2 * z[0] < z[1])[:3]  # there 2·z_0 − z_1 < 0
+    combined = g.combine(sols[:2], [2.0, -1.0])
+    with pytest.warns(g.GridlbcWarning, match=r"Σ w_i z_i < 0 at 3 of 3 .* negative weights") as w:
+        v = combined.value(x[where], 0.0)
+    assert not any(issubclass(r.category, g.UnderflowWarning) for r in w)
+    assert np.all(v == np.inf)
+
+
 # -- mismatched components and bad weights ----------------------------------------------------------
 
 
