@@ -71,6 +71,7 @@ from .problem import Problem
 from .regions import Ball, Box, GridRegion, Union
 from .representation import REPRESENTATIONS, LinearZ, LogZ, RelativeZ
 from .solution import OperatorSignature, Solution, SolveDiagnostics, StationarySolution
+from .systems import ControlAffineSystem
 from .version import __version__
 
 FORMAT = "gridlbc-solution"
@@ -268,14 +269,36 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
     """
     if not isinstance(solution, Solution):
         raise TypeError(f"save expects a gridlbc.Solution, got {type(solution).__name__}")
-    _warn_unrebuildable(solution.problem.system)
-    return write(solution, path, annotations)
+    problem = solution.problem
+    failure = rebuild_failure(problem.system, problem.require_grid("save"))
+    if failure is not None:
+        call, reason = failure
+        name = type(problem.system).__qualname__
+        fix = (
+            f"make {name}.parameters() return every constructor argument, as data its "
+            "constructor takes back (numbers, strings, lists, dicts)"
+            if type(problem.system).parameters is not ControlAffineSystem.parameters
+            else f"give {name} a parameters() method that returns its constructor arguments"
+        )
+        warn_user(
+            f"the saved file records the system as {call}, which cannot rebuild it ({reason}): "
+            f"load it with gridlbc.load(path, system=...) giving the system, or {fix} (docs "
+            "page 'tutorial')",
+            GridlbcWarning,
+        )
+    return write(solution, path, annotations, rebuilds=failure is None)
 
 
-def write(solution: Solution, path, annotations: dict | None = None) -> Path:
-    """:func:`~gridlbc.save` without its check that :func:`load` can rebuild the system alone (for a
-    caller that loads with ``system=``, as :func:`gridlbc.sweep` does)."""
-
+def write(
+    solution: Solution, path, annotations: dict | None = None, rebuilds: bool | None = None
+) -> Path:
+    """:func:`~gridlbc.save` without its warning where :func:`load` cannot rebuild the system
+    alone (for a caller that loads with ``system=``, as :func:`gridlbc.sweep` does). ``rebuilds``:
+    whether it can (:func:`rebuild_failure`), where the caller knows; the file records it, and
+    :func:`load` then trusts a system it rebuilds from the record."""
+    if rebuilds is None:
+        problem = solution.problem
+        rebuilds = rebuild_failure(problem.system, problem.require_grid("write")) is None
     path = Path(path)
     if path.suffix != ".npz":
         path = path.with_name(path.name + ".npz")
@@ -285,6 +308,7 @@ def write(solution: Solution, path, annotations: dict | None = None) -> Path:
         "format_version": FORMAT_VERSION,
         "library_version": __version__,
         **_record(solution, arrays),
+        "system_rebuilds": rebuilds,
     }
     estimate = solution.embedded
     if isinstance(estimate, EmbeddedEstimate):  # the estimate's coarse solve, under its own prefix
@@ -356,26 +380,38 @@ def _record(solution: Solution, arrays: dict) -> dict:
     return meta
 
 
-def _warn_unrebuildable(system) -> None:
-    """Warn when ``type(system)(**system.parameters())``, what :func:`load` calls, fails or builds
-    a system of other state (:func:`state_digest`): load will then need the system
-    (:func:`~gridlbc.save`). A state that cannot be read trusts its ``parameters()``."""
-    cls, parameters = type(system), recorded_parameters(system)  # as load will pass them
+REBUILD_STATES = 4096
+"""At most this many grid nodes (evenly spread) at which :func:`rebuild_failure` compares the
+drift and input matrix of a rebuilt system with the original's."""
+
+
+def rebuild_failure(system, grid: Grid) -> tuple[str, str] | None:
+    """None where ``type(system)(**parameters)``, what :func:`load` calls with the parameters as
+    the file records them (:func:`recorded_parameters`), builds this system: its state is the
+    same (:func:`state_digest`), or it computes the same drift and input matrix, bit for bit, at
+    :data:`REBUILD_STATES` of the grid's nodes (a parameter given as a numpy number or a tuple
+    comes back as a float or a list); else the call and why it fails."""
+    cls, parameters = type(system), recorded_parameters(system)
     call = f"{cls.__qualname__}(**{parameters!r})"
     try:
         rebuilt = cls(**parameters)
     except Exception as exc:  # the user's constructor refuses the record: say so, not raise
-        reason = f"{call} raises {type(exc).__name__}: {exc}"
-    else:
-        if state_digest(rebuilt) == state_digest(system):
-            return
-        reason = f"{call} builds a system whose attributes differ from this one's"
-    warn_user(
-        f"the saved file records the system as {call}, which cannot rebuild it ({reason}): load "
-        f"it with gridlbc.load(path, system=...) giving the system, or give {cls.__qualname__} a "
-        "parameters() method that returns its constructor arguments (docs page 'tutorial')",
-        GridlbcWarning,
+        return call, f"{call} raises {type(exc).__name__}: {exc}"
+    if state_digest(rebuilt) == state_digest(system):
+        return None
+    x = grid.node_coordinates(
+        np.linspace(0, grid.size - 1, min(grid.size, REBUILD_STATES), dtype=int)
     )
+    try:
+        same = all(
+            np.array_equal(getattr(rebuilt, name)(x), getattr(system, name)(x))
+            for name in ("drift", "input_matrix")
+        )
+    except Exception:  # the rebuilt system cannot even evaluate there: not the same
+        same = False
+    if same:
+        return None
+    return call, f"{call} builds a system whose attributes and dynamics differ from this one's"
 
 
 def state_digest(system) -> str | None:
@@ -389,11 +425,15 @@ def state_digest(system) -> str | None:
         return None
 
 
-def _check_system(meta: dict, system) -> None:
+def _check_system(meta: dict, system, given: bool) -> None:
     """Warn where the loaded solution's system is not in the state it was saved in (its digest,
-    when the file has one: files from before it have none)."""
+    when the file has one: files from before it have none); a system rebuilt from the record
+    (not ``given``) is trusted where the file says that its record rebuilds it
+    (:func:`rebuild_failure`)."""
     saved = meta.get("system_state_sha256")
-    if saved is None or state_digest(system) in (None, saved):
+    if saved is None or (not given and meta.get("system_rebuilds")):
+        return
+    if state_digest(system) in (None, saved):
         return
     warn_user(
         f"the system of this file, as loaded ({system!r}), differs from the one the solution was "
@@ -488,7 +528,7 @@ def load(path, system=None) -> Solution:
             f"{meta.get('library_version')}"
         )
     solution = _solution(meta, contents, version, path, system)
-    _check_system(meta, solution.problem.system)
+    _check_system(meta, solution.problem.system, given=system is not None)
     if "embedded" in meta:
         record = meta["embedded"]
         observed = record["observed_order"]

@@ -230,7 +230,7 @@ def test_a_system_rebuilt_in_another_state_is_warned_at_save_and_at_load(tmp_pat
         _TurningByDefault(1.5), Grid([Axis(-2, 2, 21)] * 2), 1.0, Quadratic([1.0, 0.0], [2.0, 2.0])
     )
     solution = gridlbc.solve(problem, dt=0.025)  # resolves the first steps from T (above)
-    with pytest.warns(gridlbc.GridlbcWarning, match="attributes differ from this one's"):
+    with pytest.warns(gridlbc.GridlbcWarning, match="attributes and dynamics differ from this one"):
         path = gridlbc.save(solution, tmp_path / "turning")
     with pytest.warns(gridlbc.GridlbcWarning, match=r"differs from the one .* system=\.\.\."):
         gridlbc.load(path)
@@ -270,6 +270,44 @@ def test_a_system_whose_parameters_are_arrays_is_saved_and_rebuilt(tmp_path):
     np.testing.assert_array_equal(back.problem.system.A, system.A)
     x = np.array([[0.3, -0.7], [1.1, 0.4]])
     np.testing.assert_array_equal(back.value(x), solution.value(x))
+
+
+class _Drag(gridlbc.systems.ControlAffineSystem):
+    """A user's system whose constructor keeps its arguments as given (a numpy number, a tuple)."""
+
+    state_dim, control_dim = 2, 1
+
+    def __init__(self, k=0.3, gains=(0.0, 1.0)):
+        self.k, self.gains = k, gains
+
+    def parameters(self):
+        return {"k": self.k, "gains": self.gains}
+
+    def drift(self, x):
+        x = self._states(x)
+        return np.stack([x[:, 1], -self.k * x[:, 1]], axis=1)
+
+    def input_matrix(self, x):
+        return np.broadcast_to(np.array(self.gains)[:, None], (len(self._states(x)), 2, 1))
+
+
+def test_parameters_that_come_back_as_floats_and_lists_rebuild_the_system(tmp_path):
+    # API journey round 1: np.float64(0.3) comes back from the file as 0.3 and (0.0, 1.0) as a
+    # list, so the rebuilt system's attributes differ from the saved one's in type, and save and
+    # load warned that the system could not be rebuilt (advising the parameters() it has). It
+    # computes the same drift and input matrix: no warning.
+    system = _Drag(np.float64(0.3), (0.0, 1.0))
+    grid = Grid([Axis(-2, 2, 21), Axis(-3, 3, 21)])
+    solution = gridlbc.solve(Problem(system, grid, 0.5, Quadratic([0, 0], [1, 0.5])), dt=0.025)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", gridlbc.GridlbcWarning)
+        back = gridlbc.load(gridlbc.save(solution, tmp_path / "drag"))
+    x = np.array([[0.3, -0.7], [1.1, 0.4]])
+    np.testing.assert_array_equal(back.value(x), solution.value(x))
+    np.testing.assert_array_equal(back.policy(x), solution.policy(x))
+    # a system given to load is still compared with the saved one: another drag warns
+    with pytest.warns(gridlbc.GridlbcWarning, match="differs from the one the solution was solved"):
+        gridlbc.load(tmp_path / "drag.npz", system=_Drag(0.5))
 
 
 class _Shaped(_Flow):
