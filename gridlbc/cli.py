@@ -202,7 +202,8 @@ def _cmd_solve(args) -> int:
         )
     if states is not None:
         v, error = solution.value(states, 0.0), solution.error_estimate(states, 0.0)
-        print(f"{'state':>24}  {'v(x, 0)':>12}  {'estimated |error|':>18}")
+        header = "v(x)" if problem.stationary else "v(x, 0)"
+        print(f"{'state':>24}  {header:>12}  {'estimated |error|':>18}")
         for x, vx, ex in zip(states, v, error, strict=True):
             print(f"{','.join(f'{c:g}' for c in x):>24}  {vx:12.6g}  {ex:18.3g}")
     return 0

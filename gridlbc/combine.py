@@ -58,7 +58,19 @@ def check_weights(weights, n: int) -> np.ndarray:
     with a positive sum (single weights may be negative, as projection can give)."""
     if weights is None:
         return np.ones(n)
-    w = np.asarray(weights, dtype=float)
+    if not isinstance(weights, np.ndarray) and not hasattr(weights, "__len__"):
+        try:  # a generator or another iterable of numbers
+            weights = list(weights)
+        except TypeError:
+            raise TypeError(
+                f"weights must be {n} numbers, one per component, got {type(weights).__name__}"
+            ) from None
+    try:
+        w = np.asarray(weights, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"weights must be {n} numbers, one per component, got {weights!r}"
+        ) from None
     if w.ndim != 1 or w.size != n:
         raise ValueError(
             f"weights must be {n} numbers, one per component, got shape {np.shape(weights)}"
@@ -121,7 +133,11 @@ def check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
         p = s.problem
         differs = _problem_differences(p0, p)
         if p.grid != p0.grid:
-            differs.append(f"grid ({p0.grid.describe()} vs {p.grid.describe()})")
+            boxes = [
+                f"{g.describe()} on " + " × ".join(f"[{a.lo:.6g}, {a.hi:.6g}]" for a in g.axes)
+                for g in (p0.grid, p.grid)
+            ]
+            differs.append(f"grid ({boxes[0]} vs {boxes[1]})")
         if p.grid == p0.grid and p.state_cost is not p0.state_cost:
             nodes = p0.grid.nodes() if nodes is None else nodes  # built once, only if needed
             if not _same_cost(p.state_cost, p0.state_cost, nodes):
@@ -131,7 +147,7 @@ def check_components(solutions) -> tuple[tuple[Solution, ...], list[str]]:
             differs.append("exit set E (different nodes)")
         if differs:
             raise ValueError(
-                f"solutions[{i}] and solutions[0] must solve the same PDE to combine, but differ "
+                f"solutions[0] and solutions[{i}] must solve the same PDE to combine, but differ "
                 f"in: {'; '.join(differs)}. Only the terminal and exit costs may differ "
                 "(gridlbc.solve_many solves several terminal costs consistently)."
             )

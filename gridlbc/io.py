@@ -449,6 +449,11 @@ def _system_from_record(record, system=None):
     """The system of a saved solution: rebuilt from its class and ``parameters()``, or ``system``
     where the caller gives it (its class must be the recorded one)."""
     module_name, _, qualname = record["class"].rpartition(".")
+    if isinstance(system, type):
+        raise TypeError(
+            f"load(system=...) takes the system itself, an instance such as {system.__name__}(...)"
+            f", not its class {system.__name__}"
+        )
     if system is not None:
         given = f"{type(system).__module__}.{type(system).__qualname__}"
         if given != record["class"]:
@@ -478,6 +483,8 @@ def _system_from_record(record, system=None):
 def _read(path, arrays: bool) -> tuple[dict, dict]:
     """The metadata of a saved solution and, if ``arrays``, its arrays (checked readable)."""
     path = Path(path)
+    if not path.exists() and path.suffix != ".npz" and path.with_name(path.name + ".npz").exists():
+        path = path.with_name(path.name + ".npz")  # as save names it
     if not path.exists():
         raise FileNotFoundError(f"no saved solution at {str(path)!r}")
     try:
@@ -485,8 +492,10 @@ def _read(path, arrays: bool) -> tuple[dict, dict]:
             meta = json.loads(str(data["metadata"]))
             contents = {k: data[k] for k in data.files if k != "metadata"} if arrays else {}
     except (zipfile.BadZipFile, OSError, ValueError, KeyError, EOFError) as exc:
+        # numpy's advice to load with allow_pickle=True does not apply: no solution holds objects
+        reason = str(exc).split(" If you trust the file")[0]
         raise ValueError(
-            f"{str(path)!r} is not a readable gridlbc solution (truncated or corrupted?): {exc}"
+            f"{str(path)!r} is not a readable gridlbc solution (truncated or corrupted?): {reason}"
         ) from None
     if not isinstance(meta, dict) or meta.get("format") != FORMAT:
         raise ValueError(f"{str(path)!r} is not a gridlbc solution file")
@@ -504,7 +513,8 @@ def load(path, system=None) -> Solution:
     Parameters
     ----------
     path : str or Path
-        A file written by :func:`~gridlbc.save`.
+        A file written by :func:`~gridlbc.save` (``.npz`` may be left out, as ``save`` appends
+        it).
     system : ControlAffineSystem, optional
         The solution's system, where the file's record (its class and ``parameters()``) cannot
         rebuild it (a user's class without ``parameters()``, or one not importable here); it

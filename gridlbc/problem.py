@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -105,12 +106,13 @@ class Problem:
         when the state enters ``exit`` (SPEC §9, docs page :doc:`first_exit`). ``"average"``: the
         average-cost problem, which never ends: the solution is the optimal cost per unit time
         and the relative value.
-    terminal_cost : callable, optional
-        g(x) on ``(N, d)`` states, e.g. :class:`gridlbc.costs.Quadratic`, paid at T; required
+    terminal_cost : callable or float, optional
+        g(x) on ``(N, d)`` states, e.g. :class:`gridlbc.costs.Quadratic` (a number: that
+        constant), paid at T; required
         with a horizon T, and absent without one. Quadratic costs are made wrap-aware on the
         periodic axes.
-    state_cost : callable, optional
-        q(x) ≥ 0 on ``(N, d)`` states; zero when omitted. A cost with ``time_dependent = True``
+    state_cost : callable or float, optional
+        q(x) ≥ 0 on ``(N, d)`` states (a number: that constant); zero when omitted. A cost with ``time_dependent = True``
         (:class:`gridlbc.costs.Tracking`), or one with a parameter ``t`` (``q(x, t)``, made a
         :class:`gridlbc.costs.TimeDependent`), is q(x, t): trajectory methods and
         :func:`gridlbc.simulate` accept it, the grid solvers refuse it.
@@ -166,16 +168,21 @@ class Problem:
         set_("temperature", positive_float("temperature", self.temperature))
         set_("control_cost", _control_cost_matrix(self.control_cost, sys.control_dim))
         self._check_ending()
-        if self.terminal_cost is not None:
-            set_("terminal_cost", self._bind_cost(self.terminal_cost, "terminal_cost"))
-        if self.state_cost is not None:
-            set_("state_cost", self._bind_cost(self.state_cost, "state_cost"))
+        for name in ("terminal_cost", "state_cost"):
+            cost = getattr(self, name)
+            if cost is not None:
+                set_(name, self._bind_cost(self._constant(cost), name))
         if self.exit is not None:
             region = check_region(self.exit, sys.state_dim)
             set_("exit", bind_periods(region, self.periods))
-            cost = 0.0 if self.exit_cost is None else self.exit_cost
-            cost = Constant(cost, sys.state_dim) if not callable(cost) else cost
+            cost = self._constant(0.0 if self.exit_cost is None else self.exit_cost)
             set_("exit_cost", self._bind_cost(cost, "exit_cost"))
+
+    def _constant(self, cost):
+        """A cost given as a number, as the constant cost (:class:`gridlbc.costs.Constant`)."""
+        if isinstance(cost, numbers.Real) and not isinstance(cost, bool):
+            return Constant(cost, self.system.state_dim)
+        return cost
 
     def _check_ending(self) -> None:
         """How the task ends is stated once: a horizon with a terminal cost, an exit set, or

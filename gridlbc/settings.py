@@ -122,8 +122,13 @@ class SolverSettings:
             raise ValueError(f"courant must be positive, got {self.courant}")
         if (self.min_steps is not None and int(self.min_steps) < 1) or int(self.store_every) < 1:
             raise ValueError("min_steps and store_every must be at least 1")
-        if self.dtype not in ("float64", "float32"):
+        try:  # numpy's names and types too: np.float32, "f4", np.dtype("float32")
+            dtype = np.dtype(self.dtype).name
+        except TypeError:
+            dtype = None
+        if dtype not in ("float64", "float32"):
             raise ValueError(f"dtype must be 'float64' or 'float32', got {self.dtype!r}")
+        object.__setattr__(self, "dtype", dtype)
         if self.linear_solver not in LINEAR_SOLVERS:
             raise ValueError(
                 f"linear_solver must be one of {', '.join(LINEAR_SOLVERS)}, "

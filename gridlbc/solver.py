@@ -199,6 +199,11 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")
+    if callable(terminal_costs) or not hasattr(terminal_costs, "__iter__"):
+        raise TypeError(
+            "terminal_costs must be a sequence of costs, one solution each, got one "
+            f"{type(terminal_costs).__name__}: give [cost] for one (or gridlbc.solve)"
+        )
     terminal_costs = list(terminal_costs)
     if not terminal_costs:
         raise ValueError("terminal_costs is empty: give at least one terminal cost")

@@ -815,7 +815,9 @@ def unestimated(grid: Grid) -> ValueError:
 def check_tolerance(tol, options: dict) -> None:
     """A clear error unless ``tol`` is a relative error in (0, 1) and the ``options`` keep the
     embedded estimate that a solve to a tolerance reads."""
-    if not (isinstance(tol, (int, float)) and 0 < tol < 1):
+    if isinstance(tol, bool) or not isinstance(tol, numbers.Real):
+        raise TypeError(f"tol must be a number, a relative error in (0, 1), e.g. 0.02; got {tol!r}")
+    if not 0 < float(tol) < 1:
         raise ValueError(f"tol must be a relative error in (0, 1), e.g. 0.02; got {tol!r}")
     if options.get("error_estimate") is False:
         raise ValueError("tol needs the embedded estimate: drop error_estimate=False")

@@ -105,8 +105,11 @@ def lq_solution(problem: Problem, rtol: float = 1e-12) -> LQSolution:
     matrices = problem.system.linear_matrices()
     if matrices is None:
         raise TypeError(
-            f"lq_solution needs a linear system (a(x) = A x, constant B); "
-            f"{type(problem.system).__name__} is not: use reference.solve_hjb instead"
+            f"lq_solution needs a linear system (a(x) = A x, constant B), known by its "
+            f"linear_matrices(), and {type(problem.system).__name__}.linear_matrices() returns "
+            "None: for a linear system of your own give it a linear_matrices() returning "
+            "(A, B), or use gridlbc.systems.LinearSystem(A, B); for a nonlinear one, "
+            "reference.solve_hjb"
         )
     if problem.periodic_axes:
         raise ValueError(

@@ -231,6 +231,8 @@ def line_solution():
     "change, match",
     [
         ({"grid": g.Grid([g.Axis(-3, 3, 23)])}, "grid"),
+        # same node count, another box: the message shows the boxes (API journey round 1)
+        ({"grid": g.Grid([g.Axis(-4, 4, 21)])}, r"grid \(21 .* on \[-3, 3\] vs 21 .* on \[-4, 4\]"),
         ({"horizon": 0.4}, "horizon"),
         ({"temperature": 2.0}, "temperature"),
         ({"control_cost": 3.0}, "control cost R"),
@@ -242,6 +244,15 @@ def test_mismatched_problems_are_named(line_solution, change, match):
     other = g.solve(problem.replace(**change), dt=0.02)
     with pytest.raises(ValueError, match=match):
         g.combine([sol, other])
+
+
+def test_weights_may_be_any_iterable_of_numbers(line_solution):
+    _, sol = line_solution
+    x = np.array([[0.3]])
+    given = g.combine([sol, sol], (w for w in (1, 2)))  # a generator, as solve_many takes costs
+    np.testing.assert_array_equal(given.value(x), g.combine([sol, sol], [1.0, 2.0]).value(x))
+    with pytest.raises(TypeError, match="weights must be 2 numbers"):
+        g.combine([sol, sol], ["a", 1])
 
 
 def test_mismatched_system_is_named_and_other_operators_combine_inexactly():

@@ -109,6 +109,22 @@ def test_refuses_corrupted_truncated_and_foreign_files(tmp_path, pendulum_soluti
         gridlbc.load(foreign)
     with pytest.raises(FileNotFoundError):
         gridlbc.load(tmp_path / "missing.npz")
+    with pytest.raises(ValueError) as caught:  # numpy's advice to unpickle does not apply
+        gridlbc.load(foreign)
+    assert "allow_pickle" not in str(caught.value)
+
+
+@EXACTNESS_ONLY
+def test_load_finds_the_file_save_named_and_wants_a_system_not_its_class(
+    tmp_path, pendulum_solution
+):
+    # save("run1") writes run1.npz; load("run1") looked for run1 (API journey round 1)
+    gridlbc.save(pendulum_solution, tmp_path / "run1")
+    back = gridlbc.load(tmp_path / "run1")
+    np.testing.assert_array_equal(back.slices, pendulum_solution.slices)
+    system = type(pendulum_solution.problem.system)
+    with pytest.raises(TypeError, match=r"an instance such as Pendulum\(...\), not its class"):
+        gridlbc.load(tmp_path / "run1", system=system)
 
 
 @EXACTNESS_ONLY

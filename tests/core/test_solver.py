@@ -391,6 +391,24 @@ def test_a_state_cost_all_but_constant_along_a_noise_axis_is_no_overflow(tiny):
             gridlbc.solve(problem)
 
 
+def test_arguments_in_the_forms_a_user_reaches_for(tmp_path):
+    # API journey round 1: forms that were refused with another type's message or numpy's
+    problem = _pendulum_problem(n=17, T=0.5)
+    with pytest.raises(TypeError, match=r"a sequence of costs, .* give \[cost\] for one"):
+        gridlbc.solve_many(problem, Quadratic([1.0, 0.0], [1.0, 1.0]))
+    with pytest.raises(TypeError, match="tol must be a number"):
+        gridlbc.solve(problem, tol="0.1")
+    solved = gridlbc.solve(problem, dt=0.05, dtype=np.float32, error_estimate=False)
+    assert solved.slices.dtype == np.float32
+    # a constant state cost as a number is the constant cost
+    by_number = gridlbc.solve(problem.replace(state_cost=0.5), dt=0.05, error_estimate=False)
+    by_function = gridlbc.solve(
+        problem.replace(state_cost=lambda x: np.full(len(x), 0.5)), dt=0.05, error_estimate=False
+    )
+    x = np.array([[0.3, -1.0], [2.0, 0.5]])
+    np.testing.assert_array_equal(by_number.value(x), by_function.value(x))
+
+
 def test_a_linear_solver_for_a_scheme_that_solves_no_linear_system_is_refused():
     # stranger round 28: linear_solver="gauss-seidel" with the splitting scheme was ignored
     with pytest.raises(ValueError, match="linear_solver applies to method='implicit'"):
