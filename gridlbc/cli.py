@@ -194,10 +194,11 @@ def _cmd_solve(args) -> int:
         + (f", {d.underflow_nodes} nodes underflowed" if d.underflow_nodes else "")
     )
     if args.tol is not None:
-        met = solution.refinement[-1].error <= args.tol
+        last = solution.refinement[-1]
         print(
-            f"tolerance {args.tol:g} {'met' if met else 'NOT met (the warning says why)'}: "
-            f"estimated error {solution.refinement[-1].error:.2%} of |v| "
+            f"tolerance {args.tol:g} "
+            f"{'met' if last.met(args.tol) else 'NOT met (the warning says why)'}: "
+            f"estimated error {last.error:.2%} of |v| "
             + ("at the --at states" if states is not None else "where it matters")
         )
     if states is not None:

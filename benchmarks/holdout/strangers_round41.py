@@ -48,7 +48,11 @@ other core busy): ``--run`` of all 24 draws (each under ``timeout 540``; none hi
   0.032, ESS 1540, k̂ 0.09; seed 40: 4.0008) and ``error_estimate`` there reads 14.2 %: the
   tolerance is judged with 4 paths per state (``ASSESSED_PATHS``), and at 4 paths the sampled
   term reads 9.95 % at x3, at 16 (``error_estimate``'s) 14.17 %, at 64 14.27 %. Every other met
-  solve is within 4.6 % (tol 0.1) and 2.4 % (tol 0.03).
+  solve is within 4.6 % (tol 0.1) and 2.4 % (tol 0.03). Fixed in main a18f537 (the user's states
+  are read from 16 paths); ``--tol r41_2d_fe_01`` rerun on it (2026-12-07 12:20 UTC, its record
+  now holds this run): tol = 0.1 refines 169×107 (14.2 %) → 337×107 (10.7 %) → 673×107 (7.2 %),
+  met, worst error at the four states 8.7 % (x3; ê 7.2 %); tol = 0.03 stopped by the budget
+  at 7.2 %, saying so.
 - Time budget: r41_3d_fe_02 tol = 0.03 took 119 s against ``max_seconds=60`` (its third round,
   65×193×47, predicted 33 s, took 103.5 s). Elsewhere in 3-D the prediction is 3–30× high and tol
   stops after the default grid: r41_3d_fe_14 101×97×81 predicted 243 s, r41_3d_fe_16 65×93×101
