@@ -53,7 +53,8 @@ trusted pair); r40_4d_hzfe_24's x1 lies outside the box and was not given in ``s
   worst trusted error fell from 2.66 % (default) to 0.95 %; r39_3d_hzfe_13: 45 → 89 on axis 0,
   54.5 → 225.6 % (errors 33.7 → 33.5 %); r39_3d_hz_20 tol 0.1: 39×42×35 → 77×84×69, 106 → 146 %
   (errors 1.49 → 0.36 %); r39_2d_hz_01: 77×200 → 153×400, 242.6 → 246.3 % (errors 1.03 →
-  0.48 %); smaller rises on r40_4d_hz_06 tol 0.03 (6.97 → 7.55 %) and r40_4d_hz_21 tol 0.03 (3.5 → 4.2 %).
+  0.48 %); smaller rises on r40_4d_hz_06 tol 0.03 (6.97 → 7.55 %) and r40_4d_hz_21 tol 0.03
+  (3.5 → 4.2 %).
 - Refinement helped where it ran: r39_2d_hzfe_02 9.26 % (default) → 5.53 % (tol 0.1, met, 2
   rounds, 141×381) → 4.00 % (tol 0.03, 3 rounds, 161×761, Δt 0.002638, certified 4.17 %, not
   met); r39_3d_hzfe_04 21.8 → 12.0 % (32×77×96, not met, certified 14.8 % at tol 0.1);
