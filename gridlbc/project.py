@@ -294,6 +294,9 @@ def project(
     grid : Grid, optional
         Where to sample the inner products; needed unless all costs are quadratics with positive
         definite W on a non-periodic space (then they are exact Gaussian integrals over Rᵈ).
+        Give it on a space with a periodic axis: a :class:`gridlbc.costs.Quadratic` made by you
+        knows no periods until a grid or a :class:`gridlbc.Problem` gives them, and without
+        either it is read on Rᵈ (an angle 3 from the target's centre is 3 away, not 2π − 3).
     temperature : float
         λ of h = exp(−g/λ); use the problem's temperature (keyword only).
     method : str

@@ -192,7 +192,7 @@ def _pm_grid():
         ({"control_cost": -1.0}, ValueError, "positive definite"),
         ({"control_cost": [1.0, 2.0]}, ValueError, "control_cost"),
         ({"terminal_cost": Quadratic([0, 0, 0], [1, 1, 1])}, ValueError, "center has 3"),
-        ({"terminal_cost": 3.0}, TypeError, "callable"),
+        ({"terminal_cost": "3.0"}, TypeError, "callable"),  # a number is the constant cost
         ({"grid": Grid([Axis(0, 1, 4)])}, ValueError, "one Axis per state coordinate"),
     ],
 )
