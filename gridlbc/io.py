@@ -294,11 +294,14 @@ def write(
 ) -> Path:
     """:func:`~gridlbc.save` without its warning where :func:`load` cannot rebuild the system
     alone (for a caller that loads with ``system=``, as :func:`gridlbc.sweep` does). ``rebuilds``:
-    whether it can (:func:`rebuild_failure`), where the caller knows; the file records it, and
-    :func:`load` then trusts a system it rebuilds from the record."""
+    whether it can (:func:`rebuild_failure`), where the caller knows. Where it can, the file
+    records the digest of the system its record rebuilds, which :func:`load` compares with the
+    system it rebuilds (their attributes may differ in type from the solved system's: a numpy
+    number comes back as a float)."""
+    system = solution.problem.system
     if rebuilds is None:
-        problem = solution.problem
-        rebuilds = rebuild_failure(problem.system, problem.require_grid("write")) is None
+        rebuilds = rebuild_failure(system, solution.problem.require_grid("write")) is None
+    rebuilt = state_digest(type(system)(**recorded_parameters(system))) if rebuilds else None
     path = Path(path)
     if path.suffix != ".npz":
         path = path.with_name(path.name + ".npz")
@@ -308,7 +311,7 @@ def write(
         "format_version": FORMAT_VERSION,
         "library_version": __version__,
         **_record(solution, arrays),
-        "system_rebuilds": rebuilds,
+        "system_rebuilt_sha256": rebuilt,
     }
     estimate = solution.embedded
     if isinstance(estimate, EmbeddedEstimate):  # the estimate's coarse solve, under its own prefix
@@ -428,12 +431,11 @@ def state_digest(system) -> str | None:
 def _check_system(meta: dict, system, given: bool) -> None:
     """Warn where the loaded solution's system is not in the state it was saved in (its digest,
     when the file has one: files from before it have none); a system rebuilt from the record
-    (not ``given``) is trusted where the file says that its record rebuilds it
-    (:func:`rebuild_failure`)."""
+    (not ``given``) is compared with the one the record rebuilt at save, where it rebuilt one
+    that computes what the solved system did (:func:`rebuild_failure`)."""
     saved = meta.get("system_state_sha256")
-    if saved is None or (not given and meta.get("system_rebuilds")):
-        return
-    if state_digest(system) in (None, saved):
+    rebuilt = None if given else meta.get("system_rebuilt_sha256")
+    if saved is None or state_digest(system) in (None, saved, rebuilt):
         return
     warn_user(
         f"the system of this file, as loaded ({system!r}), differs from the one the solution was "
