@@ -108,11 +108,11 @@ class Problem:
         and the relative value.
     terminal_cost : callable or float, optional
         g(x) on ``(N, d)`` states, e.g. :class:`gridlbc.costs.Quadratic` (a number: that
-        constant), paid at T; required
-        with a horizon T, and absent without one. Quadratic costs are made wrap-aware on the
-        periodic axes.
+        constant), paid at T; required with a horizon T, and absent without one. Quadratic costs
+        are made wrap-aware on the periodic axes.
     state_cost : callable or float, optional
-        q(x) ≥ 0 on ``(N, d)`` states (a number: that constant); zero when omitted. A cost with ``time_dependent = True``
+        q(x) ≥ 0 on ``(N, d)`` states (a number: that constant); zero when omitted. A cost with
+        ``time_dependent = True``
         (:class:`gridlbc.costs.Tracking`), or one with a parameter ``t`` (``q(x, t)``, made a
         :class:`gridlbc.costs.TimeDependent`), is q(x, t): trajectory methods and
         :func:`gridlbc.simulate` accept it, the grid solvers refuse it.

@@ -123,7 +123,7 @@ class SolverSettings:
         if (self.min_steps is not None and int(self.min_steps) < 1) or int(self.store_every) < 1:
             raise ValueError("min_steps and store_every must be at least 1")
         try:  # numpy's names and types too: np.float32, "f4", np.dtype("float32")
-            dtype = np.dtype(self.dtype).name
+            dtype = None if self.dtype is None else np.dtype(self.dtype).name
         except TypeError:
             dtype = None
         if dtype not in ("float64", "float32"):
