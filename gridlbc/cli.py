@@ -397,6 +397,12 @@ def _cmd_certify(args) -> int:
     if not args.state:
         raise ValueError("give at least one start state: --state=X1,X2,... (repeatable)")
     states = grid.check_states(np.array([_vector(x, "--state") for x in args.state]), "--state")
+    if solution.problem.horizon is None and (args.dt is None or args.max_time is None):
+        raise ValueError(
+            "a first exit without a horizon needs --dt, the Euler–Maruyama step (for the dynamics' "
+            "fastest time scale; check it by halving), and --max-time, when paths that have not "
+            "reached the exit set are stopped (well beyond the typical time to reach it)"
+        )
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", CertificateWarning)
         cert = certify(

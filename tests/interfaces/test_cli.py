@@ -280,8 +280,9 @@ def test_certify_a_first_exit_file(tmp_path, capsys):
         error_estimate=False,
     )
     path = str(gridlbc.save(solution, tmp_path / "exit"))
-    assert main(["certify", path, "--state=-1,0", "--samples", "40", "--quiet"]) == 2
-    assert "give max_time" in capsys.readouterr().err
+    for given in ([], ["--max-time", "20"], ["--dt", "0.02"]):
+        assert main(["certify", path, "--state=-1,0", *given, "--quiet"]) == 2
+        assert "needs --dt, the Euler–Maruyama step" in capsys.readouterr().err
     flags = ["--state=-1,0", "--samples", "40", "--dt", "0.02", "--max-time", "20", "--seed", "0"]
     assert main(["certify", path, *flags, "--quiet"]) == 0
     printed = capsys.readouterr().out
