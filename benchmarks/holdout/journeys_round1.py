@@ -41,6 +41,13 @@ periodic 3-D user system with state-dependent B), first-exit certificate and com
 average cost vs Riccati, tol/states/times/max_seconds, presets, methods, fittings, 3 controls,
 simulate/certify edge cases, bit-exact save/load (float32, store_every, implicit, fitted),
 trajectory optimize/expand vs Riccati, a local Dask sweep with reruns, the CLI on TOML files.
+
+Rerun 2026-12-07 13:00 UTC on the fixes of that session (main after 9500d4c): 28 PASS, 5 FINDING.
+Left as reported: quadratic_standalone_wrap and project_periodic_without_grid (a user's
+Quadratic knows no periods until a problem or grid binds them; project's docstring now says to
+give grid=), project_number_component, hjb_reference (first order, 13.5 % on 41²);
+cli_first_exit_certify asks for ``--max-time`` alone, and a first exit needs ``--dt`` too, by
+design (the message now names both flags).
 """
 
 from __future__ import annotations
