@@ -64,6 +64,13 @@ def _vector(text: str, flag: str) -> list[float]:
     return [number(item.strip(), flag) for item in text.split(",")]
 
 
+def _states(values: list[str], grid, flag: str):
+    """The states given by a repeatable flag (``--at=x1,x2``), checked against ``grid``."""
+    import numpy as np
+
+    return grid.check_states(np.array([_vector(x, flag) for x in values]), flag)
+
+
 def _description_from_flags(data: dict, args) -> dict:
     """The TOML description ``data`` with the command-line flags of ``solve`` laid over it."""
     data = dict(data)
@@ -149,7 +156,6 @@ def _config(data: dict, args):
 
 
 def _cmd_solve(args) -> int:
-    import numpy as np
 
     from .io import save
     from .settings import SolverSettings
@@ -159,9 +165,7 @@ def _cmd_solve(args) -> int:
     problem = config.problem
     states = None
     if args.at:
-        states = problem.require_grid("--at").check_states(
-            np.array([_vector(x, "--at") for x in args.at]), "--at"
-        )
+        states = _states(args.at, problem.require_grid("--at"), "--at")
     if args.max_seconds is not None and args.tol is None:
         raise ValueError("--max-seconds is the budget of a solve to a tolerance: give --tol too")
     if not args.quiet:
@@ -251,8 +255,6 @@ def _cmd_sweep(args) -> int:
     """Exit status 0 when every member is solved (or reused), 1 when one failed."""
     import itertools
 
-    import numpy as np
-
     from .sweep import import_distributed, sweep
 
     try:
@@ -273,8 +275,7 @@ def _cmd_sweep(args) -> int:
             raise type(exc)(f"member {i} ({what}): {exc}") from None
     states = None
     if args.at:
-        states = np.array([_vector(x, "--at") for x in args.at])
-        states = configs[0].problem.grid.check_states(states, "--at")
+        states = _states(args.at, configs[0].problem.grid, "--at")
     members = sweep(
         [c.problem for c in configs],
         args.out,
@@ -353,8 +354,7 @@ def _cmd_combine(args) -> int:
     if weights is None:
         print(f"coordination: weights {combined.weights.tolist()}")
     if args.at:
-        states = np.array([_vector(x, "--at") for x in args.at])
-        states = grid.check_states(states, "--at")
+        states = _states(args.at, grid, "--at")
     elif args.table:
         states = grid.nodes()
     else:
@@ -396,7 +396,7 @@ def _cmd_certify(args) -> int:
     grid = solution.grid
     if not args.state:
         raise ValueError("give at least one start state: --state=X1,X2,... (repeatable)")
-    states = grid.check_states(np.array([_vector(x, "--state") for x in args.state]), "--state")
+    states = _states(args.state, grid, "--state")
     if solution.problem.horizon is None and (args.dt is None or args.max_time is None):
         raise ValueError(
             "a first exit without a horizon needs --dt, the Euler–Maruyama step (for the dynamics' "

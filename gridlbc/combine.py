@@ -58,15 +58,8 @@ def check_weights(weights, n: int) -> np.ndarray:
     with a positive sum (single weights may be negative, as projection can give)."""
     if weights is None:
         return np.ones(n)
-    if not isinstance(weights, np.ndarray) and not hasattr(weights, "__len__"):
-        try:  # a generator or another iterable of numbers
-            weights = list(weights)
-        except TypeError:
-            raise TypeError(
-                f"weights must be {n} numbers, one per component, got {type(weights).__name__}"
-            ) from None
-    try:
-        w = np.asarray(weights, dtype=float)
+    try:  # a sequence, an array, or a generator of numbers
+        w = np.asarray(weights if hasattr(weights, "__len__") else list(weights), dtype=float)
     except (TypeError, ValueError):
         raise TypeError(
             f"weights must be {n} numbers, one per component, got {weights!r}"

@@ -58,6 +58,7 @@ import json
 import zipfile
 from dataclasses import asdict
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -270,9 +271,9 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
     if not isinstance(solution, Solution):
         raise TypeError(f"save expects a gridlbc.Solution, got {type(solution).__name__}")
     problem = solution.problem
-    failure = rebuild_failure(problem.system, problem.require_grid("save"))
-    if failure is not None:
-        call, reason = failure
+    rebuilt = rebuild(problem.system, problem.require_grid("save"))
+    if rebuilt.failure is not None:
+        call, reason = rebuilt.failure
         name = type(problem.system).__qualname__
         fix = (
             f"make {name}.parameters() return every constructor argument, as data its "
@@ -286,22 +287,20 @@ def save(solution: Solution, path, annotations: dict | None = None) -> Path:
             "page 'tutorial')",
             GridlbcWarning,
         )
-    return write(solution, path, annotations, rebuilds=failure is None)
+    return write(solution, path, annotations, rebuilt=rebuilt)
 
 
 def write(
-    solution: Solution, path, annotations: dict | None = None, rebuilds: bool | None = None
+    solution: Solution, path, annotations: dict | None = None, rebuilt: Rebuild | None = None
 ) -> Path:
     """:func:`~gridlbc.save` without its warning where :func:`load` cannot rebuild the system
-    alone (for a caller that loads with ``system=``, as :func:`gridlbc.sweep` does). ``rebuilds``:
-    whether it can (:func:`rebuild_failure`), where the caller knows. Where it can, the file
-    records the digest of the system its record rebuilds, which :func:`load` compares with the
-    system it rebuilds (their attributes may differ in type from the solved system's: a numpy
-    number comes back as a float)."""
-    system = solution.problem.system
-    if rebuilds is None:
-        rebuilds = rebuild_failure(system, solution.problem.require_grid("write")) is None
-    rebuilt = state_digest(type(system)(**recorded_parameters(system))) if rebuilds else None
+    alone (for a caller that loads with ``system=``, as :func:`gridlbc.sweep` does). ``rebuilt``:
+    what the record rebuilds (:func:`rebuild`), where the caller has it. Where it rebuilds the
+    system, the file records the digest of the system it rebuilds, which :func:`load` compares
+    with the system it rebuilds (their attributes may differ in type from the solved system's: a
+    numpy number comes back as a float)."""
+    if rebuilt is None:
+        rebuilt = rebuild(solution.problem.system, solution.problem.require_grid("write"))
     path = Path(path)
     if path.suffix != ".npz":
         path = path.with_name(path.name + ".npz")
@@ -311,7 +310,7 @@ def write(
         "format_version": FORMAT_VERSION,
         "library_version": __version__,
         **_record(solution, arrays),
-        "system_rebuilt_sha256": rebuilt,
+        "system_rebuilt_sha256": rebuilt.digest,
     }
     estimate = solution.embedded
     if isinstance(estimate, EmbeddedEstimate):  # the estimate's coarse solve, under its own prefix
@@ -384,24 +383,34 @@ def _record(solution: Solution, arrays: dict) -> dict:
 
 
 REBUILD_STATES = 4096
-"""At most this many grid nodes (evenly spread) at which :func:`rebuild_failure` compares the
-drift and input matrix of a rebuilt system with the original's."""
+"""At most this many grid nodes (evenly spread) at which :func:`rebuild` compares the drift and
+input matrix of a rebuilt system with the original's."""
 
 
-def rebuild_failure(system, grid: Grid) -> tuple[str, str] | None:
-    """None where ``type(system)(**parameters)``, what :func:`load` calls with the parameters as
-    the file records them (:func:`recorded_parameters`), builds this system: its state is the
-    same (:func:`state_digest`), or it computes the same drift and input matrix, bit for bit, at
-    :data:`REBUILD_STATES` of the grid's nodes (a parameter given as a numpy number or a tuple
-    comes back as a float or a list); else the call and why it fails."""
+class Rebuild(NamedTuple):
+    """What the record of a system rebuilds (:func:`rebuild`)."""
+
+    digest: str | None
+    """The :func:`state_digest` of the system rebuilt, where it computes what the system does."""
+    failure: tuple[str, str] | None
+    """Where it does not: the call :func:`load` makes and why it fails."""
+
+
+def rebuild(system, grid: Grid) -> Rebuild:
+    """``type(system)(**parameters)``, what :func:`load` calls with the parameters as the file
+    records them (:func:`recorded_parameters`), judged: it rebuilds this system where its state is
+    the same (:func:`state_digest`) or it computes the same drift and input matrix, bit for bit,
+    at :data:`REBUILD_STATES` of the grid's nodes (a parameter given as a numpy number or a tuple
+    comes back as a float or a list)."""
     cls, parameters = type(system), recorded_parameters(system)
     call = f"{cls.__qualname__}(**{parameters!r})"
     try:
         rebuilt = cls(**parameters)
     except Exception as exc:  # the user's constructor refuses the record: say so, not raise
-        return call, f"{call} raises {type(exc).__name__}: {exc}"
-    if state_digest(rebuilt) == state_digest(system):
-        return None
+        return Rebuild(None, (call, f"{call} raises {type(exc).__name__}: {exc}"))
+    digest = state_digest(rebuilt)
+    if digest == state_digest(system):
+        return Rebuild(digest, None)
     x = grid.node_coordinates(
         np.linspace(0, grid.size - 1, min(grid.size, REBUILD_STATES), dtype=int)
     )
@@ -413,8 +422,9 @@ def rebuild_failure(system, grid: Grid) -> tuple[str, str] | None:
     except Exception:  # the rebuilt system cannot even evaluate there: not the same
         same = False
     if same:
-        return None
-    return call, f"{call} builds a system whose attributes and dynamics differ from this one's"
+        return Rebuild(digest, None)
+    reason = f"{call} builds a system whose attributes and dynamics differ from this one's"
+    return Rebuild(None, (call, reason))
 
 
 def state_digest(system) -> str | None:
@@ -432,7 +442,7 @@ def _check_system(meta: dict, system, given: bool) -> None:
     """Warn where the loaded solution's system is not in the state it was saved in (its digest,
     when the file has one: files from before it have none); a system rebuilt from the record
     (not ``given``) is compared with the one the record rebuilt at save, where it rebuilt one
-    that computes what the solved system did (:func:`rebuild_failure`)."""
+    that computes what the solved system did (:func:`rebuild`)."""
     saved = meta.get("system_state_sha256")
     rebuilt = None if given else meta.get("system_rebuilt_sha256")
     if saved is None or state_digest(system) in (None, saved, rebuilt):

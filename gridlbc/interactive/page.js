@@ -179,8 +179,8 @@
     return phi * y;
   }
   function componentFields(c, tw, x, g) {
-    if (inExit(x)) return endedFields(c, tw, x, g);
-    barycentric(x, idxV, bwV);
+    if (exitNodes === null) barycentric(x, idxV, bwV);
+    else if (inExit(x)) return endedFields(c, tw, x, g); // inExit leaves x's stencil in idxV, bwV
     if (c.R) return fittedFields(c, tw, x, g);
     const Z = c.Z, off0 = tw.j * size, off1 = off0 + size;
     let z = 0;
