@@ -24,11 +24,12 @@ near the target. :func:`project` warns about both.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Quadratic, evaluate_cost
+from .costs import Constant, Quadratic, evaluate_cost
 from .errors import ProjectionWarning, warn_user
 from .grid import Grid
 from .regions import check_region, region_mask
@@ -147,6 +148,24 @@ def _quadrature(costs, lam, grid: Grid, where=None) -> tuple[np.ndarray, np.ndar
     return (H * weights) @ H.T, scales
 
 
+def _constant(cost, name: str, grid: Grid | None):
+    """A cost given as a number as the constant cost on the grid's states
+    (:class:`gridlbc.costs.Constant`, as :class:`gridlbc.Problem` reads one); otherwise the
+    callable itself."""
+    if isinstance(cost, numbers.Real) and not isinstance(cost, bool):
+        if grid is None:
+            raise ValueError(
+                f"{name} is a number: a constant cost is sampled on a grid (its integral over "
+                "the whole space diverges), pass grid=problem.grid"
+            )
+        return Constant(cost, grid.ndim)
+    if not callable(cost):
+        raise TypeError(
+            f"{name} must be a cost callable on (N, d) states, e.g. Quadratic, or a number"
+        )
+    return cost
+
+
 def _choose_method(method, costs, grid) -> str:
     if method not in PROJECTION_METHODS:
         raise ValueError(f"method must be one of {', '.join(PROJECTION_METHODS)}, got {method!r}")
@@ -197,12 +216,12 @@ def projection(
     costs = list(component_costs)
     if not costs:
         raise ValueError("component_costs is empty: give at least one component cost")
-    for i, c in enumerate([target_cost, *costs]):
-        if not callable(c):
-            name = "target_cost" if i == 0 else f"component_costs[{i - 1}]"
-            raise TypeError(f"{name} must be a cost callable on (N, d) states, e.g. Quadratic")
     if grid is not None and not isinstance(grid, Grid):
         raise TypeError(f"grid must be a gridlbc.Grid or None, got {type(grid).__name__}")
+    target_cost, *costs = (
+        _constant(c, "target_cost" if i == 0 else f"component_costs[{i - 1}]", grid)
+        for i, c in enumerate([target_cost, *costs])
+    )
     lam = float(temperature)
     if not (np.isfinite(lam) and lam > 0):
         raise ValueError(f"temperature must be positive and finite, got {temperature}")
@@ -287,10 +306,11 @@ def project(
 
     Parameters
     ----------
-    target_cost : callable
-        ḡ, e.g. a :class:`gridlbc.costs.Quadratic`.
-    component_costs : sequence of callables
-        g_i, the terminal costs of the solutions to combine.
+    target_cost : callable or float
+        ḡ, e.g. a :class:`gridlbc.costs.Quadratic`; a number is the constant cost (sampled on
+        ``grid``).
+    component_costs : sequence of callables or floats
+        g_i, the terminal costs of the solutions to combine (numbers as ``target_cost``).
     grid : Grid, optional
         Where to sample the inner products; needed unless all costs are quadratics with positive
         definite W on a non-periodic space (then they are exact Gaussian integrals over Rᵈ).

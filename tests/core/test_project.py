@@ -56,6 +56,22 @@ def test_a_component_as_target_gives_its_unit_vector():
     assert p.messages == ()
 
 
+def test_numbers_are_constant_costs_sampled_on_the_grid():
+    """A number is the constant cost, as Problem reads one: the target c against components
+    [a quadratic, the constant 0] is exp(−c/λ) times the second, so w = (0, exp(−c/λ)) exactly
+    (to the Gram solve's rounding). Without a grid a constant cannot be projected (its integral
+    over Rᵈ diverges), and the error says to pass one."""
+    grid = g.Grid([g.Axis(-2, 2, 41), g.Axis(-2, 2, 41)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", g.ProjectionWarning)  # Σw = e^{−c/λ}, far from 1
+        w = g.project(0.5, [COMPONENTS[0], 0.0], grid, temperature=0.7)
+    np.testing.assert_allclose(w, [0.0, np.exp(-0.5 / 0.7)], atol=1e-12)
+    with pytest.raises(ValueError, match=r"target_cost is a number.*grid="):
+        g.project(0.5, COMPONENTS)
+    with pytest.raises(TypeError, match=r"component_costs\[1\] must be a cost callable"):
+        g.project(COMPONENTS[0], [COMPONENTS[0], "0"], grid)
+
+
 @settings(max_examples=10, deadline=None)
 @given(weights=st.lists(st.floats(0.05, 5.0), min_size=3, max_size=3), lam=st.floats(0.3, 2.0))
 def test_recovers_weights_of_a_combination(weights, lam):
@@ -106,7 +122,7 @@ def test_bad_input():
     with pytest.raises(ValueError, match="empty"):
         g.project(target, [])
     with pytest.raises(TypeError, match=r"component_costs\[1\]"):
-        g.project(target, [target, 3.0])
+        g.project(target, [target, "3.0"])
     with pytest.raises(ValueError, match="temperature"):
         g.project(target, COMPONENTS, temperature=0.0)
     with pytest.raises(ValueError, match="method"):
