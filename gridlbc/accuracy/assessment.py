@@ -564,6 +564,7 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     )
 
 
+@quiet_reads()
 def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
     """Warn (:class:`gridlbc.ResolutionWarning`) when the estimate that a combination of grid
     solutions carries, Σ_i abs(α_i) ê_i (:func:`gridlbc.combine.combined_error`), exceeds
@@ -606,7 +607,8 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
             alpha, value = combined.blend_and_value(X, t)  # one evaluation of the components
             alpha = np.asarray(alpha, dtype=float).reshape(len(X), -1)
         grid = np.stack([c.embedded.grid_terms(c, X, t) for c in components], axis=1)
-        rel = relative_error(np.sum(np.abs(alpha) * grid, axis=1), value, lam)
+        with np.errstate(invalid="ignore"):  # NaN α where the blend underflowed, read below
+            rel = relative_error(np.sum(np.abs(alpha) * grid, axis=1), value, lam)
         usable = np.isfinite(rel)
         if not usable.any():
             continue
@@ -651,7 +653,7 @@ def blended(alpha: np.ndarray, errors: np.ndarray, lam: float) -> np.ndarray:
     Σ_i abs(α_i δv_i) where a weight is negative (:func:`check_combination`)."""
     if np.any(alpha < 0):
         return np.sum(np.abs(alpha * errors), axis=1)
-    with np.errstate(divide="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore"):  # α = 0 beside an unread error: NaN
         return np.abs(-lam * logsumexp(np.log(alpha) - errors / lam, axis=1))
 
 

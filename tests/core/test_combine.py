@@ -176,6 +176,25 @@ def test_underflowed_combination_is_reported_not_nan():
     assert np.all(np.isfinite(alpha[0])) and np.all(np.isnan(alpha[1]))
 
 
+def test_combine_reads_an_underflowed_blend_without_a_word_of_its_own():
+    """At λ = 0.002 with goals of weight 400 the blend of two fitted components underflows at
+    most of the states its check reads (the components' estimates carried by the blend weights,
+    check_combination): those reads are combine's own, not the user's queries, and neither an
+    UnderflowWarning about "query states" nor numpy's "invalid value" (NaN weights times an
+    infinite estimate) may reach the user (stranger round 43: eight UnderflowWarnings and a
+    RuntimeWarning from one call to combine)."""
+    grid = g.Grid([g.Axis(-3, 3, 61), g.Axis(-3, 3, 61)])
+    problem = g.Problem(
+        PointMass(), grid, horizon=0.5, terminal_cost=g.Quadratic([1, 0], [1, 1]), temperature=0.002
+    )
+    costs = [g.Quadratic([1, 0], [400, 400]), g.Quadratic([-1, 0], [400, 400])]
+    solutions = g.solve_many(problem, costs, progress=False)
+    with warnings.catch_warnings(record=True) as told:
+        warnings.simplefilter("always")
+        g.combine(solutions)
+    assert [w for w in told if not issubclass(w.category, g.ResolutionWarning)] == []
+
+
 @settings(max_examples=8, deadline=None)
 @given(
     weights=st.lists(st.floats(0.01, 10.0), min_size=2, max_size=3),
