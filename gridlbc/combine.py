@@ -47,7 +47,7 @@ from typing import ClassVar
 import numpy as np
 
 from .accuracy.assessment import check_combination
-from .errors import UnderflowWarning
+from .errors import GridlbcWarning, UnderflowWarning, warn_user
 from .problem import Problem, state_evaluation
 from .representation import Fields, not_positive
 from .solution import FieldEvaluation, OperatorSignature, Solution
@@ -475,7 +475,10 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
         Grid Solutions of one linear operator (same scheme and time grid, and ``fitting=None``
         or one shared fitting reference, as :func:`gridlbc.solve_many` gives): a
         :class:`CombinedSolution`, exactly the solution of the composite terminal cost
-        g = −λ log Σ w_i exp(−g_i/λ) to rounding (``exact`` True). Otherwise — grid Solutions
+        g = −λ log Σ w_i exp(−g_i/λ) to rounding (``exact`` True). Where the task has an exit
+        set its exit cost combines the same way, −λ log Σ w_i exp(−g_E,i/λ): one g_E shared by
+        the components becomes g_E − λ log Σw, kept only by weights that sum to 1 (combine
+        warns otherwise); ``combined.problem`` is the task solved. Otherwise — grid Solutions
         solved separately with their own fitting references (the default), other time grids or
         schemes, or trajectory components — a :class:`Combination`, as accurate as its
         components (``exact`` False, and ``reason`` says why). Both have ``value``,
@@ -515,15 +518,51 @@ def combine(components, weights=None) -> CombinedSolution | Combination:
 
 def composite_problem(components, w: np.ndarray) -> Problem:
     """The problem a combination solves: the components' with each cost paid at the end (the
-    terminal cost, and the exit cost of a first-exit problem) replaced by its
-    :class:`~gridlbc.combine.CompositeCost`."""
+    terminal cost, and the exit cost where there is an exit set) replaced by its
+    :class:`~gridlbc.combine.CompositeCost`; warned of where that moves an exit cost the
+    components share (:func:`check_exit_cost`)."""
     base = components[0].problem
     ends = {}
     for name in ("terminal_cost", "exit_cost"):
         if getattr(base, name) is not None:
             costs = tuple(getattr(c.problem, name) for c in components)
             ends[name] = CompositeCost(costs, w, base.temperature)
+    check_exit_cost(components, w)
     return base.replace(**ends)
+
+
+def check_exit_cost(components, w: np.ndarray) -> None:
+    """Warn (:class:`gridlbc.GridlbcWarning`) where the components of a task with a horizon and
+    an exit set share one exit cost g_E and Σw ≠ 1 (without a horizon the exit costs are what
+    is combined).
+
+    On the exit set every component's desirability is exp(−g_E/λ), so the combination's is
+    Σw · exp(−g_E/λ): it solves the task whose exit cost is −λ log Σ_i w_i exp(−g_E/λ) =
+    g_E − λ log Σw, not g_E. That is the superposition's own rule (the exit cost combines as the
+    terminal cost does, paper §3), and :attr:`CombinedSolution.problem` says so, but a user
+    combining terminal costs of a task with an exit set expects g_E kept: coordinating two goals
+    of a task that may also end on E read 30–88 % off a certified optimum with g_E (stranger
+    round 43). Weights that sum to 1 keep g_E."""
+    problem = components[0].problem
+    total = float(np.sum(w))
+    if problem.exit is None or problem.stationary or abs(math.log(total)) <= 1e-12:
+        return
+    g_E = problem.exit_cost
+    nodes = None if problem.grid is None else problem.grid.nodes()
+    for c in components[1:]:
+        other = c.problem.exit_cost
+        if other is not g_E and (nodes is None or not _same_cost(other, g_E, nodes)):
+            return  # exit costs that differ: combining them is the point
+    warn_user(
+        f"the components share one exit cost g_E and the weights sum to {total:.4g}, not 1: on "
+        "the exit set the combination's desirability is Σw·exp(−g_E/λ), so it solves the task "
+        f"whose exit cost is g_E − λ log Σw = g_E {'−' if total > 1 else '+'} "
+        f"{problem.temperature * abs(math.log(total)):.4g} "
+        "(combined.problem), not g_E (the exit cost combines as the terminal cost does). To keep "
+        "g_E, give weights that sum to 1, w / Σw, which raises the composite terminal cost by "
+        "λ log Σw (docs page 'first_exit')",
+        GridlbcWarning,
+    )
 
 
 BLEND_MODES = ("average", "sum")

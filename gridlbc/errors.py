@@ -45,15 +45,22 @@ class ConvergenceError(RuntimeError):
 def warn_user(message: str, category: type[Warning]) -> None:
     """``warnings.warn(message, category)`` attributed to the first frame outside the gridlbc
     package: the user's own call, however deep inside the library the result was judged (what
-    Python 3.12's ``skip_file_prefixes`` does), so the warning names the line to change. Where
-    every frame is the library's (the command line), the outermost one."""
+    Python 3.12's ``skip_file_prefixes`` does), so the warning names the line to change; the
+    frames of :mod:`contextlib` between the library's (a function decorated with a context
+    manager) are passed over too. Where every frame is the library's (the command line), the
+    outermost one."""
+    import contextlib
     import os
     import sys
     import warnings
 
     package = os.path.dirname(os.path.abspath(__file__)) + os.sep
+
+    def ours(filename: str) -> bool:
+        return filename.startswith(package) or filename == contextlib.__file__
+
     frame, level = sys._getframe(1), 2
-    while frame.f_back is not None and frame.f_code.co_filename.startswith(package):
+    while frame.f_back is not None and ours(frame.f_code.co_filename):
         frame, level = frame.f_back, level + 1
     warnings.warn(message, category, stacklevel=level)
 

@@ -194,8 +194,14 @@ def solve_many(problem: Problem, terminal_costs, settings=None, **options) -> li
     Returns
     -------
     list of Solution
-        One per cost, each exactly as :func:`~gridlbc.solve` would return for
-        ``problem.replace(terminal_cost=g_i)`` (``exit_cost=g_i``).
+        One per cost, of ``problem.replace(terminal_cost=g_i)`` (``exit_cost=g_i``), all of one
+        linear operator, so that :func:`gridlbc.combine` superposes them exactly. With a
+        horizon and the default fitting that operator is fitted to all the costs at once (one
+        reference, the composite of them all), not to each alone as :func:`~gridlbc.solve`
+        fits one cost, so a component can differ from its own solve by the grid's error, more
+        where the costs are far apart (the combination inherits it, and each solution's
+        estimate reads it); ``fitting=None`` (the plain operator) gives each exactly as
+        ``solve`` with the same option would.
     """
     if not isinstance(problem, Problem):
         raise TypeError(f"problem must be a gridlbc.Problem, got {type(problem).__name__}")

@@ -116,6 +116,46 @@ def test_exit_costs_on_one_exit_set_combine_exactly():
     np.testing.assert_allclose(combined.policy(x), direct.policy(x), rtol=1e-9, atol=1e-9)
 
 
+def test_terminal_costs_combined_over_a_shared_exit_cost_move_it_and_say_so():
+    """With an exit set and a horizon, components that differ in their terminal cost share g_E,
+    and on E the combination's z is Σw · exp(−g_E/λ): it solves the task whose exit cost is
+    g_E − λ log Σw (the exit cost combines as the terminal cost does), exactly, to rounding, and
+    combine warns where Σw ≠ 1 (stranger round 43: coordination read 30–88 % off a certified
+    optimum with g_E, which the user expected kept). Weights that sum to 1 keep g_E, silently.
+    The warnings name the caller's line (a check decorated with a context manager once named
+    contextlib's)."""
+    grid = g.Grid([g.Axis(-2, 2, 41), g.Axis(-3, 3, 41)])
+    goals = [g.Quadratic([1.0, 0.0], [2.0, 0.5]), g.Quadratic([-1.0, 1.0], [2.0, 0.5])]
+    problem = g.Problem(
+        PointMass(),
+        grid,
+        1.0,
+        goals[0],
+        state_cost=0.5,
+        temperature=0.5,
+        exit=Ball([0.0, -2.0], 0.5),
+        exit_cost=0.2,
+    )
+    w = np.array([3.0, 5.0])
+    x = grid.nodes()[::13]
+    with pytest.warns(g.ResolutionWarning):  # 41²: coarse, and says so
+        parts = g.solve_many(problem, goals, progress=False)
+    for weights, exit_cost, warned in ((w, 0.2 - 0.5 * np.log(8.0), True), (w / 8, 0.2, False)):
+        with warnings.catch_warnings(record=True) as told:
+            warnings.simplefilter("always")
+            combined = g.combine(parts, weights)
+        said = [m for m in told if "share one exit cost" in str(m.message)]
+        assert len(said) == warned
+        assert all(m.filename == __file__ for m in told)
+        assert said == [] or "g_E − λ log Σw = g_E − 1.04" in str(said[0].message)
+        composite = combined.problem.terminal_cost
+        direct = problem.replace(terminal_cost=composite, exit_cost=exit_cost)
+        with pytest.warns(g.ResolutionWarning):
+            truth = g.solve_many(direct, [*goals, composite], progress=False)[-1]
+        np.testing.assert_allclose(combined.value(x), truth.value(x), rtol=1e-10, atol=1e-12)
+        np.testing.assert_allclose(combined.problem.exit_cost(x), exit_cost, rtol=1e-14)
+
+
 @pytest.mark.parametrize("horizon", [None, 2.0])
 def test_on_the_exit_set_the_value_is_the_exit_cost_exactly(horizon):
     # SPEC §9: z = exp(−g_E/λ) on E, where the task has ended. Between the nodes, inside E but in
