@@ -158,7 +158,7 @@ def _constant(cost, name: str, grid: Grid | None):
                 f"{name} is a number: a constant cost is sampled on a grid (its integral over "
                 "the whole space diverges), pass grid=problem.grid"
             )
-        return Constant(cost, grid.ndim)
+        return Constant(float(cost), grid.ndim)
     if not callable(cost):
         raise TypeError(
             f"{name} must be a cost callable on (N, d) states, e.g. Quadratic, or a number"
