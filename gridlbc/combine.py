@@ -75,7 +75,10 @@ def check_weights(weights, n: int) -> np.ndarray:
     if not w.sum() > 0:
         raise ValueError(
             f"weights sum to {w.sum():g} ≤ 0: the combined desirability Σ w_i z_i must be "
-            "positive; flip the signs or use weights=None (coordination, all ones)"
+            "positive, and with Σw ≤ 0 it is negative wherever the components' z are alike; "
+            "weights from gridlbc.project that sum to ≤ 0 say that the components do not "
+            "represent the target (its ProjectionWarning): choose components closer to it, or "
+            "use weights=None (coordination, all ones)"
         )
     return w
 
