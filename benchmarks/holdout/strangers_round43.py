@@ -17,6 +17,17 @@ r43_2d_hz_07 (λ 1.55, T 4.71) was stopped by the timeout unfinished (no record)
   flow was quiet: ``r43_2d_fe_13`` "coord" (errors 0.81–1.74 %). Exceptions: 0 from the library,
   except combine refusing projected weights with Σ w ≤ 0 (below). Stray numpy warnings: 4.
 
+WHAT MAIN DID WITH THEM (2026-12-07, after the run): finding 1 is the superposition's own rule,
+not a numerical error: the combination is exactly the task ``combined.problem`` states, whose
+exit cost is the composite of the components' (g_E − λ log Σw for a shared g_E). A user combining
+terminal costs expects g_E kept, so ``combine`` now warns where a task with a horizon and an exit
+set has its shared exit cost moved (Σw ≠ 1), saying by how much (r43_2d_hzfe_03: "g_E − 6.791"
+at Σw 26.6, "g_E − 2.868" for coordination, silent at Σw = 1); docs page first_exit says it.
+The 17 under-reads were read against the task with g_E kept, not the task solved. Finding 2:
+``solve_many``'s docstring corrected. Finding 3: the check of a combination reads its components
+quietly (also eight UnderflowWarnings about "query states" from one combine call) and without the
+numpy warnings. The refusal of Σw ≤ 0 now advises what fits projected weights.
+
 FINDINGS
 
 1. EXIT SET + HORIZON: ``combine`` of terminal-cost components is NOT the composite, though it
