@@ -668,8 +668,8 @@ def _estimated(solution: HJBSolution, solve_on, dt) -> HJBSolution:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")  # the coarser solve's own are not the user's
                 coarse = solve_on(problem.replace(grid=coarse_grid), None if dt is None else 2 * dt)
-        except ValueError as error:
-            reason = f"the problem cannot be posed on the grid with every other node ({error})"
+        except (ValueError, FloatingPointError) as error:  # never fail the solve it checks
+            reason = f"the problem cannot be solved on the grid with every other node ({error})"
     solution = dataclasses.replace(solution, coarse=coarse)
     if coarse is None:
         warn_user(
@@ -682,13 +682,15 @@ def _estimated(solution: HJBSolution, solve_on, dt) -> HJBSolution:
     if problem.exit is not None:
         judged &= ~problem.exit_mask()
     nodes = np.flatnonzero(judged)
+    if len(nodes) == 0:
+        return solution
     nodes = nodes[np.unique(np.linspace(0, len(nodes) - 1, ESTIMATE_NODES).astype(np.int64))]
     x = grid.node_coordinates(nodes)
     t = None if problem.stationary else 0.0
     rel = relative_error(
         solution.error_estimate(x, t), solution.values[0][nodes], problem.temperature
     )
-    quantile = float(np.quantile(rel, QUANTILE)) if len(rel) else 0.0
+    quantile = float(np.quantile(rel, QUANTILE))
     if quantile > DEFAULT_TOLERANCE:
         warn_user(
             f"solve_hjb's estimated error of v exceeds {DEFAULT_TOLERANCE:.0%} of |v| at "
