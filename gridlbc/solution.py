@@ -285,7 +285,8 @@ class Solution(FieldEvaluation):
         -------
         ndarray (N,)
             The estimated absolute error of :meth:`~gridlbc.solution.FieldEvaluation.value` at each
-            state (a scalar for one state).
+            state (a scalar for one state); +inf where the value underflowed (it is +inf there,
+            and nothing bounds its error).
         """
         if self.embedded is None:
             raise ValueError(

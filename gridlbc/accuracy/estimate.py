@@ -106,6 +106,7 @@ import numpy as np
 
 from ..errors import UnderflowWarning
 from ..problem import bracket
+from ..representation import warn_underflow
 from .bellman import local_error, value_bound
 from .matter import calibration_states
 from .paths import PATH_SAMPLES, nodal, sampled
@@ -253,8 +254,13 @@ class EmbeddedEstimate:
         abs(γ), the cost that the grid's interpolants add along the solve's paths
         (:func:`~gridlbc.accuracy.cost_gap`, from ``samples`` paths per state), the
         truncation and tracing terms where they apply (module docstring), and at least the
-        local certificate beyond its noise (:func:`~gridlbc.accuracy.local_error`)."""
-        return self._error(solution, x, t, samples, whole=True)[1]
+        local certificate beyond its noise (:func:`~gridlbc.accuracy.local_error`); +inf where
+        v underflowed, told once (:func:`gridlbc.representation.warn_underflow`): the states are
+        the caller's, the estimate's own reads of the solves are not."""
+        with quiet_reads():
+            v, error = self._error(solution, x, t, samples, whole=True)
+        warn_underflow(~np.isfinite(v))
+        return error
 
     def excess_response(self, x, t=0.0) -> np.ndarray:
         """S = abs(v_2h[g + δg, q + δq] − v_2h[g, q]) at states ``x`` (N, d), time ``t``: what
@@ -287,7 +293,8 @@ class EmbeddedEstimate:
         """v_h and :meth:`grid_terms` at ``x`` (``v`` = v_h and ``response`` = S there where the
         caller has read them)."""
         v, _, _, local = self._read(solution, x, t, v)
-        floor = self.floor * np.maximum(np.abs(v), solution.temperature)
+        with np.errstate(invalid="ignore"):  # 0 · inf where v underflowed: _error says inf
+            floor = self.floor * np.maximum(np.abs(v), solution.temperature)
         if response is None:
             response = 0.0 if self.excess is None else self.excess(x, t)
         return v, np.maximum(np.maximum(local, floor), response)
@@ -305,7 +312,8 @@ class EmbeddedEstimate:
         gap, tracing = gaps(solution, x, samples, t)  # γ and the traced feet, on the same paths
         terms = np.fmax(grid_terms, np.abs(gap))
         truncation = truncation_gap(solution, x, samples, t, below=terms, v=v)
-        truncation = np.fmin(truncation, worst_value(solution, t) - v)  # v − v_h: at most that
+        with np.errstate(invalid="ignore"):  # inf − inf where v underflowed (inf below)
+            truncation = np.fmin(truncation, worst_value(solution, t) - v)  # v − v_h: at most
         # an error larger than the value: at most what a policy costs here, sampled from each
         # such state where the local certificate is read too (not at every judged node)
         beyond = np.flatnonzero(truncation > np.fmax(np.abs(v), solution.temperature))
@@ -315,6 +323,9 @@ class EmbeddedEstimate:
         error = np.fmax(np.fmax(terms, np.abs(truncation)), np.abs(tracing))
         if local and sampled(solution.problem):
             error = np.fmax(error, local_error(solution, x, t, whole=whole))
+        # where v underflowed (+inf) no term is a number and the error is not bounded: +inf, as
+        # relative_error reads it (stranger round 44: 0 there, from NaN terms fmax passed over)
+        error = np.where(np.isfinite(v), error, np.inf)
         if solution.problem.exit is not None:  # v = g_E on E, exactly (Solution.fields)
             error = np.where(solution.problem.exit_mask(x), 0.0, error)
         return v, error

@@ -116,6 +116,26 @@ def test_exit_costs_on_one_exit_set_combine_exactly():
     np.testing.assert_allclose(combined.policy(x), direct.policy(x), rtol=1e-9, atol=1e-9)
 
 
+def test_where_the_exit_set_cannot_be_reached_the_estimate_is_infinite_and_told_once():
+    """x₀ decays towards 0 and carries no noise, so from x₀ > −1.1 the exit set x₀ < −1.1 is
+    never reached: v = +inf there (the solve says so). Its error estimate is +inf too, not a
+    number the terms' NaN left as 0 (stranger round 44: 0.0 with numpy's invalid-value
+    warnings), with one UnderflowWarning for the states asked about; on E it is 0."""
+    grid = g.Grid([g.Axis(-2, 2, 41), g.Axis(-2, 2, 41)])
+    system = LinearSystem(A=[[-1.0, 0.0], [0.0, -1.0]], B=[[0.0], [1.0]])
+    exit_set = Box([-np.inf, -np.inf], [-1.1, np.inf])
+    problem = g.Problem(system, grid, None, state_cost=0.5, exit=exit_set, temperature=0.2)
+    with pytest.warns(g.UnderflowWarning, match="cannot be reached"):
+        solution = g.solve(problem)
+    x = np.array([[-0.5, 0.0], [1.0, 0.5], [-1.5, 0.0]])
+    with warnings.catch_warnings(record=True) as told:
+        warnings.simplefilter("always")
+        estimate = solution.error_estimate(x)
+    assert estimate.tolist() == [np.inf, np.inf, 0.0]
+    assert [(w.category, w.filename) for w in told] == [(g.UnderflowWarning, __file__)]
+    assert "2 of 3 query states" in str(told[0].message)
+
+
 def test_terminal_costs_combined_over_a_shared_exit_cost_move_it_and_say_so():
     """With an exit set and a horizon, components that differ in their terminal cost share g_E,
     and on E the combination's z is Σw · exp(−g_E/λ): it solves the task whose exit cost is
