@@ -237,9 +237,11 @@ class LinearZ:
         return Fields(None, top, z, None, g)
 
     def log_nodes(self, stored: np.ndarray, log_scale: float) -> np.ndarray:
-        """log z = log Z + ℓ (−inf where Z is 0)."""
+        """log z = log Z + ℓ (−inf where Z is 0, or below it by the rounding of a linear solve:
+        the implicit march's z far below its largest value, stranger round 44, where a NaN
+        value and numpy's invalid-value warning came out)."""
         with np.errstate(divide="ignore"):
-            return np.log(stored.astype(float)) + log_scale
+            return np.log(np.maximum(stored.astype(float), 0.0)) + log_scale
 
 
 @dataclass(frozen=True, eq=False)

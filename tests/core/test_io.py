@@ -340,3 +340,16 @@ def test_parameters_that_no_file_can_hold_are_refused_by_name(tmp_path):
     solution = gridlbc.solve(problem, dt=0.025)
     with pytest.raises(TypeError, match=r"_Shaped.parameters\(\) must return data that a file"):
         gridlbc.save(solution, tmp_path / "shaped")
+
+
+def test_a_stored_z_a_rounding_below_zero_reads_as_underflowed():
+    """The implicit march's linear solve can leave z a rounding below 0 at nodes far below its
+    largest value (stranger round 44): their log is −inf, v = +inf there as where z is 0, not
+    NaN with numpy's invalid-value warning; RelativeZ reads its stored z the same way."""
+    stored = np.array([1.0, 1e-300, 0.0, -1e-18])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for representation in (LinearZ(), RelativeZ(np.zeros((1, 4)), np.zeros(1))):
+            log_z = representation.log_nodes(stored, 2.0)
+            np.testing.assert_array_equal(log_z[2:], -np.inf)
+            np.testing.assert_allclose(log_z[:2], [2.0, np.log(1e-300) + 2.0], rtol=1e-15)
