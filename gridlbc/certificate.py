@@ -503,7 +503,11 @@ def sample_certificate(
     fine = once(dt, seed)
     check_unvisited(problem, samplers, fine)
     coarse, coarser = (
-        once(m * fine.dt, None if seed is None else seed + j) for j, m in ((1, 2), (2, 4))
+        once(m * fine.dt, None if seed is None else seed + j, run=f"the run at {m} dt, {why}")
+        for j, m, why in (
+            (1, 2, "which richardson=True extrapolates from"),
+            (2, 4, "which only checks richardson=True's extrapolation"),
+        )
     )
     runs = (fine, coarse, coarser)
     h = [c.dt for c in runs]  # the steps taken (T over a whole number of them)
@@ -596,10 +600,14 @@ def _certify_once(
     min_effective_sample_size: float,
     max_pareto_k: float,
     boundary: str | None,
+    run: str = "",
 ) -> Certificate:
     """One certificate at one step, from the checked and wrapped ``starts`` (``single``: one
     state given as ``(d,)``) over ``T``, its samples drawn by ``samplers``
-    (:func:`sample_certificate` without ``richardson``)."""
+    (:func:`sample_certificate` without ``richardson``). ``run`` names it in its warnings where
+    it is one of several (the runs at 2Δt and 4Δt of ``richardson=True``, whose v* and k̂ are
+    not the ones returned)."""
+    who = f"certify ({run})" if run else "certify"
     boundary = resolve_boundary(problem, boundary)
     K = step_count(T, dt)
     k = starts.shape[0]
@@ -651,7 +659,7 @@ def _certify_once(
     k_hat = estimates["pareto_k"]
     for i in np.flatnonzero(~_trusted(ess, np.zeros(k), min_effective_sample_size, math.inf)):
         warn_user(
-            f"certify: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
+            f"{who}: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
             f"below {min_effective_sample_size:g}: v* = {value[i]:.4g} and its standard "
             "error are not trustworthy (a few samples carry all the weight exp(−S/λ)). Use a "
             "proposal closer to optimal (a finer or fitted grid solution), more samples, or note "
@@ -661,7 +669,7 @@ def _certify_once(
         )
     for i in np.flatnonzero((ess >= min_effective_sample_size) & (k_hat > max_pareto_k)):
         warn_user(
-            f"certify: the weights exp(−S/λ) at x0 = {starts[i]} have a heavy tail (PSIS "
+            f"{who}: the weights exp(−S/λ) at x0 = {starts[i]} have a heavy tail (PSIS "
             f"k̂ = {k_hat[i]:.2f} > {max_pareto_k:g}): v* = {value[i]:.4g} is likely too high and "
             "its standard error too small, because the samples that carry the weight are rarely "
             "drawn. More samples do not fix this; a proposal closer to optimal does, e.g. the "
@@ -672,7 +680,7 @@ def _certify_once(
         unexited = np.zeros(k)
     for i in np.flatnonzero(unexited > MAX_UNEXITED):
         warn_user(
-            f"certify: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
+            f"{who}: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
             f"the exit set by max_time = {T:g}: their costs are cut short, so v* and J are "
             "underestimated. Raise max_time, or use a proposal that reaches the exit sooner.",
             CertificateWarning,
