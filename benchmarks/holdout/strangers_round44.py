@@ -1,6 +1,16 @@
 """Stranger round 44: random problems on the library's OWN built-in systems (seed 44), public
 API only.
 
+WHAT MAIN DID WITH THEM (2026-12-07, after the run): ``error_estimate`` where v underflowed is
++inf, told once (it read 0.0 with numpy's invalid-value warnings); a stored z a rounding below 0
+(the implicit march's linear solve) reads as underflowed, not NaN with numpy's warning; the
+warnings of certify(richardson=True)'s runs at 2Δt and 4Δt name their run. Left open: the
+``tol=`` under-read of r44_PointMass_fe_18 (order ≈ 0.7 along the noise-free axis, read as ≥ 1),
+and the certificate of r44_PointMass_fe_04 that moves with dt: its v* RISES as dt falls (0.92,
+1.09, 1.22 at dt 0.004, 0.001, 0.00025 with main's certify, seed 44), so the paths exit too
+early or too cheaply at a long step, not too late; a test that stops a step whose straight part
+passes through E (the missed-crossing reading) lowered it further and was not kept.
+
 RESULTS (library of main 28937ed, worktree r44, 2026-12-07 15:10–15:50 UTC, one thread, the
 other core busy): ``--run`` of all 30 draws (17, then 3, then 4, then 6 appended to ``KINDS``;
 the earlier draws unchanged), each under ``timeout 480`` (none hit it); ``--tolcheck`` of
