@@ -16,6 +16,7 @@ h = exp(−g/λ) is the Gaussian exp(−½ (x − c)ᵀ A (x − c)) with A = 2W
 from __future__ import annotations
 
 import inspect
+import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -127,6 +128,12 @@ class Constant:
 
     def __call__(self, x) -> np.ndarray:
         return np.full(np.shape(x)[0], self.value)
+
+
+def is_number(cost) -> bool:
+    """Whether a cost was given as a number (a real, not a bool), the :class:`Constant` it
+    stands for (:class:`gridlbc.Problem`, :func:`gridlbc.project`)."""
+    return isinstance(cost, numbers.Real) and not isinstance(cost, bool)
 
 
 def wrap_angle(angles) -> np.ndarray:

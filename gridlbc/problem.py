@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import dataclasses
 import functools
-import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -32,6 +31,7 @@ from .costs import (
     TimeDependent,
     Tracking,
     evaluate_cost,
+    is_number,
     time_parameter,
     wrap_angle,
 )
@@ -180,7 +180,7 @@ class Problem:
 
     def _constant(self, cost):
         """A cost given as a number, as the constant cost (:class:`gridlbc.costs.Constant`)."""
-        if isinstance(cost, numbers.Real) and not isinstance(cost, bool):
+        if is_number(cost):
             return Constant(cost, self.system.state_dim)
         return cost
 

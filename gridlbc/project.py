@@ -24,12 +24,11 @@ near the target. :func:`project` warns about both.
 from __future__ import annotations
 
 import math
-import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
-from .costs import Constant, Quadratic, evaluate_cost
+from .costs import Constant, Quadratic, evaluate_cost, is_number
 from .errors import ProjectionWarning, warn_user
 from .grid import Grid
 from .regions import check_region, region_mask
@@ -152,7 +151,7 @@ def _constant(cost, name: str, grid: Grid | None):
     """A cost given as a number as the constant cost on the grid's states
     (:class:`gridlbc.costs.Constant`, as :class:`gridlbc.Problem` reads one); otherwise the
     callable itself."""
-    if isinstance(cost, numbers.Real) and not isinstance(cost, bool):
+    if is_number(cost):
         if grid is None:
             raise ValueError(
                 f"{name} is a number: a constant cost is sampled on a grid (its integral over "
