@@ -132,7 +132,13 @@ class Constant:
 
 def is_number(cost) -> bool:
     """Whether a cost was given as a number (a real, not a bool), the :class:`Constant` it
-    stands for (:class:`gridlbc.Problem`, :func:`gridlbc.project`)."""
+    stands for (:class:`gridlbc.Problem`, :func:`gridlbc.project`).
+
+    Parameters
+    ----------
+    cost : object
+        A cost as the user gave it.
+    """
     return isinstance(cost, numbers.Real) and not isinstance(cost, bool)
 
 
