@@ -156,7 +156,6 @@ def _config(data: dict, args):
 
 
 def _cmd_solve(args) -> int:
-
     from .io import save
     from .settings import SolverSettings
     from .solver import solve

@@ -551,10 +551,13 @@ def check_exit_cost(components, w: np.ndarray) -> None:
     if problem.exit is None or problem.stationary or abs(math.log(total)) <= 1e-12:
         return
     g_E = problem.exit_cost
-    nodes = None if problem.grid is None else problem.grid.nodes()
-    for c in components[1:]:
-        other = c.problem.exit_cost
-        if other is not g_E and (nodes is None or not _same_cost(other, g_E, nodes)):
+    others = [c.problem.exit_cost for c in components[1:] if c.problem.exit_cost is not g_E]
+    if others:  # compared at the nodes, g_E evaluated there once
+        if problem.grid is None:
+            return
+        nodes = problem.grid.nodes()
+        own = np.asarray(g_E(nodes), dtype=float)
+        if any(not np.array_equal(np.asarray(c(nodes), dtype=float), own) for c in others):
             return  # exit costs that differ: combining them is the point
     warn_user(
         f"the components share one exit cost g_E and the weights sum to {total:.4g}, not 1: on "

@@ -112,10 +112,9 @@ class Problem:
         are made wrap-aware on the periodic axes.
     state_cost : callable or float, optional
         q(x) ≥ 0 on ``(N, d)`` states (a number: that constant); zero when omitted. A cost with
-        ``time_dependent = True``
-        (:class:`gridlbc.costs.Tracking`), or one with a parameter ``t`` (``q(x, t)``, made a
-        :class:`gridlbc.costs.TimeDependent`), is q(x, t): trajectory methods and
-        :func:`gridlbc.simulate` accept it, the grid solvers refuse it.
+        ``time_dependent = True`` (:class:`gridlbc.costs.Tracking`), or one with a parameter
+        ``t`` (``q(x, t)``, made a :class:`gridlbc.costs.TimeDependent`), is q(x, t): trajectory
+        methods and :func:`gridlbc.simulate` accept it, the grid solvers refuse it.
     control_cost : float, (m,) or (m, m)
         R, symmetric positive definite (a scalar means R = r I).
     temperature : float

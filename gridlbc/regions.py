@@ -217,9 +217,8 @@ class Union(RegionBase):
 class GridRegion:
     """An exit set known at the grid nodes (a saved first-exit problem's whose E was a callable,
     :func:`gridlbc.load`; the paths of :func:`gridlbc.accuracy.truncation_gap`): a state lies in
-    it where
-    the barycentric interpolation of the nodes' membership is at least ½, so every node keeps
-    its own."""
+    it where the barycentric interpolation of the nodes' membership is at least ½, so every node
+    keeps its own."""
 
     def __init__(self, grid: Grid, mask, description: str = "a saved exit set"):
         mask = np.asarray(mask, dtype=bool)

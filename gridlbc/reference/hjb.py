@@ -80,6 +80,7 @@ from .._numba import jit
 from ..accuracy.assessment import DEFAULT_TOLERANCE, QUANTILE
 from ..accuracy.estimate import relative_error
 from ..accuracy.grids import embedded_grid
+from ..accuracy.matter import states_that_matter
 from ..errors import ResolutionWarning, warn_user
 from ..grid import Grid
 from ..problem import Problem, bracket, check_time, state_evaluation
@@ -446,6 +447,18 @@ class HJBSolution:
         horizon and ignored for a first-exit solution."""
         return multilinear(self.grid, self._nodal_at(t), x)[0]
 
+    def value_nodes(self, j: int = 0) -> np.ndarray:
+        """v at every node of stored slice ``j`` (time ``times[j]``), as
+        :meth:`gridlbc.Solution.value_nodes` (what :func:`gridlbc.accuracy.states_that_matter`
+        reads).
+
+        Parameters
+        ----------
+        j : int
+            The stored slice.
+        """
+        return self.values[j]
+
     @state_evaluation
     def error_estimate(self, x, t=None) -> np.ndarray:
         """abs(v_h(x, t) − v_2h(x, t)), the solve's difference from its solve on the grid with
@@ -642,19 +655,15 @@ def _march(problem: Problem, dt, control_bounds, courant: float, slices: int) ->
     return HJBSolution(problem, times, values, diagnostics, structure.bounds)
 
 
-ESTIMATE_NODES = 20_000
-"""At most this many nodes (evenly spaced) judge a solve's estimate against
-:data:`~gridlbc.accuracy.DEFAULT_TOLERANCE` (:func:`_estimated`)."""
-
-
 def _estimated(solution: HJBSolution, solve_on, dt) -> HJBSolution:
     """``solution`` with its solve on the grid with every other node
     (:func:`gridlbc.accuracy.embedded_grid`, by ``solve_on(problem, step)``, the largest step
     doubled where one was given), which :meth:`HJBSolution.error_estimate` reads; and a
     :class:`gridlbc.ResolutionWarning` where that estimate exceeds
     :data:`~gridlbc.accuracy.DEFAULT_TOLERANCE` relative to max(abs(v), λ) at more than
-    1 − :data:`~gridlbc.accuracy.assessment.QUANTILE` of the nodes whose value at t = 0 is
-    finite and that are not in the exit set (or where there is no estimate to read).
+    1 − :data:`~gridlbc.accuracy.assessment.QUANTILE` of the states that matter (every node whose
+    value at t = 0 is finite and that is not in the exit set, as a default solve is judged:
+    :func:`gridlbc.accuracy.states_that_matter`), or where there is no estimate to read.
 
     Why: the scheme is first order in h (and in Δt ∝ h), so v_h − v* ≈ v_2h − v_h, and a
     reference that is 13 % off on a 41² point mass said nothing (API journey round 1)."""
@@ -678,18 +687,11 @@ def _estimated(solution: HJBSolution, solve_on, dt) -> HJBSolution:
             ResolutionWarning,
         )
         return solution
-    judged = np.isfinite(solution.values[0])
-    if problem.exit is not None:
-        judged &= ~problem.exit_mask()
-    nodes = np.flatnonzero(judged)
-    if len(nodes) == 0:
+    x = states_that_matter(solution)
+    if len(x) == 0:
         return solution
-    nodes = nodes[np.unique(np.linspace(0, len(nodes) - 1, ESTIMATE_NODES).astype(np.int64))]
-    x = grid.node_coordinates(nodes)
     t = None if problem.stationary else 0.0
-    rel = relative_error(
-        solution.error_estimate(x, t), solution.values[0][nodes], problem.temperature
-    )
+    rel = relative_error(solution.error_estimate(x, t), solution.value(x, t), problem.temperature)
     quantile = float(np.quantile(rel, QUANTILE))
     if quantile > DEFAULT_TOLERANCE:
         warn_user(
