@@ -38,10 +38,11 @@ d₀, d₁ the distances of the two states from E and σₙ² = nᵀ λ B R⁻¹
 along the outward normal n at the first (exact for a flat boundary and constant coefficients; the
 bias is then O(Δt)); it pays g_E at the point of E nearest to the second state. The tangent plane
 of a curved boundary is not E: where that probability exceeds :data:`BRIDGE_REFINE`, the
-bridge's midpoint is drawn (a stop if it lies in E) and each half judged the same way, up to
-:data:`BRIDGE_LEVELS` times, so that the plane is taken over a fraction of the step only. The
-bridge between two states does not depend on the drift, so this randomised stopping rule is the same
-under the controlled and the passive process and :func:`gridlbc.certify`'s weight stays exact.
+bridge's midpoint is drawn (a stop if it lies in E) and each half judged the same way, until the
+crossing is implausible or the boundary one plane (at most :data:`BRIDGE_LEVELS` times), so that
+the plane is taken over a fraction of the step only. The bridge between two states does not
+depend on the drift, so this randomised stopping rule is the same under the controlled and the
+passive process and :func:`gridlbc.certify`'s weight stays exact.
 
 The policy and the drift are evaluated once per step for all samples (vectorised callables); the
 per-sample update of state and cost is one numba kernel over the samples.
@@ -648,9 +649,13 @@ def euler_maruyama(
     )
 
 
-BRIDGE_LEVELS = 6
-"""Halvings of a step's Brownian bridge where a crossing into a shaped exit set is plausible
-(:data:`BRIDGE_REFINE`): the flat-boundary rule is then applied down to 1/64 of the step."""
+BRIDGE_LEVELS = 30
+"""The most halvings of a step's Brownian bridge where a crossing into a shaped exit set is
+plausible (:data:`BRIDGE_REFINE`). Halving stops sooner, where a crossing of the tangent plane
+becomes implausible or the boundary is one plane; this only bounds the depth (a step split 2³⁰
+times) for a path that ends next to E. A fixed depth is not enough: the depth a boundary needs
+grows with the noise a step carries along it against the boundary's curvature (docs page
+:doc:`first_exit`, "The rule is exact for a flat boundary")."""
 
 BRIDGE_REFINE = 1e-4
 """Above this flat-boundary crossing probability a step's bridge is halved
