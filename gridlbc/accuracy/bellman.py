@@ -113,8 +113,9 @@ def bellman_gap(
     samples : int
         Paths per state.
     whole : bool
-        Whether the paths run to the horizon (the remaining task certified whole) rather than
-        over :data:`~gridlbc.accuracy.bellman.SPAN` of the solve's steps; ignored without a horizon.
+        Whether the paths run to the horizon (the remaining task certified whole), or without a
+        horizon for as long as the work allows (:func:`_span`), rather than
+        over :data:`~gridlbc.accuracy.bellman.SPAN` of the solve's steps.
 
     Returns
     -------
@@ -126,7 +127,7 @@ def bellman_gap(
     t = 0.0 if problem.stationary else float(t)
     if len(x) == 0 or (not problem.stationary and t >= problem.horizon):
         return np.zeros(len(x)), np.zeros(len(x))
-    span, steps = _span(solution, t, whole)
+    span, steps = _span(solution, t, whole, len(x))
     work = 3 * SUBSTEPS * steps  # both chains' steps per path
     samples = int(np.clip(LOCAL_WORK // (len(x) * work), min(8, samples), samples))
     with np.errstate(invalid="ignore"), warnings.catch_warnings():
@@ -211,7 +212,9 @@ def local_error(
     0, at states ``x`` (N, d), time ``t``: what the local certificate says of the solve's error
     beyond its sampling noise (:func:`largest_discount` where the largest over many states is read);
     NaN where it could not be read. With ``whole``, also the certificate of
-    the whole remaining task (the paths run to the horizon), from as many paths per state
+    the whole remaining task (the paths run to the horizon; without one, for as long as the work
+    allows, :func:`_span`: stranger round 44's first exit along an axis without noise, 8.6 % off
+    where the short stretch read nothing beyond its noise), from as many paths per state
     as :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` affords up
     to :data:`~gridlbc.accuracy.bellman.WHOLE_SAMPLES`, where that is longer than
     :data:`~gridlbc.accuracy.bellman.SPAN` of the solve's steps (none where it affords fewer
@@ -225,9 +228,9 @@ def local_error(
     out = beyond_noise(gap, se, discount)
     x = np.atleast_2d(np.asarray(x, dtype=float))
     problem = solution.problem
-    if not whole or problem.stationary or len(x) == 0 or t >= problem.horizon:
+    if not whole or len(x) == 0 or (not problem.stationary and t >= problem.horizon):
         return out
-    steps = _span(solution, t, True)[1]
+    steps = _span(solution, t, True, len(x))[1]
     affordable = min(WHOLE_SAMPLES, LOCAL_WORK // (len(x) * 3 * SUBSTEPS * steps))
     if affordable > samples or (steps > SPAN and affordable == samples):
         gap, se = bellman_gap(solution, x, t, affordable, whole=True)
@@ -253,15 +256,22 @@ def largest_discount(count: int) -> float:
     return float(norm.isf(tail / max(count, 1)))
 
 
-def _span(solution, t: float, whole: bool) -> tuple[float, int]:
+def _span(solution, t: float, whole: bool, states: int = 1) -> tuple[float, int]:
     """τ_ℓ from time ``t`` and the solve steps it spans: :data:`~gridlbc.accuracy.bellman.SPAN` of
     them, or the time to the horizon where that is shorter or ``whole`` asks for it (at
     least :data:`~gridlbc.accuracy.bellman.SPAN` steps still: a shorter stretch is taken in as many
-    chain steps); without a horizon :data:`~gridlbc.accuracy.bellman.SPAN` steps
-    of :func:`~gridlbc.accuracy.paths.path_step`."""
+    chain steps). Without a horizon, steps of :func:`~gridlbc.accuracy.paths.path_step`:
+    :data:`~gridlbc.accuracy.bellman.SPAN` of them, or with ``whole`` as many as
+    :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` affords :data:`~gridlbc.accuracy.bellman.WHOLE_SAMPLES`
+    paths at each of ``states`` states (at least :data:`~gridlbc.accuracy.bellman.SPAN`): a task
+    that ends at its exit set is run for as long as the work allows, most of its paths to their
+    exit."""
     problem = solution.problem
     if problem.stationary:
-        return SPAN * path_step(solution), SPAN
+        steps = SPAN
+        if whole:
+            steps = max(SPAN, LOCAL_WORK // (states * 3 * SUBSTEPS * WHOLE_SAMPLES))
+        return steps * path_step(solution), steps
     dt, remaining = solution.diagnostics.dt, problem.horizon - t
     if whole or remaining <= SPAN * dt:
         return remaining, max(SPAN, int(np.ceil(remaining / dt - 1e-9)))

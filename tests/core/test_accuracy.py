@@ -982,6 +982,52 @@ def test_a_value_steeper_than_a_cell_at_an_invariant_edge_is_warned_by_the_local
     assert np.all(solution.error_estimate(x[:2], later) >= 0.5 * error_later)
 
 
+class _Conveyor(g.systems.ControlAffineSystem):
+    """ẋ₀ = u, ẋ₁ = 1: a belt that carries x₁ to the exit at a unit speed, neither driven nor
+    noisy, beside an axis that the control and the noise move."""
+
+    state_dim, control_dim = 2, 1
+
+    def drift(self, x):
+        x = self._states(x)
+        return np.stack([np.zeros(len(x)), np.ones(len(x))], axis=1)
+
+    def input_matrix(self, x):
+        B = np.zeros((len(self._states(x)), 2, 1))
+        B[:, 0, 0] = 1.0
+        return B
+
+
+def test_the_whole_task_certificate_of_a_first_exit_sees_an_error_shared_along_the_paths():
+    # A first exit without a horizon: the belt carries x₁ to the exit x₁ ≥ 1 while it pays
+    # q = 1 + sin²(6 x₁), so v = ∫_{x₁}^1 q ds whatever x₀ does (u = 0). On 23 nodes along
+    # the belt the solve is 40 % low, an error that a state shares with every state downstream:
+    # the short stretch of the local certificate sees only what is made within its span (less
+    # than half at the farthest state), and the certificate of the whole task, its paths run
+    # until they exit (stranger round 44: without a horizon it was not read), sees all of it.
+    # The paths along the belt are deterministic, so the certificates' reading is the solve's
+    # error up to the chain's last step, which pays q past the exit: at most max q = 2 times the
+    # coarser chain's step, a quarter of the path step.
+    problem = g.Problem(
+        _Conveyor(),
+        g.Grid([g.Axis(-1.0, 1.0, 11), g.Axis(-1.0, 1.2, 23)]),
+        None,
+        state_cost=lambda x: 1.0 + np.sin(6.0 * x[:, 1]) ** 2,
+        temperature=0.1,
+        exit=g.regions.Box([-np.inf, 1.0], [np.inf, np.inf]),
+        exit_cost=0.0,
+    )
+    solution = _quiet_solve(problem)
+    x = np.array([[0.0, -0.8], [0.3, 0.0], [0.0, 0.6]])
+    integral = lambda s: 1.5 * s - np.sin(12.0 * s) / 24.0  # noqa: E731  ∫ q ds
+    error = np.abs(solution.value(x) - (integral(1.0) - integral(x[:, 1])))
+    short = accuracy.local_error(solution, x)
+    whole = accuracy.local_error(solution, x, whole=True)
+    assert short[0] < 0.5 * error[0]
+    np.testing.assert_allclose(whole, error, atol=2.0 * accuracy.path_step(solution) / 4)
+    assert np.all(solution.error_estimate(x) >= whole)
+
+
 def test_the_local_certificate_is_held_to_the_uncontrolled_cost_where_a_few_paths_carry_it(
     monkeypatch,
 ):
