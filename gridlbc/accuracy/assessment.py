@@ -128,7 +128,7 @@ def statistic(rel: np.ndarray, given: bool) -> float:
 
 
 @quiet_reads()
-def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
+def assess(solution, tol: float, states=None, times=None, whole: bool = False) -> Assessment | None:
     """Read the embedded estimate of ``solution`` at ``states`` (default:
     :func:`~gridlbc.accuracy.states_that_matter`).
 
@@ -144,6 +144,9 @@ def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
     times : sequence of float, optional
         With ``states``: the times at which they are judged (default: 0
         and :func:`~gridlbc.accuracy.assessment.late_times`).
+    whole : bool
+        With ``states``: read them as :meth:`gridlbc.Solution.error_estimate` does, the whole
+        remaining task's certificate beside the local one (:func:`~gridlbc.accuracy.local_error`).
 
     Returns
     -------
@@ -153,7 +156,7 @@ def assess(solution, tol: float, states=None, times=None) -> Assessment | None:
     if solution.embedded is None:
         return None
     if states is not None:
-        return _assess_given(solution, tol, judged_states(solution, states), times)
+        return _assess_given(solution, tol, judged_states(solution, states), times, whole)
     keep = judged_nodes(solution)
     X = node_states(solution, keep)
     # the local certificate only where confirmed_locally checks a candidate (its paths cost more
@@ -274,15 +277,17 @@ def late_times(solution) -> list[float]:
     return [t for t in dict.fromkeys((late_time(solution), middle)) if t > 0.0]
 
 
-def _assess_given(solution, tol: float, X: np.ndarray, times=None) -> Assessment:
+def _assess_given(
+    solution, tol: float, X: np.ndarray, times=None, whole: bool = False
+) -> Assessment:
     """:func:`~gridlbc.accuracy.assess` at the user's states ``X``: the largest estimate there, with
-    the local certificate, over ``times`` (default: t = 0
-    and :func:`~gridlbc.accuracy.assessment.late_times`, since a task with a horizon is also run
-    late, from wherever it stands), and the largest over those after 0."""
+    the local certificate (and the whole remaining task's, where ``whole``), over ``times``
+    (default: t = 0 and :func:`~gridlbc.accuracy.assessment.late_times`, since a task with a
+    horizon is also run late, from wherever it stands), and the largest over those after 0."""
     times = (0.0, *late_times(solution)) if times is None else tuple(times)
     readings = []
     for t in times:  # as error_estimate reads them: a few states, their largest (no percentile)
-        rel = solution.embedded.relative(solution, X, t)
+        rel = solution.embedded.relative(solution, X, t, whole=whole)
         readings.append(replace(_read_at(X, rel, tol, True), time=t))
     a = max(readings, key=lambda reading: reading.error)
     late = [reading.error for reading in readings if reading.time > 0.0]

@@ -213,7 +213,7 @@ def local_error(
     beyond its sampling noise (:func:`largest_discount` where the largest over many states is read);
     NaN where it could not be read. With ``whole``, also the certificate of
     the whole remaining task (the paths run to the horizon; without one, for as long as the work
-    allows, :func:`_span`: stranger round 44's first exit along an axis without noise, 8.6 % off
+    allows, :func:`_span`: stranger round 44's first exit along an axis without noise, 6.7 % off
     where the short stretch read nothing beyond its noise), from as many paths per state
     as :data:`~gridlbc.accuracy.bellman.LOCAL_WORK` affords up
     to :data:`~gridlbc.accuracy.bellman.WHOLE_SAMPLES`, where that is longer than

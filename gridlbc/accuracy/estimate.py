@@ -271,13 +271,20 @@ class EmbeddedEstimate:
         return self.excess(x, t)
 
     def relative(
-        self, solution: Solution, x, t=0.0, samples: int = PATH_SAMPLES, local: bool = True
+        self,
+        solution: Solution,
+        x,
+        t=0.0,
+        samples: int = PATH_SAMPLES,
+        local: bool = True,
+        whole: bool = False,
     ) -> np.ndarray:
         """:meth:`error` relative to ``max(abs(v), λ)``
         (:func:`~gridlbc.accuracy.estimate.relative_error`), with the local certificate
         over :data:`~gridlbc.accuracy.bellman.SPAN` steps only (what ``solve(tol=, states=)`` reads
-        each round), and without it where ``local`` is False."""
-        v, error = self._error(solution, x, t, samples, local)
+        each round) unless ``whole`` (the whole remaining task's beside it, as :meth:`error`
+        reads it), and without either where ``local`` is False."""
+        v, error = self._error(solution, x, t, samples, local, whole)
         return relative_error(error, v, solution.temperature)
 
     def grid_terms(self, solution: Solution, x, t=0.0, v=None, response=None) -> np.ndarray:

@@ -21,6 +21,7 @@ from ..accuracy import (
     check_budget,
     check_scalar,
     check_tolerance,
+    confirmed,
     embedded_grid,
     finish,
     holding,
@@ -124,10 +125,12 @@ def solve_stationary_to_tolerance(
         a = assess(solution, tol, states)
         if a is None and embedded_grid(solution.grid) is None:
             raise unestimated(solution.grid)
+        order = np.nan if solution.embedded is None else solution.embedded.observed_order
+        if a is not None:
+            a = confirmed(solution, tol, states, None, a, order)
         error = UNPOSED if a is None else a.error  # None: refine until the coarser grid poses it
         c_error = _relative_error_of_c(solution)
         solved = time.perf_counter() - started
-        order = np.nan if solution.embedded is None else solution.embedded.observed_order
         history.append(
             Refinement(
                 solution.grid.shape,

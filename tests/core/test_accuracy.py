@@ -1028,6 +1028,29 @@ def test_the_whole_task_certificate_of_a_first_exit_sees_an_error_shared_along_t
     assert np.all(solution.error_estimate(x) >= whole)
 
 
+def test_a_solve_to_a_tolerance_at_given_states_ends_with_the_estimate_error_estimate_reads():
+    # Each round reads the 8-step certificate at the states; the round that meets tol is read
+    # again with the whole task's certificate beside it, so the error it reports is the largest
+    # relative error_estimate there (the same paths, seeded: equal to rounding), and a met
+    # solve's error_estimate meets tol. Before, the last round said 0.09648 where
+    # error_estimate read 0.09693 (and could have read above tol).
+    problem = g.Problem(
+        _Conveyor(),
+        g.Grid([g.Axis(-1.0, 1.0, 11), g.Axis(-1.0, 1.2, 23)]),
+        None,
+        state_cost=lambda x: 1.0 + np.sin(6.0 * x[:, 1]) ** 2,
+        temperature=0.1,
+        exit=g.regions.Box([-np.inf, 1.0], [np.inf, np.inf]),
+        exit_cost=0.0,
+    )
+    x = np.array([[0.0, -0.8], [0.3, 0.0]])
+    solution = g.solve(problem, tol=0.3, states=x)
+    last = solution.refinement[-1]
+    relative = solution.error_estimate(x) / np.maximum(np.abs(solution.value(x)), 0.1)
+    assert last.met(0.3) and len(solution.refinement) > 1
+    assert last.error == pytest.approx(relative.max(), rel=1e-12)
+
+
 def test_the_local_certificate_is_held_to_the_uncontrolled_cost_where_a_few_paths_carry_it(
     monkeypatch,
 ):
