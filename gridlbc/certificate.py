@@ -641,7 +641,7 @@ def _certify_once(
         )
 
     draws = [(roll(j, s, n_j, scored), n_j) for j, (s, n_j) in enumerate(zip(samplers, counts))]
-    a, C, left, final, unexited, components = _mixture(draws, np.array(counts) / n, k, lam)
+    a, C, left, final, cut, components = _mixture(draws, np.array(counts) / n, k, lam)
     paired = len(samplers) == 1 and own == 0
     judged: list = [None] * k
     if not paired:
@@ -677,12 +677,20 @@ def _certify_once(
             CertificateWarning,
         )
     if not problem.stationary:
-        unexited = np.zeros(k)
+        cut[:] = False
+    unexited = cut.mean(axis=1)
     for i in np.flatnonzero(unexited > MAX_UNEXITED):
+        carried = _weight_share(a[i], cut[i])  # what v* reads of them; J reads each sample alike
+        told = "v* and J are underestimated"
+        if carried <= MAX_UNEXITED:
+            told = (
+                f"J is underestimated; they carry {carried:.1e} of the weight exp(−S/λ), so "
+                "v* is not"
+            )
         warn_user(
             f"{who}: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
-            f"the exit set by max_time = {T:g}: their costs are cut short, so v* and J are "
-            "underestimated. Raise max_time, or use a proposal that reaches the exit sooner.",
+            f"the exit set by max_time = {T:g}: their costs are cut short, so {told}. Raise "
+            "max_time, or use a proposal that reaches the exit sooner.",
             CertificateWarning,
         )
     return Certificate(
@@ -901,6 +909,18 @@ def _same_problem(other, problem: Problem, but: str | None = None) -> bool:
     )
 
 
+def _weight_share(log_weights: np.ndarray, which: np.ndarray) -> float:
+    """The share Σ_which w / Σ w of the weights w = exp(``log_weights``) (one state's samples)
+    that the samples ``which`` carry: how much of v* = −λ log mean(w) they make (stranger round
+    45: paths cut short at ``max_time`` whose costs had already made their weights e⁻¹⁶ of the
+    others' were said to bias v*)."""
+    finite = np.isfinite(log_weights)
+    if not (finite & which).any():
+        return 0.0
+    w = np.exp(log_weights[finite] - log_weights[finite].max())
+    return float(w[which[finite]].sum() / w.sum())
+
+
 def _mixture(draws, shares: np.ndarray, k: int, lam: float):
     """Pool the samples of the proposals u_1…u_J (``draws``: per proposal its SamplePaths and
     samples per start state) into log weights for one start state each (rows).
@@ -918,8 +938,8 @@ def _mixture(draws, shares: np.ndarray, k: int, lam: float):
     the factor 1/c_j. Also returned, per proposal, v̂* and its SE from its own samples alone
     (arrays (k, J), None for one proposal), to show how far each would have gone alone.
 
-    Returns a, C, left (k, n); the final states (k, n, d); the unexited shares (k,) (zeros
-    without an exit set); and the per-proposal (values, SEs) or None.
+    Returns a, C, left (k, n); the final states (k, n, d); which samples had not exited (k, n)
+    (none without an exit set); and the per-proposal (values, SEs) or None.
     """
     parts: list[list[np.ndarray]] = [[], [], [], [], []]
     alone = []
@@ -940,7 +960,7 @@ def _mixture(draws, shares: np.ndarray, k: int, lam: float):
     if alone:
         values = np.array(alone)  # (J, k, 2)
         components = (values[..., 0].T, values[..., 1].T)
-    return a, C, left, final, unexited.mean(axis=1), components
+    return a, C, left, final, unexited, components
 
 
 def _proposal_policy(proposal):

@@ -85,7 +85,8 @@ def gpd_shape(exceedances) -> float:
     xi = np.log1p(-theta[:, None] * x).mean(axis=1)
     loglik = M * (np.log(-theta / xi) - xi - 1.0)
     # π_j = 1 / Σ_i exp(ℓ_i − ℓ_j): normalised without forming exp(ℓ)
-    pi = 1.0 / np.exp(loglik[None, :] - loglik[:, None]).sum(axis=1)
+    with np.errstate(over="ignore"):  # a far likelier θ_i: exp → inf, and π_j → 0, its limit
+        pi = 1.0 / np.exp(loglik[None, :] - loglik[:, None]).sum(axis=1)
     keep = pi >= 10 * np.finfo(float).eps
     pi, theta = pi[keep], theta[keep]
     theta_hat = float(np.dot(pi, theta) / pi.sum())

@@ -1255,3 +1255,29 @@ def test_paths_that_end_on_a_union_emit_no_numpy_warning():
         warnings.simplefilter("ignore", g.ResolutionWarning)  # 41² is coarse: not the question
         with np.errstate(all="warn", under="ignore"):
             g.solve(problem, progress=False)
+
+
+def test_certify_tells_whether_the_paths_cut_short_at_max_time_bias_v_star():
+    # A random walk (λ = 0.5, q = 2) towards a ball of radius 0.3: in 8 time units a tenth of
+    # the paths have not found it, and their costs are cut short, so J (each sample alike) is
+    # underestimated; but they have paid at least 16 by then, and their weights exp(−S/λ) are
+    # e⁻³² of those that exited within a fraction of a unit: v* is not (stranger round 45 was
+    # told it was on most of its ball exits). Cut at 1, the cut paths carry a share of the
+    # weight beyond 1 %, and v* is low with them (0.510 against 0.518 at max_time 8).
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2)),
+        g.Grid([g.Axis(-3.0, 3.0, 31)] * 2),
+        None,
+        state_cost=2.0,
+        temperature=0.5,
+        exit=g.regions.Ball([1.0, 0.0], 0.3),
+        exit_cost=0.0,
+    )
+    zero = lambda x, t: np.zeros((len(x), 2))  # noqa: E731
+    told = {}
+    for cap in (1.0, 8.0):
+        with pytest.warns(g.CertificateWarning, match="had not reached the exit set") as record:
+            g.certify(problem, zero, [[0.5, 0.0]], 2000, dt=0.005, seed=1, max_time=cap)
+        told[cap] = " ".join(str(w.message) for w in record)
+    assert "so v* and J are underestimated" in told[1.0]
+    assert "so J is underestimated" in told[8.0] and "so v* is not" in told[8.0]

@@ -9,6 +9,7 @@ SE and the mean of R draws to 3 SE/√R, plus the known shift of PSIS's prior
 """
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -53,6 +54,18 @@ def test_scale_invariant_and_underflow_safe(rng):
     lw = rng.normal(0.0, 1.0, 4000)
     assert pareto_k(lw - 5000.0) == pytest.approx(pareto_k(lw), abs=1e-12)
     assert pareto_k(lw + 5000.0) == pytest.approx(pareto_k(lw), abs=1e-12)
+
+
+def test_a_long_tail_fits_without_overflow(rng):
+    # The profile likelihoods of the candidate shapes differ by M times a log ratio: over
+    # thousands of exceedances by more than exp can hold, and the weight of a far less likely
+    # candidate is then 0, its limit, without numpy's overflow warning (stranger round 45's
+    # certificates). Exponential exceedances: ξ = 0, within 3 SE plus the prior's shift.
+    M = 4000
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        k = gpd_shape(rng.exponential(size=M))
+    assert abs(k) < 3 / math.sqrt(M) + abs(_prior_shift(0.0, M))
 
 
 def test_too_few_or_tied_weights_give_nan():
