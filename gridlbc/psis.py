@@ -73,7 +73,8 @@ def gpd_shape(exceedances) -> float:
     Returns
     -------
     float
-        k̂ = (M ξ̂ + 10 · ½)/(M + 10), see the module docstring.
+        k̂ = (M ξ̂ + 10 · ½)/(M + 10), see the module docstring; NaN where no candidate θ has a
+        profile likelihood that is a number.
     """
     x = np.sort(np.asarray(exceedances, dtype=float).ravel())
     M = x.size
@@ -82,8 +83,15 @@ def gpd_shape(exceedances) -> float:
     m = 30 + int(math.sqrt(M))
     quartile = x[int(M / 4 + 0.5) - 1]
     theta = 1.0 / x[-1] + (1.0 - np.sqrt(m / (np.arange(1, m + 1) - 0.5))) / (3.0 * quartile)
-    xi = np.log1p(-theta[:, None] * x).mean(axis=1)
-    loglik = M * (np.log(-theta / xi) - xi - 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xi = np.log1p(-theta[:, None] * x).mean(axis=1)
+        loglik = M * (np.log(-theta / xi) - xi - 1.0)
+    # a candidate θ whose profile likelihood is not a number has no weight: where most of the
+    # exceedances tie at the largest (paths of one cost, stranger round 45) θ x reaches 1
+    finite = np.isfinite(loglik)
+    if not finite.any():
+        return math.nan
+    theta, loglik = theta[finite], loglik[finite]
     # π_j = 1 / Σ_i exp(ℓ_i − ℓ_j): normalised without forming exp(ℓ)
     with np.errstate(over="ignore"):  # a far likelier θ_i: exp → inf, and π_j → 0, its limit
         pi = 1.0 / np.exp(loglik[None, :] - loglik[:, None]).sum(axis=1)

@@ -68,6 +68,17 @@ def test_a_long_tail_fits_without_overflow(rng):
     assert abs(k) < 3 / math.sqrt(M) + abs(_prior_shift(0.0, M))
 
 
+def test_a_tail_tied_at_its_largest_fits_without_numpy_warnings():
+    # Most of the exceedances equal the largest (paths of one cost, stranger round 45's
+    # certificates of a slab crossed without noise): θ x reaches 1 for a candidate θ, whose
+    # profile likelihood is not a number and which then has no weight. A tail with a hard
+    # end has a negative shape.
+    x = np.r_[np.linspace(0.7115, 0.7134, 20), np.full(84, 0.7134952031398099)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert gpd_shape(x) < 0.0
+
+
 def test_too_few_or_tied_weights_give_nan():
     assert math.isnan(pareto_k(np.zeros(1000)))  # all tied: no exceedance
     assert math.isnan(pareto_k(np.arange(10.0)))  # M = 2
