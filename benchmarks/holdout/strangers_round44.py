@@ -11,6 +11,13 @@ and the certificate of r44_PointMass_fe_04 that moves with dt: its v* RISES as d
 early or too cheaply at a long step, not too late; a test that stops a step whose straight part
 passes through E (the missed-crossing reading) lowered it further and was not kept.
 
+LATER (2026-12-07, main 06a8953): the certificate of r44_PointMass_fe_04 moved with dt because the
+bridge stopped halving a step after six halvings; it halves now until a crossing is implausible,
+and reads 1.27, 1.25, 1.29 at dt 0.004, 0.001, 0.00025 (seed 44, 4000 paths, the default solve's
+policy). The stored truth of r44_PointMass_fe_18 x0 (1.2424, old bridge) is 1.217 with the new
+one (dt 0.002 … 0.0005, 4000 paths, the 1377×85 policy); the default solve's estimate at x0 on
+689×85 is 4.4 % (the whole task's certificate now runs without a horizon too), error 6.7 %.
+
 RESULTS (library of main 28937ed, worktree r44, 2026-12-07 15:10–15:50 UTC, one thread, the
 other core busy): ``--run`` of all 30 draws (17, then 3, then 4, then 6 appended to ``KINDS``;
 the earlier draws unchanged), each under ``timeout 480`` (none hit it); ``--tolcheck`` of
