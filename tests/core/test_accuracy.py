@@ -998,17 +998,10 @@ class _Conveyor(g.systems.ControlAffineSystem):
         return B
 
 
-def test_the_whole_task_certificate_of_a_first_exit_sees_an_error_shared_along_the_paths():
-    # A first exit without a horizon: the belt carries x₁ to the exit x₁ ≥ 1 while it pays
-    # q = 1 + sin²(6 x₁), so v = ∫_{x₁}^1 q ds whatever x₀ does (u = 0). On 23 nodes along
-    # the belt the solve is 40 % low, an error that a state shares with every state downstream:
-    # the short stretch of the local certificate sees only what is made within its span (less
-    # than half at the farthest state), and the certificate of the whole task, its paths run
-    # until they exit (stranger round 44: without a horizon it was not read), sees all of it.
-    # The paths along the belt are deterministic, so the certificates' reading is the solve's
-    # error up to the chain's last step, which pays q past the exit: at most max q = 2 times the
-    # coarser chain's step, a quarter of the path step.
-    problem = g.Problem(
+def _conveyor_to_exit():
+    """The belt carries x₁ to the exit x₁ ≥ 1 while it pays q = 1 + sin²(6 x₁) (λ = 0.1), on 23
+    nodes along it: v = ∫_{x₁}^1 q ds whatever x₀ does (u = 0)."""
+    return g.Problem(
         _Conveyor(),
         g.Grid([g.Axis(-1.0, 1.0, 11), g.Axis(-1.0, 1.2, 23)]),
         None,
@@ -1017,7 +1010,18 @@ def test_the_whole_task_certificate_of_a_first_exit_sees_an_error_shared_along_t
         exit=g.regions.Box([-np.inf, 1.0], [np.inf, np.inf]),
         exit_cost=0.0,
     )
-    solution = _quiet_solve(problem)
+
+
+def test_the_whole_task_certificate_of_a_first_exit_sees_an_error_shared_along_the_paths():
+    # A first exit without a horizon (_conveyor_to_exit). On 23 nodes along the belt the solve
+    # is 40 % low, an error that a state shares with every state downstream:
+    # the short stretch of the local certificate sees only what is made within its span (less
+    # than half at the farthest state), and the certificate of the whole task, its paths run
+    # until they exit (stranger round 44: without a horizon it was not read), sees all of it.
+    # The paths along the belt are deterministic, so the certificates' reading is the solve's
+    # error up to the chain's last step, which pays q past the exit: at most max q = 2 times the
+    # coarser chain's step, a quarter of the path step.
+    solution = _quiet_solve(_conveyor_to_exit())
     x = np.array([[0.0, -0.8], [0.3, 0.0], [0.0, 0.6]])
     integral = lambda s: 1.5 * s - np.sin(12.0 * s) / 24.0  # noqa: E731  ∫ q ds
     error = np.abs(solution.value(x) - (integral(1.0) - integral(x[:, 1])))
@@ -1034,17 +1038,8 @@ def test_a_solve_to_a_tolerance_at_given_states_ends_with_the_estimate_error_est
     # relative error_estimate there (the same paths, seeded: equal to rounding), and a met
     # solve's error_estimate meets tol. Before, the last round said 0.09648 where
     # error_estimate read 0.09693 (and could have read above tol).
-    problem = g.Problem(
-        _Conveyor(),
-        g.Grid([g.Axis(-1.0, 1.0, 11), g.Axis(-1.0, 1.2, 23)]),
-        None,
-        state_cost=lambda x: 1.0 + np.sin(6.0 * x[:, 1]) ** 2,
-        temperature=0.1,
-        exit=g.regions.Box([-np.inf, 1.0], [np.inf, np.inf]),
-        exit_cost=0.0,
-    )
     x = np.array([[0.0, -0.8], [0.3, 0.0]])
-    solution = g.solve(problem, tol=0.3, states=x)
+    solution = g.solve(_conveyor_to_exit(), tol=0.3, states=x)
     last = solution.refinement[-1]
     relative = solution.error_estimate(x) / np.maximum(np.abs(solution.value(x)), 0.1)
     assert last.met(0.3) and len(solution.refinement) > 1
