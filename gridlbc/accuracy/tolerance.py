@@ -270,12 +270,13 @@ def at_observed_order(error: float, order: float) -> float:
 
 
 def confirmed(solution, tol: float, states, times, a: Assessment, order: float) -> Assessment:
-    """``a``, the assessment of a round at the user's ``states`` (none: the states that matter),
-    or where it meets ``tol`` there (at the levels' observed ``order``,
-    :func:`at_observed_order`) that read again as :meth:`gridlbc.Solution.error_estimate` reads
-    them, the whole remaining task's certificate beside the 8-step one
-    (:func:`~gridlbc.accuracy.local_error`): a round is met only where the estimate the user
-    will read meets ``tol`` too (:func:`~gridlbc.accuracy.solve_to_tolerance`)."""
+    """A round's assessment ``a``, read again where the user gave ``states`` and ``a`` meets
+    ``tol`` there (at the levels' observed ``order``, :func:`at_observed_order`): as
+    :meth:`gridlbc.Solution.error_estimate` reads those states, with the whole remaining task's
+    certificate beside the 8-step one (:func:`~gridlbc.accuracy.local_error`), so that a round
+    is met only where the estimate the user will read meets ``tol`` too
+    (:func:`~gridlbc.accuracy.solve_to_tolerance`). Without ``states``, or where ``a`` misses
+    ``tol``, ``a`` itself."""
     if states is None or at_observed_order(a.error, order) > tol:
         return a
     whole = assess(solution, tol, states, times, whole=True)
