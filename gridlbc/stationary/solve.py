@@ -72,7 +72,9 @@ def solve_stationary_to_tolerance(
     :class:`gridlbc.ResolutionWarning` says which). :func:`gridlbc.solve` calls this for
     ``solve(problem, tol=...)``.
 
-    A round's error is the relative estimate of v at ``states`` (:func:`gridlbc.accuracy.assess`);
+    A round's error is the relative estimate of v at ``states`` (:func:`gridlbc.accuracy.assess`;
+    where it meets ``tol`` at the user's states, as :meth:`gridlbc.Solution.error_estimate` reads
+    them, :func:`gridlbc.accuracy.confirmed`);
     for the average cost, the larger of that of the relative value h and c's own,
     ê_c / c (``average_cost_error``, :func:`gridlbc.accuracy.estimate.scalar_estimate`): c is what
     an average-cost solve is asked for first, and h's estimate does not bound it. The axes refined
