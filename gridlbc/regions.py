@@ -241,6 +241,23 @@ def _towards(x: np.ndarray, nearest: np.ndarray) -> tuple[np.ndarray, np.ndarray
     return distance, offset / np.maximum(distance, np.finfo(float).tiny)[:, None]
 
 
+def boundary_parts(region) -> tuple:
+    """The shapes whose union ``region`` is (a union's parts, nested unions flattened; a shape
+    alone is its own one part)."""
+    if isinstance(region, Union):
+        return tuple(leaf for part in region.parts for leaf in boundary_parts(part))
+    return (region,)
+
+
+def part_distances(parts, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Each of ``parts``' :meth:`RegionBase.boundary_distance` at states ``x`` ``(N, d)``: the
+    distances ``(N, K)`` and unit outward normals ``(N, K, d)`` of the K parts (the Brownian
+    bridge of :mod:`gridlbc.simulate` judges a crossing into each part, not only into the
+    nearest)."""
+    found = [part.boundary_distance(x) for part in parts]
+    return np.stack([d for d, _ in found], axis=1), np.stack([n for _, n in found], axis=1)
+
+
 def has_geometry(region) -> bool:
     """Whether ``region`` knows its boundary (:meth:`RegionBase.boundary_distance`)."""
     if isinstance(region, Union):

@@ -40,7 +40,8 @@ bias is then O(Δt)); it pays g_E at the point of E nearest to the second state.
 of a curved boundary is not E: where that probability exceeds :data:`BRIDGE_REFINE`, the
 bridge's midpoint is drawn (a stop if it lies in E) and each half judged the same way, until the
 crossing is implausible or the boundary one plane (at most :data:`BRIDGE_LEVELS` times), so that
-the plane is taken over a fraction of the step only. The bridge between two states does not
+the plane is taken over a fraction of the step only. Each part of a union is judged so, and a
+step within reach of two parts is halved too. The bridge between two states does not
 depend on the drift, so this randomised stopping rule is the same under the controlled and the
 passive process and :func:`gridlbc.certify`'s weight stays exact.
 
@@ -52,14 +53,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import cast
 
 import numpy as np
 
 from ._numba import jit
 from .costs import evaluate_cost, wrap_difference
 from .problem import Problem, positive_float
-from .regions import RegionBase, has_geometry
+from .regions import boundary_parts, has_geometry, part_distances
 
 DEFAULT_STEPS = 300
 """Euler–Maruyama steps over the horizon when ``dt`` is not given."""
@@ -628,7 +628,7 @@ def euler_maruyama(
             still = np.ones(len(x_new), dtype=bool)
             if exits is not None:  # before any fold: a step into an exit set beyond an edge ends
                 folded = outside if reflect else None
-                spread = B @ root if noise and exits.region is not None else None  # the bridge's
+                spread = B @ root if noise and exits.parts else None  # the bridge's
                 exits.step(x_a, x_new, spread, (k + 1) * step, rng, folded)
                 still = exits.alive[alive]
             if reflect and grid is not None and outside.any():
@@ -677,13 +677,13 @@ class _Exits:
     def __init__(self, problem: Problem, x: np.ndarray, end_cost: np.ndarray | None):
         self.problem, self.end_cost = problem, end_cost
         geometric = has_geometry(problem.exit)
-        self.region = cast(RegionBase, problem.exit) if geometric else None
+        self.parts = boundary_parts(problem.exit) if geometric else ()
         self.alive = np.ones(x.shape[0], dtype=bool)
         self.times = np.full(x.shape[0], np.nan)
-        # each sample's distance from E and the outward normal there, at its current state (NaN:
-        # not yet found)
-        self.distance = np.full(x.shape[0], np.nan)
-        self.normal = np.empty(x.shape)
+        # each sample's distance from each part of E and the outward normal there, at its
+        # current state (NaN: not yet found)
+        self.distance = np.full((x.shape[0], len(self.parts)), np.nan)
+        self.normal = np.empty((x.shape[0], len(self.parts), x.shape[1]))
         self._stop(np.arange(x.shape[0]), self.problem.exit_mask(x), x, 0.0)
 
     def step(self, before, after, noise_factor, t: float, rng, folded=None) -> None:
@@ -695,16 +695,15 @@ class _Exits:
         running = np.flatnonzero(self.alive)
         entered = self.problem.exit_mask(after)
         where = after
-        if self.region is not None and noise_factor is not None:
+        if self.parts and noise_factor is not None:
             draws = rng.random(len(running))
             out = np.flatnonzero(~entered)
-            region = self.region
             ids = running[out]
             d0, normal = self.distance[ids], self.normal[ids]
-            unknown = np.isnan(d0)
+            unknown = np.isnan(d0[:, 0])
             if unknown.any():
-                d0[unknown], normal[unknown] = region.boundary_distance(before[out[unknown]])
-            d1, normal1 = region.boundary_distance(after[out])
+                d0[unknown], normal[unknown] = part_distances(self.parts, before[out[unknown]])
+            d1, normal1 = part_distances(self.parts, after[out])
             self.distance[ids], self.normal[ids] = d1, normal1
             if folded is not None:
                 self.distance[ids[folded[out]]] = np.nan
@@ -721,13 +720,13 @@ class _Exits:
 
     def _bridge(self, a, b, start, end, factor, draws, rng, levels: int):
         """Which steps a → b (``(n, d)``, both ends outside E, ``start`` and ``end`` their
-        (distance, outward normal) from :meth:`RegionBase.boundary_distance`) the Brownian
-        bridge between the two ends crosses into E, and a point of E for each that does: the
-        flat-boundary probability p = exp(−2 d_a d_b / σₙ²) (module docstring) against the
-        uniform ``draws``; where p exceeds :data:`BRIDGE_REFINE` and ``levels`` remain, the
+        distances ``(n, K)`` and outward normals ``(n, K, d)`` from each of E's K parts,
+        :func:`~gridlbc.regions.part_distances`) the Brownian bridge between the two ends
+        crosses into E, and a point of E for each that does: the flat-boundary probability
+        p = exp(−2 d_a d_b / σₙ²) of each part (module docstring), combined by :meth:`_judge`,
+        against the uniform ``draws``; where :meth:`_judge` asks and ``levels`` remain, the
         bridge's midpoint is drawn instead (mean (a + b)/2, noise ``factor``/2) and, outside E,
-        each half is judged the same way with the noise ``factor``/√2, unless the nearest points
-        of both ends lie on one plane with one normal (a flat face, where the rule is exact). The
+        each half is judged the same way with the noise ``factor``/√2. The
         tangent plane at the nearest point of a convex E holds E, so the flat rule over-counts
         crossings of a curved boundary, and a certificate of a first exit into a ball is then
         far low (stranger round 34's ball: docs page :doc:`validating`, "An interval", and
@@ -751,9 +750,9 @@ class _Exits:
             noise = np.einsum("ndm,nm->nd", factor, rng.standard_normal((len(a), factor.shape[2])))
             middle = self.problem.wrap(a + 0.5 * step + 0.5 * noise)
             rest = np.flatnonzero(~self.problem.exit_mask(middle))  # a midpoint in E: crossed
-            d_m, n_m = np.zeros(0), np.zeros((0, middle.shape[1]))
+            d_m, n_m = np.zeros((0, len(self.parts))), np.zeros((0, *n_a.shape[1:]))
             if len(rest):
-                d_m, n_m = cast(RegionBase, self.region).boundary_distance(middle[rest])
+                d_m, n_m = part_distances(self.parts, middle[rest])
             half = factor[rest] / math.sqrt(2.0)
             # the first halves, then the second halves, of the steps whose midpoint is outside E
             ends = tuple(
@@ -789,21 +788,29 @@ class _Exits:
         return crossed, reached
 
     def _judge(self, a, b, start, end, factor, draws, refine: bool):
-        """The flat-boundary rule on steps a → b (:meth:`_bridge`): (crossed, the point of E
-        nearest each end b, and which steps are to be halved instead, where ``refine``)."""
+        """The flat-boundary rule on steps a → b (:meth:`_bridge`), for each part of E (``start``
+        and ``end``: distances ``(n, K)`` and normals ``(n, K, d)``): (crossed, the point of E
+        nearest each end b, and which steps are to be halved instead, where ``refine``). A step
+        crosses into E where it crosses into any part, 1 − Π_k (1 − p_k) (the parts' crossings
+        taken as independent); it is halved where a crossing of a part that is not one plane at
+        both ends is plausible, or of two parts (a gap between them narrower than the step's
+        noise: stranger round 45's slab between two half-spaces, where the nearest part's rule
+        alone stopped too few paths)."""
         (d_a, n_a), (d_b, n_b) = start, end
-        variance = np.sum(np.einsum("nd,ndm->nm", n_a, factor) ** 2, axis=1)
+        variance = np.sum(np.einsum("nkd,ndm->nkm", n_a, factor) ** 2, axis=2)
         spread = variance > 0  # no noise across the boundary: no crossing between the steps
         with np.errstate(under="ignore"):
             p = np.where(spread, np.exp(-2 * d_a * d_b / np.where(spread, variance, 1.0)), 0.0)
-        reached = b - d_b[:, None] * n_b  # the point of E nearest the step's end
+        near_b = b[:, None, :] - d_b[..., None] * n_b  # each part's point nearest the step's end
+        reached = near_b[np.arange(len(b)), np.argmin(d_b, axis=1)]  # E's
         finer = np.zeros(len(p), dtype=bool)
         if refine:  # a plausible crossing of a boundary that is not one plane at both ends
-            plane = np.einsum("nd,nd->n", n_a, n_b) >= 1.0 - PLANE
-            offset = np.einsum("nd,nd->n", n_a, reached - (a - d_a[:, None] * n_a))
+            plane = np.einsum("nkd,nkd->nk", n_a, n_b) >= 1.0 - PLANE
+            offset = np.einsum("nkd,nkd->nk", n_a, near_b - (a[:, None, :] - d_a[..., None] * n_a))
             plane &= np.abs(offset) <= PLANE * (1.0 + np.abs(d_a) + np.abs(d_b))
-            finer = (p > BRIDGE_REFINE) & ~plane
-        return ~finer & (draws < p), reached, finer
+            plausible = p > BRIDGE_REFINE
+            finer = np.any(plausible & ~plane, axis=1) | (plausible.sum(axis=1) > 1)
+        return ~finer & (draws < 1.0 - np.prod(1.0 - p, axis=1)), reached, finer
 
     def _stop(self, running, entered, where, t: float) -> None:
         ids = running[entered]

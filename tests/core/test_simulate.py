@@ -257,3 +257,28 @@ def test_the_bridge_halves_a_step_as_deep_as_a_thin_exit_needs():
         for dt in (0.04, 0.04 / 256)
     ]
     assert abs(stopped[0] - stopped[1]) <= 0.05
+
+
+def test_the_bridge_sees_both_sides_of_a_gap_between_two_parts_of_the_exit():
+    """A Brownian motion (σ² = λ = 0.4) in the gap |x| < a = 0.06 between two half-lines of the
+    exit set, over one step of 0.01 (σ√Δt = 0.063, the gap's half width): it leaves with the
+    probability 1 − (4/π) Σ_n (−1)ⁿ/(2n+1) exp(−(2n+1)² π² σ² Δt / (8a²)) = 0.6767. Judging the
+    nearest part alone stopped 0.652 of 20 000 paths (stranger round 45's slab between two
+    half-spaces, certified 1 % high); each part judged, and the step halved where both are
+    within reach, one step stops the exact share within four binomial standard deviations."""
+    a, variance, dt, n = 0.06, 0.4, 0.01, 20_000
+    problem = g.Problem(
+        g.systems.LinearSystem(np.zeros((1, 1)), np.eye(1)),
+        g.Grid([g.Axis(-1.0, 1.0, 21)]),
+        dt,
+        terminal_cost=lambda x: np.zeros(len(x)),
+        temperature=variance,
+        exit=g.regions.Box([-np.inf], [-a]) | g.regions.Box([a], [np.inf]),
+        exit_cost=0.0,
+    )
+    k = np.arange(50)
+    rate = (2 * k + 1) ** 2 * np.pi**2 * variance * dt / (8 * a**2)
+    exact = 1.0 - 4.0 / np.pi * np.sum((-1.0) ** k / (2 * k + 1) * np.exp(-rate))
+    one = g.simulate(problem, _zero, [0.0], n, dt=dt, seed=1)
+    stopped = np.mean(~np.isnan(one.exit_times))
+    assert abs(stopped - exact) <= 4 * np.sqrt(exact * (1 - exact) / n)
