@@ -1,5 +1,24 @@
 """Stranger round 45: is ``gridlbc.certify`` right when a first exit ends at a SHAPED exit set?
 
+WHAT MAIN DID WITH IT (2026-12-07, after the run): the bridge now halves a step until a crossing
+is implausible (it stopped at six halvings; the first-order ``Ball.boundary_distance`` then only
+costs extra halvings, it no longer decides a crossing), judges each part of a union (1 − Π(1 −
+p_k), halved where two parts are within reach), tells whether the paths cut short at max_time
+bias v* (their share of the weight) or only J, and PSIS no longer raises numpy warnings (an
+overflow; a tail tied at its largest exceedance, r45_15). The whole round rerun on main with
+those changes (default runs, no --nobridge/--solvepol; results in /work/scratch, not kept):
+SILENT 22 → 7, "biased, warned only of unexited samples" 17 → 1. r45_18 x0 now reads 0.457,
+0.432, 0.440, 0.437 at dt 0.01 … 0.00025 (was 0.084 … 0.213): steady, and at the step-only
+check's extrapolation ≈ 0.43; its "truth" 0.382 is the 721² solve, still rising from 0.350 on
+361², so the 3 silent pairs left there are the truth's, not the certificate's. r45_23 x1 (solve's
+policy, dt 0.01) 0.769 → 0.892 (truth 0.901); r45_30 x1 0.467 → 0.487 (0.494); r45_15 x0/x2 within
+their SE at every dt; r45_20 and r45_17 no longer biased. LEFT (the chain's own step, which
+``richardson=True`` extrapolates away and which certify does not warn of without it): r45_03 at
+dt 0.01, +0.7 % / +1.2 % (a gap crossed within one step pays q for the whole step); r45_28 at the
+horizon's default step T/300 = 0.04, +13 %; r45_16 at dt 0.01, +7.3 % (a slab 0.05 wide crossed
+along a noise-free axis faster than a step: the straight part of a step is not tested against E,
+the bridge has no noise across it); r45_31 x0 at dt 0.004, −5.1 % (warned only of unexited paths).
+
 RESULTS (library of main 491da6e, worktree r45, 2026-12-07 17:19–18:05 UTC, one thread, the other
 core busy; passive policy, proposal=None, seed 45, n 4000 at dt ≥ 0.001 and 1000 at 0.00025):
 ``--run`` of all 32 problems; ``--run r45_18_pointmass_ellipse_thin_vel --nobridge --dts
