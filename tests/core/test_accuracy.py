@@ -1464,6 +1464,7 @@ def test_certificates_do_not_prove_a_solve_that_misses_a_goal_narrower_than_a_ce
     assert np.isnan(accuracy.certified_error(solution, X, 0.05))
 
 
+@pytest.mark.slow  # about 40 s: CI runs it after the README's pytest (pytest -m slow)
 def test_tol_tells_the_warnings_of_the_solve_it_returns():
     # A solve to a tolerance reads each round's estimate itself and reports the last; the other
     # warnings of the solve it returns are told, not dropped (here the control step of
