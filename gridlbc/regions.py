@@ -259,20 +259,21 @@ def part_distances(parts, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def has_geometry(region) -> bool:
-    """Whether ``region`` knows its boundary (:meth:`RegionBase.boundary_distance`)."""
-    if isinstance(region, Union):
-        return all(has_geometry(p) for p in region.parts)
-    own = type(region).boundary_distance if isinstance(region, RegionBase) else None
-    return own is not None and own is not RegionBase.boundary_distance
+    """Whether ``region`` knows its boundary (:meth:`RegionBase.boundary_distance`): every one of
+    its :func:`boundary_parts` does."""
+    return all(_knows(part, "boundary_distance") for part in boundary_parts(region))
 
 
 def meets_exactly(region) -> bool:
     """Whether ``region`` finds a point of itself in any box it meets
     (:meth:`RegionBase.meeting_points`): the shapes here and their unions."""
-    if isinstance(region, Union):
-        return all(meets_exactly(p) for p in region.parts)
-    own = type(region).meeting_points if isinstance(region, RegionBase) else None
-    return own is not None and own is not RegionBase.meeting_points
+    return all(_knows(part, "meeting_points") for part in boundary_parts(region))
+
+
+def _knows(part, method: str) -> bool:
+    """Whether ``part`` is a shape whose class gives :class:`RegionBase`'s ``method``."""
+    own = getattr(type(part), method) if isinstance(part, RegionBase) else None
+    return own is not None and own is not getattr(RegionBase, method)
 
 
 def bind_periods(region, periods):
