@@ -57,6 +57,13 @@ class RegionBase:
         the nearest point of the region)."""
         raise NotImplementedError
 
+    def segment_meets(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Whether the straight segment from ``a`` to ``b`` (``(N, d)`` each) meets the region,
+        ``(N,)``. It is the mean path of a step's Brownian bridge, and the whole path along the
+        axes without noise: a path can cross a set thinner than a step along such an axis with
+        both of the step's ends outside it (:mod:`gridlbc.simulate`)."""
+        raise NotImplementedError
+
     def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
         """For the boxes [lower_i, upper_i] (``(N, d)`` each, finite): a point of each box
         ``(N, d)`` that lies in the region wherever the region meets that box, however thinly
@@ -99,6 +106,20 @@ class Box(RegionBase):
     def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Exact: the nearest point is x clipped to the box."""
         return _towards(x, np.clip(x, self.lower, self.upper))
+
+    def segment_meets(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Exact: the parameters s ∈ [0, 1] at which a + s (b − a) lies between an axis's two
+        sides form an interval; the segment meets the box where the intervals of all axes
+        overlap (an axis the segment does not move along gives all of [0, 1] or nothing)."""
+        step = b - a
+        moving = step != 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            s_lower = np.where(moving, (self.lower - a) / np.where(moving, step, 1.0), -np.inf)
+            s_upper = np.where(moving, (self.upper - a) / np.where(moving, step, 1.0), np.inf)
+        first = np.max(np.minimum(s_lower, s_upper), axis=1, initial=0.0)
+        last = np.min(np.maximum(s_lower, s_upper), axis=1, initial=1.0)
+        between = np.all(moving | ((a >= self.lower) & (a <= self.upper)), axis=1)
+        return between & (first <= last)
 
     def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
         """Exact: the middle of the two boxes' intersection, where they meet (per axis the
@@ -162,6 +183,19 @@ class Ball(RegionBase):
         gradient = scaled / self.radius / rho[:, None]
         size = np.maximum(np.linalg.norm(gradient, axis=1), np.finfo(float).tiny)
         return np.maximum(rho - 1.0, 0.0) / size, gradient / size[:, None]
+
+    def segment_meets(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """Exact in the ellipsoid's own metric: the point a + s (b − a), s ∈ [0, 1], nearest the
+        centre's image nearest ``a`` minimises a quadratic in s, and lies in the ellipsoid
+        exactly where the segment meets it."""
+        diff = a - self.center
+        if self.periods is not None:
+            diff = wrap_difference(diff, self.periods)
+        start, step = diff / self.radius, (b - a) / self.radius
+        length = np.sum(step**2, axis=1)
+        s = -np.sum(start * step, axis=1) / np.maximum(length, np.finfo(float).tiny)
+        nearest = start + np.clip(s, 0.0, 1.0)[:, None] * step
+        return np.sum(nearest**2, axis=1) <= 1.0
 
     def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
         """Exact: the point of each box nearest the centre's nearest image in the ellipsoid's
@@ -256,6 +290,21 @@ def part_distances(parts, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     nearest)."""
     found = [part.boundary_distance(x) for part in parts]
     return np.stack([d for d, _ in found], axis=1), np.stack([n for _, n in found], axis=1)
+
+
+def part_segments(parts, a: np.ndarray, b: np.ndarray, periods=None) -> np.ndarray:
+    """Which of ``parts`` (:func:`boundary_parts`) the straight segment from each ``a`` to ``b``
+    (``(N, d)`` each) meets, ``(N, K)`` (:meth:`RegionBase.segment_meets`). On periodic axes
+    (``periods``, ``inf`` elsewhere) the segment goes the short way round, taken from each end
+    in turn, so that the parts on both sides of the seam are seen."""
+    step = b - a if periods is None else wrap_difference(b - a, periods)
+    ends = [(a, a + step)] + ([(b - step, b)] if np.any(step != b - a) else [])
+    met = np.zeros((len(a), len(parts)), dtype=bool)
+    for k, part in enumerate(parts):
+        if _knows(part, "segment_meets"):  # else a user's shape is judged at the steps only
+            for start, end in ends:
+                met[:, k] |= part.segment_meets(start, end)
+    return met
 
 
 def has_geometry(region) -> bool:

@@ -59,7 +59,7 @@ import numpy as np
 from ._numba import jit
 from .costs import evaluate_cost, wrap_difference
 from .problem import Problem, positive_float
-from .regions import boundary_parts, has_geometry, part_distances
+from .regions import boundary_parts, has_geometry, part_distances, part_segments
 
 DEFAULT_STEPS = 300
 """Euler–Maruyama steps over the horizon when ``dt`` is not given."""
@@ -628,7 +628,9 @@ def euler_maruyama(
             still = np.ones(len(x_new), dtype=bool)
             if exits is not None:  # before any fold: a step into an exit set beyond an edge ends
                 folded = outside if reflect else None
-                spread = B @ root if noise and exits.parts else None  # the bridge's
+                spread = None  # the bridge's noise, B C √(λ Δt) (none: its straight part)
+                if exits.parts:
+                    spread = B @ root if noise else np.zeros_like(B)
                 exits.step(x_a, x_new, spread, (k + 1) * step, rng, folded)
                 still = exits.alive[alive]
             if reflect and grid is not None and outside.any():
@@ -689,7 +691,7 @@ class _Exits:
     def step(self, before, after, noise_factor, t: float, rng, folded=None) -> None:
         """Stop the running samples (in order, ``before`` → ``after``, both ``(n_alive, d)``)
         that entered E during the step ending at ``t``; ``noise_factor`` ``(n_alive, d, m)`` is
-        B C √(λ Δt) with C Cᵀ = R⁻¹ (None without noise: no bridge). ``folded`` ``(n_alive,)``:
+        B C √(λ Δt) with C Cᵀ = R⁻¹ (zeros without noise; None: no bridge). ``folded`` ``(n_alive,)``:
         the samples whose ``after`` a reflecting edge moves next (their distance from E is found
         again at the next step)."""
         running = np.flatnonzero(self.alive)
@@ -744,9 +746,7 @@ class _Exits:
             if not len(where):
                 break
             a, b, d_a, n_a, d_b, n_b, factor = (column[where] for column in ends)
-            step = b - a
-            if self.problem.grid is not None:
-                step = wrap_difference(step, self.problem.periods)
+            step = wrap_difference(b - a, self.problem.periods)
             noise = np.einsum("ndm,nm->nd", factor, rng.standard_normal((len(a), factor.shape[2])))
             middle = self.problem.wrap(a + 0.5 * step + 0.5 * noise)
             rest = np.flatnonzero(~self.problem.exit_mask(middle))  # a midpoint in E: crossed
@@ -798,7 +798,7 @@ class _Exits:
         alone stopped too few paths)."""
         (d_a, n_a), (d_b, n_b) = start, end
         variance = np.sum(np.einsum("nkd,ndm->nkm", n_a, factor) ** 2, axis=2)
-        spread = variance > 0  # no noise across the boundary: no crossing between the steps
+        spread = variance > 0  # else the bridge is its straight part across the boundary
         with np.errstate(under="ignore"):
             p = np.where(spread, np.exp(-2 * d_a * d_b / np.where(spread, variance, 1.0)), 0.0)
         near_b = b[:, None, :] - d_b[..., None] * n_b  # each part's point nearest the step's end
@@ -809,7 +809,8 @@ class _Exits:
             offset = np.einsum("nkd,nkd->nk", n_a, near_b - (a[:, None, :] - d_a[..., None] * n_a))
             plane &= np.abs(offset) <= PLANE * (1.0 + np.abs(d_a) + np.abs(d_b))
             plausible = p > BRIDGE_REFINE
-            finer = np.any(plausible & ~plane, axis=1) | (plausible.sum(axis=1) > 1)
+            straight = part_segments(self.parts, a, b, self.problem.periods)
+            finer = np.any((plausible & ~plane) | straight, axis=1) | (plausible.sum(axis=1) > 1)
         return ~finer & (draws < 1.0 - np.prod(1.0 - p, axis=1)), reached, finer
 
     def _stop(self, running, entered, where, t: float) -> None:

@@ -9,6 +9,7 @@ import scipy.linalg as sl
 from conftest import EXACTNESS_ONLY
 
 import gridlbc as g
+from gridlbc import regions
 from gridlbc.regions import Ball, Box
 from gridlbc.systems import LinearSystem, PointMass, SingleIntegrator
 
@@ -1184,6 +1185,37 @@ def test_a_shape_meets_a_box_exactly_where_a_point_of_it_lies_in_the_box():
     lo = np.full((1, 2), np.sqrt(0.5) - 1e-9)
     assert corner(corner.meeting_points(lo, lo + 0.3))
     assert not corner(corner.meeting_points(lo + 2e-9, lo + 0.3))
+
+
+def test_a_shape_meets_a_segment_exactly_where_a_point_of_the_segment_lies_in_it():
+    # segment_meets, the straight part of a step's bridge (gridlbc.simulate), against 20 001
+    # points of each segment (spaced at most 1e-4, far below the strip's width and any chord of
+    # these segments), with which it agrees exactly; part_segments goes the short way round a
+    # seam.
+    rng = np.random.default_rng(5)
+    a = rng.uniform(-1.0, 1.0, (300, 2))
+    b = a + rng.normal(0.0, 0.6, (300, 2))
+    b[:20, 0] = a[:20, 0]  # segments that do not move along an axis
+    s = np.linspace(0.0, 1.0, 20_001)[:, None]
+    shapes = [
+        Box([-0.2, -np.inf], [-0.199, np.inf]),  # a strip 0.001 wide
+        Box([0.1, 0.2], [0.5, 0.3]),
+        Ball([0.3, -0.1], [0.02, 0.5]),  # an ellipse
+        Ball([0.0, 0.0], [np.inf, 0.1]),  # a slab
+    ]
+    for shape in shapes:
+        met = shape.segment_meets(a, b)
+        sampled = np.array([shape(p + s * (q - p)).any() for p, q in zip(a, b, strict=True)])
+        assert np.array_equal(met, sampled)
+    seam = Ball([0.0, 0.0], 0.1, periods=[2.0, np.inf])  # the box [−1, 1) wraps at ±1
+    across = regions.part_segments(
+        (seam,), np.array([[0.95, 0.0]]), np.array([[-0.95, 0.0]]), np.array([2.0, np.inf])
+    )
+    assert not across[0, 0]  # the short way round misses the ball at 0
+    edge = Box([0.97, -1.0], [1.0, 1.0])  # a box at the seam, met from either side
+    assert regions.part_segments(
+        (edge,), np.array([[-0.95, 0.0]]), np.array([[0.9, 0.0]]), np.array([2.0, np.inf])
+    )[0, 0]
 
 
 def test_an_exit_shape_thinner_than_the_lattice_is_found_and_warned():

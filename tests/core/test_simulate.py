@@ -259,6 +259,34 @@ def test_the_bridge_halves_a_step_as_deep_as_a_thin_exit_needs():
     assert abs(stopped[0] - stopped[1]) <= 0.05
 
 
+def test_a_step_over_an_exit_thinner_than_it_stops_along_an_axis_without_noise():
+    """A point mass at position 0.45 moving at 5, Euler step 0.04: its position moves 0.2 in a
+    step whatever the noise does to its velocity, straight over a slab of positions 0.05 wide
+    ([0.5, 0.55], any velocity) that no step's end lies in, and the bridge has no noise across
+    the slab. Every path enters it during the first step, exactly; before the straight part of
+    a step was tested against E none did (stranger round 45's slab, certified 7 % high). Without
+    noise, the deterministic path crosses an ellipse 0.04 wide in position during its second
+    step, exactly."""
+
+    def problem(exit):
+        return g.Problem(
+            g.systems.PointMass(),
+            g.Grid([g.Axis(-2.0, 2.0, 9), g.Axis(-8.0, 8.0, 9)]),
+            1.0,
+            terminal_cost=lambda x: np.zeros(len(x)),
+            temperature=1.0,
+            exit=exit,
+            exit_cost=0.0,
+        )
+
+    slab = problem(g.regions.Box([0.5, -np.inf], [0.55, np.inf]))
+    noisy = g.simulate(slab, _zero, [0.45, 5.0], 2000, dt=0.04, seed=1)
+    assert np.all(noisy.exit_times == 0.04)
+    thin = problem(g.regions.Ball([0.5, 5.0], [0.02, 1.0]))
+    path = g.simulate(thin, _zero, [-0.1, 5.0], 1, dt=0.1, noise=False)
+    assert path.exit_times[0] == pytest.approx(0.2)  # positions −0.1, 0.4, 0.9: over it
+
+
 def test_the_bridge_sees_both_sides_of_a_gap_between_two_parts_of_the_exit():
     """A Brownian motion (σ² = λ = 0.4) in the gap |x| < a = 0.06 between two half-lines of the
     exit set, over one step of 0.01 (σ√Δt = 0.063, the gap's half width): it leaves with the
