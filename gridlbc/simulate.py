@@ -41,7 +41,9 @@ of a curved boundary is not E: where that probability exceeds :data:`BRIDGE_REFI
 bridge's midpoint is drawn (a stop if it lies in E) and each half judged the same way, until the
 crossing is implausible or the boundary one plane (at most :data:`BRIDGE_LEVELS` times), so that
 the plane is taken over a fraction of the step only. Each part of a union is judged so, and a
-step within reach of two parts is halved too. The bridge between two states does not
+step within reach of two parts is halved too, as is a step whose straight segment meets E (the
+bridge's mean path, and the whole path along axes without noise, where a set thinner than a step
+is crossed with both ends outside it and no noise across its boundary). The bridge between two states does not
 depend on the drift, so this randomised stopping rule is the same under the controlled and the
 passive process and :func:`gridlbc.certify`'s weight stays exact.
 
@@ -795,7 +797,9 @@ class _Exits:
         taken as independent); it is halved where a crossing of a part that is not one plane at
         both ends is plausible, or of two parts (a gap between them narrower than the step's
         noise: stranger round 45's slab between two half-spaces, where the nearest part's rule
-        alone stopped too few paths)."""
+        alone stopped too few paths), or where the step's straight segment meets a part
+        (:func:`~gridlbc.regions.part_segments`: a set thinner than the step, crossed along an
+        axis without noise)."""
         (d_a, n_a), (d_b, n_b) = start, end
         variance = np.sum(np.einsum("nkd,ndm->nkm", n_a, factor) ** 2, axis=2)
         spread = variance > 0  # else the bridge is its straight part across the boundary

@@ -17,6 +17,9 @@ dock hot_band --levels 6`` then ``--table``; about 3 minutes in all): NO first-e
 - hot_band: the same value to 1e-13 at either depth (the slab's faces are planes: no halving).
 - exit_late, exit_late_cold, cart_exit_late: bit for bit the stored values.
 - No truth moved by 3 combined SE (largest |z| 0.4); truths.json needs no change for the bridge.
+- Rerun after a step's straight segment was tested against the shapes too (the next session,
+  ``--run dock hot_band``): the same values to the last digit printed (dock z −0.2, +0.1, +0.4;
+  hot_band identical): no path of theirs crosses a part of E within a step unseen.
 
 Why: the certificate stops a path between two Euler–Maruyama steps with a Brownian-bridge
 crossing probability when the exit set is a shape of :mod:`gridlbc.regions`. Until main commit

@@ -19,6 +19,14 @@ horizon's default step T/300 = 0.04, +13 %; r45_16 at dt 0.01, +7.3 % (a slab 0.
 along a noise-free axis faster than a step: the straight part of a step is not tested against E,
 the bridge has no noise across it); r45_31 x0 at dt 0.004, −5.1 % (warned only of unexited paths).
 
+LATER (2026-12-07, the next session): a step's straight segment is now tested against the
+shapes (``RegionBase.segment_meets``) and a step whose segment meets E is halved like a plausible
+crossing. r45_16 x0 at dt 0.01, seed 45, 4000 passive paths: +7.3 % (z 6.0) with the segment
+test switched off, +1.2 % (z 1.0) with it; r45_14/r45_15 at dt 0.01 unchanged (their slabs are
+wider than a step's travel). ``--run`` of r45_14, 15, 16, 29, 31, 20, 17 on main (results
+overwrite this folder; the 491da6e run copied aside, not kept): no pair SILENT (r45_15 dt 0.01
+x0/x2 were); the pointmass ones (noise-free position) still warned of their unexited paths only.
+
 RESULTS (library of main 491da6e, worktree r45, 2026-12-07 17:19–18:05 UTC, one thread, the other
 core busy; passive policy, proposal=None, seed 45, n 4000 at dt ≥ 0.001 and 1000 at 0.00025):
 ``--run`` of all 32 problems; ``--run r45_18_pointmass_ellipse_thin_vel --nobridge --dts
