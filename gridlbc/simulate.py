@@ -813,9 +813,25 @@ class _Exits:
             offset = np.einsum("nkd,nkd->nk", n_a, near_b - (a[:, None, :] - d_a[..., None] * n_a))
             plane &= np.abs(offset) <= PLANE * (1.0 + np.abs(d_a) + np.abs(d_b))
             plausible = p > BRIDGE_REFINE
-            straight = part_segments(self.parts, a, b, self.problem.periods)
-            finer = np.any((plausible & ~plane) | straight, axis=1) | (plausible.sum(axis=1) > 1)
+            finer = np.any(plausible & ~plane, axis=1) | (plausible.sum(axis=1) > 1)
+            finer |= self._segments(a, b, d_a, ~finer)
         return ~finer & (draws < 1.0 - np.prod(1.0 - p, axis=1)), reached, finer
+
+    def _segments(self, a, b, d_a, asked) -> np.ndarray:
+        """Which of the ``asked`` steps a → b (``(n,)`` masks) have a straight segment that meets
+        a part of E (:func:`~gridlbc.regions.part_segments`), tested only where a part is no
+        farther from ``a`` than the segment is long (``d_a`` ``(n, K)``,
+        :func:`~gridlbc.regions.part_distances`, is at most the true distance: exact for boxes,
+        a lower bound for ellipsoids, whose ρ is convex)."""
+        met = np.zeros(len(a), dtype=bool)
+        rows = np.flatnonzero(asked)
+        if len(rows):
+            periods = self.problem.periods
+            length = np.linalg.norm(wrap_difference(b[rows] - a[rows], periods), axis=1)
+            rows = rows[np.any(d_a[rows] <= length[:, None], axis=1)]
+        if len(rows):
+            met[rows] = np.any(part_segments(self.parts, a[rows], b[rows], periods), axis=1)
+        return met
 
     def _stop(self, running, entered, where, t: float) -> None:
         ids = running[entered]
