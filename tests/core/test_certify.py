@@ -299,11 +299,14 @@ COVERAGE_SEEDS = 200
 def test_interval_covers_the_chain_optimum_at_its_level(proposal):
     # 200 independent certificates (one start state repeated: each row its own samples); the
     # share whose 95 % interval holds the chain's exact v* is binomial around 0.95 with SE
-    # √(0.95 · 0.05 / 200): within 3 of them, for a good and a poor proposal.
+    # √(0.95 · 0.05 / 200): within 3 of them, for a good and a poor proposal. The target is the
+    # chain's own optimum, so the step's bias against the SDE's (step_check) is not in question.
     problem = lq_point_mass()
     policy = lq_solution(problem).policy if proposal == "riccati" else _zero
     starts = np.repeat(X0[None], COVERAGE_SEEDS, axis=0)
-    cert = g.certify(problem, policy, starts, n_samples=500, seed=12, progress=False)
+    cert = g.certify(
+        problem, policy, starts, n_samples=500, seed=12, progress=False, step_check=False
+    )
     lower, upper = cert.interval(0.95)
     chain = euler_chain_value(problem, X0)
     covered = np.mean((lower <= chain) & (chain <= upper))
@@ -552,18 +555,53 @@ def test_an_exit_checked_only_at_the_steps_is_warned_of_and_a_shape_is_not():
     the first-order extrapolation of richardson=True does not remove either: certify warns in
     both. The same exit as a Box (a Brownian-bridge check between the steps) leaves the O(Δt)
     bias of the running cost, which the extrapolation removes (within 3 of its SEs, no
-    warning)."""
+    warning). The default check at 4Δt reads the callable's bias too (a different step's)."""
     x0, optimum = np.array([-0.5]), np.sqrt(2.0) * 1.5
     options = {"dt": 0.005, "max_time": 6.0, "proposal": None, "progress": False}
     callable_exit = _exit_problem(lambda x: x[:, 0] >= 1.0)
-    with pytest.warns(g.CertificateWarning, match="O\\(√dt\\)"):
+    with pytest.warns(g.CertificateWarning) as caught:
         plain = g.certify(callable_exit, _optimal_push, x0, 2000, seed=1, **options)
+    said = [str(w.message) for w in caught]
+    assert any("O(√dt)" in m for m in said) and any("time step's own bias" in m for m in said)
     assert plain.optimal_value - optimum > 10 * plain.optimal_value_se
+    assert plain.step_bias > 3 * plain.step_bias_se
     with pytest.warns(g.CertificateWarning, match="O\\(√dt\\)"):
         g.certify(callable_exit, _optimal_push, x0, 2000, seed=1, richardson=True, **options)
     box_exit = _exit_problem(g.regions.Box([1.0], [np.inf]))
     box = g.certify(box_exit, _optimal_push, x0, 2000, seed=1, richardson=True, **options)
     assert abs(box.extrapolated_value - optimum) < 3 * box.extrapolated_value_se
+
+
+def test_the_default_check_at_four_times_the_step_reads_the_steps_bias_and_warns_of_it():
+    """dx = (−3x + u) dt + noise, costs x² and 2x² at T, λ = 0.5: at Δt = 1/64 the chain's exact
+    optimum (euler_chain_value, exact for any proposal) is 0.0127 above the SDE's (Riccati), 11
+    of v*'s standard errors, which leave it out. The check at 4Δt with half the samples expects
+    to read (v_chain(4Δt) − v_chain(Δt)) / 3 = 0.0142 exactly (within 3 of its SEs), close to
+    the true bias because it is of first order here; the certificate warns of it. Without the
+    check no field and no warning; with richardson=True the field is its step_contribution."""
+    problem = g.Problem(
+        g.systems.LinearSystem([[-3.0]], [[1.0]]),
+        g.Grid([g.Axis(-4.0, 4.0, 41)]),
+        1.0,
+        g.Quadratic([0.0], [2.0]),
+        state_cost=g.Quadratic([0.0], [1.0]),
+        control_cost=1.0,
+        temperature=0.5,
+    )
+    x0, steps = np.array([1.5]), 64
+    exact = lq_solution(problem)
+    chain = {k: euler_chain_value(problem, x0, k) for k in (steps, steps // 4)}
+    expected = (chain[steps // 4] - chain[steps]) / 3
+    assert abs(expected / (chain[steps] - exact.value(x0, 0.0)) - 1) < 0.15  # first order
+    options = {"dt": 1 / steps, "seed": 1, "progress": False, "proposal": None}
+    with pytest.warns(g.CertificateWarning, match="time step's own bias at dt is \\+0.01"):
+        cert = g.certify(problem, exact.policy, x0, 2000, **options)
+    assert abs(cert.optimal_value - chain[steps]) < 3 * cert.optimal_value_se
+    assert abs(cert.step_bias - expected) < 3 * cert.step_bias_se
+    plain = g.certify(problem, exact.policy, x0, 2000, step_check=False, **options)
+    assert plain.step_bias is None and plain.optimal_value == cert.optimal_value
+    both = g.certify(problem, exact.policy, x0, 2000, richardson=True, **options)
+    assert both.step_bias == pytest.approx(both.step_contribution, rel=1e-12)
 
 
 def test_richardson_reports_the_worse_diagnostics_of_its_two_runs():
