@@ -124,7 +124,8 @@ def run_demo(
             progress=False,
             richardson=True,
         )
-        optimum, optimum_se = cert.extrapolated_value, cert.extrapolated_value_se
+        optimum = float(np.asarray(cert.extrapolated_value))  # set by richardson=True
+        optimum_se = float(np.asarray(cert.extrapolated_value_se))
         error = (predicted - optimum) / optimum
         say(
             f"   {labels[fitting]}: v* = {optimum:.3f} ± {optimum_se:.3f} "
