@@ -344,7 +344,11 @@ class Certificate:
             flag = ""
             if unexited[i] > 0:
                 flag = f"; {100 * unexited[i]:.1f} % had not exited (costs cut short)"
-            if self.step_bias is not None:
+            if self.extrapolated_value is not None:
+                best = np.atleast_1d(np.asarray(self.extrapolated_value, dtype=float))[i]
+                best_se = np.atleast_1d(np.asarray(self.extrapolated_value_se, dtype=float))[i]
+                flag += f"; v* extrapolated to Δt → 0: {best:.5g} ± {best_se:.2g}"
+            elif self.step_bias is not None:
                 bias = np.atleast_1d(np.asarray(self.step_bias, dtype=float))[i]
                 bias_se = np.atleast_1d(np.asarray(self.step_bias_se, dtype=float))[i]
                 flag += f"; the step's bias in v* {bias:+.2g} ± {bias_se:.2g}"
