@@ -26,6 +26,14 @@ test switched off, +1.2 % (z 1.0) with it; r45_14/r45_15 at dt 0.01 unchanged (t
 wider than a step's travel). ``--run`` of r45_14, 15, 16, 29, 31, 20, 17 on main (results
 overwrite this folder; the 491da6e run copied aside, not kept): no pair SILENT (r45_15 dt 0.01
 x0/x2 were); the pointmass ones (noise-free position) still warned of their unexited paths only.
+Then certify gained a default check of its step (a run at 4 dt with half the samples,
+``Certificate.step_bias``, a warning where the bias is beyond the sampling and v*'s SE), and
+r45_00–04, 08–13, 25, 26, 28 and 05 were rerun (``--run``, 21:05–21:30 UTC, one thread, the other
+core busy). Over the 22 problems rerun this session: 251 readings, 0 SILENT. The check warned
+at 10: r45_03 at dt 0.01 and 0.004 (+0.7 %/+1.2 % and +0.25 %/+0.4 %, 15–124 SE), r45_28 and
+r45_26 at the default step T/300 (+14 %, +11 %, +4 %; +7.5 %), r45_05 x0 at dt 0.01 (+2.7 %, read
++0.02 ± 0.004), and once where v* was right (r45_12 x1 at dt 0.01: −1.3 %, 0.4 SE; the check read
++0.014 ± 0.004 at 4 dt, where the bias grows faster than first order).
 
 RESULTS (library of main 491da6e, worktree r45, 2026-12-07 17:19–18:05 UTC, one thread, the other
 core busy; passive policy, proposal=None, seed 45, n 4000 at dt ≥ 0.001 and 1000 at 0.00025):
