@@ -42,10 +42,10 @@ bridge's midpoint is drawn (a stop if it lies in E) and each half judged the sam
 crossing is implausible or the boundary one plane (at most :data:`BRIDGE_LEVELS` times), so that
 the plane is taken over a fraction of the step only. Each part of a union is judged so, and a
 step within reach of two parts is halved too, as is a step whose straight segment meets E (the
-bridge's mean path, and the whole path along axes without noise, where a set thinner than a step
-is crossed with both ends outside it and no noise across its boundary). The bridge between two states does not
-depend on the drift, so this randomised stopping rule is the same under the controlled and the
-passive process and :func:`gridlbc.certify`'s weight stays exact.
+bridge's mean path, and the whole path along axes without noise, where a set thinner than a
+step is crossed with both ends outside it and no noise across its boundary). The bridge between
+two states does not depend on the drift, so this randomised stopping rule is the same under the
+controlled and the passive process and :func:`gridlbc.certify`'s weight stays exact.
 
 The policy and the drift are evaluated once per step for all samples (vectorised callables); the
 per-sample update of state and cost is one numba kernel over the samples.
@@ -693,9 +693,9 @@ class _Exits:
     def step(self, before, after, noise_factor, t: float, rng, folded=None) -> None:
         """Stop the running samples (in order, ``before`` → ``after``, both ``(n_alive, d)``)
         that entered E during the step ending at ``t``; ``noise_factor`` ``(n_alive, d, m)`` is
-        B C √(λ Δt) with C Cᵀ = R⁻¹ (zeros without noise; None: no bridge). ``folded`` ``(n_alive,)``:
-        the samples whose ``after`` a reflecting edge moves next (their distance from E is found
-        again at the next step)."""
+        B C √(λ Δt) with C Cᵀ = R⁻¹ (zeros without noise; None: no bridge). ``folded``
+        ``(n_alive,)``: the samples whose ``after`` a reflecting edge moves next (their distance
+        from E is found again at the next step)."""
         running = np.flatnonzero(self.alive)
         entered = self.problem.exit_mask(after)
         where = after
