@@ -529,14 +529,29 @@ class CertifiedStudy:
     """Predictions and policy costs of several solves against one certified optimum.
 
     ``truth`` is the :class:`gridlbc.Certificate` of v*(x₀) with the policy of ``proposal``
-    (scheme, n, dt) as the importance-sampling proposal; the rows' gaps J − v* have the standard
-    error √(SE_J² + SE_v*²) (independent samples).
+    (scheme, n, dt) as the importance-sampling proposal, certified with ``richardson=True``: the
+    predictions are judged by the SDE's optimum, extrapolated in the Euler–Maruyama step
+    (:attr:`optimum`), and the policies' costs J, which are the chain's at that step, by the
+    chain's (:attr:`chain_optimum`): the rows' gaps J − v*(Δt) ≥ 0 have the standard error
+    √(SE_J² + SE_v*²) (independent samples).
     """
 
     start: np.ndarray
     truth: Certificate
     proposal: tuple
     rows: tuple[CertifiedRow, ...]
+
+    @property
+    def optimum(self) -> tuple[float, float]:
+        """The SDE's v*(x₀) and its SE: the truth extrapolated to a vanishing step."""
+        return float(np.asarray(self.truth.extrapolated_value)), float(
+            np.asarray(self.truth.extrapolated_value_se)
+        )
+
+    @property
+    def chain_optimum(self) -> tuple[float, float]:
+        """v*(x₀) of the Euler–Maruyama chain at the rollouts' step, and its SE."""
+        return float(self.truth.optimal_value), float(self.truth.optimal_value_se)
 
     def select(self, label: str) -> tuple[CertifiedRow, ...]:
         """The rows of one configuration (:attr:`CertifiedRow.label`), coarse to fine."""
@@ -546,14 +561,16 @@ class CertifiedStudy:
         return list(dict.fromkeys(r.label for r in self.rows))
 
     def format(self) -> str:
-        v, se = self.truth.optimal_value, self.truth.optimal_value_se
+        v, se = self.optimum
+        chain, chain_se = self.chain_optimum
         scheme, n, dt = self.proposal
         lines = [
             f"certified optimum v*({np.array2string(self.start, precision=3)}) = {v:.3f} ± "
-            f"{se:.3f} (SE): proposal {scheme} n = {n}"
+            f"{se:.3f} (SE), extrapolated from Δt = {self.truth.dt:g} and twice it (the chain's "
+            f"at Δt: {chain:.3f} ± {chain_se:.3f}, which the gaps J − v* are taken from): "
+            f"proposal {scheme} n = {n}"
             + (f" dt {dt:g}" if dt is not None else "")
-            + f", {self.truth.n_samples} "
-            f"samples at Δt = {self.truth.dt:g}, effective sample size "
+            + f", {self.truth.n_samples} samples, effective sample size "
             f"{self.truth.effective_sample_size:.0f}"
         ]
         head = (
@@ -562,13 +579,13 @@ class CertifiedStudy:
         )
         lines += [head, "-" * len(head)]
         for r in self.rows:
-            gap_se = math.hypot(r.policy_cost_se, se)
+            gap, gap_se = r.policy_cost - chain, math.hypot(r.policy_cost_se, chain_se)
             lines.append(
                 f"{r.label:<16}{'×'.join(map(str, r.shape)):>10}{r.dt:8.4f}{r.steps:6d}"
                 f"{r.wall_time:8.2f}{r.predicted:10.2f}{100 * (r.predicted - v) / v:7.1f}%"
-                f"{r.policy_cost:12.2f}{r.policy_cost_se:6.2f}{r.policy_cost - v:7.2f}"
+                f"{r.policy_cost:12.2f}{r.policy_cost_se:6.2f}{gap:7.2f}"
                 f"{100 * r.effective_sample_size / r.n_samples:5.0f}%"
-                + ("" if r.policy_cost - v > 2 * gap_se else "  (gap within 2 SE of 0)")
+                + ("" if gap > 2 * gap_se else "  (gap within 2 SE of 0)")
             )
         return "\n".join(lines)
 
@@ -590,7 +607,9 @@ def certified_study(
 
     v* is :func:`gridlbc.certify` with ``truth_samples`` samples and the policy of ``proposal`` =
     (scheme, n, dt) as proposal (default: the last config on the largest grid), which should be
-    the most accurate solve at hand: its effective sample size says how far to trust v*. Each row
+    the most accurate solve at hand: its effective sample size says how far to trust v*. It is
+    certified with ``richardson=True`` (:class:`CertifiedStudy`: the predictions are judged by the
+    SDE's optimum, the policies' costs by the chain's at the same step). Each row
     then certifies its own policy with ``samples`` samples (its cost J and how good a proposal
     it is). ``rollout_dt`` is the Euler–Maruyama step of all rollouts (default T/300).
     """
@@ -613,6 +632,7 @@ def certified_study(
         start,
         truth_samples,
         dt=rollout_dt,
+        richardson=True,
         seed=seed + 1,
         progress=progress,
     )
