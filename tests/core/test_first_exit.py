@@ -548,7 +548,9 @@ def test_solve_many_solves_exit_costs_with_one_operator():
     for cost, solution in zip(costs, together):
         alone = g.solve(base.replace(exit_cost=cost))
         np.testing.assert_allclose(solution.value(x), alone.value(x), rtol=1e-12, atol=1e-12)
-        np.testing.assert_allclose(solution.error_estimate(x), alone.error_estimate(x), rtol=1e-9)
+    # its own estimate, the last cost's (a reading samples the whole task's paths, about 8 s)
+    few = x[:4]
+    np.testing.assert_allclose(solution.error_estimate(few), alone.error_estimate(few), rtol=1e-9)
     assert g.combine(together).exact
 
 

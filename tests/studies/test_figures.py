@@ -21,7 +21,9 @@ PNG = b"\x89PNG\r\n\x1a\n"
         ("interpolation", {"n": 21, "samples": 20, "traces": 2, "dt": 0.1, "restarts": 2}),
         ("coordination", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
         ("gymnast", {"n": 5, "reference": False}),
-        ("exit_bays", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}),
+        pytest.param(  # about 50 s (the combination's error estimate, certificates with exits)
+            "exit_bays", {"n": 21, "samples": 20, "traces": 2, "dt": 0.05}, marks=pytest.mark.slow
+        ),
         ("certified_convergence", {"sizes": (8, 16), "samples": 10, "truth_samples": 20}),
         (
             "convergence",
