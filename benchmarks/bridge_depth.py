@@ -26,25 +26,22 @@ import gridlbc as g
 SIMULATE = sys.modules["gridlbc.simulate"]  # the module (gridlbc.simulate is the function)
 
 
-def problems():
-    ball = g.Problem(
-        g.systems.PointMass(),
-        g.Grid([g.Axis(-2.0, 2.0, 41), g.Axis(-3.0, 3.0, 41)]),
-        None,
-        state_cost=1.0,
-        temperature=2.0,
-        exit=g.regions.Ball([1.0, 0.0], 0.4),
-        exit_cost=0.0,
+def first_exit(speed: float, exit, **options) -> g.Problem:
+    """A point mass on [−2, 2] × [−speed, speed] (41² nodes), q = 1, ending on ``exit`` at no
+    cost; ``options`` go to :class:`gridlbc.Problem` (temperature, control cost)."""
+    grid = g.Grid([g.Axis(-2.0, 2.0, 41), g.Axis(-speed, speed, 41)])
+    return g.Problem(
+        g.systems.PointMass(), grid, None, state_cost=1.0, exit=exit, exit_cost=0.0, **options
     )
-    thin = g.Problem(
-        g.systems.PointMass(),
-        g.Grid([g.Axis(-2.0, 2.0, 41), g.Axis(-4.0, 4.0, 41)]),
-        None,
-        state_cost=1.0,
+
+
+def problems():
+    ball = first_exit(3.0, g.regions.Ball([1.0, 0.0], 0.4), temperature=2.0)
+    thin = first_exit(
+        4.0,
+        g.regions.Ball([0.0, 1.5], [0.027, 0.2]) | g.regions.Ball([-1.0, 0.0], 0.3),
         control_cost=0.01,
         temperature=1.0,
-        exit=g.regions.Ball([0.0, 1.5], [0.027, 0.2]) | g.regions.Ball([-1.0, 0.0], 0.3),
-        exit_cost=0.0,
     )
     return {
         "round ball r 0.4": (ball, [[0.58, 0.05], [-1.0, 1.0]]),
