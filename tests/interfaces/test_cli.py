@@ -167,6 +167,17 @@ def test_certify_prints_what_gridlbc_certify_computes(tmp_path):
     assert "box edges free" in free.stdout
     v = float(free.stdout.splitlines()[-1].split()[1])
     assert v == pytest.approx(cert.optimal_value, rel=1e-4)
+    # --richardson: the certified column is the extrapolated (SDE's) optimum, its SE beside it
+    extrapolated = run("certify", str(path), "--state=0,0", "--samples=200", "--seed=3",
+                       "--richardson", "--quiet")  # fmt: skip
+    cert = gridlbc.certify(problem, solution.policy, states[1], n_samples=200, seed=3,
+                           richardson=True)  # fmt: skip
+    v, se = (float(c) for c in extrapolated.stdout.splitlines()[-1].split()[1:3])
+    assert (v, se) == (
+        pytest.approx(cert.extrapolated_value, rel=1e-4),
+        pytest.approx(cert.extrapolated_value_se, rel=1e-4),
+    )
+    assert cert.extrapolated_value != pytest.approx(cert.optimal_value, rel=1e-4)
 
 
 @pytest.mark.parametrize(
