@@ -315,9 +315,19 @@ class _Matter:
         self.solution, self.t = solution, t
 
     def at(self, t: float) -> _Matter:
-        """The same states (chosen at t = 0) read at time ``t``: their nodes and mask shared."""
+        """The same states (chosen at t = 0) read at time ``t``, their nodes and mask shared,
+        less those whose value is +inf at t.
+
+        Why: z can underflow late in a task where it did not at t = 0 (a terminal cost steep
+        at a box's corner, solved with a shared reference by :func:`gridlbc.solve_many`); there
+        is no number to judge there, and v(x, t) says so itself when read
+        (:class:`gridlbc.UnderflowWarning`), where an estimate of +inf would have been
+        reported as an error of inf %."""
         other = _Matter(self.solution, t)
         other.__dict__.update(states=self.states, mask=self.mask)  # the cached properties
+        finite = np.isfinite(other.value)
+        if not finite.all():
+            other.__dict__.update(states=self.states[finite], value=other.value[finite])
         return other
 
     @cached_property
@@ -390,6 +400,8 @@ def confirmed_locally(
     top = np.argsort(grid)[::-1][:CONFIRMED]
     centres = cell_centres(solution, X[top], matter.mask)
     v_centres = solution.value(centres, t)
+    finite = np.isfinite(v_centres)  # a corner's z may underflow late in a task (_Matter.at)
+    centres, v_centres = centres[finite], v_centres[finite]
     grid_centres = relative_error(
         estimate.grid_terms(solution, centres, t, v_centres), v_centres, solution.temperature
     )

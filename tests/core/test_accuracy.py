@@ -1654,3 +1654,27 @@ def test_the_confirmation_reads_the_traced_steps():
     v, reference = solution.value(x, 1.9), fine.value(x, 1.9)
     assert abs(v[0] - reference[0]) > 0.09 * reference[0]  # 9.6 % in the corner
     assert np.all(solution.error_estimate(x, 1.9) >= 0.5 * np.abs(v - reference))
+
+
+def test_states_whose_z_underflows_late_in_the_task_are_not_judged_there():
+    # Two steep goals at opposite ends of a plane, solved with one shared reference
+    # (solve_many): near the end of the task the first component's z/φ underflows on the
+    # second goal's side of the box, where it did not at t = 0. The late readings (the local
+    # confirmation) skip those states: there v(x, t) is +inf and says so when read, and the
+    # grid terms there are +inf, which the warning printed as an error of "inf%"
+    # (the interpolation figure's obstacle problem).
+    plane = g.systems.LinearSystem(np.zeros((2, 2)), np.eye(2))
+    grid = g.Grid([g.Axis(-2, 2, 41), g.Axis(-2, 2, 41)])
+    goals = [g.Quadratic([-1.5, 0], [50, 50]), g.Quadratic([1.5, 0], [50, 50])]
+    problem = g.Problem(plane, grid, 1.0, goals[0], temperature=0.2)
+    with pytest.warns(g.ResolutionWarning):
+        solution = g.solve_many(problem, goals, progress=False)[0]
+    assert np.isfinite(solution.value_nodes(0)).all()
+    at_zero = accuracy.assessment._Matter(solution)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", g.UnderflowWarning)
+        late = at_zero.at(accuracy.assessment.late_times(solution)[-1])
+        assert 0 < len(late.states) < len(at_zero.states)  # some underflowed late, not all
+        assert np.isfinite(late.value).all()
+        both, _ = accuracy.assessment.confirmed_locally(solution, 0.05, late)
+    assert np.isfinite(both) and both > 0.05
