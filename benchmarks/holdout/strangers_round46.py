@@ -2,7 +2,66 @@
 mixing round 44's built-in systems and round 39/41's user-written nonseparable ``RandSys``, public
 API only.
 
-RESULTS: partial (the first 24 draws run; summary to follow)
+RESULTS (library of main 923a4ee, worktree r46, 2026-12-07 22:59–23:45 UTC, one thread, the
+other core busy): ``--run`` of the 24 draws of ``PLAN`` (each under ``timeout 480``, none hit
+it; r46_PointMass_fe_02, r46_Linear3_hzfe_06 and r46_Linear2_fe_08 rerun after two fixes to this
+script: a certify warning printing its state as a plain numpy array, and the truth skipping a
+state whose fine value is +inf), then 8 more draws appended to ``PLAN`` (the first 24 unchanged),
+``--diag r46_rand3d_fe_15 2``, by hand the checks of r46_Linear2_fe_29 below, ``--table``.
+
+- 32 problems (built-in 16: Pendulum 4, PointMass 4, LinearSystem 2-D 4 / 3-D 4; user-written
+  RandSys 16: 2-D 8, 3-D 8; 11 fixed horizon, 13 stationary first exits, 8 first exits with a
+  horizon; λ 0.0104–2.55), 0 raised. Default solves 0.5–32 s (error_estimate at the 3 states
+  another 0.1–10 s). 30 of 32 warned (37 ResolutionWarnings, 1 UnderflowWarning); quiet:
+  r46_rand2d_fe_05 (λ 1.93) and r46_rand2d_fe_13 (λ 1.65), every pair ≤ 0.6 % off.
+- 96 (problem, state) pairs at t = 0, 63 trusted. The 33 others: ESS 1–15 (k̂ 1.3–87) at small
+  λ (PointMass_fe_02 λ 0.020, PointMass_hzfe_20 0.011, rand3d_fe_26 0.019, rand3d_hz_19 0.031,
+  Linear3_hzfe_06 0.060, Linear2_hz_22 0.025, Linear3_hz_31 0.17, PointMass_fe_25 0.17; all
+  warned, ê 55–170 % of |v*| where they are off), k̂ 0.75–1.8 (Linear3_fe_14 x0, Pendulum_hzfe_16
+  x0, rand3d_hz_30 x0, Linear2_fe_29 x0/x1, below), ESS 78–99 (Pendulum_hz_27 x1,
+  Pendulum_fe_10 x2, Linear2_fe_29 x1), and no truth: r46_Linear2_fe_08 x0 (the exit set cannot
+  be reached from it: v = +inf, UnderflowWarning, TRUE: ẋ1 = 0.30 x0 + 1.65 x1 with the one
+  control on x0) and r46_PointMass_fe_25 x0 (the 2× finer solve's z underflows there, v/λ ≈ 620;
+  the default solve reads 105.5 with ê 143).
+- OFF (> 10 % of |v*|, trusted): 8, ALL WARNED. SILENT: 0. (err / ê, both of |v*|)
+  r46_rand2d_fe_21 x0 −29.9 / 34.6 %, x1 −10.9 / 15.9, x2 −15.6 / 28.8 (λ 0.038);
+  r46_rand2d_hzfe_03 x0 −17.8 / 17.9, x1 −15.6 / 18.1 (λ 0.020); r46_rand3d_fe_15 x2 (near)
+  −15.4 / 13.2; r46_Pendulum_fe_10 x0 −12.4 / 33.9; r46_rand3d_hzfe_11 x2 (near) +10.2 / 30.0.
+  Relative to max(|v*|, λ) the same numbers (v* > λ at all of them).
+- UNDER-READS (ê < ½|v − v*|, |v − v*| > 2 SE, trusted): 0. Closest (ê / |v − v*|):
+  r46_rand3d_fe_15 x2 0.86, r46_rand2d_hz_17 x0 0.87 (err 1.9 %), r46_Pendulum_hz_00 x2 0.93,
+  r46_Linear2_hzfe_18 x1 0.96, r46_Pendulum_hz_00 x1 0.98, r46_rand2d_hzfe_03 x0 1.00.
+  ``--diag r46_rand3d_fe_15 2`` (near state (0.25, 0.77, −0.63), union exit, λ 0.456): default
+  39×39×41 v 1.3543; the 2× finer solve 1.5518 (its own ê 0.198); v* 1.6000 ± 0.006 (dt 0.004,
+  seed 46) and 1.6095 ± 0.006 (dt 0.002, seed 47, ESS 1851, k̂ 0.19): the default GRID is the
+  error (0.246 → 0.048 on halving), the estimate sees 86 % of it; the 1.5× wider box leaves v
+  (1.3543) unchanged.
+- UNTRUSTED, flagged UNDER, warned: r46_Linear2_fe_29 x0 (far corner (−1.90, −3.80), LinearSystem
+  A = [[0.56, 1.58], [1.09, −0.84]] (eigenvalues 1.35, −1.63), B = I, R = diag(9.98, 0.47),
+  λ 2.07, exit a box x0 ∈ [0.196, 0.416] with a wave cost, 126×41): v 9.789, ê 0.085 (0.9 %),
+  v* 8.196 ± 0.51 (ESS 75, k̂ 1.84, "heavy tail" warned). The grid converges: 9.789, 9.720,
+  9.684 (1×, 2×, 4× per axis; x1 7.226, 7.212, 7.204), so ê ≈ the grid's own error. The
+  certificate does not settle: v* 8.55 ± 0.26 (2× policy, 8000 paths, seed 47, k̂ 2.62), 9.02 ±
+  0.41 (the default solve's policy, k̂ 1.84), 8.50 ± 0.36 (dt 0.001, k̂ 2.52), 8.47 / 8.45 (the
+  4× solve's policy, dt 0.004 / 0.001, k̂ 2.4 / 2.7), while that policy's own cost J = 9.58 ±
+  0.075 (dt 0.004) and 9.57 ± 0.073 (dt 0.001), every path from x0 touching the reflecting box
+  (left_box_fraction 1.0; the 1.5× wider box gives v 20.06, the far corner is held by the wall).
+  J ≈ the grid's value makes a 12 % suboptimal converged policy unlikely: read as a certify
+  weakness at a reflecting wall under large noise (σ² = λ/R = 4.4 along x1), NOT counted, open.
+- Warned with all three trusted pairs < 5 % off: 10 (Linear2_hzfe_18 4.2 %, rand3d_fe_01 4.9,
+  Pendulum_hz_00 3.8, rand2d_hz_17 1.9, rand2d_hzfe_28 1.3, Linear3_hz_04 0.75, PointMass_hz_12
+  0.29, rand3d_hz_07 0.25, rand2d_hz_09 0.05, rand2d_hz_24 0.02). The horizon problems'
+  warnings name a state at a LATER time (t = T − 0.01 … T − 0.31 in 7 of 8; rand2d_hz_24 at t =
+  0.196 of T 0.98), not the t = 0 read here, where ê is 0.0–3.5 %; the two first exits with a
+  horizon also warn that "the plain scheme cannot resolve" v/λ's rise at 37–48 % of the nodes;
+  rand3d_fe_01's "at 100 % of the states that matter" is matched by ê 8.5–11 % at the states
+  (errors 0.2–4.9 %). Not checked further (the brief reads t = 0 only).
+- Stray warnings: none (no non-gridlbc warning from a solve, a read or a certificate). API
+  oddities: certify's warnings of few effective samples, heavy tails and unexited paths print
+  x0 as a plain numpy array ("[-3.03743371 -3.06       -1.955     ]"), its step-bias warning
+  with ``state_text`` ("[-3.834, 4.66]"); ``Solution.policy`` of an underflowed state warns
+  UnderflowWarning at every call (≈ 10⁴ times in one certify under "always", r46_Linear2_fe_08,
+  where this script zeroes the NaN controls so that certify runs).
 
 Generator (``gen``, seed 46; ``PLAN`` fixes each draw's family, system or dimension and ending,
 the rest is random): built-in systems (Pendulum, PointMass, LinearSystem 2-D / 3-D; the
@@ -90,6 +149,15 @@ PLAN = [
     ("rand", 2, "fe"),
     ("builtin", "Linear2", "hz"),
     ("rand", 3, "fe"),
+    # eight more, drawn after the first 24 had run (those unchanged)
+    ("rand", 2, "hz"),
+    ("builtin", "PointMass", "fe"),
+    ("rand", 3, "fe"),
+    ("builtin", "Pendulum", "hz"),
+    ("rand", 2, "hzfe"),
+    ("builtin", "Linear2", "fe"),
+    ("rand", 3, "hz"),
+    ("builtin", "Linear3", "hz"),
 ]
 
 
@@ -617,6 +685,15 @@ def table():
         for c in r.get("diag", []):
             print(f"   diag x{c['i']}: {c}")
     print("\nSUMMARY (counts over trusted pairs):", n)
+    close = sorted(
+        (q["est"] / abs(q["v"] - q["vt"]), name, q["i"], q["err"], q["est_rel"])
+        for name, r in ((r["name"], r) for r in recs)
+        for q in pairs(r)
+        if q["trusted"] and abs(q["v"] - q["vt"]) > 2 * q["se"] and abs(q["err"]) > 0.01
+    )
+    print("closest to an under-read (ê / |v − v*|, trusted, err > 1 %):")
+    for c in close[:6]:
+        print(f"  {c[1]} x{c[2]}: ê/|v−v*| = {c[0]:.2f} (err {c[3]:+.2%}, ê {c[4]:.2%} of |v*|)")
     print("off / silent / under-read pairs (err, errλ, ê relative to |v*|, warned):")
     for name, q, t in flagged:
         rec = next(r for r in recs if r["name"] == name)
