@@ -754,7 +754,7 @@ def _certify_once(
     k_hat = estimates["pareto_k"]
     for i in np.flatnonzero(~_trusted(ess, np.zeros(k), min_effective_sample_size, math.inf)):
         warn_user(
-            f"{who}: effective sample size {ess[i]:.1f} of {n} at x0 = {starts[i]} is "
+            f"{who}: effective sample size {ess[i]:.1f} of {n} at x0 = {state_text(starts[i])} is "
             f"below {min_effective_sample_size:g}: v* = {value[i]:.4g} and its standard "
             "error are not trustworthy (a few samples carry all the weight exp(−S/λ)). Use a "
             "proposal closer to optimal (a finer or fitted grid solution), more samples, or note "
@@ -764,7 +764,7 @@ def _certify_once(
         )
     for i in np.flatnonzero((ess >= min_effective_sample_size) & (k_hat > max_pareto_k)):
         warn_user(
-            f"{who}: the weights exp(−S/λ) at x0 = {starts[i]} have a heavy tail (PSIS "
+            f"{who}: the weights exp(−S/λ) at x0 = {state_text(starts[i])} have a heavy tail (PSIS "
             f"k̂ = {k_hat[i]:.2f} > {max_pareto_k:g}): v* = {value[i]:.4g} is likely too high and "
             "its standard error too small, because the samples that carry the weight are rarely "
             "drawn. More samples do not fix this; a proposal closer to optimal does, e.g. the "
@@ -783,7 +783,7 @@ def _certify_once(
                 "v* is not"
             )
         warn_user(
-            f"{who}: {unexited[i]:.1%} of the samples from x0 = {starts[i]} had not reached "
+            f"{who}: {unexited[i]:.1%} of the samples from x0 = {state_text(starts[i])} had not reached "
             f"the exit set by max_time = {T:g}: their costs are cut short, so {told}. Raise "
             "max_time, or use a proposal that reaches the exit sooner.",
             CertificateWarning,
