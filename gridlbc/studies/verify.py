@@ -360,6 +360,21 @@ def check_pointmass_optimality(
     ]
 
 
+def _certify_pendulum(problem, policy, x0, samples: int, seed: int):
+    """The pendulum checks' certificate: rollouts at :data:`SWINGUP_ROLLOUT_DT` and twice it,
+    extrapolated (``richardson=True``: the SDE's optimum, :func:`sde_optimum`)."""
+    return certify(
+        problem,
+        policy,
+        x0,
+        samples,
+        dt=SWINGUP_ROLLOUT_DT,
+        seed=seed,
+        progress=False,
+        richardson=True,
+    )
+
+
 def check_swingup_optimality(
     n: int = 256, dt: float | None = 0.02, samples: int = 2000, seed: int = 0, fitting="terminal"
 ) -> list[CheckResult]:
@@ -371,16 +386,7 @@ def check_swingup_optimality(
     sol = solve(problem, dt=dt, fitting=fitting)
     x0 = SWINGUP_START.copy()
     predicted = float(sol.value(x0, 0.0))
-    cert = certify(
-        problem,
-        sol.policy,
-        x0,
-        samples,
-        dt=SWINGUP_ROLLOUT_DT,
-        seed=seed,
-        progress=False,
-        richardson=True,
-    )
+    cert = _certify_pendulum(problem, sol.policy, x0, samples, seed)
     optimum, _ = sde_optimum(cert)
     step = (
         f"dt={sol.diagnostics.dt:.3g}"
@@ -438,16 +444,7 @@ def check_interpolation(
     for name, policy in controllers.items():
         # Certified under the target task, each controller its own proposal (all estimate the
         # same v*), with the same seed; the final-state errors are those of its rollouts.
-        cert = certify(
-            problem,
-            policy,
-            x0,
-            samples,
-            dt=SWINGUP_ROLLOUT_DT,
-            seed=seed,
-            progress=False,
-            richardson=True,
-        )
+        cert = _certify_pendulum(problem, policy, x0, samples, seed)
         predicted = float(predictions[name](x0, 0.0)) if name in predictions else math.nan
         rows += _certificate_rows(
             "interpolation", f"{case}: {name}", cert, predicted, note="under the target task"
