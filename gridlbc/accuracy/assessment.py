@@ -33,7 +33,7 @@ from scipy.special import logsumexp
 
 from ..errors import ResolutionWarning, state_text, warn_user
 from .bellman import SPAN, bellman_gap, beyond_noise, largest_discount
-from .estimate import ScalarEstimate, quiet_reads, relative_error
+from .estimate import ScalarEstimate, given_floor, quiet_reads, relative_error
 from .matter import (
     judged_nodes,
     judged_states,
@@ -286,8 +286,9 @@ def _assess_given(
     horizon is also run late, from wherever it stands), and the largest over those after 0."""
     times = (0.0, *late_times(solution)) if times is None else tuple(times)
     readings = []
+    floor = given_floor(solution, X)  # relative to the user's own values, not λ
     for t in times:  # as error_estimate reads them: a few states, their largest (no percentile)
-        rel = solution.embedded.relative(solution, X, t, whole=whole)
+        rel = solution.embedded.relative(solution, X, t, whole=whole, floor=floor)
         readings.append(replace(_read_at(X, rel, tol, True), time=t))
     a = max(readings, key=lambda reading: reading.error)
     late = [reading.error for reading in readings if reading.time > 0.0]
@@ -548,7 +549,7 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         where = (
             f"near {state}{when}: there the solves on the grids with every other node and a check "
             "along the solve's own paths (the costs its grid leaves out, or its value against "
-            f"what the SDE makes of it a little later) both put it at {a.error:.0%} of |v|, on a "
+            f"what the SDE makes of it a little later) both put it at {a.error:.0%} of max(|v|, λ), on a "
             "share of the states that matter too small for the percentile the warning "
             "otherwise reads"
         )
@@ -556,7 +557,7 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         where = (
             f"near {state}, where a cost or a part of the exit set narrower than a cell, between "
             "the nodes, changes the solve on the grid with every other node by up to "
-            f"{a.error:.0%} of |v| (the costs sampled between the nodes against their "
+            f"{a.error:.0%} of max(|v|, λ) (the costs sampled between the nodes against their "
             "reconstruction from the nodes, and the exit set's parts that no node holds)"
         )
     else:
@@ -575,7 +576,7 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
     if getattr(solution, "average_cost", None) is not None:
         value, symbol = "the relative value h (the average cost c has its own estimate)", "h"
     warn_user(
-        f"{ESTIMATE_WARNING}{value} exceeds {tol:.0%} of |{symbol}| {where}, see "
+        f"{ESTIMATE_WARNING}{value} exceeds {tol:.0%} of max(|{symbol}|, λ) {where}, see "
         f"solution.error_estimate(x) at your own states.{loose} {change} (docs page 'accuracy')",
         ResolutionWarning,
     )
@@ -647,7 +648,7 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
             share = f"near {worst} at t = {t:.3g}, where its components' own paths confirm it"
         if error > tol:
             warn_user(
-                f"the estimated error of the combination's v exceeds {tol:.0%} of |v| {share}: "
+                f"the estimated error of the combination's v exceeds {tol:.0%} of max(|v|, λ) {share}: "
                 "its components' estimates carried by the blend weights, Σ|α_i| ê_i, against a "
                 "value that weights far from one move far from the components' own. See "
                 "combined.error_estimate(x, t) at your own states; solve the components on a "

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..certificate import sample_certificate
 from ..errors import GridlbcWarning
-from .estimate import quiet_reads, relative_error
+from .estimate import given_floor, quiet_reads, relative_error
 from .matter import judged_states
 
 CERTIFIED_STATES = 16
@@ -63,7 +63,7 @@ def certifiable(solution, states) -> bool:
 def certified_error(solution, X: np.ndarray, tol: float) -> float:
     """The relative error of v at the states ``X`` measured against certified optima::
 
-        ê_c = max over x of  max(v(x) − lo(x), hi(x) − v(x)) / max(|v(x)|, λ),
+        ê_c = max over x of  max(v(x) − lo(x), hi(x) − v(x)) / |v(x)|,
 
     with [lo, hi] the :data:`CERTIFICATE_LEVEL` interval of :func:`gridlbc.certify` at x for the
     SDE's optimum: importance sampling with the solution's own policy as proposal (exact for any
@@ -98,10 +98,10 @@ def certified_error(solution, X: np.ndarray, tol: float) -> float:
         :doc:`accuracy`, "Solving to a tolerance").
     """
     v = np.asarray(solution.value(X, 0.0), dtype=float).reshape(-1)
-    scale = np.maximum(np.abs(v), solution.temperature)
+    floor = given_floor(solution, X)  # relative to abs(v) at the user's states
     if solution.embedded is not None:
         unseen = solution.embedded.excess_response(X, 0.0)
-        if np.any(relative_error(unseen, v, solution.temperature) > tol):
+        if np.any(relative_error(unseen, v, floor) > tol):
             return np.nan
     n, dt = CERTIFICATE_SAMPLES, solution.problem.horizon / CERTIFICATE_STEPS
     halvings = more = 0
@@ -122,9 +122,11 @@ def certified_error(solution, X: np.ndarray, tol: float) -> float:
         if not np.all(c.trusted):
             return np.nan
         lo, hi = (np.asarray(end, dtype=float).reshape(-1) for end in c.interval(CERTIFICATE_LEVEL))
-        error = float(np.max(np.maximum(v - lo, hi - v) / scale))
-        step = np.abs(np.asarray(c.step_contribution, dtype=float).reshape(-1)) / scale
-        centre = np.abs(v - 0.5 * (lo + hi)) / scale
+        error = float(np.max(relative_error(np.maximum(v - lo, hi - v), v, floor)))
+        step = relative_error(
+            np.abs(np.asarray(c.step_contribution, dtype=float).reshape(-1)), v, floor
+        )
+        centre = relative_error(np.abs(v - 0.5 * (lo + hi)), v, floor)
         if step.max() > tol / 4 and halvings < 2:
             dt, halvings = dt / 2, halvings + 1
         elif error > tol and centre.max() <= tol and more < 2:

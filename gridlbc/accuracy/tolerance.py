@@ -47,7 +47,7 @@ from .certified import (
     certifiable,
     certified_error,
 )
-from .estimate import quiet_reads, relative_difference, relative_error
+from .estimate import given_floor, quiet_reads, relative_difference, relative_error
 from .flow import FLOW_CELLS, FLOW_WARNING, NOISE_WARNING, check_flow, flow_excess, followed
 from .grids import (
     embedded_grid,
@@ -98,10 +98,11 @@ def axis_shares(solution, solve_on, states=None, t: float = 0.0) -> tuple[np.nda
         coarse = embedded_grid(grid, axes=(i,))
         other = None if coarse is None else solve_on(coarse)
         if other is not None:
-            shares[i] = statistic(relative_difference(solution, other, X, t), given)
+            shares[i] = statistic(relative_difference(solution, other, X, t, given), given)
     v = solution.value(X, t)
     difference = solution.embedded.difference(solution, X, t)
-    whole = statistic(relative_error(difference, v, solution.temperature), given)
+    floor = given_floor(solution, X) if given else solution.temperature
+    whole = statistic(relative_error(difference, v, floor), given)
     return shares, whole
 
 
@@ -291,8 +292,9 @@ def _step_share(march: Marcher, solution, problem, settings, states, t: float = 
     more solve on the same grid at twice the step (the error of a first-order step, or more)."""
     dt, steps = solution.diagnostics.dt, solution.diagnostics.steps
     half = _march_quietly(march, problem, settings, 2 * dt, steps, problem.grid, t)
-    rel = relative_difference(solution, half, judged_states(solution, states), t)
-    return statistic(rel, states is not None)
+    given = states is not None
+    rel = relative_difference(solution, half, judged_states(solution, states), t, given)
+    return statistic(rel, given)
 
 
 def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:

@@ -695,7 +695,7 @@ def _estimated(solution: HJBSolution, solve_on, dt) -> HJBSolution:
     quantile = float(np.quantile(rel, QUANTILE))
     if quantile > DEFAULT_TOLERANCE:
         warn_user(
-            f"solve_hjb's estimated error of v exceeds {DEFAULT_TOLERANCE:.0%} of |v| at "
+            f"solve_hjb's estimated error of v exceeds {DEFAULT_TOLERANCE:.0%} of max(|v|, λ) at "
             f"{np.mean(rel > DEFAULT_TOLERANCE):.0%} of the nodes ({QUANTILE:.0%} of them are "
             f"within {quantile:.1%}): the scheme is first order in h, and its difference from the "
             "solve on the grid with every other node is its error to that order (see "
