@@ -2,6 +2,10 @@
 mixing round 44's built-in systems and round 39/41's user-written nonseparable ``RandSys``, public
 API only.
 
+WHAT MAIN DID WITH IT (2026-12-08): certify's warnings of few effective samples, a heavy tail and
+unexited paths name the start state with ``state_text`` (4 significant digits), as the others do.
+r46_Linear2_fe_29's heavy-tailed certificate at a reflecting wall is left open (warned each time).
+
 RESULTS (library of main 923a4ee, worktree r46, 2026-12-07 22:59–23:45 UTC, one thread, the
 other core busy): ``--run`` of the 24 draws of ``PLAN`` (each under ``timeout 480``, none hit
 it; r46_PointMass_fe_02, r46_Linear3_hzfe_06 and r46_Linear2_fe_08 rerun after two fixes to this

@@ -1,5 +1,14 @@
 """Stranger round 47: the λ-relative reading of the error where v* < λ (seed 47), public API only.
 
+WHAT MAIN DID WITH IT (2026-12-08): at the user's own states, ``solve(tol=, states=)`` reads the
+relative error against abs(v(x, 0)) (``gridlbc.accuracy.estimate.given_floor``: min(λ, abs(v(x, 0)))
+in place of λ; λ for an average cost, whose h is zero at a state of the solve's choosing), and
+the warnings name the scale they read ("of max(|v|, λ)"). ``solve(tol=0.05, states=[x2])``:
+r47_PointMass_hzfe_18 +11.0 % → −0.5 % (seven rounds, 32 s), r47_River2_hzfe_17 +12.3 % → +2.1 %
+(three rounds, 16 s), both accepted unrefined before. The default solve's warning still reads
+λ over the states that matter: the four silent pairs stay silent. This folder's results were
+lost when the worktree was removed; ``--run`` makes them again.
+
 WHAT IT TESTS: the library judges a solve's relative error as ê / max(|v|, λ) (docs/accuracy.rst
 "Relative error"; gridlbc/accuracy/estimate.py ``relative_error``) and the default solve warns
 (ResolutionWarning) when that exceeds 5 %. An outside user reads "% off" as |v − v*| / |v*|. Where
