@@ -549,9 +549,9 @@ def check_accuracy(solution, tol: float = DEFAULT_TOLERANCE) -> None:
         where = (
             f"near {state}{when}: there the solves on the grids with every other node and a check "
             "along the solve's own paths (the costs its grid leaves out, or its value against "
-            f"what the SDE makes of it a little later) both put it at {a.error:.0%} of max(|v|, λ), on a "
-            "share of the states that matter too small for the percentile the warning "
-            "otherwise reads"
+            f"what the SDE makes of it a little later) both put it at {a.error:.0%} of "
+            "max(|v|, λ), on a share of the states that matter too small for the percentile the "
+            "warning otherwise reads"
         )
     elif a.local:
         where = (
@@ -648,7 +648,8 @@ def check_combination(combined, tol: float = DEFAULT_TOLERANCE) -> None:
             share = f"near {worst} at t = {t:.3g}, where its components' own paths confirm it"
         if error > tol:
             warn_user(
-                f"the estimated error of the combination's v exceeds {tol:.0%} of max(|v|, λ) {share}: "
+                f"the estimated error of the combination's v exceeds {tol:.0%} of max(|v|, λ) "
+                f"{share}: "
                 "its components' estimates carried by the blend weights, Σ|α_i| ê_i, against a "
                 "value that weights far from one move far from the components' own. See "
                 "combined.error_estimate(x, t) at your own states; solve the components on a "

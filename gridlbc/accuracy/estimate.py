@@ -130,14 +130,14 @@ ORDER_SAMPLE = 2_000
 sums, read at each time asked for."""
 
 
-def relative_error(estimate: np.ndarray, value: np.ndarray, temperature) -> np.ndarray:
-    """``estimate / max(|value|, λ)`` (see the module docstring); +inf where the value is not
-    finite (underflow). ``temperature`` may be an array of floors, one per state (the user's own
-    states: :func:`given_floor`); 0 where the estimate and the scale are both 0 (a state in the
-    exit set, whose value is given)."""
+def relative_error(estimate: np.ndarray, value: np.ndarray, floor) -> np.ndarray:
+    """``estimate / max(|value|, floor)`` (see the module docstring), the floor λ or an array of
+    floors, one per state (the user's own states: :func:`given_floor`); +inf where the value is
+    not finite (underflow); 0 where the estimate and the scale are both 0 (a state in the exit
+    set, whose value is given)."""
     value = np.asarray(value, dtype=float)
     estimate = np.asarray(estimate, dtype=float)
-    scale = np.maximum(np.abs(value), temperature)
+    scale = np.maximum(np.abs(value), floor)
     with np.errstate(invalid="ignore", divide="ignore"):
         out = np.where((estimate == 0) & (scale == 0), 0.0, estimate / scale)
     return np.where(np.isfinite(value) & np.isfinite(out), out, np.inf)
