@@ -490,8 +490,9 @@ def solve_to_tolerance(
     problem : Problem
         The problem; its grid is the first one tried.
     tol : float
-        The relative tolerance on v (see :func:`~gridlbc.accuracy.estimate.relative_error`), in (0,
-        1).
+        The relative tolerance on v (see :func:`~gridlbc.accuracy.estimate.relative_error`; at
+        given ``states``, relative to abs(v(x, 0)): :func:`~gridlbc.accuracy.estimate.given_floor`),
+        in (0, 1).
     states : array_like (N, d), optional
         Where the tolerance must hold; default :func:`states_that_matter`
         (at :data:`~gridlbc.accuracy.assessment.QUANTILE`).
