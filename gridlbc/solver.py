@@ -408,9 +408,9 @@ def solve(
         Settings or the name of a preset in :data:`gridlbc.PRESETS`.
     tol : float, optional
         A relative tolerance on v, of max(abs(v), λ) over the states that matter and of
-        abs(v(x, 0)) at given ``states`` (:func:`gridlbc.accuracy.estimate.given_floor`): solve again,
-        halving Δt or refining the grid, until the
-        embedded error estimate meets it (:func:`gridlbc.accuracy.solve_to_tolerance`; the path
+        abs(v(x, 0)) at given ``states`` (:func:`gridlbc.accuracy.estimate.given_floor`): solve
+        again, halving Δt or refining the grid, until the embedded error estimate meets it
+        (:func:`gridlbc.accuracy.solve_to_tolerance`; the path
         taken is in ``solution.refinement``). Default: one solve, which warns when its estimate
         exceeds :data:`gridlbc.accuracy.DEFAULT_TOLERANCE`. For a problem without a horizon
         (first exit, average cost: there on the relative value h and on c) the grid alone is
