@@ -481,6 +481,7 @@ def test_iterative_solvers_agree_with_the_direct_solve(linear_solver):
     assert iterative.diagnostics.iterations[0] > 0
 
 
+@pytest.mark.slow  # about 25 s (a 401² reference): CI runs it with pytest -m slow
 def test_solve_to_a_tolerance_refines_the_grid_until_the_estimate_meets_it():
     # From 21² the grid is halved until the embedded estimate at the state is below 0.5 %; the
     # actual error against a 401² solve (whose own estimate is 1e-4) must then be within tol.

@@ -279,6 +279,7 @@ def test_bad_solve_options_and_queries():
         sol.policy([np.inf, 0.0], 0.0)
 
 
+@pytest.mark.slow  # about 20 s: CI runs it after the README's pytest (pytest -m slow)
 @ESTIMATE_ABOVE_TOLERANCE
 @EXACTNESS_ONLY
 def test_a_control_that_jumps_many_cells_per_step_is_warned():
