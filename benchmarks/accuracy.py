@@ -23,6 +23,7 @@ import warnings
 import numpy as np
 
 import gridlbc
+from gridlbc.studies.convergence import sde_optimum
 from gridlbc.studies.problems import (
     MILD_STATES,
     STEEP_DETERMINISTIC_OPTIMUM,
@@ -59,12 +60,12 @@ def _row(name, problem, scheme, solution, wall, warned, x0, cert, fallback=None)
     v = float(solution.value(x0, 0.0))
     d = solution.diagnostics
     grid = "×".join(str(n) for n in problem.grid.shape)
-    optimum, chain = float(cert.extrapolated_value), cert.optimal_value
+    (optimum, optimum_se), chain = sde_optimum(cert), cert.optimal_value
     trusted = fallback is None or cert.effective_sample_size >= 20
     reference, chain_reference = (optimum, chain) if trusted else (fallback, fallback)
     print(
         f"{name:<7}{problem.temperature:>7g} {scheme:<7}{grid:>9}{d.dt:>8.4f}{wall:>8.2f}"
-        f"{v:>10.3f}{optimum:>9.3f}{float(cert.extrapolated_value_se):>7.3f}{chain:>9.3f}"
+        f"{v:>10.3f}{optimum:>9.3f}{optimum_se:>7.3f}{chain:>9.3f}"
         f"{100 * (v / reference - 1):>+8.1f}%{cert.policy_cost:>9.3f}{cert.policy_cost_se:>7.3f}"
         f"{100 * (cert.policy_cost / chain_reference - 1):>+8.1f}%"
         f"{100 * cert.gap / chain:>+8.2f}%{100 * cert.gap_se / chain:>6.2f}%"

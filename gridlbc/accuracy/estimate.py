@@ -640,15 +640,13 @@ def attach_estimates(solutions, levels: list, pairs=None, excess=None) -> None:
         object.__setattr__(solution, "embedded", estimate)
 
 
-def relative_difference(
-    solution, other, X: np.ndarray, t: float = 0.0, given: bool = False
-) -> np.ndarray:
+def relative_difference(solution, other, X: np.ndarray, t: float = 0.0, floor=None) -> np.ndarray:
     """abs(v_other − v) relative to the solution's value
-    (:func:`~gridlbc.accuracy.estimate.relative_error`; at the user's own states, ``given``, with
-    :func:`given_floor`) at states ``X`` at time ``t``: the embedded estimate when ``other`` is the
-    embedded solve."""
+    (:func:`~gridlbc.accuracy.estimate.relative_error`, with ``floor`` in place of λ where given:
+    :func:`given_floor` at the user's own states) at states ``X`` at time ``t``: the embedded
+    estimate when ``other`` is the embedded solve."""
     v = solution.value(X, t)
-    floor = given_floor(solution, X) if given else solution.temperature
+    floor = solution.temperature if floor is None else floor
     return relative_error(np.abs(other.value(X, t) - v), v, floor)
 
 

@@ -93,15 +93,15 @@ def axis_shares(solution, solve_on, states=None, t: float = 0.0) -> tuple[np.nda
     """
     X = judged_states(solution, states)
     grid, given = solution.grid, states is not None
+    floor = given_floor(solution, X) if given else solution.temperature
     shares = np.full(grid.ndim, np.nan)
     for i in range(grid.ndim):
         coarse = embedded_grid(grid, axes=(i,))
         other = None if coarse is None else solve_on(coarse)
         if other is not None:
-            shares[i] = statistic(relative_difference(solution, other, X, t, given), given)
+            shares[i] = statistic(relative_difference(solution, other, X, t, floor), given)
     v = solution.value(X, t)
     difference = solution.embedded.difference(solution, X, t)
-    floor = given_floor(solution, X) if given else solution.temperature
     whole = statistic(relative_error(difference, v, floor), given)
     return shares, whole
 
@@ -292,9 +292,9 @@ def _step_share(march: Marcher, solution, problem, settings, states, t: float = 
     more solve on the same grid at twice the step (the error of a first-order step, or more)."""
     dt, steps = solution.diagnostics.dt, solution.diagnostics.steps
     half = _march_quietly(march, problem, settings, 2 * dt, steps, problem.grid, t)
-    given = states is not None
-    rel = relative_difference(solution, half, judged_states(solution, states), t, given)
-    return statistic(rel, given)
+    X = judged_states(solution, states)
+    floor = None if states is None else given_floor(solution, X)
+    return statistic(relative_difference(solution, half, X, t, floor), states is not None)
 
 
 def unsteerable(embedded, error: float, shares, whole: float, time_share: float) -> str:

@@ -29,6 +29,7 @@ from ..costs import Quadratic
 from ..errors import GridlbcWarning
 from ..interactive import PageReport, write_page
 from ..solver import solve, solve_many
+from .convergence import sde_optimum
 from .problems import SWINGUP_START, swingup_problem
 from .verify import SWINGUP_ROLLOUT_DT
 
@@ -124,8 +125,7 @@ def run_demo(
             progress=False,
             richardson=True,
         )
-        optimum = float(np.asarray(cert.extrapolated_value))  # set by richardson=True
-        optimum_se = float(np.asarray(cert.extrapolated_value_se))
+        optimum, optimum_se = sde_optimum(cert)
         error = (predicted - optimum) / optimum
         say(
             f"   {labels[fitting]}: v* = {optimum:.3f} ± {optimum_se:.3f} "

@@ -47,6 +47,7 @@ from ..reference import lq_solution
 from ..simulate import simulate
 from ..solver import solve, solve_many
 from ..systems import Pendulum, PointMass
+from .convergence import sde_optimum
 from .problems import SWINGUP_START, pendulum_grid, swingup_problem
 
 SUPERPOSITION_BOUND = 1e-10
@@ -236,12 +237,6 @@ def _mc_row(check, case, rollouts, reference, bound, note="") -> CheckResult:
     return result_row(
         check, case, rollouts.mean_cost, reference, rollouts.standard_error, bound, note
     )
-
-
-def sde_optimum(cert) -> tuple[float, float]:
-    """The SDE's optimum v* of a one-state certificate made with ``richardson=True`` and its
-    standard error (:func:`_certificate_rows`)."""
-    return float(np.asarray(cert.extrapolated_value)), float(np.asarray(cert.extrapolated_value_se))
 
 
 def _certificate_rows(
