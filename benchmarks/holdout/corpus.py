@@ -35,6 +35,7 @@ import strangers_round18 as r18
 import strangers_round20 as r20
 import strangers_round22 as r22
 import strangers_round38 as r38
+import strangers_round47 as r47
 from scipy.special import gammaln
 
 from gridlbc import Axis, Grid, Problem, Quadratic
@@ -1081,6 +1082,18 @@ def _seam_cost(x):
     return np.einsum("ni,ij,nj->n", d, SEAM_WEIGHTS, d)
 
 
+SMALL_EXIT_SCALE = 0.04356597042414412
+"""The cost factor round 47's calibration chose for r47_PointMass_hzfe_18 (v at its middle state
+about 0.17 λ)."""
+
+
+def _small_exit_horizon_problem():
+    """Stranger round 47's r47_PointMass_hzfe_18, as its generator drew it."""
+    spec = r47.draw()["r47_PointMass_hzfe_18"]
+    spec["scale"] = SMALL_EXIT_SCALE
+    return r47.build(spec)
+
+
 def _seam_jump_problem():
     return Problem(
         Pendulum(),
@@ -1912,6 +1925,21 @@ MEMBERS: tuple[Member, ...] = (
         "the sub-cell excess read the jump as a goal below every cost the problem has, and the "
         "estimate 64 times v where the solve is right",
         tags=("periodic", "small temperature", "discontinuous cost"),
+    ),
+    Member(
+        "small_exit_horizon",
+        _small_exit_horizon_problem,
+        _s(
+            (2.25, -3.0),
+            (1.0255092844863456, -1.1170929582993399),
+            (0.0012085717347403713, 0.6351224742755397),
+        ),
+        "a point mass's task with a horizon, T = 1.15, that also ends in a ball 2.5 cells across, "
+        "λ = 0.51 with v* below λ (stranger round 47's r47_PointMass_hzfe_18): 11 % high and "
+        "silent three cells from the exit while the march held the exit set at its nodes; it "
+        "now fits the set's boundary between them, as the stationary solve does",
+        fast=True,
+        tags=("first exit", "narrow goal", "closed"),
     ),
 )
 

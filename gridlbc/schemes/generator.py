@@ -79,6 +79,8 @@ class Generator:
         The rates of the jumps from the nodes next to the exit set to its boundary points.
     boundary_points : ndarray (n_b, d)
         Where each of those arms meets the exit set.
+    boundary_nodes : ndarray of int (n_b,)
+        The node of the exit set at the far end of each of those arms.
     second_order : tuple of two scipy.sparse.csr_matrix, or None
         A second-order, not monotone, discretisation L₂ of the same generator on the same nodes
         and boundary points (among the nodes, to the boundary points), for defect correction
@@ -88,6 +90,7 @@ class Generator:
     matrix: sp.csr_matrix
     boundary_rates: sp.csr_matrix
     boundary_points: np.ndarray
+    boundary_nodes: np.ndarray
     second_order: tuple[sp.csr_matrix, sp.csr_matrix] | None = None
 
 
@@ -158,6 +161,41 @@ def exit_generator(
     return _assemble(problem, rates, exit_nodes, fit_exit=True, second_order=second_order)
 
 
+def folded_exit_generator(problem: Problem, rates: str, exit_nodes: np.ndarray) -> sp.csr_matrix:
+    """The generator of :func:`exit_generator` (the exit set's boundary fitted) as an N×N
+    matrix for a march that carries z at the exit nodes: the jump to boundary point b, at rate
+    r_b, becomes a jump to the exit node e at the far end of its arm with the weight
+
+        c_b = exp(−(g_E(b) − g_E(x_e)) / λ),
+
+    so that r_b c_b z_e = r_b exp(−g_E(b)/λ) wherever z_e = exp(−g_E(x_e)/λ), which the exit
+    nodes keep from the terminal data on (times a slice's common scale). The matrix stays linear
+    in z, with off-diagonal entries ≥ 0 (an M-matrix); its rows next to the exit set no longer sum
+    to zero where g_E varies along an arm.
+
+    Parameters
+    ----------
+    problem : Problem
+        Drift, noise, grid, exit set and exit cost.
+    rates : str
+        ``"upwind"`` or ``"fitted"`` away from the exit set (:data:`RATES`).
+    exit_nodes : ndarray of bool (N,)
+        The nodes in the exit set (absorbing).
+    """
+    generator = exit_generator(problem, rates, exit_nodes)
+    to_boundary = generator.boundary_rates.tocoo()
+    if to_boundary.nnz == 0:
+        return generator.matrix
+    ends = generator.boundary_nodes[to_boundary.col]
+    g_points = problem.exit_values(generator.boundary_points)[to_boundary.col]
+    g_ends = problem.exit_values(problem.require_grid("the exit generator").nodes()[ends])
+    weights = np.exp(np.minimum(-(g_points - g_ends) / problem.temperature, 700.0))
+    folded = sp.coo_matrix(
+        (to_boundary.data * weights, (to_boundary.row, ends)), shape=generator.matrix.shape
+    )
+    return (generator.matrix + folded).tocsr()
+
+
 BISECTIONS = 40
 """Bisection steps that locate the exit set's boundary on an arm (to 2⁻⁴⁰ of the cell)."""
 
@@ -195,7 +233,7 @@ def _assemble(
     multi = np.unravel_index(flat, grid.shape)
     moving = np.ones(n_nodes, dtype=bool) if absorbing is None else ~absorbing
     rows, cols, values = [], [], []
-    b_rows, b_values, points = [], [], []
+    b_rows, b_values, points, ends = [], [], [], []
     total = np.zeros(n_nodes)
     second: list = []  # the entries of L₂ (_second_order_axis)
     b_offset = 0
@@ -228,6 +266,7 @@ def _assemble(
                 at_node = theta == 1.0
                 crossed[at_node] = x[targets[sign][nodes[at_node]]]
                 points.append(crossed)
+                ends.append(targets[sign][nodes])
         up, down = jump_rates(drift[:, k], diffusion[:, k], h, rates)
         fitted = cut[1] | cut[-1]  # unequal arms: Shortley–Weller with upwind drift
         if fitted.any():
@@ -258,10 +297,12 @@ def _assemble(
     b_entries = (np.concatenate(b_values), (np.concatenate(b_rows), np.arange(n_b)))
     to_boundary = sp.coo_matrix(b_entries, shape=(n_nodes, n_b)).tocsr()
     boundary_points = np.concatenate(points) if points else np.empty((0, grid.ndim))
+    boundary_nodes = np.concatenate(ends) if ends else np.empty(0, dtype=int)
     pair = None
     if second_order:
         pair = _second_order_matrices(second, n_nodes, n_b)
-    return Generator((off - sp.diags(total)).tocsr(), to_boundary, boundary_points, pair)
+    L = (off - sp.diags(total)).tocsr()
+    return Generator(L, to_boundary, boundary_points, boundary_nodes, pair)
 
 
 def _second_order_matrices(entries: list, n_nodes: int, n_b: int):

@@ -8,7 +8,10 @@ node i along axis k it jumps
 
 with periodic wrap, and jumps that would leave a closed axis suppressed (a reflecting state
 constraint: no probability leaves the box). The nodes of an exit set (SPEC §9), if the problem
-has one, do not jump: z keeps its exit value exp(−g_E/λ) there. Backward Euler reads
+has one, do not jump: z keeps its exit value exp(−g_E/λ) there; a node next to the set jumps to
+where the segment to its neighbour enters it, with the rates of unequal arms
+(:func:`~gridlbc.schemes.generator.folded_exit_generator`), as the stationary solve does. Backward
+Euler reads
 
     (I + Δt diag(q/λ) − Δt L) z(t) = z(t + Δt),
 
@@ -31,7 +34,7 @@ import scipy.sparse.linalg as spla
 from ..backends.numba.implicit import gauss_seidel_kernel
 from ..errors import ConvergenceError
 from ..problem import Problem
-from .generator import generator_matrix
+from .generator import folded_exit_generator, generator_matrix
 from .march import march_linear
 from .protocol import Marched, MarchPlan, SchemeBase, StepRule, Terminal
 from .tails import check_resolution
@@ -83,7 +86,10 @@ class ImplicitStep:
         grid = problem.require_grid("the implicit scheme")
         exit_nodes = problem.exit_mask()
         q = np.where(exit_nodes, 0.0, problem.state_cost_values())
-        L = generator_matrix(problem, "upwind", absorbing=exit_nodes)
+        if exit_nodes.any():
+            L = folded_exit_generator(problem, "upwind", exit_nodes)
+        else:
+            L = generator_matrix(problem, "upwind")
         self.matrix = (
             sp.identity(grid.size, format="csr") + sp.diags(dt * q / problem.temperature) - dt * L
         ).tocsr()

@@ -119,7 +119,9 @@ def solve_first_exit_many(problem: Problem, exit_costs, s: StationarySettings) -
         generator = exit_generator(problem, s.rates, E, second_order=s.defect_correction > 0)
     else:
         L0 = generator_matrix(problem, s.rates, absorbing=E)
-        generator = Generator(L0, sp.csr_matrix((grid.size, 0)), np.empty((0, grid.ndim)))
+        generator = Generator(
+            L0, sp.csr_matrix((grid.size, 0)), np.empty((0, grid.ndim)), np.empty(0, int)
+        )
     L, to_boundary = generator.matrix, generator.boundary_rates
     reaches_boundary = np.asarray(to_boundary.sum(axis=1)).ravel() > 0
     # where the chain never reaches E, the task never ends and z = 0 exactly (v = +inf); there
