@@ -169,9 +169,14 @@ def folded_exit_generator(problem: Problem, rates: str, exit_nodes: np.ndarray) 
         c_b = exp(−(g_E(b) − g_E(x_e)) / λ),
 
     so that r_b c_b z_e = r_b exp(−g_E(b)/λ) wherever z_e = exp(−g_E(x_e)/λ), which the exit
-    nodes keep from the terminal data on (times a slice's common scale). The matrix stays linear
-    in z, with off-diagonal entries ≥ 0 (an M-matrix); its rows next to the exit set no longer sum
-    to zero where g_E varies along an arm.
+    nodes keep from the terminal data on (times a slice's common scale). The map stays linear in
+    z with off-diagonal entries ≥ 0. Among the nodes off the set it is :func:`exit_generator`'s
+    matrix; the folded entries lie in the exit nodes' columns, whose rows hold no jumps, so a
+    backward-Euler matrix I + Δt diag(q/λ) − Δt L is block triangular with that M-matrix block and
+    its inverse is ≥ 0. Its rows next to the set no longer sum to zero where g_E varies along an
+    arm. The weights depend on g_E, yet the march's equations off the set do not: each folded term
+    is r_b exp(−g_E(b)/λ), linear in the exit values, so solutions for several exit costs on one
+    set still combine exactly into the solution of the composite cost.
 
     Parameters
     ----------

@@ -105,18 +105,24 @@ def test_stationary_solve_is_the_steady_state_of_the_time_march(exit_cost):
     np.testing.assert_allclose(marched.value(x, 0.0), stationary.value(x), rtol=1e-9, atol=1e-12)
 
 
-def test_exit_costs_on_one_exit_set_combine_exactly():
-    g1 = lambda x: np.where(x[:, 0] > 0, 0.0, 3.0)  # noqa: E731
-    g2 = lambda x: np.where(x[:, 0] > 0, 3.0, 0.0)  # noqa: E731
+@pytest.mark.parametrize("horizon", [None, 2.0])
+def test_exit_costs_on_one_exit_set_combine_exactly(horizon):
+    # The costs vary along the arms that cross the bays' boundaries: with a horizon the march
+    # folds each boundary point's exp(−g_E(b)/λ) onto an exit node by a weight that depends on
+    # g_E, and Σ w_i of those folds is the composite cost's own, so the combination is still
+    # the direct solve to rounding.
+    g1 = lambda x: np.where(x[:, 0] > 0, 0.0, 3.0) + 0.3 * x[:, 1] ** 2  # noqa: E731
+    g2 = lambda x: np.where(x[:, 0] > 0, 3.0, 0.0) + 0.2 * x[:, 0] * x[:, 1]  # noqa: E731
     w = np.array([0.3, 0.7])
-    parts = [point_mass_bays(exit_cost=c, error_estimate=False) for c in (g1, g2)]
+    options = dict(horizon=horizon, error_estimate=False) | ({"dt": 0.05} if horizon else {})
+    parts = [point_mass_bays(exit_cost=c, **options) for c in (g1, g2)]
     combined = g.combine(parts, w)
     assert combined.exact
 
     def composite(x):
         return -0.5 * np.log(w[0] * np.exp(-g1(x) / 0.5) + w[1] * np.exp(-g2(x) / 0.5))
 
-    direct = point_mass_bays(exit_cost=composite, error_estimate=False)
+    direct = point_mass_bays(exit_cost=composite, **options)
     x = direct.grid.nodes()[::17]
     np.testing.assert_allclose(combined.value(x), direct.value(x), rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(combined.policy(x), direct.policy(x), rtol=1e-9, atol=1e-9)
