@@ -15,6 +15,46 @@ quadratic, and "steep" (linear along the exit's boundary at 2–5 λ per cell, n
 task). Four stationary first exits ("fe") are twins of hzfe draws (the same system, exit and
 costs, no horizon) for comparison. States: far, middle, and one 2–4 cells from the exit set.
 
+RESULTS (library of main db3ff19, worktree wt-r48 branch round48, one thread, the other core
+busy): ``--run`` of all 20 draws, each under ``timeout 500`` (none hit it; 10–169 s wall per
+problem, 15.8 min in all; default solves 0.6–13.6 s, certificates 3–129 s); ``--diagnose`` of the
+four OFF problems and the two with quiet pairs 5–10 % off; ``--extra`` (the seam's mirror states,
+a recheck of r48_Pendulum_hzfe_func_seam_14 x2); ``--before`` with db3ff19~1 (``git archive`` into
+the results folder, ``PYTHONPATH`` at it); ``--table``.
+
+- 20 problems (16 hzfe, 4 stationary twins), 60 pairs, 57 trusted (one heavy tail, k̂ 0.90; two
+  "not yet of first order" far states). v*/λ 0.10–14; 19 trusted pairs with v* < λ, 28 with
+  v* ≥ 2λ. 16 of 20 default solves warned. No crash, no non-gridlbc (numpy) warning.
+- OFF (> 10 %): 4, all warned, none silent. ê ≥ |v − v*| at 46 of 57, within 2× at 57 of 57
+  (lowest ê/|err| 0.62), no under-read.
+
+      pair                              v       v*              err      ê        tol=0.05 at x
+      r48_Pendulum_hzfe_seam_02 x2      1.358   1.562±0.012     −13.0 %  0.281    1.514 (−3.1 %), not met, 77 s
+      r48_Pendulum_fe_seam_18 x2        1.358   1.562±0.010     −13.0 %  0.299    1.533 (−1.9 %), met, 76 s
+      r48_PointMass_hzfe_slab_mid_13 x2 0.4246  0.5896±0.0062   −28.0 %  0.160    0.553 (−6.2 %), not met, 99 s
+      r48_River2_hzfe_union_03 x2       0.02994 0.02612±0.0008  +14.6 %  0.00395  0.02634 (+0.9 %), met, 15 s
+
+  All four are grid error of first order: the 2× grid reads −6.5 %, −6.4 %, −16.1 %, +6.0 %;
+  dt/2 on the same grid changes nothing (−13.0 %, −27.6 %, +14.8 %). The seam is not the cause:
+  the seam state's mirror on the near side of θ = π reads −9.4 % (hzfe) / −8.2 % (fe), −12.3 %
+  across it (same v* within 1 SE). The hzfe and fe seam pairs agree to the digit (the exit is
+  reached long before T): the march with a horizon now reads what the stationary solve reads.
+- Near-exit states of the 16 hzfe draws now −28 … +14.6 % (median |err| 2.2 %); with db3ff19~1
+  (``--before``) the same draws read +10.2, +13.3, +19.0, +19.3, +12.7 % at five near states (and
+  +46 % / +22 % at r48_Pendulum_hzfe_ball_08's middle/far states, steep exit cost), now −2.2,
+  −2.4, −1.2, +2.3, +6.6 % (−1.2 / −5.1 %). Two near states read worse after the fix: the seam
+  pair (−4.3 → −13.0 %, the stationary twin's value: the node-held exit had cancelled the grid
+  error) and r48_River2_hzfe_union_03 (+7.0 → +14.6 %, a steep exit cost of 24–43 λ on the nearer
+  ball: an obstacle, v* = 0.47 λ); both warned.
+- Quiet pairs 5–10 % off: r48_Linear3_hzfe_slab_on_15 x1 −6.4 %, x2 +6.2 % (2× grid −3.0 / +4.0 %,
+  ê ≥ 0.96 |err|), r48_Pendulum_hzfe_func_seam_14 x2 +6.6 % (truth rechecked 0.0734 ± 0.0018:
+  +2.9 %; within sampling).
+- Odd exits (``probes/``): a Box across the pendulum's seam is not wrapped (a Ball is), silently;
+  ``certify(progress=False)`` draws the auto proposal's progress bar; a Box one cell thick with its
+  faces on grid lines holds one node line (0.6000000000000001 > 0.6) and, on the embedded grid,
+  none: no error estimate (warned; ``error_estimate`` raises). A slab thinner than a cell with no
+  node: a clear ValueError.
+
 Generator (``gen``, seed 48): PointMass, Pendulum, LinearSystem 2-D / 3-D (identity-like B, or
 one control on one axis), a user ``ControlAffineSystem`` ("River", as round 47); λ log-uniform
 in [0.05, 3]; R diagonal log-uniform [0.1, 3]; q = c0 + a quadratic about a goal; terminal cost a
@@ -34,7 +74,7 @@ extrapolation, the effective sample size or an unvisited feature. Pairs more tha
 
     cd /work/wt-r48 && PYTHONPATH=/work/wt-r48 NUMBA_NUM_THREADS=1 \\
         python benchmarks/holdout/strangers_round48.py --list | --run [NAMES] | --table \\
-        | --diagnose [NAMES]
+        | --diagnose [NAMES] | --extra NAME TAG x0,x1[,x2] ... | --before
 """
 
 from __future__ import annotations
@@ -198,8 +238,10 @@ def user_lambda(ex):
     c, r = ex["c"], ex["r"]
     if ex["kind"] == "func_seam":  # the angle wrapped by hand
         return lambda x: (
-            ((x[:, 0] - c[0] + np.pi) % (2 * np.pi) - np.pi) / r[0]
-        ) ** 2 + ((x[:, 1] - c[1]) / r[1]) ** 2 <= 1.0
+            (((x[:, 0] - c[0] + np.pi) % (2 * np.pi) - np.pi) / r[0]) ** 2
+            + ((x[:, 1] - c[1]) / r[1]) ** 2
+            <= 1.0
+        )
     return lambda x: ((x[:, 0] - c[0]) / r[0]) ** 2 + ((x[:, 1] - c[1]) / r[1]) ** 2 <= 1.0
 
 
@@ -256,8 +298,10 @@ def system_draw(rng, kind):
 def draw_exit(rng, kind, box, per, h, ns):
     d = len(box)
     L = [b[1] for b in box]
-    c = [float(rng.uniform(-PI, PI)) if i in per else float(rng.uniform(-0.4, 0.4) * L[i])
-         for i in range(d)]
+    c = [
+        float(rng.uniform(-PI, PI)) if i in per else float(rng.uniform(-0.4, 0.4) * L[i])
+        for i in range(d)
+    ]
     if kind in ("ball", "func"):
         return dict(kind=kind, c=c, r=[float(rng.uniform(1.0, 2.0)) * hh for hh in h])
     if kind in ("seam", "func_seam"):  # across θ = ±π
@@ -303,7 +347,10 @@ def exit_extent(ex, k):
     """The exit set's lowest and highest coordinate k (finite parts)."""
     if ex["kind"] == "union":
         parts = ex["parts"]
-        return (min(p["c"][k] - p["r"][k] for p in parts), max(p["c"][k] + p["r"][k] for p in parts))
+        return (
+            min(p["c"][k] - p["r"][k] for p in parts),
+            max(p["c"][k] + p["r"][k] for p in parts),
+        )
     if ex["kind"] == "box":
         return ex["lo"][k], ex["hi"][k]
     return ex["c"][k] - ex["r"][k], ex["c"][k] + ex["r"][k]
@@ -358,8 +405,12 @@ def gen(rng, k, specs):
     if entry[0] == "twin":  # the same draw without the horizon
         base = specs[int(entry[1])]
         spec = json.loads(json.dumps(base))
-        spec.update(name=base["name"].replace("_hzfe_", "_fe_").rsplit("_", 1)[0] + f"_{k:02d}",
-                    ending="fe", T=None, twin_of=base["name"])
+        spec.update(
+            name=base["name"].replace("_hzfe_", "_fe_").rsplit("_", 1)[0] + f"_{k:02d}",
+            ending="fe",
+            T=None,
+            twin_of=base["name"],
+        )
         spec.pop("g", None)
         return spec
     kind, ending, exk, cost = entry
@@ -393,13 +444,23 @@ def gen(rng, k, specs):
         ref = lo_e if math.isfinite(lo_e) else exit_extent(ex, ax)[0]
         ec = dict(kind="linear", c0=float(rng.uniform(0.0, 0.3)), a=a, axis=ax, x0=ref)
     elif cost == "quad":
-        ec = dict(kind="quad", c0=float(rng.uniform(0.0, 0.3)), a=float(rng.uniform(0.3, 2.0)),
-                  axis=ax, x0=float(rng.uniform(lo_e, hi_e)) if math.isfinite(hi_e - lo_e) else 0.0)
+        ec = dict(
+            kind="quad",
+            c0=float(rng.uniform(0.0, 0.3)),
+            a=float(rng.uniform(0.3, 2.0)),
+            axis=ax,
+            x0=float(rng.uniform(lo_e, hi_e)) if math.isfinite(hi_e - lo_e) else 0.0,
+        )
     else:  # steep: m λ per cell along axis ax, zero at one end of the exit set
         mm = float(rng.uniform(2.0, 5.0))
         sgn = float(rng.choice([-1.0, 1.0]))
-        ec = dict(kind="steep", slope=sgn * mm * lam / h[ax], per_cell=mm, axis=ax,
-                  x0=lo_e if sgn > 0 else hi_e)
+        ec = dict(
+            kind="steep",
+            slope=sgn * mm * lam / h[ax],
+            per_cell=mm,
+            axis=ax,
+            x0=lo_e if sgn > 0 else hi_e,
+        )
     ex["cost"] = ec
     spec = dict(
         name=f"r48_{kind}_{ending}_{exk}_{k:02d}",
@@ -591,8 +652,17 @@ def tol_check(sp, x):
             v = e = float("nan")
             rounds, met, shape = [], None, None
             fail = f"{type(ex).__name__}: {ex}"[:400]
-    return dict(v=v, est=e, met=met, shape=shape, rounds=rounds, fail=fail, warnings=gw(w),
-                stray=stray(w), seconds=time.perf_counter() - t0)
+    return dict(
+        v=v,
+        est=e,
+        met=met,
+        shape=shape,
+        rounds=rounds,
+        fail=fail,
+        warnings=gw(w),
+        stray=stray(w),
+        seconds=time.perf_counter() - t0,
+    )
 
 
 def run(name, sp):
@@ -635,7 +705,13 @@ def run(name, sp):
         with warnings.catch_warnings(record=True) as w2:
             warnings.simplefilter("always")
             c = gridlbc.certify(
-                pc, fine.policy, X, 2000, seed=SEED, richardson=True, progress=False,
+                pc,
+                fine.policy,
+                X,
+                2000,
+                seed=SEED,
+                richardson=True,
+                progress=False,
                 **certify_kw(sp),
             )
         t_cert = time.perf_counter() - t1
@@ -698,8 +774,10 @@ def run(name, sp):
             f"err={ev:+.1%} ê={e[i]:.3g} fine={v_fine[i]:.4g} trusted={trusted[i]}"
         )
     for k_, r in rec["tol"].items():
-        print(f"    tol x{k_}: v={r['v']:.4g} err={r['err']:+.1%} met={r['met']} {r['seconds']:.0f}s "
-              f"fail={r['fail']}")
+        print(
+            f"    tol x{k_}: v={r['v']:.4g} err={r['err']:+.1%} met={r['met']} {r['seconds']:.0f}s "
+            f"fail={r['fail']}"
+        )
     for x in wl:
         print("    warn:", x["category"], x["message"][:200])
     for x in cw:
@@ -724,7 +802,15 @@ def pairs(rec):
         dev = max(abs(v - vt) - 2 * se, 0.0)  # beyond 2 SE
         out.append(
             dict(
-                i=i, v=v, vt=vt, se=se, e=e, ev=ev, el=el, e_rel=e / abs(vt), trusted=tr,
+                i=i,
+                v=v,
+                vt=vt,
+                se=se,
+                e=e,
+                ev=ev,
+                el=el,
+                e_rel=e / abs(vt),
+                trusted=tr,
                 small=abs(vt) < lam,
                 OFF=bool(off),
                 SILENT=bool(off and not rec["warned"]),
@@ -748,18 +834,31 @@ def variant(sp, scale=1.0, dt=None, est=True):
             e = np.asarray(s.error_estimate(X), float).tolist() if est else None
         except ValueError:
             e = None
-    return dict(scale=scale, dt=float(s.diagnostics.dt), shape=list(s.grid.shape), v=v, est=e,
-                warned=bool(gw(w)), warnings=gw(w), stray=stray(w),
-                seconds=time.perf_counter() - t0)
+    return dict(
+        scale=scale,
+        dt=float(s.diagnostics.dt),
+        shape=list(s.grid.shape),
+        v=v,
+        est=e,
+        warned=bool(gw(w)),
+        warnings=gw(w),
+        stray=stray(w),
+        seconds=time.perf_counter() - t0,
+    )
 
 
 def diagnose(name):
-    """For OFF pairs: the default solve on a 2× grid (its own step), at dt/2 on the same grid."""
+    """For OFF pairs (and quiet pairs 5–10 % off): the default solve on a 2× grid (its own
+    step), and at dt/2 on the same grid."""
     f = OUT / f"{name}.json"
     rec = json.loads(f.read_text())
     if "crash" in rec:
         return
-    todo = [p["i"] for p in pairs(rec) if p["OFF"] or p["UNDER"]]
+    todo = [
+        p["i"]
+        for p in pairs(rec)
+        if p["OFF"] or p["UNDER"] or (p["trusted"] and abs(p["ev"]) > 0.05 and not rec["warned"])
+    ]
     if not todo:
         print(name, "nothing to diagnose")
         return
@@ -784,17 +883,111 @@ def print_diag(rec):
             continue
         for i in dg["states"]:
             e = r["est"][i] if r["est"] else float("nan")
-            print(f"     DIAG {key} {r['shape']} dt={r['dt']:.3g} ({r['seconds']:.0f}s, warned="
-                  f"{r['warned']}) x{i}: v={r['v'][i]:.4g} ({(r['v'][i] - vt[i]) / abs(vt[i]):+.1%}) "
-                  f"ê={e:.3g}")
+            print(
+                f"     DIAG {key} {r['shape']} dt={r['dt']:.3g} ({r['seconds']:.0f}s, warned="
+                f"{r['warned']}) x{i}: v={r['v'][i]:.4g} ({(r['v'][i] - vt[i]) / abs(vt[i]):+.1%}) "
+                f"ê={e:.3g}"
+            )
+
+
+def extra(name, states, tag):
+    """v, ê and a certified v* at further states of a drawn problem (the seam check: the near
+    state's mirror image on the near side of θ = ±π)."""
+    f = OUT / f"{name}.json"
+    rec = json.loads(f.read_text())
+    sp = rec["spec"]
+    X = np.atleast_2d(np.asarray(states, float))
+    with warnings.catch_warnings(record=True) as w:
+        warnings.simplefilter("always")
+        sol = gridlbc.solve(build(sp), progress=False)
+        v, e = np.asarray(sol.value(X), float), np.asarray(sol.error_estimate(X), float)
+        kw = {} if sp["T"] is None else dict(dt=rec["dt"] / 2)
+        fine = gridlbc.solve(
+            build(sp, scale=rec["fine_scale"]), error_estimate=False, progress=False, **kw
+        )
+        twin = sp["exit"]["kind"] in ("func", "func_seam")
+        c = gridlbc.certify(
+            build(sp, twin=twin),
+            fine.policy,
+            X,
+            2000,
+            seed=SEED,
+            richardson=True,
+            progress=False,
+            **certify_kw(sp),
+        )
+    vt = np.asarray(c.extrapolated_value, float)
+    out = dict(
+        X=X.tolist(),
+        v=v.tolist(),
+        est=e.tolist(),
+        truth=vt.tolist(),
+        se=np.asarray(c.extrapolated_value_se).tolist(),
+        ess=np.asarray(c.effective_sample_size).tolist(),
+        khat=np.asarray(c.pareto_k).tolist(),
+        warnings=gw(w),
+        stray=stray(w),
+    )
+    rec.setdefault("extra", {})[tag] = out
+    f.write_text(json.dumps(rec, indent=1, default=float))
+    for i in range(len(X)):
+        print(
+            f"{name} {tag} x={X[i].round(4).tolist()} v={v[i]:.4g} v*={vt[i]:.4g}±"
+            f"{out['se'][i]:.2g} err={(v[i] - vt[i]) / abs(vt[i]):+.1%} ê={e[i]:.3g} "
+            f"ess={out['ess'][i]:.0f} k={out['khat'][i]:.2f}"
+        )
+
+
+def before():
+    """The default solves again with whichever gridlbc is on the path (run with PYTHONPATH at a
+    checkout of db3ff19's parent to see the near-exit states before the fitted boundary)."""
+    outdir = OUT / "before"
+    outdir.mkdir(exist_ok=True)
+    for f in sorted(OUT.glob("r48_*.json")):
+        rec = json.loads(f.read_text())
+        if "crash" in rec:
+            continue
+        sp = rec["spec"]
+        X = np.asarray(sp["X"], float)
+        t0 = time.perf_counter()
+        with warnings.catch_warnings(record=True) as w:
+            warnings.simplefilter("always")
+            sol = gridlbc.solve(build(sp), progress=False)
+            v = np.asarray(sol.value(X), float)
+            try:
+                e = np.asarray(sol.error_estimate(X), float)
+            except ValueError:
+                e = np.full(len(X), np.nan)
+        out = dict(
+            name=rec["name"],
+            library=str(Path(gridlbc.__file__).parent),
+            v=v.tolist(),
+            est=e.tolist(),
+            warned=bool(gw(w)),
+            warnings=gw(w),
+            seconds=time.perf_counter() - t0,
+        )
+        (outdir / f.name).write_text(json.dumps(out, indent=1, default=float))
+        vt = rec["truth"]
+        print(
+            f"{rec['name']:34s} "
+            + "  ".join(
+                f"x{i} {v[i]:.4g} ({(v[i] - vt[i]) / abs(vt[i]):+.1%}, now "
+                f"{(rec['v'][i] - vt[i]) / abs(vt[i]):+.1%})"
+                for i in range(len(X))
+            )
+            + f" warned={out['warned']}"
+        )
 
 
 def table():
     recs = [json.loads(f.read_text()) for f in sorted(OUT.glob("r48_*.json"))]
     allp, flagged, crashes, strays = [], [], [], []
     times = []
-    print(f"{'pair':38s} {'v':>9s} {'v*±SE':>18s} {'err':>7s} {'ê':>9s} {'ê/|v*|':>7s} "
-          f"{'v*/λ':>6s} warned tags")
+    print(
+        f"{'pair':38s} {'v':>9s} {'v*±SE':>18s} {'err':>7s} {'ê':>9s} {'ê/|v*|':>7s} "
+        f"{'v*/λ':>6s} warned tags"
+    )
     for r in recs:
         sp = r["spec"]
         if "crash" in r:
@@ -830,40 +1023,54 @@ def table():
             )
             t = r.get("tol", {}).get(str(i))
             if t:
-                print(f"       tol=0.05 at x{i}: v={t['v']:.4g} err={t['err']:+.1%} met={t['met']} "
-                      f"shape={t['shape']} {t['seconds']:.0f}s fail={t['fail']} "
-                      f"warned={bool(t['warnings'])}")
+                print(
+                    f"       tol=0.05 at x{i}: v={t['v']:.4g} err={t['err']:+.1%} met={t['met']} "
+                    f"shape={t['shape']} {t['seconds']:.0f}s fail={t['fail']} "
+                    f"warned={bool(t['warnings'])}"
+                )
             allp.append((r, p))
             if tags and tags != ["untrusted"]:
                 flagged.append((r, p, tags))
         print_diag(r)
     tr = [p for _, p in allp if p["trusted"]]
     n = len(allp)
-    print(f"\nproblems {len(recs)} (crashed {len(crashes)}), pairs {n}, trusted {len(tr)} "
-          f"(v* < λ: {sum(p['small'] for p in tr)}, v* ≥ 2λ: "
-          f"{sum(abs(p['vt']) >= 2 * r['spec']['lam'] for r, p in allp if p['trusted'])})")
+    print(
+        f"\nproblems {len(recs)} (crashed {len(crashes)}), pairs {n}, trusted {len(tr)} "
+        f"(v* < λ: {sum(p['small'] for p in tr)}, v* ≥ 2λ: "
+        f"{sum(abs(p['vt']) >= 2 * r['spec']['lam'] for r, p in allp if p['trusted'])})"
+    )
     off = [(r, p) for r, p in allp if p["OFF"]]
-    print(f"OFF (> 10 %): {len(off)}; warned {sum(r['warned'] for r, _ in off)}, "
-          f"silent {sum(p['SILENT'] for _, p in off)}")
+    print(
+        f"OFF (> 10 %): {len(off)}; warned {sum(r['warned'] for r, _ in off)}, "
+        f"silent {sum(p['SILENT'] for _, p in off)}"
+    )
     print(f"5–10 % off: {sum(p['trusted'] and 0.05 < abs(p['ev']) <= 0.10 for _, p in allp)}")
     cov = [p for p in tr if np.isfinite(p["e"])]
-    print(f"ê ≥ |err| or within 2×: {sum(p['COVER'] for p in cov)} / {len(cov)} "
-          f"({sum(p['COVER'] for p in cov) / max(len(cov), 1):.0%}); allowing 2 SE: "
-          f"{sum(p['COVER_SE'] for p in cov)} / {len(cov)}")
+    print(
+        f"ê ≥ |err| or within 2×: {sum(p['COVER'] for p in cov)} / {len(cov)} "
+        f"({sum(p['COVER'] for p in cov) / max(len(cov), 1):.0%}); allowing 2 SE: "
+        f"{sum(p['COVER_SE'] for p in cov)} / {len(cov)}"
+    )
     print(f"UNDER (ê < ½|v − v*| beyond 2 SE): {sum(p['UNDER'] for p in tr)}")
     hz = [p for r, p in allp if p["trusted"] and r["spec"]["T"] is not None]
     nr = [p for r, p in allp if p["trusted"] and r["spec"]["T"] is not None and p["i"] == 2]
-    print(f"hzfe: {len(hz)} trusted pairs, near-exit {len(nr)}: errors "
-          + ", ".join(f"{p['ev']:+.1%}" for p in nr))
+    print(
+        f"hzfe: {len(hz)} trusted pairs, near-exit {len(nr)}: errors "
+        + ", ".join(f"{p['ev']:+.1%}" for p in nr)
+    )
     print(f"warned problems {sum(r['warned'] for r in recs if 'crash' not in r)} of {len(recs)}")
     tot = [sum(v for k, v in s.items()) for _, s in times]
-    print(f"time per problem: median {np.median(tot):.0f}s, max {max(tot):.0f}s, total "
-          f"{sum(tot) / 60:.1f} min; default solve {min(s['solve'] for _, s in times):.1f}–"
-          f"{max(s['solve'] for _, s in times):.1f}s")
+    print(
+        f"time per problem: median {np.median(tot):.0f}s, max {max(tot):.0f}s, total "
+        f"{sum(tot) / 60:.1f} min; default solve {min(s['solve'] for _, s in times):.1f}–"
+        f"{max(s['solve'] for _, s in times):.1f}s"
+    )
     print("\nflagged pairs (name x: v, v*, err, ê, ê/|v*|, tags, warned):")
     for r, p, tags in flagged:
-        print(f"  {r['name']} x{p['i']}: {p['v']:.4g} {p['vt']:.4g} {p['ev']:+.1%} {p['e']:.3g} "
-              f"{p['e_rel']:.1%} {'/'.join(tags)} warned={r['warned']}")
+        print(
+            f"  {r['name']} x{p['i']}: {p['v']:.4g} {p['vt']:.4g} {p['ev']:+.1%} {p['e']:.3g} "
+            f"{p['e_rel']:.1%} {'/'.join(tags)} warned={r['warned']}"
+        )
     print("\nstray (non-gridlbc) warnings:", strays or "none")
     for r in crashes:
         print("CRASH", r["name"], r["crash"])
@@ -886,6 +1093,11 @@ def main(argv):
         ]
         for n in names:
             diagnose(n)
+    elif "--extra" in argv:  # --extra NAME TAG x0,x1[,x2] ...
+        a = argv[argv.index("--extra") + 1 :]
+        extra(a[0], [[float(t) for t in z.split(",")] for z in a[2:]], a[1])
+    elif "--before" in argv:
+        before()
     elif "--table" in argv:
         table()
     else:
