@@ -7,6 +7,7 @@ The sampler itself sits below the solver, so that the error estimate can certify
 
 from __future__ import annotations
 
+import functools
 import warnings
 import weakref
 
@@ -166,12 +167,12 @@ def certify(
         boundary=boundary,
         richardson=richardson,
         max_time=max_time,
-        grid_proposal=_grid_proposal,
+        grid_proposal=functools.partial(_grid_proposal, progress=progress),
         step_check=step_check,
     )
 
 
-def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
+def _grid_proposal(problem: Problem, pilot=None, work: int = 0, progress: bool | None = None):
     """A grid solution's policy for ``proposal="auto"`` and its name, or (None, why not).
 
     The default :func:`gridlbc.solve` of the problem on its own grid, or, above
@@ -194,6 +195,7 @@ def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
     biases v̂* high with a small SE and a moderate k̂, which no diagnostic flags; a finer step
     restores the effective samples and removes the bias, where more nodes do not (stranger
     round 35's 4-D LQ at λ = 0.1: docs page :doc:`validating`, "Pooled proposals").
+    ``progress`` is the certificate's, passed on to those solves.
     """
     if problem.grid is None:
         return None, "no grid to solve on"
@@ -206,7 +208,7 @@ def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
         ]
         coarse = problem if scale == 1.0 else problem.replace(grid=Grid(axes))
         try:
-            solution = _quiet_solve(coarse)
+            solution = _quiet_solve(coarse, progress=progress)
         except (ValueError, MemoryError) as error:
             warn_user(
                 f'certify: proposal="auto" found no grid solution to pool with the policy (its '
@@ -227,7 +229,9 @@ def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
             break
         if len(solutions) == halving:
             try:
-                solutions.append(_quiet_solve(first.problem, first.diagnostics.dt / 2**halving))
+                solutions.append(
+                    _quiet_solve(first.problem, first.diagnostics.dt / 2**halving, progress)
+                )
             except (ValueError, MemoryError):
                 break
         chosen = solutions[halving]
@@ -236,12 +240,12 @@ def _grid_proposal(problem: Problem, pilot=None, work: int = 0):
     return GridPolicy(chosen), f"a {shape} grid solution (auto){step}"
 
 
-def _quiet_solve(problem: Problem, dt: float | None = None):
+def _quiet_solve(problem: Problem, dt: float | None = None, progress: bool | None = None):
     """:func:`gridlbc.solve` with its warnings silenced (a proposal's quality is the
     certificate's to judge)."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return solve(problem, dt)
+        return solve(problem, dt, progress=progress)
 
 
 class GridPolicy:

@@ -197,7 +197,7 @@ def region_record(region) -> dict | None:
     """An exit set made of the library's shapes (:class:`~gridlbc.regions.Box`,
     :class:`~gridlbc.regions.Ball`, their unions) as JSON data that :func:`region_from_record`
     rebuilds exactly; None for anything else (a callable, known to a file by its nodes only:
-    :class:`~gridlbc.regions.GridRegion`). A ball's periods are the problem's, bound again when
+    :class:`~gridlbc.regions.GridRegion`). A shape's periods are the problem's, bound again when
     the loaded problem is made."""
     if isinstance(region, Box):
         return {"box": {"lower": region.lower.tolist(), "upper": region.upper.tolist()}}

@@ -4,7 +4,8 @@ A region is anything that answers which of ``N`` states ``(N, d)`` lie in it wit
 ``(N,)``: one of the shapes here, their union ``a | b``, or any callable of that form, e.g.
 ``lambda x: x[:, 0] >= 0.45`` (the mountain car's flag). The shapes here know their geometry,
 so :class:`Ball` measures distance to the nearest image on periodic axes, like
-:class:`gridlbc.costs.Quadratic` does, once a :class:`gridlbc.Problem` gives it the periods.
+:class:`gridlbc.costs.Quadratic` does, and a :class:`Box` wraps across a periodic axis's seam, once
+a :class:`gridlbc.Problem` gives them the periods.
 
 They also know how far a state outside them is from their boundary and in which direction
 (:meth:`RegionBase.boundary_distance`: exact for boxes and round balls, to first order near the
@@ -78,16 +79,26 @@ class Box(RegionBase):
     """The axis-aligned box {x : lower ≤ x ≤ upper}; ``±inf`` leaves a side open, so
     ``Box([0.45, -inf], [inf, inf])`` is the half-space x₀ ≥ 0.45.
 
+    On a periodic axis whose two sides are finite the box wraps: x lies in it where one of its
+    images x + kP does, so ``Box([π − 0.2, -0.5], [π + 0.2, 0.5])`` on a pendulum's angle holds
+    both sides of the seam at ±π. Each method reads the image nearest the box's middle
+    (:meth:`image`), and a box at least a period wide holds the whole circle. A side left open on a
+    periodic axis reads the coordinate as given (in the grid's range, where the solver and the
+    rollouts keep it).
+
     Parameters
     ----------
     lower, upper : array_like (d,)
         The corners (``-inf``/``inf`` allowed).
+    periods : array_like (d,), optional
+        Filled in by :class:`gridlbc.Problem` from its periodic axes.
     """
 
     lower: np.ndarray
     upper: np.ndarray
+    periods: np.ndarray | None
 
-    def __init__(self, lower: ArrayLike, upper: ArrayLike):
+    def __init__(self, lower: ArrayLike, upper: ArrayLike, periods: ArrayLike | None = None):
         lo, hi = _vector("Box lower", lower, True), _vector("Box upper", upper, True)
         if lo.shape != hi.shape:
             raise ValueError(f"Box lower and upper differ in length: {lo.size} and {hi.size}")
@@ -95,23 +106,48 @@ class Box(RegionBase):
             raise ValueError(f"Box lower must not exceed upper, got {lo} and {hi}")
         object.__setattr__(self, "lower", lo)
         object.__setattr__(self, "upper", hi)
+        p = (
+            None
+            if periods is None
+            else np.broadcast_to(_vector("periods", periods, True), lo.shape)
+        )
+        object.__setattr__(self, "periods", p)
 
     @property
     def dim(self) -> int:
         return self.lower.size
 
+    def with_periods(self, periods) -> Box:
+        return Box(self.lower, self.upper, periods)
+
+    def image(self, x: np.ndarray) -> np.ndarray:
+        """``x`` moved by whole periods to its image nearest the box's middle, on the periodic
+        axes where both sides are finite (elsewhere as given)."""
+        if self.periods is None:
+            return x
+        wraps = np.isfinite(self.periods) & np.isfinite(self.lower) & np.isfinite(self.upper)
+        if not wraps.any():
+            return x
+        middle = np.where(wraps, 0.5 * (self.lower + self.upper), 0.0)
+        nearest = middle + wrap_difference(x - middle, np.where(wraps, self.periods, np.inf))
+        return np.where(wraps, nearest, x)
+
     def __call__(self, x: np.ndarray) -> np.ndarray:
+        x = self.image(x)
         return np.all((x >= self.lower) & (x <= self.upper), axis=1)
 
     def boundary_distance(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Exact: the nearest point is x clipped to the box."""
+        """Exact: the nearest point is x's image (:meth:`image`) clipped to the box."""
+        x = self.image(x)
         return _towards(x, np.clip(x, self.lower, self.upper))
 
     def segment_meets(self, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Exact: the parameters s ∈ [0, 1] at which a + s (b − a) lies between an axis's two
         sides form an interval; the segment meets the box where the intervals of all axes
-        overlap (an axis the segment does not move along gives all of [0, 1] or nothing)."""
-        step = b - a
+        overlap (an axis the segment does not move along gives all of [0, 1] or nothing). The
+        segment is moved with ``a`` to ``a``'s image (:meth:`image`)."""
+        shift = self.image(a) - a
+        a, step = a + shift, b - a
         moving = step != 0
         with np.errstate(divide="ignore", invalid="ignore"):
             s_lower = np.where(moving, (self.lower - a) / np.where(moving, step, 1.0), -np.inf)
@@ -123,9 +159,12 @@ class Box(RegionBase):
 
     def meeting_points(self, lower: np.ndarray, upper: np.ndarray) -> np.ndarray:
         """Exact: the middle of the two boxes' intersection, where they meet (per axis the
-        overlap of [lower, upper] with the box's sides)."""
-        low, high = np.maximum(lower, self.lower), np.minimum(upper, self.upper)
-        return np.where(low <= high, 0.5 * (low + high), lower)
+        overlap of [lower, upper], moved with its middle to that point's image, with the box's
+        sides)."""
+        middle = 0.5 * (lower + upper)
+        shift = self.image(middle) - middle
+        low, high = np.maximum(lower + shift, self.lower), np.minimum(upper + shift, self.upper)
+        return np.where(low <= high, 0.5 * (low + high) - shift, lower)
 
     def __repr__(self) -> str:
         return f"Box({self.lower.tolist()}, {self.upper.tolist()})"
@@ -326,7 +365,8 @@ def _knows(part, method: str) -> bool:
 
 
 def bind_periods(region, periods):
-    """``region`` made wrap-aware with ``periods`` where it knows how (:class:`Ball`)."""
+    """``region`` made wrap-aware with ``periods`` where it knows how (:class:`Ball`,
+    :class:`Box`)."""
     return region.with_periods(periods) if isinstance(region, RegionBase) else region
 
 

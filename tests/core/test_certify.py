@@ -116,6 +116,24 @@ def test_zero_control_is_plain_feynman_kac():
     assert abs(cert.optimal_value + lam * np.log(z)) < 3 * cert.optimal_value_se
 
 
+@pytest.mark.parametrize("progress", [False, None, True])
+def test_the_auto_proposal_solve_shows_progress_as_the_certificate_was_told(monkeypatch, progress):
+    # Stranger round 48: certify(progress=False) drew a progress bar from the grid solve that
+    # proposal="auto" makes (a 41³ solve of more than two seconds). That solve now takes the
+    # certificate's own setting.
+    told = []
+    solve = sys.modules["gridlbc.certify"].solve
+
+    def recorded(problem, dt=None, **options):
+        told.append(options.get("progress", "unset"))
+        return solve(problem, dt, **options)
+
+    monkeypatch.setattr(sys.modules["gridlbc.certify"], "solve", recorded)
+    problem = lq_point_mass(21)
+    g.certify(problem, _zero, [[0.5, 0.0]], n_samples=64, seed=1, progress=progress)
+    assert told and all(t is progress for t in told)
+
+
 def test_small_temperature_does_not_underflow():
     # S/λ ~ 2000 here: exp(−S/λ) underflows to 0 in double precision, the log-sum-exp does not.
     grid = g.Grid([g.Axis(-3, 3, 41)])

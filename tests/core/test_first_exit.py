@@ -1183,6 +1183,7 @@ def test_a_shape_meets_a_box_exactly_where_a_point_of_it_lies_in_the_box():
         Box([-0.2, -np.inf], [-0.199, np.inf]),  # a strip 0.001 wide
         Ball([0.3, -0.1], [0.02, 0.5]),  # an ellipse
         Ball([0.9, 0.0], 0.3).with_periods([2.0, np.inf]),  # across a seam
+        Box([0.8, -0.3], [1.2, 0.3]).with_periods([2.0, np.inf]),  # across a seam
         Box([0.5, 0.5], [0.6, 0.55]) | Ball([-0.5, 0.5], 0.003),
     ]
     for shape in shapes:
@@ -1221,6 +1222,12 @@ def test_a_shape_meets_a_segment_exactly_where_a_point_of_the_segment_lies_in_it
         met = shape.segment_meets(a, b)
         sampled = np.array([shape(p + s * (q - p)).any() for p, q in zip(a, b, strict=True)])
         assert np.array_equal(met, sampled)
+    # a box across a seam, met by segments shorter than half the period (a path's steps)
+    wrapped = Box([0.8, -0.3], [1.2, 0.3]).with_periods([2.0, np.inf])
+    b = a + rng.normal(0.0, 0.2, (300, 2))
+    met = wrapped.segment_meets(a, b)
+    sampled = np.array([wrapped(p + s * (q - p)).any() for p, q in zip(a, b, strict=True)])
+    assert np.array_equal(met, sampled) and met.any()
     seam = Ball([0.0, 0.0], 0.1, periods=[2.0, np.inf])  # the box [−1, 1) wraps at ±1
     across = regions.part_segments(
         (seam,), np.array([[0.95, 0.0]]), np.array([[-0.95, 0.0]]), np.array([2.0, np.inf])
@@ -1230,6 +1237,33 @@ def test_a_shape_meets_a_segment_exactly_where_a_point_of_the_segment_lies_in_it
     assert regions.part_segments(
         (edge,), np.array([[-0.95, 0.0]]), np.array([[0.9, 0.0]]), np.array([2.0, np.inf])
     )[0, 0]
+
+
+def test_a_box_across_a_periodic_seam_wraps_as_its_two_halves_do():
+    # Stranger round 48: Box([π − 0.2, −0.5], [π + 0.2, 0.5]) on a pendulum's angle held only
+    # θ ∈ [π − 0.2, π), silently, and v just past the seam read 0.941 against 0.670. It now
+    # holds the nodes its two halves hold (5 angles × 11 speeds here), and the solves agree to
+    # rounding.
+    grid = g.Grid([g.Axis(-np.pi, np.pi, 80, periodic=True), g.Axis(-4, 4, 81)])
+    halves = Box([np.pi - 0.2, -0.5], [np.pi, 0.5]) | Box([-np.pi, -0.5], [-np.pi + 0.2, 0.5])
+    solutions = []
+    for exit_set in (Box([np.pi - 0.2, -0.5], [np.pi + 0.2, 0.5]), halves):
+        problem = g.Problem(
+            g.systems.Pendulum(),
+            grid,
+            2.0,
+            g.Quadratic([0.0, 0.0], [0.2, 0.05]),
+            state_cost=0.5,
+            temperature=0.5,
+            exit=exit_set,
+            exit_cost=0.0,
+        )
+        solutions.append(g.solve(problem, error_estimate=False))
+    masks = [s.problem.exit_mask() for s in solutions]
+    assert np.array_equal(masks[0], masks[1]) and np.count_nonzero(masks[0]) == 5 * 11
+    assert np.any(grid.nodes()[masks[0], 0] < 0)  # past the seam
+    x = np.array([[-np.pi + 0.35, 0.0], [np.pi - 0.35, 0.3]])
+    np.testing.assert_allclose(solutions[0].value(x), solutions[1].value(x), rtol=1e-12)
 
 
 def test_an_exit_shape_thinner_than_the_lattice_is_found_and_warned():
