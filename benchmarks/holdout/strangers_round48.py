@@ -81,7 +81,6 @@ from __future__ import annotations
 
 import json
 import math
-import re
 import sys
 import time
 import traceback
@@ -91,10 +90,18 @@ from pathlib import Path
 import numpy as np
 
 import gridlbc
-from gridlbc import Axis, Grid, Problem, Quadratic
-from gridlbc import systems as S
+from gridlbc import Problem, Quadratic
 from gridlbc.regions import Ball, Box
-from gridlbc.systems.base import ControlAffineSystem
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from strangers_round47 import (
+    certify_kw,
+    distrusted,
+    fine_scale,
+    loguni,
+    make_grid,
+    make_system,
+)
 
 OUT = Path(__file__).parent / "strangers_round48_results"  # gitignored
 SEED = 48
@@ -124,54 +131,7 @@ KINDS = [
 ]
 
 
-def loguni(rng, a, b):
-    return float(math.exp(rng.uniform(math.log(a), math.log(b))))
-
-
 # ================= a user's own system ===========================================================
-class River(ControlAffineSystem):
-    """A channel flow along x0 (fastest at x1 = 0), restoring drift on the other axes, a gain on
-    x0 that grows downstream: a(x) = (f (1 − (x1/L)²), −γ x1, −κ x2 + ε sin x0),
-    B = diag(b0 (1 + ½ tanh x0), b1, b2)."""
-
-    def __init__(self, d, flow, L, gamma, kappa, eps, b):
-        self.state_dim = self.control_dim = int(d)
-        self.flow, self.L, self.gamma, self.kappa, self.eps = flow, L, gamma, kappa, eps
-        self.b = np.asarray(b, float)
-        self.state_names = tuple(f"x{i}" for i in range(d))
-        self.angle_axes = ()
-
-    def drift(self, x):
-        x = np.atleast_2d(np.asarray(x, float))
-        a = np.zeros_like(x)
-        a[:, 0] = self.flow * (1.0 - np.minimum((x[:, 1] / self.L) ** 2, 4.0))
-        a[:, 1] = -self.gamma * x[:, 1]
-        if self.state_dim == 3:
-            a[:, 2] = -self.kappa * x[:, 2] + self.eps * np.sin(x[:, 0])
-        return a
-
-    def input_matrix(self, x):
-        x = np.atleast_2d(np.asarray(x, float))
-        g = np.tile(self.b, (len(x), 1))
-        g[:, 0] *= 1.0 + 0.5 * np.tanh(x[:, 0])
-        B = np.zeros((len(x), self.state_dim, self.state_dim))
-        idx = np.arange(self.state_dim)
-        B[:, idx, idx] = g
-        return B
-
-    def parameters(self):
-        return dict(d=self.state_dim, flow=self.flow, L=self.L, b=self.b.tolist())
-
-
-def make_system(sp):
-    k, p = sp["kind"], sp["params"]
-    if k == "PointMass":
-        return S.PointMass(**p)
-    if k == "Pendulum":
-        return S.Pendulum(**p)
-    if k.startswith("River"):
-        return River(**p)
-    return S.LinearSystem(np.asarray(p["A"]), np.asarray(p["B"]))
 
 
 # ================= costs =========================================================================
@@ -511,15 +471,6 @@ def draw():
 
 
 # ================= building ======================================================================
-def make_grid(box, per, scale=1.0):
-    axes = []
-    for i, (lo, hi, n) in enumerate(box):
-        p = i in per
-        if scale != 1.0:
-            n = round(n * scale) if p else round((n - 1) * scale) + 1
-            n += n % 2 if p else 0
-        axes.append(Axis(lo, hi, n, periodic=p))
-    return Grid(axes)
 
 
 def build(sp, s=None, scale=1.0, twin=False):
@@ -590,48 +541,6 @@ def stray(w):
         for x in w
         if not issubclass(x.category, gridlbc.GridlbcWarning)
     ]
-
-
-BAD = (
-    "heavy tail",
-    "had not reached",
-    "not yet of first order",
-    "effective sample size",
-    "never visited",
-    "not a gridlbc.regions",
-)
-
-
-def distrusted(cw, X):
-    """Which states a CertificateWarning of the kinds in BAD names (all, where it names none)."""
-    out = np.zeros(len(X), bool)
-    for c in cw:
-        m = c["message"]
-        if not any(b in m for b in BAD):
-            continue
-        if "had not reached" in m and "so v* is not" in m:
-            continue  # unexited weight negligible
-        hit = re.search(r"x0 = \[([-0-9.e, ]+)\]", m)
-        if hit is None:
-            out[:] = True
-            continue
-        y = np.array([float(t) for t in re.split(r"[,\s]+", hit.group(1).strip())])
-        if len(y) != X.shape[1]:
-            out[:] = True
-            continue
-        out[int(np.argmin(np.sum((X - y) ** 2, axis=1)))] = True
-    return out
-
-
-def fine_scale(sp):
-    n = np.prod([b[2] for b in sp["box"]])
-    return 2.0 if n * 2 ** sp["d"] <= 3e5 else 1.5
-
-
-def certify_kw(sp):
-    if sp["T"] is None:
-        return dict(dt=0.005, max_time=300.0)
-    return dict(dt=sp["T"] / 160)
 
 
 def tol_check(sp, x):
