@@ -128,7 +128,8 @@ class Box(RegionBase):
         wraps = np.isfinite(self.periods) & np.isfinite(self.lower) & np.isfinite(self.upper)
         if not wraps.any():
             return x
-        middle = np.where(wraps, 0.5 * (self.lower + self.upper), 0.0)
+        middle = np.zeros_like(self.lower)  # (an open side's −inf + inf is no middle)
+        middle[wraps] = 0.5 * (self.lower[wraps] + self.upper[wraps])
         nearest = middle + wrap_difference(x - middle, np.where(wraps, self.periods, np.inf))
         return np.where(wraps, nearest, x)
 

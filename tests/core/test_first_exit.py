@@ -1264,6 +1264,12 @@ def test_a_box_across_a_periodic_seam_wraps_as_its_two_halves_do():
     assert np.any(grid.nodes()[masks[0], 0] < 0)  # past the seam
     x = np.array([[-np.pi + 0.35, 0.0], [np.pi - 0.35, 0.3]])
     np.testing.assert_allclose(solutions[0].value(x), solutions[1].value(x), rtol=1e-12)
+    # a side left open reads the speed as given, with no numpy warning (the corpus's hot_band
+    # drew "invalid value encountered in add" from −inf + inf)
+    band = Box([-0.5, -np.inf], [0.5, np.inf]).with_periods([2 * np.pi, np.inf])
+    with np.errstate(all="raise"):
+        inside = band(np.array([[0.4, 1e9], [2 * np.pi + 0.4, 0.0], [0.6, 0.0]]))
+    assert inside.tolist() == [True, True, False]
 
 
 def test_an_exit_shape_thinner_than_the_lattice_is_found_and_warned():
