@@ -50,7 +50,8 @@ the results folder, ``PYTHONPATH`` at it); ``--table``.
   ê ≥ 0.96 |err|), r48_Pendulum_hzfe_func_seam_14 x2 +6.6 % (truth rechecked 0.0734 ± 0.0018:
   +2.9 %; within sampling).
 - Odd exits (``probes/``): a Box across the pendulum's seam is not wrapped (a Ball is), silently;
-  ``certify(progress=False)`` draws the auto proposal's progress bar; a Box one cell thick with its
+  ``certify(progress=False)`` draws the auto proposal's progress bar (both fixed on main since: a
+  Box with finite sides on a periodic axis wraps, and the proposal's solve takes ``progress``); a Box one cell thick with its
   faces on grid lines holds one node line (0.6000000000000001 > 0.6) and, on the embedded grid,
   none: no error estimate (warned; ``error_estimate`` raises). A slab thinner than a cell with no
   node: a clear ValueError.
@@ -72,8 +73,7 @@ bridge catches; the lambda alone draws the "not a gridlbc.regions shape" distrus
 extrapolation, the effective sample size or an unvisited feature. Pairs more than 10 % off:
 ``solve(problem, tol=0.05, states=[x], max_seconds=120)`` as well (in ``--run``).
 
-    cd /work/wt-r48 && PYTHONPATH=/work/wt-r48 NUMBA_NUM_THREADS=1 \\
-        python benchmarks/holdout/strangers_round48.py --list | --run [NAMES] | --table \\
+    NUMBA_NUM_THREADS=1 python benchmarks/holdout/strangers_round48.py --list | --run [NAMES] | --table \\
         | --diagnose [NAMES] | --extra NAME TAG x0,x1[,x2] ... | --before
 """
 
